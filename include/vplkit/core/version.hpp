@@ -1,0 +1,5 @@
+#pragma once
+
+#define VPLKIT_VERSION_MAJOR 0
+#define VPLKIT_VERSION_MINOR 1
+#define VPLKIT_VERSION_PATCH 0
