@@ -2,6 +2,7 @@
 # `#include <vplkit/...>` once, in first-use order (what nlohmann/json's amalgamate.py does).
 # A CMake script rather than Python so that the build needs nothing beyond CMake.
 #   cmake -DVPLKIT_ROOT=<repo> -DVPLKIT_OUTPUT=<file> -P cmake/amalgamate.cmake
+cmake_minimum_required(VERSION 3.16)
 if(NOT VPLKIT_ROOT OR NOT VPLKIT_OUTPUT)
   message(FATAL_ERROR "amalgamate.cmake needs -DVPLKIT_ROOT=... and -DVPLKIT_OUTPUT=...")
 endif()
@@ -15,16 +16,18 @@ function(vplkit_expand header out_var)
   file(READ "${path}" text)
   # Every header starts with #pragma once; the amalgamation has one guard of its own.
   string(REPLACE "#pragma once\n" "" text "${text}")
-  string(REGEX MATCHALL "#include <vplkit/[^>]+>" includes "${text}")
+  # An include line may carry a trailing comment; the whole line is replaced.
+  string(REGEX MATCHALL "#include <vplkit/[^>\n]+>[^\n]*\n" includes "${text}")
   foreach(inc IN LISTS includes)
-    string(REGEX REPLACE "#include <(vplkit/[^>]+)>" "\\1" child "${inc}")
+    string(REGEX REPLACE "#include <(vplkit/[^>]+)>.*" "\\1" child "${inc}")
+    string(STRIP "${child}" child)
     get_property(seen GLOBAL PROPERTY vplkit_amalgamate_seen)
     if(child IN_LIST seen)
-      string(REPLACE "${inc}\n" "" text "${text}")
+      string(REPLACE "${inc}" "" text "${text}")
     else()
       set_property(GLOBAL APPEND PROPERTY vplkit_amalgamate_seen "${child}")
       vplkit_expand("${child}" child_text)
-      string(REPLACE "${inc}\n" "// ---- begin ${child} ----\n${child_text}// ---- end ${child} ----\n" text "${text}")
+      string(REPLACE "${inc}" "// ---- begin ${child} ----\n${child_text}// ---- end ${child} ----\n" text "${text}")
     endif()
   endforeach()
   set(${out_var} "${text}" PARENT_SCOPE)

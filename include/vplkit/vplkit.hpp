@@ -7,25 +7,44 @@
 #include <vplkit/core/error.hpp>
 
 // distribution: discrete CDF (inverse transform), alias table, defensive mixing, face roulette
-// @@distribution@@
+#include <vplkit/distribution/discrete_sample.hpp>
+#include <vplkit/distribution/weights.hpp>
+#include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/alias_table.hpp>
+#include <vplkit/distribution/defensive_mixture.hpp>
+#include <vplkit/distribution/face_roulette.hpp>
 
 // paraboloid: dual paraboloid mapping, texel grid, texel solid angle
-// @@paraboloid@@
+#include <vplkit/paraboloid/unit_or_zero.hpp>
+#include <vplkit/paraboloid/paraboloid.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/paraboloid/light_frame.hpp>
 
 // vpl: VPL flux and contribution, luminance, DPRSM view
-// @@vpl@@
+#include <vplkit/vpl/luminance.hpp>
+#include <vplkit/vpl/vpl.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/dprsm_raycast.hpp>
+#include <vplkit/vpl/dprsm_lookup.hpp>
 
 // sampling: counter-based RNG, orthonormal basis, cosine hemisphere
-// @@sampling@@
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/sampling/orthonormal_basis.hpp>
+#include <vplkit/sampling/cosine_hemisphere.hpp>
 
 // mis: balance / power heuristics, solid-angle pdf conversion
-// @@mis@@
+#include <vplkit/mis/heuristics.hpp>
+#include <vplkit/mis/pdf_conversion.hpp>
 
 // image: hole-aware median fill
-// @@image@@
+#include <vplkit/image/median_fill.hpp>
 
 // visibility: voxel grid, conservative voxelisation, DDA ray marching
-// @@visibility@@
+#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/visibility/triangle_box_overlap.hpp>
+#include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/visibility/dda.hpp>
+#include <vplkit/visibility/voxel_visible.hpp>
 
 // builders: global, local and gathering-based CDF builders
 // @@builders@@

@@ -1,0 +1,77 @@
+# vplrender_core: the example renderer's library (scene, loaders, outputs, options). Included from
+# examples/CMakeLists.txt and from tests/renderer/CMakeLists.txt, whichever CMake reaches first
+# (tests come first in the top-level list, and the tests also build with examples switched off).
+include_guard(GLOBAL)
+
+set(VPLRENDER_CORE_AVAILABLE OFF)
+set(_vplrender_missing "")
+find_package(tinyobjloader CONFIG QUIET)
+if(NOT TARGET tinyobjloader::tinyobjloader)
+  list(APPEND _vplrender_missing "tinyobjloader (libtinyobjloader-dev)")
+endif()
+find_package(OpenEXR 3 CONFIG QUIET)
+if(NOT TARGET OpenEXR::OpenEXR)
+  list(APPEND _vplrender_missing "OpenEXR 3 (libopenexr-dev)")
+endif()
+find_package(CLI11 2 CONFIG QUIET)
+if(NOT TARGET CLI11::CLI11)
+  list(APPEND _vplrender_missing "CLI11 (libcli11-dev)")
+endif()
+find_package(nlohmann_json 3 CONFIG QUIET)
+if(NOT TARGET nlohmann_json::nlohmann_json)
+  list(APPEND _vplrender_missing "nlohmann_json (nlohmann-json3-dev)")
+endif()
+# Debian's libstb-dev ships the implementations compiled in libstb.so; headers live in .../stb/.
+find_path(VPLRENDER_STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb)
+find_library(VPLRENDER_STB_LIBRARY stb)
+if(NOT VPLRENDER_STB_INCLUDE_DIR OR NOT VPLRENDER_STB_LIBRARY)
+  list(APPEND _vplrender_missing "stb_image (libstb-dev)")
+endif()
+
+if(_vplrender_missing)
+  list(JOIN _vplrender_missing ", " _vplrender_missing_text)
+  message(WARNING "vplrender (the example renderer) and its tests are skipped: missing ${_vplrender_missing_text}")
+  return()
+endif()
+
+# The imported targets above are scoped to the directory that found them; vplrender_core is used
+# from two directories, so promote them (and what they drag in) to global.
+foreach(_t tinyobjloader::tinyobjloader OpenEXR::OpenEXR OpenEXR::Iex OpenEXR::IlmThread OpenEXR::OpenEXRCore
+           OpenEXR::OpenEXRConfig OpenEXR::IexConfig OpenEXR::IlmThreadConfig OpenEXR::OpenEXRUtil
+           Imath::Imath Imath::ImathConfig CLI11::CLI11 nlohmann_json::nlohmann_json)
+  if(TARGET ${_t})
+    get_target_property(_global ${_t} IMPORTED_GLOBAL)
+    get_target_property(_imported ${_t} IMPORTED)
+    if(_imported AND NOT _global)
+      set_target_properties(${_t} PROPERTIES IMPORTED_GLOBAL TRUE)
+    endif()
+  endif()
+endforeach()
+
+set(_vr ${CMAKE_CURRENT_LIST_DIR}/src)
+add_library(vplrender_core STATIC
+  ${_vr}/atomic_file.cpp
+  ${_vr}/builtin_scenes.cpp
+  ${_vr}/camera.cpp
+  ${_vr}/exr_io.cpp
+  ${_vr}/framing.cpp
+  ${_vr}/image.cpp
+  ${_vr}/obj_loader.cpp
+  ${_vr}/obj_scan.cpp
+  ${_vr}/options.cpp
+  ${_vr}/png_preview.cpp
+  ${_vr}/progress.cpp
+  ${_vr}/raycast.cpp
+  ${_vr}/report.cpp
+  ${_vr}/scene.cpp
+  ${_vr}/scene_setup.cpp
+  ${_vr}/text_file.cpp
+  ${_vr}/texture.cpp
+  ${_vr}/triangulate.cpp)
+target_compile_features(vplrender_core PUBLIC cxx_std_17)
+target_include_directories(vplrender_core PUBLIC ${_vr})
+target_include_directories(vplrender_core SYSTEM PRIVATE ${VPLRENDER_STB_INCLUDE_DIR})
+target_link_libraries(vplrender_core
+  PUBLIC vplkit::vplkit glm::glm nlohmann_json::nlohmann_json
+  PRIVATE vplkit_project_options tinyobjloader::tinyobjloader OpenEXR::OpenEXR CLI11::CLI11 ${VPLRENDER_STB_LIBRARY})
+set(VPLRENDER_CORE_AVAILABLE ON)

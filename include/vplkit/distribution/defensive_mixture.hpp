@@ -1,0 +1,86 @@
+#pragma once
+// Defensive sampling (DESIGN 3.5): p(i) = (1 - eps) p_learned(i) + eps p_fallback(i). With a
+// fallback that covers every index that may contribute (typically uniform over the valid
+// paraboloid texels: a discrete_cdf of 0/1 weights), p(i) > 0 wherever the learned CDF left a
+// hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned CDF exactly
+// (same index, same pmf for every u).
+//
+// One u serves both decisions: u < eps picks the fallback and is rescaled to u / eps, otherwise
+// the learned CDF gets (u - eps) / (1 - eps). The rescaling is monotone, so stratification
+// survives within each component. It costs the low bits of u (as any reuse of u does).
+#include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/discrete_sample.hpp>
+#include <vplkit/distribution/weights.hpp>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+
+namespace vplkit {
+
+// The mixture's pmf from its parts; sample() and pmf() both use it, so they agree bit for bit.
+template <class T>
+inline T defensive_mixture_pmf(T eps, T p_learned, T p_fallback) noexcept {
+  return (T(1) - eps) * p_learned + eps * p_fallback;
+}
+
+template <class T>
+class defensive_mixture {
+public:
+  using value_type = T;
+
+  defensive_mixture() = default;
+
+  // eps in [0, 1] (NaN rejected). The two distributions must have the same size, except that
+  // either may be default-constructed (size 0). An empty learned distribution sends all mass to
+  // the fallback (effective eps = 1), an empty fallback all mass to the learned one (effective
+  // eps = 0); both empty gives an empty mixture.
+  defensive_mixture(discrete_cdf<T> learned, discrete_cdf<T> fallback, T eps)
+      : learned_(std::move(learned)), fallback_(std::move(fallback)), eps_(eps) {
+    if (!(eps >= T(0) && eps <= T(1))) {
+      throw invalid_input("defensive_mixture: eps = " + std::to_string(eps) +
+                          " is outside [0, 1]");
+    }
+    if (learned_.size() != fallback_.size() && learned_.size() != 0 && fallback_.size() != 0) {
+      throw invalid_input("defensive_mixture: learned distribution has " +
+                          std::to_string(learned_.size()) + " entries, fallback has " +
+                          std::to_string(fallback_.size()));
+    }
+    effective_eps_ = learned_.empty() ? (fallback_.empty() ? T(0) : T(1))
+                                      : (fallback_.empty() ? T(0) : eps_);
+  }
+
+  std::size_t size() const noexcept {
+    return learned_.size() > fallback_.size() ? learned_.size() : fallback_.size();
+  }
+  bool empty() const noexcept { return learned_.empty() && fallback_.empty(); }
+  T eps() const noexcept { return eps_; }
+  // The weight actually given to the fallback (see the constructor).
+  T effective_eps() const noexcept { return effective_eps_; }
+  const discrete_cdf<T>& learned() const noexcept { return learned_; }
+  const discrete_cdf<T>& fallback() const noexcept { return fallback_; }
+
+  T pmf(std::size_t i) const noexcept {
+    return defensive_mixture_pmf(effective_eps_, learned_.pmf(i), fallback_.pmf(i));
+  }
+
+  // Returns the index and the mixture pmf (not the pmf of the component that produced it).
+  discrete_sample<T> sample(T u) const noexcept {
+    if (empty()) return {0, T(0)};
+    const T e = effective_eps_;
+    u = discrete_clamp_u(u);
+    // e = 0: u < 0 never holds and (u - 0) / (1 - 0) == u exactly. e = 1: u < 1 always holds
+    // and u / 1 == u. So neither division can meet a zero divisor.
+    const std::size_t i = u < e ? fallback_.sample(discrete_clamp_u(u / e)).index
+                                : learned_.sample(discrete_clamp_u((u - e) / (T(1) - e))).index;
+    return {i, pmf(i)};
+  }
+
+private:
+  discrete_cdf<T> learned_;
+  discrete_cdf<T> fallback_;
+  T eps_ = T(0);
+  T effective_eps_ = T(0);
+};
+
+}  // namespace vplkit

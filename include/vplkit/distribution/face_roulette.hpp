@@ -1,0 +1,89 @@
+#pragma once
+// Russian roulette between the front and the back paraboloid (paper Alg. 1, DESIGN 3.3):
+// choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's
+// weights, then sample within that face's CDF. The probability of (face, t) is
+// b_F * w_t / v_F = w_t / (v_F + v_B): the same as one CDF over both faces' weights.
+//
+// One u serves both decisions, as in the paper: u < b_F picks the front face and is rescaled to
+// u / b_F, otherwise the back face gets (u - b_F) / b_B with b_B = 1 - b_F. Written that way,
+// b_F = 1 (back face empty) always picks the front, b_F = 0 always the back, and a back face
+// whose share rounds away (b_B = 0) is never picked and reports pmf 0. The rescaling is monotone,
+// so (up to the rounding of the rescale) u maps to the same (face, index) as the concatenated
+// CDF would.
+#include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/weights.hpp>
+
+#include <cstddef>
+#include <utility>
+
+namespace vplkit {
+
+template <class T>
+struct face_sample {
+  int face;           // 0 = front (d.z >= 0), 1 = back
+  std::size_t index;  // within the face's distribution
+  T pmf;              // probability of (face, index); 0 when the roulette is empty
+};
+
+// b_F from the two face totals, in double; 0 when both are 0 (the caller checks emptiness).
+template <class T>
+inline T face_roulette_front_probability(T v_front, T v_back) noexcept {
+  const double sum = double(v_front) + double(v_back);
+  return sum > 0.0 ? T(double(v_front) / sum) : T(0);
+}
+
+template <class T>
+class face_roulette {
+public:
+  using value_type = T;
+  static constexpr int front_face = 0;
+  static constexpr int back_face = 1;
+
+  face_roulette() = default;
+
+  // The faces may differ in size. A face may be empty (or default-constructed).
+  face_roulette(discrete_cdf<T> front, discrete_cdf<T> back)
+      : front_(std::move(front)), back_(std::move(back)) {
+    b_front_ = face_roulette_front_probability(front_.total(), back_.total());
+    b_back_ = empty() ? T(0) : T(1) - b_front_;
+  }
+
+  // v_F + v_B == 0: sample() returns {0, 0, 0} and every pmf is 0.
+  bool empty() const noexcept { return front_.empty() && back_.empty(); }
+  // The roulette probabilities b_F and b_B = 1 - b_F (both 0 when empty).
+  T front_probability() const noexcept { return b_front_; }
+  T back_probability() const noexcept { return b_back_; }
+  T face_probability(int face) const noexcept {
+    return face == front_face ? b_front_ : face == back_face ? b_back_ : T(0);
+  }
+  const discrete_cdf<T>& front() const noexcept { return front_; }
+  const discrete_cdf<T>& back() const noexcept { return back_; }
+  const discrete_cdf<T>& face(int f) const noexcept { return f == front_face ? front_ : back_; }
+
+  // b_face * pmf within the face; 0 for a face other than 0 / 1 or an index out of range.
+  T pmf(int face, std::size_t index) const noexcept {
+    if (face == front_face) return b_front_ * front_.pmf(index);
+    if (face == back_face) return b_back_ * back_.pmf(index);
+    return T(0);
+  }
+
+  face_sample<T> sample(T u) const noexcept {
+    if (empty()) return {front_face, 0, T(0)};
+    u = discrete_clamp_u(u);
+    if (u < b_front_) {
+      const std::size_t i = front_.sample(discrete_clamp_u(u / b_front_)).index;
+      return {front_face, i, pmf(front_face, i)};
+    }
+    // Here b_back_ > 0: u < 1 and u >= b_front_ = 1 - b_back_.
+    const std::size_t i = back_.sample(discrete_clamp_u((u - b_front_) / b_back_)).index;
+    return {back_face, i, pmf(back_face, i)};
+  }
+
+private:
+  discrete_cdf<T> front_;
+  discrete_cdf<T> back_;
+  T b_front_ = T(0);
+  T b_back_ = T(0);
+};
+
+}  // namespace vplkit

@@ -1,0 +1,213 @@
+#pragma once
+// Shared by discrete_cdf and alias_table: weight validation, the sanitizing copy, the accurate
+// running sum, and the clamp of a random number u into [0, 1).
+#include <vplkit/core/error.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace vplkit {
+
+// What the `sanitized` factories return: the distribution built after every negative, NaN or
+// infinite weight was replaced by 0, and how many weights were replaced.
+template <class Distribution>
+struct sanitized_distribution {
+  Distribution distribution;
+  std::size_t zeroed;
+};
+
+// Indices are stored as 32-bit unsigned integers (guide table, alias indices) so that the GPU
+// can read the same arrays; a distribution therefore holds at most 2^32 - 1 weights.
+inline constexpr std::size_t discrete_max_size = std::size_t(0xffffffffu);
+
+// The largest T below 1: where u >= 1 is clamped, so that u * n < n and cdf[n] = 1 > u.
+template <class T> inline constexpr T discrete_u_max();
+template <> inline constexpr float discrete_u_max<float>() { return 0x1.fffffep-1f; }
+template <> inline constexpr double discrete_u_max<double>() { return 0x1.fffffffffffffp-1; }
+
+// u NaN or < 0 -> 0 (written as !(u >= 0) so that NaN takes this branch; GLSL's clamp leaves NaN
+// undefined), u >= 1 -> the largest T below 1. Every sampler applies this first.
+template <class T>
+inline T discrete_clamp_u(T u) noexcept {
+  if (!(u >= T(0))) return T(0);
+  return u < discrete_u_max<T>() ? u : discrete_u_max<T>();
+}
+
+namespace detail {
+
+// True for negative, NaN and +-Inf; -0 is a valid (zero) weight.
+template <class T>
+inline bool is_bad_weight(T w) noexcept {
+  return !(w >= T(0) && w <= std::numeric_limits<T>::max());
+}
+
+template <class T>
+[[noreturn]] inline void throw_bad_weight(const char* who, std::size_t i, T w) {
+  std::ostringstream s;
+  s.precision(std::numeric_limits<T>::max_digits10);
+  s << who << ": weight[" << i << "] = " << w << " is "
+    << (std::isnan(w) ? "NaN" : std::isinf(w) ? "infinite" : "negative")
+    << "; weights must be finite and >= 0 (the sanitized() factory zeroes such weights)";
+  throw invalid_input(s.str());
+}
+
+template <class T>
+inline void check_size(const char* who, const T* w, std::size_t n) {
+  static_assert(std::is_same<T, float>::value || std::is_same<T, double>::value,
+                "vplkit distributions are defined for float and double");
+  if (n > 0 && w == nullptr) {
+    throw invalid_input(std::string(who) + ": null weight pointer with n = " + std::to_string(n));
+  }
+  if (n > discrete_max_size) {
+    throw invalid_input(std::string(who) + ": " + std::to_string(n) +
+                        " weights; at most 2^32 - 1 are supported (32-bit indices)");
+  }
+}
+
+// Throws for the first bad weight. Called only after a cheap pass found one (or the sum
+// overflowed), so the common path pays for no per-weight branch.
+template <class T>
+inline void find_and_throw_bad_weight(const char* who, const T* w, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    if (is_bad_weight(w[i])) throw_bad_weight(who, i, w[i]);
+  }
+}
+
+// The running sum every distribution uses, written so that a second pass over the same weights
+// reproduces every partial sum bit for bit (the normaliser must be exactly the last partial sum,
+// so that cdf[n] == 1 and a zero-weight tail gets exactly equal CDF values).
+//  - float weights: summed in double. A float has 24 significant bits and a double 53, so each
+//    partial sum is within (n - 1) * 2^-53 relative of exact: below half a float ulp for
+//    n < 2^28, and the sum never stalls (a float running sum stops growing once it reaches
+//    2^24 times the weight: the tail of 2^24+ equal weights would get pmf 0).
+//  - double weights: Neumaier's compensated sum (improved Kahan), so the error is about one
+//    ulp independent of n. value() is fl(sum + compensation); the caller keeps the running max
+//    because that rounding alone does not promise monotonicity.
+// A zero weight leaves both members unchanged, so value() is unchanged: zero weights give
+// exactly equal neighbours in the CDF.
+template <class T> struct running_sum;
+
+template <>
+struct running_sum<float> {
+  double sum = 0.0;
+  void add(float w) noexcept { sum += double(w); }
+  double value() const noexcept { return sum; }
+};
+
+template <>
+struct running_sum<double> {
+  double sum = 0.0, compensation = 0.0;
+  void add(double w) noexcept {
+    const double t = sum + w;
+    // Neumaier: the rounding error of sum + w is exact as (big - t) + small.
+    compensation += std::fabs(sum) >= std::fabs(w) ? (sum - t) + w : (w - t) + sum;
+    sum = t;
+  }
+  double value() const noexcept { return sum + compensation; }
+};
+
+// The weights are summed in kLanes contiguous lanes (lane k covers [begin[k], begin[k+1])),
+// interleaved so that the CPU overlaps kLanes independent add chains instead of waiting on one:
+// a single running sum is bound by the add latency, ~4x slower to build. Lane k starts from 0,
+// its partial sums are offset[k] + (lane running sum), offset[k + 1] = offset[k] + lane_total[k],
+// so the last partial sum of a lane is bit for bit the next lane's offset and the last one of
+// all is the total; pairwise-like summation is also more accurate than one long chain.
+inline constexpr std::size_t kLanes = 4;
+
+struct lane_partition {
+  std::size_t begin[kLanes + 1];
+  std::size_t common;  // every lane has at least this many weights
+  explicit lane_partition(std::size_t n) noexcept {
+    const std::size_t chunk = (n + kLanes - 1) / kLanes;
+    for (std::size_t k = 0; k <= kLanes; ++k) begin[k] = k * chunk < n ? k * chunk : n;
+    common = begin[kLanes] - begin[kLanes - 1];
+  }
+  std::size_t length(std::size_t k) const noexcept { return begin[k + 1] - begin[k]; }
+};
+
+// Visits every weight lane by lane, each lane in increasing index order (interleaved across
+// lanes for the first `common` steps, then each lane's rest); f(lane, index). Two visits run the
+// same operations on every lane in the same order: that is what makes the partial sums of the
+// CDF pass equal those of the total pass.
+template <class F>
+inline void for_each_in_lanes(const lane_partition& lanes, F&& f) {
+  for (std::size_t t = 0; t < lanes.common; ++t) {
+    for (std::size_t k = 0; k < kLanes; ++k) f(k, lanes.begin[k] + t);
+  }
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    for (std::size_t i = lanes.begin[k] + lanes.common; i < lanes.begin[k + 1]; ++i) f(k, i);
+  }
+}
+
+// Lane totals (the running max of each lane's running sum: see running_sum) and their offsets;
+// validates the weights on the way. Throws invalid_input naming the first negative / NaN /
+// infinite weight, or when the total does not fit in T (total() must be a finite T).
+template <class T>
+struct lane_sums {
+  double offset[kLanes + 1];  // offset[kLanes] is the total
+  double total() const noexcept { return offset[kLanes]; }
+};
+
+template <class T>
+inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_partition& lanes) {
+  running_sum<T> acc[kLanes];
+  double lane_max[kLanes] = {};
+  bool valid[kLanes];
+  for (std::size_t k = 0; k < kLanes; ++k) valid[k] = true;
+  for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
+    valid[k] &= (w[i] >= T(0)) & (w[i] <= std::numeric_limits<T>::max());  // no branch
+    acc[k].add(w[i]);
+    const double v = acc[k].value();
+    lane_max[k] = v > lane_max[k] ? v : lane_max[k];
+  });
+  lane_sums<T> out;
+  out.offset[0] = 0.0;
+  bool all_valid = true, finite = true;
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    out.offset[k + 1] = out.offset[k] + lane_max[k];
+    all_valid &= valid[k];
+    // A double lane that overflowed has an infinite sum (and a NaN value(), which the running
+    // max skips): check each lane's own sum, not only the offsets.
+    finite &= std::isfinite(acc[k].value());
+  }
+  if (!all_valid) find_and_throw_bad_weight(who, w, lanes.begin[kLanes]);
+  if (!finite || !(out.total() <= double(std::numeric_limits<T>::max()))) {
+    throw invalid_input(std::string(who) + ": the weights sum to more than the largest finite " +
+                        (std::is_same<T, float>::value ? "float" : "double") +
+                        "; scale them down (or use double for float weights)");
+  }
+  return out;
+}
+
+// Smallest integer >= x for 0 <= x < 2^62, without std::ceil (which needs SSE4.1 to be one
+// instruction on x86-64; the baseline target calls libm).
+inline std::size_t ceil_to_size(double x) noexcept {
+  const std::int64_t k = std::int64_t(x);  // signed: one instruction, unsigned needs a branch
+  return std::size_t(k + (double(k) < x ? 1 : 0));
+}
+
+// Copy of the weights with every bad one replaced by 0; *zeroed = how many.
+template <class T>
+inline std::vector<T> sanitized_weights(const char* who, const T* w, std::size_t n,
+                                        std::size_t* zeroed) {
+  check_size(who, w, n);
+  std::vector<T> out(w, w + n);
+  std::size_t count = 0;
+  for (T& x : out) {
+    if (is_bad_weight(x)) {
+      x = T(0);
+      ++count;
+    }
+  }
+  *zeroed = count;
+  return out;
+}
+
+}  // namespace detail
+}  // namespace vplkit

@@ -1,0 +1,77 @@
+#pragma once
+// Dual paraboloid mapping in light space (DESIGN 3.1): direction <-> (face, uv).
+//
+// Convention (mirrored by glsl/vplkit): the front face covers d.z >= 0 (-0.0 included), the back
+// face d.z < 0. The back face is NOT mirrored: uv = (d.x, d.y) / (1 + |d.z|) on both faces, so a
+// rim direction (d.z = 0) has the same uv on either face and the two maps join continuously
+// along the rim. Consequence for a rasteriser: the back projection is a reflection (z -> -z) of
+// the front one, so triangle winding flips on the back face.
+#include <vplkit/core/vector.hpp>
+#include <vplkit/paraboloid/unit_or_zero.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace vplkit {
+
+inline constexpr int paraboloid_front = 0;
+inline constexpr int paraboloid_back = 1;
+
+template <class T>
+struct paraboloid_point {
+  int face;    // paraboloid_front or paraboloid_back
+  vec2<T> uv;  // in the closed unit disk
+};
+
+// Pulls a uv that rounding left just outside the unit disk back inside, so that
+// dot(uv, uv) <= 1 holds exactly in T. Multiplying by 1/sqrt(r2) alone still lands above 1 in
+// most cases (the product rounds up); the extra factor (1 - 2 eps) moves uv by at most ~2 ulp and
+// was checked on 2e7 rim directions in float and double. Leaves uv untouched when r2 <= 1.
+template <class T>
+inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
+  const T r2 = glm::dot(uv, uv);
+  if (r2 > T(1)) {
+    const T k = (T(1) / std::sqrt(r2)) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
+    uv = uv * k;
+  }
+  return uv;
+}
+
+// Direction (light space, any length) -> face and uv. d is normalised first (robust to
+// |d| ~ 1e-30 or 1e30); a zero, NaN or infinite d gives {front, (0,0)} rather than NaN.
+// The denominator is 1 + |d.z| >= 1 on whichever face d falls: the map never divides by the
+// cancelling 1 - |d.z| of the opposite face, so the back pole (0,0,-1) is as accurate as the
+// front one. Rim directions give r2 <= 1 exactly (paraboloid_clamp_to_disk).
+template <class T>
+inline paraboloid_point<T> paraboloid_from_direction(vec3<T> d) {
+  const vec3<T> n = unit_or_zero(d);
+  paraboloid_point<T> p;
+  p.face = (n.z >= T(0)) ? paraboloid_front : paraboloid_back;
+  const T denom = T(1) + std::abs(n.z);
+  p.uv = paraboloid_clamp_to_disk(vec2<T>(n.x, n.y) / denom);
+  return p;
+}
+
+// (face, uv) -> unit direction in light space; the exact inverse of paraboloid_from_direction
+// for uv in the unit disk: r2 = |uv|^2, d = (2u, 2v, 1 - r2) / (1 + r2), z negated on the back
+// face. Unit length to a few ulp (no final normalisation). At r2 = 1 the result has z = +-0,
+// which paraboloid_from_direction files under the front face with the same uv (seam
+// convention). For r2 > 1 (map corners, outside every valid texel) the formula continues into
+// the other hemisphere: still a unit vector, but not on this face.
+template <class T>
+inline vec3<T> paraboloid_to_direction(int face, vec2<T> uv) {
+  const T r2 = glm::dot(uv, uv);
+  const T s = T(1) / (T(1) + r2);
+  vec3<T> d(T(2) * uv.x * s, T(2) * uv.y * s, (T(1) - r2) * s);
+  if (face == paraboloid_back) d.z = -d.z;
+  return d;
+}
+
+// Solid-angle Jacobian of the map: d(omega) = 4 / (1 + r2)^2 du dv (1 at the rim, 4 at the pole).
+template <class T>
+inline T paraboloid_jacobian(vec2<T> uv) {
+  const T q = T(1) + glm::dot(uv, uv);
+  return T(4) / (q * q);
+}
+
+}  // namespace vplkit

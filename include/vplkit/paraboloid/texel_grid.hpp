@@ -1,0 +1,75 @@
+#pragma once
+// The R x R texel grid of each paraboloid face over uv in [-1,1]^2 (DESIGN 3.1).
+//
+// Layout (mirrored by glsl/vplkit): x runs along u, y along v; texel (x, y) covers
+// u in [-1 + 2x/R, -1 + 2(x+1)/R] and likewise for v; its centre is
+// uv = ((x + 0.5) / R * 2 - 1, (y + 0.5) / R * 2 - 1). The flat index over both faces is
+//   index = face * R * R + y * R + x        (face 0 = front, 1 = back)
+// so a DPRSM is 2 * R * R texels, front face first, each face row-major. Indices are int
+// (as in GLSL): R is limited to paraboloid_max_resolution so that 2 R^2 fits.
+#include <vplkit/core/vector.hpp>
+#include <vplkit/paraboloid/paraboloid.hpp>
+
+namespace vplkit {
+
+// 2 * 16384^2 = 2^29 texels: the index and the integer validity test below stay in int.
+inline constexpr int paraboloid_max_resolution = 16384;
+
+inline int texel_count(int R) { return 2 * R * R; }
+
+inline int texel_index(int face, int x, int y, int R) { return face * R * R + y * R + x; }
+
+inline int texel_face(int index, int R) { return index / (R * R); }
+
+// (x, y) of a flat index within its face.
+inline ivec2 texel_coords(int index, int R) {
+  const int in_face = index % (R * R);
+  return ivec2(in_face % R, in_face / R);
+}
+
+template <class T>
+inline vec2<T> texel_center_uv(int x, int y, int R) {
+  return vec2<T>((T(x) + T(0.5)) / T(R) * T(2) - T(1), (T(y) + T(0.5)) / T(R) * T(2) - T(1));
+}
+
+// uv -> the texel containing it, clamped into [0, R-1]^2 (uv = 1 belongs to the last texel).
+// The clamp happens in floating point before the conversion to int, so uv far outside the map,
+// Inf or NaN (-> texel 0) never reach an out-of-range float-to-int conversion (UB in C++).
+template <class T>
+inline int texel_coord_from_u(T u, int R) {
+  T t = (u + T(1)) * T(0.5) * T(R);
+  if (!(t >= T(0))) t = T(0);
+  if (t > T(R - 1)) t = T(R - 1);
+  return int(t);  // t >= 0: truncation is floor
+}
+
+template <class T>
+inline ivec2 texel_from_uv(vec2<T> uv, int R) {
+  return ivec2(texel_coord_from_u(uv.x, R), texel_coord_from_u(uv.y, R));
+}
+
+// A texel is valid when its centre lies in the closed unit disk (about pi/4 of the map).
+// Decided in exact integer arithmetic: with a = 2x + 1 - R, b = 2y + 1 - R the centre is
+// (a, b) / R, so r2 <= 1 <=> a^2 + b^2 <= R^2. No centre lies exactly on the rim (a and b have
+// the parity of R + 1, so a^2 + b^2 != R^2), but one can lie within 1/R^2 of it: below float
+// resolution for R in the thousands, where a float r2 <= 1 test misclassifies some texels (see
+// the hard-case test). The integer test cannot, and it is identical on CPU and GPU.
+inline bool texel_is_valid(int x, int y, int R) {
+  if (x < 0 || y < 0 || x >= R || y >= R) return false;
+  const int a = 2 * x + 1 - R;
+  const int b = 2 * y + 1 - R;
+  return a * a + b * b <= R * R;
+}
+
+// Solid angle of a valid texel: the Jacobian 4 / (1 + r2)^2 at the centre times the texel's
+// uv area (2/R)^2 (midpoint rule; relative error O(R^-2), largest next to the pole: ~3e-4 at
+// R = 64, 2e-5 at R = 256). 0 for invalid texels, so they carry no weight and can never be
+// sampled.
+template <class T>
+inline T texel_solid_angle(int x, int y, int R) {
+  if (!texel_is_valid(x, y, R)) return T(0);
+  const T h = T(2) / T(R);
+  return paraboloid_jacobian(texel_center_uv<T>(x, y, R)) * h * h;
+}
+
+}  // namespace vplkit

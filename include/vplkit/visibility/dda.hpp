@@ -1,0 +1,167 @@
+#pragma once
+// 3D DDA ray marching through a voxel_grid_view (Amanatides & Woo, "A fast voxel traversal
+// algorithm for ray tracing", Eurographics 1987).
+//
+// Ray: origin + t * d, where d = dir normalised (dda_unit_direction), so t and t_max are world
+// distances. The march visits, in order of t, the voxels whose closed boxes the segment
+// [0, t_max] meets inside the grid, and returns the first occupied one with its ENTRY distance:
+// max(0, t at which the ray enters that voxel's box) -- 0 when the origin is inside an occupied
+// voxel. A voxel entered exactly at t_max counts (closed interval).
+// Two exceptions to "every voxel whose closed box the segment meets", both at exact ties:
+// - On an axis the ray does not move along (d_a == 0) whose coordinate lies exactly on a voxel
+//   plane, only the voxel above the plane (floor) is visited, the one below it on the grid's max
+//   face; a ray lying in a boundary plane thus walks one layer, not both.
+// - Where the ray crosses several planes at the same t (an edge or a corner), the side voxels it
+//   only touches are visited in the order of the tie rule below, not all of them.
+// Neither lets a ray pass a conservative shell: the voxels around the point where a ray crosses a
+// surface are all marked, whichever of them the march is in.
+//
+// Conventions the GLSL mirror (vplkit_dda_first_hit) follows statement for statement:
+// - Direction: a direction with a NaN or infinite component, or whose largest |component| is
+//   below 1.17549435e-38 (FLT_MIN, the smallest normal float, also for T = double) counts as zero
+//   length: GPUs flush denormals to zero. Otherwise it is scaled by its largest |component| before
+//   normalising (no underflow / overflow), and components of the unit vector below FLT_MIN are set
+//   to 0. A zero-length direction, a non-finite origin, or t_max < 0 / NaN give no hit.
+// - Clipping: slabs against the closed grid box, t in [0, t_max]; an axis with d_a == 0 only checks
+//   bounds_min_a <= origin_a <= bounds_max_a. The ray misses when t_enter > t_exit.
+// - Entry voxel: floor((p - bounds_min) / voxel_size) at p = origin + t_enter * d, clamped into the
+//   grid (p on the box face may round outside it); on the axis whose face the ray enters through
+//   (the first axis whose slab entry is the largest, when the origin is outside) the index is set
+//   exactly to the first layer, 0 or n - 1, since p there may have lost all precision (origin far
+//   away).
+// - Crossing distances are recomputed from the plane each step, t_next_a = (bounds_min_a +
+//   k * voxel_size_a - origin_a) / d_a, not accumulated (no drift over 128+ steps); an axis with
+//   d_a == 0 has t_next_a = the largest finite T and step 0, never an infinite or NaN tDelta.
+// - Ties: the axis with the smallest t_next steps first, x before y before z when equal. At an
+//   exact edge or corner crossing the march therefore also visits the side voxel(s) the ray only
+//   touches, which is what keeps a ray from slipping diagonally between two voxels of a
+//   conservative shell.
+// - The loop runs at most nx + ny + nz iterations (a ray visits at most nx + ny + nz - 2 voxels).
+// - The reported t is kept non-decreasing (t = max(t, t_next)) so rounding at the entry voxel
+//   cannot make it go backwards.
+#include <vplkit/core/vector.hpp>
+#include <vplkit/visibility/voxel_grid.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace vplkit {
+
+template <class T>
+struct dda_hit {
+  bool hit;     // an occupied voxel was found within [0, t_max]
+  T t;          // its entry distance (0 on a miss)
+  ivec3 voxel;  // its index ((-1, -1, -1) on a miss)
+};
+
+// Unit direction for the DDA in `out`, or false (and out = 0) for a zero / non-finite direction
+// (see the header).
+template <class T>
+inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
+  out = vec3<T>(T(0));
+  if (!std::isfinite(dir.x) || !std::isfinite(dir.y) || !std::isfinite(dir.z)) return false;
+  const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
+  const T m = std::fmax(std::abs(dir.x), std::fmax(std::abs(dir.y), std::abs(dir.z)));
+  if (!(m >= tiny)) return false;
+  vec3<T> d = dir / m;
+  d = d / std::sqrt(glm::dot(d, d));  // dot(d, d) in [1, 3]: no underflow, no overflow
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(d[a]) < tiny) d[a] = T(0);
+  out = d;
+  return true;
+}
+
+template <class T>
+inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                T t_max = std::numeric_limits<T>::infinity()) {
+  const dda_hit<T> miss{false, T(0), ivec3(-1)};
+  vec3<T> d(T(0));
+  if (!dda_unit_direction(dir, d)) return miss;
+  if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z) || !(t_max >= T(0)))
+    return miss;
+  const vec3<T> size = voxel_size(g);
+
+  // Clip [0, t_max] to the closed grid box; remember which face the ray enters through.
+  T t_enter = T(0), t_exit = t_max;
+  int enter_axis = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == T(0)) {
+      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return miss;
+    } else {
+      T ta = (g.bounds_min[a] - origin[a]) / d[a];
+      T tb = (g.bounds_max[a] - origin[a]) / d[a];
+      if (ta > tb) {
+        const T s = ta;
+        ta = tb;
+        tb = s;
+      }
+      if (ta > t_enter) {
+        t_enter = ta;
+        enter_axis = a;
+      }
+      t_exit = tb < t_exit ? tb : t_exit;
+    }
+  }
+  if (!(t_enter <= t_exit) || !std::isfinite(t_enter)) return miss;
+
+  // Entry voxel and the distance to the next plane crossing on each axis.
+  const vec3<T> p = origin + t_enter * d;
+  ivec3 v(0);
+  ivec3 step(0);
+  vec3<T> t_next(T(0));
+  for (int a = 0; a < 3; ++a) {
+    const int i = voxel_floor_to_int((p[a] - g.bounds_min[a]) / size[a]);
+    v[a] = i < 0 ? 0 : (i > g.resolution[a] - 1 ? g.resolution[a] - 1 : i);
+    if (a == enter_axis) v[a] = d[a] > T(0) ? 0 : g.resolution[a] - 1;
+    if (d[a] > T(0)) {
+      step[a] = 1;
+      t_next[a] = (g.bounds_min[a] + T(v[a] + 1) * size[a] - origin[a]) / d[a];
+    } else if (d[a] < T(0)) {
+      step[a] = -1;
+      t_next[a] = (g.bounds_min[a] + T(v[a]) * size[a] - origin[a]) / d[a];
+    } else {
+      step[a] = 0;
+      t_next[a] = std::numeric_limits<T>::max();
+    }
+  }
+
+  T t = t_enter;
+  const int max_iterations = g.resolution.x + g.resolution.y + g.resolution.z;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (voxel_test(g, v)) return dda_hit<T>{true, t, v};
+    const int a = (t_next.x <= t_next.y && t_next.x <= t_next.z) ? 0 : (t_next.y <= t_next.z ? 1 : 2);
+    if (step[a] == 0 || t_next[a] > t_max) break;
+    v[a] += step[a];
+    if (v[a] < 0 || v[a] >= g.resolution[a]) break;
+    t = t_next[a] > t ? t_next[a] : t;
+    t_next[a] = (g.bounds_min[a] + T(step[a] > 0 ? v[a] + 1 : v[a]) * size[a] - origin[a]) / d[a];
+  }
+  return miss;
+}
+
+template <class T>
+struct dda_trace_result {
+  bool hit;
+  T t;           // entry distance of the first occupied voxel (0 on a miss)
+  ivec3 voxel;   // its index ((-1, -1, -1) on a miss)
+  vec3<T> point; // origin + t * normalize(dir): where the ray enters that voxel (origin on a miss)
+};
+
+// For the GBG gathering pass: the first occupied voxel along the ray and the point where the ray
+// enters it. Accuracy: one voxel. The point lies on the boundary of (or, at t = 0, inside) the
+// first occupied voxel; the surface that marked that voxel lies somewhere in the same closed box,
+// so the point is within one voxel diagonal of that surface. Because the voxelisation is
+// conservative, the ray itself may pass through the voxel without meeting the surface: the point
+// is then up to a voxel diagonal from any true intersection, and a DPRSM depth test against it
+// needs a tolerance of about a voxel diagonal (sqrt(3) * voxel_length).
+template <class T>
+inline dda_trace_result<T> dda_trace_hit_point(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                               T t_max = std::numeric_limits<T>::infinity()) {
+  const dda_hit<T> h = dda_first_hit(g, origin, dir, t_max);
+  if (!h.hit) return dda_trace_result<T>{false, T(0), h.voxel, origin};
+  vec3<T> d(T(0));
+  dda_unit_direction(dir, d);  // succeeds: dda_first_hit hit
+  return dda_trace_result<T>{true, h.t, h.voxel, origin + h.t * d};
+}
+
+}  // namespace vplkit

@@ -1,0 +1,282 @@
+#include "compute.hpp"
+
+#include <chrono>
+#include <string>
+
+namespace vplkit::gl {
+
+const char* gl_error_name(GLenum e) {
+  switch (e) {
+    case GL_NO_ERROR: return "GL_NO_ERROR";
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    default: return "unknown GL error";
+  }
+}
+
+void check_gl(const char* where) {
+  std::string errors;
+  // glGetError returns one flag per call; bounded so a lost context cannot loop forever.
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    errors += std::string(errors.empty() ? "" : ", ") + gl_error_name(e);
+  }
+  if (!errors.empty()) throw gl_error(std::string(where) + ": " + errors);
+}
+
+std::string glsl_source_dir() {
+#ifdef VPLKIT_GLSL_SOURCE_DIR
+  return VPLKIT_GLSL_SOURCE_DIR;
+#else
+  return {};
+#endif
+}
+
+// ---- program ----------------------------------------------------------------------------------
+namespace {
+std::string shader_log(GLuint shader) {
+  GLint length = 0;
+  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
+  glGetShaderInfoLog(shader, static_cast<GLsizei>(log.size()), nullptr, &log[0]);
+  log.resize(std::strlen(log.c_str()));
+  return log;
+}
+std::string program_log(GLuint prog) {
+  GLint length = 0;
+  glGetProgramiv(prog, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
+  glGetProgramInfoLog(prog, static_cast<GLsizei>(log.size()), nullptr, &log[0]);
+  log.resize(std::strlen(log.c_str()));
+  return log;
+}
+std::string file_table(const glsl::resolved_source* files) {
+  if (files == nullptr || files->files.size() <= 1) return {};
+  std::string t = "\nsource strings:";
+  for (std::size_t k = 0; k < files->files.size(); ++k) {
+    t += "\n  " + std::to_string(k) + ": " + files->file_label(k);
+  }
+  return t;
+}
+}  // namespace
+
+program::~program() {
+  if (id_ != 0) glDeleteProgram(id_);
+}
+
+program& program::operator=(program&& other) noexcept {
+  if (this != &other) {
+    if (id_ != 0) glDeleteProgram(id_);
+    id_ = std::exchange(other.id_, 0);
+  }
+  return *this;
+}
+
+program program::compute(const std::string& source, const glsl::resolved_source* files) {
+  const std::string name = files != nullptr && !files->files.empty() ? files->file_label(0)
+                                                                       : std::string("<source>");
+  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+  if (shader == 0) throw gl_error("glCreateShader(GL_COMPUTE_SHADER) failed for " + name);
+  const char* text = source.c_str();
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    std::string log = shader_log(shader);
+    glDeleteShader(shader);
+    if (files != nullptr) log = files->map_log(log);
+    throw gl_error("compute shader " + name + " failed to compile:\n" + log + file_table(files));
+  }
+  const GLuint prog = glCreateProgram();
+  glAttachShader(prog, shader);
+  glLinkProgram(prog);
+  glDetachShader(prog, shader);
+  glDeleteShader(shader);
+  glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    std::string log = program_log(prog);
+    glDeleteProgram(prog);
+    if (files != nullptr) log = files->map_log(log);
+    throw gl_error("compute program " + name + " failed to link:\n" + log + file_table(files));
+  }
+  check_gl(("building compute program " + name).c_str());
+  return program(prog);
+}
+
+program program::compute_with_includes(const std::string& source, const std::string& name,
+                                       const std::vector<std::string>& include_dirs,
+                                       const std::string& preamble) {
+  std::vector<std::string> dirs = include_dirs;
+  if (dirs.empty()) dirs.push_back(glsl_source_dir());
+  const glsl::resolved_source resolved = glsl::resolve_includes(source, name, dirs, preamble);
+  return compute(resolved.text, &resolved);
+}
+
+program program::compute_from_file(const std::string& path,
+                                   const std::vector<std::string>& include_dirs,
+                                   const std::string& preamble) {
+  std::vector<std::string> dirs = include_dirs;
+  if (dirs.empty()) dirs.push_back(glsl_source_dir());
+  const glsl::resolved_source resolved = glsl::resolve_include_file(path, dirs, preamble);
+  return compute(resolved.text, &resolved);
+}
+
+void program::use() const { glUseProgram(id_); }
+
+std::array<GLint, 3> program::local_size() const {
+  std::array<GLint, 3> size{0, 0, 0};
+  glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, size.data());
+  return size;
+}
+
+GLint program::uniform_location(const char* name) const {
+  return glGetUniformLocation(id_, name);
+}
+
+// ---- buffer -----------------------------------------------------------------------------------
+buffer::~buffer() {
+  if (id_ != 0) glDeleteBuffers(1, &id_);
+}
+
+buffer& buffer::operator=(buffer&& other) noexcept {
+  if (this != &other) {
+    if (id_ != 0) glDeleteBuffers(1, &id_);
+    id_ = std::exchange(other.id_, 0);
+    bytes_ = std::exchange(other.bytes_, 0);
+  }
+  return *this;
+}
+
+buffer buffer::from_bytes(const void* data, std::size_t bytes) {
+  buffer b;
+  glGenBuffers(1, &b.id_);
+  b.bytes_ = bytes;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id_);
+  // A zero-sized SSBO cannot be bound; keep one word so an empty input still binds.
+  const std::vector<unsigned char> zero(4, 0);
+  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes > 0 ? bytes : 4),
+               bytes > 0 ? data : zero.data(), GL_DYNAMIC_COPY);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  check_gl("creating a shader storage buffer");
+  return b;
+}
+
+buffer buffer::filled(std::size_t bytes, unsigned char fill_byte) {
+  const std::vector<unsigned char> data(bytes, fill_byte);
+  return from_bytes(data.data(), bytes);
+}
+
+void buffer::bind(GLuint binding) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_);
+}
+
+void buffer::read_bytes(void* out, std::size_t offset, std::size_t bytes) const {
+  if (offset + bytes > bytes_) throw gl_error("buffer read past its end");
+  if (bytes == 0) return;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset),
+                     static_cast<GLsizeiptr>(bytes), out);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  check_gl("reading a shader storage buffer");
+}
+
+void buffer::write_bytes(const void* data, std::size_t offset, std::size_t bytes) {
+  if (offset + bytes > bytes_) throw gl_error("buffer write past its end");
+  if (bytes == 0) return;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset),
+                  static_cast<GLsizeiptr>(bytes), data);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  check_gl("writing a shader storage buffer");
+}
+
+// ---- dispatch ---------------------------------------------------------------------------------
+void memory_barrier(GLbitfield bits) { glMemoryBarrier(bits); }
+
+void dispatch(const program& p, GLuint groups_x, GLuint groups_y, GLuint groups_z) {
+  const GLuint groups[3] = {groups_x, groups_y, groups_z};
+  for (GLuint axis = 0; axis < 3; ++axis) {
+    GLint max_groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, axis, &max_groups);
+    if (groups[axis] > static_cast<GLuint>(max_groups)) {
+      throw gl_error("dispatch: " + std::to_string(groups[axis]) + " work groups on axis " +
+                     std::to_string(axis) + " exceed GL_MAX_COMPUTE_WORK_GROUP_COUNT = " +
+                     std::to_string(max_groups));
+    }
+  }
+  p.use();
+  glDispatchCompute(groups_x, groups_y, groups_z);
+  memory_barrier();
+  check_gl("glDispatchCompute");
+}
+
+// ---- timer ------------------------------------------------------------------------------------
+bool is_software_renderer() {
+  const GLubyte* r = glGetString(GL_RENDERER);
+  const std::string renderer = r ? reinterpret_cast<const char*>(r) : "";
+  return renderer.find("llvmpipe") != std::string::npos ||
+         renderer.find("softpipe") != std::string::npos;
+}
+
+namespace {
+double steady_ms() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+timer_query::timer_query() : software_(is_software_renderer()) {
+  if (!software_) glGenQueries(1, &id_);
+}
+
+timer_query::~timer_query() {
+  if (running_ && !software_) glEndQuery(GL_TIME_ELAPSED);
+  if (id_ != 0) glDeleteQueries(1, &id_);
+}
+
+const char* timer_query::method() const {
+  return software_ ? "glFinish + steady_clock (software renderer)" : "GL_TIME_ELAPSED";
+}
+
+void timer_query::begin() {
+  if (running_) throw gl_error("timer_query::begin while running");
+  if (software_) {
+    glFinish();
+    cpu_begin_ms_ = steady_ms();
+  } else {
+    glBeginQuery(GL_TIME_ELAPSED, id_);
+  }
+  running_ = true;
+  done_ = false;
+}
+
+void timer_query::end() {
+  if (!running_) throw gl_error("timer_query::end without begin");
+  if (software_) {
+    glFinish();
+    cpu_end_ms_ = steady_ms();
+  } else {
+    glEndQuery(GL_TIME_ELAPSED);
+  }
+  running_ = false;
+  done_ = true;
+  check_gl("timer_query::end");
+}
+
+double timer_query::milliseconds() const {
+  if (!done_) throw gl_error("timer_query::milliseconds before begin/end");
+  if (software_) return cpu_end_ms_ - cpu_begin_ms_;
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(id_, GL_QUERY_RESULT, &ns);  // waits for the result
+  return static_cast<double>(ns) * 1e-6;
+}
+
+}  // namespace vplkit::gl

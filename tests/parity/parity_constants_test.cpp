@@ -1,0 +1,136 @@
+// Parity of glsl/vplkit/core/constants.glsl with the C++ values, bit for bit, and a self-check of
+// the harness (sentinel detection, float and integer comparison reports).
+#include <parity_harness.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+using vplkit::parity::compare_exact;
+using vplkit::parity::compare_floats;
+
+struct named_constant {
+  const char* glsl;
+  double value;  // the C++ side: static_cast<float>(value) is what the pack must hold
+};
+
+const std::vector<named_constant>& constants() {
+  static const std::vector<named_constant> list = {
+      {"vplkit_PI", 3.14159265358979323846},
+      {"vplkit_TWO_PI", 2.0 * 3.14159265358979323846},
+      {"vplkit_HALF_PI", 0.5 * 3.14159265358979323846},
+      {"vplkit_INV_PI", 1.0 / 3.14159265358979323846},
+      {"vplkit_INV_TWO_PI", 0.5 / 3.14159265358979323846},
+      {"vplkit_INV_FOUR_PI", 0.25 / 3.14159265358979323846},
+      {"vplkit_ONE_MINUS_EPSILON", 1.0 - std::numeric_limits<float>::epsilon() / 2.0},
+      {"vplkit_TWO_POW_MINUS_24", 1.0 / 16777216.0},
+      {"vplkit_FLT_MAX", static_cast<double>(std::numeric_limits<float>::max())},
+      {"vplkit_FLT_MIN", static_cast<double>(std::numeric_limits<float>::min())},
+  };
+  return list;
+}
+
+std::uint32_t bits_of(float f) {
+  std::uint32_t u = 0;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+}  // namespace
+
+TEST_CASE("constants.glsl holds the C++ constants bit for bit") {
+  std::string body = "#include \"vplkit/core/constants.glsl\"\n"
+                     "layout(std430, binding = 0) writeonly buffer Out { uint bits[]; };\n"
+                     "void main() {\n"
+                     "  if (gl_GlobalInvocationID.x != 0u) return;\n";
+  for (std::size_t i = 0; i < constants().size(); ++i) {
+    body += "  bits[" + std::to_string(i) + "] = floatBitsToUint(" + constants()[i].glsl + ");\n";
+  }
+  body += "}\n";
+  const auto& list = constants();
+  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(body, {1, 1, 1}, {}, 0, list.size());
+  std::vector<std::uint32_t> cpu;
+  for (const auto& c : list) cpu.push_back(bits_of(static_cast<float>(c.value)));
+  VPLKIT_CHECK_PARITY(compare_exact(
+      gpu, cpu,
+      [&](std::size_t i) {
+        return std::string(list[i].glsl) + " = " + vplkit::parity::show(list[i].value);
+      },
+      "constants.glsl (float bits)"));
+}
+
+TEST_CASE("harness: one invocation per element, inputs at their bindings, float report") {
+  // result = u * vplkit_PI on 1000 inputs (not a multiple of the local size).
+  std::vector<float> u(1000);
+  for (std::size_t i = 0; i < u.size(); ++i) u[i] = static_cast<float>(i) / 999.0f;
+  const std::string kernel = R"(
+#include "vplkit/core/constants.glsl"
+layout(std430, binding = 3) readonly buffer In { float u[]; };
+layout(std430, binding = 1) writeonly buffer Out { float result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  result[i] = u[i] * vplkit_PI;
+}
+)";
+  const auto gpu = vplkit::parity::run_compute<float>(
+      kernel, {64, 1, 1}, {vplkit::parity::input(3, u)}, 1, u.size());
+  std::vector<double> cpu(u.size());
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    cpu[i] = static_cast<double>(u[i]) * 3.14159265358979323846;
+  }
+  // One float multiply against the exact product: within 1 ulp of float(exact).
+  VPLKIT_CHECK_PARITY(compare_floats(
+      gpu, cpu, vplkit::parity::within_ulps(1),
+      [&](std::size_t i) { return "u = " + vplkit::parity::show(u[i]); }, "u * vplkit_PI"));
+}
+
+TEST_CASE("harness: an element the kernel does not write fails the comparison") {
+  // The kernel skips the last element; the 0xFF sentinel (NaN) must make the comparison fail.
+  const std::string kernel = R"(
+layout(std430, binding = 0) writeonly buffer Out { float result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i + 1u >= VPLKIT_PARITY_COUNT) return;
+  result[i] = 1.0;
+}
+)";
+  const auto gpu = vplkit::parity::run_compute<float>(kernel, {32, 1, 1}, {}, 0, 100);
+  const std::vector<float> cpu(100, 1.0f);
+  const auto c = compare_floats(gpu, cpu, vplkit::parity::within_rel(1e-3));
+  CHECK_FALSE(c.ok);
+  CHECK(c.failures == 1);
+  CHECK(c.worst_index == 99);
+  CHECK(c.report.find("[99]") != std::string::npos);
+}
+
+TEST_CASE("harness: comparison reports name the worst element and its input") {
+  const std::vector<float> cpu = {1.0f, 2.0f, 3.0f, 0.0f};
+  std::vector<float> gpu = cpu;
+  gpu[2] = std::nextafter(std::nextafter(3.0f, 4.0f), 4.0f);  // 2 ulps off
+  auto describe = [](std::size_t i) { return "x = " + std::to_string(i * 10); };
+  const auto loose = compare_floats(gpu, cpu, vplkit::parity::within_ulps(2), describe);
+  CHECK(loose.ok);
+  CHECK(loose.worst_index == 2);
+  CHECK(loose.worst_ulps == 2.0);
+  CHECK(loose.report.find("x = 20") != std::string::npos);
+  const auto tight = compare_floats(gpu, cpu, vplkit::parity::within_ulps(1), describe);
+  CHECK_FALSE(tight.ok);
+  CHECK(tight.report.find("FAIL: 1 of 4") != std::string::npos);
+  // A relative bound alone cannot pass a wrong value next to a zero reference; abs can.
+  gpu = cpu;
+  gpu[3] = 1e-9f;
+  CHECK_FALSE(compare_floats(gpu, cpu, vplkit::parity::within_rel(1e-3)).ok);
+  CHECK(compare_floats(gpu, cpu, vplkit::parity::within_rel(1e-3) | vplkit::parity::within_abs(1e-8)).ok);
+  // Integers: exact, with the input printed.
+  const std::vector<std::uint32_t> want = {1, 2, 3};
+  const std::vector<std::uint32_t> got = {1, 5, 3};
+  const auto ints = compare_exact(got, want, describe, "indices");
+  CHECK_FALSE(ints.ok);
+  CHECK(ints.report.find("[1] gpu=5 cpu=2  input: x = 10") != std::string::npos);
+}

@@ -1,0 +1,281 @@
+// OBJ/MTL loading: what real files do (quads, n-gons, no normals, CRLF, missing MTL or textures,
+// textures, relative indices) and what broken files do (each gets a one-line error naming file and
+// line, never a crash). Every fixture is written by the test into its own temporary directory.
+#include <catch2/catch.hpp>
+
+#include "errors.hpp"
+#include "obj_loader.hpp"
+#include "obj_scan.hpp"
+#include "renderer_test_util.hpp"
+#include "texture.hpp"
+
+#include <stb_image_write.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <string>
+
+using namespace vplrender;
+using vplrender_test::temp_dir;
+
+namespace {
+
+const char* kQuad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+double total_area(const scene& s) {
+  double a = 0.0;
+  for (const triangle& t : s.triangles) a += 0.5 * triangle_double_area(t);
+  return a;
+}
+
+bool has_warning(const scene& s, const std::string& part) {
+  return std::any_of(s.warnings.begin(), s.warnings.end(),
+                     [&](const std::string& w) { return w.find(part) != std::string::npos; });
+}
+
+// The one-line error message loading `text` produces ("" if it loads).
+std::string load_error(const std::string& text, const std::string& name = "bad.obj") {
+  temp_dir d;
+  const std::string path = d.write(name, text);
+  try {
+    load_obj_scene(path);
+  } catch (const input_error& e) {
+    std::string m = e.what();
+    CHECK(m.find('\n') == std::string::npos);
+    const std::string prefix = path + ":";
+    CHECK(m.rfind(prefix, 0) == 0);  // names the file
+    return m.substr(path.size());   // ":line: message" or ": message"
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a quad becomes two triangles with the flat normal of its winding") {
+  temp_dir d;
+  const scene s = load_obj_scene(d.write("quad.obj", std::string(kQuad) + "f 1 2 3 4\n"));
+  REQUIRE(s.triangles.size() == 2);
+  CHECK(total_area(s) == Approx(1.0));
+  for (const triangle& t : s.triangles)
+    for (const vec3& n : t.n) CHECK(n.z == Approx(1.0f));  // counter-clockwise seen from +z
+  const scene flipped = load_obj_scene(d.write("flip.obj", std::string(kQuad) + "f 4 3 2 1\n"));
+  for (const triangle& t : flipped.triangles)
+    for (const vec3& n : t.n) CHECK(n.z == Approx(-1.0f));
+  // No usemtl: the default material.
+  REQUIRE(s.materials.size() == 1);
+  CHECK(s.materials[0].name == "default");
+  CHECK(s.materials[0].kd == vec3(0.8f));
+  CHECK(s.warnings.empty());
+}
+
+TEST_CASE("n-gons, convex and concave, keep their area") {
+  temp_dir d;
+  // A regular octagon and an L-shaped hexagon (concave) side by side.
+  std::string obj;
+  for (int i = 0; i < 8; ++i) {
+    const double a = 2.0 * 3.141592653589793 * i / 8.0;
+    obj += "v " + std::to_string(std::cos(a)) + " 0 " + std::to_string(-std::sin(a)) + "\n";
+  }
+  obj += "v 3 0 0\nv 5 0 0\nv 5 0 -1\nv 4 0 -1\nv 4 0 -2\nv 3 0 -2\n";
+  obj += "f 1 2 3 4 5 6 7 8\nf 9 10 11 12 13 14\n";
+  const scene s = load_obj_scene(d.write("ngon.obj", obj));
+  CHECK(s.triangles.size() == 6 + 4);
+  const double octagon = 8 * 0.5 * std::sin(2.0 * 3.141592653589793 / 8.0);
+  CHECK(total_area(s) == Approx(octagon + 3.0).epsilon(1e-5));
+  for (const triangle& t : s.triangles)
+    for (const vec3& n : t.n) CHECK(n.y == Approx(1.0f));
+}
+
+TEST_CASE("given normals are normalised and kept as authored; zero ones fall back to the face") {
+  temp_dir d;
+  const std::string obj = std::string(kQuad) + "vn 0 0 5\nvn 0 0 -1\nvn 0 0 0\nf 1//1 2//2 3//3\n";
+  const scene s = load_obj_scene(d.write("n.obj", obj));
+  REQUIRE(s.triangles.size() == 1);
+  CHECK(s.triangles[0].n[0] == vec3(0, 0, 1));
+  CHECK(s.triangles[0].n[1] == vec3(0, 0, -1));
+  CHECK(s.triangles[0].n[2] == vec3(0, 0, 1));  // zero normal -> flat face normal
+}
+
+TEST_CASE("CRLF, lone CR, tabs, comments and negative (relative) indices") {
+  temp_dir d;
+  const std::string crlf = "# comment\r\nv\t0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\ng  quad \r\nf -4 -3 -2 -1 # trailing\r\n";
+  const scene a = load_obj_scene(d.write("crlf.obj", crlf));
+  CHECK(a.triangles.size() == 2);
+  CHECK(total_area(a) == Approx(1.0));
+  std::string cr = crlf;
+  cr.erase(std::remove(cr.begin(), cr.end(), '\n'), cr.end());
+  const scene b = load_obj_scene(d.write("cr.obj", cr));
+  CHECK(b.triangles.size() == 2);
+  // Line numbers count CRLF and CR endings alike.
+  CHECK(load_error("v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nf 1 2 4\r\n") ==
+        ":4: vertex index 4 is out of range (the file has 3 vertices)");
+  CHECK(load_error("v 0 0 0\rv 1 0 0\rv 1 1 0\rf 1 2 4\r") ==
+        ":4: vertex index 4 is out of range (the file has 3 vertices)");
+}
+
+TEST_CASE("a face may refer to vertices defined after it") {
+  temp_dir d;
+  const scene s = load_obj_scene(d.write("fwd.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"));
+  CHECK(s.triangles.size() == 1);
+}
+
+TEST_CASE("a missing MTL library is a warning; faces use the default material") {
+  temp_dir d;
+  const std::string obj = "mtllib nowhere.mtl\n" + std::string(kQuad) + "usemtl red\nf 1 2 3 4\n";
+  const scene s = load_obj_scene(d.write("nomtl.obj", obj));
+  CHECK(s.triangles.size() == 2);
+  CHECK(has_warning(s, ":1: material library 'nowhere.mtl' not found"));
+  REQUIRE(s.materials.size() == 1);
+  CHECK(s.materials[0].kd == vec3(0.8f));
+}
+
+TEST_CASE("per-material Kd, clamped when above 1, unknown usemtl gets the default") {
+  temp_dir d;
+  d.write("m.mtl", "newmtl red\nKd 0.7 0.1 0.05\nnewmtl hot\nKd 2 0.5 0.5\nKe 1 1 1\n");
+  const std::string obj = "mtllib m.mtl\n" + std::string(kQuad) +
+                          "usemtl red\nf 1 2 3\nusemtl hot\nf 1 3 4\nusemtl unknown\nf 1 2 4\n";
+  const scene s = load_obj_scene(d.write("m.obj", obj));
+  REQUIRE(s.triangles.size() == 3);
+  CHECK(s.materials[s.triangles[0].material].name == "red");
+  CHECK(s.materials[s.triangles[0].material].kd == vec3(0.7f, 0.1f, 0.05f));
+  CHECK(s.materials[s.triangles[1].material].kd == vec3(1.0f, 0.5f, 0.5f));
+  CHECK(s.materials[s.triangles[1].material].ke == vec3(1.0f));
+  CHECK(has_warning(s, "'hot' has Kd"));
+  CHECK(s.materials[s.triangles[2].material].name == "default");
+  CHECK(has_warning(s, "unknown"));
+}
+
+TEST_CASE("map_Kd textures are loaded bottom row first; missing ones fall back to Kd") {
+  temp_dir d;
+  // 2x2 PNG: file row 0 (top) red, green; row 1 (bottom) blue, white.
+  const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  REQUIRE(stbi_write_png(d.file("tex.png").c_str(), 2, 2, 3, px, 6));
+  d.write("t.mtl",
+          "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd tex.png\n"
+          "newmtl gone\nKd 0.2 0.3 0.4\nmap_Kd missing.png\n"
+          "newmtl broken\nKd 0.1 0.1 0.1\nmap_Kd broken.png\n");
+  d.write("broken.png", "this is not a png");
+  const std::string obj = "mtllib t.mtl\n" + std::string(kQuad) +
+                          "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                          "usemtl tex\nf 1/1 2/2 3/3\nusemtl gone\nf 1/1 3/3 4/4\nusemtl broken\nf 1/1 2/2 4/4\n"
+                          "usemtl tex\nf 1 3 4\n";
+  const scene s = load_obj_scene(d.write("t.obj", obj));
+  REQUIRE(s.triangles.size() == 4);
+  REQUIRE(s.textures.size() == 1);
+  const texture_rgb8& t = s.textures[0];
+  CHECK(t.width == 2);
+  CHECK(t.height == 2);
+  // Row 0 is v = 0, the bottom of the picture: blue, white.
+  CHECK(int(t.texels[0]) == 0);
+  CHECK(int(t.texels[2]) == 255);
+  CHECK(int(t.texels[6]) == 255);  // top-left red is now row 1
+  const material& tex = s.materials[s.triangles[0].material];
+  CHECK(tex.texture == 0);
+  CHECK(s.triangles[0].uv[2] == vec2(1.0f, 1.0f));
+  // Texel centres decode from sRGB: (0.25, 0.75) is the top-left texel, red.
+  const vec3 red = albedo(s, tex, vec2(0.25f, 0.75f));
+  CHECK(red.x == Approx(1.0f));
+  CHECK(red.y == Approx(0.0f).margin(1e-6));
+  CHECK(sample_texture(t, vec2(0.75f, 0.25f)) == vec3(1.0f));  // white, bottom right
+  CHECK(sample_texture(t, vec2(1.75f, -0.75f)) == vec3(1.0f)); // repeat wrapping
+  // Missing and unreadable textures: warnings, Kd.
+  CHECK(s.materials[s.triangles[1].material].texture == -1);
+  CHECK(s.materials[s.triangles[1].material].kd == vec3(0.2f, 0.3f, 0.4f));
+  CHECK(has_warning(s, "texture 'missing.png' of material 'gone' not found; using Kd"));
+  CHECK(s.materials[s.triangles[2].material].texture == -1);
+  CHECK(has_warning(s, "broken.png: cannot load texture"));
+  // A textured material on a face without texcoords: an untextured copy.
+  const material& bare = s.materials[s.triangles[3].material];
+  CHECK(bare.texture == -1);
+  CHECK(bare.kd == vec3(0.5f));
+  CHECK(has_warning(s, "have no texcoords"));
+}
+
+TEST_CASE("unknown and unsupported statements are ignored with one warning each") {
+  temp_dir d;
+  const std::string obj = std::string(kQuad) + "f 1 2 3 4\nl 1 2\nl 2 3\nfoo bar\ncstype bezier\n";
+  const scene s = load_obj_scene(d.write("w.obj", obj));
+  CHECK(s.triangles.size() == 2);
+  CHECK(has_warning(s, ":6: unsupported statement 'l' ignored (2 lines)"));
+  CHECK(has_warning(s, ":8: unknown statement 'foo' ignored (1 line)"));
+  CHECK(has_warning(s, "unsupported statement 'cstype'"));
+}
+
+TEST_CASE("malformed lines are errors naming file and line") {
+  CHECK(load_error("v 0 0 0\nv 1 abc 0\n") == ":2: malformed vertex: 'abc' is not a number");
+  CHECK(load_error("v 0 0\n") == ":1: malformed vertex: expected 3 to 7 numbers, got 2");
+  CHECK(load_error("v 0 0 0 1 2 3 4 5\n") == ":1: malformed vertex: expected 3 to 7 numbers, got 8");
+  CHECK(load_error("vn 0 1\n") == ":1: malformed normal: expected 3 numbers, got 2");
+  CHECK(load_error("vt\n") == ":1: malformed texcoord: expected 1 to 3 numbers, got 0");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n") == ":4: face with 2 vertices (a face needs at least 3)");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 x 3\n") == ":4: malformed vertex reference 'x'");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n") == ":4: malformed vertex reference '1/'");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n") == ":4: malformed vertex reference '1/1/1/1'");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1.5 2 3\n") == ":4: malformed vertex reference '1.5'");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nv 0 1 0 \\\nf 1 2 3\n") == ":3: line continuation with '\\' is not supported");
+  CHECK(load_error(std::string("v 0 0 0\nv 1 0\0 0\n", 17)) == ":2: NUL byte: this is not a text OBJ file");
+}
+
+TEST_CASE("indices out of range, zero, or relative before the first vertex") {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  CHECK(load_error(tri + "f 1 2 4\n") == ":4: vertex index 4 is out of range (the file has 3 vertices)");
+  CHECK(load_error(tri + "f 0 1 2\n") == ":4: vertex index 0 in '0' (OBJ indices start at 1)");
+  CHECK(load_error(tri + "f -1 -2 -4\n") == ":4: relative vertex index -4 refers before the first vertex (3 defined so far)");
+  CHECK(load_error(tri + "f 1/1 2/1 3/1\n") == ":4: texcoord index 1 is out of range (the file has 0 texcoords)");
+  CHECK(load_error(tri + "vn 0 0 1\nf 1//1 2//2 3//1\n") == ":5: normal index 2 is out of range (the file has 1 normal)");
+  CHECK(load_error(tri + "f 1 2 99999999999999999999\n") ==
+        ":4: vertex index 99999999999999999999 is out of range (the file has 3 vertices)");
+  // Relative indices count only what precedes the face.
+  CHECK(load_error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n") ==
+        ":3: relative vertex index -3 refers before the first vertex (2 defined so far)");
+}
+
+TEST_CASE("NaN, Inf and out-of-float-range vertices are errors") {
+  CHECK(load_error("v 0 nan 0\n") == ":1: malformed vertex: 'nan' is not a number");
+  CHECK(load_error("v 0 0 inf\n") == ":1: malformed vertex: 'inf' is not a number");
+  CHECK(load_error("v 0 0 -Infinity\n") == ":1: malformed vertex: '-Infinity' is not a number");
+  CHECK(load_error("v 0 0 1e39\n") == ":1: vertex value '1e39' is out of range (not a finite float)");
+  CHECK(load_error("v 0 0 1e999999\n") == ":1: vertex value '1e999999' is out of range (not a finite float)");
+  CHECK(load_error("v 0 0 0\nvn 0 0 nan\n") == ":2: malformed normal: 'nan' is not a number");
+  CHECK(load_error("v 0 0 0\nvt 0x10 0\n") == ":2: malformed texcoord: '0x10' is not a number");
+  // What tinyobjloader reads as 0 must not slip through: numbers are accepted as it parses them.
+  temp_dir d;
+  const scene s = load_obj_scene(d.write("num.obj", "v -.5 +1. 2e-1\nv 1E+1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  CHECK(s.triangles[0].p[0] == vec3(-0.5f, 1.0f, 0.2f));
+  CHECK(s.triangles[0].p[1].x == 10.0f);
+}
+
+TEST_CASE("empty and degenerate scenes are errors") {
+  CHECK(load_error("") == ": empty scene (no faces)");
+  CHECK(load_error("# only a comment\n\n") == ": empty scene (no faces)");
+  CHECK(load_error("v 0 0 0\nv 1 0 0\n") == ": empty scene (no faces, 2 vertices)");
+  CHECK(load_error("v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\nf 1 1 1\n") ==
+        ": degenerate scene: all 2 faces have zero area");
+  CHECK(load_error("v 5 5 5\nv 5 5 5\nv 5 5 5\nv 5 5 5\nf 1 2 3 4\n") ==
+        ": degenerate scene: all 1 faces have zero area");
+  // Some degenerate faces among good ones: dropped with a warning naming the first.
+  temp_dir d;
+  const scene s = load_obj_scene(d.write("some.obj", std::string(kQuad) + "f 1 2 3\nf 1 1 2\nf 1 3 4\n"));
+  CHECK(s.triangles.size() == 2);
+  CHECK(has_warning(s, ":6: dropped 1 zero-area"));
+}
+
+TEST_CASE("missing and unreadable files are errors naming the file") {
+  temp_dir d;
+  const std::string missing = d.file("missing.obj");
+  CHECK_THROWS_WITH(load_obj_scene(missing), missing + ": cannot open (No such file or directory)");
+  CHECK_THROWS_WITH(load_obj_scene(d.path()), d.path() + ": is a directory, not a file");
+  CHECK_THROWS_AS(load_texture(d.file("none.png")), input_error);
+}
+
+TEST_CASE("huge coordinates that overflow the bounds are refused") {
+  CHECK(load_error("v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n").find("not finite") != std::string::npos);
+}
+
+TEST_CASE("the scan reports counts, face lines and cleaned text with the same line numbers") {
+  const obj_scan_result r = scan_obj("v 0 0 0\r\nv 1 0 0\rv 0 1 0\n\nf 1 2 3 # c\nfoo\nusemtl a#b\n", "x.obj");
+  CHECK(r.vertices == 3);
+  CHECK(r.face_lines == std::vector<std::size_t>{5});
+  CHECK(r.cleaned == "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 3\n\nusemtl a#b\n");
+}

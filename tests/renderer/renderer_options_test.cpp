@@ -1,0 +1,268 @@
+// Command-line parsing of vplrender: every flag, its limits and its errors, without running
+// anything.
+#include <catch2/catch.hpp>
+
+#include "errors.hpp"
+#include "options.hpp"
+
+#include <string>
+#include <vector>
+
+using namespace vplrender;
+
+namespace {
+
+options parse(std::vector<std::string> args) {
+  args.insert(args.begin(), "vplrender");
+  const parse_result r = parse_command_line(args);
+  REQUIRE(r.what == parse_result::action::run);
+  return r.opts;
+}
+
+// The message of the usage_error that parsing throws, or "" if it does not throw.
+std::string error_of(std::vector<std::string> args) {
+  args.insert(args.begin(), "vplrender");
+  try {
+    parse_command_line(args);
+  } catch (const usage_error& e) {
+    const std::string m = e.what();
+    CHECK(m.find('\n') == std::string::npos);  // one line
+    return m;
+  }
+  return "";
+}
+
+bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
+
+}  // namespace
+
+TEST_CASE("defaults without any flag") {
+  const options o = parse({});
+  CHECK(o.scene == "cornell");
+  CHECK(o.meth == method::mis);
+  CHECK(o.back == backend::gpu);
+  CHECK(o.width == 512);
+  CHECK(o.height == 512);
+  CHECK(o.vpls == 64);
+  CHECK(o.seed == 1u);
+  CHECK(o.out == "vplrender.exr");
+  CHECK(o.png_path() == "vplrender.png");
+  CHECK(o.json_path() == "vplrender.json");
+  CHECK(o.regions == 4);
+  CHECK(o.regions_x == 2);
+  CHECK(o.regions_y == 2);
+  CHECK(o.dirs == 16);
+  CHECK(o.eps == Approx(0.05));
+  CHECK(o.voxels == 128);
+  CHECK(o.dprsm == 512);
+  CHECK_FALSE(o.cam.has_value());
+  CHECK_FALSE(o.light.has_value());
+  CHECK_FALSE(o.paper);
+  CHECK_FALSE(o.direct);
+  CHECK_FALSE(o.window);
+  CHECK(o.exposure == 1.0f);
+  CHECK(o.progress == progress_mode::automatic);
+}
+
+TEST_CASE("every flag is parsed into the options struct") {
+  const options o = parse({"--scene", "open", "--method", "gbg", "--backend", "cpu", "--size", "640x480", "--vpls",
+                           "800", "--seed", "4294967295", "--out", "out/dir/img.EXR", "--regions", "6", "--dirs",
+                           "32", "--eps", "0.25", "--voxels", "64", "--dprsm", "256", "--camera",
+                           "1,2,3, 0,0,0, 0,1,0, 60", "--light", "0.5,1.5,-2,1,2,3", "--direct", "--exposure",
+                           "2.5", "--progress", "never"});
+  CHECK(o.scene == "open");
+  CHECK(o.meth == method::gbg);
+  CHECK(o.back == backend::cpu);
+  CHECK(o.width == 640);
+  CHECK(o.height == 480);
+  CHECK(o.vpls == 800);
+  CHECK(o.seed == 4294967295u);
+  CHECK(o.out == "out/dir/img.EXR");
+  CHECK(o.png_path() == "out/dir/img.png");
+  CHECK(o.json_path() == "out/dir/img.json");
+  CHECK(o.regions == 6);
+  CHECK(o.regions_x == 3);
+  CHECK(o.regions_y == 2);
+  CHECK(o.dirs == 32);
+  CHECK(o.eps == Approx(0.25));
+  CHECK(o.voxels == 64);
+  CHECK(o.dprsm == 256);
+  REQUIRE(o.cam.has_value());
+  CHECK(o.cam->eye == glm::vec3(1, 2, 3));
+  CHECK(o.cam->target == glm::vec3(0, 0, 0));
+  CHECK(o.cam->up == glm::vec3(0, 1, 0));
+  CHECK(o.cam->vfov_deg == 60.0f);
+  REQUIRE(o.light.has_value());
+  CHECK(o.light->position == glm::vec3(0.5f, 1.5f, -2.0f));
+  REQUIRE(o.light->intensity.has_value());
+  CHECK(*o.light->intensity == glm::vec3(1, 2, 3));
+  CHECK(o.direct);
+  CHECK(o.exposure == 2.5f);
+  CHECK(o.progress == progress_mode::never);
+  CHECK(parse({"--window"}).window);
+  CHECK(parse({"--progress", "always"}).progress == progress_mode::always);
+  CHECK(parse({"--progress", "auto"}).progress == progress_mode::automatic);
+  CHECK(parse({"--scene", "some/dir/file.obj"}).scene == "some/dir/file.obj");
+  CHECK(parse({"--size=32X16"}).width == 32);
+  CHECK(parse({"--seed", "0"}).seed == 0u);
+}
+
+TEST_CASE("every method name of the contract is accepted, and nothing else") {
+  const std::pair<const char*, method> names[] = {
+      {"reference", method::reference}, {"global", method::global}, {"local", method::local}, {"gbg", method::gbg},
+      {"gather", method::gather},       {"mis", method::mis},       {"mis-as-published", method::mis_as_published}};
+  for (const auto& [name, m] : names) {
+    CHECK(parse({"--method", name}).meth == m);
+    CHECK(std::string(to_string(m)) == name);
+  }
+  CHECK(starts_with(error_of({"--method", "MIS"}), "--method: unknown value 'MIS'"));
+  CHECK(starts_with(error_of({"--backend", "vulkan"}), "--backend: unknown value 'vulkan'"));
+  CHECK(starts_with(error_of({"--progress", "sometimes"}), "--progress:"));
+}
+
+TEST_CASE("--light with a position only keeps the intensity open") {
+  const options o = parse({"--light", "1,2,3"});
+  REQUIRE(o.light.has_value());
+  CHECK(o.light->position == glm::vec3(1, 2, 3));
+  CHECK_FALSE(o.light->intensity.has_value());
+}
+
+TEST_CASE("--paper sets the paper's parameters and explicit flags win in any order") {
+  const options p = parse({"--paper"});
+  CHECK(p.paper);
+  CHECK(p.width == 512);
+  CHECK(p.height == 512);
+  CHECK(p.dprsm == 512);
+  CHECK(p.voxels == 128);
+  CHECK(p.vpls == 800);
+  CHECK(p.regions == 4);
+  CHECK(p.dirs == 800);
+  const options a = parse({"--vpls", "100", "--paper", "--size", "64x32"});
+  CHECK(a.vpls == 100);
+  CHECK(a.width == 64);
+  CHECK(a.height == 32);
+  CHECK(a.voxels == 128);
+  const options b = parse({"--paper", "--vpls", "100"});
+  CHECK(b.vpls == 100);
+}
+
+TEST_CASE("unknown flags and stray arguments are refused, naming them") {
+  CHECK(error_of({"--bogus"}) == "unknown option: --bogus (see --help)");
+  CHECK(starts_with(error_of({"--vpls", "5", "stray"}), "unexpected argument: stray"));
+  CHECK(starts_with(error_of({"-x"}), "unknown option: -x"));
+}
+
+TEST_CASE("a flag given twice or without its value is refused") {
+  CHECK(error_of({"--vpls", "5", "--vpls", "6"}) == "--vpls: given more than once");
+  CHECK(starts_with(error_of({"--vpls"}), "--vpls"));
+  CHECK(starts_with(error_of({"--out"}), "--out"));
+}
+
+TEST_CASE("zero, negative, absurd and malformed counts are refused, naming the flag") {
+  const char* count_flags[] = {"--vpls", "--regions", "--dirs", "--voxels", "--dprsm"};
+  for (const char* f : count_flags) {
+    INFO(f);
+    CHECK(starts_with(error_of({f, "0"}), std::string(f) + ":"));
+    CHECK(starts_with(error_of({f, "-3"}), std::string(f)));
+    CHECK(starts_with(error_of({f, "12abc"}), std::string(f) + ":"));
+    CHECK(starts_with(error_of({f, "1.5"}), std::string(f) + ":"));
+    CHECK(starts_with(error_of({f, "99999999999999999999999"}), std::string(f) + ":"));
+    CHECK(starts_with(error_of({f, ""}), std::string(f) + ":"));
+  }
+  CHECK(starts_with(error_of({"--vpls", "1048577"}), "--vpls: value 1048577 is outside 1..1048576"));
+  CHECK(parse({"--vpls", "1048576"}).vpls == 1048576);
+  CHECK(starts_with(error_of({"--voxels", "3"}), "--voxels:"));
+  CHECK(starts_with(error_of({"--voxels", "1025"}), "--voxels:"));
+  CHECK(starts_with(error_of({"--dprsm", "7"}), "--dprsm:"));
+  CHECK(starts_with(error_of({"--dprsm", "4097"}), "--dprsm:"));
+  CHECK(starts_with(error_of({"--dirs", "65537"}), "--dirs:"));
+  CHECK(starts_with(error_of({"--regions", "1025"}), "--regions:"));
+  CHECK(starts_with(error_of({"--seed", "4294967296"}), "--seed:"));
+  CHECK(starts_with(error_of({"--seed", "-1"}), "--seed"));
+}
+
+TEST_CASE("zero, absurd and malformed sizes are refused") {
+  for (const char* s : {"0x512", "512x0", "0x0", "512", "x512", "512x", "16385x1", "1x16385", "axb", "512x512x3",
+                        "-5x5", "16384x16384"}) {
+    INFO(s);
+    CHECK(starts_with(error_of({"--size", s}), "--size:"));
+  }
+  CHECK(parse({"--size", "1x1", "--regions", "1"}).width == 1);
+  CHECK(parse({"--size", "16384x4096"}).width == 16384);
+}
+
+TEST_CASE("--eps and --exposure ranges") {
+  CHECK(parse({"--eps", "0"}).eps == 0.0);
+  CHECK(parse({"--eps", "1"}).eps == 1.0);
+  CHECK(parse({"--eps", "1e-3"}).eps == Approx(1e-3));
+  for (const char* e : {"-0.1", "1.5", "nan", "inf", "0x1p-3", "abc", ""}) {
+    INFO(e);
+    CHECK(starts_with(error_of({"--eps", e}), "--eps:"));
+  }
+  for (const char* e : {"0", "-1", "1e7", "nan"}) {
+    INFO(e);
+    CHECK(starts_with(error_of({"--exposure", e}), "--exposure:"));
+  }
+}
+
+TEST_CASE("--camera must be ten finite numbers forming a usable camera") {
+  CHECK(starts_with(error_of({"--camera", "1,2,3"}), "--camera: expected 10"));
+  CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,nan"}), "--camera:"));
+  CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,0"}), "--camera: field of view"));
+  CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,180"}), "--camera: field of view"));
+  CHECK(starts_with(error_of({"--camera", "1,1,1,1,1,1,0,1,0,45"}), "--camera: camera eye and target coincide"));
+  CHECK(starts_with(error_of({"--camera", "0,5,0,0,0,0,0,1,0,45"}), "--camera: camera up vector"));
+  CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,0,0,45"}), "--camera: camera up vector is zero"));
+  CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,45,"}), "--camera:"));
+  CHECK(starts_with(error_of({"--camera", "0,0,1e39,0,0,0,0,1,0,45"}), "--camera:"));
+}
+
+TEST_CASE("--light must be 3 or 6 finite numbers with a non-negative intensity") {
+  CHECK(starts_with(error_of({"--light", "1,2"}), "--light: expected 3"));
+  CHECK(starts_with(error_of({"--light", "1,2,3,4"}), "--light: expected 3"));
+  CHECK(starts_with(error_of({"--light", "1,2,3,1,-1,1"}), "--light: intensity must be >= 0"));
+  CHECK(starts_with(error_of({"--light", "1,inf,3"}), "--light:"));
+  CHECK(parse({"--light", "1,2,3,0,0,0"}).light->intensity == glm::vec3(0.0f));
+}
+
+TEST_CASE("--out must name an .exr file") {
+  CHECK(starts_with(error_of({"--out", "image.png"}), "--out:"));
+  CHECK(starts_with(error_of({"--out", ".exr"}), "--out:"));
+  CHECK(starts_with(error_of({"--out", "dir/.exr"}), "--out:"));
+  CHECK(starts_with(error_of({"--out", "exr"}), "--out:"));
+  CHECK(parse({"--out", "a.exr"}).png_path() == "a.png");
+}
+
+TEST_CASE("regions are laid out as the most nearly square grid, and must fit the image") {
+  int x = 0, y = 0;
+  region_grid(1, x, y);
+  CHECK((x == 1 && y == 1));
+  region_grid(4, x, y);
+  CHECK((x == 2 && y == 2));
+  region_grid(12, x, y);
+  CHECK((x == 4 && y == 3));
+  region_grid(7, x, y);
+  CHECK((x == 7 && y == 1));
+  region_grid(1024, x, y);
+  CHECK((x == 32 && y == 32));
+  CHECK(starts_with(error_of({"--size", "4x4", "--regions", "7"}), "--regions: 7 regions (7x1) do not fit"));
+  CHECK(parse({"--size", "7x1", "--regions", "7"}).regions_x == 7);
+}
+
+TEST_CASE("--window needs the GPU backend") {
+  CHECK(error_of({"--window", "--backend", "cpu"}) == "--window: needs --backend gpu");
+}
+
+TEST_CASE("--help returns the help text, which documents every flag") {
+  const parse_result r = parse_command_line({"vplrender", "--help"});
+  CHECK(r.what == parse_result::action::help);
+  CHECK(r.help == help_text("vplrender"));
+  for (const char* flag : {"--scene", "--method", "--backend", "--size", "--vpls", "--seed", "--out", "--regions",
+                           "--dirs", "--eps", "--voxels", "--dprsm", "--camera", "--light", "--paper", "--direct",
+                           "--window", "--exposure", "--progress", "--help"}) {
+    INFO(flag);
+    CHECK(r.help.find(flag) != std::string::npos);
+  }
+  for (const char* m : {"reference", "global", "local", "gbg", "gather", "mis-as-published"}) CHECK(r.help.find(m) != std::string::npos);
+  CHECK(parse_command_line({"vplrender", "--vpls", "3", "-h"}).what == parse_result::action::help);
+}

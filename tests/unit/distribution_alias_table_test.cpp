@@ -1,0 +1,178 @@
+#include <vplkit/distribution/alias_table.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace {
+
+template <class T>
+std::vector<T> exponential_weights(std::size_t n, unsigned seed, double zero_fraction = 0.0) {
+  std::mt19937 rng(seed);
+  std::exponential_distribution<double> ex(1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<T> w(n);
+  for (auto& x : w) x = uni(rng) < zero_fraction ? T(0) : T(ex(rng));
+  return w;
+}
+
+template <class T>
+T u01(std::mt19937& rng) {
+  return T(rng() >> 8) * T(0x1p-24);
+}
+
+// The probability the table really gives each index: bucket j (probability 1/n) keeps itself
+// with probability threshold[j] and hands the rest to alias[j].
+template <class T>
+std::vector<double> realised_pmf(const vplkit::alias_table<T>& a) {
+  const std::size_t n = a.size();
+  std::vector<double> p(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto& b = a.bins()[j];
+    p[j] += double(b.threshold) / double(n);
+    p[b.alias] += (1.0 - double(b.threshold)) / double(n);
+  }
+  return p;
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("alias_table: pmf is w / total, total and size", "[distribution]", float,
+                   double) {
+  using T = TestType;
+  const std::vector<T> w = {1, 2, 3, 4};
+  const vplkit::alias_table<T> a(w);
+  REQUIRE(a.size() == 4);
+  REQUIRE(a.total() == T(10));
+  REQUIRE_FALSE(a.empty());
+  REQUIRE(a.pmf(0) == T(0.1));
+  REQUIRE(a.pmf(1) == T(0.2));
+  REQUIRE(a.pmf(2) == T(0.3));
+  REQUIRE(a.pmf(3) == T(0.4));
+  REQUIRE(a.pmf(4) == T(0));
+}
+
+TEMPLATE_TEST_CASE("alias_table: Vose's construction realises the pmf", "[distribution]", float,
+                   double) {
+  using T = TestType;
+  const double tol = std::is_same<T, float>::value ? 1e-7 : 1e-15;
+  for (std::size_t n : {1u, 2u, 7u, 100u, 4096u, 100000u}) {
+    const std::vector<T> w = exponential_weights<T>(n, unsigned(n) + 1u, 0.3);
+    const vplkit::alias_table<T> a(w);
+    if (a.empty()) continue;
+    const std::vector<double> p = realised_pmf(a);
+    long double total_ld = 0.0L;
+    for (T x : w) total_ld += x;
+    const double total = double(total_ld);
+    for (std::size_t i = 0; i < n; ++i) {
+      // Thresholds are T: each carries a T rounding of up to half an ulp of 1, per bucket.
+      REQUIRE(std::abs(p[i] - double(w[i]) / total) <= tol * (1.0 + double(n) * p[i]));
+      REQUIRE(std::abs(double(a.pmf(i)) - double(w[i]) / total) <=
+                  4.0 * double(std::numeric_limits<T>::epsilon()) * double(w[i]) / total);
+      const auto& b = a.bins()[i];
+      REQUIRE(b.threshold >= T(0));
+      REQUIRE(b.threshold <= T(1));
+      REQUIRE(b.alias < n);
+      if (w[i] == T(0)) {
+        REQUIRE(b.threshold == T(0));
+        REQUIRE(w[b.alias] > T(0));
+      }
+      if (b.threshold < T(1)) REQUIRE(w[b.alias] > T(0));
+    }
+  }
+}
+
+TEMPLATE_TEST_CASE("alias_table: zero weights are never returned", "[distribution]", float,
+                   double) {
+  using T = TestType;
+  const std::vector<T> w = {0, 1, 0, 0, 5, 0, 2, 0};
+  const vplkit::alias_table<T> a(w);
+  const std::size_t n = w.size();
+  // Bucket edges, their neighbours and the extreme fractions: the places a threshold test of
+  // the wrong strictness would leak.
+  std::vector<T> us = {T(0), std::numeric_limits<T>::denorm_min(), T(1e-30), T(0.5),
+                       std::nextafter(T(1), T(0)), T(1), std::numeric_limits<T>::infinity(),
+                       -T(1), std::numeric_limits<T>::quiet_NaN()};
+  for (std::size_t j = 0; j <= n; ++j) {
+    const T e = T(j) / T(n);
+    us.push_back(e);
+    us.push_back(std::nextafter(e, T(0)));
+    us.push_back(std::nextafter(e, T(2)));
+  }
+  for (T u1 : us) {
+    REQUIRE(w[a.sample(u1).index] > T(0));
+    for (T u2 : us) REQUIRE(w[a.sample(u1, u2).index] > T(0));
+  }
+  std::mt19937 rng(5);
+  for (int k = 0; k < 100000; ++k) {
+    REQUIRE(w[a.sample(u01<T>(rng)).index] > T(0));
+    REQUIRE(w[a.sample(u01<T>(rng), u01<T>(rng)).index] > T(0));
+  }
+}
+
+TEMPLATE_TEST_CASE("alias_table: pmf(sample.index) == sample.pmf", "[distribution]", float,
+                   double) {
+  using T = TestType;
+  const std::vector<T> w = exponential_weights<T>(3000, 77u, 0.3);
+  const vplkit::alias_table<T> a(w);
+  std::mt19937 rng(8);
+  for (int k = 0; k < 100000; ++k) {
+    const auto s = a.sample(u01<T>(rng));
+    REQUIRE(a.pmf(s.index) == s.pmf);
+    REQUIRE(s.pmf > T(0));
+    const auto s2 = a.sample(u01<T>(rng), u01<T>(rng));
+    REQUIRE(a.pmf(s2.index) == s2.pmf);
+  }
+}
+
+TEMPLATE_TEST_CASE("alias_table: sample(u) splits u into bucket and fraction", "[distribution]",
+                   float, double) {
+  using T = TestType;
+  // Four buckets; weights {3, 1, 0, 4}: q = {1.5, 0.5, 0, 2}.
+  const std::vector<T> w = {3, 1, 0, 4};
+  const vplkit::alias_table<T> a(w);
+  for (int j = 0; j < 4; ++j) {
+    for (T f : {T(0), T(0.25), T(0.5), T(0.75), T(0.999)}) {
+      const T u = (T(j) + f) / T(4);
+      REQUIRE(a.sample(u).index == a.sample(T(j) / T(4), f).index);
+    }
+  }
+}
+
+TEMPLATE_TEST_CASE("alias_table: constructors, default, validation and sanitized",
+                   "[distribution]", float, double) {
+  using T = TestType;
+  const T raw[4] = {1, 0, 2, 5};
+  const std::array<T, 4> arr = {1, 0, 2, 5};
+  const vplkit::alias_table<T> a(raw, 4), b(arr), c(raw), d(std::vector<T>(raw, raw + 4));
+  for (const auto* x : {&b, &c, &d}) {
+    for (std::size_t i = 0; i < 4; ++i) {
+      REQUIRE(x->bins()[i].threshold == a.bins()[i].threshold);
+      REQUIRE(x->bins()[i].alias == a.bins()[i].alias);
+      REQUIRE(x->pmf(i) == a.pmf(i));
+    }
+  }
+  const vplkit::alias_table<T> e;
+  REQUIRE(e.empty());
+  REQUIRE(e.size() == 0);
+  REQUIRE(e.sample(T(0.3)).pmf == T(0));
+  REQUIRE(e.sample(T(0.3), T(0.3)).pmf == T(0));
+  REQUIRE(e.pmf(0) == T(0));
+
+  using Catch::Matchers::Contains;
+  const T nan = std::numeric_limits<T>::quiet_NaN();
+  const T inf = std::numeric_limits<T>::infinity();
+  REQUIRE_THROWS_WITH(vplkit::alias_table<T>(std::vector<T>{1, 1, 1, -2}),
+                      Contains("alias_table") && Contains("weight[3]") && Contains("negative"));
+  REQUIRE_THROWS_WITH(vplkit::alias_table<T>(std::vector<T>{nan}), Contains("weight[0]"));
+  REQUIRE_THROWS_WITH(vplkit::alias_table<T>(std::vector<T>{0, inf}), Contains("weight[1]"));
+  const auto s = vplkit::alias_table<T>::sanitized(std::vector<T>{nan, 1, -1, inf, 3});
+  REQUIRE(s.zeroed == 3);
+  REQUIRE(s.distribution.pmf(1) == T(0.25));
+  REQUIRE(s.distribution.pmf(4) == T(0.75));
+  REQUIRE(s.distribution.pmf(0) == T(0));
+}
