@@ -47,7 +47,18 @@
 #include <vplkit/visibility/voxel_visible.hpp>
 
 // builders: global, local and gathering-based CDF builders
-// @@builders@@
+#include <vplkit/builders/gather_subset.hpp>
+#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/gbg_cdf.hpp>
+#include <vplkit/builders/defensive.hpp>
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum
-// @@estimators@@
+#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/estimators/visibility_callables.hpp>
+#include <vplkit/estimators/vpl_sum.hpp>
+#include <vplkit/estimators/flat_face_roulette.hpp>
+#include <vplkit/estimators/cdf_estimator.hpp>
+#include <vplkit/estimators/local_estimator.hpp>
+#include <vplkit/estimators/gathering_estimator.hpp>
+#include <vplkit/estimators/mis_estimator.hpp>

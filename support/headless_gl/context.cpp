@@ -480,7 +480,7 @@ std::string headless_context::describe() const {
 }
 
 void headless_context::make_current() {
-  impl& d = *impl_;
+  [[maybe_unused]] impl& d = *impl_;
 #if VPLKIT_HAVE_OSMESA
   if (d.osmesa) {
     if (!d.osmesa_make_current(d.osmesa_context, d.osmesa_pixels.data(), GL_UNSIGNED_BYTE, 1, 1)) {

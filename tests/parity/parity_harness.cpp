@@ -34,6 +34,17 @@ std::vector<unsigned char> run_compute_bytes(const kernel_call& call, std::size_
   for (unsigned l : call.local_size) {
     if (l == 0) throw std::invalid_argument("run_compute: local_size components must be >= 1");
   }
+  {
+    std::istringstream lines(call.source);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const auto first = line.find_first_not_of(" \t");
+      if (first != std::string::npos && line.compare(first, 8, "#version") == 0) {
+        throw std::invalid_argument("run_compute: " + call.name +
+                                    " has a #version line; the harness writes it (kernel_call::version)");
+      }
+    }
+  }
   for (std::size_t a = 0; a < call.inputs.size(); ++a) {
     if (call.inputs[a].binding == call.output_binding) {
       throw std::invalid_argument("run_compute: input binding " +

@@ -21,7 +21,9 @@
 // Includes resolve against the pack root (VPLKIT_GLSL_SOURCE_DIR) with vplkit's
 // include_resolver, so compile errors name the pack file and line. The output buffer starts
 // filled with 0xFF bytes (NaN floats, ~0u integers): an element the kernel never wrote fails.
-// Buffer element types must match std430 (scalars, vec2, vec4, or hand-padded structs).
+// Buffer element types must match std430 (scalars, vec2, vec4, or hand-padded structs). Several
+// results per element (an index and its pmf, say) come back as one struct, e.g.
+// `struct result { std::uint32_t index; float pmf; };` <-> `struct R { uint index; float pmf; };`.
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
 

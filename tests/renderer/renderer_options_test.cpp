@@ -120,14 +120,14 @@ TEST_CASE("every method name of the contract is accepted, and nothing else") {
   CHECK(starts_with(error_of({"--progress", "sometimes"}), "--progress:"));
 }
 
-TEST_CASE("--light with a position only keeps the intensity open") {
+TEST_CASE("a --light with a position only keeps the intensity open") {
   const options o = parse({"--light", "1,2,3"});
   REQUIRE(o.light.has_value());
   CHECK(o.light->position == glm::vec3(1, 2, 3));
   CHECK_FALSE(o.light->intensity.has_value());
 }
 
-TEST_CASE("--paper sets the paper's parameters and explicit flags win in any order") {
+TEST_CASE("the --paper flag sets the paper's parameters and explicit flags win in any order") {
   const options p = parse({"--paper"});
   CHECK(p.paper);
   CHECK(p.width == 512);
@@ -191,7 +191,7 @@ TEST_CASE("zero, absurd and malformed sizes are refused") {
   CHECK(parse({"--size", "16384x4096"}).width == 16384);
 }
 
-TEST_CASE("--eps and --exposure ranges") {
+TEST_CASE("ranges of --eps and --exposure") {
   CHECK(parse({"--eps", "0"}).eps == 0.0);
   CHECK(parse({"--eps", "1"}).eps == 1.0);
   CHECK(parse({"--eps", "1e-3"}).eps == Approx(1e-3));
@@ -205,7 +205,7 @@ TEST_CASE("--eps and --exposure ranges") {
   }
 }
 
-TEST_CASE("--camera must be ten finite numbers forming a usable camera") {
+TEST_CASE("the --camera value must be ten finite numbers forming a usable camera") {
   CHECK(starts_with(error_of({"--camera", "1,2,3"}), "--camera: expected 10"));
   CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,nan"}), "--camera:"));
   CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,0"}), "--camera: field of view"));
@@ -217,7 +217,7 @@ TEST_CASE("--camera must be ten finite numbers forming a usable camera") {
   CHECK(starts_with(error_of({"--camera", "0,0,1e39,0,0,0,0,1,0,45"}), "--camera:"));
 }
 
-TEST_CASE("--light must be 3 or 6 finite numbers with a non-negative intensity") {
+TEST_CASE("the --light value must be 3 or 6 finite numbers with a non-negative intensity") {
   CHECK(starts_with(error_of({"--light", "1,2"}), "--light: expected 3"));
   CHECK(starts_with(error_of({"--light", "1,2,3,4"}), "--light: expected 3"));
   CHECK(starts_with(error_of({"--light", "1,2,3,1,-1,1"}), "--light: intensity must be >= 0"));
@@ -225,7 +225,7 @@ TEST_CASE("--light must be 3 or 6 finite numbers with a non-negative intensity")
   CHECK(parse({"--light", "1,2,3,0,0,0"}).light->intensity == glm::vec3(0.0f));
 }
 
-TEST_CASE("--out must name an .exr file") {
+TEST_CASE("the --out value must name an .exr file") {
   CHECK(starts_with(error_of({"--out", "image.png"}), "--out:"));
   CHECK(starts_with(error_of({"--out", ".exr"}), "--out:"));
   CHECK(starts_with(error_of({"--out", "dir/.exr"}), "--out:"));
@@ -249,11 +249,11 @@ TEST_CASE("regions are laid out as the most nearly square grid, and must fit the
   CHECK(parse({"--size", "7x1", "--regions", "7"}).regions_x == 7);
 }
 
-TEST_CASE("--window needs the GPU backend") {
+TEST_CASE("the --window flag needs the GPU backend") {
   CHECK(error_of({"--window", "--backend", "cpu"}) == "--window: needs --backend gpu");
 }
 
-TEST_CASE("--help returns the help text, which documents every flag") {
+TEST_CASE("the --help flag returns the help text, which documents every flag") {
   const parse_result r = parse_command_line({"vplrender", "--help"});
   CHECK(r.what == parse_result::action::help);
   CHECK(r.help == help_text("vplrender"));

@@ -176,3 +176,28 @@ TEMPLATE_TEST_CASE("alias_table: constructors, default, validation and sanitized
   REQUIRE(s.distribution.pmf(4) == T(0.75));
   REQUIRE(s.distribution.pmf(0) == T(0));
 }
+
+TEMPLATE_TEST_CASE("alias_table: assign rebuilds in place; rejected weights change nothing",
+                   "[distribution]", float, double) {
+  using T = TestType;
+  const std::vector<T> a = exponential_weights<T>(2000, 31u, 0.2);
+  const std::vector<T> b = exponential_weights<T>(1500, 32u, 0.2);
+  vplkit::alias_table<T> t(a);
+  t.assign(b);
+  const vplkit::alias_table<T> fresh(b);
+  REQUIRE(t.size() == fresh.size());
+  REQUIRE(t.total() == fresh.total());
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    REQUIRE(t.bins()[i].threshold == fresh.bins()[i].threshold);
+    REQUIRE(t.bins()[i].alias == fresh.bins()[i].alias);
+    REQUIRE(t.bins()[i].pmf == fresh.bins()[i].pmf);
+  }
+  std::vector<T> bad = a;
+  bad[5] = std::numeric_limits<T>::infinity();
+  REQUIRE_THROWS_WITH(t.assign(bad), Catch::Matchers::Contains("weight[5]"));
+  REQUIRE(t.size() == fresh.size());
+  REQUIRE(t.total() == fresh.total());
+  t.assign(std::vector<T>(4, T(0)));
+  REQUIRE(t.empty());
+  REQUIRE(t.sample(T(0.5)).pmf == T(0));
+}

@@ -162,3 +162,38 @@ TEMPLATE_TEST_CASE("defensive_mixture: the fraction of [0, 1) mapping to i is pm
     REQUIRE(std::abs(count[i] / double(N) - double(m.pmf(i))) <= 4.0 / double(N));
   }
 }
+
+TEMPLATE_TEST_CASE("defensive_mixture: tiny and denormal eps never produce NaN or Inf",
+                   "[distribution]", float, double) {
+  using T = TestType;
+  const vplkit::discrete_cdf<T> learned(std::vector<T>{0, 1, 2, 0}), fallback(std::vector<T>{1, 1, 1, 1});
+  for (T eps : {std::numeric_limits<T>::denorm_min(), std::numeric_limits<T>::min(), T(1e-30),
+                std::nextafter(T(1), T(0))}) {
+    const vplkit::defensive_mixture<T> m(learned, fallback, eps);
+    REQUIRE(std::isfinite(m.fallback_scale()));
+    REQUIRE(std::isfinite(m.learned_scale()));
+    for (T u : {T(0), std::numeric_limits<T>::denorm_min(), eps, std::nextafter(eps, T(0)),
+                T(0.5), std::nextafter(T(1), T(0)), T(1)}) {
+      const auto s = m.sample(u);
+      REQUIRE(s.index < 4);
+      REQUIRE(s.pmf > T(0));
+      REQUIRE(std::isfinite(s.pmf));
+      REQUIRE(s.pmf == m.pmf(s.index));
+    }
+  }
+}
+
+// A learned pmf that is itself denormal: (1 - eps) * pmf underflows, yet u = eps exactly
+// (a grid value) returns that index. Its pmf must not be 0.
+TEST_CASE("defensive_mixture: a product that underflows to 0 is floored", "[distribution]") {
+  const float tiny = std::numeric_limits<float>::denorm_min();
+  const vplkit::discrete_cdf<float> learned(std::vector<float>{tiny, 1.0f});
+  REQUIRE(learned.pmf(0) == tiny);
+  const vplkit::discrete_cdf<float> fallback(std::vector<float>{0.0f, 1.0f});
+  const vplkit::defensive_mixture<float> m(learned, fallback, 0.5f);
+  const auto s = m.sample(0.5f);
+  REQUIRE(s.index == 0);
+  REQUIRE(s.pmf == tiny);  // 0.5 * 2^-149 rounds to 0 (ties to even): floored
+  REQUIRE(m.pmf(0) == s.pmf);
+  REQUIRE(m.pmf(1) == Approx(1.0f));
+}

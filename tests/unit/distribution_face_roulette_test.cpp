@@ -130,3 +130,23 @@ TEMPLATE_TEST_CASE("face_roulette: u at and around b_F, 0 and 1", "[distribution
     REQUIRE(s.pmf == T(0.75));
   }
 }
+
+TEMPLATE_TEST_CASE("face_roulette: a denormal face share never produces NaN or Inf",
+                   "[distribution]", float, double) {
+  using T = TestType;
+  const T tiny = std::numeric_limits<T>::denorm_min();
+  // b_F = tiny / (tiny + 1): denormal, its reciprocal overflows T.
+  const vplkit::face_roulette<T> r{vplkit::discrete_cdf<T>(std::vector<T>{tiny, 0}),
+                                   vplkit::discrete_cdf<T>(std::vector<T>{0, 1})};
+  REQUIRE(r.front_probability() > T(0));
+  REQUIRE(std::isfinite(r.front_scale()));
+  for (T u : {T(0), tiny, std::nextafter(tiny, T(1)), T(0.5), T(1)}) {
+    const auto s = r.sample(u);
+    REQUIRE(std::isfinite(s.pmf));
+    REQUIRE(s.pmf > T(0));
+    REQUIRE(s.pmf == r.pmf(s.face, s.index));
+  }
+  REQUIRE(r.sample(T(0)).face == 0);
+  REQUIRE(r.sample(T(0)).index == 0);
+  REQUIRE(r.sample(T(0.5)).face == 1);
+}

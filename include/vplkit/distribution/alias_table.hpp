@@ -14,7 +14,6 @@
 //   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket.
 // An empty table (all weights 0, or n = 0) stores n bins {0, 0, 0}.
 #include <vplkit/distribution/discrete_sample.hpp>
-#include <vplkit/distribution/discrete_cdf.hpp>  // detail::is_contiguous_range_of
 #include <vplkit/distribution/weights.hpp>
 
 #include <cstddef>
@@ -31,6 +30,7 @@ struct alias_bin {
   T pmf;
   std::uint32_t alias;
 };
+static_assert(sizeof(alias_bin<float>) == 12, "alias_bin<float> must match the std430 layout");
 
 // Bucket j in [0, n - 1] and the kept-or-aliased decision, on the stored bins; f in [0, 1).
 // Written as arithmetic on the comparison because f < threshold is a coin flip for a branch
@@ -68,6 +68,14 @@ public:
             class = std::enable_if_t<detail::is_contiguous_range_of<Range, T>::value>>
   explicit alias_table(const Range& weights)
       : alias_table(static_cast<const T*>(std::data(weights)), std::size(weights)) {}
+
+  // Rebuilds in place, reusing the bins' storage. On any exception the object is unchanged.
+  void assign(const T* weights, std::size_t n) { build(weights, n); }
+  template <class Range,
+            class = std::enable_if_t<detail::is_contiguous_range_of<Range, T>::value>>
+  void assign(const Range& weights) {
+    build(static_cast<const T*>(std::data(weights)), std::size(weights));
+  }
 
   static sanitized_distribution<alias_table> sanitized(const T* weights, std::size_t n) {
     std::size_t zeroed = 0;
@@ -119,6 +127,11 @@ private:
     detail::check_size("alias_table", w, n);
     const detail::lane_partition lanes(n);
     const double total = detail::checked_lane_sums("alias_table", w, lanes).total();
+    // Every allocation happens before the first change of a member: on any exception the
+    // object is unchanged (strong guarantee).
+    bins_.reserve(n);
+    std::vector<double> q(total == 0.0 ? 0 : n);
+    std::vector<std::uint32_t> work(total == 0.0 ? 0 : n);
     total_ = T(total);
     bins_.assign(n, bin{T(0), T(0), 0u});
     if (total == 0.0) return;
@@ -130,11 +143,9 @@ private:
     const double inv = 1.0 / total;  // finite for float: a float total is >= 2^-149
     const bool divide = std::is_same<T, double>::value;
     const double dn = double(n);
-    std::vector<double> q(n);
     // Worklist: small indices (q < 1) grow from the front, large ones from the back; the slots
     // between the two are free, which lets both pushes below be branch-free (q < 1 is a coin
     // flip the branch predictor cannot learn).
-    std::vector<std::uint32_t> work(n);
     std::size_t small_end = 0, large_begin = n;
     std::uint32_t any_positive = 0;
     for (std::size_t i = 0; i < n; ++i) {

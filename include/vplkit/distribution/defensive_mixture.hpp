@@ -5,9 +5,12 @@
 // hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned CDF exactly
 // (same index, same pmf for every u).
 //
-// One u serves both decisions: u < eps picks the fallback and is rescaled to u / eps, otherwise
-// the learned CDF gets (u - eps) / (1 - eps). The rescaling is monotone, so stratification
-// survives within each component. It costs the low bits of u (as any reuse of u does).
+// One u serves both decisions: u < eps picks the fallback and is rescaled to u * (1 / eps),
+// otherwise the learned CDF gets (u - eps) * (1 / (1 - eps)). The reciprocals are computed once
+// in double and rounded to T, so a sample uses only -, * and comparisons, which IEEE (and GLSL
+// 4.x for highp) round correctly: a GPU mirror gets the same index bit for bit, where a GLSL
+// division (2.5 ulp) would not. The rescaling is monotone, so stratification survives within
+// each component. It costs the low bits of u (as any reuse of u does).
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
@@ -19,9 +22,12 @@
 namespace vplkit {
 
 // The mixture's pmf from its parts; sample() and pmf() both use it, so they agree bit for bit.
+// A term that underflows to 0 while both its factors are > 0 becomes the smallest positive T
+// (see detail::probability_product): an index the mixture can return never reports pmf 0.
 template <class T>
 inline T defensive_mixture_pmf(T eps, T p_learned, T p_fallback) noexcept {
-  return (T(1) - eps) * p_learned + eps * p_fallback;
+  return detail::probability_product(T(1) - eps, p_learned) +
+         detail::probability_product(eps, p_fallback);
 }
 
 template <class T>
@@ -48,6 +54,8 @@ public:
     }
     effective_eps_ = learned_.empty() ? (fallback_.empty() ? T(0) : T(1))
                                       : (fallback_.empty() ? T(0) : eps_);
+    fallback_scale_ = detail::reciprocal_or_zero(effective_eps_);
+    learned_scale_ = detail::reciprocal_or_zero(T(1) - effective_eps_);
   }
 
   std::size_t size() const noexcept {
@@ -69,18 +77,25 @@ public:
     if (empty()) return {0, T(0)};
     const T e = effective_eps_;
     u = discrete_clamp_u(u);
-    // e = 0: u < 0 never holds and (u - 0) / (1 - 0) == u exactly. e = 1: u < 1 always holds
-    // and u / 1 == u. So neither division can meet a zero divisor.
-    const std::size_t i = u < e ? fallback_.sample(discrete_clamp_u(u / e)).index
-                                : learned_.sample(discrete_clamp_u((u - e) / (T(1) - e))).index;
+    // e = 0: u < 0 never holds and (u - 0) * 1 == u exactly, so eps = 0 is the learned CDF bit
+    // for bit. e = 1: u < 1 always holds and u * 1 == u. A zero scale is never used.
+    const std::size_t i =
+        u < e ? fallback_.sample(discrete_clamp_u(u * fallback_scale_)).index
+              : learned_.sample(discrete_clamp_u((u - e) * learned_scale_)).index;
     return {i, pmf(i)};
   }
+
+  // 1 / eps and 1 / (1 - eps) as T (0 where undefined), for a GPU mirror.
+  T fallback_scale() const noexcept { return fallback_scale_; }
+  T learned_scale() const noexcept { return learned_scale_; }
 
 private:
   discrete_cdf<T> learned_;
   discrete_cdf<T> fallback_;
   T eps_ = T(0);
   T effective_eps_ = T(0);
+  T fallback_scale_ = T(0);
+  T learned_scale_ = T(1);
 };
 
 }  // namespace vplkit

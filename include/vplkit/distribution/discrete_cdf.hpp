@@ -14,7 +14,6 @@
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
@@ -27,8 +26,8 @@ namespace vplkit {
 // Guide table size for n weights: the smallest power of two >= n (at least 1). A power of two
 // makes the bucket of u, floor(u * m), exact in T arithmetic (u * 2^k only shifts the exponent),
 // which is what lets the guided search return exactly the index of a plain binary search. With
-// m >= n a bucket spans on average at most one CDF step, so the search inside it usually ends
-// after zero or one comparison.
+// m >= n a bucket holds on average at most one CDF step. Memory: 4 (m + 1) bytes, at most
+// twice the CDF's.
 inline std::size_t discrete_guide_size(std::size_t n) noexcept {
   std::size_t m = 1;
   while (m < n) m <<= 1;
@@ -73,17 +72,6 @@ inline std::size_t discrete_cdf_sample_guided(const T* cdf, const std::uint32_t*
   return lo;
 }
 
-namespace detail {
-template <class R, class T, class = void>
-struct is_contiguous_range_of : std::false_type {};
-template <class R, class T>
-struct is_contiguous_range_of<
-    R, T,
-    std::void_t<decltype(std::data(std::declval<const R&>())),
-                decltype(std::size(std::declval<const R&>()))>>
-    : std::is_convertible<decltype(std::data(std::declval<const R&>())), const T*> {};
-}  // namespace detail
-
 template <class T>
 class discrete_cdf {
   static_assert(std::is_same<T, float>::value || std::is_same<T, double>::value,
@@ -106,7 +94,7 @@ public:
       : discrete_cdf(static_cast<const T*>(std::data(weights)), std::size(weights)) {}
 
   // Rebuilds in place, reusing the storage (no allocation unless n grows): the way to rebuild a
-  // CDF every frame. Same validation; rejected weights leave the object unchanged.
+  // CDF every frame. Same validation; on any exception the object is unchanged.
   void assign(const T* weights, std::size_t n) { build(weights, n); }
   template <class Range,
             class = std::enable_if_t<detail::is_contiguous_range_of<Range, T>::value>>
@@ -163,12 +151,15 @@ private:
     detail::check_size("discrete_cdf", w, n);
     const detail::lane_partition lanes(n);
     const detail::lane_sums<T> sums = detail::checked_lane_sums("discrete_cdf", w, lanes);
-    // Validated: from here on nothing throws except allocation, so assign() leaves the object
-    // unchanged when the weights are rejected.
+    // Validated. reserve() is the last thing that can throw and changes no size, so a rejected
+    // input or a failed allocation leaves the object as it was (strong guarantee).
+    const std::size_t m = discrete_guide_size(n);
+    cdf_.reserve(n + 1);
+    guide_.reserve(m + 1);
     const double total = sums.total();
     n_ = n;
     total_ = T(total);  // > 0 whenever total > 0: a sum of T values is >= the smallest of them
-    m_ = discrete_guide_size(n);
+    m_ = m;
     cdf_.resize(n + 1);
     guide_.assign(m_ + 1, 0u);
     cdf_[0] = T(0);

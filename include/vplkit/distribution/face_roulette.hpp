@@ -5,11 +5,13 @@
 // b_F * w_t / v_F = w_t / (v_F + v_B): the same as one CDF over both faces' weights.
 //
 // One u serves both decisions, as in the paper: u < b_F picks the front face and is rescaled to
-// u / b_F, otherwise the back face gets (u - b_F) / b_B with b_B = 1 - b_F. Written that way,
-// b_F = 1 (back face empty) always picks the front, b_F = 0 always the back, and a back face
-// whose share rounds away (b_B = 0) is never picked and reports pmf 0. The rescaling is monotone,
-// so (up to the rounding of the rescale) u maps to the same (face, index) as the concatenated
-// CDF would.
+// u * (1 / b_F), otherwise the back face gets (u - b_F) * (1 / b_B) with b_B = 1 - b_F. Written
+// that way, b_F = 1 (back face empty) always picks the front, b_F = 0 always the back, and a
+// back face whose share rounds away (b_B = 0) is never picked and reports pmf 0. The rescaling
+// is monotone, so (up to its rounding) u maps to the same (face, index) as the concatenated CDF
+// would. The reciprocals are computed once in double and rounded to T, so a sample uses only
+// -, * and comparisons (correctly rounded in IEEE and in GLSL 4.x highp): a GPU mirror picks
+// the same face and index bit for bit, which a GLSL division (2.5 ulp) would not promise.
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/weights.hpp>
 
@@ -46,6 +48,8 @@ public:
       : front_(std::move(front)), back_(std::move(back)) {
     b_front_ = face_roulette_front_probability(front_.total(), back_.total());
     b_back_ = empty() ? T(0) : T(1) - b_front_;
+    front_scale_ = detail::reciprocal_or_zero(b_front_);
+    back_scale_ = detail::reciprocal_or_zero(b_back_);
   }
 
   // v_F + v_B == 0: sample() returns {0, 0, 0} and every pmf is 0.
@@ -60,10 +64,12 @@ public:
   const discrete_cdf<T>& back() const noexcept { return back_; }
   const discrete_cdf<T>& face(int f) const noexcept { return f == front_face ? front_ : back_; }
 
-  // b_face * pmf within the face; 0 for a face other than 0 / 1 or an index out of range.
+  // b_face * pmf within the face; 0 for a face other than 0 / 1 or an index out of range. A
+  // product that underflows to 0 becomes the smallest positive T (see
+  // detail::probability_product): a (face, index) the roulette can return never has pmf 0.
   T pmf(int face, std::size_t index) const noexcept {
-    if (face == front_face) return b_front_ * front_.pmf(index);
-    if (face == back_face) return b_back_ * back_.pmf(index);
+    if (face == front_face) return detail::probability_product(b_front_, front_.pmf(index));
+    if (face == back_face) return detail::probability_product(b_back_, back_.pmf(index));
     return T(0);
   }
 
@@ -71,19 +77,25 @@ public:
     if (empty()) return {front_face, 0, T(0)};
     u = discrete_clamp_u(u);
     if (u < b_front_) {
-      const std::size_t i = front_.sample(discrete_clamp_u(u / b_front_)).index;
+      const std::size_t i = front_.sample(discrete_clamp_u(u * front_scale_)).index;
       return {front_face, i, pmf(front_face, i)};
     }
-    // Here b_back_ > 0: u < 1 and u >= b_front_ = 1 - b_back_.
-    const std::size_t i = back_.sample(discrete_clamp_u((u - b_front_) / b_back_)).index;
+    // Here b_back_ > 0 (u < 1 and u >= b_front_ = 1 - b_back_), so back_scale_ is set.
+    const std::size_t i = back_.sample(discrete_clamp_u((u - b_front_) * back_scale_)).index;
     return {back_face, i, pmf(back_face, i)};
   }
+
+  // 1 / b_F and 1 / b_B as T (0 where the face is never chosen), for a GPU mirror.
+  T front_scale() const noexcept { return front_scale_; }
+  T back_scale() const noexcept { return back_scale_; }
 
 private:
   discrete_cdf<T> front_;
   discrete_cdf<T> back_;
   T b_front_ = T(0);
   T b_back_ = T(0);
+  T front_scale_ = T(0);
+  T back_scale_ = T(0);
 };
 
 }  // namespace vplkit

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace vplkit {
@@ -40,6 +42,16 @@ inline T discrete_clamp_u(T u) noexcept {
 }
 
 namespace detail {
+
+// Any contiguous range of T: std::vector, std::array, a C array, a span (data() and size()).
+template <class R, class T, class = void>
+struct is_contiguous_range_of : std::false_type {};
+template <class R, class T>
+struct is_contiguous_range_of<
+    R, T,
+    std::void_t<decltype(std::data(std::declval<const R&>())),
+                decltype(std::size(std::declval<const R&>()))>>
+    : std::is_convertible<decltype(std::data(std::declval<const R&>())), const T*> {};
 
 // True for negative, NaN and +-Inf; -0 is a valid (zero) weight.
 template <class T>
@@ -190,6 +202,25 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
 inline std::size_t ceil_to_size(double x) noexcept {
   const std::int64_t k = std::int64_t(x);  // signed: one instruction, unsigned needs a branch
   return std::size_t(k + (double(k) < x ? 1 : 0));
+}
+
+// a * b for probabilities a, b >= 0, but the smallest positive T instead of 0 when both are
+// > 0: a product that underflows to 0 would turn a valid sample into a division by zero. Any
+// other product is left alone (1 * p stays p, so eps = 0 reproduces the learned pmf exactly).
+template <class T>
+inline T probability_product(T a, T b) noexcept {
+  const T p = a * b;
+  return (p == T(0) && a > T(0) && b > T(0)) ? std::numeric_limits<T>::denorm_min() : p;
+}
+
+// 1 / p for the rescaling of a reused u (mixture and roulette), computed in double and rounded
+// once to T; 0 for p <= 0 (that branch is never taken), and capped at the largest finite T for
+// a denormal p, so that u * scale is never Inf or NaN (the clamp of u then does the rest).
+template <class T>
+inline T reciprocal_or_zero(T p) noexcept {
+  if (!(p > T(0))) return T(0);
+  const double r = 1.0 / double(p);
+  return r < double(std::numeric_limits<T>::max()) ? T(r) : std::numeric_limits<T>::max();
 }
 
 // Copy of the weights with every bad one replaced by 0; *zeroed = how many.

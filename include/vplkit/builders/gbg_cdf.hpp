@@ -1,0 +1,251 @@
+#pragma once
+// Gathering-based global (GBG) CDF weights (paper 5.3 and Alg. 2, DESIGN 3.4).
+//
+// For EVERY valid gather point x (pixel p = y * width + x of the G-buffer) and every direction
+// j in [0, n_dirs):
+//   rng    = make_counter_rng(seed, p)           stream = pixel index; draws 2j, 2j + 1 below
+//   u0, u1 = rng_next_unit<T>(rng) twice          (direction j consumes counters 2j and 2j + 1)
+//   dir    = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1)))
+//   hit    = trace(x, n_x, dir)                   host callable -> ray_hit<T> (origin offset is
+//                                                 the host's business)
+//   if hit: (texel, lit) = dprsm_lookup(view, hit.position, depth_tolerance)
+//   if lit and vpl_at(texel) carries a VPL (vpl_has_flux):  acc[texel] += value, where
+//     paper:     value = luminance(vpl_contribution(x, n_x, rho_x, vpl_at(texel), dmin))
+//                (the paper's eq. 5 value, with the patch area of DESIGN 3.2)
+//     gathering: value = luminance(rho_x * reflected_radiance(c, I_s, hit.position, n_t, rho_t))
+//                (the gathering estimator's f / p1: f = (rho_x / pi) L_o(y) cos(theta2),
+//                 p1 = cos(theta2) / pi; L_o at the hit point y with the texel's normal and
+//                 albedo; needs no clamp)
+// then w_t = acc[t] / (|G| * n_dirs), |G| = number of valid gather points.
+//
+// Normalisation: the paper divides by |G| only; the extra constant 1 / n_dirs does not change the
+// pmf (nor the face roulette's b_F), and it makes the gathering weights an unbiased estimate of
+//     (1 / |G|) sum_x  integral over the directions from x whose first hit is lit and projects
+//                      into texel t  of  f(omega) d omega,
+// i.e. of texel t's share of the one-bounce radiance summed over the image: as texels shrink, the
+// global weight WITH visibility over all gather points, (1 / |G|) sum_x V(x, y_t) luminance(L_t(x))
+// at dmin = 0. The paper accumulator estimates the same sum with every term multiplied by the
+// probability of a ray from x landing in t: it favours texels close to the receivers.
+//
+// Accumulation runs in double whatever T is (per texel, gather points in pixel order, directions in
+// order), and the division is done in double before the one rounding to T: a float running sum
+// over a million gather points would stall (DESIGN 4). A GPU mirror scatters with atomics (e.g.
+// fixed point in uint, or float atomics): it matches within a stated relative bound, not bit for
+// bit, because atomic order is unspecified.
+//
+// Holes: texels that carry a VPL but no ray reached have w_t = 0 after accumulation. Holes are
+// then filled by the hole-aware 3x3 median of image/median_fill.hpp, each face on its own (the
+// window never crosses faces), fillable = "carries a VPL" (so invalid texels, empty texels and
+// texels facing away from the light stay exactly 0). gbg_fill_holes is the step on its own, so a
+// renderer can time it; build_gbg_weights runs it when params.fill_holes is set.
+#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/core/error.hpp>
+#include <vplkit/core/vector.hpp>
+#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/image/median_fill.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/sampling/cosine_hemisphere.hpp>
+#include <vplkit/sampling/orthonormal_basis.hpp>
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/vpl/dprsm_lookup.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/luminance.hpp>
+#include <vplkit/vpl/vpl.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vplkit {
+
+enum class gbg_accumulator {
+  paper,      // luminance of the VPL's contribution to x (eq. 5 value) per lit hit
+  gathering,  // luminance of the gathering estimator's value rho_x L_o(y) per lit hit
+};
+
+template <class T>
+struct gbg_params {
+  int n_dirs = 16;         // NBDIR: cosine-distributed rays per gather point, >= 1
+  T dmin = T(0);           // VPL distance clamp of the paper accumulator (unused by gathering)
+  T depth_tolerance = T(0);  // world-space tolerance of dprsm_lookup (about a voxel when the host
+                             // traces through a voxel grid)
+  std::uint32_t seed = 0;  // counter_rng seed; streams are pixel indices
+  gbg_accumulator accumulator = gbg_accumulator::gathering;
+  bool fill_holes = true;  // run gbg_fill_holes after the accumulation
+};
+
+// What happened during a build (for reports and tests).
+struct gbg_stats {
+  int gather_points = 0;    // |G|, valid gather points
+  long long rays = 0;       // |G| * n_dirs
+  long long hits = 0;       // rays whose trace hit something
+  long long lit_hits = 0;   // hits that accumulated a value (lit, and the texel carries a VPL)
+  int reached_texels = 0;   // texels with a nonzero weight after accumulation
+  int holes = 0;            // texels carrying a VPL left at 0 by the accumulation
+  int filled = 0;           // holes that the median fill gave a nonzero weight (0 if not run)
+};
+
+// Value accumulated for one lit hit (see the header comment). Plain arithmetic, never throws.
+template <class T>
+inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
+                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator) {
+  if (accumulator == gbg_accumulator::paper)
+    return luminance(vpl_contribution(g.position, g.normal, g.albedo, view.vpl_at(texel), dmin));
+  const vec3<T> lo = reflected_radiance(view.light.position, view.light.intensity, hit_position,
+                                        view.normal[texel], view.albedo[texel]);
+  return luminance(g.albedo * lo);
+}
+
+// Direction j of gather point `pixel` (the random-number consumption documented above). The
+// counter is set explicitly, so directions can be generated in any order (one GPU thread each).
+template <class T>
+inline vec3<T> gbg_direction(vec3<T> n_x, int pixel, int j, std::uint32_t seed) {
+  counter_rng rng = make_counter_rng(seed, std::uint32_t(pixel));
+  rng.counter = 2u * std::uint32_t(j);
+  const T u0 = rng_next_unit<T>(rng);
+  const T u1 = rng_next_unit<T>(rng);
+  return to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2<T>(u0, u1)));
+}
+
+// Accumulates the n_dirs rays of one gather point into acc[0 .. 2 R^2) (double), adding to
+// *stats when given. g must be valid (gather_point_valid). Never throws by itself (the tracer
+// may). Hosts that parallelise over gather points give each thread its own acc and sum them.
+template <class T, class Tracer>
+inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
+                                        const dprsm_view<T>& view, Tracer&& trace,
+                                        const gbg_params<T>& params, double* acc,
+                                        gbg_stats* stats = nullptr) {
+  const orthonormal_basis<T> frame = make_orthonormal_basis(g.normal);
+  counter_rng rng = make_counter_rng(params.seed, std::uint32_t(pixel));
+  long long hits = 0, lit = 0;
+  for (int j = 0; j < params.n_dirs; ++j) {
+    const T u0 = rng_next_unit<T>(rng);
+    const T u1 = rng_next_unit<T>(rng);
+    const vec3<T> dir = to_world(frame, sample_cosine_hemisphere(vec2<T>(u0, u1)));
+    const ray_hit<T> h = trace(g.position, g.normal, dir);
+    if (!h.hit) continue;
+    ++hits;
+    const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);
+    if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
+    ++lit;
+    acc[r.texel] += double(gbg_hit_value(g, view, r.texel, h.position, params.dmin,
+                                         params.accumulator));
+  }
+  if (stats != nullptr) {
+    stats->rays += params.n_dirs;
+    stats->hits += hits;
+    stats->lit_hits += lit;
+  }
+}
+
+// out[t] = T(acc[t] / (gather_points * n_dirs)); all zeros when gather_points == 0 (no NaN).
+template <class T>
+inline void gbg_finish(const double* acc, std::size_t n, int gather_points, int n_dirs, T* out) {
+  const double denom = double(gather_points) * double(n_dirs);
+  for (std::size_t t = 0; t < n; ++t) out[t] = denom > 0.0 ? T(acc[t] / denom) : T(0);
+}
+
+namespace detail {
+inline void check_gbg_params_common(int n_dirs, const char* who) {
+  if (n_dirs < 1)
+    throw invalid_input(std::string(who) + ": n_dirs = " + std::to_string(n_dirs) +
+                        " (NBDIR) must be >= 1; with no ray nothing can be learned");
+}
+}  // namespace detail
+
+// Hole filling on its own: out = hole-aware 3x3 median fill of `in` (2 R^2 weights), per face,
+// filling only texels that carry a VPL (vpl_has_flux) and have weight 0. `in` and `out` must not
+// overlap. Returns the number of texels filled with a nonzero value. Throws invalid_input for a
+// bad view, null pointers, overlapping buffers, or a NaN / infinite weight.
+// Cost: 2 R^2 texels x (9 reads + a sort of <= 8 values).
+template <class T>
+inline int gbg_fill_holes(const T* in, T* out, const dprsm_view<T>& view) {
+  view.validate();
+  const int R = view.resolution;
+  const std::size_t face_size = std::size_t(R) * std::size_t(R);
+  const std::size_t n = 2 * face_size;
+  if (in == nullptr || out == nullptr) throw invalid_input("gbg_fill_holes: null weights pointer");
+  if (detail::median_fill_ranges_overlap<T>(in, n, out, n))
+    throw invalid_input("gbg_fill_holes: `in` and `out` overlap (the fill cannot run in place)");
+  std::vector<unsigned char> carries(n, 0);
+  for (std::size_t t = 0; t < n; ++t) carries[t] = vpl_has_flux(view.vpl_at(int(t))) ? 1 : 0;
+  for (int face = 0; face < 2; ++face) {
+    const unsigned char* mask = carries.data() + std::size_t(face) * face_size;
+    median_fill(in + std::size_t(face) * face_size, out + std::size_t(face) * face_size, R, R,
+                [mask, R](int x, int y) { return mask[std::size_t(y) * std::size_t(R) + std::size_t(x)] != 0; });
+  }
+  int filled = 0;
+  for (std::size_t t = 0; t < n; ++t) filled += (in[t] == T(0) && out[t] != T(0)) ? 1 : 0;
+  return filled;
+}
+
+template <class T>
+inline std::vector<T> gbg_fill_holes(const std::vector<T>& in, const dprsm_view<T>& view) {
+  view.validate();
+  detail::check_weights_span(view, in.data(), in.size(), "gbg_fill_holes");
+  std::vector<T> out(in.size(), T(0));
+  gbg_fill_holes(in.data(), out.data(), view);
+  return out;
+}
+
+// GBG weights for all 2 R^2 texels into weights[0 .. 2 R^2). trace(vec3<T> x, vec3<T> n_x,
+// vec3<T> dir) -> ray_hit<T> is the host's first-hit query. Throws invalid_input for a bad
+// G-buffer / DPRSM view, n_dirs < 1, dmin or depth_tolerance negative or not finite, or a weights
+// span of the wrong size. No valid gather point gives all-zero weights (an empty distribution).
+// Cost: |G| x n_dirs traces + DPRSM lookups (the traces dominate), then the fill.
+template <class T, class Tracer>
+inline gbg_stats build_gbg_weights(const gbuffer_view<T>& gbuffer, const dprsm_view<T>& view,
+                                   Tracer&& trace, const gbg_params<T>& params, T* weights,
+                                   std::size_t weights_size) {
+  const char* who = "build_gbg_weights";
+  gbuffer.validate();
+  view.validate();
+  detail::check_gbg_params_common(params.n_dirs, who);
+  detail::check_dmin(params.dmin, who);
+  if (!(params.depth_tolerance >= T(0)) || !std::isfinite(params.depth_tolerance))
+    throw invalid_input(std::string(who) + ": depth_tolerance = " +
+                        std::to_string(params.depth_tolerance) + " must be finite and >= 0");
+  detail::check_weights_span(view, weights, weights_size, who);
+
+  const std::size_t n = weights_size;
+  std::vector<double> acc(n, 0.0);
+  gbg_stats stats;
+  const int pixels = gbuffer.pixel_count();
+  for (int p = 0; p < pixels; ++p) {
+    const gather_point<T> g = gbuffer.at(p);
+    if (!gather_point_valid(g)) continue;
+    ++stats.gather_points;
+    gbg_accumulate_gather_point(g, p, view, trace, params, acc.data(), &stats);
+  }
+  std::vector<T> raw(n, T(0));
+  gbg_finish(acc.data(), n, stats.gather_points, params.n_dirs, raw.data());
+  for (std::size_t t = 0; t < n; ++t) {
+    if (raw[t] != T(0)) {
+      ++stats.reached_texels;
+    } else if (vpl_has_flux(view.vpl_at(int(t)))) {
+      ++stats.holes;
+    }
+  }
+  if (params.fill_holes) {
+    stats.filled = gbg_fill_holes(raw.data(), weights, view);
+  } else {
+    for (std::size_t t = 0; t < n; ++t) weights[t] = raw[t];
+  }
+  return stats;
+}
+
+// Convenience: the weights in a new vector of 2 R^2 entries (stats to *stats when given).
+template <class T, class Tracer>
+inline std::vector<T> build_gbg_weights(const gbuffer_view<T>& gbuffer, const dprsm_view<T>& view,
+                                        Tracer&& trace, const gbg_params<T>& params,
+                                        gbg_stats* stats = nullptr) {
+  view.validate();
+  std::vector<T> w(std::size_t(view.texel_count()), T(0));
+  const gbg_stats s = build_gbg_weights(gbuffer, view, trace, params, w.data(), w.size());
+  if (stats != nullptr) *stats = s;
+  return w;
+}
+
+}  // namespace vplkit

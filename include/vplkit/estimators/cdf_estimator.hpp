@@ -1,0 +1,57 @@
+#pragma once
+// VPL sampling by inverse transform (DESIGN 3.3): L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),
+// t_k ~ p. Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
+// (defensive_mixture guarantees that; a plain CDF with holes is biased, the paper's behaviour).
+//
+// Distribution: anything with `sample(T u) -> {index, pmf}` over the flat DPRSM index
+// (discrete_cdf, alias_table, defensive_mixture, flat_face_roulette, ...) of size texel_count().
+// A draw with pmf 0 (empty distribution) or an index outside the view adds 0 and is never divided.
+// Random numbers, in this order (the GLSL mirror follows it): for k = 0 .. N-1, one u = the next
+// rng_next_unit<T>(rng), passed to sample(u). An invalid gather point returns 0 and consumes none.
+// Visibility(x, n_x, y_t, n_t) -> bool is queried once per sample with a non-zero contribution.
+#include <vplkit/core/vector.hpp>
+#include <vplkit/distribution/face_roulette.hpp>
+#include <vplkit/estimators/flat_face_roulette.hpp>
+#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/estimators/vpl_sum.hpp>
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+
+namespace vplkit {
+
+// One sample's value L_t V / p(t) for the draw u (0 when pmf is 0 or t is out of range).
+template <class T, class Distribution, class Visibility>
+inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                   const Distribution& distribution, T u, const Visibility& visibility,
+                                   T dmin) {
+  const auto s = distribution.sample(u);
+  const T pmf = T(s.pmf);
+  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
+  const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
+  // A denormal pmf can overflow the quotient: such a draw has negligible probability, and an
+  // Inf would poison the image, so it adds 0 (as balance_combined does).
+  return estimator_finite_or_zero(c / pmf);
+}
+
+template <class T, class Distribution, class Visibility>
+inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     const Distribution& distribution, counter_rng& rng, int n_samples,
+                                     const Visibility& visibility, T dmin) {
+  if (!gather_point_valid(gp) || n_samples <= 0) return vec3<T>(T(0));
+  vec3<T> sum(T(0));
+  for (int k = 0; k < n_samples; ++k)
+    sum += vpl_sampling_sample(gp, view, distribution, rng_next_unit<T>(rng), visibility, dmin);
+  return sum / T(n_samples);
+}
+
+// The paper's Alg. 1 / 3: Russian roulette between the faces, then the face's CDF (one u per
+// sample, as above). Same pmf as one CDF over both faces (face_roulette.hpp).
+template <class T, class Visibility>
+inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     const face_roulette<T>& roulette, counter_rng& rng, int n_samples,
+                                     const Visibility& visibility, T dmin) {
+  return estimate_vpl_sampling(gp, view, flat_face_roulette<T>(roulette, view.resolution), rng, n_samples,
+                               visibility, dmin);
+}
+
+}  // namespace vplkit

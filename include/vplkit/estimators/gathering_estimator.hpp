@@ -1,0 +1,93 @@
+#pragma once
+// Cosine gathering through the DPRSM (DESIGN 3.6 strategy 1; the paper's Alg. 5 without MIS):
+// directions omega ~ cos(theta2)/pi around n_x, traced to the first hit y; y is lit when the
+// DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup with depth_tolerance).
+// Each direction adds f / p1 = rho_x L_o(y); the estimate is their average over n_dirs.
+//
+// Converges to the continuous one-bounce integral int (rho_x/pi) L_o(y(omega)) cos(theta2) domega
+// as the DPRSM sees it, NOT to the VPL sum: the two differ by discretisation (DESIGN 3.8).
+//
+// What is known at the hit. The host's tracer returns only a position (a voxel DDA knows no
+// surface attributes), so the normal and albedo at y come from the DPRSM texel y projects into:
+// exactly what a GPU shader can fetch. L_o(y) = reflected_radiance(c, I_s, y, n_t, rho_t) is
+// evaluated at the hit position y itself (d1 and cos(alpha) of y, not of the texel centre y_t).
+// A hit seen from behind the texel's normal (cos(theta1) = n_t . (x - y) <= 0) adds 0: VPL
+// emission is one-sided, and the MIS densities assume the same (mis/pdf_conversion.hpp).
+//
+// Depth tolerance: y and the texel centre y_t lie on the same surface but along different rays
+// from the light; their distances to the light differ by up to about half the texel's footprint
+// times tan(alpha) (grazing surfaces: large), plus the tracer's own error (voxel_tracer: a voxel
+// diagonal, voxel_tracer_depth_tolerance). Too small a tolerance darkens grazing surfaces; too
+// large lets light leak past occluders closer to the surface than the tolerance.
+//
+// Random numbers: for each direction k = 0 .. n_dirs-1: u0 = rng_next_unit<T>(rng), then u1;
+// omega = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1))).
+// An invalid gather point returns 0 and consumes none.
+#include <vplkit/core/vector.hpp>
+#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/estimators/vpl_sum.hpp>
+#include <vplkit/paraboloid/unit_or_zero.hpp>
+#include <vplkit/sampling/cosine_hemisphere.hpp>
+#include <vplkit/sampling/orthonormal_basis.hpp>
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/vpl/dprsm_lookup.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
+
+namespace vplkit {
+
+// What one gathering ray found.
+template <class T>
+struct gathering_ray_result {
+  bool lit = false;          // hit, projected into a texel that saw it, from the front of n_t
+  int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light)
+  vec3<T> hit{T(0)};         // y (valid when texel >= 0)
+  vec3<T> radiance{T(0)};    // L_o(y) towards x; 0 unless lit
+};
+
+// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+template <class T, class Tracer>
+inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
+                                                   vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
+  gathering_ray_result<T> r;
+  const ray_hit<T> h = tracer(x, n_x, dir);
+  if (!h.hit) return r;
+  const dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  r.texel = lk.texel;
+  r.hit = h.position;
+  if (!lk.lit) return r;
+  const vec3<T> n_t = view.normal[lk.texel];
+  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - h.position)) > T(0))) return r;  // from behind
+  r.radiance = reflected_radiance(view.light.position, view.light.intensity, h.position, n_t,
+                                  view.albedo[lk.texel]);
+  r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
+  return r;
+}
+
+// Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
+// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon.
+template <class T, class Tracer>
+inline vec3<T> gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                const orthonormal_basis<T>& frame, vec3<T> local, const Tracer& tracer,
+                                T depth_tolerance) {
+  if (!(local.z > T(0))) return vec3<T>(T(0));
+  const gathering_ray_result<T> r =
+      trace_gathering_ray(view, gp.position, gp.normal, to_world(frame, local), tracer, depth_tolerance);
+  return estimator_finite_or_zero(gp.albedo * r.radiance);
+}
+
+template <class T, class Tracer>
+inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>& view, counter_rng& rng,
+                                  int n_dirs, const Tracer& tracer, T depth_tolerance) {
+  if (!gather_point_valid(gp) || n_dirs <= 0) return vec3<T>(T(0));
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  vec3<T> sum(T(0));
+  for (int k = 0; k < n_dirs; ++k) {
+    const T u0 = rng_next_unit<T>(rng);
+    const T u1 = rng_next_unit<T>(rng);
+    sum += gathering_sample(gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer, depth_tolerance);
+  }
+  return sum / T(n_dirs);
+}
+
+}  // namespace vplkit

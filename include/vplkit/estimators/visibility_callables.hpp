@@ -1,0 +1,70 @@
+#pragma once
+// Adaptors that turn a voxel grid (or nothing) into the callables the estimators take, so a host
+// with only a voxel grid needs one line. The estimators accept any callable of these shapes:
+//   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
+//   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
+// Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
+#include <vplkit/core/vector.hpp>
+#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/visibility/dda.hpp>
+#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/visibility/voxel_visible.hpp>
+
+namespace vplkit {
+
+// V = 1 everywhere: the unoccluded VPL sum (what the global CDF builder assumes).
+struct always_visible {
+  template <class T>
+  bool operator()(vec3<T>, vec3<T>, vec3<T>, vec3<T>) const {
+    return true;
+  }
+};
+
+// Two-sided voxel test (voxel_visible_two_sided: both ends lifted by offset_voxels along their
+// normals, tolerance 0): the recommended one, it neither self-occludes at y nor leaks through
+// walls near y (see visibility/voxel_visible.hpp for the measurements).
+template <class T>
+struct voxel_visibility {
+  voxel_grid_view<T> grid;
+  T offset_voxels = T(voxel_surface_offset_default);
+  T tolerance_voxels = T(voxel_visible_two_sided_default_tolerance);
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    return voxel_visible_two_sided(grid, x, n_x, y, n_y, offset_voxels, tolerance_voxels);
+  }
+};
+
+// The paper's one-sided test (Alg. 6 lines 8-10: x lifted, y reached within psi voxels).
+template <class T>
+struct voxel_visibility_one_sided {
+  voxel_grid_view<T> grid;
+  T offset_voxels = T(voxel_surface_offset_default);
+  T tolerance_voxels = T(voxel_visible_default_tolerance);
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T>) const {
+    return voxel_visible(grid, x, n_x, y, offset_voxels, tolerance_voxels);
+  }
+};
+
+// First occupied voxel along the ray from x lifted offset_voxels along n_x (surface_ray_origin),
+// reported at the point where the ray enters that voxel (dda_trace_hit_point). That point is up
+// to a voxel diagonal from the true surface: a DPRSM depth test on it needs a tolerance of at
+// least sqrt(3) * voxel_length (plus the texel's own depth spread, see gathering_estimator.hpp).
+template <class T>
+struct voxel_tracer {
+  voxel_grid_view<T> grid;
+  T offset_voxels = T(voxel_surface_offset_default);
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
+    const dda_trace_result<T> r = dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir);
+    ray_hit<T> h;
+    h.hit = r.hit;
+    if (r.hit) h.position = r.point;
+    return h;
+  }
+};
+
+// Depth tolerance matching a voxel_tracer: one voxel diagonal, sqrt(3) * voxel_length.
+template <class T>
+inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
+  return T(1.7320508075688772) * voxel_length(g);
+}
+
+}  // namespace vplkit
