@@ -103,7 +103,7 @@ TEST_CASE("with emitters the light sits just off their centroid with the same fl
   CHECK(s.light.intensity.z == Approx(1.5f));
 }
 
-TEST_CASE("the --camera and --light flags override the automatic ones; --light position alone keeps the intensity rule") {
+TEST_CASE("the --camera and --light flags override the automatic ones -- --light position alone keeps the intensity rule") {
   temp_dir d;
   d.write("room.mtl", kRoomMtl);
   const std::string path = d.write("room.obj", room_obj(false));

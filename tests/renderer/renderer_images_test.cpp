@@ -80,6 +80,8 @@ TEST_CASE("images with NaN or Inf are refused before anything is written") {
   wrong.rgb.pop_back();
   CHECK_THROWS_AS(require_finite(wrong, "x"), output_error);
   CHECK_THROWS_AS(require_finite(image_rgb(), "x"), output_error);
+  CHECK(image_rgb(-5, 3).rgb.empty());
+  CHECK_THROWS_AS(require_finite(image_rgb(-5, 3), "x"), output_error);
 }
 
 TEST_CASE("a failed write keeps the previous file and leaves no temporary") {

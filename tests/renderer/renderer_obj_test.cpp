@@ -87,7 +87,7 @@ TEST_CASE("n-gons, convex and concave, keep their area") {
     for (const vec3& n : t.n) CHECK(n.y == Approx(1.0f));
 }
 
-TEST_CASE("given normals are normalised and kept as authored; zero ones fall back to the face") {
+TEST_CASE("given normals are normalised and kept as authored -- zero ones fall back to the face") {
   temp_dir d;
   const std::string obj = std::string(kQuad) + "vn 0 0 5\nvn 0 0 -1\nvn 0 0 0\nf 1//1 2//2 3//3\n";
   const scene s = load_obj_scene(d.write("n.obj", obj));
@@ -120,7 +120,7 @@ TEST_CASE("a face may refer to vertices defined after it") {
   CHECK(s.triangles.size() == 1);
 }
 
-TEST_CASE("a missing MTL library is a warning; faces use the default material") {
+TEST_CASE("a missing MTL library is a warning -- faces use the default material") {
   temp_dir d;
   const std::string obj = "mtllib nowhere.mtl\n" + std::string(kQuad) + "usemtl red\nf 1 2 3 4\n";
   const scene s = load_obj_scene(d.write("nomtl.obj", obj));
@@ -146,7 +146,7 @@ TEST_CASE("per-material Kd, clamped when above 1, unknown usemtl gets the defaul
   CHECK(has_warning(s, "unknown"));
 }
 
-TEST_CASE("map_Kd textures are loaded bottom row first; missing ones fall back to Kd") {
+TEST_CASE("map_Kd textures are loaded bottom row first -- missing ones fall back to Kd") {
   temp_dir d;
   // 2x2 PNG: file row 0 (top) red, green; row 1 (bottom) blue, white.
   const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
@@ -154,15 +154,20 @@ TEST_CASE("map_Kd textures are loaded bottom row first; missing ones fall back t
   d.write("t.mtl",
           "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd tex.png\n"
           "newmtl gone\nKd 0.2 0.3 0.4\nmap_Kd missing.png\n"
-          "newmtl broken\nKd 0.1 0.1 0.1\nmap_Kd broken.png\n");
+          "newmtl broken\nKd 0.1 0.1 0.1\nmap_Kd broken.png\n"
+          "newmtl scaled\nmap_Kd -s 2 3 1 -o 0.5 0.25 0 tex.png\n");
   d.write("broken.png", "this is not a png");
   const std::string obj = "mtllib t.mtl\n" + std::string(kQuad) +
                           "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                           "usemtl tex\nf 1/1 2/2 3/3\nusemtl gone\nf 1/1 3/3 4/4\nusemtl broken\nf 1/1 2/2 4/4\n"
-                          "usemtl tex\nf 1 3 4\n";
+                          "usemtl tex\nf 1 3 4\nusemtl scaled\nf 1/1 2/2 3/3\n";
   const scene s = load_obj_scene(d.write("t.obj", obj));
-  REQUIRE(s.triangles.size() == 4);
-  REQUIRE(s.textures.size() == 1);
+  REQUIRE(s.triangles.size() == 5);
+  REQUIRE(s.textures.size() == 1);  // shared by "tex" and "scaled"
+  // map_Kd -s / -o are applied to the texcoords: uv * (2, 3) + (0.5, 0.25).
+  CHECK(s.materials[s.triangles[4].material].texture == 0);
+  CHECK(s.triangles[4].uv[0] == vec2(0.5f, 0.25f));
+  CHECK(s.triangles[4].uv[2] == vec2(2.5f, 3.25f));
   const texture_rgb8& t = s.textures[0];
   CHECK(t.width == 2);
   CHECK(t.height == 2);
@@ -278,4 +283,48 @@ TEST_CASE("the scan reports counts, face lines and cleaned text with the same li
   CHECK(r.vertices == 3);
   CHECK(r.face_lines == std::vector<std::size_t>{5});
   CHECK(r.cleaned == "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 3\n\nusemtl a#b\n");
+}
+
+TEST_CASE("mutated files either load into a valid scene or fail with input_error, never anything else") {
+  // A small file using most of the syntax; 3000 deterministic mutations (byte flips to characters
+  // that matter in OBJ, insertions, deletions, truncations), each loaded from memory.
+  const std::string base =
+      "mtllib m.mtl\r\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 1\nvn 0 0 1\n"
+      "usemtl a\nf 1/1/1 2/2/1 3/1/1 4/2/1\nf -4 -3 -2\ng x\nf 1//1 3//1 4//1 # c\n";
+  temp_dir d;
+  d.write("m.mtl", "newmtl a\nKd 0.5 0.2 0.1\n");
+  const char alphabet[] = " \t\r\n/-.#e0123456789vfnt\\";
+  std::uint32_t state = 12345u;
+  auto next = [&]() {  // xorshift32: fixed seed, reproducible
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    return state;
+  };
+  std::size_t loaded = 0, refused = 0;
+  for (int i = 0; i < 3000; ++i) {
+    std::string text = base;
+    const int edits = 1 + static_cast<int>(next() % 3);
+    for (int e = 0; e < edits && !text.empty(); ++e) {
+      const std::size_t at = next() % text.size();
+      switch (next() % 4) {
+        case 0: text[at] = alphabet[next() % (sizeof alphabet - 1)]; break;
+        case 1: text.insert(at, 1, alphabet[next() % (sizeof alphabet - 1)]); break;
+        case 2: text.erase(at, 1 + next() % 4); break;
+        default: text.resize(at); break;
+      }
+    }
+    try {
+      const scene s = load_obj_text(text, "fuzz.obj", d.path());
+      CHECK_NOTHROW(validate_geometry(s));
+      ++loaded;
+    } catch (const input_error& e) {
+      const std::string m = e.what();
+      CHECK(m.find('\n') == std::string::npos);
+      ++refused;
+    }
+  }
+  CHECK(loaded + refused == 3000);
+  CHECK(loaded > 100);
+  CHECK(refused > 100);
 }

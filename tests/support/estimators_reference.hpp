@@ -10,8 +10,10 @@
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
+#include <vplkit/sampling/rng.hpp>
 #include <vplkit/vpl/luminance.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

@@ -4,6 +4,7 @@
 #include <vplkit/builders/gbg_cdf.hpp>
 #include <vplkit/builders/global_cdf.hpp>
 #include <vplkit/core/error.hpp>
+#include <vplkit/estimators/gathering_estimator.hpp>
 
 #include <synthetic_scene.hpp>
 
@@ -286,4 +287,32 @@ TEST_CASE("builders: GBG gathering weights correlate with the exhaustive contrib
   CHECK(r_gath > 0.85);
   CHECK(r_paper < r_gath);
   CHECK(front_g == Approx(front_ex).epsilon(0.05));
+}
+
+TEST_CASE("builders: GBG gathering weights sum to the gathering estimator's value", "[builders]") {
+  // Same stream (seed, pixel index), same directions, same per-hit value: for one gather point,
+  // the unfilled gathering weights summed over texels equal luminance(estimate_gathering).
+  const vplkit_test::synthetic_scene<double> s;
+  const auto d = s.make_dprsm(16);
+  const auto view = d.view();
+  const vplkit_test::exact_tracer<double> tr{&s};
+  int compared = 0;
+  for (const auto& named : s.gather_points()) {
+    vplkit_test::gbuffer_data<double> gb;
+    gb.width = gb.height = 1;
+    gb.position = {named.gp.position};
+    gb.normal = {named.gp.normal};
+    gb.albedo = {named.gp.albedo};
+    const auto p = params<double>(64, vplkit::gbg_accumulator::gathering, false, 21u);
+    const auto w = vplkit::build_gbg_weights(gb.view(), view, tr, p);
+    double sum = 0;
+    for (double x : w) sum += x;
+    vplkit::counter_rng rng = vplkit::make_counter_rng(21u, 0u);  // stream = pixel index 0
+    const double est = vplkit::luminance(
+        vplkit::estimate_gathering(named.gp, view, rng, 64, tr, p.depth_tolerance));
+    INFO(named.name << ": sum of weights " << sum << ", estimator " << est);
+    CHECK(sum == Approx(est).epsilon(1e-9).margin(1e-15));
+    compared += est > 0;
+  }
+  CHECK(compared >= 5);
 }

@@ -14,7 +14,10 @@ struct image_rgb {
   std::vector<float> rgb;  // width * height * 3, row-major
 
   image_rgb() = default;
-  image_rgb(int w, int h) : width(w), height(h), rgb(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3u, 0.0f) {}
+  // A non-positive size gives an empty buffer (which require_finite refuses), not a huge allocation.
+  image_rgb(int w, int h)
+      : width(w), height(h),
+        rgb(w > 0 && h > 0 ? static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3u : 0u, 0.0f) {}
   float* at(int x, int y) { return rgb.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3u; }
   const float* at(int x, int y) const { return rgb.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3u; }
 };

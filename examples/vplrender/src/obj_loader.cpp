@@ -63,16 +63,20 @@ std::string find_texture(const std::string& name, const fs::path& obj_dir, const
 }  // namespace
 
 scene load_obj_scene(const std::string& path) {
+  const fs::path dir = fs::path(path).parent_path();
+  return load_obj_text(read_file_bytes(path), path, dir.empty() ? std::string(".") : dir.string());
+}
+
+scene load_obj_text(const std::string& bytes, const std::string& path, const std::string& base_dir) {
   scene s;
   s.name = path;
-  const std::string bytes = read_file_bytes(path);
   obj_scan_result scan = scan_obj(bytes, path);
   s.warnings = scan.warnings;
   if (scan.face_lines.empty())
     throw input_error(path + ": empty scene (no faces" +
                       (scan.vertices ? ", " + std::to_string(scan.vertices) + " vertices)" : ")"));
 
-  const fs::path obj_dir = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  const fs::path obj_dir = base_dir.empty() ? fs::path(".") : fs::path(base_dir);
   std::vector<fs::path> mtl_dirs;
   for (const auto& lib : scan.mtllibs) {
     const fs::path p = obj_dir / lib.name;

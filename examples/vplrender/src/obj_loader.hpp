@@ -19,4 +19,8 @@ namespace vplrender {
 // wholly degenerate scene.
 scene load_obj_scene(const std::string& path);
 
+// The same, from text already in memory; `name` is used in messages (as the file name) and
+// `base_dir` is where mtllib and map_Kd names are looked up.
+scene load_obj_text(const std::string& text, const std::string& name, const std::string& base_dir);
+
 }  // namespace vplrender

@@ -6,6 +6,7 @@
 //   rng    = make_counter_rng(seed, p)           stream = pixel index; draws 2j, 2j + 1 below
 //   u0, u1 = rng_next_unit<T>(rng) twice          (direction j consumes counters 2j and 2j + 1)
 //   dir    = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1)))
+//   (a direction exactly on the horizon, local z = 0, is skipped untraced: p1 = 0 there)
 //   hit    = trace(x, n_x, dir)                   host callable -> ray_hit<T> (origin offset is
 //                                                 the host's business)
 //   if hit: (texel, lit) = dprsm_lookup(view, hit.position, depth_tolerance)
@@ -15,7 +16,8 @@
 //     gathering: value = luminance(rho_x * reflected_radiance(c, I_s, hit.position, n_t, rho_t))
 //                (the gathering estimator's f / p1: f = (rho_x / pi) L_o(y) cos(theta2),
 //                 p1 = cos(theta2) / pi; L_o at the hit point y with the texel's normal and
-//                 albedo; needs no clamp)
+//                 albedo; needs no clamp), and 0 when the hit is seen from behind n_t
+//                (n_t . (x - y) <= 0: one-sided emission, as estimators/gathering_estimator.hpp)
 // then w_t = acc[t] / (|G| * n_dirs), |G| = number of valid gather points.
 //
 // Normalisation: the paper divides by |G| only; the extra constant 1 / n_dirs does not change the
@@ -44,6 +46,7 @@
 #include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/image/median_fill.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/paraboloid/unit_or_zero.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
@@ -93,8 +96,12 @@ inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int 
                        vec3<T> hit_position, T dmin, gbg_accumulator accumulator) {
   if (accumulator == gbg_accumulator::paper)
     return luminance(vpl_contribution(g.position, g.normal, g.albedo, view.vpl_at(texel), dmin));
+  const vec3<T> n_t = view.normal[texel];
+  // One-sided emission, as in the gathering estimator: a hit seen from behind the texel's normal
+  // sends nothing towards x.
+  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(g.position - hit_position)) > T(0))) return T(0);
   const vec3<T> lo = reflected_radiance(view.light.position, view.light.intensity, hit_position,
-                                        view.normal[texel], view.albedo[texel]);
+                                        n_t, view.albedo[texel]);
   return luminance(g.albedo * lo);
 }
 
@@ -123,8 +130,11 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
   for (int j = 0; j < params.n_dirs; ++j) {
     const T u0 = rng_next_unit<T>(rng);
     const T u1 = rng_next_unit<T>(rng);
-    const vec3<T> dir = to_world(frame, sample_cosine_hemisphere(vec2<T>(u0, u1)));
-    const ray_hit<T> h = trace(g.position, g.normal, dir);
+    const vec3<T> local = sample_cosine_hemisphere(vec2<T>(u0, u1));
+    // On the horizon (probability ~2^-24 per draw) p1 = 0: no contribution, no trace, as in the
+    // gathering estimator.
+    if (!(local.z > T(0))) continue;
+    const ray_hit<T> h = trace(g.position, g.normal, to_world(frame, local));
     if (!h.hit) continue;
     ++hits;
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);

@@ -134,13 +134,12 @@ inline constexpr std::size_t kLanes = 4;
 
 struct lane_partition {
   std::size_t begin[kLanes + 1];
-  std::size_t common;  // every lane has at least this many weights
+  std::size_t common;  // every lane has at least this many weights (the last lane is shortest)
   explicit lane_partition(std::size_t n) noexcept {
     const std::size_t chunk = (n + kLanes - 1) / kLanes;
     for (std::size_t k = 0; k <= kLanes; ++k) begin[k] = k * chunk < n ? k * chunk : n;
     common = begin[kLanes] - begin[kLanes - 1];
   }
-  std::size_t length(std::size_t k) const noexcept { return begin[k + 1] - begin[k]; }
 };
 
 // Visits every weight lane by lane, each lane in increasing index order (interleaved across

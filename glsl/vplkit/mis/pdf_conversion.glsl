@@ -1,0 +1,58 @@
+// vplkit GLSL pack: densities of the two strategies of DESIGN 3.6 in one measure (solid angle at
+// the gather point x), and the paper's mixed-measure forms (`_as_published`); the float mirror of
+// include/vplkit/mis/pdf_conversion.hpp (docs/api/mis.md, docs/glsl/mis.md).
+//   gathering:    p1(omega) = cos(theta2) / pi                        (theta2 at x, vs n_x)
+//   VPL sampling: p2(omega) = pmf(t) * d2^2 / (A_t * cos(theta1))     (theta1 at y_t, vs n_t)
+// Paper (eq. 10/15, 11, 8/9): p1 = cos sin / pi against the texel pmf alpha; biased in a
+// renderer (mixed measures), kept for reproducing the paper. Nothing here returns NaN.
+#ifndef VPLKIT_MIS_PDF_CONVERSION_GLSL
+#define VPLKIT_MIS_PDF_CONVERSION_GLSL
+
+#include "vplkit/mis/heuristics.glsl"
+#include "vplkit/sampling/cosine_hemisphere.glsl"
+
+float vplkit_cosine_pdf_solid_angle(float cos_theta2) {
+  return vplkit_cosine_hemisphere_pdf(cos_theta2);
+}
+
+// Solid-angle density at x with which VPL sampling produces the direction towards a point of
+// texel t's patch of area patch_area. pmf <= 0, cos_theta1 <= 0 (x behind the one-sided patch),
+// d2_squared == 0, patch_area infinite, NaN or negative geometry -> 0; patch_area == 0,
+// d2_squared or pmf infinite -> +inf.
+float vplkit_vpl_pdf_solid_angle(float pmf, float d2_squared, float patch_area, float cos_theta1) {
+  float inf = uintBitsToFloat(0x7F800000u);
+  if (!(pmf > 0.0) || !(cos_theta1 > 0.0) || !(d2_squared > 0.0)) return 0.0;
+  if (!(patch_area >= 0.0) || patch_area == inf) return 0.0;
+  if (patch_area == 0.0 || d2_squared == inf || pmf == inf) return inf;
+  // pmf <= 1 <= 1/cos: the product only over- or underflows when the true density is itself
+  // beyond the float range. q in [0, inf], pmf finite > 0: no 0 * inf.
+  float q = vplkit_mis_div(d2_squared, patch_area);
+  return pmf * vplkit_mis_div(q, cos_theta1);
+}
+
+// ---- the paper's mixed-measure forms (as published) -------------------------------------------
+// Eq. 10 / 15: p1 = cos(theta) sin(theta) / pi, a density over (theta, phi); eq. 11: alpha, the
+// discrete pmf of the texel; eq. 8 / 9: balance heuristic without counts. Pass
+// sin_theta = sqrt(max(0, 1 - cos^2)). The VPL weight has alpha in its numerator (eq. 9).
+
+float vplkit_cosine_pdf_as_published(float cos_theta, float sin_theta) {
+  const float inv_pi = 0.318309886183790671537767526745028724;
+  return (cos_theta > 0.0 && sin_theta > 0.0) ? cos_theta * sin_theta * inv_pi : 0.0;
+}
+
+struct vplkit_mis_weight_pair {
+  float gathering;  // weight of the cosine-gathering sample (paper eq. 8)
+  float vpl;        // weight of the CDF-selected VPL sample (paper eq. 9)
+};
+
+// Never NaN; both 0 when p1 = alpha = 0.
+vplkit_mis_weight_pair vplkit_mis_weights_as_published(float cos_theta, float sin_theta,
+                                                       float alpha) {
+  float p1 = vplkit_cosine_pdf_as_published(cos_theta, sin_theta);
+  vplkit_mis_weight_pair w;
+  w.gathering = vplkit_balance_heuristic(1.0, p1, 1.0, alpha);
+  w.vpl = vplkit_balance_heuristic(1.0, alpha, 1.0, p1);
+  return w;
+}
+
+#endif  // VPLKIT_MIS_PDF_CONVERSION_GLSL

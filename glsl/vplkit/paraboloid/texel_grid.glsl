@@ -1,0 +1,67 @@
+// vplkit GLSL pack: the R x R texel grid of each paraboloid face over uv in [-1,1]^2 (DESIGN 3.1).
+// Mirrors include/vplkit/paraboloid/texel_grid.hpp (T = float) line for line.
+//
+// Layout: x runs along u, y along v; texel (x, y) covers u in [-1 + 2x/R, -1 + 2(x+1)/R) and
+// likewise for v; its centre is ((x + 0.5) / R * 2 - 1, (y + 0.5) / R * 2 - 1). The flat index
+// over both faces is  index = face * R * R + y * R + x  (face 0 = front, 1 = back): a DPRSM is
+// 2 R^2 texels, front face first, each face row-major. 1 <= R <= vplkit_paraboloid_max_resolution
+// keeps every index and the integer validity test in int. Indices passed in must be >= 0 (GLSL
+// leaves % of negative operands undefined).
+#ifndef VPLKIT_PARABOLOID_TEXEL_GRID_GLSL
+#define VPLKIT_PARABOLOID_TEXEL_GRID_GLSL
+
+#include "vplkit/paraboloid/paraboloid.glsl"
+
+// 2 * 16384^2 = 2^29 texels: the index and the integer validity test below stay in int.
+const int vplkit_paraboloid_max_resolution = 16384;
+
+int vplkit_texel_count(int R) { return 2 * R * R; }
+
+int vplkit_texel_index(int face, int x, int y, int R) { return face * R * R + y * R + x; }
+
+int vplkit_texel_face(int index, int R) { return index / (R * R); }
+
+// (x, y) of a flat index within its face.
+ivec2 vplkit_texel_coords(int index, int R) {
+  int in_face = index % (R * R);
+  return ivec2(in_face % R, in_face / R);
+}
+
+vec2 vplkit_texel_center_uv(int x, int y, int R) {
+  return vec2((float(x) + 0.5) / float(R) * 2.0 - 1.0, (float(y) + 0.5) / float(R) * 2.0 - 1.0);
+}
+
+// uv -> the texel containing it, clamped into [0, R-1] (u = 1 belongs to the last texel). The
+// clamp happens in float before int(): int() of an out-of-range or NaN float is undefined in GLSL.
+// Infinite u clamps like the CPU; NaN gives texel 0 on the CPU (GPU compilers may assume no NaN).
+int vplkit_texel_coord_from_u(float u, int R) {
+  float t = (u + 1.0) * 0.5 * float(R);
+  if (!(t >= 0.0)) t = 0.0;
+  if (t > float(R - 1)) t = float(R - 1);
+  return int(t);  // t >= 0: truncation is floor
+}
+
+ivec2 vplkit_texel_from_uv(vec2 uv, int R) {
+  return ivec2(vplkit_texel_coord_from_u(uv.x, R), vplkit_texel_coord_from_u(uv.y, R));
+}
+
+// A texel is valid when its centre lies in the closed unit disk (about pi/4 of the map). Decided
+// in exact integer arithmetic, identical on CPU and GPU: with a = 2x + 1 - R, b = 2y + 1 - R the
+// centre is (a, b) / R, so r2 <= 1 <=> a^2 + b^2 <= R^2 (a float r2 test misclassifies texels
+// within 1/R^2 of the rim for R in the thousands).
+bool vplkit_texel_is_valid(int x, int y, int R) {
+  if (x < 0 || y < 0 || x >= R || y >= R) return false;
+  int a = 2 * x + 1 - R;
+  int b = 2 * y + 1 - R;
+  return a * a + b * b <= R * R;
+}
+
+// Solid angle of a valid texel: the Jacobian at the centre times the uv area (2/R)^2 (midpoint
+// rule). 0 for invalid texels, so they carry no weight and can never be sampled.
+float vplkit_texel_solid_angle(int x, int y, int R) {
+  if (!vplkit_texel_is_valid(x, y, R)) return 0.0;
+  float h = 2.0 / float(R);
+  return vplkit_paraboloid_jacobian(vplkit_texel_center_uv(x, y, R)) * h * h;
+}
+
+#endif  // VPLKIT_PARABOLOID_TEXEL_GRID_GLSL

@@ -1,0 +1,97 @@
+// vplkit GLSL pack: VPL model (DESIGN 3.2, 3.6), mirroring include/vplkit/vpl/vpl.hpp (T = float)
+// line for line: flux of a DPRSM texel, contribution of a VPL to a gather point, radiance reflected
+// by a directly lit diffuse point. No visibility here: callers multiply by V.
+//
+// Robustness (as on the CPU): never NaN or Inf for finite inputs.
+//  - Normals may have any length (vplkit_unit_or_zero); a zero normal gives 0.
+//  - Points closer than vplkit_vpl_coincidence_tolerance (16 eps times their largest coordinate)
+//    are the same point: the result is 0 (covers x == y with dmin = 0).
+//  - Squared distances are raised to at least vplkit_vpl_distance_sq_floor() = 2^-63, so
+//    1 / (pi d^2) <= 2.9e18.
+//  - NaN inputs give 0 on the CPU; GPU compilers may assume NaN never occurs (CPU guarantee).
+#ifndef VPLKIT_VPL_VPL_GLSL
+#define VPLKIT_VPL_VPL_GLSL
+
+#include "vplkit/core/constants.glsl"
+#include "vplkit/paraboloid/unit_or_zero.glsl"
+
+struct vplkit_vpl {
+  vec3 position;  // y_t
+  vec3 normal;    // n_t (any length; normalised where used)
+  vec3 flux;      // Phi_t, RGB watts
+};
+
+// vpl_pi<float>: the same float as vplkit_PI.
+const float vplkit_vpl_pi = vplkit_PI;
+
+// 16 * numeric_limits<float>::epsilon() = 16 * 2^-23 = 2^-19 (exact).
+const float vplkit_vpl_coincidence_factor = 1.9073486328125e-6;
+
+// Phi_t = rho_t * I_s * Omega_t (RGB), independent of the distance and of the incidence angle.
+vec3 vplkit_vpl_flux(vec3 albedo, vec3 intensity, float solid_angle) {
+  return albedo * intensity * solid_angle;
+}
+
+// sqrt(FLT_MIN) = 2^-63 (exact).
+float vplkit_vpl_distance_sq_floor() { return 1.08420217248550443400745280086994171e-19; }
+
+// |a - b|_inf below this means "same point" (scale-relative: coordinates of size s carry rounding
+// of about eps * s, so a smaller separation has no direction).
+float vplkit_vpl_coincidence_tolerance(vec3 a, vec3 b) {
+  float s = max(vplkit_max_abs_component(a), vplkit_max_abs_component(b));
+  return vplkit_vpl_coincidence_factor * s;
+}
+
+bool vplkit_vpl_points_coincide(vec3 a, vec3 b) {
+  return vplkit_max_abs_component(b - a) <= vplkit_vpl_coincidence_tolerance(a, b);
+}
+
+// Geometry term of VPL y (normal n_y) at gather point x, without visibility:
+//   G = cos(theta1) cos(theta2) / (pi * max(d2^2, dmin^2)), both cosines clamped at 0.
+float vplkit_vpl_geometry_term(vec3 x, vec3 n_x, vec3 y, vec3 n_y, float dmin) {
+  if (vplkit_vpl_points_coincide(x, y)) return 0.0;
+  vec3 w = y - x;
+  vec3 wd = vplkit_unit_or_zero(w);  // x -> y
+  float cos2 = max(0.0, dot(vplkit_unit_or_zero(n_x), wd));
+  float cos1 = max(0.0, -dot(vplkit_unit_or_zero(n_y), wd));
+  if (!(cos1 * cos2 > 0.0)) return 0.0;
+  float d2sq = max(max(dot(w, w), dmin * dmin), vplkit_vpl_distance_sq_floor());
+  return cos1 * cos2 / (vplkit_vpl_pi * d2sq);  // d2sq = Inf (huge separation) gives 0
+}
+
+// L_t(x) = (rho_x / pi) * Phi_t * G (DESIGN 3.2, paper eq. 5 with the patch area restored).
+vec3 vplkit_vpl_contribution(vec3 x, vec3 n_x, vec3 rho_x, vplkit_vpl v, float dmin) {
+  float g = vplkit_vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
+  float brdf_scale = 1.0 / vplkit_vpl_pi;  // diffuse BRDF rho_x / pi
+  return rho_x * brdf_scale * v.flux * g;
+}
+
+// Smallest cos(alpha) vplkit_vpl_patch_area divides by.
+const float vplkit_vpl_min_cos_alpha = 1e-6;
+
+// cos(alpha) at y between n_y and the direction to the light, clamped at 0; 0 when y and the light
+// coincide or n_y is zero.
+float vplkit_vpl_cos_alpha(vec3 light_pos, vec3 y, vec3 n_y) {
+  if (vplkit_vpl_points_coincide(light_pos, y)) return 0.0;
+  return max(0.0, dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(light_pos - y)));
+}
+
+// A_t = Omega_t d1^2 / cos(alpha), cos(alpha) raised to vplkit_vpl_min_cos_alpha. Written with
+// ?: rather than max() as in the C++ (a NaN cos takes the floor there).
+float vplkit_vpl_patch_area(float solid_angle, float d1, float cos_alpha) {
+  float c = (cos_alpha > vplkit_vpl_min_cos_alpha) ? cos_alpha : vplkit_vpl_min_cos_alpha;
+  return solid_angle * d1 * d1 / c;
+}
+
+// Radiance leaving a diffuse point y lit by the point light (no visibility):
+//   L_o(y) = rho_y I_s cos(alpha) / (pi d1^2), cos(alpha) clamped at 0.
+vec3 vplkit_reflected_radiance(vec3 light_pos, vec3 intensity, vec3 y, vec3 n_y, vec3 rho_y) {
+  if (vplkit_vpl_points_coincide(light_pos, y)) return vec3(0.0);
+  vec3 w = light_pos - y;
+  float cos_a = max(0.0, dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(w)));
+  if (!(cos_a > 0.0)) return vec3(0.0);  // back-facing or zero normal
+  float d1sq = max(dot(w, w), vplkit_vpl_distance_sq_floor());
+  return rho_y * intensity * (cos_a / (vplkit_vpl_pi * d1sq));
+}
+
+#endif  // VPLKIT_VPL_VPL_GLSL

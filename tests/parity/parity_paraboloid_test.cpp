@@ -1,0 +1,785 @@
+// CPU/GPU parity of glsl/vplkit/paraboloid/*.glsl with include/vplkit/paraboloid/*.hpp (T = float):
+// unit_or_zero, the dual paraboloid mapping both ways, the texel grid (integers exact), the texel
+// solid angle and the light frame. Random inputs with fixed seeds plus the hard cases of DESIGN 7
+// (poles, rim z = 0 and +-1 ulp, r2 slightly above 1 from rounding, texels next to the rim).
+//
+// Why exact integers are possible: every integer result (face, texel) is decided on values that
+// both sides compute with the same correctly rounded operations (GLSL 4.30 4.7.1: + - * are
+// correctly rounded), or in integer arithmetic (texel_is_valid). Division and sqrt are not
+// correctly rounded in GLSL (2.5 and 3 ulp); where a GPU quotient feeds an integer decision (a uv
+// computed from a direction, then its texel) the test bounds and explains the possible difference
+// instead (see "texel of a direction" below).
+#include <parity_harness.hpp>
+
+#include <vplkit/paraboloid/light_frame.hpp>
+#include <vplkit/paraboloid/paraboloid.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/paraboloid/unit_or_zero.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using vplkit::ivec2;
+using vplkit::vec2;
+using vplkit::vec3;
+using vplkit::parity::compare_exact;
+using vplkit::parity::compare_floats;
+using vplkit::parity::input;
+using vplkit::parity::show;
+using vplkit::parity::within_abs;
+using vplkit::parity::within_ulps;
+
+constexpr float flt_eps = std::numeric_limits<float>::epsilon();
+constexpr float flt_min = std::numeric_limits<float>::min();
+constexpr float flt_max = std::numeric_limits<float>::max();
+constexpr float flt_inf = std::numeric_limits<float>::infinity();
+constexpr double pi = 3.14159265358979323846;
+
+struct float4 {
+  float x, y, z, w;
+};
+struct int4 {
+  std::int32_t x, y, z, w;
+};
+float4 f4(vec3<float> v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
+
+std::string show3(vec3<float> v) {
+  return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
+}
+std::string show2(vec2<float> v) { return "(" + show(v.x) + ", " + show(v.y) + ")"; }
+
+// Deterministic random numbers: mt19937 output is fixed by the standard; the mapping to floats is
+// ours, so the inputs are the same with every standard library.
+struct random_source {
+  std::mt19937 g;
+  explicit random_source(std::uint32_t seed) : g(seed) {}
+  double unit() { return double(g() >> 5) * (1.0 / 134217728.0); }  // [0, 1), 27 bits
+  double uniform(double a, double b) { return a + (b - a) * unit(); }
+  int integer(int lo, int hi) { return lo + int(g() % std::uint32_t(hi - lo + 1)); }  // [lo, hi]
+  vec3<float> direction() {  // uniform on the sphere
+    const double z = uniform(-1.0, 1.0);
+    const double phi = uniform(0.0, 2.0 * pi);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return vec3<float>(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
+  }
+};
+
+// Splits a vector of vec-like outputs into per-component float vectors.
+template <class S, class F>
+std::vector<float> component(const std::vector<S>& v, F f) {
+  std::vector<float> out;
+  out.reserve(v.size());
+  for (const S& s : v) out.push_back(f(s));
+  return out;
+}
+template <class S, class F>
+std::vector<std::int32_t> icomponent(const std::vector<S>& v, F f) {
+  std::vector<std::int32_t> out;
+  out.reserve(v.size());
+  for (const S& s : v) out.push_back(f(s));
+  return out;
+}
+
+// ---- unit_or_zero ----------------------------------------------------------------------------
+
+const std::string unit_or_zero_kernel = R"(
+#include "vplkit/paraboloid/unit_or_zero.glsl"
+layout(std430, binding = 0) readonly buffer In { vec4 v[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  result[i] = vec4(vplkit_unit_or_zero(v[i].xyz), vplkit_max_abs_component(v[i].xyz));
+}
+)";
+
+// ---- mapping ---------------------------------------------------------------------------------
+
+struct point_out {  // std430 { vec2 uv; int face; int pad; }
+  float u, v;
+  std::int32_t face, pad;
+};
+
+const std::string from_direction_kernel = R"(
+#include "vplkit/paraboloid/paraboloid.glsl"
+layout(std430, binding = 0) readonly buffer In { vec4 d[]; };
+struct point_out { vec2 uv; int face; int pad; };
+layout(std430, binding = 1) writeonly buffer Out { point_out result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  vplkit_paraboloid_point p = vplkit_paraboloid_from_direction(d[i].xyz);
+  result[i] = point_out(p.uv, p.face, 0);
+}
+)";
+
+std::vector<point_out> gpu_from_direction(const std::vector<vec3<float>>& dirs) {
+  std::vector<float4> in;
+  for (const auto& d : dirs) in.push_back(f4(d));
+  return vplkit::parity::run_compute<point_out>(from_direction_kernel, {64, 1, 1},
+                                                {input(0, in)}, 1, dirs.size());
+}
+
+// uv: both sides normalise with a division and a sqrt and divide by 1 + |z| (plus the rim
+// clamp's 1/sqrt): with correctly rounded operations (llvmpipe) the bits agree; a GPU within the
+// GLSL limits (div 2.5 ulp, sqrt 3 ulp, with or without FMA in dot) moves each component by a few
+// ulp. No subtraction is involved, so ulps are meaningful down to uv = 0. Bound: 8 ulps (the C++
+// round-trip guarantee), well above the measured worst (printed by the harness).
+const double uv_ulps = 8;
+
+// Compares faces exactly and uv within uv_ulps; also requires dot(uv, uv) <= 1 + 1 ulp on the GPU
+// (the C++ side guarantees <= 1; a GPU rsqrt/division may leave the clamp 1 ulp outside).
+void check_from_direction(const std::vector<vec3<float>>& dirs, const std::string& what) {
+  const auto gpu = gpu_from_direction(dirs);
+  std::vector<point_out> cpu;
+  for (const auto& d : dirs) {
+    const auto p = vplkit::paraboloid_from_direction(d);
+    cpu.push_back({p.uv.x, p.uv.y, p.face, 0});
+  }
+  auto describe = [&](std::size_t i) {
+    const auto p = vplkit::paraboloid_from_direction(dirs[i]);
+    return "d = " + show3(dirs[i]) + " cpu uv = " + show2(p.uv) + " face " + show(p.face);
+  };
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto p) { return p.face; }),
+                                    icomponent(cpu, [](auto p) { return p.face; }), describe,
+                                    what + ": face"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto p) { return p.u; }),
+                                     component(cpu, [](auto p) { return p.u; }),
+                                     within_ulps(uv_ulps), describe, what + ": u"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto p) { return p.v; }),
+                                     component(cpu, [](auto p) { return p.v; }),
+                                     within_ulps(uv_ulps), describe, what + ": v"));
+  std::size_t outside = 0, above_one_ulp = 0;
+  for (std::size_t i = 0; i < gpu.size(); ++i) {
+    const float r2 = gpu[i].u * gpu[i].u + gpu[i].v * gpu[i].v;
+    if (r2 > 1.0f) ++outside;
+    if (r2 > 1.0f + flt_eps) {
+      ++above_one_ulp;
+      UNSCOPED_INFO("gpu uv outside the disk by more than 1 ulp: " << describe(i));
+    }
+    REQUIRE(std::isfinite(gpu[i].u));
+    REQUIRE(std::isfinite(gpu[i].v));
+  }
+  std::cout << "  " << what << ": gpu uv with r2 > 1: " << outside << ", > 1 + eps: "
+            << above_one_ulp << " (of " << gpu.size() << ")\n";
+  CHECK(above_one_ulp == 0);
+}
+
+}  // namespace
+
+TEST_CASE("unit_or_zero and max_abs_component: random vectors of any scale and degenerate ones") {
+  random_source rnd(101);
+  std::vector<vec3<float>> vs;
+  for (int i = 0; i < 100000; ++i) {
+    // a direction times 10^[-30, 30]; a third of them with components of mixed magnitudes
+    vec3<float> d = rnd.direction();
+    if (i % 3 == 0) d.y *= float(std::pow(10.0, rnd.uniform(-20, 0)));
+    vs.push_back(d * float(std::pow(10.0, rnd.uniform(-30, 30))));
+  }
+  for (float s : {1.0f, 1e-30f, 1e30f, 4.0f * flt_min, flt_max})
+    for (vec3<float> d : {vec3<float>(0, 0, 1), vec3<float>(0, 0, -1), vec3<float>(1, 1, 1),
+                          vec3<float>(-1, 1, -1), vec3<float>(1, -1e-7f, 0)})
+      vs.push_back(d * s);
+  for (vec3<float> d :
+       {vec3<float>(0), vec3<float>(-0.0f), vec3<float>(flt_max, flt_max, flt_max),
+        vec3<float>(flt_inf, 0, 0), vec3<float>(1, -flt_inf, 1), vec3<float>(flt_inf, -flt_inf, 0)})
+    vs.push_back(d);
+  std::vector<float4> in;
+  for (const auto& v : vs) in.push_back(f4(v));
+  const auto gpu = vplkit::parity::run_compute<float4>(unit_or_zero_kernel, {64, 1, 1},
+                                                       {input(0, in)}, 1, vs.size());
+  std::vector<float4> cpu;
+  for (const auto& v : vs) cpu.push_back(f4(vplkit::unit_or_zero(v), vplkit::max_abs_component(v)));
+  auto describe = [&](std::size_t i) { return "v = " + show3(vs[i]); };
+  // max_abs_component: abs and comparisons only -> exact.
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto v) { return v.w; }),
+                                     component(cpu, [](auto v) { return v.w; }), within_ulps(0),
+                                     describe, "max_abs_component"));
+  // v / m, dot, sqrt, division: a few ulp on a GPU within the GLSL limits; no cancellation, so
+  // ulps stay meaningful for small components. Bound 8 ulps.
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto v) { return v.x; }),
+                                     component(cpu, [](auto v) { return v.x; }), within_ulps(8),
+                                     describe, "unit_or_zero x"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto v) { return v.y; }),
+                                     component(cpu, [](auto v) { return v.y; }), within_ulps(8),
+                                     describe, "unit_or_zero y"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto v) { return v.z; }),
+                                     component(cpu, [](auto v) { return v.z; }), within_ulps(8),
+                                     describe, "unit_or_zero z"));
+}
+
+TEST_CASE("paraboloid_from_direction: 10^5 random directions, face exact, uv within 8 ulps") {
+  random_source rnd(202);
+  std::vector<vec3<float>> dirs;
+  for (int i = 0; i < 100000; ++i) {
+    dirs.push_back(rnd.direction() * float(std::pow(10.0, rnd.uniform(-30, 30))));
+  }
+  check_from_direction(dirs, "from_direction (random)");
+
+  // What float costs against the exact map, on both sides (T = double reference): informational
+  // context for the bound above.
+  const auto gpu = gpu_from_direction(dirs);
+  std::vector<double> ref_u;
+  for (const auto& d : dirs) ref_u.push_back(vplkit::paraboloid_from_direction(vec3<double>(d)).uv.x);
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto p) { return p.u; }), ref_u,
+                                     within_ulps(8), {}, "from_direction u, gpu vs T = double"));
+}
+
+TEST_CASE("paraboloid_from_direction: hard cases (poles, rim z = 0 and +-1 ulp, r2 above 1)") {
+  random_source rnd(303);
+  std::vector<vec3<float>> dirs;
+  // d = (0,0,+-1) at any length, and next to the back pole without cancellation.
+  for (float s : {1.0f, 1e-30f, 1e30f, 4.0f * flt_min, flt_max}) {
+    dirs.push_back(vec3<float>(0, 0, s));
+    dirs.push_back(vec3<float>(0, 0, -s));
+  }
+  for (float x : {1e-3f, 1e-10f, 1e-20f, 1e-30f, 4.0f * flt_min}) {
+    dirs.push_back(vec3<float>(x, -x, -1));
+    dirs.push_back(vec3<float>(-x, x, 1));
+  }
+  // Rim: z = 0, z = -0, z = +-(smallest normal), +-eps/2, +-eps (the first floats beside 0 that a
+  // GPU does not flush), at 2000 azimuths each, plus the axis directions.
+  for (int k = 0; k < 2000; ++k) {
+    const double phi = rnd.uniform(0.0, 2.0 * pi);
+    const float x = float(std::cos(phi)), y = float(std::sin(phi));
+    for (float z : {0.0f, -0.0f, flt_min, -flt_min, flt_eps / 2, -flt_eps / 2, flt_eps, -flt_eps})
+      dirs.push_back(vec3<float>(x, y, z));
+  }
+  for (float z : {0.0f, -0.0f, flt_min, -flt_min, flt_eps, -flt_eps}) {
+    dirs.push_back(vec3<float>(1, 0, z));
+    dirs.push_back(vec3<float>(0, -1, z));
+    dirs.push_back(vec3<float>(0.70710678f, 0.70710678f, z));
+  }
+  // r2 slightly above 1 from rounding: rim directions whose unclamped uv lands outside the disk
+  // (about 1 in 5); keep 20000 of them.
+  std::size_t above = 0;
+  while (above < 20000) {
+    const double phi = rnd.uniform(0.0, 2.0 * pi);
+    const vec3<float> d(float(std::cos(phi)), float(std::sin(phi)), rnd.unit() < 0.5 ? 0.0f : -0.0f);
+    const vec3<float> n = vplkit::unit_or_zero(d);
+    const vec2<float> uv = vec2<float>(n.x, n.y) / (1.0f + std::abs(n.z));
+    if (glm::dot(uv, uv) > 1.0f) {
+      dirs.push_back(d);
+      ++above;
+    }
+  }
+  check_from_direction(dirs, "from_direction (hard cases)");
+}
+
+TEST_CASE("paraboloid_from_direction: denormal rim z (GPUs may flush: face may differ, uv not)") {
+  // |z| < FLT_MIN: a GPU that flushes denormals sees z = +-0 and files the direction under the
+  // front face where the CPU says back. The seam convention makes that harmless: uv is the same
+  // on both faces at the rim. Required: equal faces, or |z| < FLT_MIN and uv within the bound.
+  std::vector<vec3<float>> dirs;
+  const float dmin = std::numeric_limits<float>::denorm_min();
+  for (int k = 0; k < 360; ++k) {
+    const double phi = 2.0 * pi * k / 360.0;
+    for (float z : {dmin, -dmin, 3 * dmin, -3 * dmin, flt_min / 2, -flt_min / 2})
+      dirs.push_back(vec3<float>(float(std::cos(phi)), float(std::sin(phi)), z));
+  }
+  const auto gpu = gpu_from_direction(dirs);
+  std::size_t flips = 0;
+  std::vector<float> gu, cu, gv, cv;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const auto p = vplkit::paraboloid_from_direction(dirs[i]);
+    if (gpu[i].face != p.face) {
+      ++flips;
+      REQUIRE(std::abs(dirs[i].z) < flt_min);
+    }
+    gu.push_back(gpu[i].u);
+    gv.push_back(gpu[i].v);
+    cu.push_back(p.uv.x);
+    cv.push_back(p.uv.y);
+  }
+  std::cout << "  denormal rim z: " << flips << " face flips of " << dirs.size()
+            << " (0 where denormals are kept, e.g. llvmpipe)\n";
+  VPLKIT_CHECK_PARITY(compare_floats(gu, cu, within_ulps(uv_ulps), {}, "denormal rim: u"));
+  VPLKIT_CHECK_PARITY(compare_floats(gv, cv, within_ulps(uv_ulps), {}, "denormal rim: v"));
+}
+
+TEST_CASE("paraboloid_to_direction, paraboloid_jacobian and the round trip") {
+  random_source rnd(404);
+  std::vector<vec2<float>> uvs;
+  std::vector<int> faces;
+  for (int i = 0; i < 100000; ++i) {
+    // mostly inside the disk, some in the corners (r2 > 1), both faces
+    const float r = float(i % 5 == 0 ? rnd.uniform(0.0, 1.4142) : std::sqrt(rnd.unit()));
+    const double phi = rnd.uniform(0.0, 2.0 * pi);
+    uvs.push_back(vec2<float>(r * float(std::cos(phi)), r * float(std::sin(phi))));
+    faces.push_back(int(i & 1));
+  }
+  for (int face = 0; face < 2; ++face) {
+    for (vec2<float> uv : {vec2<float>(0, 0), vec2<float>(1, 0), vec2<float>(0, -1),
+                           vec2<float>(-1, 0), vec2<float>(1, 1), vec2<float>(-1, 1),
+                           vec2<float>(0.6f, 0.8f), vec2<float>(flt_min, -flt_min)}) {
+      uvs.push_back(uv);
+      faces.push_back(face);
+    }
+    for (int k = 0; k < 2000; ++k) {  // rim uvs (r2 = 1 to rounding, clamped into the disk)
+      const double phi = rnd.uniform(0.0, 2.0 * pi);
+      uvs.push_back(vplkit::paraboloid_clamp_to_disk(
+          vec2<float>(float(std::cos(phi)), float(std::sin(phi)))));
+      faces.push_back(face);
+    }
+  }
+  std::vector<float4> in;
+  for (std::size_t i = 0; i < uvs.size(); ++i) in.push_back({uvs[i].x, uvs[i].y, float(faces[i]), 0});
+  const std::string kernel = R"(
+#include "vplkit/paraboloid/paraboloid.glsl"
+layout(std430, binding = 0) readonly buffer In { vec4 q[]; };
+struct out_t { vec4 dir_jac; vec2 round_uv; int round_face; int pad; };
+layout(std430, binding = 1) writeonly buffer Out { out_t result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  int face = int(q[i].z);
+  vec3 d = vplkit_paraboloid_to_direction(face, q[i].xy);
+  vplkit_paraboloid_point p = vplkit_paraboloid_from_direction(d);
+  result[i] = out_t(vec4(d, vplkit_paraboloid_jacobian(q[i].xy)), p.uv, p.face, 0);
+}
+)";
+  struct out_t {
+    float4 dir_jac;
+    float u, v;
+    std::int32_t face, pad;
+  };
+  const auto gpu = vplkit::parity::run_compute<out_t>(kernel, {64, 1, 1}, {input(0, in)}, 1, uvs.size());
+  std::vector<out_t> cpu;
+  for (std::size_t i = 0; i < uvs.size(); ++i) {
+    const vec3<float> d = vplkit::paraboloid_to_direction(faces[i], uvs[i]);
+    const auto p = vplkit::paraboloid_from_direction(d);
+    cpu.push_back({f4(d, vplkit::paraboloid_jacobian(uvs[i])), p.uv.x, p.uv.y, p.face, 0});
+  }
+  auto describe = [&](std::size_t i) { return "face " + show(faces[i]) + " uv = " + show2(uvs[i]); };
+  // d.x, d.y: products and one division (1 / (1 + r2)): a few ulp. d.z = (1 - r2) s cancels at the
+  // rim, where an ulp of r2 (FMA in dot, or not) is 6e-8 absolute: bound 8 ulps or 2.4e-7 abs
+  // (4 ulp of 1: components of a unit vector).
+  const auto dir_bound = within_ulps(8) | within_abs(2.4e-7);
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.dir_jac.x; }),
+                                     component(cpu, [](auto o) { return o.dir_jac.x; }), dir_bound,
+                                     describe, "to_direction x"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.dir_jac.y; }),
+                                     component(cpu, [](auto o) { return o.dir_jac.y; }), dir_bound,
+                                     describe, "to_direction y"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.dir_jac.z; }),
+                                     component(cpu, [](auto o) { return o.dir_jac.z; }), dir_bound,
+                                     describe, "to_direction z"));
+  // 4 / q^2: one add, one multiply, one division: 4 ulps.
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.dir_jac.w; }),
+                                     component(cpu, [](auto o) { return o.dir_jac.w; }),
+                                     within_ulps(4), describe, "paraboloid_jacobian"));
+  // Round trip uv -> d -> uv on each side. Where d.z is +-tiny the face of the round trip follows
+  // its sign, which a GPU may compute differently at the rim (r2 = 1 +- 1 ulp): then both faces
+  // are legitimate and, by the seam convention, the uv is the same. Required: equal faces, or a
+  // CPU |d.z| <= 2.4e-7 (the bound above); uv within the direction bound.
+  std::size_t seam_flips = 0;
+  for (std::size_t i = 0; i < uvs.size(); ++i) {
+    if (gpu[i].face == cpu[i].face) continue;
+    ++seam_flips;
+    INFO(describe(i));
+    REQUIRE(std::abs(cpu[i].dir_jac.z) <= 2.4e-7f);
+  }
+  std::cout << "  round trip: " << seam_flips << " seam face flips (|d.z| <= 2.4e-7) of "
+            << uvs.size() << "\n";
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.u; }),
+                                     component(cpu, [](auto o) { return o.u; }), dir_bound,
+                                     describe, "round trip u"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.v; }),
+                                     component(cpu, [](auto o) { return o.v; }), dir_bound,
+                                     describe, "round trip v"));
+}
+
+namespace {
+
+const std::string texel_from_uv_kernel = R"(
+#include "vplkit/paraboloid/texel_grid.glsl"
+layout(std430, binding = 0) readonly buffer In { vec4 q[]; };   // (u, v, R, -)
+layout(std430, binding = 1) writeonly buffer Out { ivec2 result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  result[i] = vplkit_texel_from_uv(q[i].xy, int(q[i].z));
+}
+)";
+
+struct int2 {
+  std::int32_t x, y;
+};
+
+void check_texel_from_uv(const std::vector<vec2<float>>& uvs, const std::vector<int>& Rs,
+                         const std::string& what) {
+  std::vector<float4> in;
+  for (std::size_t i = 0; i < uvs.size(); ++i) in.push_back({uvs[i].x, uvs[i].y, float(Rs[i]), 0});
+  const auto gpu = vplkit::parity::run_compute<int2>(texel_from_uv_kernel, {64, 1, 1},
+                                                     {input(0, in)}, 1, uvs.size());
+  std::vector<std::int32_t> gx, gy, cx, cy;
+  for (std::size_t i = 0; i < uvs.size(); ++i) {
+    const ivec2 t = vplkit::texel_from_uv(uvs[i], Rs[i]);
+    cx.push_back(t.x);
+    cy.push_back(t.y);
+    gx.push_back(gpu[i].x);
+    gy.push_back(gpu[i].y);
+  }
+  auto describe = [&](std::size_t i) { return "uv = " + show2(uvs[i]) + " R = " + show(Rs[i]); };
+  VPLKIT_CHECK_PARITY(compare_exact(gx, cx, describe, what + ": x"));
+  VPLKIT_CHECK_PARITY(compare_exact(gy, cy, describe, what + ": y"));
+}
+
+const std::vector<int> grid_resolutions = {1, 2, 3, 4, 5, 7, 8, 10, 16, 31, 63, 64, 100,
+                                           255, 256, 512, 1000, 3001, 4096, 4097, 16383, 16384};
+
+}  // namespace
+
+TEST_CASE("texel_from_uv: random uv (inside and outside the map), exact") {
+  random_source rnd(505);
+  std::vector<vec2<float>> uvs;
+  std::vector<int> Rs;
+  for (int i = 0; i < 100000; ++i) {
+    uvs.push_back(vec2<float>(float(rnd.uniform(-1.25, 1.25)), float(rnd.uniform(-1.25, 1.25))));
+    Rs.push_back(i % 2 == 0 ? rnd.integer(1, 64)
+                            : grid_resolutions[std::size_t(rnd.integer(0, int(grid_resolutions.size()) - 1))]);
+  }
+  // far outside and infinite (the clamp runs before int(); NaN is not sent to the GPU)
+  for (int R : {1, 7, 64, 16384})
+    for (float u : {-1.0f, 1.0f, -flt_inf, flt_inf, -flt_max, flt_max, 1e30f, -1e30f, 0.0f, -0.0f}) {
+      uvs.push_back(vec2<float>(u, -u));
+      Rs.push_back(R);
+    }
+  check_texel_from_uv(uvs, Rs, "texel_from_uv (random)");
+}
+
+TEST_CASE("texel_from_uv: uv exactly on texel edges and one ulp either side, exact") {
+  // Edge k of an R-texel axis is u = -1 + 2k/R, rounded to float (exact when R is a power of two).
+  // Both sides then evaluate (u + 1) * 0.5 * R with the same correctly rounded + and *, so an edge
+  // is assigned identically (to the texel above it when the rounded product reaches k; GLSL has no
+  // freedom there: no division, and no a*b+c pattern an FMA could fuse). Exact agreement required.
+  std::vector<vec2<float>> uvs;
+  std::vector<int> Rs;
+  for (int R : grid_resolutions) {
+    const int step = R <= 1024 ? 1 : R / 1024;
+    std::vector<int> ks;
+    for (int k = 0; k < R; k += step) ks.push_back(k);
+    ks.push_back(R);
+    for (int k : ks) {
+      const float e = float(-1.0 + 2.0 * double(k) / double(R));
+      for (float u : {e, std::nextafter(e, -2.0f), std::nextafter(e, 2.0f)}) {
+        uvs.push_back(vec2<float>(u, -u));
+        Rs.push_back(R);
+      }
+    }
+  }
+  check_texel_from_uv(uvs, Rs, "texel_from_uv (edges)");
+  std::cout << "  edges checked: " << uvs.size() << "\n";
+}
+
+namespace {
+
+// Every texel-grid function for one (face, x, y, R).
+struct texel_out {  // std430: vec2 (8-aligned) first
+  float cu, cv;        // texel_center_uv
+  float omega;         // texel_solid_angle
+  std::int32_t valid;  // texel_is_valid
+  std::int32_t index;  // texel_index
+  std::int32_t face;   // texel_face(index)
+  std::int32_t x, y;   // texel_coords(index)
+  std::int32_t fx, fy; // texel_from_uv(texel_center_uv)
+  std::int32_t count;  // texel_count(R)
+  std::int32_t pad;
+};
+
+const std::string texel_kernel = R"(
+#include "vplkit/paraboloid/texel_grid.glsl"
+layout(std430, binding = 0) readonly buffer In { ivec4 q[]; };   // (x, y, R, face)
+struct texel_out { vec2 c; float omega; int valid; int index; int face; ivec2 xy; ivec2 f;
+                   int count; int pad; };
+layout(std430, binding = 1) writeonly buffer Out { texel_out result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  int x = q[i].x, y = q[i].y, R = q[i].z, face = q[i].w;
+  texel_out o;
+  o.c = vplkit_texel_center_uv(x, y, R);
+  o.omega = vplkit_texel_solid_angle(x, y, R);
+  o.valid = vplkit_texel_is_valid(x, y, R) ? 1 : 0;
+  bool in_range = x >= 0 && y >= 0 && x < R && y < R;
+  o.index = in_range ? vplkit_texel_index(face, x, y, R) : -1;
+  o.face = in_range ? vplkit_texel_face(o.index, R) : -1;
+  o.xy = in_range ? vplkit_texel_coords(o.index, R) : ivec2(-1);
+  o.f = vplkit_texel_from_uv(o.c, R);
+  o.count = vplkit_texel_count(R);
+  o.pad = 0;
+  result[i] = o;
+}
+)";
+
+texel_out cpu_texel(int x, int y, int R, int face) {
+  texel_out o{};
+  const vec2<float> c = vplkit::texel_center_uv<float>(x, y, R);
+  o.cu = c.x;
+  o.cv = c.y;
+  o.omega = vplkit::texel_solid_angle<float>(x, y, R);
+  o.valid = vplkit::texel_is_valid(x, y, R) ? 1 : 0;
+  const bool in_range = x >= 0 && y >= 0 && x < R && y < R;
+  o.index = in_range ? vplkit::texel_index(face, x, y, R) : -1;
+  o.face = in_range ? vplkit::texel_face(o.index, R) : -1;
+  const ivec2 xy = in_range ? vplkit::texel_coords(o.index, R) : ivec2(-1);
+  o.x = xy.x;
+  o.y = xy.y;
+  const ivec2 f = vplkit::texel_from_uv(c, R);
+  o.fx = f.x;
+  o.fy = f.y;
+  o.count = vplkit::texel_count(R);
+  return o;
+}
+
+void check_texels(const std::vector<int4>& q, const std::string& what) {
+  const auto gpu = vplkit::parity::run_compute<texel_out>(texel_kernel, {64, 1, 1}, {input(0, q)},
+                                                          1, q.size());
+  std::vector<texel_out> cpu;
+  for (const auto& t : q) cpu.push_back(cpu_texel(t.x, t.y, t.z, t.w));
+  auto describe = [&](std::size_t i) {
+    return "x " + show(q[i].x) + " y " + show(q[i].y) + " R " + show(q[i].z) + " face " +
+           show(q[i].w);
+  };
+  // Integers: exact. valid is integer arithmetic; index/face/coords are integer; texel_from_uv of
+  // the centre depends on the centre's float bits (compared just below), which are far from edges.
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.valid; }),
+                                    icomponent(cpu, [](auto o) { return o.valid; }), describe,
+                                    what + ": texel_is_valid"));
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.index; }),
+                                    icomponent(cpu, [](auto o) { return o.index; }), describe,
+                                    what + ": texel_index"));
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.face; }),
+                                    icomponent(cpu, [](auto o) { return o.face; }), describe,
+                                    what + ": texel_face"));
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.x * 65536 + o.y; }),
+                                    icomponent(cpu, [](auto o) { return o.x * 65536 + o.y; }),
+                                    describe, what + ": texel_coords (x * 65536 + y)"));
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.fx * 65536 + o.fy; }),
+                                    icomponent(cpu, [](auto o) { return o.fx * 65536 + o.fy; }),
+                                    describe, what + ": texel_from_uv(centre) (x * 65536 + y)"));
+  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.count; }),
+                                    icomponent(cpu, [](auto o) { return o.count; }), describe,
+                                    what + ": texel_count"));
+  // Centre: (x + 0.5) / R * 2 - 1, one division: a GPU may be 2.5 ulp off in the quotient; the
+  // final - 1 can cancel (centres near u = 0 are small), so 4 ulps or 4 ulp of 1 (4.8e-7) abs.
+  const auto centre_bound = within_ulps(4) | within_abs(4.8e-7);
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.cu; }),
+                                     component(cpu, [](auto o) { return o.cu; }), centre_bound,
+                                     describe, what + ": texel_center_uv u"));
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.cv; }),
+                                     component(cpu, [](auto o) { return o.cv; }), centre_bound,
+                                     describe, what + ": texel_center_uv v"));
+  // Solid angle: 2/R, the centre, the Jacobian (dot, add, mul, div), two products; through the
+  // centre's absolute error r2 moves by < 1e-6 absolute, the Jacobian relatively by less. 8 ulps.
+  VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [](auto o) { return o.omega; }),
+                                     component(cpu, [](auto o) { return o.omega; }),
+                                     within_ulps(8), describe, what + ": texel_solid_angle"));
+}
+
+}  // namespace
+
+TEST_CASE("texel grid: every texel of R = 1..64 and 512 (validity, indices, centre, solid angle)") {
+  std::vector<int4> q;
+  std::uint32_t k = 0;
+  auto add_resolution = [&](int R) {
+    for (int y = 0; y < R; ++y)
+      for (int x = 0; x < R; ++x) q.push_back({x, y, R, std::int32_t((k++ * 2654435761u) >> 31)});
+    // out of range: invalid, solid angle 0
+    for (int t : {-1, R}) {
+      q.push_back({t, 0, R, 0});
+      q.push_back({0, t, R, 1});
+    }
+  };
+  for (int R = 1; R <= 64; ++R) add_resolution(R);
+  add_resolution(512);
+  check_texels(q, "texel grid R = 1..64, 512");
+  std::cout << "  texels checked: " << q.size() << "\n";
+}
+
+TEST_CASE("texel grid: texels next to the rim for R in the thousands, exact validity") {
+  // For each column x, the last valid texel of the column (largest b = 2y + 1 - R with
+  // a^2 + b^2 <= R^2, found in 64-bit integers) and its neighbours; these are the texels whose
+  // centres lie within 1/R^2 of the rim, where a float r2 test fails.
+  std::vector<int4> q;
+  for (int R : {3001, 4096, 4097, 16383, 16384}) {
+    const int stride = R > 5000 ? 3 : 1;
+    for (int x = 0; x < R; x += stride) {
+      const std::int64_t a = 2 * std::int64_t(x) + 1 - R;
+      const std::int64_t rest = std::int64_t(R) * R - a * a;
+      std::int64_t b = std::int64_t(std::sqrt(double(rest)));
+      while (b * b > rest) --b;
+      while ((b + 1) * (b + 1) <= rest) ++b;
+      if (((b + R - 1) & 1) != 0) --b;  // b has the parity of R + 1
+      const std::int64_t y = (b + R - 1) / 2;
+      for (std::int64_t dy : {-1, 0, 1, 2}) {
+        const std::int64_t yy = y + dy;
+        if (yy >= 0 && yy < R) q.push_back({x, std::int32_t(yy), R, x & 1});
+      }
+    }
+  }
+  check_texels(q, "texel grid near the rim, R in the thousands");
+  std::cout << "  near-rim texels checked: " << q.size() << "\n";
+}
+
+namespace {
+
+struct frame_out {
+  float4 ax, ay, az;
+};
+
+const std::string make_frame_kernel = R"(
+#include "vplkit/paraboloid/light_frame.glsl"
+layout(std430, binding = 0) readonly buffer In { vec4 axis[]; };
+struct frame_out { vec4 ax; vec4 ay; vec4 az; };
+layout(std430, binding = 1) writeonly buffer Out { frame_out result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  vplkit_light_frame f = vplkit_make_light_frame(vec3(1.0, 2.0, 3.0), axis[i].xyz);
+  result[i] = frame_out(vec4(f.axis_x, f.position.x), vec4(f.axis_y, f.position.y),
+                        vec4(f.axis_z, f.position.z));
+}
+)";
+
+}  // namespace
+
+TEST_CASE("light_frame: construction from random and special front axes") {
+  random_source rnd(606);
+  std::vector<vec3<float>> axes;
+  for (int i = 0; i < 20000; ++i)
+    axes.push_back(rnd.direction() * float(std::pow(10.0, rnd.uniform(-30, 30))));
+  for (vec3<float> a : {vec3<float>(1, 0, 0), vec3<float>(-1, 0, 0), vec3<float>(0, 1, 0),
+                        vec3<float>(0, -1, 0), vec3<float>(0, 0, 1), vec3<float>(0, 0, -1),
+                        vec3<float>(1, 0, -0.0f), vec3<float>(0, 1, -0.0f), vec3<float>(flt_min, 0, -1),
+                        vec3<float>(1e-4f, -1e-4f, -1), vec3<float>(0, 0, -1e30f),
+                        vec3<float>(0, 0, -4 * flt_min), vec3<float>(3, 4, 0)})
+    axes.push_back(a);
+  std::vector<float4> in;
+  for (const auto& a : axes) in.push_back(f4(a));
+  const auto gpu = vplkit::parity::run_compute<frame_out>(make_frame_kernel, {64, 1, 1},
+                                                          {input(0, in)}, 1, axes.size());
+  std::vector<frame_out> cpu;
+  for (const auto& a : axes) {
+    const vplkit::light_frame<float> f(vec3<float>(1, 2, 3), a);
+    cpu.push_back({f4(f.axis_x, f.position.x), f4(f.axis_y, f.position.y), f4(f.axis_z, f.position.z)});
+  }
+  auto describe = [&](std::size_t i) { return "front axis = " + show3(axes[i]); };
+  // Components of unit vectors; 1 + s x^2 a and s + y^2 a cancel toward 0 when the axis is near
+  // +-x / +-y, so absolute error is what is meaningful there: 8 ulps or 4 ulp of 1 (4.8e-7).
+  const auto bound = within_ulps(8) | within_abs(4.8e-7);
+  const char* names[3][4] = {{"axis_x.x", "axis_x.y", "axis_x.z", "position.x"},
+                             {"axis_y.x", "axis_y.y", "axis_y.z", "position.y"},
+                             {"axis_z.x", "axis_z.y", "axis_z.z", "position.z"}};
+  for (int a = 0; a < 3; ++a) {
+    for (int c = 0; c < 4; ++c) {
+      auto pick = [a, c](const frame_out& o) {
+        const float4& v = a == 0 ? o.ax : a == 1 ? o.ay : o.az;
+        return c == 0 ? v.x : c == 1 ? v.y : c == 2 ? v.z : v.w;
+      };
+      VPLKIT_CHECK_PARITY(compare_floats(component(gpu, pick), component(cpu, pick), bound,
+                                         describe, std::string("make_light_frame ") + names[a][c]));
+    }
+  }
+}
+
+TEST_CASE("light_frame: to_light, to_world, to_light_point, to_world_point") {
+  // The frames come from the CPU (uploaded bit for bit), so this isolates the transforms: dot
+  // products and sums of products, with cancellation when the result is small. Inputs |dir| <= 1
+  // and |p - c| <= ~20: absolute bounds of a few ulp of the magnitude involved.
+  random_source rnd(707);
+  const int frames = 64;
+  std::vector<vplkit::light_frame<float>> fs;
+  for (int i = 0; i < frames; ++i) {
+    const vec3<float> c(float(rnd.uniform(-10, 10)), float(rnd.uniform(-10, 10)),
+                        float(rnd.uniform(-10, 10)));
+    fs.emplace_back(c, i == 0 ? vec3<float>(0, 0, -1) : i == 1 ? vec3<float>(0, 0, 1) : rnd.direction());
+  }
+  const int n = 100000;
+  std::vector<float4> in;   // per case: frame (4 vec4), dir, point
+  std::vector<vec3<float>> dirs, points;
+  std::vector<int> which;
+  for (int i = 0; i < n; ++i) {
+    const int f = i % frames;
+    which.push_back(f);
+    dirs.push_back(rnd.direction() * float(rnd.uniform(0.1, 1.0)));
+    points.push_back(fs[std::size_t(f)].position +
+                     vec3<float>(float(rnd.uniform(-10, 10)), float(rnd.uniform(-10, 10)),
+                                 float(rnd.uniform(-10, 10))));
+  }
+  for (const auto& f : fs) {
+    in.push_back(f4(f.position));
+    in.push_back(f4(f.axis_x));
+    in.push_back(f4(f.axis_y));
+    in.push_back(f4(f.axis_z));
+  }
+  std::vector<float4> cases;
+  for (int i = 0; i < n; ++i) {
+    cases.push_back(f4(dirs[std::size_t(i)], float(which[std::size_t(i)])));
+    cases.push_back(f4(points[std::size_t(i)]));
+  }
+  const std::string kernel = R"(
+#include "vplkit/paraboloid/light_frame.glsl"
+layout(std430, binding = 0) readonly buffer Frames { vec4 fr[]; };
+layout(std430, binding = 2) readonly buffer Cases { vec4 cs[]; };
+struct out_t { vec4 to_light; vec4 to_world; vec4 to_light_point; vec4 to_world_point; };
+layout(std430, binding = 1) writeonly buffer Out { out_t result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  int k = int(cs[2u * i].w);
+  vplkit_light_frame f = vplkit_light_frame(fr[4 * k].xyz, fr[4 * k + 1].xyz, fr[4 * k + 2].xyz,
+                                            fr[4 * k + 3].xyz);
+  vec3 d = cs[2u * i].xyz;
+  vec3 p = cs[2u * i + 1u].xyz;
+  result[i] = out_t(vec4(vplkit_light_frame_to_light(f, d), 0.0),
+                    vec4(vplkit_light_frame_to_world(f, d), 0.0),
+                    vec4(vplkit_light_frame_to_light_point(f, p), 0.0),
+                    vec4(vplkit_light_frame_to_world_point(f, p - f.position), 0.0));
+}
+)";
+  struct out_t {
+    float4 tl, tw, tlp, twp;
+  };
+  const auto gpu = vplkit::parity::run_compute<out_t>(kernel, {64, 1, 1},
+                                                      {input(0, in), input(2, cases)}, 1, std::size_t(n));
+  std::vector<out_t> cpu;
+  for (int i = 0; i < n; ++i) {
+    const auto& f = fs[std::size_t(which[std::size_t(i)])];
+    const vec3<float> d = dirs[std::size_t(i)], p = points[std::size_t(i)];
+    cpu.push_back({f4(f.to_light(d)), f4(f.to_world(d)), f4(f.to_light_point(p)),
+                   f4(f.to_world_point(p - f.position))});
+  }
+  auto describe = [&](std::size_t i) {
+    return "frame " + show(which[i]) + " dir " + show3(dirs[i]) + " point " + show3(points[i]);
+  };
+  // Directions (|d| <= 1): three products and two sums; with or without FMA the difference is a
+  // few ulp of the largest term: 8 ulps or 4.8e-7 abs (4 ulp of 1).
+  // Points (|p - c| <= 17.4, |c| <= 17.4): the same in ulps of ~32: 8 ulps or 1.5e-5 abs.
+  const auto dir_bound = within_ulps(8) | within_abs(4.8e-7);
+  const auto point_bound = within_ulps(8) | within_abs(1.5e-5);
+  for (int c = 0; c < 3; ++c) {
+    auto sel = [c](const float4& v) { return c == 0 ? v.x : c == 1 ? v.y : v.z; };
+    const std::string axis = c == 0 ? "x" : c == 1 ? "y" : "z";
+    VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [&](auto o) { return sel(o.tl); }),
+                                       component(cpu, [&](auto o) { return sel(o.tl); }), dir_bound,
+                                       describe, "to_light " + axis));
+    VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [&](auto o) { return sel(o.tw); }),
+                                       component(cpu, [&](auto o) { return sel(o.tw); }), dir_bound,
+                                       describe, "to_world " + axis));
+    VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [&](auto o) { return sel(o.tlp); }),
+                                       component(cpu, [&](auto o) { return sel(o.tlp); }),
+                                       point_bound, describe, "to_light_point " + axis));
+    VPLKIT_CHECK_PARITY(compare_floats(component(gpu, [&](auto o) { return sel(o.twp); }),
+                                       component(cpu, [&](auto o) { return sel(o.twp); }),
+                                       point_bound, describe, "to_world_point " + axis));
+  }
+}
