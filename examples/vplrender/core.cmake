@@ -53,6 +53,8 @@ add_library(vplrender_core STATIC
   ${_vr}/atomic_file.cpp
   ${_vr}/builtin_scenes.cpp
   ${_vr}/camera.cpp
+  ${_vr}/cpu_backend.cpp
+  ${_vr}/dprsm_check.cpp
   ${_vr}/exr_io.cpp
   ${_vr}/framing.cpp
   ${_vr}/image.cpp
@@ -65,13 +67,24 @@ add_library(vplrender_core STATIC
   ${_vr}/report.cpp
   ${_vr}/scene.cpp
   ${_vr}/scene_setup.cpp
+  ${_vr}/tessellate.cpp
   ${_vr}/text_file.cpp
   ${_vr}/texture.cpp
-  ${_vr}/triangulate.cpp)
+  ${_vr}/triangulate.cpp
+  ${_vr}/voxels.cpp)
 target_compile_features(vplrender_core PUBLIC cxx_std_17)
 target_include_directories(vplrender_core PUBLIC ${_vr})
 target_include_directories(vplrender_core SYSTEM PRIVATE ${VPLRENDER_STB_INCLUDE_DIR})
 target_link_libraries(vplrender_core
   PUBLIC vplkit::vplkit glm::glm nlohmann_json::nlohmann_json
   PRIVATE vplkit_project_options tinyobjloader::tinyobjloader OpenEXR::OpenEXR CLI11::CLI11 ${VPLRENDER_STB_LIBRARY})
+find_package(Threads REQUIRED)
+target_link_libraries(vplrender_core PUBLIC Threads::Threads)
 set(VPLRENDER_CORE_AVAILABLE ON)
+
+# vplrender_pipeline: the GPU rasterisation stages and the pipeline that drives them; needs the
+# headless GL support library (support/, built when examples or GL tests are on).
+if(TARGET vplkit_headless_gl)
+  add_library(vplrender_pipeline STATIC ${_vr}/gl_raster.cpp ${_vr}/pipeline.cpp)
+  target_link_libraries(vplrender_pipeline PUBLIC vplrender_core vplkit::headless_gl PRIVATE vplkit_project_options)
+endif()

@@ -1,16 +1,23 @@
-// vplrender: the example renderer's command line. This build parses the options, builds or loads
-// the scene, frames and lights it, prints a summary and checks the output location; the
-// rendering pipelines are not in this build yet, so it stops there with exit status 3 rather than
-// write an image it did not render.
+// vplrender: the example renderer's command line. Parses the options, builds or loads the scene,
+// frames and lights it, checks the output location, runs the pipeline (pipeline.hpp) and writes
+// the EXR, the PNG preview and the JSON report.
 #include "errors.hpp"
+#include "exr_io.hpp"
 #include "options.hpp"
+#include "pipeline.hpp"
+#include "png_preview.hpp"
+#include "progress.hpp"
+#include "report.hpp"
 #include "scene_setup.hpp"
 #include "stage_timer.hpp"
+
+#include <headless_gl/compute.hpp>
 
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -60,9 +67,47 @@ int main(int argc, char** argv) {
     }
     for (const std::string& w : p.s.warnings) std::cerr << "vplrender: warning: " << w << "\n";
     check_output_location(o);
-    std::cout << describe(p, o) << std::flush;
-    throw not_implemented_error(std::string("method '") + to_string(o.meth) + "' on the " + to_string(o.back) +
-                                " backend is not implemented yet in this build; no image was written");
+    std::cout << describe(p, o);
+    if (o.back == backend::gpu)
+      std::cout << "note: this build rasterises on the GPU and runs the estimators on the CPU (C++ templates)\n";
+    std::cout << std::flush;
+    if (o.window) throw not_implemented_error("--window: the interactive window is not implemented yet in this build");
+
+    const bool show = progress_enabled(o.progress);
+    std::unique_ptr<progress_bar> bar;
+    std::string bar_label;
+    const progress_fn progress = [&](const std::string& label, std::uint64_t done, std::uint64_t total) {
+      if (!bar || label != bar_label) {
+        if (bar) bar->finish();
+        bar = std::make_unique<progress_bar>(label, total, show, std::cerr);
+        bar_label = label;
+      }
+      bar->update(done);
+    };
+    pipeline_result res = run_pipeline(o, p, timer, progress);
+    if (bar) bar->finish();
+    bar.reset();
+
+    run_info run;
+    run.gl_renderer = res.gl_renderer;
+    run.warnings = p.s.warnings;
+    {
+      auto t = timer.scoped("write outputs");
+      write_exr(o.out, res.image,
+                {{"vplrender:method", to_string(o.meth)}, {"vplrender:scene", p.s.name},
+                 {"vplrender:seed", std::to_string(o.seed)}});
+      write_png_preview(o.png_path(), res.image, o.exposure);
+    }
+    run.outputs = {o.out, o.png_path(), o.json_path()};
+    run.stages = timer.stages();
+    nlohmann::json report = make_report(o, p, run);
+    report["pipeline"] = res.details;
+    write_json(o.json_path(), report);
+    double total = 0.0;
+    for (const stage_time& st : run.stages) total += st.ms;
+    std::cout << "wrote " << o.out << ", " << o.png_path() << ", " << o.json_path() << " (" << static_cast<long long>(total)
+              << " ms)\n";
+    return 0;
   } catch (const not_implemented_error& e) {
     std::cerr << "vplrender: error: " << e.what() << "\n";
     return 3;
@@ -74,6 +119,9 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const output_error& e) {
     std::cerr << "vplrender: error: " << e.what() << "\n";
+    return 1;
+  } catch (const vplkit::gl::gl_error& e) {
+    std::cerr << "vplrender: error: OpenGL: " << e.what() << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
     std::cerr << "vplrender: error: out of memory\n";

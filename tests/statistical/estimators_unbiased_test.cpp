@@ -244,6 +244,9 @@ TEST_CASE("voxel visibility on both sides: estimators are unbiased for the voxel
       return estimate_gathering(g.gp, f.view, rng, 16, vtrace, vtol);
     });
     print_row("gathering, voxel DDA", g.name, q, I);
+    const vec3<double> I_exact = gathering_integral(f.scene, f.view, g.gp, depth_tol, quad_m);
+    std::printf("  %-22s %-20s voxel integral / exact-tracer integral - 1 = %+.2f%%\n", "", g.name.c_str(),
+                100.0 * (luminance(I) / luminance(I_exact) - 1.0));
     INFO(g.name);
     CHECK(within_sigma(r, ref, 4.0, 1e-9 * ref));
     CHECK(within_sigma(q, I, 4.0, quad_rel * I));

@@ -43,7 +43,8 @@ TEST_CASE("builders: the stratum grid tiles the rectangle with exactly `count` c
           "[builders]") {
   const vplkit::pixel_rect rects[] = {{0, 0, 16, 16}, {3, 5, 17, 9},  {0, 0, 1, 1},
                                       {2, 1, 1, 31},  {0, 0, 40, 1},  {7, 0, 13, 11},
-                                      {0, 0, 640, 3}, {1, 2, 5, 700}};
+                                      {0, 0, 640, 3}, {1, 2, 5, 700}, {0, 0, 2, 9},
+                                      {4, 4, 3, 40}};
   for (const vplkit::pixel_rect& r : rects) {
     for (int count : {1, 2, 3, 5, 7, 16, 31, 64, 100, 257, 1000, 5000}) {
       const vplkit::gather_subset_grid_shape g = vplkit::gather_subset_grid(r, count);
@@ -75,6 +76,27 @@ TEST_CASE("builders: the stratum grid tiles the rectangle with exactly `count` c
       for (int o : owner) REQUIRE(o >= 0);
     }
   }
+}
+
+TEST_CASE("builders: the stratum grid shape is consistent for every small rectangle and count",
+          "[builders]") {
+  // Tall thin rectangles (e.g. 2 x 9 with 10 strata) take the "more rows than pixel rows" branch.
+  for (int w = 1; w <= 24; ++w)
+    for (int h = 1; h <= 24; ++h)
+      for (int count = 0; count <= w * h + 2; ++count) {
+        const vplkit::gather_subset_grid_shape g = vplkit::gather_subset_grid({0, 0, w, h}, count);
+        const int expected = count < w * h ? count : w * h;
+        REQUIRE(g.count == expected);
+        if (expected == 0) continue;
+        INFO(w << " x " << h << ", count " << count);
+        REQUIRE(g.columns >= 1);
+        REQUIRE(g.columns <= w);
+        REQUIRE(g.rows >= 1);
+        REQUIRE(g.rows <= h);
+        REQUIRE(g.last_columns >= 1);
+        REQUIRE(g.last_columns <= g.columns);
+        REQUIRE((g.rows - 1) * g.columns + g.last_columns == expected);
+      }
 }
 
 TEST_CASE("builders: strata are about square", "[builders]") {

@@ -177,7 +177,7 @@ TEMPLATE_TEST_CASE("alias_table: constructors, default, validation and sanitized
   REQUIRE(s.distribution.pmf(0) == T(0));
 }
 
-TEMPLATE_TEST_CASE("alias_table: assign rebuilds in place; rejected weights change nothing",
+TEMPLATE_TEST_CASE("alias_table: assign rebuilds in place, rejected weights change nothing",
                    "[distribution]", float, double) {
   using T = TestType;
   const std::vector<T> a = exponential_weights<T>(2000, 31u, 0.2);

@@ -146,7 +146,7 @@ TEMPLATE_TEST_CASE("defensive_mixture: an empty component hands all mass to the 
   }
 }
 
-TEMPLATE_TEST_CASE("defensive_mixture: the fraction of [0, 1) mapping to i is pmf(i)",
+TEMPLATE_TEST_CASE("defensive_mixture: the fraction of the unit interval mapping to i is pmf(i)",
                    "[distribution]", float, double) {
   using T = TestType;
   std::vector<T> lw, vw;

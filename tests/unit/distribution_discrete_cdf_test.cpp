@@ -72,7 +72,7 @@ TEMPLATE_TEST_CASE("discrete_cdf: pmf, total and CDF of small inputs", "[distrib
   require_cdf_invariants(d, w);
 }
 
-TEMPLATE_TEST_CASE("discrete_cdf: sample returns the largest i with cdf[i] <= u", "[distribution]",
+TEMPLATE_TEST_CASE("discrete_cdf: sample returns the largest i with cdf(i) <= u", "[distribution]",
                    float, double) {
   using T = TestType;
   const std::vector<T> w = {1, 0, 3};  // cdf = {0, 0.25, 0.25, 1}
@@ -211,7 +211,7 @@ TEMPLATE_TEST_CASE("discrete_cdf: CDF invariants and pmf accuracy on random weig
   }
 }
 
-TEMPLATE_TEST_CASE("discrete_cdf: guide[j] is the largest i with cdf[i] <= j / m",
+TEMPLATE_TEST_CASE("discrete_cdf: guide entry j is the largest i with cdf(i) <= j / m",
                    "[distribution]", float, double) {
   using T = TestType;
   for (std::size_t n : {1u, 5u, 64u, 1000u, 65536u}) {
@@ -245,7 +245,7 @@ TEST_CASE("discrete_guide_size is the smallest power of two >= n", "[distributio
   REQUIRE(vplkit::discrete_guide_size(std::size_t(1) << 24) == std::size_t(1) << 24);
 }
 
-TEMPLATE_TEST_CASE("discrete_clamp_u maps every T into [0, 1)", "[distribution]", float, double) {
+TEMPLATE_TEST_CASE("discrete_clamp_u maps every T into 0 <= u < 1", "[distribution]", float, double) {
   using T = TestType;
   const T below1 = std::nextafter(T(1), T(0));
   REQUIRE(vplkit::discrete_u_max<T>() == below1);
@@ -260,7 +260,7 @@ TEMPLATE_TEST_CASE("discrete_clamp_u maps every T into [0, 1)", "[distribution]"
   REQUIRE(vplkit::discrete_clamp_u(below1) == below1);
 }
 
-TEMPLATE_TEST_CASE("discrete_cdf_search finds the largest i in [lo, hi] with cdf[i] <= u",
+TEMPLATE_TEST_CASE("discrete_cdf_search finds the largest i in lo..hi with cdf(i) <= u",
                    "[distribution]", float, double) {
   using T = TestType;
   const std::vector<T> c = {0, T(0.25), T(0.25), T(0.5), T(0.75), T(0.75), T(0.75), T(1)};
@@ -358,7 +358,7 @@ TEST_CASE("discrete_cdf<double>: pmf matches w / total to double precision", "[d
   }
 }
 
-TEMPLATE_TEST_CASE("discrete_cdf: assign rebuilds in place; rejected weights change nothing",
+TEMPLATE_TEST_CASE("discrete_cdf: assign rebuilds in place, rejected weights change nothing",
                    "[distribution]", float, double) {
   using T = TestType;
   const std::vector<T> a = exponential_weights<T>(5000, 21u, 0.2);

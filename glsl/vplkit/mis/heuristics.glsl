@@ -9,11 +9,16 @@
 // n = 0 has no term; both terms 0 -> 0; an infinite pdf outweighs every finite one; two infinite
 // pdfs are weighed by their counts; the terms are rescaled so that the larger is exactly 1 before
 // anything is added or squared (denormal and huge pdfs give the weights of moderate ones).
-// The NaN-rejecting tests are written as in the C++ (`!(m > 0.0)`, `p > 0.0 ? p : 0.0`), not with
-// isnan(); +inf is uintBitsToFloat(0x7F800000u) and is tested with `==`.
+// +inf is uintBitsToFloat(0x7F800000u) and is tested with `==`, as in the C++.
 //
-// GLSL-only addition: vplkit_mis_div(x, y) stands where the C++ writes x / y with a divisor that
-// may lie outside [2^-126, 2^126]; on an IEEE device it gives the bits of x / y.
+// GLSL-only additions (the rest reads line for line like the C++):
+// - vplkit_mis_is_nan(x) decides NaN on the bits, and guards every place where the C++ relies on
+//   a comparison being false for NaN. GLSL compilers may not keep NaN in comparisons: Mesa 22.3
+//   (measured on llvmpipe) rewrites `!(a > 0.0) || !(b > 0.0)` into `min(a, b) <= 0.0` and
+//   `a > 0.0 && b > 0.0` into `min(a, b) > 0.0`, and min() drops a NaN operand, so the C++ form
+//   alone lets NaN through.
+// - vplkit_mis_div(x, y) stands where the C++ writes x / y with a divisor that may lie outside
+//   [2^-126, 2^126]; on an IEEE device it gives the bits of x / y.
 // On a GPU that flushes denormals to zero, denormal inputs and results read as 0 (see
 // docs/glsl/mis.md); the results are still never NaN.
 #ifndef VPLKIT_MIS_HEURISTICS_GLSL
@@ -41,14 +46,19 @@ float vplkit_mis_div(float x, float y) {
   return x / y;
 }
 
+// GLSL-only: NaN, decided on the bits (any exponent-all-ones pattern with a non-zero mantissa).
+bool vplkit_mis_is_nan(float x) {
+  return (floatBitsToUint(x) & 0x7FFFFFFFu) > 0x7F800000u;
+}
+
 // Finite and positive -> n, anything else (0, negative, NaN, inf) -> 0.
 float vplkit_mis_clean_count(float n) {
-  return (n > 0.0 && n <= vplkit_FLT_MAX) ? n : 0.0;
+  return (n > 0.0 && n <= vplkit_FLT_MAX && !vplkit_mis_is_nan(n)) ? n : 0.0;
 }
 
 // Positive (+inf included) -> p; 0, negative, NaN -> 0.
 float vplkit_mis_clean_pdf(float p) {
-  return p > 0.0 ? p : 0.0;
+  return (p > 0.0 && !vplkit_mis_is_nan(p)) ? p : 0.0;
 }
 
 // The two MIS terms n1 p1 and n2 p2 scaled by one common positive factor so that the larger is
@@ -118,7 +128,7 @@ float vplkit_balance_combined(float f, float n1, float p1, float n2, float p2) {
   float r = m < 1.0 ? vplkit_mis_div(vplkit_mis_div(f, m), d)
                     : vplkit_mis_div(vplkit_mis_div(f, d), m);
   float ar = r < 0.0 ? -r : r;
-  return ar <= big ? r : 0.0;
+  return (ar <= big && !vplkit_mis_is_nan(r)) ? r : 0.0;  // GLSL: NaN (from f) by its bits
 }
 
 #endif  // VPLKIT_MIS_HEURISTICS_GLSL

@@ -5,6 +5,8 @@
 //   VPL sampling: p2(omega) = pmf(t) * d2^2 / (A_t * cos(theta1))     (theta1 at y_t, vs n_t)
 // Paper (eq. 10/15, 11, 8/9): p1 = cos sin / pi against the texel pmf alpha; biased in a
 // renderer (mixed measures), kept for reproducing the paper. Nothing here returns NaN.
+// GLSL-only lines (marked) reject NaN on its bits and keep divisors in the range where GLSL
+// specifies division (vplkit_mis_is_nan, vplkit_mis_div in heuristics.glsl).
 #ifndef VPLKIT_MIS_PDF_CONVERSION_GLSL
 #define VPLKIT_MIS_PDF_CONVERSION_GLSL
 
@@ -21,6 +23,12 @@ float vplkit_cosine_pdf_solid_angle(float cos_theta2) {
 // d2_squared or pmf infinite -> +inf.
 float vplkit_vpl_pdf_solid_angle(float pmf, float d2_squared, float patch_area, float cos_theta1) {
   float inf = uintBitsToFloat(0x7F800000u);
+  // GLSL-only: NaN geometry -> 0 on the bits; the comparisons below cannot be trusted with NaN
+  // (see vplkit_mis_is_nan).
+  if (vplkit_mis_is_nan(pmf) || vplkit_mis_is_nan(d2_squared) || vplkit_mis_is_nan(patch_area) ||
+      vplkit_mis_is_nan(cos_theta1)) {
+    return 0.0;
+  }
   if (!(pmf > 0.0) || !(cos_theta1 > 0.0) || !(d2_squared > 0.0)) return 0.0;
   if (!(patch_area >= 0.0) || patch_area == inf) return 0.0;
   if (patch_area == 0.0 || d2_squared == inf || pmf == inf) return inf;
@@ -37,7 +45,14 @@ float vplkit_vpl_pdf_solid_angle(float pmf, float d2_squared, float patch_area, 
 
 float vplkit_cosine_pdf_as_published(float cos_theta, float sin_theta) {
   const float inv_pi = 0.318309886183790671537767526745028724;
-  return (cos_theta > 0.0 && sin_theta > 0.0) ? cos_theta * sin_theta * inv_pi : 0.0;
+  // GLSL: NaN excluded on the bits (see vplkit_mis_is_nan).
+  bool ok = cos_theta > 0.0 && sin_theta > 0.0 && !vplkit_mis_is_nan(cos_theta) &&
+            !vplkit_mis_is_nan(sin_theta);
+  // GLSL: `precise` keeps the C++ order (cos * sin) * inv_pi. Without it GLSL allows
+  // reassociation, and Mesa computes (cos * inv_pi) * sin: 2 ulps off, and 0 * inf = NaN for a
+  // denormal cos times an infinite sin, where the C++ gives inf.
+  precise float p = cos_theta * sin_theta * inv_pi;
+  return ok ? p : 0.0;
 }
 
 struct vplkit_mis_weight_pair {

@@ -10,6 +10,8 @@
 // (3e38) or tiny components neither overflow nor underflow; a zero, NaN or infinite input gets
 // the canonical frame (1,0,0), (0,1,0), (0,0,1). On a GPU that flushes denormals to zero a normal
 // whose components are all denormal reads as zero and gets the canonical frame too.
+// GLSL-only lines (marked): the non-finite test on the bits, and an exact power-of-two rescaling
+// that keeps the divisor in the range where GLSL specifies division.
 #ifndef VPLKIT_SAMPLING_ORTHONORMAL_BASIS_GLSL
 #define VPLKIT_SAMPLING_ORTHONORMAL_BASIS_GLSL
 
@@ -23,10 +25,12 @@ struct vplkit_orthonormal_basis {
 
 // Unit vector along n; (0,0,1) when n is zero, NaN or infinite.
 vec3 vplkit_onb_normalize(vec3 n) {
-  float big = vplkit_FLT_MAX;
   float ax = abs(n.x), ay = abs(n.y), az = abs(n.z);
-  // Written as `<= big` so NaN fails the test too.
-  if (!(ax <= big && ay <= big && az <= big)) return vec3(0.0, 0.0, 1.0);
+  // Not finite (NaN or inf) -> canonical. The C++ writes !(ax <= big && ay <= big && az <= big);
+  // GLSL decides it on the bits (exponent all ones), because optimisers may not keep NaN in a
+  // chain of comparisons: Mesa (22.3, measured on llvmpipe) rewrites `a <= c && b <= c` into
+  // `max(a, b) <= c`, and max() drops a NaN operand.
+  if (any(equal(floatBitsToUint(n) & 0x7F800000u, uvec3(0x7F800000u)))) return vec3(0.0, 0.0, 1.0);
   float m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
   // GLSL-only, exact: GLSL specifies x / y only for |y| in [2^-126, 2^126] (GPUs divide through a
   // reciprocal, which underflows to 0 above 2^126). Scaling n and m by one power of two first

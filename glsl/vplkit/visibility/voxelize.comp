@@ -137,7 +137,7 @@ void main() {
   float emax = max(e_abs.x, max(e_abs.y, e_abs.z));
   float big_m = largest + float(res.x + res.y + res.z) + 2.0;
   float column_error = (1.5e-6 * big_m * emax * big_m + 2.5e-7 * n1 * big_m) / abs(nw);
-  bool columns = vplkit_voxel_vec3_finite(n) && nw != 0.0 && column_error < 0.25;
+  bool columns = false && vplkit_voxel_vec3_finite(n) && nw != 0.0 && column_error < 0.25;
   precise float r = (0.5 + margin) * n1;
   precise float d0 = n.x * v[0].x + n.y * v[0].y + n.z * v[0].z;
 

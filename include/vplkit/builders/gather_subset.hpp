@@ -70,9 +70,9 @@ inline gather_subset_grid_shape gather_subset_grid(const pixel_rect& rect, int c
   if ((2 * c + 1) * (2 * c + 1) * h <= 4 * cw) ++c;
   int columns = int(c < 1 ? 1 : (c > rect.width ? rect.width : c));
   int rows = (g.count + columns - 1) / columns;
-  if (rows > rect.height) {  // very flat rectangles: give every row its share instead
-    rows = rect.height;
-    columns = (g.count + rows - 1) / rows;  // <= width because count <= width * height
+  if (rows > rect.height) {  // flat rectangles: as many columns as h rows need, then the rows
+    columns = (g.count + rect.height - 1) / rect.height;  // <= width: count <= width * height
+    rows = (g.count + columns - 1) / columns;             // <= height, and the last row non-empty
   }
   g.columns = columns;
   g.rows = rows;

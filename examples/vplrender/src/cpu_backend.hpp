@@ -1,0 +1,55 @@
+#pragma once
+// The CPU backend: every method of vplrender on the read-back G-buffer, DPRSM and voxel grid,
+// through vplkit's builders and estimators (C++ templates, T = float), parallel over image rows.
+#include "image.hpp"
+#include "options.hpp"
+#include "render_data.hpp"
+#include "stage_timer.hpp"
+
+#include <vplkit/visibility/voxel_grid.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace vplrender {
+
+// Everything the estimators need besides the buffers (derived from options; docs/renderer.md).
+struct estimator_settings {
+  method meth = method::mis;
+  int vpls = 64;              // VPL samples per gather point
+  int dirs = 16;              // gathering directions (gbg NBDIR, gather, mis)
+  int regions_x = 2, regions_y = 2;
+  float eps = 0.05f;
+  float dmin = 0.0f;          // VPL distance clamp (world units)
+  std::uint32_t seed = 1;
+  int global_subset = 256;    // |S| of the global CDF
+  int local_subset = 256;     // |S_i| per region of the local CDFs
+  bool direct = false;
+  int threads = 0;            // 0: std::thread::hardware_concurrency()
+};
+
+estimator_settings make_estimator_settings(const options& o, const scene& s);
+
+// Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of --seed
+// that differs from the per-pixel estimator streams (make_counter_rng(seed, pixel)).
+std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
+
+// Progress callback: (label, done, total); called from the calling thread only.
+using progress_fn = std::function<void(const std::string& label, std::uint64_t done, std::uint64_t total)>;
+
+struct cpu_render_result {
+  image_rgb image;              // row 0 = top
+  nlohmann::json details;       // builder statistics etc. for the report
+};
+
+// Stages are appended to `timer` (clock cpu-wall). Throws vplkit::invalid_input for bad views.
+cpu_render_result render_cpu(const gbuffer_data& g, const dprsm_data& d, const vplkit::voxel_grid_view<float>& grid,
+                             const estimator_settings& es, stage_timer& timer, const progress_fn& progress = {});
+
+// Direct light at a gather point through the DPRSM shadow test (0 when in shadow or background).
+vec3 direct_light(const vplkit::gather_point<float>& gp, const vplkit::dprsm_view<float>& view);
+
+}  // namespace vplrender

@@ -1,0 +1,76 @@
+#include "pipeline.hpp"
+
+#include "errors.hpp"
+#include "gl_raster.hpp"
+#include "tessellate.hpp"
+#include "voxels.hpp"
+
+#include <headless_gl/compute.hpp>
+#include <headless_gl/context.hpp>
+
+#include <vplkit/core/error.hpp>
+
+namespace vplrender {
+
+pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_timer& timer, const progress_fn& progress) {
+  pipeline_result r;
+  const scene& s = p.s;
+  nlohmann::json& det = r.details;
+
+  std::unique_ptr<vplkit::gl::headless_context> gl;
+  {
+    auto t = timer.scoped("gl context");
+    try {
+      gl = std::make_unique<vplkit::gl::headless_context>();
+    } catch (const std::runtime_error& e) {
+      throw vplkit::gl::gl_error(e.what());
+    }
+  }
+  r.gl_renderer = gl->describe();
+
+  gbuffer_data gbuf;
+  dprsm_data dprsm;
+  {
+    gl_rasterizer raster(s);
+    raster_timing tg;
+    gbuf = raster.render_gbuffer(s.cam, o.width, o.height, &tg);
+    timer.add("gbuffer (gpu)", tg.ms, tg.clock);
+    tessellation_params tp;
+    tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
+    tessellation_stats ts;
+    raster_timing td;
+    dprsm = raster.render_dprsm(dprsm_light(s), o.dprsm, tp, &td, &ts);
+    timer.add("dprsm (gpu)", td.ms, td.clock);
+    det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}};
+    det["dprsm"] = {{"resolution", o.dprsm},
+                    {"front_axis", {0, -1, 0}},
+                    {"tessellation_max_angle_deg", tp.max_angle * 180.0 / 3.14159265358979323846},
+                    {"triangles_in", ts.input},
+                    {"triangles_out", ts.output},
+                    {"triangles_capped", ts.capped}};
+  }
+
+  vplkit::voxel_grid<float> grid = [&] {
+    auto t = timer.scoped("voxelize (cpu)");
+    return voxelize_cpu(s, o.voxels);
+  }();
+  det["voxels"] = {{"resolution", o.voxels},
+                   {"occupied", grid.count()},
+                   {"bounds_min", {grid.bounds_min().x, grid.bounds_min().y, grid.bounds_min().z}},
+                   {"bounds_max", {grid.bounds_max().x, grid.bounds_max().y, grid.bounds_max().z}},
+                   {"builder", "cpu"}};
+
+  const estimator_settings es = make_estimator_settings(o, s);
+  try {
+    cpu_render_result cr = render_cpu(gbuf, dprsm, grid.view(), es, timer, progress);
+    r.image = std::move(cr.image);
+    det["estimator"] = cr.details;
+  } catch (const vplkit::invalid_input& e) {
+    throw input_error(e.what());
+  }
+  // This build runs every estimator on the CPU; the GPU backend does the rasterisation only.
+  det["estimator_backend"] = "cpu";
+  return r;
+}
+
+}  // namespace vplrender
