@@ -144,7 +144,8 @@ template <class T> void pdf_conversion_specials() {
   for (T a : s)
     for (T b : s)
       for (T c : s)
-        for (T d : {T(-1), T(0), T(1e-30), T(0.3), T(1), std::numeric_limits<T>::quiet_NaN()}) {
+        for (T d : {T(-1), T(0), T(1e-30), T(0.3), T(1), std::numeric_limits<T>::infinity(),
+                    std::numeric_limits<T>::quiet_NaN()}) {
           const T p = vpl_pdf_solid_angle(a, b, c, d);
           REQUIRE(!std::isnan(p));
           CHECK(p >= T(0));

@@ -341,7 +341,7 @@ TEST_CASE("pdf_conversion.glsl: solid-angle densities and the as-published weigh
   for (float a : specials())
     for (float b : specials())
       for (float c : specials())
-        for (float d : {-1.0f, 0.0f, 1e-30f, 0.3f, 1.0f, qnan}) {
+        for (float d : {-1.0f, 0.0f, 1e-30f, 0.3f, 1.0f, inf, qnan}) {
           in.push_back({{a, b, c, d}, {d, b, a, 0.0f}});
         }
   const std::size_t n = in.size();
@@ -450,6 +450,8 @@ TEST_CASE("pdf_conversion.glsl: the special cases of vpl_pdf_solid_angle") {
       {{1.0f, 3e38f, 1e-30f, 0.5f}, inf, "overflow"},
       {{1e-10f, 1e-30f, 1e30f, 1.0f}, 0.0f, "underflow"},
       {{1.0f, 1.0f, 1.0f, 1e-30f}, 1e30f, "grazing"},
+      {{0.5f, 3e38f, 1e-30f, inf}, 0.0f, "infinite cos (C++ gave inf / inf = NaN before the fix)"},
+      {{0.5f, 4.0f, 2.0f, inf}, 0.0f, "infinite cos"},
   };
   std::vector<f4> in;
   for (const auto& r : rows) in.push_back(r.g);

@@ -815,3 +815,25 @@ void main() {
                                        point_bound, describe, "to_world_point " + axis));
   }
 }
+
+TEST_CASE("paraboloid constants: the GLSL values are the C++ values, bit for bit") {
+  const std::string kernel = R"(
+#include "vplkit/paraboloid/texel_grid.glsl"
+layout(std430, binding = 0) writeonly buffer Out { uint result[]; };
+void main() {
+  if (gl_GlobalInvocationID.x != 0u) return;
+  result[0] = floatBitsToUint(vplkit_paraboloid_clamp_scale);
+  result[1] = uint(vplkit_paraboloid_front);
+  result[2] = uint(vplkit_paraboloid_back);
+  result[3] = uint(vplkit_paraboloid_max_resolution);
+}
+)";
+  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(kernel, {1, 1, 1}, {}, 0, 4);
+  const float scale = 1.0f - 2.0f * flt_eps;  // the factor inside paraboloid_clamp_to_disk<float>
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &scale, sizeof bits);
+  const std::vector<std::uint32_t> cpu = {bits, std::uint32_t(vplkit::paraboloid_front),
+                                          std::uint32_t(vplkit::paraboloid_back),
+                                          std::uint32_t(vplkit::paraboloid_max_resolution)};
+  VPLKIT_CHECK_PARITY(compare_exact(gpu, cpu, {}, "clamp scale bits, face constants, max resolution"));
+}

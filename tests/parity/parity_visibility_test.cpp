@@ -495,7 +495,7 @@ std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, c
                                     "#define VPLKIT_VOXELIZE_BINDING_INDICES 5\n"
                                     "#define VPLKIT_VOXELIZE_BINDING_WORDS 6\n"
                                     "#define VPLKIT_VOXELIZE_BINDING_PARAMS 1\n"
-                                    "#define VPLKIT_VOXELIZE_LOCAL_SIZE 32\n");
+                                    "#define VPLKIT_VOXELIZE_LOCAL_SIZE 64\n");
   std::vector<float4> pos;
   for (const v3f& p : m.positions) pos.push_back(f4(p, 1.0f));
   const ivec3 r = like.resolution();
@@ -509,7 +509,11 @@ std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, c
   ib.bind(5);
   wb.bind(6);
   bind_uniform_block(ub, 1);
-  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(m.indices.size() / 3, 32));
+  // One work group per triangle, spread over y past 65535.
+  const std::size_t triangles = m.indices.size() / 3;
+  const GLuint gx = GLuint(std::min<std::size_t>(triangles, 65535));
+  const GLuint gy = GLuint((triangles + 65534) / 65535);
+  vplkit::gl::dispatch(prog, gx, gy);
   return wb.read<std::uint32_t>();
 }
 
@@ -677,7 +681,7 @@ TEST_CASE("triangle_box_overlap: exact touching cases and near-tangent cases (+-
   add(v3f(0, 1, 0), v3f(1, 0, 0), v3f(1, 1, 1));        // plane x + y = 1 touches the edge (0.5, 0.5, z)
   add(v3f(0, 1, 0), v3f(1, 0, 0), v3f(1, 1, 0.25f));    // the same, tilted
   add(v3f(0.75f, 0.75f, 0), v3f(1, 0.5f, 0), v3f(0.75f, 0.75f, 1));  // edge x + y = 1.5: no touch
-  add(v3f(1, 0, 0), v3f(0, 1, 0), v3f(0, 0, 1));        // plane x + y + z = 1 misses (corner sum 1.5)
+  add(v3f(2, 0, 0), v3f(0, 2, 0), v3f(0, 0, 2));        // plane x + y + z = 2 misses (corner sum 1.5)
   add(v3f(1.5f, 0, 0), v3f(0, 1.5f, 0), v3f(0, 0, 1.5f));  // x + y + z = 1.5 touches the corner
   const std::size_t exact_count = cases.size();
   // The same configurations moved by +-1 ulp in each coordinate: rounding decides some of them; the

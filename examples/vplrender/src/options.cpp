@@ -76,8 +76,9 @@ void build_app(CLI::App& app, raw_values& v) {
                  "cosine gathering only; mis = gathering + GBG CDF with solid-angle balance heuristic; "
                  "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison)."))
       ->type_name(kMethods);
-  app.add_option("--backend", v.back, d("Where the estimator runs: gpu (OpenGL + the GLSL pack, default) or cpu "
-                                      "(the C++ templates)."))
+  app.add_option("--backend", v.back, d("gpu (default) or cpu. In this build both rasterise the G-buffer and the DPRSM on "
+                                      "OpenGL (headless) and run the estimators on the CPU (C++ templates, all cores); "
+                                      "the GLSL estimator kernels are not in this build yet."))
       ->type_name("gpu|cpu");
   app.add_option("--size", v.size, d("Image size (default 512x512; each side 1..16384, at most 2^26 pixels)."))
       ->type_name("WxH");

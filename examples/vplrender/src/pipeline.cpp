@@ -10,21 +10,35 @@
 
 #include <vplkit/core/error.hpp>
 
+#include <memory>
+#include <stdexcept>
+
 namespace vplrender {
+
+vplkit::gl::headless_context& pipeline_gl_context() {
+  // Created on first use, kept for the life of the process (one context per process).
+  static std::unique_ptr<vplkit::gl::headless_context> ctx;
+  if (!ctx) {
+    try {
+      ctx = std::make_unique<vplkit::gl::headless_context>();
+    } catch (const vplkit::gl::gl_error&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      throw vplkit::gl::gl_error(e.what());
+    }
+  }
+  return *ctx;
+}
 
 pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_timer& timer, const progress_fn& progress) {
   pipeline_result r;
   const scene& s = p.s;
   nlohmann::json& det = r.details;
 
-  std::unique_ptr<vplkit::gl::headless_context> gl;
+  vplkit::gl::headless_context* gl = nullptr;
   {
     auto t = timer.scoped("gl context");
-    try {
-      gl = std::make_unique<vplkit::gl::headless_context>();
-    } catch (const std::runtime_error& e) {
-      throw vplkit::gl::gl_error(e.what());
-    }
+    gl = &pipeline_gl_context();
   }
   r.gl_renderer = gl->describe();
 

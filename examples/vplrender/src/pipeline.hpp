@@ -8,6 +8,8 @@
 #include "scene_setup.hpp"
 #include "stage_timer.hpp"
 
+#include <headless_gl/context.hpp>
+
 #include <nlohmann/json.hpp>
 
 namespace vplrender {
@@ -17,6 +19,10 @@ struct pipeline_result {
   std::string gl_renderer;      // headless context description
   nlohmann::json details;       // per-stage facts for the report ("pipeline" key)
 };
+
+// The process's headless GL context (created on first call; the pipeline and the tests share it).
+// Throws vplkit::gl::gl_error listing every path tried when none works.
+vplkit::gl::headless_context& pipeline_gl_context();
 
 // Throws input_error for inputs the pipeline refuses, vplkit::gl::gl_error when no GL context can
 // be made (the message lists every path tried).

@@ -19,8 +19,8 @@ float vplkit_cosine_pdf_solid_angle(float cos_theta2) {
 
 // Solid-angle density at x with which VPL sampling produces the direction towards a point of
 // texel t's patch of area patch_area. pmf <= 0, cos_theta1 <= 0 (x behind the one-sided patch),
-// d2_squared == 0, patch_area infinite, NaN or negative geometry -> 0; patch_area == 0,
-// d2_squared or pmf infinite -> +inf.
+// d2_squared == 0, patch_area or cos_theta1 infinite, NaN or negative geometry -> 0;
+// patch_area == 0, d2_squared or pmf infinite -> +inf.
 float vplkit_vpl_pdf_solid_angle(float pmf, float d2_squared, float patch_area, float cos_theta1) {
   float inf = uintBitsToFloat(0x7F800000u);
   // GLSL-only: NaN geometry -> 0 on the bits; the comparisons below cannot be trusted with NaN
@@ -30,7 +30,8 @@ float vplkit_vpl_pdf_solid_angle(float pmf, float d2_squared, float patch_area, 
     return 0.0;
   }
   if (!(pmf > 0.0) || !(cos_theta1 > 0.0) || !(d2_squared > 0.0)) return 0.0;
-  if (!(patch_area >= 0.0) || patch_area == inf) return 0.0;
+  // cos_theta1 = inf is no cosine; without this line an overflowing q gives inf / inf = NaN.
+  if (!(patch_area >= 0.0) || patch_area == inf || cos_theta1 == inf) return 0.0;
   if (patch_area == 0.0 || d2_squared == inf || pmf == inf) return inf;
   // pmf <= 1 <= 1/cos: the product only over- or underflows when the true density is itself
   // beyond the float range. q in [0, inf], pmf finite > 0: no 0 * inf.

@@ -1,9 +1,10 @@
 // vplkit kernel: conservative voxelisation of a triangle mesh into the binary voxel grid (the GPU
-// side of vplkit::voxelize; grid layout in voxel_grid.glsl). One invocation per triangle: it
-// converts the vertices to continuous voxel coordinates, tests the voxels of the triangle's
-// bounding box with vplkit_triangle_box_overlap (boxes inflated by margin_voxels) and sets the bits
-// of the overlapping ones with atomicOr. Like the C++ it ORs into the grid: clear the words first
-// for a fresh grid.
+// side of vplkit::voxelize; grid layout in voxel_grid.glsl). One work group per triangle: the
+// group converts the triangle's vertices to continuous voxel coordinates, its invocations share
+// the voxel columns of the triangle's bounding box (column k goes to invocation k % LOCAL_SIZE),
+// test the voxels with vplkit_triangle_box_overlap (boxes inflated by margin_voxels) and set the
+// bits of the overlapping ones with atomicOr. Like the C++ it ORs into the grid: clear the words
+// first for a fresh grid.
 //
 // Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
 // "#extension GL_GOOGLE_include_directive : require"), then its #defines; the defaults are
@@ -18,8 +19,8 @@
 //       uint  triangle_count;
 //       float margin_voxels;    // the C++ default is 1e-4 (voxelize_default_margin)
 //   VPLKIT_VOXELIZE_LOCAL_SIZE        (default 64) work group = LOCAL_SIZE x 1 x 1
-// Dispatch: ceil(triangle_count / LOCAL_SIZE) groups in x; more than 65535 groups may be spread
-// over y (triangle = global x + global y * (groups x * LOCAL_SIZE)).
+// Dispatch: one work group per triangle, (min(T, 65535), ceil(T / 65535), 1) groups for T
+// triangles; triangle = group x + group y * groups x (groups past T return at once).
 // The host validates what vplkit::voxelize validates (bounds, resolution, margin in [0, 0.5)); a
 // triangle with an index past the end of `positions` or a non-finite vertex is skipped here (the
 // C++ throws for the whole mesh instead).
@@ -32,9 +33,15 @@
 // Cost: the triangle normal's dominant axis w is swept per column: for every (u, v) voxel column of
 // the bounding box only the w-range where the plane can pass the SAT's normal-axis test (widened
 // by one voxel each side for rounding) is tested, so a large tilted triangle costs O(area), not
-// O(bounding-box volume). Degenerate triangles, and vertices so far away that float rounding could
-// exceed half a voxel there, fall back to the whole bounding box. The SAT alone decides which
-// voxels are marked.
+// O(bounding-box volume). Degenerate triangles, and slivers or far-away vertices for which float
+// rounding there could exceed a quarter voxel, fall back to the whole bounding box. The SAT alone
+// decides which voxels are marked.
+// Why a work group per triangle rather than an invocation: besides spreading a large triangle over
+// many lanes, Mesa's llvmpipe stops every loop of an invocation after 65535 iterations in total
+// (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops), silently. One invocation looping over a
+// large triangle's bounding box passes that easily (a 60^3 box already does); shared over 64
+// lanes, a column sweep stays far below it, and even the fallback stays below it for bounding
+// boxes of up to 64 * 65535 / (longest column + 1) columns (all of a 128^3 grid).
 #include "vplkit/visibility/triangle_box_overlap.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
 
@@ -83,8 +90,9 @@ void vplkit_voxelize_set(ivec3 resolution, ivec3 c) {
 }
 
 void main() {
-  uint t = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x);
+  uint t = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
   if (t >= vplkit_voxelize_triangle_count) return;
+  uint lane = gl_LocalInvocationIndex;
   vplkit_voxel_grid g = vplkit_voxel_grid(vplkit_voxelize_bounds_min.xyz, vplkit_voxelize_bounds_max.xyz,
                                           vplkit_voxelize_resolution.xyz);
   ivec3 res = g.resolution;
@@ -137,36 +145,39 @@ void main() {
   float emax = max(e_abs.x, max(e_abs.y, e_abs.z));
   float big_m = largest + float(res.x + res.y + res.z) + 2.0;
   float column_error = (1.5e-6 * big_m * emax * big_m + 2.5e-7 * n1 * big_m) / abs(nw);
-  bool columns = false && vplkit_voxel_vec3_finite(n) && nw != 0.0 && column_error < 0.25;
+  bool columns = vplkit_voxel_vec3_finite(n) && nw != 0.0 && column_error < 0.25;
   precise float r = (0.5 + margin) * n1;
   precise float d0 = n.x * v[0].x + n.y * v[0].y + n.z * v[0].z;
 
-  for (int iu = first[u]; iu <= last[u]; ++iu) {
-    for (int iv = first[vv]; iv <= last[vv]; ++iv) {
-      int w_first = first[w];
-      int w_last = last[w];
-      if (columns) {
-        // Exact arithmetic: the normal axis passes iff |n . (centre - v0)| <= r, i.e.
-        // nw * (iw + 0.5) in [dd - r, dd + r] with dd = n . v0 - nu * (iu + 0.5) - nv * (iv + 0.5).
-        precise float dd = d0 - n[u] * (float(iu) + 0.5) - n[vv] * (float(iv) + 0.5);
-        precise float c0 = (dd - r) / nw - 0.5;
-        precise float c1 = (dd + r) / nw - 0.5;
-        float c_lo = min(c0, c1);
-        float c_hi = max(c0, c1);
-        int a0 = vplkit_voxel_floor_to_int(ceil(c_lo)) - 1;
-        int a1 = vplkit_voxel_floor_to_int(c_hi) + 1;
-        w_first = max(w_first, a0);
-        w_last = min(w_last, a1);
-      }
-      for (int iw = w_first; iw <= w_last; ++iw) {
-        ivec3 c;
-        c[u] = iu;
-        c[vv] = iv;
-        c[w] = iw;
-        if (vplkit_voxel_test(g, c)) continue;
-        if (vplkit_triangle_box_overlap(vec3(c) + vec3(0.5), half_size, v[0], v[1], v[2]))
-          vplkit_voxelize_set(res, c);
-      }
+  // Columns of the bounding box, shared among the group's invocations.
+  uint columns_u = uint(last[u] - first[u] + 1);
+  uint column_count = columns_u * uint(last[vv] - first[vv] + 1);
+  for (uint k = lane; k < column_count; k += uint(VPLKIT_VOXELIZE_LOCAL_SIZE)) {
+    int iu = first[u] + int(k % columns_u);
+    int iv = first[vv] + int(k / columns_u);
+    int w_first = first[w];
+    int w_last = last[w];
+    if (columns) {
+      // Exact arithmetic: the normal axis passes iff |n . (centre - v0)| <= r, i.e.
+      // nw * (iw + 0.5) in [dd - r, dd + r] with dd = n . v0 - nu * (iu + 0.5) - nv * (iv + 0.5).
+      precise float dd = d0 - n[u] * (float(iu) + 0.5) - n[vv] * (float(iv) + 0.5);
+      precise float c0 = (dd - r) / nw - 0.5;
+      precise float c1 = (dd + r) / nw - 0.5;
+      float c_lo = min(c0, c1);
+      float c_hi = max(c0, c1);
+      int a0 = vplkit_voxel_floor_to_int(ceil(c_lo)) - 1;
+      int a1 = vplkit_voxel_floor_to_int(c_hi) + 1;
+      w_first = max(w_first, a0);
+      w_last = min(w_last, a1);
+    }
+    for (int iw = w_first; iw <= w_last; ++iw) {
+      ivec3 c;
+      c[u] = iu;
+      c[vv] = iv;
+      c[w] = iw;
+      if (vplkit_voxel_test(g, c)) continue;
+      if (vplkit_triangle_box_overlap(vec3(c) + vec3(0.5), half_size, v[0], v[1], v[2]))
+        vplkit_voxelize_set(res, c);
     }
   }
 }

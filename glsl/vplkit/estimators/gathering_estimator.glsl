@@ -1,0 +1,91 @@
+// vplkit GLSL pack: cosine gathering through the DPRSM (DESIGN 3.6 strategy 1; the paper's Alg. 5
+// without MIS); mirrors include/vplkit/estimators/gathering_estimator.hpp (T = float).
+//
+// Directions omega ~ cos(theta2)/pi around n_x are traced to the first hit y; y is lit when the
+// DPRSM texel it projects into saw a surface at y's depth (vplkit_dprsm_lookup, depth_tolerance).
+// Each direction adds f / p1 = rho_x L_o(y) (L_o at the hit y with the texel's normal and albedo;
+// 0 when the hit is seen from behind n_t); the estimate is their average over n_dirs. Converges to
+// the one-bounce integral as the DPRSM sees it, not to the VPL sum (docs/api/estimators.md).
+//
+// Tracing: a vplkit_voxel_tracer (estimators/visibility_callables.glsl) stands for the C++ Tracer
+// callable: the pack's voxel DDA from x lifted offset_voxels along n_x, hit reported where the ray
+// enters the first occupied voxel (use depth_tolerance >= vplkit_voxel_tracer_depth_tolerance).
+//
+// Random numbers, exactly as the C++ (counter_rng passed inout): for k = 0 .. n_dirs-1:
+// u0 = vplkit_rng_next_unit(rng), then u1; omega = vplkit_to_world(vplkit_make_orthonormal_basis(
+// n_x), vplkit_sample_cosine_hemisphere(vec2(u0, u1))). An invalid gather point or n_dirs <= 0
+// returns 0 and consumes none.
+//
+// ACCESSORS used: vplkit_load_dprsm_position / _normal / _albedo (vpl/dprsm_view.glsl) and
+// vplkit_load_voxel_word (visibility/voxel_grid.glsl).
+//
+// Where the GPU may differ: the direction goes through the GPU's sin/cos (GLSL does not bound
+// their error tightly; a few ulp on llvmpipe), so a ray passing within about 1e-6 of a voxel edge
+// can hit another voxel, project into another texel, or cross the depth tolerance the other way;
+// the back-face test against n_t is a sign decision on a dot product. Such samples are rare and
+// counted by the parity test (docs/glsl/estimators.md).
+#ifndef VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
+#define VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
+
+#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/estimators/vpl_sum.glsl"
+#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/sampling/cosine_hemisphere.glsl"
+#include "vplkit/sampling/orthonormal_basis.glsl"
+#include "vplkit/sampling/rng.glsl"
+#include "vplkit/vpl/dprsm_lookup.glsl"
+#include "vplkit/vpl/dprsm_view.glsl"
+#include "vplkit/vpl/vpl.glsl"
+
+// What one gathering ray found.
+struct vplkit_gathering_ray_result {
+  bool lit;       // hit, projected into a texel that saw it, from the front of n_t
+  int texel;      // the DPRSM texel the hit projects into (-1: no hit / at the light)
+  vec3 hit;       // y (valid when texel >= 0)
+  vec3 radiance;  // L_o(y) towards x; 0 unless lit
+};
+
+// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, vec3 x, vec3 n_x, vec3 dir,
+                                                       vplkit_voxel_tracer tracer, float depth_tolerance) {
+  vplkit_gathering_ray_result r = vplkit_gathering_ray_result(false, -1, vec3(0.0), vec3(0.0));
+  vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, x, n_x, dir);
+  if (!h.hit) return r;
+  vplkit_dprsm_lookup_result lk = vplkit_dprsm_lookup(view, h.position, depth_tolerance);
+  r.texel = lk.texel;
+  r.hit = h.position;
+  if (!lk.lit) return r;
+  vec3 n_t = vplkit_load_dprsm_normal(lk.texel);
+  if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(x - h.position)) > 0.0)) return r;  // from behind
+  r.radiance = vplkit_reflected_radiance(view.light.position, view.light.intensity, h.position, n_t,
+                                         vplkit_load_dprsm_albedo(lk.texel));
+  r.lit = r.radiance.x > 0.0 || r.radiance.y > 0.0 || r.radiance.z > 0.0;
+  return r;
+}
+
+// Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
+// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon.
+vec3 vplkit_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_orthonormal_basis frame,
+                             vec3 local, vplkit_voxel_tracer tracer, float depth_tolerance) {
+  if (!(local.z > 0.0)) return vec3(0.0);
+  vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(
+      view, gp.position, gp.normal, vplkit_to_world(frame, local), tracer, depth_tolerance);
+  return vplkit_estimator_finite_or_zero(gp.albedo * r.radiance);
+}
+
+vec3 vplkit_estimate_gathering(vplkit_gather_point gp, vplkit_dprsm_view view, inout vplkit_counter_rng rng,
+                               int n_dirs, vplkit_voxel_tracer tracer, float depth_tolerance) {
+  if (!vplkit_gather_point_valid(gp) || n_dirs <= 0) return vec3(0.0);
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
+  vec3 sum = vec3(0.0);
+  for (int k = 0; k < n_dirs; ++k) {
+    float u0 = vplkit_rng_next_unit(rng);
+    float u1 = vplkit_rng_next_unit(rng);
+    sum += vplkit_gathering_sample(gp, view, frame, vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
+                                   depth_tolerance);
+  }
+  return sum / float(n_dirs);
+}
+
+#endif  // VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL

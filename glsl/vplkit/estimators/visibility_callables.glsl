@@ -1,0 +1,116 @@
+// vplkit GLSL pack: the visibility and tracing "callables" of the estimators, on the GPU; mirrors
+// include/vplkit/estimators/visibility_callables.hpp (T = float).
+//
+// The C++ estimators take two host callables: visibility(x, n_x, y, n_y) -> bool and
+// tracer(x, n_x, dir) -> ray_hit. A GPU has no host callables, and GLSL has no templates, so the
+// GLSL estimators take these two small structs instead, which describe the voxel grid of the pack
+// (visibility/voxel_grid.glsl; its words come through the accessor vplkit_load_voxel_word):
+//
+//   always_visible{}                          <-> vplkit_make_always_visible()
+//   voxel_visibility<float>{grid, off, tol}   <-> vplkit_make_voxel_visibility(grid) (kind two-sided)
+//   voxel_visibility_one_sided<float>{...}    <-> vplkit_make_voxel_visibility_one_sided(grid)
+//   visibility(x, n_x, y, n_y)                <-> vplkit_visibility_test(vis, x, n_x, y, n_y)
+//   voxel_tracer<float>{grid, off}            <-> vplkit_make_voxel_tracer(grid)
+//   tracer(x, n_x, dir)                       <-> vplkit_voxel_tracer_trace(tracer, x, n_x, dir)
+//   voxel_tracer_depth_tolerance(grid)        <-> vplkit_voxel_tracer_depth_tolerance(grid)
+// Defaults as in C++: offset 1.75 voxels; tolerance 0 voxels (two-sided), 2 voxels (one-sided).
+// The structs are plain values: change offset_voxels / tolerance_voxels after making them.
+//
+// A shader with its own geometry (an exact BVH, hardware ray queries) can plug it in:
+//   #define VPLKIT_USER_VISIBILITY before the include, define
+//     bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y);
+//   and make the visibility with kind vplkit_visibility_user;
+//   #define VPLKIT_USER_TRACER and define
+//     vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir);
+//   and set the tracer's `user` field to true.
+// Without the macros those kinds are not compiled in (an undefined prototype that is called fails
+// at link time even if the call is never reached).
+//
+// ACCESSOR: uint vplkit_load_voxel_word(uint word_index) (visibility/voxel_grid.glsl), needed
+// whenever a voxel kind is used (in practice: always define it; it may return 0u if unused).
+#ifndef VPLKIT_ESTIMATORS_VISIBILITY_CALLABLES_GLSL
+#define VPLKIT_ESTIMATORS_VISIBILITY_CALLABLES_GLSL
+
+#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/visibility/dda.glsl"
+#include "vplkit/visibility/voxel_grid.glsl"
+#include "vplkit/visibility/voxel_visible.glsl"
+
+const int vplkit_visibility_always = 0;             // always_visible: V = 1
+const int vplkit_visibility_voxel_two_sided = 1;    // voxel_visibility<T> (recommended)
+const int vplkit_visibility_voxel_one_sided = 2;    // voxel_visibility_one_sided<T> (the paper's)
+const int vplkit_visibility_user = 3;               // vplkit_user_visible (VPLKIT_USER_VISIBILITY)
+
+struct vplkit_visibility {
+  int kind;                 // one of the constants above
+  vplkit_voxel_grid grid;   // unused by kind always / user
+  float offset_voxels;
+  float tolerance_voxels;
+};
+
+#ifdef VPLKIT_USER_VISIBILITY
+bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y);
+#endif
+#ifdef VPLKIT_USER_TRACER
+vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir);
+#endif
+
+vplkit_visibility vplkit_make_always_visible() {
+  return vplkit_visibility(vplkit_visibility_always,
+                           vplkit_voxel_grid(vec3(0.0), vec3(0.0), ivec3(0)), 0.0, 0.0);
+}
+
+vplkit_visibility vplkit_make_voxel_visibility(vplkit_voxel_grid grid) {
+  return vplkit_visibility(vplkit_visibility_voxel_two_sided, grid,
+                           vplkit_voxel_surface_offset_default,
+                           vplkit_voxel_visible_two_sided_default_tolerance);
+}
+
+vplkit_visibility vplkit_make_voxel_visibility_one_sided(vplkit_voxel_grid grid) {
+  return vplkit_visibility(vplkit_visibility_voxel_one_sided, grid,
+                           vplkit_voxel_surface_offset_default,
+                           vplkit_voxel_visible_default_tolerance);
+}
+
+// Mutual visibility of the surface points x (normal n_x) and y (normal n_y); normals any length.
+bool vplkit_visibility_test(vplkit_visibility v, vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
+  if (v.kind == vplkit_visibility_voxel_two_sided)
+    return vplkit_voxel_visible_two_sided(v.grid, x, n_x, y, n_y, v.offset_voxels, v.tolerance_voxels);
+  if (v.kind == vplkit_visibility_voxel_one_sided)
+    return vplkit_voxel_visible(v.grid, x, n_x, y, v.offset_voxels, v.tolerance_voxels);
+#ifdef VPLKIT_USER_VISIBILITY
+  if (v.kind == vplkit_visibility_user) return vplkit_user_visible(x, n_x, y, n_y);
+#endif
+  return true;  // vplkit_visibility_always
+}
+
+struct vplkit_voxel_tracer {
+  vplkit_voxel_grid grid;
+  float offset_voxels;
+  bool user;  // true: vplkit_user_trace (needs VPLKIT_USER_TRACER); false: the voxel DDA
+};
+
+vplkit_voxel_tracer vplkit_make_voxel_tracer(vplkit_voxel_grid grid) {
+  return vplkit_voxel_tracer(grid, vplkit_voxel_surface_offset_default, false);
+}
+
+// First occupied voxel along the ray from x lifted offset_voxels along n_x, reported at the point
+// where the ray enters that voxel (up to a voxel diagonal from the true surface).
+vplkit_ray_hit vplkit_voxel_tracer_trace(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, vec3 dir) {
+#ifdef VPLKIT_USER_TRACER
+  if (tr.user) return vplkit_user_trace(x, n_x, dir);
+#endif
+  vplkit_dda_trace_result r =
+      vplkit_dda_trace_hit_point(tr.grid, vplkit_surface_ray_origin(tr.grid, x, n_x, tr.offset_voxels), dir);
+  vplkit_ray_hit h = vplkit_ray_hit(r.hit, vec3(0.0));
+  if (r.hit) h.position = r.point;
+  return h;
+}
+
+// Depth tolerance matching a voxel tracer: one voxel diagonal, sqrt(3) * voxel_length (the same
+// float as the C++ T(1.7320508075688772) * voxel_length(g)).
+float vplkit_voxel_tracer_depth_tolerance(vplkit_voxel_grid g) {
+  return 1.7320508075688772 * vplkit_voxel_length(g);
+}
+
+#endif  // VPLKIT_ESTIMATORS_VISIBILITY_CALLABLES_GLSL

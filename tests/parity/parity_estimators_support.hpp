@@ -1,0 +1,160 @@
+#pragma once
+// Shared by parity_estimators_test.cpp and parity_builders_test.cpp (not a test program: only
+// parity_*.cpp files become programs): the synthetic scene of tests/support/synthetic_scene.hpp
+// in float, uploaded as SSBOs -- DPRSM (3 x vec4 per texel), voxel words, G-buffer / gather
+// points (3 x vec4 each), and one parameter block -- plus the GLSL prelude that defines the
+// pack's accessors over those buffers.
+//
+// Bindings used by the prelude (kernels put their output at 1, extra inputs at 9 and above):
+//   2, 3, 4  DPRSM position / normal / albedo  (vec4)
+//   5        parameter block  (struct scene_params below)
+//   6        voxel words      (uint)
+//   7        gather points    (vec4 position, normal, albedo per point)
+//   8        G-buffer         (vec4 position, normal, albedo per pixel)
+#include <parity_harness.hpp>
+#include <synthetic_scene.hpp>
+
+#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace vplkit::parity::est {
+
+using v3f = vplkit::vec3<float>;
+
+struct float4 {
+  float x, y, z, w;
+};
+struct int4 {
+  std::int32_t x, y, z, w;
+};
+inline float4 f4(v3f v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
+
+inline std::string show3(v3f v) {
+  return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
+}
+
+inline std::uint32_t bits_of(float f) {
+  std::uint32_t u = 0;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+// std430 parameter block, mirrored in the prelude.
+struct scene_params {
+  float4 light_position, light_intensity, axis_x, axis_y, axis_z;
+  float4 grid_min, grid_max;
+  int4 grid_res;
+  int4 ip;  // x: R, y..w: per-kernel integers
+  float4 fp;  // per-kernel floats
+  int4 ip2;   // more per-kernel integers
+  float4 fp2; // more per-kernel floats
+};
+
+struct named_point {
+  std::string name;
+  vplkit::gather_point<float> gp;
+};
+
+// The scene, its DPRSM, its 32^3 voxel grid and a G-buffer, built once per process.
+struct scene_fixture {
+  vplkit_test::synthetic_scene<float> scene;
+  int R = 0;
+  vplkit_test::dprsm_data<float> dprsm;
+  vplkit::voxel_grid<float> grid;
+  vplkit_test::gbuffer_data<float> gbuffer;
+
+  scene_fixture(int resolution, int voxels, int gw, int gh)
+      : R(resolution), dprsm(scene.make_dprsm(resolution)), grid(scene.make_voxel_grid(voxels)),
+        gbuffer(scene.make_gbuffer(gw, gh)) {}
+
+  vplkit::dprsm_view<float> view() const { return dprsm.view(); }
+
+  scene_params params() const {
+    scene_params p{};
+    const auto& L = dprsm.light;
+    p.light_position = f4(L.position);
+    p.light_intensity = f4(L.intensity);
+    p.axis_x = f4(L.frame.axis_x);
+    p.axis_y = f4(L.frame.axis_y);
+    p.axis_z = f4(L.frame.axis_z);
+    p.grid_min = f4(grid.bounds_min());
+    p.grid_max = f4(grid.bounds_max());
+    const vplkit::ivec3 r = grid.resolution();
+    p.grid_res = {r.x, r.y, r.z, 0};
+    p.ip = {R, 0, 0, 0};
+    return p;
+  }
+
+  // DPRSM, voxel words and G-buffer (the parameter block and gather points come per call).
+  std::vector<ssbo> inputs() const {
+    std::vector<float4> pos, nor, alb;
+    for (std::size_t i = 0; i < dprsm.position.size(); ++i) {
+      pos.push_back(f4(dprsm.position[i]));
+      nor.push_back(f4(dprsm.normal[i]));
+      alb.push_back(f4(dprsm.albedo[i]));
+    }
+    std::vector<std::uint32_t> words = grid.words();
+    if (words.empty()) words.push_back(0);
+    std::vector<float4> gb;
+    for (std::size_t i = 0; i < gbuffer.position.size(); ++i) {
+      gb.push_back(f4(gbuffer.position[i]));
+      gb.push_back(f4(gbuffer.normal[i]));
+      gb.push_back(f4(gbuffer.albedo[i]));
+    }
+    return {input(2, pos), input(3, nor), input(4, alb), input(6, words), input(8, gb)};
+  }
+};
+
+inline std::vector<float4> pack_points(const std::vector<named_point>& pts) {
+  std::vector<float4> out;
+  for (const auto& p : pts) {
+    out.push_back(f4(p.gp.position));
+    out.push_back(f4(p.gp.normal));
+    out.push_back(f4(p.gp.albedo));
+  }
+  if (out.empty()) out.push_back({0, 0, 0, 0});
+  return out;
+}
+
+// Accessors and helpers over the buffers above. Kernels include what they use after this.
+inline const char* scene_prelude = R"(
+#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/vpl/dprsm_view.glsl"
+layout(std430, binding = 2) readonly buffer Positions { vec4 dprsm_position[]; };
+layout(std430, binding = 3) readonly buffer Normals { vec4 dprsm_normal[]; };
+layout(std430, binding = 4) readonly buffer Albedos { vec4 dprsm_albedo[]; };
+layout(std430, binding = 5) readonly buffer Params {
+  vec4 light_position; vec4 light_intensity; vec4 axis_x; vec4 axis_y; vec4 axis_z;
+  vec4 grid_min; vec4 grid_max; ivec4 grid_res; ivec4 ip; vec4 fp; ivec4 ip2; vec4 fp2;
+};
+layout(std430, binding = 6) readonly buffer Words { uint voxel_words[]; };
+layout(std430, binding = 7) readonly buffer Points { vec4 points[]; };
+layout(std430, binding = 8) readonly buffer GBuffer { vec4 gbuffer[]; };
+vec3 vplkit_load_dprsm_position(int texel) { return dprsm_position[texel].xyz; }
+vec3 vplkit_load_dprsm_normal(int texel) { return dprsm_normal[texel].xyz; }
+vec3 vplkit_load_dprsm_albedo(int texel) { return dprsm_albedo[texel].xyz; }
+uint vplkit_load_voxel_word(uint i) { return voxel_words[i]; }
+vplkit_gather_point vplkit_load_gather_point(int pixel) {
+  return vplkit_gather_point(gbuffer[3 * pixel].xyz, gbuffer[3 * pixel + 1].xyz, gbuffer[3 * pixel + 2].xyz);
+}
+vplkit_dprsm_view load_view() {
+  vplkit_light_frame frame = vplkit_light_frame(light_position.xyz, axis_x.xyz, axis_y.xyz, axis_z.xyz);
+  return vplkit_dprsm_view(ip.x, vplkit_point_light(light_position.xyz, light_intensity.xyz, frame));
+}
+vplkit_voxel_grid load_grid() { return vplkit_voxel_grid(grid_min.xyz, grid_max.xyz, grid_res.xyz); }
+vplkit_gather_point load_point(uint i) {
+  return vplkit_gather_point(points[3u * i].xyz, points[3u * i + 1u].xyz, points[3u * i + 2u].xyz);
+}
+)";
+
+}  // namespace vplkit::parity::est
