@@ -980,6 +980,53 @@ void main() {
   }
   VPLKIT_CHECK_PARITY(compare_exact(gv, cv, [&](std::size_t k) { return "p = " + show3(xyz(pts[k / 4])); },
                                     "world_to_voxel and voxel_test"));
+
+  // Float helpers on a grid with non-dyadic, non-cubic voxels: continuous coordinate, voxel
+  // centre and back to world, voxel length; and the word count. All are single correctly rounded
+  // operations per component (sub, div; add, mul): exact on IEEE implementations. Bound: 2 ulps
+  // of the result, or 1e-6 of the coordinate scale (GLSL division may be off by 2.5 ulp).
+  const vplkit::voxel_grid<float> h(v3f(-3.1f, 0.7f, 10.2f), v3f(4.3f, 5.9f, 19.9f), ivec3(23, 17, 31));
+  const std::string float_kernel = std::string(R"(
+#include "vplkit/visibility/voxel_grid.glsl"
+layout(std430, binding = 0) readonly buffer In { vec4 p[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
+)") + grid_block + R"(
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  vec3 c = vplkit_world_to_voxel_coord(grid(), p[i].xyz);
+  ivec3 v = clamp(vplkit_world_to_voxel(grid(), p[i].xyz), ivec3(-2), grid().resolution + 2);
+  result[3u * i] = vec4(c, vplkit_voxel_length(grid()));
+  result[3u * i + 1u] = vec4(vplkit_voxel_center(grid(), v), uintBitsToFloat(vplkit_voxel_word_count(gres.xyz)));
+  result[3u * i + 2u] = vec4(vplkit_voxel_to_world(grid(), c), uintBitsToFloat(vplkit_voxel_flat_index(gres.xyz, v)));
+}
+)";
+  std::vector<float4> hp(pts.begin(), pts.begin() + 20000);
+  const std::vector<grid_params> hparams{params_of(h)};
+  std::vector<std::uint32_t> hwords(h.word_count(), 0u);
+  const auto hg = vplkit::parity::run_compute<float4>(
+      float_kernel, {64, 1, 1}, {input(0, hp), input(2, hwords), input(3, hparams)}, 1, 3 * hp.size());
+  std::vector<float> gf, cf;
+  std::vector<std::uint32_t> gi, ci;
+  for (std::size_t i = 0; i < hp.size(); ++i) {
+    const v3f p = xyz(hp[i]);
+    const v3f c = h.world_to_voxel_coord(p);
+    const ivec3 v = glm::clamp(h.world_to_voxel(p), ivec3(-2), h.resolution() + 2);
+    const v3f centre = h.voxel_center(v), back = h.voxel_to_world(c);
+    gf.insert(gf.end(), {hg[3 * i].x, hg[3 * i].y, hg[3 * i].z, hg[3 * i].w, hg[3 * i + 1].x, hg[3 * i + 1].y,
+                         hg[3 * i + 1].z, hg[3 * i + 2].x, hg[3 * i + 2].y, hg[3 * i + 2].z});
+    cf.insert(cf.end(), {c.x, c.y, c.z, h.voxel_length(), centre.x, centre.y, centre.z, back.x, back.y, back.z});
+    std::uint32_t wc = 0, fi = 0;
+    std::memcpy(&wc, &hg[3 * i + 1].w, 4);
+    std::memcpy(&fi, &hg[3 * i + 2].w, 4);
+    gi.insert(gi.end(), {wc, fi});
+    ci.insert(ci.end(), {std::uint32_t(h.word_count()), std::uint32_t(vplkit::voxel_flat_index(h.resolution(), v))});
+  }
+  VPLKIT_CHECK_PARITY(compare_floats(gf, cf, within_ulps(2) | within_abs(1e-6 * 20.0),
+                                     [&](std::size_t k) { return "p = " + show3(xyz(hp[k / 10])); },
+                                     "world_to_voxel_coord, voxel_length, voxel_center, voxel_to_world"));
+  VPLKIT_CHECK_PARITY(compare_exact(gi, ci, [&](std::size_t k) { return "p = " + show3(xyz(hp[k / 2])); },
+                                    "voxel_word_count, voxel_flat_index"));
 }
 
 TEST_CASE("voxel_visible and voxel_visible_two_sided: 1.2 x 10^5 point pairs in a voxelised room") {

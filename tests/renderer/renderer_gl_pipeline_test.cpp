@@ -9,6 +9,7 @@
 #include "camera.hpp"
 #include "scene_setup.hpp"
 #include "voxels.hpp"
+#include "voxels_gpu.hpp"
 
 #include <headless_gl/context.hpp>
 
@@ -188,4 +189,20 @@ TEST_CASE("voxel grid covers the scene and its walls") {
     for (const vec3& v : t.p) CHECK(g.test(g.world_to_voxel(v)));
   // The room's interior centre is free.
   CHECK_FALSE(g.test(g.world_to_voxel(vec3(0.0f, 1.5f, 1.5f))));
+}
+
+TEST_CASE("GPU voxelisation (voxelize.comp) equals the CPU grid on both built-in scenes") {
+  gl_context();
+  for (const char* name : {"cornell", "open"})
+    for (int res : {32, 128}) {
+      const prepared_scene p = prepare_scene(tiny(name, method::gbg));
+      const vplkit::voxel_grid<float> c = voxelize_cpu(p.s, res);
+      const vplkit::voxel_grid<float> g = voxelize_gpu(p.s, res);
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < c.words().size(); ++i)
+        differ += static_cast<std::size_t>(__builtin_popcount(c.words()[i] ^ g.words()[i]));
+      std::cout << name << " " << res << "^3: CPU " << c.count() << " voxels, GPU " << g.count() << ", differing "
+                << differ << "\n";
+      CHECK(differ == 0);
+    }
 }

@@ -4,6 +4,7 @@
 #include "gl_raster.hpp"
 #include "tessellate.hpp"
 #include "voxels.hpp"
+#include "voxels_gpu.hpp"
 
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
@@ -64,7 +65,16 @@ pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_ti
                     {"triangles_capped", ts.capped}};
   }
 
+  // --backend gpu: the pack's voxelize.comp (equal to the CPU grid on the built-in scenes, see
+  // renderer_gl_pipeline_test); --backend cpu: vplkit::voxelize.
+  const bool gpu_voxels = o.back == backend::gpu;
   vplkit::voxel_grid<float> grid = [&] {
+    if (gpu_voxels) {
+      double ms = 0.0;
+      vplkit::voxel_grid<float> g = voxelize_gpu(s, o.voxels, &ms);
+      timer.add("voxelize (gpu)", ms, "gpu");
+      return g;
+    }
     auto t = timer.scoped("voxelize (cpu)");
     return voxelize_cpu(s, o.voxels);
   }();
@@ -72,7 +82,7 @@ pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_ti
                    {"occupied", grid.count()},
                    {"bounds_min", {grid.bounds_min().x, grid.bounds_min().y, grid.bounds_min().z}},
                    {"bounds_max", {grid.bounds_max().x, grid.bounds_max().y, grid.bounds_max().z}},
-                   {"builder", "cpu"}};
+                   {"builder", gpu_voxels ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
 
   const estimator_settings es = make_estimator_settings(o, s);
   try {

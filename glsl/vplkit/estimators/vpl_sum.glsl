@@ -43,25 +43,38 @@ vec3 vplkit_vpl_visible_contribution(vplkit_gather_point gp, vplkit_dprsm_view v
   return vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal) ? c : vec3(0.0);
 }
 
-// sum_t L_t(x) V(x, y_t) over all 2 R^2 texels; 0 for an invalid (background) gather point.
-// Compensated float summation (see the header) where the C++ sums in double.
-vec3 vplkit_exhaustive_vpl_sum(vplkit_gather_point gp, vplkit_dprsm_view view,
-                               vplkit_visibility visibility, float dmin) {
+// GLSL-only: sum_t L_t(x) V(x, y_t) over the texels first .. first + count - 1 (clipped to the
+// view), compensated as below. For splitting the exhaustive sum over invocations: llvmpipe (Mesa
+// 22.3, measured) runs at most 65535 loop iterations per invocation, all loops together, and
+// silently exits every loop after that; one voxel visibility test marches up to nx + ny + nz
+// voxels, so the whole sum with voxel visibility exceeds that budget from about R = 16 on. Sum the
+// partial results of texel ranges (in double, or compensated) instead.
+vec3 vplkit_exhaustive_vpl_sum_range(vplkit_gather_point gp, vplkit_dprsm_view view,
+                                     vplkit_visibility visibility, float dmin, int first, int count) {
   if (!vplkit_gather_point_valid(gp)) return vec3(0.0);
   precise vec3 sum = vec3(0.0);
   precise vec3 comp = vec3(0.0);  // Neumaier: the low-order parts lost by the additions
   int n = vplkit_dprsm_view_texel_count(view);
-  for (int t = 0; t < n; ++t) {
+  int begin = first < 0 ? 0 : first;
+  int end = count > n - begin ? n : begin + count;
+  for (int t = begin; t < end; ++t) {
     vec3 c = vplkit_vpl_visible_contribution(gp, view, t, visibility, dmin);
-    for (int k = 0; k < 3; ++k) {
-      precise float s = sum[k] + c[k];
-      precise float e = abs(sum[k]) >= abs(c[k]) ? (sum[k] - s) + c[k] : (c[k] - s) + sum[k];
-      comp[k] += e;
-      sum[k] = s;
-    }
+    precise vec3 s = sum + c;
+    precise vec3 big = mix(c, sum, greaterThanEqual(abs(sum), abs(c)));    // the larger term
+    precise vec3 small = mix(sum, c, greaterThanEqual(abs(sum), abs(c)));  // the smaller one
+    comp += (big - s) + small;
+    sum = s;
   }
   precise vec3 total = sum + comp;
   return total;
+}
+
+// sum_t L_t(x) V(x, y_t) over all 2 R^2 texels; 0 for an invalid (background) gather point.
+// Compensated float summation (see the header) where the C++ sums in double. See
+// vplkit_exhaustive_vpl_sum_range for llvmpipe's loop budget.
+vec3 vplkit_exhaustive_vpl_sum(vplkit_gather_point gp, vplkit_dprsm_view view,
+                               vplkit_visibility visibility, float dmin) {
+  return vplkit_exhaustive_vpl_sum_range(gp, view, visibility, dmin, 0, vplkit_dprsm_view_texel_count(view));
 }
 
 #endif  // VPLKIT_ESTIMATORS_VPL_SUM_GLSL

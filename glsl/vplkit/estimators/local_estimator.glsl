@@ -1,0 +1,71 @@
+// vplkit GLSL pack: local CDFs (DESIGN 3.4, paper section 5.2): N distributions, one per image
+// region; each round draws one VPL from every distribution; mirrors
+// include/vplkit/estimators/local_estimator.hpp (T = float).
+//
+//   balance (vplkit_local_balance, the default): a sample t drawn from CDF_i adds
+//     L_t V / sum_j p_j(t); the total is divided by n_rounds (sampling the mixture; unbiased
+//     wherever ANY CDF covers t).
+//   average (vplkit_local_average, as published): (1 / (N n_rounds)) sum L_t V / p_i(t).
+//
+// Distributions: the C++ `const Distribution* distributions, int n` becomes the ids
+// first_distribution .. first_distribution + n - 1 of the distribution hooks (declared and
+// documented in cdf_estimator.glsl; the including shader defines them):
+//   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
+//   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
+// An empty CDF draws nothing (pmf 0, adds 0) but still counts in N for `average`.
+//
+// Random numbers, as in the C++: for round r = 0 .. n_rounds-1, for i = 0 .. N-1: one
+// u = vplkit_rng_next_unit(rng), passed to the sample hook of distribution first + i. An invalid
+// gather point, n_rounds <= 0 or N <= 0 returns 0 and consumes none.
+// Arithmetic as in the C++: sum_j p_j(t) summed in float in j order; the divisor of `average` is
+// p_i(t) * float(N).
+#ifndef VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL
+#define VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL
+
+#include "vplkit/distribution/discrete_sample.glsl"
+#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/estimators/vpl_sum.glsl"
+#include "vplkit/mis/heuristics.glsl"
+#include "vplkit/sampling/rng.glsl"
+#include "vplkit/vpl/dprsm_view.glsl"
+
+vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
+float vplkit_estimator_distribution_pmf(uint distribution, uint index);
+
+// C++ enum class local_combination { balance, average }.
+const int vplkit_local_balance = 0;
+const int vplkit_local_average = 1;
+
+// sum_j pmf_j(t) over the N distributions: the (unnormalised) mixture density at t.
+float vplkit_local_mixture_pmf_sum(uint first_distribution, int n_distributions, uint t) {
+  float s = 0.0;
+  for (int j = 0; j < n_distributions; ++j) s += vplkit_estimator_distribution_pmf(first_distribution + uint(j), t);
+  return s;
+}
+
+vec3 vplkit_estimate_local(vplkit_gather_point gp, vplkit_dprsm_view view, uint first_distribution,
+                           int n_distributions, inout vplkit_counter_rng rng, int n_rounds,
+                           vplkit_visibility visibility, float dmin, int combination) {
+  if (!vplkit_gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0) return vec3(0.0);
+  uint n_texels = uint(vplkit_dprsm_view_texel_count(view));
+  vec3 sum = vec3(0.0);
+  for (int r = 0; r < n_rounds; ++r)
+    for (int i = 0; i < n_distributions; ++i) {
+      vplkit_discrete_sample s =
+          vplkit_estimator_distribution_sample(first_distribution + uint(i), vplkit_rng_next_unit(rng));
+      float pmf_i = s.pmf;
+      if (!(pmf_i > 0.0) || s.index >= n_texels) continue;
+      vec3 c = vplkit_vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
+      if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) continue;
+      // balance: pmf_i(t) > 0 is one of the terms, so the divisor is > 0.
+      float divisor = combination == vplkit_local_balance
+                          ? vplkit_local_mixture_pmf_sum(first_distribution, n_distributions, s.index)
+                          : pmf_i * float(n_distributions);
+      sum += vplkit_estimator_finite_or_zero(vec3(vplkit_mis_div(c.x, divisor), vplkit_mis_div(c.y, divisor),
+                                                  vplkit_mis_div(c.z, divisor)));
+    }
+  return sum / float(n_rounds);
+}
+
+#endif  // VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL

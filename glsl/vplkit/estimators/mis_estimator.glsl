@@ -1,0 +1,164 @@
+// vplkit GLSL pack: multiple importance sampling of cosine gathering (strategy 1, n_dirs samples)
+// and VPL sampling from a distribution (strategy 2, n_vpls samples) at one gather point (DESIGN
+// 3.6, paper section 6); mirrors include/vplkit/estimators/mis_estimator.hpp (T = float).
+//
+// vplkit_mis_solid_angle (default): both strategies as solid-angle densities at x,
+//   p1 = cos(theta2)/pi, p2 = p(t) d2^2 / (A_t cos(theta1)), A_t = vplkit_mis_texel_patch_area;
+//   every sample of either strategy adds vplkit_balance_combined(f, n_dirs, p1, n_vpls, p2) per
+//   channel, f = (rho_x/pi) L_o cos(theta2). No dmin clamp; holes (p(t) = 0) are covered by
+//   gathering. Converges to the one-bounce integral up to the midpoint-rule error of the VPL term.
+// vplkit_mis_as_published: the paper's weights (eq. 7-15, Alg. 4-6) evaluated as written (biased):
+//   gathering sample adds f * (w.gathering / p1) with p1 = cos sin / pi, VPL sample adds
+//   L_t V * (w.vpl / alpha); the sum is divided by n_dirs (n_vpls when n_dirs = 0).
+// See docs/api/estimators.md for the expectation and the measured bias.
+//
+// Distributions: the distribution hooks (declared and documented in cdf_estimator.glsl; the
+// including shader defines them); `distribution` is passed to both:
+//   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
+//   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
+// Visibility and tracing: vplkit_visibility and vplkit_voxel_tracer
+// (estimators/visibility_callables.glsl) stand for the C++ callables.
+//
+// Random numbers (both modes), as in the C++: for j = 0 .. max(n_dirs, n_vpls)-1: if j < n_vpls,
+// one u for the VPL (sample hook); then, if j < n_dirs, u0 and u1 for the direction (as in
+// vplkit_estimate_gathering). An invalid gather point returns 0 and consumes none. Negative counts
+// count as 0.
+//
+// Order of operations as in the C++ (docs/api/estimators.md, "For the GLSL mirror"):
+// vplkit_mis_vpl_sample tests coincidence, then flux, then the cosines, then visibility;
+// vplkit_trace_gathering_ray looks up, then tests lit, then the back face against n_t, then
+// evaluates reflected_radiance at the hit. Never NaN or Inf: every division goes through
+// vplkit_balance_combined or vplkit_mis_div behind a guard.
+#ifndef VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
+#define VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
+
+#include "vplkit/distribution/discrete_sample.glsl"
+#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/estimators/gathering_estimator.glsl"
+#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/estimators/vpl_sum.glsl"
+#include "vplkit/mis/heuristics.glsl"
+#include "vplkit/mis/pdf_conversion.glsl"
+#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/sampling/cosine_hemisphere.glsl"
+#include "vplkit/sampling/orthonormal_basis.glsl"
+#include "vplkit/sampling/rng.glsl"
+#include "vplkit/vpl/dprsm_view.glsl"
+#include "vplkit/vpl/vpl.glsl"
+
+vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
+float vplkit_estimator_distribution_pmf(uint distribution, uint index);
+
+// C++ enum class mis_mode { solid_angle, as_published }.
+const int vplkit_mis_solid_angle = 0;
+const int vplkit_mis_as_published = 1;
+
+// f / (n1 p1 + n2 p2) per channel (balance_combined).
+vec3 vplkit_mis_balance_value(vec3 f, float n1, float p1, float n2, float p2) {
+  return vec3(vplkit_balance_combined(f.x, n1, p1, n2, p2), vplkit_balance_combined(f.y, n1, p1, n2, p2),
+              vplkit_balance_combined(f.z, n1, p1, n2, p2));
+}
+
+// Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.
+float vplkit_mis_texel_patch_area(vplkit_dprsm_view view, int t) {
+  vec3 y_t = vplkit_load_dprsm_position(t);
+  return vplkit_vpl_patch_area(vplkit_dprsm_view_solid_angle(view, t), length(y_t - view.light.position),
+                               vplkit_vpl_cos_alpha(view.light.position, y_t, vplkit_load_dprsm_normal(t)));
+}
+
+// p2 of DESIGN 3.6 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+float vplkit_mis_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x, vec3 y) {
+  vec3 w = x - y;
+  float cos1 = dot(vplkit_unit_or_zero(vplkit_load_dprsm_normal(t)), vplkit_unit_or_zero(w));
+  return vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), vplkit_mis_texel_patch_area(view, t), cos1);
+}
+
+// sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)). `precise`: 1 - c * c
+// must not become an FMA (the C++ rounds c * c first).
+float vplkit_mis_sin_from_cos(float c) {
+  precise float s2 = 1.0 - c * c;
+  return s2 > 0.0 ? sqrt(s2) : 0.0;
+}
+
+// One gathering sample (local direction in the ONB of n_x); n1 = n_dirs, n2 = n_vpls.
+vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                                 vplkit_orthonormal_basis frame, vec3 local, vplkit_voxel_tracer tracer,
+                                 float depth_tolerance, float n1, float n2, int mode) {
+  float cos2 = local.z;
+  if (!(cos2 > 0.0)) return vec3(0.0);
+  vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(
+      view, gp.position, gp.normal, vplkit_to_world(frame, local), tracer, depth_tolerance);
+  if (!r.lit) return vec3(0.0);
+  vec3 f = gp.albedo * r.radiance * (cos2 / vplkit_vpl_pi);
+  float pmf = vplkit_estimator_distribution_pmf(distribution, uint(r.texel));
+  if (mode == vplkit_mis_solid_angle) {
+    float p1 = vplkit_cosine_pdf_solid_angle(cos2);
+    float p2 = vplkit_mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
+    return vplkit_mis_balance_value(f, n1, p1, n2, p2);
+  }
+  float sin2 = vplkit_mis_sin_from_cos(cos2);
+  float p1 = vplkit_cosine_pdf_as_published(cos2, sin2);
+  if (!(p1 > 0.0)) return vec3(0.0);
+  vplkit_mis_weight_pair w = vplkit_mis_weights_as_published(cos2, sin2, pmf);
+  return vplkit_estimator_finite_or_zero(f * vplkit_mis_div(w.gathering, p1));
+}
+
+// One VPL sample drawn with u.
+vec3 vplkit_mis_vpl_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution, float u,
+                           vplkit_visibility visibility, float n1, float n2, int mode) {
+  vplkit_discrete_sample s = vplkit_estimator_distribution_sample(distribution, u);
+  float pmf = s.pmf;
+  if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
+  int t = int(s.index);
+  if (mode == vplkit_mis_as_published) {
+    vec3 c = vplkit_vpl_visible_contribution(gp, view, t, visibility, 0.0);
+    if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) return vec3(0.0);
+    float cos2 = dot(vplkit_unit_or_zero(gp.normal), vplkit_unit_or_zero(vplkit_load_dprsm_position(t) - gp.position));
+    vplkit_mis_weight_pair w = vplkit_mis_weights_as_published(cos2, vplkit_mis_sin_from_cos(cos2), pmf);
+    return vplkit_estimator_finite_or_zero(c * vplkit_mis_div(w.vpl, pmf));
+  }
+  vplkit_vpl v = vplkit_dprsm_view_vpl_at(view, t);
+  if (!(v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0)) return vec3(0.0);
+  if (vplkit_vpl_points_coincide(gp.position, v.position)) return vec3(0.0);
+  vec3 wd = vplkit_unit_or_zero(v.position - gp.position);  // x -> y_t
+  float cos2 = dot(vplkit_unit_or_zero(gp.normal), wd);
+  float cos1 = -dot(vplkit_unit_or_zero(v.normal), wd);
+  if (!(cos2 > 0.0) || !(cos1 > 0.0)) return vec3(0.0);
+  if (!vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal)) return vec3(0.0);
+  vec3 f = gp.albedo *
+           vplkit_reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
+                                     vplkit_load_dprsm_albedo(t)) *
+           (cos2 / vplkit_vpl_pi);
+  float p1 = vplkit_cosine_pdf_solid_angle(cos2);
+  float p2 = vplkit_mis_vpl_pdf(view, t, pmf, gp.position, v.position);
+  return vplkit_mis_balance_value(f, n1, p1, n2, p2);
+}
+
+vec3 vplkit_estimate_mis(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                         inout vplkit_counter_rng rng, int n_dirs, int n_vpls, vplkit_voxel_tracer tracer,
+                         vplkit_visibility visibility, float depth_tolerance, int mode) {
+  if (!vplkit_gather_point_valid(gp)) return vec3(0.0);
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  if (n_dirs == 0 && n_vpls == 0) return vec3(0.0);
+  float n1 = float(n_dirs), n2 = float(n_vpls);
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
+  vec3 sum = vec3(0.0);
+  int n = n_dirs > n_vpls ? n_dirs : n_vpls;
+  for (int j = 0; j < n; ++j) {
+    if (j < n_vpls)
+      sum += vplkit_mis_vpl_sample(gp, view, distribution, vplkit_rng_next_unit(rng), visibility, n1, n2, mode);
+    if (j < n_dirs) {
+      float u0 = vplkit_rng_next_unit(rng);
+      float u1 = vplkit_rng_next_unit(rng);
+      sum += vplkit_mis_gathering_sample(gp, view, distribution, frame,
+                                         vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
+                                         depth_tolerance, n1, n2, mode);
+    }
+  }
+  // solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
+  if (mode == vplkit_mis_as_published) return sum / float(n_dirs > 0 ? n_dirs : n_vpls);
+  return sum;
+}
+
+#endif  // VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
