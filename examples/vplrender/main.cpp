@@ -3,6 +3,7 @@
 // the EXR, the PNG preview and the JSON report.
 #include "errors.hpp"
 #include "exr_io.hpp"
+#include "gpu_backend.hpp"
 #include "options.hpp"
 #include "pipeline.hpp"
 #include "png_preview.hpp"
@@ -68,8 +69,16 @@ int main(int argc, char** argv) {
     for (const std::string& w : p.s.warnings) std::cerr << "vplrender: warning: " << w << "\n";
     check_output_location(o);
     std::cout << describe(p, o);
-    if (o.back == backend::gpu)
-      std::cout << "note: this build rasterises on the GPU and runs the estimators on the CPU (C++ templates)\n";
+    if (o.back == backend::gpu) {
+      if (gpu_estimator_available(o.meth))
+        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; builders, CDFs and direct light on "
+                     "the CPU)\n";
+      else
+        std::cout << "estimator backend: cpu (no GPU kernel for --method " << to_string(o.meth)
+                  << " in this build; falling back to the C++ templates)\n";
+    } else {
+      std::cout << "estimator backend: cpu (C++ templates)\n";
+    }
     std::cout << std::flush;
     if (o.window) throw not_implemented_error("--window: the interactive window is not implemented yet in this build");
 

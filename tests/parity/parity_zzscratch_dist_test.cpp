@@ -1,25 +1,19 @@
-#include <parity_harness.hpp>
-#include <epoxy/gl.h>
-#include <chrono>
-TEST_CASE("fp64 probe") {
-  vplkit::parity::context();
-  GLint n = 0; glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-  for (GLint i = 0; i < n; ++i) { std::string e = (const char*)glGetStringi(GL_EXTENSIONS, i); if (e.find("fp64") != std::string::npos || e.find("int64")!=std::string::npos) std::cout << e << "\n"; }
-  std::vector<float> u(1 << 20); for (size_t i = 0; i < u.size(); ++i) u[i] = float(i) * 1e-3f;
-  for (int dbl = 0; dbl < 2; ++dbl) {
-  std::string k = dbl ? R"(
-layout(std430, binding = 0) readonly buffer In { float u[]; };
-layout(std430, binding = 1) writeonly buffer Out { float r[]; };
-void main() { uint i = gl_GlobalInvocationID.x; if (i >= VPLKIT_PARITY_COUNT) return;
-  double a = double(u[i]); double s = 0.0; for (int k = 0; k < 64; ++k) s = s * 0.999 + a; r[i] = float(s / double(u[i] + 1.0)); })" : R"(
-layout(std430, binding = 0) readonly buffer In { float u[]; };
-layout(std430, binding = 1) writeonly buffer Out { float r[]; };
-void main() { uint i = gl_GlobalInvocationID.x; if (i >= VPLKIT_PARITY_COUNT) return;
-  float a = u[i]; float s = 0.0; for (int k = 0; k < 64; ++k) s = s * 0.999 + a; r[i] = s / (u[i] + 1.0); })";
-  for (int rep = 0; rep < 3; ++rep) {
-  auto t0 = std::chrono::steady_clock::now();
-  auto r = vplkit::parity::run_compute<float>(k, {256,1,1}, {vplkit::parity::input(0,u)}, 1, u.size());
-  auto t1 = std::chrono::steady_clock::now();
-  std::cout << (dbl ? "double " : "float ") << std::chrono::duration<double,std::milli>(t1-t0).count() << " ms r[5]=" << r[5] << "\n";
-  }}
+#include <parity_distribution_support.hpp>
+using namespace vplkit::parity::dist;
+TEST_CASE("scratch build") {
+  for (bool ff : {false, true}) {
+    for (u32 n : {1u, 2u, 5u, 1023u, 1024u, 1025u, 100000u, (1u << 20) + 3u}) {
+     for (int kind = 0; kind < 4; ++kind) {
+      auto w = kind == 0 ? random_weights(n, 7) : kind == 1 ? zero_run_weights(n, n / 10, 3) : kind == 2 ? log_uniform_weights(n, -30, 30, 5) : exponential_weights(n, 9);
+      build_options o; o.float_float = ff; if (kind == 3) o.max_groups = 3;
+      auto r = gpu_build(w, n, 1, o);
+      vplkit::discrete_cdf<float> c(w);
+      auto inv = check_invariants(r.cdf.data(), r.guide.data(), w.data(), n, c.empty());
+      auto d = compare_cdfs(r.cdf.data(), c.cdf().data(), n);
+      auto ex = near_exact_cdf(w.data(), n);
+      auto de = compare_cdfs(r.cdf.data(), ex.data(), n);
+      auto dc = compare_cdfs(c.cdf().data(), ex.data(), n);
+      std::cout << o.text() << " kind " << kind << " n=" << n << " " << r.ms << " ms total " << r.info[0].total << " vs " << c.total() << " inv[" << inv << "]\n  vs cpu: " << describe(d) << "\n  gpu vs exact: " << describe(de) << "\n  cpu vs exact: " << describe(dc) << "\n";
+    }}
+  }
 }

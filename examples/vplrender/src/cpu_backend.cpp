@@ -136,50 +136,27 @@ vec3 direct_light(const gather_point<float>& gp, const vplkit::dprsm_view<float>
   return vplkit::reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
 }
 
-cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const vplkit::voxel_grid_view<float>& grid,
-                             const estimator_settings& es, stage_timer& timer, const progress_fn& progress) {
+int estimator_threads(int requested) { return thread_count(requested); }
+
+float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid) {
+  // The tracer's own error (one voxel diagonal, voxel_tracer_depth_tolerance) doubled for the
+  // texel's depth spread on tilted surfaces.
+  return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
+}
+
+cpu_distributions build_distributions_cpu(const gbuffer_data& gb, const dprsm_data& dd,
+                                          const vplkit::voxel_grid_view<float>& grid, const estimator_settings& es,
+                                          stage_timer& timer, const progress_fn& progress, nlohmann::json& det) {
   const vplkit::gbuffer_view<float> g = gb.view();
   const vplkit::dprsm_view<float> view = dd.view();
   g.validate();
   view.validate();
   const int threads = thread_count(es.threads);
   const int W = g.width, H = g.height;
-  cpu_render_result result;
-  result.image = image_rgb(W, H);
-  nlohmann::json& det = result.details;
-  det["threads"] = threads;
-  det["dmin"] = es.dmin;
-
-  const vplkit::voxel_visibility<float> visibility{grid};
   const vplkit::voxel_tracer<float> tracer{grid};
-  // Depth tolerance of the gathering lookups: the tracer's own error (one voxel diagonal,
-  // voxel_tracer_depth_tolerance) doubled for the texel's depth spread on tilted surfaces.
-  const float depth_tol = 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
-  det["depth_tolerance"] = depth_tol;
+  const float depth_tol = gathering_depth_tolerance(grid);
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
-
-  // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
-  auto render_pixels = [&](auto&& est) {
-    auto t = timer.scoped("estimate (cpu)");
-    parallel_items(H, threads, "render", progress, [&](int y, int) {
-      for (int x = 0; x < W; ++x) {
-        const int p = y * W + x;
-        const gather_point<float> gp = g.at(p);
-        vec3f c(0.0f);
-        if (vplkit::gather_point_valid(gp)) {
-          vplkit::counter_rng rng = vplkit::make_counter_rng(es.seed, static_cast<std::uint32_t>(p));
-          c = est(gp, rng);
-          if (es.direct) c += direct_light(gp, view);
-          c = vplkit::estimator_finite_or_zero(glm::max(c, vec3f(0.0f)));
-        }
-        float* o = result.image.at(x, y);
-        o[0] = c.x;
-        o[1] = c.y;
-        o[2] = c.z;
-      }
-    });
-  };
-
+  cpu_distributions out;
   // GBG weights -> defensive distribution (used by gbg, mis, mis-as-published).
   auto build_gbg = [&]() {
     std::vector<float> raw(n_texels, 0.0f), weights(n_texels, 0.0f);
@@ -233,12 +210,9 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
   };
 
   switch (es.meth) {
-    case method::reference: {
-      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng&) {
-        return vplkit::exhaustive_vpl_sum(gp, view, visibility, es.dmin);
-      });
+    case method::reference:
+    case method::gather:
       break;
-    }
     case method::global: {
       std::vector<float> weights(n_texels, 0.0f);
       int used = 0;
@@ -251,13 +225,8 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
         global_weights(view, pts, es.dmin, weights.data(), threads);
       }
       det["global_subset"] = used;
-      const auto dist = [&] {
-        auto t = timer.scoped("cdf (cpu)");
-        return vplkit::make_vpl_distribution(weights, view, es.eps);
-      }();
-      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-        return vplkit::estimate_vpl_sampling(gp, view, dist, rng, es.vpls, visibility, es.dmin);
-      });
+      auto t = timer.scoped("cdf (cpu)");
+      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, es.eps));
       break;
     }
     case method::local: {
@@ -275,25 +244,88 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
         }
       }
       det["local_subsets"] = used;
-      const auto dists = [&] {
+      {
         auto t = timer.scoped("cdf (cpu)");
-        return vplkit::make_local_vpl_distributions(flat, N, view, es.eps);
-      }();
+        out.dists = vplkit::make_local_vpl_distributions(flat, N, view, es.eps);
+      }
       // N_NG rounds of one VPL per region's CDF: vpls / N rounds (at least one), so a pixel gets
       // about --vpls samples whatever N is.
-      const int rounds = std::max(1, es.vpls / N);
-      det["local_rounds"] = rounds;
+      out.local_rounds = std::max(1, es.vpls / N);
+      det["local_rounds"] = out.local_rounds;
       det["local_combination"] = "balance";
-      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-        return vplkit::estimate_local(gp, view, dists.data(), N, rng, rounds, visibility, es.dmin,
-                                      vplkit::local_combination::balance);
+      break;
+    }
+    case method::gbg:
+    case method::mis:
+    case method::mis_as_published:
+      out.dists.push_back(build_gbg());
+      break;
+  }
+  return out;
+}
+
+cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const vplkit::voxel_grid_view<float>& grid,
+                             const estimator_settings& es, stage_timer& timer, const progress_fn& progress) {
+  const vplkit::gbuffer_view<float> g = gb.view();
+  const vplkit::dprsm_view<float> view = dd.view();
+  g.validate();
+  view.validate();
+  const int threads = thread_count(es.threads);
+  const int W = g.width, H = g.height;
+  cpu_render_result result;
+  result.image = image_rgb(W, H);
+  nlohmann::json& det = result.details;
+  det["threads"] = threads;
+  det["dmin"] = es.dmin;
+
+  const vplkit::voxel_visibility<float> visibility{grid};
+  const vplkit::voxel_tracer<float> tracer{grid};
+  const float depth_tol = gathering_depth_tolerance(grid);
+  det["depth_tolerance"] = depth_tol;
+  const cpu_distributions built = build_distributions_cpu(gb, dd, grid, es, timer, progress, det);
+
+  // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
+  auto render_pixels = [&](auto&& est) {
+    auto t = timer.scoped("estimate (cpu)");
+    parallel_items(H, threads, "render", progress, [&](int y, int) {
+      for (int x = 0; x < W; ++x) {
+        const int p = y * W + x;
+        const gather_point<float> gp = g.at(p);
+        vec3f c(0.0f);
+        if (vplkit::gather_point_valid(gp)) {
+          vplkit::counter_rng rng = vplkit::make_counter_rng(es.seed, static_cast<std::uint32_t>(p));
+          c = est(gp, rng);
+          if (es.direct) c += direct_light(gp, view);
+          c = vplkit::estimator_finite_or_zero(glm::max(c, vec3f(0.0f)));
+        }
+        float* o = result.image.at(x, y);
+        o[0] = c.x;
+        o[1] = c.y;
+        o[2] = c.z;
+      }
+    });
+  };
+
+  switch (es.meth) {
+    case method::reference: {
+      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng&) {
+        return vplkit::exhaustive_vpl_sum(gp, view, visibility, es.dmin);
       });
       break;
     }
+    case method::global:
     case method::gbg: {
-      const auto dist = build_gbg();
+      const auto& dist = built.dists.front();
       render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
         return vplkit::estimate_vpl_sampling(gp, view, dist, rng, es.vpls, visibility, es.dmin);
+      });
+      break;
+    }
+    case method::local: {
+      const int N = static_cast<int>(built.dists.size());
+      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+        return vplkit::estimate_local(gp, view, built.dists.data(), N, rng, built.local_rounds, visibility, es.dmin,
+                                      vplkit::local_combination::balance);
       });
       break;
     }
@@ -305,7 +337,7 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
     }
     case method::mis:
     case method::mis_as_published: {
-      const auto dist = build_gbg();
+      const auto& dist = built.dists.front();
       const vplkit::mis_mode mode =
           es.meth == method::mis ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published;
       render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {

@@ -6,6 +6,7 @@
 #include "render_data.hpp"
 #include "stage_timer.hpp"
 
+#include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace vplrender {
 
@@ -48,6 +50,24 @@ struct cpu_render_result {
 // Stages are appended to `timer` (clock cpu-wall). Throws vplkit::invalid_input for bad views.
 cpu_render_result render_cpu(const gbuffer_data& g, const dprsm_data& d, const vplkit::voxel_grid_view<float>& grid,
                              const estimator_settings& es, stage_timer& timer, const progress_fn& progress = {});
+
+// The builders and CDFs of es.meth on the CPU (shared by both backends): one defensive mixture for
+// global, gbg, mis and mis-as-published, one per region for local (region-major), none for
+// reference and gather. Stages go to `timer` (cpu-wall), builder facts to `det` (the report's
+// pipeline.estimator object). local_rounds: max(1, vpls / regions) for local, else 0.
+struct cpu_distributions {
+  std::vector<vplkit::defensive_mixture<float>> dists;
+  int local_rounds = 0;
+};
+cpu_distributions build_distributions_cpu(const gbuffer_data& g, const dprsm_data& d,
+                                          const vplkit::voxel_grid_view<float>& grid, const estimator_settings& es,
+                                          stage_timer& timer, const progress_fn& progress, nlohmann::json& det);
+
+// Depth tolerance of the gathering look-ups (gather, mis; GBG rays): 2 voxel diagonals.
+float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid);
+
+// Threads the CPU stages use for es.threads (0: hardware concurrency).
+int estimator_threads(int requested);
 
 // Direct light at a gather point through the DPRSM shadow test (0 when in shadow or background).
 vec3 direct_light(const vplkit::gather_point<float>& gp, const vplkit::dprsm_view<float>& view);

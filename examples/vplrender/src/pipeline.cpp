@@ -2,6 +2,7 @@
 
 #include "errors.hpp"
 #include "gl_raster.hpp"
+#include "gpu_backend.hpp"
 #include "tessellate.hpp"
 #include "voxels.hpp"
 #include "voxels_gpu.hpp"
@@ -85,15 +86,19 @@ pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_ti
                    {"builder", gpu_voxels ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
 
   const estimator_settings es = make_estimator_settings(o, s);
+  // --backend gpu: the estimator as a compute shader (gpu_backend.cpp) where this build has one;
+  // --backend cpu, or a method without a kernel: the C++ templates (cpu_backend.cpp).
+  const bool gpu_estimator = o.back == backend::gpu && gpu_estimator_available(es.meth);
   try {
-    cpu_render_result cr = render_cpu(gbuf, dprsm, grid.view(), es, timer, progress);
+    cpu_render_result cr = gpu_estimator ? render_gpu(gbuf, dprsm, grid.view(), es, timer, progress)
+                                         : render_cpu(gbuf, dprsm, grid.view(), es, timer, progress);
     r.image = std::move(cr.image);
     det["estimator"] = cr.details;
   } catch (const vplkit::invalid_input& e) {
     throw input_error(e.what());
   }
-  // This build runs every estimator on the CPU; the GPU backend does the rasterisation only.
-  det["estimator_backend"] = "cpu";
+  det["estimator_backend"] = gpu_estimator ? "gpu" : "cpu";
+  det["builders_backend"] = "cpu";
   return r;
 }
 

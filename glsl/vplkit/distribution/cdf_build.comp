@@ -21,10 +21,11 @@
 // D distributions of n weights each (1 <= n <= 2^31), stored back to back: distribution d has
 // weights[d * n + i], cdf[d * (n + 1) + i], guide[d * (m + 1) + j], m = vplkit_discrete_guide_size(n),
 // blocks[d * B + b], B = ceil(n / (LOCAL_SIZE * ITEMS)).
-// Dispatch: passes 1, 2, 3, 4, 5, 6 in order, each with (min(B, 65535), 1, D) work groups and a
-// shader-storage barrier (glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)) between them. Nothing
-// needs clearing beforehand. Passes 2 and 4 run in work group 0 of each distribution (the others
-// return at once).
+// Dispatch: passes 1 to 6 in order, with a shader-storage barrier
+// (glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)) between them; passes 1, 3, 5, 6 with
+// (G, 1, D) work groups, any G >= 1 (the kernels stride over blocks; G = min(B, 65535) is the
+// natural choice), passes 2 and 4 with (1, 1, D) (only work group 0 of a distribution works there;
+// more groups return at once). Nothing needs clearing beforehand.
 //   1 block sums        blocks[b].sum, blocks[b].zeroed
 //   2 block offsets     blocks[b].offset (exclusive scan of the sums), info[d] (total, zeroed)
 //   3 normalise         cdf[i + 1] = prefix max within the block of the normalised partial sums
@@ -32,6 +33,8 @@
 //   5 finish the cdf    cdf[0] = 0, cdf[i + 1] = max(cdf[i + 1], prefix max of earlier blocks),
 //                       cdf[n] = 1 (0 when empty)
 //   6 guide             guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m
+// (G for pass 6: the kernel strides over runs of LOCAL_SIZE * ITEMS guide entries; m + 1 entries
+// need ceil((m + 1) / (LOCAL_SIZE * ITEMS)) groups to go without striding.)
 //
 // Output: what discrete_cdf<float> stores (discrete_cdf.glsl): cdf[0] = 0, cdf[n] = 1 exactly,
 // non-decreasing, a zero weight gives exactly equal neighbours (so it is never sampled), the guide
@@ -122,7 +125,7 @@ layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_WEIGHTS) readonly buffer vplki
 layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_CDF) buffer vplkit_cdf_build_cdf_buffer {
   float vplkit_cdf_build_cdf[];
 };
-layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_GUIDE) writeonly buffer vplkit_cdf_build_guide_buffer {
+layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_GUIDE) buffer vplkit_cdf_build_guide_buffer {
   uint vplkit_cdf_build_guide[];
 };
 layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_BLOCKS) buffer vplkit_cdf_build_blocks_buffer {
@@ -135,6 +138,15 @@ layout(std140, binding = VPLKIT_CDF_BUILD_BINDING_PARAMS) uniform vplkit_cdf_bui
   uint vplkit_cdf_build_n;
   uint vplkit_cdf_build_pass;
 };
+
+// The accessors of discrete_cdf.glsl on this kernel's buffers (Mesa's linker wants a body for
+// every accessor an included function calls, called or not).
+float vplkit_load_cdf(uint distribution, uint i) {
+  return vplkit_cdf_build_cdf[distribution * (vplkit_cdf_build_n + 1u) + i];
+}
+uint vplkit_load_guide(uint distribution, uint j) {
+  return vplkit_cdf_build_guide[distribution * (vplkit_discrete_guide_size(vplkit_cdf_build_n) + 1u) + j];
+}
 
 shared VPLKIT_CDF_BUILD_ACC vplkit_cdf_build_s_acc[VPLKIT_CDF_BUILD_LOCAL_SIZE];
 shared uint vplkit_cdf_build_s_uint[VPLKIT_CDF_BUILD_LOCAL_SIZE];
@@ -473,28 +485,52 @@ void vplkit_cdf_build_pass_finish(uint d) {
   }
 }
 
-// 6: guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m, by binary search. cdf[i] <= j / m
-// <=> ceil(cdf[i] * m) <= j, where cdf[i] * m is exact (m a power of two) and so is every integer
-// conversion: exact for every j up to 2^31 (j / m as a float would not be above 2^24).
+// 6: guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m. cdf[i] <= j / m <=>
+// a_i = ceil(cdf[i] * m) <= j, where cdf[i] * m is exact (m a power of two) and so is every
+// integer conversion: exact for every j up to 2^31 (j / m as a float would not be above 2^24).
+// So guide[j] = i exactly for a_i <= j < a_(i+1) (a_n taken as m + 1): each i owns a run of j.
+// A work group takes BLOCK consecutive j, finds the owners of its first and last j by binary
+// search, and lets its invocations write the runs of the owners in between, clipped to its j:
+// linear work, each entry written once, at most BLOCK entries per invocation. (Owners can be
+// many when tiny weights crowd into one j: then up to n / LOCAL_SIZE reads per invocation.)
+uint vplkit_cdf_build_guide_owner(uint base, uint n, float fm, uint j) {
+  uint lo = 0u;
+  uint len = n;
+  while (len > 1u) {
+    uint half_len = len / 2u;
+    lo = uint(ceil(vplkit_cdf_build_cdf[base + lo + half_len] * fm)) <= j ? lo + half_len : lo;
+    len -= half_len;
+  }
+  return lo;
+}
+
 void vplkit_cdf_build_pass_guide(uint d) {
   uint n = vplkit_cdf_build_n;
   uint m = vplkit_discrete_guide_size(n);
   float fm = float(m);
   bool empty = vplkit_cdf_build_acc_is_zero(vplkit_cdf_build_infos[d].sum);
   uint base = d * (n + 1u);
-  uint stride = gl_NumWorkGroups.x * uint(VPLKIT_CDF_BUILD_LOCAL_SIZE);
-  for (uint j = gl_WorkGroupID.x * uint(VPLKIT_CDF_BUILD_LOCAL_SIZE) + gl_LocalInvocationID.x; j <= m;
-       j += stride) {
-    uint lo = 0u;
-    if (!empty) {
-      uint len = n;
-      while (len > 1u) {
-        uint half_len = len / 2u;
-        lo = uint(ceil(vplkit_cdf_build_cdf[base + lo + half_len] * fm)) <= j ? lo + half_len : lo;
-        len -= half_len;
+  uint guide_base = d * (m + 1u);
+  uint t = gl_LocalInvocationID.x;
+  uint span = uint(VPLKIT_CDF_BUILD_BLOCK);
+  for (uint j0 = gl_WorkGroupID.x * span; j0 <= m; j0 += gl_NumWorkGroups.x * span) {
+    uint j1 = min(j0 + span, m + 1u);  // this group's j: [j0, j1)
+    if (empty) {
+      for (uint j = j0 + t; j < j1; j += uint(VPLKIT_CDF_BUILD_LOCAL_SIZE)) {
+        vplkit_cdf_build_guide[guide_base + j] = 0u;
       }
+      continue;  // `empty` is the same for the whole group: uniform control flow
     }
-    vplkit_cdf_build_guide[d * (m + 1u) + j] = lo;
+    vplkit_cdf_build_sync();  // the previous iteration's readers of s_uint are done
+    if (t < 2u) vplkit_cdf_build_s_uint[t] = vplkit_cdf_build_guide_owner(base, n, fm, t == 0u ? j0 : j1 - 1u);
+    vplkit_cdf_build_sync();
+    uint lo = vplkit_cdf_build_s_uint[0];
+    uint hi = vplkit_cdf_build_s_uint[1];
+    for (uint i = lo + t; i <= hi; i += uint(VPLKIT_CDF_BUILD_LOCAL_SIZE)) {
+      uint a = uint(ceil(vplkit_cdf_build_cdf[base + i] * fm));
+      uint b = i + 1u < n ? uint(ceil(vplkit_cdf_build_cdf[base + i + 1u] * fm)) : m + 1u;
+      for (uint j = max(a, j0); j < min(b, j1); ++j) vplkit_cdf_build_guide[guide_base + j] = i;
+    }
   }
 }
 

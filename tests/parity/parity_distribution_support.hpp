@@ -1,0 +1,330 @@
+#pragma once
+// Helpers shared by parity_distribution_test.cpp and parity_distribution_build_slow.cpp (not a
+// test program: only parity_*.cpp files become programs): weight generators, the packing of
+// several distributions into the buffers the test kernels read, and a host driver for the GPU
+// CDF build kernel glsl/vplkit/distribution/cdf_build.comp with the comparisons that measure it.
+#include <parity_harness.hpp>
+
+#include <vplkit/distribution/discrete_cdf.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace vplkit::parity::dist {
+
+using u32 = std::uint32_t;
+
+inline u32 bits_of(float f) {
+  u32 u = 0;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+inline float float_of(u32 u) {
+  float f = 0;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+// splitmix64: fixed seeds, independent of the library's own RNG.
+struct test_rng {
+  std::uint64_t s;
+  explicit test_rng(std::uint64_t seed) : s(seed * 0x9E3779B97F4A7C15ull + 1) {}
+  std::uint64_t next() {
+    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  u32 next_u32() { return u32(next() >> 32); }
+  // The library's convention: (h >> 8) * 2^-24, on the 2^-24 grid.
+  float grid_float() { return float(next_u32() >> 8) * 0x1p-24f; }
+  double uniform() { return double(next() >> 11) * 0x1p-53; }
+  // A float in [0, 1) with uniformly random bits below 0x3F800000: every exponent equally often,
+  // so tiny values (and denormals) are well represented.
+  float any_unit_float() { return float_of(u32(next() % 0x3F800000ull)); }
+};
+
+// ---- weight generators --------------------------------------------------------------------------
+inline std::vector<float> random_weights(std::size_t n, std::uint64_t seed) {
+  test_rng g(seed);
+  std::vector<float> w(n);
+  for (float& x : w) x = float(g.uniform());
+  return w;
+}
+
+inline std::vector<float> exponential_weights(std::size_t n, std::uint64_t seed) {
+  test_rng g(seed);
+  std::vector<float> w(n);
+  for (float& x : w) x = float(-std::log(1.0 - g.uniform()));
+  return w;
+}
+
+// Log-uniform in [10^lo, 10^hi].
+inline std::vector<float> log_uniform_weights(std::size_t n, double lo, double hi,
+                                              std::uint64_t seed) {
+  test_rng g(seed);
+  std::vector<float> w(n);
+  for (float& x : w) x = float(std::pow(10.0, lo + (hi - lo) * g.uniform()));
+  return w;
+}
+
+// Random weights with zero runs at both ends (each `edge` long), zero runs of random length
+// inside, and isolated zeros.
+inline std::vector<float> zero_run_weights(std::size_t n, std::size_t edge, std::uint64_t seed) {
+  test_rng g(seed);
+  std::vector<float> w(n);
+  for (float& x : w) x = float(g.uniform()) + 0.01f;
+  for (std::size_t i = 0; i < edge && i < n; ++i) w[i] = 0.0f;
+  for (std::size_t i = n > edge ? n - edge : 0; i < n; ++i) w[i] = 0.0f;
+  for (std::size_t i = edge; i + edge < n; ++i) {
+    const u32 r = g.next_u32() % 1000u;
+    if (r < 3) {
+      const std::size_t len = 1 + g.next_u32() % 3000u;
+      for (std::size_t k = i; k < i + len && k < n; ++k) w[k] = 0.0f;
+      i += len;
+    } else if (r < 60) {
+      w[i] = 0.0f;
+    }
+  }
+  return w;
+}
+
+// ---- several distributions in the buffers the test kernels read --------------------------------
+// std430 of vplkit_discrete_cdf { uint id; uint size; uint guide_size; float total; }.
+struct gpu_desc {
+  u32 id, size, guide_size;
+  float total;
+};
+static_assert(sizeof(gpu_desc) == 16, "std430 vplkit_discrete_cdf");
+
+// The accessors every test kernel uses (after #include "vplkit/distribution/discrete_cdf.glsl").
+inline const char* cdf_accessors() {
+  return R"(
+layout(std430, binding = 2) readonly buffer Cdfs { float cdfs[]; };
+layout(std430, binding = 3) readonly buffer Guides { uint guides[]; };
+layout(std430, binding = 4) readonly buffer Offsets { uvec2 offsets[]; };
+layout(std430, binding = 5) readonly buffer Descs { vplkit_discrete_cdf descs[]; };
+float vplkit_load_cdf(uint d, uint i) { return cdfs[offsets[d].x + i]; }
+uint vplkit_load_guide(uint d, uint j) { return guides[offsets[d].y + j]; }
+)";
+}
+
+struct packed_cdfs {
+  std::vector<float> cdf;
+  std::vector<u32> guide;
+  std::vector<u32> offsets;  // (cdf offset, guide offset) per distribution
+  std::vector<gpu_desc> descs;
+
+  u32 add_arrays(const std::vector<float>& c, const std::vector<u32>& g, u32 n, u32 m, float total) {
+    const u32 id = u32(descs.size());
+    offsets.push_back(u32(cdf.size()));
+    offsets.push_back(u32(guide.size()));
+    cdf.insert(cdf.end(), c.begin(), c.end());
+    guide.insert(guide.end(), g.begin(), g.end());
+    descs.push_back({id, n, m, total});
+    return id;
+  }
+  u32 add(const discrete_cdf<float>& d) {
+    return add_arrays(d.cdf(), d.guide(), u32(d.size()), u32(d.guide_size()), d.total());
+  }
+  std::vector<ssbo> inputs() const {
+    return {input(2, cdf), input(3, guide), input(4, offsets), input(5, descs)};
+  }
+};
+
+// ---- the GPU build ------------------------------------------------------------------------------
+struct build_options {
+  bool float_float = false;
+  unsigned local_size = 256;
+  unsigned items = 4;
+  unsigned max_groups = 65535;  // fewer than the block count exercises the kernels' stride loops
+  bool program_per_pass = false;  // VPLKIT_CDF_BUILD_PASS=k instead of the uniform `pass`
+  std::string text() const {
+    std::ostringstream s;
+    s << (float_float ? "float-float" : "double") << ", local " << local_size << " x " << items;
+    if (max_groups != 65535) s << ", <= " << max_groups << " groups";
+    if (program_per_pass) s << ", one program per pass";
+    return s.str();
+  }
+};
+
+struct build_info {
+  u32 sum_bits[2];  // the accumulator (double, or (hi, lo) floats)
+  float total;
+  u32 zeroed;
+};
+static_assert(sizeof(build_info) == 16, "std430 vplkit_cdf_build_info");
+
+struct build_result {
+  std::vector<float> cdf;    // D * (n + 1)
+  std::vector<u32> guide;    // D * (m + 1)
+  std::vector<build_info> info;
+  double ms = 0;             // wall time of the six dispatches (llvmpipe: glFinish-bracketed)
+};
+
+inline const gl::program& build_program(const build_options& o, int pass) {
+  static auto* cache = new std::map<std::string, gl::program>();
+  std::ostringstream pre;
+  pre << "#define VPLKIT_CDF_BUILD_LOCAL_SIZE " << o.local_size << "\n"
+      << "#define VPLKIT_CDF_BUILD_ITEMS " << o.items << "\n";
+  if (o.float_float) pre << "#define VPLKIT_CDF_BUILD_FLOAT_FLOAT\n";
+  if (pass > 0) pre << "#define VPLKIT_CDF_BUILD_PASS " << pass << "\n";
+  const std::string key = pre.str();
+  auto it = cache->find(key);
+  if (it == cache->end()) {
+    it = cache
+             ->emplace(key, gl::program::compute_with_includes(
+                                "#version 430\n#include \"vplkit/distribution/cdf_build.comp\"\n",
+                                "cdf_build.comp", {gl::glsl_source_dir()}, key))
+             .first;
+  }
+  return it->second;
+}
+
+// Builds `count` distributions of n weights each (weights.size() == count * n).
+inline build_result gpu_build(const std::vector<float>& weights, u32 n, u32 count,
+                              const build_options& o = {}) {
+  context();
+  const u32 m = u32(discrete_guide_size(n));
+  const std::size_t block = std::size_t(o.local_size) * o.items;
+  const u32 blocks = u32((n + block - 1) / block);
+  const u32 groups = std::min<u32>(blocks, o.max_groups);
+  const u32 guide_groups = std::min<u32>(u32((std::size_t(m) + block) / block), o.max_groups);
+  // Everything starts as 0xFF bytes: the kernel must need no clearing.
+  gl::buffer w = gl::buffer::from_vector(weights);
+  gl::buffer cdf = gl::buffer::filled(std::size_t(count) * (n + 1) * 4, 0xFF);
+  gl::buffer guide = gl::buffer::filled(std::size_t(count) * (m + 1) * 4, 0xFF);
+  gl::buffer blk = gl::buffer::filled(std::size_t(count) * blocks * 32, 0xFF);
+  gl::buffer info = gl::buffer::filled(std::size_t(count) * 16, 0xFF);
+  gl::buffer params = gl::buffer::filled(16, 0);
+  w.bind(0);
+  cdf.bind(1);
+  guide.bind(2);
+  blk.bind(3);
+  info.bind(4);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, params.id());
+  gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
+  for (int pass = 1; pass <= 6; ++pass) build_program(o, o.program_per_pass ? pass : 0);
+  glFinish();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int pass = 1; pass <= 6; ++pass) {
+    const u32 p[4] = {n, u32(pass), 0, 0};
+    params.write_bytes(p, 0, sizeof p);
+    const u32 g = pass == 2 || pass == 4 ? 1u : pass == 6 ? guide_groups : groups;
+    gl::dispatch(build_program(o, o.program_per_pass ? pass : 0), g, 1, count);
+    if (std::getenv("VPLKIT_CDF_BUILD_PROFILE")) {
+      glFinish();
+      std::cout << "  pass " << pass << ": "
+                << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()
+                << " ms\n";
+    }
+  }
+  glFinish();
+  const auto t1 = std::chrono::steady_clock::now();
+  build_result r;
+  r.ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+  r.cdf = cdf.read<float>();
+  r.guide = guide.read<u32>();
+  r.info = info.read<build_info>();
+  return r;
+}
+
+// ---- measuring a built CDF ----------------------------------------------------------------------
+// Checks what the kernel promises on one distribution's arrays; returns "" or the first violation.
+inline std::string check_invariants(const float* cdf, const u32* guide, const float* w, u32 n,
+                                    bool empty) {
+  const u32 m = u32(discrete_guide_size(n));
+  std::ostringstream s;
+  if (bits_of(cdf[0]) != 0u) s << "cdf[0] = " << show(cdf[0]) << " (not +0); ";
+  if (cdf[n] != (empty ? 0.0f : 1.0f)) s << "cdf[n] = " << show(cdf[n]) << "; ";
+  for (u32 i = 0; i < n && s.str().empty(); ++i) {
+    if (!(cdf[i + 1] >= cdf[i])) s << "not monotone at " << i << ": " << show(cdf[i]) << " > " << show(cdf[i + 1]);
+    const bool zero = !(w[i] > 0.0f && w[i] <= std::numeric_limits<float>::max());
+    if (zero && bits_of(cdf[i + 1]) != bits_of(cdf[i])) {
+      s << "zero weight " << i << " has width: " << show(cdf[i]) << " -> " << show(cdf[i + 1]);
+    }
+  }
+  if (!s.str().empty()) return s.str();
+  // guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m (all 0 when empty).
+  u32 i = 0;
+  for (u32 j = 0; j <= m; ++j) {
+    u32 expect = 0;
+    if (!empty) {
+      const double x = double(j) / double(m);
+      while (i + 1 < n && double(cdf[i + 1]) <= x) ++i;
+      expect = i;
+    }
+    if (guide[j] != expect) {
+      s << "guide[" << j << "] = " << guide[j] << ", expected " << expect;
+      return s.str();
+    }
+  }
+  return "";
+}
+
+struct cdf_difference {
+  std::size_t differing = 0;   // cdf values that are not bit-identical
+  double max_abs = 0;          // max |a[i] - b[i]|
+  double max_ulps = 0;
+  std::size_t worst = 0;
+  double disagreement = 0;     // measure of the u in [0, 1) that map to different indices
+  double tv = 0;               // total-variation distance of the two pmfs
+};
+
+inline cdf_difference compare_cdfs(const float* a, const float* b, u32 n) {
+  cdf_difference d;
+  for (u32 i = 0; i <= n; ++i) {
+    if (bits_of(a[i]) != bits_of(b[i])) ++d.differing;
+    const double diff = std::fabs(double(a[i]) - double(b[i]));
+    if (diff > d.max_abs) {
+      d.max_abs = diff;
+      d.worst = i;
+    }
+    d.max_ulps = std::max(d.max_ulps, ulp_distance(a[i], b[i]));
+  }
+  // Sampling maps u to i when a[i] <= u < a[i + 1]: the u that agree are the overlaps of the two
+  // bins of each index. Summed per index, small terms, in double.
+  for (u32 i = 0; i < n; ++i) {
+    const double wa = double(a[i + 1]) - double(a[i]);
+    const double wb = double(b[i + 1]) - double(b[i]);
+    const double overlap = std::max(0.0, std::min(double(a[i + 1]), double(b[i + 1])) -
+                                             std::max(double(a[i]), double(b[i])));
+    d.disagreement += wa - overlap;
+    d.tv += 0.5 * std::fabs(wa - wb);
+  }
+  return d;
+}
+
+inline std::string describe(const cdf_difference& d) {
+  std::ostringstream s;
+  s << std::setprecision(3) << d.differing << " cdf values differ, max |diff| " << d.max_abs
+    << " (" << d.max_ulps << " ulps, at cdf[" << d.worst << "]), u mapped differently "
+    << d.disagreement << ", TV " << d.tv;
+  return s.str();
+}
+
+// float(P_i / total) from the weights summed in double with Neumaier compensation (the C++
+// discrete_cdf<double>), rounded once to float: the nearest float to the exact quotient except
+// where that lies within ~2^-52 of a rounding tie. Bad weights count as 0.
+inline std::vector<float> near_exact_cdf(const float* w, u32 n) {
+  std::vector<double> wd(w, w + n);
+  for (double& x : wd) x = (x >= 0.0 && x <= double(std::numeric_limits<float>::max())) ? x : 0.0;
+  const discrete_cdf<double> c(wd);
+  std::vector<float> out(n + 1);
+  for (u32 i = 0; i <= n; ++i) out[i] = float(c.cdf()[i]);
+  return out;
+}
+
+}  // namespace vplkit::parity::dist
