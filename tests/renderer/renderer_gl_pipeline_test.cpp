@@ -4,6 +4,7 @@
 #include "cpu_backend.hpp"
 #include "dprsm_check.hpp"
 #include "gl_raster.hpp"
+#include "gpu_backend.hpp"
 #include "pipeline.hpp"
 #include "raycast.hpp"
 #include "camera.hpp"
@@ -126,10 +127,15 @@ TEST_CASE("every method renders finite, non-negative images on both built-in sce
       const pipeline_result r = run_pipeline(o, p, timer);
       check_image(r.image, std::string(name) + " " + to_string(m));
       CHECK(r.gl_renderer.find("OpenGL") != std::string::npos);
-      CHECK(r.details["estimator_backend"] == "cpu");
-      bool has_gpu_stage = false;
-      for (const stage_time& s : timer.stages()) has_gpu_stage = has_gpu_stage || s.clock == "gpu";
+      // --backend gpu (the default) runs the estimator as a compute shader where one exists.
+      CHECK(r.details["estimator_backend"] == (gpu_estimator_available(m) ? "gpu" : "cpu"));
+      bool has_gpu_stage = false, gpu_estimate = false;
+      for (const stage_time& s : timer.stages()) {
+        has_gpu_stage = has_gpu_stage || s.clock == "gpu";
+        gpu_estimate = gpu_estimate || s.name == "estimate (gpu)";
+      }
       CHECK(has_gpu_stage);
+      CHECK(gpu_estimate == gpu_estimator_available(m));
     }
 }
 

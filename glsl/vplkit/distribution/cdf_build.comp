@@ -18,9 +18,9 @@
 //                                    pass); without it the uniform `pass` selects it at run time
 //   VPLKIT_CDF_BUILD_FLOAT_FLOAT     (optional) accumulate in pairs of floats instead of double,
 //                                    for devices without fp64 (see "Precision" below)
-// D distributions of n weights each (1 <= n <= 2^31), stored back to back: distribution d has
-// weights[d * n + i], cdf[d * (n + 1) + i], guide[d * (m + 1) + j], m = vplkit_discrete_guide_size(n),
-// blocks[d * B + b], B = ceil(n / (LOCAL_SIZE * ITEMS)).
+// D distributions of n weights each (1 <= n <= 2^31, D * (m + 1) < 2^32), stored back to back:
+// distribution d has weights[d * n + i], cdf[d * (n + 1) + i], guide[d * (m + 1) + j] with
+// m = vplkit_discrete_guide_size(n), blocks[d * B + b] with B = ceil(n / (LOCAL_SIZE * ITEMS)).
 // Dispatch: passes 1 to 6 in order, with a shader-storage barrier
 // (glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)) between them; passes 1, 3, 5, 6 with
 // (G, 1, D) work groups, any G >= 1 (the kernels stride over blocks; G = min(B, 65535) is the
@@ -46,7 +46,7 @@
 // info[d].total = +Inf; the cdf is then still right with double accumulation and unspecified with
 // VPLKIT_CDF_BUILD_FLOAT_FLOAT.
 //
-// How: the partial sums P_i are a work-efficient two-level scan (each invocation sums ITEMS
+// How: the partial sums P_i are a two-level scan (each invocation sums ITEMS
 // weights in order, the work group combines them with a Hillis-Steele scan, pass 2 scans the block
 // sums the same way, sequentially over chunks of blocks), so P_i differs from the C++ double
 // running sum only by the rounding of a few dozen additions. cdf[i + 1] = float(min(P_i / total, 1))
@@ -55,13 +55,17 @@
 // scan did (a floating-point tree scan is not monotone by itself, nor does it leave partial sums
 // unchanged across zeros). The last weight > 0 maps to exactly 1: its P is within ~2^-45 of the
 // total, and every value within 2^-25 of 1 rounds to 1.
-// Precision (measured in tests/parity/parity_distribution_test.cpp, docs/glsl/distribution.md):
-//   double (default): P_i within ~(ITEMS + 2 log2(LOCAL_SIZE) + B / BLOCK + 2) * 2^-53 of exact
-//     (relative); so cdf differs from the exactly rounded quotient only where that lies within
-//     ~2^-45 of a rounding tie. Needs fp64 (GL 4.0 core; Vulkan: shaderFloat64).
+// Precision (measured in tests/parity/parity_distribution_build_test.cpp; the bound is derived in
+// docs/glsl/distribution.md): every P_i passes through at most
+// k = 3 ITEMS + 2 log2(LOCAL_SIZE) + ceil(B / BLOCK) + 4 roundings of positive terms (~33 at 2^20).
+//   double (default): P_i within k 2^-53 of exact (relative). Needs fp64 (GL 4.0 core; Vulkan:
+//     shaderFloat64).
 //   float-float: each P_i is a pair (hi, lo) of floats added with error-free transformations
-//     (TwoSum, `precise`), ~2^-44 relative; the quotient is refined from a float division with an
-//     exact Dekker product. A few more cdf values than with double land one ulp off.
+//     (TwoSum, `precise`; <= 3 2^-48 per addition); the quotient is refined from a float division
+//     with an exact Dekker product; ~2^-40 in all. Cdf values below 2^-126 (weights below 2^-126
+//     of the total) lose accuracy: the low word underflows.
+// The C++ build is within (n / 4) 2^-53, so a GPU cdf value is the C++ value or a float neighbour,
+// and differs only where the exact quotient lies that close to a float rounding tie.
 // Denormal weights count on devices that keep denormals (llvmpipe); a device that flushes them
 // treats them as 0 (both paths).
 #include "vplkit/distribution/discrete_cdf.glsl"

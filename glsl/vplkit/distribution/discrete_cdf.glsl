@@ -25,7 +25,9 @@
 //   layout(std430, binding = 1) readonly buffer Guides { uint guides[]; };  // D * (m + 1)
 //   float vplkit_load_cdf(uint d, uint i) { return cdfs[d * (N + 1u) + i]; }
 //   uint vplkit_load_guide(uint d, uint j) { return guides[d * (M + 1u) + j]; }
-// Only the functions a shader calls need their accessors defined (binary search: the cdf only).
+// Define both, even if the shader only calls the binary search: Mesa's GLSL linker wants a body
+// for every accessor that any included function calls (glslang only for those really called).
+// A stub does: uint vplkit_load_guide(uint d, uint j) { return 0u; }
 #ifndef VPLKIT_DISTRIBUTION_DISCRETE_CDF_GLSL
 #define VPLKIT_DISTRIBUTION_DISCRETE_CDF_GLSL
 

@@ -1,0 +1,149 @@
+// vplkit GLSL pack: gathering-based global (GBG) CDF weights (paper 5.3 and Alg. 2, DESIGN 3.4);
+// mirrors include/vplkit/builders/gbg_cdf.hpp (T = float). The kernels gbg_accumulate.comp (one
+// invocation per gather point) and gbg_finish.comp (one per texel: normalise, fill holes) run it.
+//
+// Per valid gather point x (pixel p) and direction j, exactly as the C++:
+//   rng = vplkit_make_counter_rng(seed, p), direction j consumes counters 2j and 2j + 1;
+//   local = vplkit_sample_cosine_hemisphere(vec2(u0, u1)); skipped untraced when local.z <= 0;
+//   hit = tracer(x, n_x, to_world(frame, local)); (texel, lit) = vplkit_dprsm_lookup(view, hit, tol);
+//   if lit and the texel carries a VPL: acc[texel] += vplkit_gbg_hit_value(...)
+// then w_t = acc[t] / (|G| n_dirs), |G| = number of valid gather points.
+//
+//   gbg_accumulator::paper / gathering <-> vplkit_gbg_accumulator_paper / _gathering
+//   gbg_params<float>                  <-> vplkit_gbg_params (fill_holes: gbg_finish.comp's flag)
+//   gbg_hit_value, gbg_direction       <-> vplkit_gbg_hit_value, vplkit_gbg_direction
+//   gbg_accumulate_gather_point        <-> vplkit_gbg_accumulate_gather_point (the C++ `double*
+//                                          acc` becomes the hook vplkit_store_gbg_hit; the tracer a
+//                                          vplkit_voxel_tracer, estimators/visibility_callables.glsl)
+//
+// HOOK (the including shader defines it): void vplkit_store_gbg_hit(int texel, float value);
+//   called once per lit hit with the value to add to texel's accumulator. gbg_accumulate.comp
+//   adds it in 64-bit fixed point with 32-bit atomics (below).
+// ACCESSORS used: vplkit_load_dprsm_position / _normal / _albedo (vpl/dprsm_view.glsl) and
+//   vplkit_load_voxel_word (visibility/voxel_grid.glsl).
+//
+// FIXED-POINT ACCUMULATION (float atomics are not portable: core GLSL has none; NVIDIA and Mesa
+// offer GL_NV_shader_atomic_float / GL_EXT_shader_atomic_float unevenly, and a float atomic sum
+// depends on the order of the adds). A value v >= 0 becomes
+//     units = roundEven(min(v * scale, max_units))      (an integer below 2^64, as (lo, hi) uints)
+// and the two words are added with atomicAdd, the carry of the low word detected from the value
+// atomicAdd returns. The per-texel sum of units is exact, independent of the order of the adds,
+// and identical on every device. With a power-of-two scale S and max_units Q:
+//   resolution: 1/S per hit (rounding error <= 0.5/S per hit, 0 for v * S >= 2^24, where
+//               v * S is already an integer in float); relative to a texel's weight:
+//               <= 0.5 / (S * mean value of its hits).
+//   saturation: a hit with v * S > Q adds only Q units (a bias; counted by the kernel, so the host
+//               can see it). Choose S from a bound of the per-hit value, v_bound:
+//               S = 2^floor(log2(Q / v_bound)), then no hit saturates.
+//   overflow:   none while (hits of one texel) * Q < 2^64. With H = an upper bound of the hits of
+//               one texel (the number of rays, |G| n_dirs), Q = 2^(63 - ceil(log2 H)) keeps every
+//               sum below 2^63. Example: 2^21 gather points x 64 directions: H = 2^27,
+//               Q = 2^36, resolution v_bound * 2^-36 or finer.
+//   read-out:   vplkit_gbg_fixed_to_float(lo, hi) = float(hi) * 2^32 + float(lo), within
+//               1.5 float ulps of the exact integer (one rounding per term and the sum).
+// v_bound for the gathering accumulator: luminance(rho_x rho_t I_s cos(alpha) / (pi d1^2)) <=
+// luminance(I_s) / (pi d1_min^2) (albedos <= 1), d1_min = the smallest |y_t - c| over the texels
+// minus depth_tolerance; for the paper accumulator: luminance(I_s) Omega_max / (pi^2 max(d2,
+// dmin)^2) with Omega_max = 4 (2/R)^2, unbounded for dmin = 0 (then pick a bound from the scene
+// and accept the saturation count).
+#ifndef VPLKIT_BUILDERS_GBG_CDF_GLSL
+#define VPLKIT_BUILDERS_GBG_CDF_GLSL
+
+#include "vplkit/builders/global_cdf.glsl"
+#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/sampling/cosine_hemisphere.glsl"
+#include "vplkit/sampling/orthonormal_basis.glsl"
+#include "vplkit/sampling/rng.glsl"
+#include "vplkit/vpl/dprsm_lookup.glsl"
+#include "vplkit/vpl/dprsm_view.glsl"
+#include "vplkit/vpl/luminance.glsl"
+#include "vplkit/vpl/vpl.glsl"
+
+// C++ enum class gbg_accumulator { paper, gathering }.
+const int vplkit_gbg_accumulator_paper = 0;      // luminance of the VPL's contribution to x (eq. 5)
+const int vplkit_gbg_accumulator_gathering = 1;  // luminance of the gathering estimator's rho_x L_o(y)
+
+struct vplkit_gbg_params {
+  int n_dirs;             // NBDIR, >= 1 (validated by the host)
+  float dmin;             // VPL distance clamp of the paper accumulator
+  float depth_tolerance;  // of vplkit_dprsm_lookup (add vplkit_voxel_tracer_depth_tolerance)
+  uint seed;              // streams are pixel indices
+  int accumulator;
+  bool fill_holes;        // gbg_finish.comp: run the hole-aware median fill
+};
+
+void vplkit_store_gbg_hit(int texel, float value);
+
+// Value accumulated for one lit hit.
+float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, int texel, vec3 hit_position, float dmin,
+                           int accumulator) {
+  if (accumulator == vplkit_gbg_accumulator_paper)
+    return vplkit_luminance(vplkit_vpl_contribution(g.position, g.normal, g.albedo, vplkit_dprsm_view_vpl_at(view, texel), dmin));
+  vec3 n_t = vplkit_load_dprsm_normal(texel);
+  // One-sided emission, as in the gathering estimator.
+  if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(g.position - hit_position)) > 0.0)) return 0.0;
+  vec3 lo = vplkit_reflected_radiance(view.light.position, view.light.intensity, hit_position, n_t,
+                                      vplkit_load_dprsm_albedo(texel));
+  return vplkit_luminance(g.albedo * lo);
+}
+
+// Direction j of gather point `pixel` (the counter is set explicitly: any order, one thread each).
+vec3 vplkit_gbg_direction(vec3 n_x, int pixel, int j, uint seed) {
+  vplkit_counter_rng rng = vplkit_make_counter_rng(seed, uint(pixel));
+  rng.counter = 2u * uint(j);
+  float u0 = vplkit_rng_next_unit(rng);
+  float u1 = vplkit_rng_next_unit(rng);
+  return vplkit_to_world(vplkit_make_orthonormal_basis(n_x), vplkit_sample_cosine_hemisphere(vec2(u0, u1)));
+}
+
+// Directions dir_begin .. dir_end - 1 of one valid gather point (the C++ runs 0 .. n_dirs - 1;
+// the range lets a host split the rays over several dispatches, see gbg_accumulate.comp). Calls
+// vplkit_store_gbg_hit once per lit hit; returns (hits, lit hits) as the C++ stats count them.
+ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplkit_dprsm_view view,
+                                         vplkit_voxel_tracer tracer, vplkit_gbg_params params, int dir_begin,
+                                         int dir_end) {
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(g.normal);
+  vplkit_counter_rng rng = vplkit_make_counter_rng(params.seed, uint(pixel));
+  rng.counter = 2u * uint(dir_begin);
+  int hits = 0, lit = 0;
+  for (int j = dir_begin; j < dir_end; ++j) {
+    float u0 = vplkit_rng_next_unit(rng);
+    float u1 = vplkit_rng_next_unit(rng);
+    vec3 local = vplkit_sample_cosine_hemisphere(vec2(u0, u1));
+    if (!(local.z > 0.0)) continue;  // on the horizon p1 = 0: no contribution, no trace
+    vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, g.position, g.normal, vplkit_to_world(frame, local));
+    if (!h.hit) continue;
+    ++hits;
+    vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, params.depth_tolerance);
+    if (!r.lit || !vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) continue;
+    ++lit;
+    vplkit_store_gbg_hit(r.texel, vplkit_gbg_hit_value(g, view, r.texel, h.position, params.dmin, params.accumulator));
+  }
+  return ivec2(hits, lit);
+}
+
+// ---- 64-bit fixed point (see the header) --------------------------------------------------------
+
+// Units of one value as (lo, hi): roundEven(min(v * scale, max_units)); 0 for v <= 0 or NaN.
+// max_units <= 2^63.
+uvec2 vplkit_gbg_fixed_units(float value, float scale, float max_units) {
+  if (!(value > 0.0) || (floatBitsToUint(value) & 0x7FFFFFFFu) > 0x7F800000u) return uvec2(0u);
+  float q = roundEven(min(value * scale, max_units));
+  float hi = floor(q * 2.3283064365386962890625e-10);  // q / 2^32, exact
+  float lo = q - hi * 4294967296.0;                     // exact: the multiples of q's ulp below 2^32
+  return uvec2(uint(lo), uint(hi));
+}
+
+// Does the value saturate (v * scale > max_units)?
+bool vplkit_gbg_fixed_saturates(float value, float scale, float max_units) {
+  return value * scale > max_units;
+}
+
+// The accumulated integer hi * 2^32 + lo as a float (within 1.5 ulps).
+float vplkit_gbg_fixed_to_float(uint lo, uint hi) {
+  return float(hi) * 4294967296.0 + float(lo);
+}
+
+#endif  // VPLKIT_BUILDERS_GBG_CDF_GLSL

@@ -1,0 +1,51 @@
+// cdf_build.comp at 2^24 and more weights (DESIGN 7: "2^24+ equal weights"), label `slow`: the
+// block offsets and prefix maxima then span several chunks of passes 2 and 4 with the default
+// block size (2^24 / 1024 = 16384 blocks, 17 chunks), and a float CDF can no longer resolve every
+// step (n > 2^24). Same checks and bounds as parity_distribution_build_test.cpp.
+#include <parity_distribution_support.hpp>
+
+#include <vplkit/distribution/discrete_cdf.hpp>
+
+#include <vector>
+
+namespace {
+
+using namespace vplkit::parity::dist;
+using vplkit::parity::show;
+using vplkit::parity::ulp_distance;
+
+void check_large(const std::string& name, const std::vector<float>& w, bool float_float) {
+  const u32 n = u32(w.size());
+  build_options o;
+  o.float_float = float_float;
+  const build_result g = gpu_build(w, n, 1, o);
+  const vplkit::discrete_cdf<float> c(w);
+  INFO(name << " (" << o.text() << "), n = " << n);
+  CHECK(check_invariants(g.cdf.data(), g.guide.data(), w.data(), n, c.empty()) == "");
+  CHECK(ulp_distance(g.info[0].total, c.total()) <= 1.0);
+  const cdf_difference d = compare_cdfs(g.cdf.data(), c.cdf().data(), n);
+  CHECK(d.max_ulps <= 1.0);
+  CHECK(d.differing <= 64);
+  CHECK(d.disagreement <= 64 * 0x1p-24);
+  if (d.differing == 0) CHECK(g.guide == c.guide());
+  std::size_t zero_width = 0;
+  for (u32 i = 0; i < n; ++i) zero_width += g.cdf[i + 1] == g.cdf[i] ? 1 : 0;
+  std::cout << "cdf_build " << name << ", n = " << n << " (" << o.text() << "): " << g.ms
+            << " ms\n  gpu vs C++ build: " << describe(d) << "\n  zero-width bins (float CDF "
+            << "limit, same in C++): " << zero_width << "\n  total gpu " << show(g.info[0].total)
+            << ", C++ " << show(c.total()) << std::endl;
+}
+
+}  // namespace
+
+TEST_CASE("cdf_build.comp: 2^24 + 1 equal weights with both accumulators") {
+  const std::vector<float> w((1u << 24) + 1u, 1.0f);
+  check_large("2^24 + 1 equal weights", w, false);
+  check_large("2^24 + 1 equal weights", w, true);
+}
+
+TEST_CASE("cdf_build.comp: 2^24 + 12345 weights with zero runs with both accumulators") {
+  const std::vector<float> w = zero_run_weights((1u << 24) + 12345u, 100000, 70);
+  check_large("2^24 + 12345 zero-run weights", w, false);
+  check_large("2^24 + 12345 zero-run weights", w, true);
+}
