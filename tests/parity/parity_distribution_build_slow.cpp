@@ -30,10 +30,15 @@ void check_large(const std::string& name, const std::vector<float>& w, bool floa
   if (d.differing == 0) CHECK(g.guide == c.guide());
   std::size_t zero_width = 0;
   for (u32 i = 0; i < n; ++i) zero_width += g.cdf[i + 1] == g.cdf[i] ? 1 : 0;
+  const std::vector<float> ref = near_exact_cdf(w.data(), n);
   std::cout << "cdf_build " << name << ", n = " << n << " (" << o.text() << "): " << g.ms
-            << " ms\n  gpu vs C++ build: " << describe(d) << "\n  zero-width bins (float CDF "
-            << "limit, same in C++): " << zero_width << "\n  total gpu " << show(g.info[0].total)
-            << ", C++ " << show(c.total()) << std::endl;
+            << " ms\n  gpu vs C++ build:        " << describe(d)
+            << "\n  gpu vs near-exact:       " << describe(compare_cdfs(g.cdf.data(), ref.data(), n))
+            << "\n  C++ build vs near-exact: "
+            << describe(compare_cdfs(c.cdf().data(), ref.data(), n))
+            << "\n  zero-width bins (float CDF limit, same in C++): " << zero_width
+            << "\n  total gpu " << show(g.info[0].total) << ", C++ " << show(c.total())
+            << std::endl;
 }
 
 }  // namespace

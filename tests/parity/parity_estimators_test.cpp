@@ -19,6 +19,7 @@
 // bounded. Everywhere else the estimates must agree within the relative bounds stated at each
 // check (measured worst differences in docs/glsl/estimators.md).
 #include "parity_estimators_support.hpp"
+#include "parity_sampling_mis_support.hpp"
 
 #include <vplkit/builders/defensive.hpp>
 #include <vplkit/builders/global_cdf.hpp>
@@ -700,6 +701,15 @@ TEST_CASE("estimate_vpl_sampling: every distribution kind, voxel visibility, sam
         std::size_t rf = 0, pf = 0;
         const auto flipped = flipped_points(r, pts, 0.0f, 1, &rf, &pf);
         const std::string what = "vpl_sampling [" + cases[d].name + "] N " + std::to_string(n) + " dmin " + show(dmin);
+        if (cases[d].name.find("denormal") != std::string::npos &&
+            vplkit::parity::sampmis::device_flushes_denormals()) {
+          // A device that flushes denormals reads the pmf 1e-40 as 0: the draw adds 0 there.
+          std::size_t nonzero = 0;
+          for (const auto& v : e.gpu) nonzero += (v.x != 0 || v.y != 0 || v.z != 0) ? 1 : 0;
+          std::cout << "  " << what << ": the device flushes denormals, every estimate must be 0\n";
+          CHECK(nonzero == 0);
+          continue;
+        }
         // Per sample: the VPL model's float error (a few ulp; parity_vpl_test) over the exact pmf
         // (same stored floats), one division; the mean of 16 adds rounding in the same order on
         // both sides. Measured worst: see docs/glsl/estimators.md; bound 2e-6.
@@ -979,7 +989,7 @@ TEST_CASE("estimators: zero intensity gives exactly +0; user visibility / tracer
           v = vplkit::estimate_mis(pts[i].gp, view, c0, rng, 8, 8, tracer, vis, q.fp.y,
                                    r.mode == 0 ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published);
         for (int k = 0; k < 3; ++k) {
-          g.push_back(bits_of((&gpu[i].value.x)[k]));
+          g.push_back(bits_of(v3f(gpu[i].value.x, gpu[i].value.y, gpu[i].value.z)[k]));
           c.push_back(bits_of(v[k]));
         }
         g.push_back(gpu[i].counter);

@@ -21,6 +21,9 @@
 //   adds it in 64-bit fixed point with 32-bit atomics (below).
 // ACCESSORS used: vplkit_load_dprsm_position / _normal / _albedo (vpl/dprsm_view.glsl) and
 //   vplkit_load_voxel_word (visibility/voxel_grid.glsl).
+// Mesa (22.3, measured) wants a definition of every accessor and hook referenced anywhere in the
+// shader, called or not: a shader that includes this file only for the fixed-point helpers still
+// defines the hook (empty) and the accessors (gbg_finish.comp does).
 //
 // FIXED-POINT ACCUMULATION (float atomics are not portable: core GLSL has none; NVIDIA and Mesa
 // offer GL_NV_shader_atomic_float / GL_EXT_shader_atomic_float unevenly, and a float atomic sum
@@ -49,7 +52,6 @@
 #ifndef VPLKIT_BUILDERS_GBG_CDF_GLSL
 #define VPLKIT_BUILDERS_GBG_CDF_GLSL
 
-#include "vplkit/builders/global_cdf.glsl"
 #include "vplkit/estimators/gather_point.glsl"
 #include "vplkit/estimators/visibility_callables.glsl"
 #include "vplkit/paraboloid/unit_or_zero.glsl"
@@ -75,6 +77,18 @@ struct vplkit_gbg_params {
 };
 
 void vplkit_store_gbg_hit(int texel, float value);
+
+// A VPL is present where its flux is positive in some channel: the one test every builder uses for
+// "this texel carries a VPL". Defined in global_cdf.glsl (as in C++) and gbg_cdf.glsl under one
+// guard, so that gbg_cdf.glsl need not include global_cdf.glsl, whose
+// vplkit_global_weight_texel references the subset accessor (Mesa wants a definition for every
+// referenced accessor, called or not).
+#ifndef VPLKIT_BUILDERS_VPL_HAS_FLUX
+#define VPLKIT_BUILDERS_VPL_HAS_FLUX
+bool vplkit_vpl_has_flux(vplkit_vpl v) {
+  return v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0;
+}
+#endif
 
 // Value accumulated for one lit hit.
 float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, int texel, vec3 hit_position, float dmin,

@@ -27,7 +27,6 @@
 // float difference of the hit values themselves (docs/glsl/builders.md). No valid gather point
 // (|G| = 0) gives all zeros.
 #include "vplkit/builders/gbg_cdf.glsl"
-#include "vplkit/builders/global_cdf.glsl"
 #include "vplkit/image/median_fill.glsl"
 #include "vplkit/paraboloid/texel_grid.glsl"
 
@@ -78,6 +77,10 @@ layout(std140, binding = VPLKIT_GBG_FINISH_BINDING_PARAMS) uniform vplkit_gbg_fi
 vec3 vplkit_load_dprsm_position(int texel) { return vplkit_gbg_finish_dprsm[3 * texel].xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vplkit_gbg_finish_dprsm[3 * texel + 1].xyz; }
 vec3 vplkit_load_dprsm_albedo(int texel) { return vplkit_gbg_finish_dprsm[3 * texel + 2].xyz; }
+// Referenced by gbg_cdf.glsl's accumulation loop, not called here (Mesa wants them defined).
+void vplkit_store_gbg_hit(int texel, float value) {}
+uint vplkit_load_voxel_word(uint word_index) { return 0u; }
+
 // w_t before the fill (C++ gbg_finish).
 float vplkit_gbg_finish_raw(int texel) {
   uint gather_points = vplkit_gbg_finish_stats[0];

@@ -31,8 +31,9 @@ struct vplkit_defensive_mixture {
 // The C++ constructor's choice of the effective eps, for distributions known only on the GPU (say
 // built by cdf_build.comp), with the reciprocals of the requested eps supplied by the host:
 // eps_scale = float(1.0 / double(eps)) and one_minus_eps_scale = float(1.0 / double(1.0f - eps))
-// (the C++ reciprocal_or_zero of eps and of the float 1 - eps; 0 where eps is 0 or 1). With those,
-// the result is field for field the C++ object's. eps in [0, 1]: validation is the host's job.
+// (the C++ reciprocal_or_zero of eps and of the float 1 - eps; used only when the effective eps
+// is strictly between 0 and 1). With those, the result is field for field the C++ object's.
+// eps in [0, 1]: validation is the host's job.
 vplkit_defensive_mixture vplkit_make_defensive_mixture(vplkit_discrete_cdf learned,
                                                        vplkit_discrete_cdf fallback, float eps,
                                                        float eps_scale,

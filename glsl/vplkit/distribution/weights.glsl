@@ -25,8 +25,9 @@ float vplkit_discrete_clamp_u(float u) {
 // both are > 0: a product that underflows to 0 would turn a valid sample into a division by zero.
 // C++ detail::probability_product<float>. `precise`: the product must not be fused into the sum
 // that follows it (defensive_mixture_pmf), or the pmf would differ from the C++ in the last bit.
-// A device that flushes denormals returns 0 here where the C++ returns 2^-149 (llvmpipe keeps
-// them); only products below 2^-126 are concerned.
+// On a device that flushes denormals the product is already 0 where the C++ has a denormal, and
+// the 2^-149 returned here becomes 0 in the next arithmetic (llvmpipe keeps denormals); only
+// products below 2^-126 are concerned.
 float vplkit_probability_product(float a, float b) {
   precise float p = a * b;
   return (p == 0.0 && a > 0.0 && b > 0.0) ? uintBitsToFloat(1u) : p;

@@ -5,13 +5,15 @@
 //                                                     means background)
 //   gather_point_valid(g)                          <-> vplkit_gather_point_valid(g)
 //   gbuffer_view<float>{width, height, arrays}     <-> vplkit_gbuffer_view{width, height} + accessor
-//   view.at(index)                                 <-> vplkit_load_gather_point(index)
+//   view.at(index), view.at(x, y)                  <-> vplkit_load_gather_point(index),
+//                                                      vplkit_load_gather_point(y * width + x)
 //   ray_hit<float>{hit, position}                  <-> vplkit_ray_hit
 // gbuffer_view::validate() is host-side (it throws): upload only validated G-buffers.
 //
-// ACCESSOR (the including shader defines it only if it calls a function that reads the G-buffer,
-// e.g. the builder kernels and vplkit_gbuffer_view_at; the estimators take one gather point by
-// value and never call it):
+// ACCESSOR, declared here and referenced only by builders/gather_subset.glsl (the estimators take
+// one gather point by value). Mesa (22.3, measured) wants a definition for every function
+// referenced anywhere in the shader, called or not, so a shader defines it exactly when it
+// includes a file that references it:
 //   vplkit_gather_point vplkit_load_gather_point(int pixel);
 //     the G-buffer entry of flat pixel index pixel = y * width + x (row-major), e.g. from three
 //     vec4 SSBOs (std430: a vec3 array element has a 16-byte stride).
@@ -59,11 +61,6 @@ bool vplkit_gather_point_valid(vplkit_gather_point g) {
 
 int vplkit_gbuffer_view_pixel_count(vplkit_gbuffer_view v) {
   return v.width * v.height;
-}
-
-// view.at(x, y) (the flat-index form view.at(i) is vplkit_load_gather_point(i) itself).
-vplkit_gather_point vplkit_gbuffer_view_at(vplkit_gbuffer_view v, int x, int y) {
-  return vplkit_load_gather_point(y * v.width + x);
 }
 
 #endif  // VPLKIT_ESTIMATORS_GATHER_POINT_GLSL

@@ -1,0 +1,688 @@
+// CPU/GPU parity of the builder kernels glsl/vplkit/builders/*.comp (and their include files) with
+// include/vplkit/builders/*.hpp (T = float) on the synthetic scene of tests/support/
+// synthetic_scene.hpp: DPRSM R = 32, 32^3 voxel grid, a 24 x 24 G-buffer (with a band of background
+// pixels), the voxel tracer on both sides.
+//
+//  - gather_subset.comp: the stratified subsets, whole image and 2 x 2 regions: EXACT pixel indices
+//    (integer arithmetic, one correctly rounded float product, the bit-exact counter_rng).
+//  - global_weights.comp: global and local weights against build_global_weights /
+//    build_local_weights within a relative bound (float sums in the same order; per-term float
+//    error of the VPL model), exact zeros on texels without a VPL.
+//  - gbg_accumulate.comp + gbg_finish.comp against build_gbg_weights, both accumulators, fill on
+//    and off. Three layers:
+//      1. every ray replayed on the GPU (the include functions, one invocation per ray) against the
+//         C++ per-ray decisions: texel and lit EXACT except where the direction's sin/cos (a few
+//         ulp off on the GPU) flips a voxel, a texel, the depth test or the back-face sign near a
+//         tie -- those rays are counted and bounded; hit values within a relative bound;
+//      2. the kernel's 64-bit fixed-point sums EXACTLY equal the host's integer sum of the replayed
+//         GPU values' units (the atomics and the carry are exact and order-independent), also
+//         with carries forced (units above 2^32), saturation (counted exactly), and the rays split
+//         over two dispatches;
+//      3. the finished (and filled) weights against the C++ within the stated fixed-point
+//         precision plus the per-hit float bound, texels touched by a flipped ray (and, with the
+//         fill, their 3 x 3 neighbourhood) excluded and counted; stats equal the C++ gbg_stats.
+#include "parity_estimators_support.hpp"
+
+#include <vplkit/builders/gather_subset.hpp>
+#include <vplkit/builders/gbg_cdf.hpp>
+#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/estimators/visibility_callables.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/vpl/luminance.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace vplkit::parity::est;
+using vplkit::parity::compare_exact;
+using vplkit::parity::compare_floats;
+using vplkit::parity::input;
+using vplkit::parity::show;
+using vplkit::parity::within_abs;
+using vplkit::parity::within_rel;
+
+struct fixture_t {
+  scene_fixture s{32, 32, 24, 24};
+  fixture_t() {
+    // Background pixels: a band of rows 3..5 and a block of columns, so that strata retry and drop.
+    for (int y = 3; y < 6; ++y)
+      for (int x = 0; x < 24; ++x) s.gbuffer.normal[std::size_t(y * 24 + x)] = v3f(0);
+    for (int y = 12; y < 24; ++y)
+      for (int x = 0; x < 5; ++x) s.gbuffer.normal[std::size_t(y * 24 + x)] = v3f(0);
+  }
+};
+
+const fixture_t& fx() {
+  static const fixture_t* f = new fixture_t();
+  return *f;
+}
+
+// ---- kernel files, buffers, uniform blocks -----------------------------------------------------
+const vplkit::gl::program& kernel_program(const std::string& file, const std::string& defines = "") {
+  vplkit::parity::context();
+  static auto* cache = new std::map<std::string, vplkit::gl::program>();  // lives with the context
+  const std::string key = file + '\x01' + defines;
+  auto it = cache->find(key);
+  if (it == cache->end())
+    it = cache
+             ->emplace(key, vplkit::gl::program::compute_with_includes(
+                                "#version 430\n#include \"" + file + "\"\n", file,
+                                {vplkit::gl::glsl_source_dir()}, defines))
+             .first;
+  return it->second;
+}
+
+void bind_uniform(const vplkit::gl::buffer& b, GLuint binding) {
+  glBindBufferBase(GL_UNIFORM_BUFFER, binding, b.id());
+  vplkit::gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
+}
+
+std::vector<float4> surfels(const std::vector<v3f>& p, const std::vector<v3f>& n, const std::vector<v3f>& a) {
+  std::vector<float4> out;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    out.push_back(f4(p[i]));
+    out.push_back(f4(n[i]));
+    out.push_back(f4(a[i]));
+  }
+  return out;
+}
+
+std::vector<float4> gbuffer_surfels(const vplkit_test::gbuffer_data<float>& g) {
+  return surfels(g.position, g.normal, g.albedo);
+}
+std::vector<float4> dprsm_surfels(const vplkit_test::dprsm_data<float>& d) {
+  return surfels(d.position, d.normal, d.albedo);
+}
+
+struct light_block {  // the first five vec4 of every builder kernel's uniform block
+  float4 position, intensity, axis_x, axis_y, axis_z;
+};
+light_block light_of(const vplkit_test::dprsm_data<float>& d) {
+  const auto& L = d.light;
+  return {f4(L.position), f4(L.intensity), f4(L.frame.axis_x), f4(L.frame.axis_y), f4(L.frame.axis_z)};
+}
+
+}  // namespace
+
+// =================================================================================================
+
+TEST_CASE("gather_subset.comp: the C++ stratified subsets, pixel for pixel") {
+  const auto& s = fx().s;
+  const auto gb = s.gbuffer.view();
+  const auto& prog = kernel_program("vplkit/builders/gather_subset.comp");
+  auto gbuf = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
+  struct params {
+    int4 rect, shape;
+    std::uint32_t seed, offset, attempts, out_offset;
+    int4 image;
+  };
+  struct run {
+    vplkit::pixel_rect rect;
+    int count;
+    std::uint32_t seed, offset;
+    int attempts;
+  };
+  std::vector<run> runs = {{vplkit::full_image_rect(gb), 64, 7u, 0u, 4}, {vplkit::full_image_rect(gb), 576, 9u, 0u, 4},
+                           {vplkit::full_image_rect(gb), 1000, 9u, 5u, 1}, {vplkit::pixel_rect{0, 12, 5, 12}, 20, 3u, 0u, 4},
+                           {vplkit::pixel_rect{3, 2, 7, 1}, 5, 3u, 0u, 2}};
+  const auto regions = vplkit::make_image_regions(gb, 2, 2);
+  for (int i = 0; i < regions.count(); ++i)
+    runs.push_back({regions.region_rect(i), 16, 11u, std::uint32_t(i) * 16u, 4});
+  std::size_t dropped_total = 0;
+  for (const run& r : runs) {
+    const auto shape = vplkit::gather_subset_grid(r.rect, r.count);
+    params p{{r.rect.x0, r.rect.y0, r.rect.width, r.rect.height},
+             {shape.count, shape.columns, shape.rows, shape.last_columns},
+             r.seed, r.offset, std::uint32_t(r.attempts), 3u,
+             {gb.width, gb.height, 0, 0}};
+    auto ub = vplkit::gl::buffer::from_vector(std::vector<params>{p});
+    auto out = vplkit::gl::buffer::filled(std::size_t(shape.count + 3) * 4, 0xFF);
+    gbuf.bind(0);
+    out.bind(1);
+    bind_uniform(ub, 0);
+    vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(shape.count), 64));
+    const auto gpu = out.read<std::int32_t>();
+    std::vector<std::int32_t> g(gpu.begin() + 3, gpu.end()), c;
+    for (int k = 0; k < shape.count; ++k)
+      c.push_back(vplkit::gather_subset_pick(gb, r.rect, shape, k, r.seed, r.offset, r.attempts));
+    // The C++ list is the same without the dropped strata.
+    std::vector<int> compact;
+    for (int v : c)
+      if (v >= 0) compact.push_back(v);
+    const std::size_t dropped = c.size() - compact.size();
+    dropped_total += dropped;
+    CHECK(compact == vplkit::stratified_gather_subset(gb, r.rect, r.count, r.seed, r.offset, r.attempts));
+    CHECK(gpu[0] == -1);  // untouched before out_offset
+    const std::string what = "gather_subset rect (" + std::to_string(r.rect.x0) + ", " + std::to_string(r.rect.y0) + ", " +
+                             std::to_string(r.rect.width) + " x " + std::to_string(r.rect.height) + ") count " +
+                             std::to_string(r.count) + " (" + std::to_string(dropped) + " dropped)";
+    VPLKIT_CHECK_PARITY(compare_exact(g, c, [](std::size_t k) { return "stratum " + std::to_string(k); }, what));
+  }
+  CHECK(dropped_total > 0);  // the background band made some strata drop: the -1 path ran
+}
+
+// ---- global / local weights ----------------------------------------------------------------------
+namespace {
+
+struct weights_params {
+  light_block light;
+  int4 sizes;  // R, N, pixel count
+  float4 reals;  // dmin
+};
+
+std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subsets, float dmin) {
+  const auto& s = fx().s;
+  const auto& prog = kernel_program("vplkit/builders/global_weights.comp");
+  std::vector<std::int32_t> flat;
+  std::vector<std::uint32_t> offsets = {0u};
+  for (const auto& sub : subsets) {
+    flat.insert(flat.end(), sub.begin(), sub.end());
+    offsets.push_back(std::uint32_t(flat.size()));
+  }
+  if (flat.empty()) flat.push_back(-1);
+  const int n = vplkit::texel_count(s.R);
+  const int N = int(subsets.size());
+  weights_params p{light_of(s.dprsm), {s.R, N, s.gbuffer.width * s.gbuffer.height, 0}, {dmin, 0, 0, 0}};
+  auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
+  auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
+  auto sb = vplkit::gl::buffer::from_vector(flat);
+  auto ob = vplkit::gl::buffer::from_vector(offsets);
+  auto wb = vplkit::gl::buffer::filled(std::size_t(N * n) * 4, 0xFF);
+  auto ub = vplkit::gl::buffer::from_vector(std::vector<weights_params>{p});
+  gb.bind(0);
+  dp.bind(1);
+  sb.bind(2);
+  ob.bind(3);
+  wb.bind(4);
+  bind_uniform(ub, 0);
+  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(n), 64), GLuint(N));
+  return wb.read<float>();
+}
+
+}  // namespace
+
+TEST_CASE("global_weights.comp: global and local weights against the C++ builders") {
+  const auto& s = fx().s;
+  const auto gb = s.gbuffer.view();
+  const auto view = s.view();
+  const int n = view.texel_count();
+  // Per texel: |S| terms luminance(vpl_contribution), each within a few ulps (FMA contraction,
+  // the GPU's normalisation; parity_vpl_test), summed in the same order: the relative error of a
+  // sum of positive terms is at most the largest term's. Measured worst: docs/glsl/builders.md;
+  // bound 2e-6.
+  const double rel = 2e-6;
+  for (float dmin : {0.05f, 0.0f}) {
+    // Global: a stratified subset, plus a hand-made one with background pixels, an index outside
+    // the image and a dropped-stratum marker (skipped and not counted on the GPU; the C++ skips the
+    // background entries; it would throw for the others, so they are left out there).
+    auto subset = vplkit::stratified_gather_subset(gb, vplkit::full_image_rect(gb), 64, 7u);
+    std::vector<int> odd = subset;
+    odd.insert(odd.begin() + 3, 3 * 24 + 4);  // background (row 3)
+    odd.push_back(13 * 24 + 1);               // background (column block)
+    std::vector<int> odd_gpu = odd;
+    odd_gpu.insert(odd_gpu.begin() + 7, -1);
+    odd_gpu.push_back(24 * 24 + 5);           // outside the image
+    const std::vector<std::vector<int>> cases_gpu = {subset, odd_gpu, {}, {3 * 24}};
+    const std::vector<std::vector<int>> cases_cpu = {subset, odd, {}, {3 * 24}};
+    const char* names[4] = {"stratified |S| = 64", "with background / -1 / outside entries", "empty subset",
+                            "all-background subset"};
+    for (std::size_t c = 0; c < cases_gpu.size(); ++c) {
+      const auto gpu = run_global_weights({cases_gpu[c]}, dmin);
+      const auto cpu = vplkit::build_global_weights(gb, cases_cpu[c], view, dmin);
+      std::vector<std::int32_t> gz, cz;
+      for (int t = 0; t < n; ++t) {
+        gz.push_back(gpu[std::size_t(t)] == 0.0f);
+        cz.push_back(cpu[std::size_t(t)] == 0.0f);
+      }
+      const std::string what = std::string("global weights [") + names[c] + "] dmin " + show(dmin);
+      VPLKIT_CHECK_PARITY(compare_exact(gz, cz, [](std::size_t t) { return "texel " + std::to_string(t); },
+                                        what + ": zero / non-zero"));
+      VPLKIT_CHECK_PARITY(compare_floats(gpu, cpu, within_rel(rel),
+                                         [](std::size_t t) { return "texel " + std::to_string(t); }, what));
+    }
+  }
+  // Local: 2 x 2 regions, the C++ subsets, region-major output.
+  {
+    const auto regions = vplkit::make_image_regions(gb, 2, 2);
+    const auto subsets = vplkit::local_gather_subsets(gb, regions, 16, 11u);
+    std::vector<float> cpu(std::size_t(4 * n));
+    int used[4];
+    vplkit::build_local_weights(gb, regions, subsets, view, 0.05f, cpu.data(), cpu.size(), used);
+    const auto gpu = run_global_weights(subsets, 0.05f);
+    std::cout << "  local subsets |S_i| = " << used[0] << ", " << used[1] << ", " << used[2] << ", " << used[3] << "\n";
+    VPLKIT_CHECK_PARITY(compare_floats(gpu, cpu, within_rel(rel),
+                                       [n](std::size_t t) {
+                                         return "region " + std::to_string(t / std::size_t(n)) + " texel " +
+                                                std::to_string(t % std::size_t(n));
+                                       },
+                                       "local weights 2 x 2, 16 per region"));
+  }
+}
+
+// ---- GBG ----------------------------------------------------------------------------------------
+namespace {
+
+struct gbg_block {
+  light_block light;
+  float4 grid_min, grid_max;
+  int4 grid_res;
+  int4 sizes;    // W, H, R, n_dirs
+  int4 options;  // accumulator, dir_begin, dir_end, count_gather_points
+  std::uint32_t seed, pad0, pad1, pad2;
+  float4 reals;  // dmin, depth_tolerance, offset_voxels
+  float4 fixed;  // scale, max_units
+};
+
+struct finish_block {
+  light_block light;
+  int4 sizes;    // R, n_dirs, fill
+  float4 fixed;  // 1 / scale
+};
+
+struct gbg_setup {
+  int n_dirs = 16;
+  float dmin = 0.05f;
+  float tol = 0.0f;
+  std::uint32_t seed = 21u;
+  int accumulator = 1;
+  float scale = 0.0f;
+  float max_units = 0.0f;
+};
+
+struct gbg_gpu_result {
+  std::vector<std::uint32_t> acc;    // (lo, hi) per texel
+  std::vector<std::uint32_t> stats;  // 8
+  std::vector<float> weights;
+};
+
+// Accumulate over the direction ranges, then finish.
+gbg_gpu_result run_gbg(const vplkit_test::gbuffer_data<float>& gbuf, const gbg_setup& st,
+                       const std::vector<std::pair<int, int>>& ranges, bool fill) {
+  const auto& s = fx().s;
+  const int n = vplkit::texel_count(s.R);
+  const auto& acc_prog = kernel_program("vplkit/builders/gbg_accumulate.comp");
+  const auto& fin_prog = kernel_program("vplkit/builders/gbg_finish.comp");
+  auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(gbuf));
+  auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
+  std::vector<std::uint32_t> words = s.grid.words();
+  auto vx = vplkit::gl::buffer::from_vector(words);
+  auto acc = vplkit::gl::buffer::filled(std::size_t(2 * n) * 4, 0);
+  auto stats = vplkit::gl::buffer::filled(8 * 4, 0);
+  auto weights = vplkit::gl::buffer::filled(std::size_t(n) * 4, 0xFF);
+  const vplkit::ivec3 r = s.grid.resolution();
+  bool first = true;
+  std::vector<vplkit::gl::buffer> keep;
+  for (const auto& range : ranges) {
+    gbg_block p{light_of(s.dprsm), f4(s.grid.bounds_min()), f4(s.grid.bounds_max()), {r.x, r.y, r.z, 0},
+                {gbuf.width, gbuf.height, s.R, st.n_dirs}, {st.accumulator, range.first, range.second, first ? 1 : 0},
+                st.seed, 0, 0, 0, {st.dmin, st.tol, 1.75f, 0}, {st.scale, st.max_units, 0, 0}};
+    first = false;
+    keep.push_back(vplkit::gl::buffer::from_vector(std::vector<gbg_block>{p}));
+    gb.bind(0);
+    dp.bind(1);
+    vx.bind(2);
+    acc.bind(3);
+    stats.bind(4);
+    bind_uniform(keep.back(), 0);
+    vplkit::gl::dispatch(acc_prog, vplkit::gl::groups_for(std::size_t(gbuf.width * gbuf.height), 64));
+  }
+  finish_block fp{light_of(s.dprsm), {s.R, st.n_dirs, fill ? 1 : 0, 0}, {1.0f / st.scale, 0, 0, 0}};
+  auto ub = vplkit::gl::buffer::from_vector(std::vector<finish_block>{fp});
+  acc.bind(0);
+  stats.bind(1);
+  dp.bind(2);
+  weights.bind(3);
+  bind_uniform(ub, 0);
+  const GLuint g = vplkit::gl::groups_for(std::size_t(s.R), 8);
+  vplkit::gl::dispatch(fin_prog, g, g, 2);
+  return {acc.read<std::uint32_t>(), stats.read<std::uint32_t>(), weights.read<float>()};
+}
+
+// One ray of the GBG loop: pixel, direction j.
+struct ray_out {
+  std::int32_t texel;  // -1: no hit / horizon; else the lookup's texel
+  std::uint32_t flags;  // 1: hit, 2: counted (lit and carries a VPL)
+  float value;
+  std::uint32_t pad;
+};
+
+std::vector<ray_out> gpu_rays(const vplkit_test::gbuffer_data<float>& gbuf, const gbg_setup& st) {
+  const std::string body = R"(
+#include "vplkit/builders/gbg_cdf.glsl"
+struct ray_out { int texel; uint flags; float value; uint pad; };
+layout(std430, binding = 1) writeonly buffer Out { ray_out result[]; };
+void vplkit_store_gbg_hit(int texel, float value) {}
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  int pixel = int(i) / ip.w, j = int(i) % ip.w;
+  vplkit_gather_point g = vplkit_load_gather_point(pixel);
+  ray_out o = ray_out(-1, 0u, 0.0, 0u);
+  if (vplkit_gather_point_valid(g)) {
+    // The body of vplkit_gbg_accumulate_gather_point for direction j.
+    vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), uint(pixel));
+    rng.counter = 2u * uint(j);
+    float u0 = vplkit_rng_next_unit(rng);
+    float u1 = vplkit_rng_next_unit(rng);
+    vec3 local = vplkit_sample_cosine_hemisphere(vec2(u0, u1));
+    if (local.z > 0.0) {
+      vplkit_ray_hit h = vplkit_voxel_tracer_trace(vplkit_make_voxel_tracer(load_grid()), g.position, g.normal,
+                                                   vplkit_to_world(vplkit_make_orthonormal_basis(g.normal), local));
+      if (h.hit) {
+        o.flags = 1u;
+        vplkit_dprsm_view view = load_view();
+        vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, fp.y);
+        o.texel = r.texel;
+        if (r.lit && vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) {
+          o.flags = 3u;
+          o.value = vplkit_gbg_hit_value(g, view, r.texel, h.position, fp.x, ip2.x);
+        }
+      }
+    }
+  }
+  result[i] = o;
+}
+)";
+  const auto& f = fx().s;
+  scene_params p = f.params();
+  p.ip.z = int(st.seed);
+  p.ip.w = st.n_dirs;
+  p.ip2.x = st.accumulator;
+  p.fp.x = st.dmin;
+  p.fp.y = st.tol;
+  vplkit::parity::kernel_call call;
+  call.name = "gbg_rays.comp";
+  call.source = std::string(scene_prelude) + body;
+  call.inputs = f.inputs();
+  for (auto& in : call.inputs)
+    if (in.binding == 8) in = input(8, gbuffer_surfels(gbuf));
+  call.inputs.push_back(input(5, std::vector<scene_params>{p}));
+  call.inputs.push_back(input(7, std::vector<float4>{{0, 0, 0, 0}}));
+  call.output_binding = 1;
+  return vplkit::parity::run_compute<ray_out>(call, std::size_t(gbuf.width * gbuf.height * st.n_dirs));
+}
+
+// The same rays in C++ (gbg_accumulate_gather_point's loop body, per direction).
+std::vector<ray_out> cpu_rays(const vplkit_test::gbuffer_data<float>& gbuf, const gbg_setup& st) {
+  const auto& s = fx().s;
+  const auto view = s.view();
+  const auto gb = gbuf.view();
+  const vplkit::voxel_tracer<float> tracer{s.grid.view()};
+  std::vector<ray_out> out;
+  for (int p = 0; p < gb.pixel_count(); ++p) {
+    const auto g = gb.at(p);
+    const auto frame = vplkit::make_orthonormal_basis(g.normal);
+    vplkit::counter_rng rng = vplkit::make_counter_rng(st.seed, std::uint32_t(p));
+    for (int j = 0; j < st.n_dirs; ++j) {
+      ray_out o{-1, 0u, 0.0f, 0u};
+      const float u0 = vplkit::rng_next_unit<float>(rng), u1 = vplkit::rng_next_unit<float>(rng);
+      if (vplkit::gather_point_valid(g)) {
+        const v3f local = vplkit::sample_cosine_hemisphere(vplkit::vec2<float>(u0, u1));
+        if (local.z > 0) {
+          const auto h = tracer(g.position, g.normal, vplkit::to_world(frame, local));
+          if (h.hit) {
+            o.flags = 1u;
+            const auto r = vplkit::dprsm_lookup(view, h.position, st.tol);
+            o.texel = r.texel;
+            if (r.lit && vplkit::vpl_has_flux(view.vpl_at(r.texel))) {
+              o.flags = 3u;
+              o.value = vplkit::gbg_hit_value(g, view, r.texel, h.position, st.dmin,
+                                              st.accumulator == 0 ? vplkit::gbg_accumulator::paper
+                                                                  : vplkit::gbg_accumulator::gathering);
+            }
+          }
+        }
+      }
+      out.push_back(o);
+    }
+  }
+  return out;
+}
+
+// The kernel's units for one value, on the host (vplkit_gbg_fixed_units: float arithmetic,
+// roundEven = nearbyint in the default rounding mode).
+std::uint64_t host_units(float v, float scale, float max_units) {
+  if (!(v > 0.0f)) return 0;
+  const float q = std::nearbyint(std::min(v * scale, max_units));
+  return std::uint64_t(double(q));
+}
+
+// Fixed-point parameters as gbg_cdf.glsl recommends: max_units = 2^(63 - ceil(log2 H)), H = |G| n_dirs,
+// scale = 2^floor(log2(max_units / v_bound)).
+void choose_fixed_point(gbg_setup& st, int gather_points) {
+  const auto& s = fx().s;
+  const double H = double(gather_points) * st.n_dirs;
+  st.max_units = float(std::ldexp(1.0, 63 - int(std::ceil(std::log2(H)))));
+  const double lum_i = double(vplkit::luminance(s.dprsm.light.intensity));
+  double v_bound;
+  if (st.accumulator == 1) {
+    double d1min = 1e30;
+    for (std::size_t t = 0; t < s.dprsm.position.size(); ++t)
+      if (s.dprsm.albedo[t] != v3f(0)) d1min = std::min(d1min, double(glm::length(s.dprsm.position[t] - s.dprsm.light.position)));
+    d1min = std::max(d1min - double(st.tol), 1e-3);
+    v_bound = lum_i / (3.141592653589793 * d1min * d1min);
+  } else {
+    const double omega_max = 4.0 * (2.0 / s.R) * (2.0 / s.R);
+    const double dm = std::max(double(st.dmin), 1e-3);
+    v_bound = lum_i * omega_max / (3.141592653589793 * 3.141592653589793 * dm * dm);
+  }
+  st.scale = float(std::ldexp(1.0, int(std::floor(std::log2(double(st.max_units) / v_bound)))));
+}
+
+int valid_points(const vplkit_test::gbuffer_data<float>& gbuf) {
+  int n = 0;
+  const auto gb = gbuf.view();
+  for (int p = 0; p < gb.pixel_count(); ++p) n += vplkit::gather_point_valid(gb.at(p)) ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights against build_gbg_weights") {
+  const auto& s = fx().s;
+  const auto view = s.view();
+  const int n = view.texel_count();
+  const auto gb = s.gbuffer.view();
+  const int G = valid_points(s.gbuffer);
+  const float tol = 0.2f + vplkit::voxel_tracer_depth_tolerance(s.grid.view());
+  for (int accumulator : {1, 0}) {
+    gbg_setup st;
+    st.accumulator = accumulator;
+    st.tol = tol;
+    choose_fixed_point(st, G);
+    const std::string acc_name = accumulator == 1 ? "gathering" : "paper";
+    std::cout << "GBG " << acc_name << ": |G| = " << G << ", " << st.n_dirs << " directions, scale 2^"
+              << std::log2(st.scale) << ", max_units 2^" << std::log2(st.max_units) << "\n";
+
+    // 1. Rays: GPU vs C++.
+    const auto gr = gpu_rays(s.gbuffer, st);
+    const auto cr = cpu_rays(s.gbuffer, st);
+    REQUIRE(gr.size() == cr.size());
+    std::set<int> flipped_texels;
+    std::size_t flips = 0, counted = 0;
+    std::vector<float> gv, cv;
+    for (std::size_t i = 0; i < gr.size(); ++i) {
+      if (gr[i].texel != cr[i].texel || gr[i].flags != cr[i].flags) {
+        ++flips;
+        if (gr[i].flags == 3u) flipped_texels.insert(gr[i].texel);
+        if (cr[i].flags == 3u) flipped_texels.insert(cr[i].texel);
+        continue;
+      }
+      if (cr[i].flags == 3u) {
+        ++counted;
+        gv.push_back(gr[i].value);
+        cv.push_back(cr[i].value);
+      }
+    }
+    std::cout << "  " << gr.size() << " rays, " << counted << " counted hits agree on texel and lit, " << flips
+              << " flipped (GPU sin/cos near a tie)\n";
+    CHECK(flips <= gr.size() / 200);  // <= 0.5 % of the rays (measured: docs/glsl/builders.md)
+    // Per hit: the accumulator's value at the voxel entry point, whose position carries the
+    // direction's sin/cos error; L_o ~ 1 / d1^2, vpl_contribution ~ 1 / d2^2 (a few ulps each).
+    // Measured worst: docs/glsl/builders.md; bound 5e-6.
+    VPLKIT_CHECK_PARITY(compare_floats(gv, cv, within_rel(5e-6), {}, "GBG " + acc_name + ": per-hit value"));
+
+    // 2. The fixed-point sums: exactly the host's integer sum of the GPU rays' units.
+    auto expected_acc = [&](const gbg_setup& q, std::size_t* saturated) {
+      std::vector<std::uint64_t> e(std::size_t(n), 0);
+      *saturated = 0;
+      for (const auto& r : gr) {
+        if (r.flags != 3u) continue;
+        e[std::size_t(r.texel)] += host_units(r.value, q.scale, q.max_units);
+        if (r.value * q.scale > q.max_units) ++*saturated;
+      }
+      std::vector<std::uint32_t> words;
+      for (std::uint64_t v : e) {
+        words.push_back(std::uint32_t(v & 0xFFFFFFFFu));
+        words.push_back(std::uint32_t(v >> 32));
+      }
+      return words;
+    };
+    std::size_t sat = 0;
+    const auto one = run_gbg(s.gbuffer, st, {{0, st.n_dirs}}, false);
+    VPLKIT_CHECK_PARITY(compare_exact(one.acc, expected_acc(st, &sat), {}, "GBG " + acc_name + ": fixed-point sums (lo, hi)"));
+    CHECK(one.stats[3] == sat);
+    CHECK(sat == 0);
+    const auto split = run_gbg(s.gbuffer, st, {{0, 5}, {5, 11}, {11, st.n_dirs}}, false);
+    VPLKIT_CHECK_PARITY(compare_exact(split.acc, one.acc, {}, "GBG " + acc_name + ": 3 direction ranges = 1 dispatch"));
+    {
+      // Carries: units of 2^33 and more per hit (the low word wraps on most adds).
+      std::vector<float> counted_values;
+      for (const auto& r : gr)
+        if (r.flags == 3u && r.value > 0) counted_values.push_back(r.value);
+      std::nth_element(counted_values.begin(), counted_values.begin() + std::ptrdiff_t(counted_values.size() / 2),
+                       counted_values.end());
+      const float median = counted_values[counted_values.size() / 2];
+      gbg_setup big = st;
+      big.scale = std::ldexp(1.0f, 34 - int(std::floor(std::log2(median))));  // the median hit: ~2^34 units
+      big.max_units = std::ldexp(1.0f, 52);
+      const auto r = run_gbg(s.gbuffer, big, {{0, big.n_dirs}}, false);
+      std::size_t sat_big = 0;
+      VPLKIT_CHECK_PARITY(compare_exact(r.acc, expected_acc(big, &sat_big), {}, "GBG " + acc_name + ": sums with carries"));
+      std::size_t high = 0;
+      for (std::size_t t = 0; t < r.acc.size(); t += 2) high += r.acc[t + 1] != 0 ? 1 : 0;
+      std::cout << "  carry test: " << high << " texels with a non-zero high word\n";
+      CHECK(high > 100);
+      CHECK(r.stats[3] == sat_big);
+      // Saturation: max_units below most values.
+      gbg_setup low = st;
+      low.max_units = std::ldexp(1.0f, 20);
+      low.scale = st.scale;
+      std::size_t sat_low = 0;
+      const auto expected = expected_acc(low, &sat_low);
+      const auto rl = run_gbg(s.gbuffer, low, {{0, low.n_dirs}}, false);
+      std::cout << "  saturation test: " << sat_low << " of " << counted << " hits saturate\n";
+      CHECK(sat_low > 0);
+      CHECK(rl.stats[3] == sat_low);
+      VPLKIT_CHECK_PARITY(compare_exact(rl.acc, expected, {}, "GBG " + acc_name + ": saturated sums"));
+    }
+
+    // 3. Weights and stats against build_gbg_weights.
+    for (bool fill : {false, true}) {
+      vplkit::gbg_params<float> params;
+      params.n_dirs = st.n_dirs;
+      params.dmin = st.dmin;
+      params.depth_tolerance = tol;
+      params.seed = st.seed;
+      params.accumulator = accumulator == 0 ? vplkit::gbg_accumulator::paper : vplkit::gbg_accumulator::gathering;
+      params.fill_holes = fill;
+      vplkit::gbg_stats cs;
+      const auto cpu = vplkit::build_gbg_weights(gb, view, vplkit::voxel_tracer<float>{s.grid.view()}, params, &cs);
+      const auto gpu = fill ? run_gbg(s.gbuffer, st, {{0, st.n_dirs}}, true) : one;
+      const std::string what = "GBG " + acc_name + (fill ? ", filled" : ", raw");
+      // Stats: exact unless a ray flipped.
+      std::vector<std::uint32_t> gstat = {gpu.stats[0], gpu.stats[1], gpu.stats[2], gpu.stats[4], gpu.stats[5]};
+      std::vector<std::uint32_t> cstat = {std::uint32_t(cs.gather_points), std::uint32_t(cs.hits), std::uint32_t(cs.lit_hits),
+                                          std::uint32_t(cs.reached_texels), std::uint32_t(cs.holes)};
+      if (fill) {
+        gstat.push_back(gpu.stats[6]);
+        cstat.push_back(std::uint32_t(cs.filled));
+      }
+      if (flips == 0) {
+        VPLKIT_CHECK_PARITY(compare_exact(gstat, cstat, {}, what + ": stats (|G|, hits, lit hits, reached, holes[, filled])"));
+      } else {
+        CHECK(gstat[0] == cstat[0]);
+      }
+      // Excluded texels: those a flipped ray counted in, and with the fill their 3 x 3 neighbours.
+      std::set<int> excluded = flipped_texels;
+      if (fill) {
+        for (int t : flipped_texels) {
+          const int R = s.R, face = t / (R * R), xy = t % (R * R), x = xy % R, y = xy / R;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+              if (x + dx >= 0 && x + dx < R && y + dy >= 0 && y + dy < R) excluded.insert(face * R * R + (y + dy) * R + x + dx);
+        }
+      }
+      // Per texel: |gpu - cpu| <= H_t 0.5 / scale / (|G| n_dirs) (quantisation) + 5e-6 |cpu| (the
+      // per-hit float bound above, plus the read-out and the division, 4 ulps). With the fill a
+      // filled texel is one neighbour's value: the same bound with that neighbour's H.
+      std::vector<int> hits(std::size_t(n), 0);
+      for (const auto& r : cr)
+        if (r.flags == 3u) ++hits[std::size_t(r.texel)];
+      int max_hits = *std::max_element(hits.begin(), hits.end());
+      std::vector<float> g, c;
+      std::vector<int> idx;
+      std::size_t zero_mismatch = 0;
+      double worst = 0;
+      int worst_t = -1;
+      for (int t = 0; t < n; ++t) {
+        if (excluded.count(t)) continue;
+        const double a = double(gpu.weights[std::size_t(t)]), b = double(cpu[std::size_t(t)]);
+        if ((a == 0) != (b == 0)) ++zero_mismatch;
+        const double h = fill ? max_hits : hits[std::size_t(t)];
+        const double bound = h * 0.5 / double(st.scale) / (double(G) * st.n_dirs) + 5e-6 * std::abs(b);
+        const double r = std::abs(a - b) / std::max(bound, 1e-300);
+        if (r > worst) {
+          worst = r;
+          worst_t = t;
+        }
+        g.push_back(float(a));
+        c.push_back(float(b));
+        idx.push_back(t);
+      }
+      std::cout << "  " << what << ": " << excluded.size() << " texels excluded (flipped rays), worst |diff| / bound "
+                << worst;
+      if (worst_t >= 0)
+        std::cout << " at texel " << worst_t << " gpu " << show(gpu.weights[std::size_t(worst_t)]) << " cpu "
+                  << show(cpu[std::size_t(worst_t)]) << " (" << hits[std::size_t(worst_t)] << " hits)";
+      std::cout << "\n";
+      VPLKIT_CHECK_PARITY(compare_floats(g, c, within_rel(5e-6) | within_abs(max_hits * 0.5 / double(st.scale) / (double(G) * st.n_dirs)),
+                                         [&](std::size_t k) { return "texel " + std::to_string(idx[k]); }, what + ": weights"));
+      CHECK(worst <= 1.0);
+      CHECK(zero_mismatch == 0);
+      CHECK(excluded.size() <= std::size_t(n) / 50);
+    }
+  }
+}
+
+TEST_CASE("GBG kernels: all-background G-buffer gives zero weights and stats, no NaN") {
+  const auto& s = fx().s;
+  vplkit_test::gbuffer_data<float> empty = s.gbuffer;
+  std::fill(empty.normal.begin(), empty.normal.end(), v3f(0));
+  gbg_setup st;
+  st.tol = 0.3f;
+  st.scale = 1024.0f;
+  st.max_units = std::ldexp(1.0f, 40);
+  const auto r = run_gbg(empty, st, {{0, st.n_dirs}}, true);
+  const int n = vplkit::texel_count(s.R);
+  std::vector<std::uint32_t> bits, zeros(std::size_t(n), 0u);
+  for (float w : r.weights) bits.push_back(bits_of(w));
+  VPLKIT_CHECK_PARITY(compare_exact(bits, zeros, {}, "GBG all background: weights are +0 (bits)"));
+  for (int k : {0, 1, 2, 3, 4, 6}) CHECK(r.stats[std::size_t(k)] == 0u);
+  // Every texel carrying a VPL is a hole that stays one.
+  vplkit::gbg_params<float> params;
+  params.depth_tolerance = 0.3f;
+  vplkit::gbg_stats cs;
+  vplkit::build_gbg_weights(empty.view(), s.view(), vplkit::voxel_tracer<float>{s.grid.view()}, params, &cs);
+  CHECK(r.stats[5] == std::uint32_t(cs.holes));
+}
+
