@@ -935,7 +935,7 @@ TEST_CASE("estimate_mis: solid_angle and as_published, voxel tracer and visibili
   }
 }
 
-TEST_CASE("estimators: zero intensity gives exactly +0; user visibility / tracer hooks") {
+TEST_CASE("estimators: zero intensity gives exactly +0, user visibility and tracer hooks") {
   const scene_fixture& f = fixture();
   const auto pts = gather_points(7);
   // Zero intensity: every estimator returns +0 exactly on both sides (no NaN from 0 * inf or

@@ -32,17 +32,15 @@ vplkit::gl::headless_context& pipeline_gl_context() {
   return *ctx;
 }
 
-pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_timer& timer, const progress_fn& progress) {
-  pipeline_result r;
+pipeline_buffers prepare_buffers(const options& o, const prepared_scene& p, stage_timer& timer, nlohmann::json& det) {
   const scene& s = p.s;
-  nlohmann::json& det = r.details;
 
   vplkit::gl::headless_context* gl = nullptr;
   {
     auto t = timer.scoped("gl context");
     gl = &pipeline_gl_context();
   }
-  r.gl_renderer = gl->describe();
+  std::string gl_renderer = gl->describe();
 
   gbuffer_data gbuf;
   dprsm_data dprsm;
@@ -84,21 +82,33 @@ pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_ti
                    {"bounds_min", {grid.bounds_min().x, grid.bounds_min().y, grid.bounds_min().z}},
                    {"bounds_max", {grid.bounds_max().x, grid.bounds_max().y, grid.bounds_max().z}},
                    {"builder", gpu_voxels ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
+  return pipeline_buffers{std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid)};
+}
 
-  const estimator_settings es = make_estimator_settings(o, s);
+cpu_render_result run_estimator(const options& o, const prepared_scene& p, const pipeline_buffers& b,
+                                stage_timer& timer, const progress_fn& progress, nlohmann::json& det) {
+  const estimator_settings es = make_estimator_settings(o, p.s);
   // --backend gpu: the estimator as a compute shader (gpu_backend.cpp) where this build has one;
   // --backend cpu, or a method without a kernel: the C++ templates (cpu_backend.cpp).
   const bool gpu_estimator = o.back == backend::gpu && gpu_estimator_available(es.meth);
+  cpu_render_result cr;
   try {
-    cpu_render_result cr = gpu_estimator ? render_gpu(gbuf, dprsm, grid.view(), es, timer, progress)
-                                         : render_cpu(gbuf, dprsm, grid.view(), es, timer, progress);
-    r.image = std::move(cr.image);
-    det["estimator"] = cr.details;
+    cr = gpu_estimator ? render_gpu(b.gbuf, b.dprsm, b.grid.view(), es, timer, progress)
+                       : render_cpu(b.gbuf, b.dprsm, b.grid.view(), es, timer, progress);
   } catch (const vplkit::invalid_input& e) {
     throw input_error(e.what());
   }
+  det["estimator"] = cr.details;
   det["estimator_backend"] = gpu_estimator ? "gpu" : "cpu";
   det["builders_backend"] = "cpu";
+  return cr;
+}
+
+pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_timer& timer, const progress_fn& progress) {
+  pipeline_result r;
+  const pipeline_buffers b = prepare_buffers(o, p, timer, r.details);
+  r.gl_renderer = b.gl_renderer;
+  r.image = std::move(run_estimator(o, p, b, timer, progress, r.details).image);
   return r;
 }
 

@@ -10,6 +10,8 @@
 
 #include <headless_gl/context.hpp>
 
+#include <vplkit/visibility/voxel_grid.hpp>
+
 #include <nlohmann/json.hpp>
 
 namespace vplrender {
@@ -23,6 +25,26 @@ struct pipeline_result {
 // The process's headless GL context (created on first call; the pipeline and the tests share it).
 // Throws vplkit::gl::gl_error listing every path tried when none works.
 vplkit::gl::headless_context& pipeline_gl_context();
+
+// "Prepare once, estimate many" (examples/speed_vs_error): the method-independent stages (GL
+// context, G-buffer, DPRSM, voxel grid) and the estimator of o.meth on top of them. run_pipeline is
+// exactly prepare_buffers followed by run_estimator.
+struct pipeline_buffers {
+  std::string gl_renderer;
+  gbuffer_data gbuf;
+  dprsm_data dprsm;
+  vplkit::voxel_grid<float> grid;
+};
+
+// Stages go to `timer`, facts to `det` (keys gbuffer, dprsm, voxels). Depends on o's scene, size,
+// dprsm, voxels and backend only. Throws vplkit::gl::gl_error when no GL context can be made.
+pipeline_buffers prepare_buffers(const options& o, const prepared_scene& p, stage_timer& timer, nlohmann::json& det);
+
+// The estimator of o.meth (its builders, CDFs and estimate stages go to `timer`; facts to `det`:
+// keys estimator, estimator_backend, builders_backend). `b` must come from prepare_buffers with
+// the same scene, size, dprsm, voxels and backend. Throws input_error for inputs it refuses.
+cpu_render_result run_estimator(const options& o, const prepared_scene& p, const pipeline_buffers& b,
+                                stage_timer& timer, const progress_fn& progress, nlohmann::json& det);
 
 // Throws input_error for inputs the pipeline refuses, vplkit::gl::gl_error when no GL context can
 // be made (the message lists every path tried).
