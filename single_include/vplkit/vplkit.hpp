@@ -1870,11 +1870,13 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 // - d2_squared == 0: x on the VPL; the small-patch Jacobian tends to 0 and so does p2: 0.
 // - patch_area == 0 (with the rest positive): the texel's probability sits in zero solid angle:
 //   +inf (balance weight 1 for the VPL strategy, balance_combined 0 for a gathering sample).
-// - patch_area infinite -> 0; d2_squared infinite -> +inf; NaN or negative geometry -> 0.
+// - patch_area infinite -> 0; d2_squared infinite -> +inf; NaN or negative geometry -> 0;
+//   cos_theta1 infinite (not a cosine) -> 0.
 template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
   const T inf = std::numeric_limits<T>::infinity();
   if (!(pmf > T(0)) || !(cos_theta1 > T(0)) || !(d2_squared > T(0))) return T(0);
-  if (!(patch_area >= T(0)) || patch_area == inf) return T(0);
+  // cos_theta1 = inf is no cosine; without this line an overflowing q gives inf / inf = NaN.
+  if (!(patch_area >= T(0)) || patch_area == inf || cos_theta1 == inf) return T(0);
   if (patch_area == T(0) || d2_squared == inf || pmf == inf) return inf;
   // pmf <= 1 <= 1/cos: the product only over- or underflows when the true density is itself
   // beyond the range of T. q in [0, inf], pmf finite > 0: no 0 * inf.
@@ -2888,9 +2890,9 @@ inline gather_subset_grid_shape gather_subset_grid(const pixel_rect& rect, int c
   if ((2 * c + 1) * (2 * c + 1) * h <= 4 * cw) ++c;
   int columns = int(c < 1 ? 1 : (c > rect.width ? rect.width : c));
   int rows = (g.count + columns - 1) / columns;
-  if (rows > rect.height) {  // very flat rectangles: give every row its share instead
-    rows = rect.height;
-    columns = (g.count + rows - 1) / rows;  // <= width because count <= width * height
+  if (rows > rect.height) {  // flat rectangles: as many columns as h rows need, then the rows
+    columns = (g.count + rect.height - 1) / rect.height;  // <= width: count <= width * height
+    rows = (g.count + columns - 1) / columns;             // <= height, and the last row non-empty
   }
   g.columns = columns;
   g.rows = rows;
