@@ -11,6 +11,7 @@
 #include "report.hpp"
 #include "scene_setup.hpp"
 #include "stage_timer.hpp"
+#include "window.hpp"
 
 #include <headless_gl/compute.hpp>
 
@@ -80,7 +81,9 @@ int main(int argc, char** argv) {
       std::cout << "estimator backend: cpu (C++ templates)\n";
     }
     std::cout << std::flush;
-    if (o.window) throw not_implemented_error("--window: the interactive window is not implemented yet in this build");
+    // The window opens before the render so that a missing display fails fast.
+    std::unique_ptr<window_session> win;
+    if (o.window) win = std::make_unique<window_session>(o, p);
 
     const bool show = progress_enabled(o.progress);
     std::unique_ptr<progress_bar> bar;
@@ -93,7 +96,7 @@ int main(int argc, char** argv) {
       }
       bar->update(done);
     };
-    pipeline_result res = run_pipeline(o, p, timer, progress);
+    pipeline_result res = win ? win->first_render(timer, progress) : run_pipeline(o, p, timer, progress);
     if (bar) bar->finish();
     bar.reset();
 
@@ -116,6 +119,10 @@ int main(int argc, char** argv) {
     for (const stage_time& st : run.stages) total += st.ms;
     std::cout << "wrote " << o.out << ", " << o.png_path() << ", " << o.json_path() << " (" << static_cast<long long>(total)
               << " ms)\n";
+    if (win) {
+      std::cout << std::flush;
+      win->run();
+    }
     return 0;
   } catch (const not_implemented_error& e) {
     std::cerr << "vplrender: error: " << e.what() << "\n";

@@ -253,13 +253,28 @@ TEST_CASE("the --window flag needs the GPU backend") {
   CHECK(error_of({"--window", "--backend", "cpu"}) == "--window: needs --backend gpu");
 }
 
+TEST_CASE("the --frames and --window-script flags go with --window and are checked") {
+  const options o = parse({"--window", "--frames", "5", "--window-script", "2,+,M,-,7,q"});
+  CHECK(o.frames == 5);
+  CHECK(o.window_script == std::vector<std::string>{"2", "+", "m", "-", "7", "q"});
+  CHECK(parse({"--window"}).frames == 0);
+  CHECK(parse({"--window"}).window_script.empty());
+  CHECK(error_of({"--frames", "5"}) == "--frames: needs --window");
+  CHECK(error_of({"--window-script", "1"}) == "--window-script: needs --window");
+  CHECK(error_of({"--window", "--frames", "0"}) == "--frames: value 0 is outside 1..1000000");
+  CHECK(error_of({"--window", "--window-script", "1,8"}) ==
+        "--window-script: unknown key action '8' (expected 1-7, m, +, -, q)");
+  CHECK(error_of({"--window", "--window-script", "1,,2"}) ==
+        "--window-script: unknown key action '' (expected 1-7, m, +, -, q)");
+}
+
 TEST_CASE("the --help flag returns the help text, which documents every flag") {
   const parse_result r = parse_command_line({"vplrender", "--help"});
   CHECK(r.what == parse_result::action::help);
   CHECK(r.help == help_text("vplrender"));
   for (const char* flag : {"--scene", "--method", "--backend", "--size", "--vpls", "--seed", "--out", "--regions",
                            "--dirs", "--eps", "--voxels", "--dprsm", "--camera", "--light", "--paper", "--direct",
-                           "--window", "--exposure", "--progress", "--help"}) {
+                           "--window", "--frames", "--window-script", "--exposure", "--progress", "--help"}) {
     INFO(flag);
     CHECK(r.help.find(flag) != std::string::npos);
   }

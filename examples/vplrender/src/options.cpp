@@ -38,7 +38,8 @@ namespace {
 std::string replace_extension(const std::string& out, const char* ext) { return out.substr(0, out.size() - 4) + ext; }
 
 struct raw_values {
-  std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress;
+  std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
+      window_script;
   bool paper = false, direct = false, window = false;
 };
 
@@ -112,7 +113,17 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_flag("--paper", v.paper, d("The paper's parameters: --size 512x512 --dprsm 512 --voxels 128 --vpls 800 "
                                    "--regions 4 --dirs 800. Flags given explicitly win."));
   app.add_flag("--direct", v.direct, d("Add direct lighting (default: one-bounce indirect only, as in the paper)."));
-  app.add_flag("--window", v.window, d("Also show the result in a window (GPU backend; needs a display)."));
+  app.add_flag("--window", v.window, d("Also show the result in an interactive window (GPU backend; needs a display). "
+                                     "Keys: 1-7 reference/global/local/gbg/gather/mis/mis-as-published, M next "
+                                     "method, + / - double / halve --vpls (and --dirs for gbg, gather, mis), "
+                                     "Esc or Q close. Each change re-renders; the title shows method, samples and "
+                                     "the last render time."));
+  app.add_option("--frames", v.frames, d("With --window: close after N frames (default 0: when closed by the user)."))
+      ->type_name("N");
+  app.add_option("--window-script", v.window_script,
+                 d("With --window: key actions injected one per frame from the second frame on, comma-separated "
+                   "(1-7, m, +, -, q); for tests."))
+      ->type_name("K1,K2,...");
   app.add_option("--exposure", v.exposure, d("Exposure multiplier for the PNG preview only (default 1; > 0)."))
       ->type_name("X");
   app.add_option("--progress", v.progress, d("Progress bar on stderr for runs longer than a second: auto (only when "
@@ -319,6 +330,24 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   }
   o.direct = v.direct;
   o.window = v.window;
+  if (given("--frames")) {
+    if (!o.window) bad("--frames", "needs --window");
+    o.frames = static_cast<int>(parse_integer("--frames", v.frames, 1, 1000000));
+  }
+  if (given("--window-script")) {
+    if (!o.window) bad("--window-script", "needs --window");
+    std::size_t i = 0;
+    while (i <= v.window_script.size()) {
+      const std::size_t j = std::min(v.window_script.find(',', i), v.window_script.size());
+      std::string k = v.window_script.substr(i, j - i);
+      if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') k[0] = static_cast<char>(k[0] - 'A' + 'a');
+      static const char* const allowed[] = {"1", "2", "3", "4", "5", "6", "7", "m", "+", "-", "q"};
+      if (std::find(std::begin(allowed), std::end(allowed), k) == std::end(allowed))
+        bad("--window-script", "unknown key action '" + k + "' (expected 1-7, m, +, -, q)");
+      o.window_script.push_back(k);
+      i = j + 1;
+    }
+  }
 
   region_grid(o.regions, o.regions_x, o.regions_y);
   if (o.regions_x > o.width || o.regions_y > o.height)

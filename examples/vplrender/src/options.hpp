@@ -59,6 +59,8 @@ struct options {
   bool paper = false;
   bool direct = false;            // add direct lighting (default: one-bounce indirect only)
   bool window = false;            // show the result in a GLFW window (GPU backend)
+  int frames = 0;                 // --window: close after this many frames (0 = when the user closes it)
+  std::vector<std::string> window_script;  // --window: key actions injected one per frame (1-7, m, +, -, q)
   float exposure = 1.0f;          // PNG preview only
   progress_mode progress = progress_mode::automatic;
 
