@@ -1,8 +1,8 @@
 #pragma once
 // vplrender --window: an interactive GLFW view of the rendered image (docs/renderer.md, "Window").
 // The pipeline keeps its own headless GL context on a worker thread (a context is current on one
-// thread only, and glvnd refuses to make an EGL context current while a GLX one is current on the
-// same thread); the window's GLX context on the main thread only displays the tone-mapped image.
+// thread only, and keeping one per thread avoids switching between EGL and GLX on one thread);
+// the window's context on the main thread only displays the tone-mapped image.
 #include "options.hpp"
 #include "pipeline.hpp"
 #include "progress.hpp"
