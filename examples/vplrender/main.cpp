@@ -71,7 +71,10 @@ int main(int argc, char** argv) {
     check_output_location(o);
     std::cout << describe(p, o);
     if (o.back == backend::gpu) {
-      if (gpu_estimator_available(o.meth))
+      if (gpu_estimator_available(o.meth) && gpu_builder_available(o.meth))
+        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; GBG weights + hole fill on the GPU, "
+                     "CDF and direct light on the CPU)\nbuilders backend: gpu (gbg)\n";
+      else if (gpu_estimator_available(o.meth))
         std::cout << "estimator backend: gpu (compute shader from the GLSL pack; builders, CDFs and direct light on "
                      "the CPU)\n";
       else

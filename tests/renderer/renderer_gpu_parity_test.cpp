@@ -21,6 +21,9 @@
 #include "tessellate.hpp"
 #include "voxels.hpp"
 
+#include <vplkit/builders/gbg_cdf.hpp>
+#include <vplkit/estimators/visibility_callables.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -35,6 +38,13 @@ namespace {
 // image's mean (values at the level of float noise around zero count as equal).
 constexpr double rel_bound = 1e-5;  // measured worst 7.9e-7 (open, mis-as-published): ~13x margin
 constexpr double required_fraction = 0.99;
+// gbg, mis, mis-as-published on the GPU use GPU-built GBG weights (gbg_accumulate.comp +
+// gbg_finish.comp), equal to the CPU's within ~3e-7 relative (test below), so the two CDFs are no
+// longer bit-identical. A bin's probability is a difference of float prefix sums, each rounded
+// within half an ulp of values up to 1 (2^-25), so a 3e-7 nudge of the weights can move the
+// probability of a bin p_t by up to ~2^-24 / p_t relative: 6e-5 for p_t = 1e-3. With the CPU's
+// weights the arrays were identical and this did not show. Measured worst 4.7e-5 (open, gbg).
+constexpr double rel_bound_gpu_builders = 2e-4;
 
 struct parity {
   double within = 0.0;      // fraction of pixels within the bound
@@ -43,7 +53,7 @@ struct parity {
   int worst_x = -1, worst_y = -1;
 };
 
-parity compare(const image_rgb& c, const image_rgb& g) {
+parity compare(const image_rgb& c, const image_rgb& g, double rel_bound) {
   double mean = 0.0;
   for (float v : c.rgb) mean += v;
   mean /= std::max<std::size_t>(1, c.rgb.size());
@@ -105,9 +115,10 @@ void run_scene(const std::string& scene_name) {
     stage_timer tc, tg;
     const image_rgb c = render_cpu(g, d, grid.view(), es, tc).image;
     const image_rgb gi = render_gpu(g, d, grid.view(), es, tg).image;
-    const parity r = compare(c, gi);
+    const double bound = gpu_builder_available(m) ? rel_bound_gpu_builders : rel_bound;
+    const parity r = compare(c, gi, bound);
     std::cout << scene_name << " " << to_string(m) << ": " << 100.0 * r.within << "% of pixels within "
-              << rel_bound << " relative; worst inside " << r.worst_rel << ", worst overall " << r.worst_any
+              << bound << " relative; worst inside " << r.worst_rel << ", worst overall " << r.worst_any
               << " at pixel (" << r.worst_x << ", " << r.worst_y << ")\n";
     INFO(scene_name << " " << to_string(m) << ": worst pixel (" << r.worst_x << ", " << r.worst_y << ") rel "
                     << r.worst_any);
@@ -120,6 +131,78 @@ void run_scene(const std::string& scene_name) {
 TEST_CASE("GPU estimators match the CPU backend on the cornell scene") { run_scene("cornell"); }
 
 TEST_CASE("GPU estimators match the CPU backend on the open scene") { run_scene("open"); }
+
+TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point bound") {
+  // The CPU side is build_distributions_cpu's GBG builder (same params, seed builder_seed(seed, 2),
+  // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
+  // docs/glsl/builders.md per texel: H_t 0.5 / scale / (|G| n_dirs) + 5e-6 relative, with H_t
+  // bounded by all lit hits. 600 directions at 32^3 voxels split the rays over two dispatches (576 per dispatch).
+  pipeline_gl_context();
+  for (const char* scene_name : {"cornell", "open"}) {
+    options o;
+    o.scene = scene_name;
+    o.width = 24;
+    o.height = 16;
+    o.dprsm = 16;
+    o.voxels = 32;
+    o.vpls = 8;
+    o.dirs = 600;
+    o.meth = method::gbg;
+    o.progress = progress_mode::never;
+    const prepared_scene p = prepare_scene(o);
+    gl_rasterizer raster(p.s);
+    const gbuffer_data g = raster.render_gbuffer(p.s.cam, o.width, o.height);
+    tessellation_params tp;
+    tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
+    const dprsm_data d = raster.render_dprsm(dprsm_light(p.s), o.dprsm, tp);
+    const vplkit::voxel_grid<float> grid = voxelize_cpu(p.s, o.voxels);
+    const estimator_settings es = make_estimator_settings(o, p.s);
+    vplkit::gbg_params<float> params;
+    params.n_dirs = es.dirs;
+    params.dmin = es.dmin;
+    params.depth_tolerance = gathering_depth_tolerance(grid.view());
+    params.seed = builder_seed(es.seed, 2);
+    params.accumulator = vplkit::gbg_accumulator::gathering;
+    vplkit::gbg_stats cs;
+    const std::vector<float> cpu =
+        vplkit::build_gbg_weights(g.view(), d.view(), vplkit::voxel_tracer<float>{grid.view()}, params, &cs);
+    stage_timer timer;
+    nlohmann::json det;
+    const gbg_gpu_weights gw = build_gbg_weights_gpu(g, d, grid.view(), es, timer, det);
+    REQUIRE(gw.weights.size() == cpu.size());
+    CHECK(det["gbg"]["dispatches"].get<int>() > 1);
+    CHECK(gw.gather_points == cs.gather_points);
+    CHECK(det["gbg"]["saturated_hits"].get<long long>() == 0);
+    const double abs_bound = double(std::max<long long>(gw.lit_hits, 1)) * 0.5 / gw.scale /
+                             (double(std::max(gw.gather_points, 1)) * es.dirs);
+    // A ray whose voxel step or depth test sits at a float tie can hit on one side only (the GPU's
+    // sqrt/div are a few ulps off): such texels differ by whole hits, v <= v_bound = 2 max_units /
+    // scale each (gbg_cdf.glsl's scale choice). Allowed in <= 2% of the texels, <= 2 hits each,
+    // as parity_builders_test excludes and counts the texels of flipped rays.
+    const double hit_bound = 2.0 * det["gbg"]["fixed_point_max_units"].get<double>() / gw.scale /
+                             (double(std::max(gw.gather_points, 1)) * es.dirs);
+    int outside = 0, nonzero = 0, beyond_flips = 0;
+    double worst = 0.0, worst_rel = 0.0;
+    for (std::size_t t = 0; t < cpu.size(); ++t) {
+      const double a = cpu[t], b = gw.weights[t];
+      REQUIRE(std::isfinite(b));
+      if (a != 0.0) ++nonzero;
+      const double bound = abs_bound + 5e-6 * std::max(std::abs(a), std::abs(b));
+      const double diff = std::abs(a - b);
+      worst = std::max(worst, diff / bound);
+      if (diff > bound) ++outside;
+      if (diff > bound + 2.0 * hit_bound) ++beyond_flips;
+      if (a > 0.0) worst_rel = std::max(worst_rel, diff / a);
+    }
+    std::cout << scene_name << " GBG weights: " << nonzero << " non-zero texels, |G| = " << gw.gather_points
+              << ", worst |gpu - cpu| / bound = " << worst << " (worst relative " << worst_rel << "), outside " << outside << "\n";
+    CHECK(det["gbg"]["holes"].get<int>() == cs.holes);
+    CHECK(det["gbg"]["filled"].get<int>() == cs.filled);
+    CHECK(nonzero > 0);
+    CHECK(outside <= nonzero / 50);
+    CHECK(beyond_flips == 0);
+  }
+}
 
 TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {
   // The cornell/open cases above already run the reference in two passes (512 texels at 32^3

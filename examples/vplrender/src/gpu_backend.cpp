@@ -4,8 +4,13 @@
 
 #include <vplkit/core/error.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
+#include <vplkit/vpl/luminance.hpp>
+#include <vplkit/builders/defensive.hpp>
+#include <vplkit/builders/gbg_cdf.hpp>
+#include <vplkit/visibility/voxel_visible.hpp>
 
 #include <glm/vec4.hpp>
+#include <glm/gtc/type_precision.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -85,9 +90,168 @@ work_shape shape_of(const estimator_settings& es, int R, const vplkit::ivec3& vr
   return s;
 }
 
+// The std140 blocks of the pack's gbg_accumulate.comp / gbg_finish.comp (their header comments).
+struct light_block {
+  glm::vec4 position, intensity, axis_x, axis_y, axis_z;
+};
+struct gbg_accumulate_block {
+  light_block light;
+  glm::vec4 grid_min, grid_max;
+  glm::ivec4 grid_res;
+  glm::ivec4 sizes;    // W, H, R, n_dirs
+  glm::ivec4 options;  // accumulator, dir_begin, dir_end, count_gather_points
+  glm::uvec4 seed;
+  glm::vec4 reals;  // dmin, depth_tolerance, offset_voxels
+  glm::vec4 fixed;  // scale, max_units
+};
+struct gbg_finish_block {
+  light_block light;
+  glm::ivec4 sizes;  // R, n_dirs, fill_holes
+  glm::vec4 fixed;   // 1 / scale
+};
+
+light_block light_of(const vplkit::dprsm_view<float>& v) {
+  const auto& L = v.light;
+  return {glm::vec4(L.position, 0.0f), glm::vec4(L.intensity, 0.0f), glm::vec4(L.frame.axis_x, 0.0f),
+          glm::vec4(L.frame.axis_y, 0.0f), glm::vec4(L.frame.axis_z, 0.0f)};
+}
+
+const vplkit::gl::program& pack_kernel(const std::string& rel) {
+  static std::map<std::string, vplkit::gl::program> cache;
+  auto it = cache.find(rel);
+  if (it != cache.end()) return it->second;
+  // The pack's own include root (headless_gl's default) resolves both the kernel and its includes.
+  vplkit::gl::program prog = vplkit::gl::program::compute_with_includes(
+      "#version 430\n#include \"" + rel + "\"\n", rel);
+  return cache.emplace(rel, std::move(prog)).first->second;
+}
+
 }  // namespace
 
 bool gpu_estimator_available(method) { return true; }
+
+bool gpu_builder_available(method m) {
+  return m == method::gbg || m == method::mis || m == method::mis_as_published;
+}
+
+gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& dd,
+                                      const vplkit::voxel_grid_view<float>& grid, const estimator_settings& es,
+                                      stage_timer& timer, nlohmann::json& det) {
+  namespace gl = vplkit::gl;
+  const vplkit::gbuffer_view<float> g = gb.view();
+  const vplkit::dprsm_view<float> view = dd.view();
+  g.validate();
+  view.validate();
+  if (es.dirs < 1) throw vplkit::invalid_input("build_gbg_weights_gpu: --dirs must be >= 1");
+  const int W = g.width, H = g.height, R = view.resolution;
+  const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
+  const std::size_t n = static_cast<std::size_t>(view.texel_count());
+  const float depth_tol = gathering_depth_tolerance(grid);
+  int gather_points = 0;
+  for (std::size_t p = 0; p < n_pixels; ++p)
+    if (vplkit::gather_point_valid(g.at(static_cast<int>(p)))) ++gather_points;
+
+  // Fixed point as gbg_cdf.glsl recommends: max_units = 2^(63 - ceil(log2(|G| n_dirs))) keeps any
+  // texel's sum below 2^63; scale = 2^floor(log2(max_units / v_bound)) with v_bound the gathering
+  // accumulator's largest per-hit value, I / (pi d1min^2) in luminance, d1min the nearest lit
+  // texel's distance to the light less the depth tolerance. A power of two, so 1 / scale is exact.
+  const double hits_max = std::max(1.0, double(std::max(gather_points, 1)) * es.dirs);
+  const double max_units = std::ldexp(1.0, 63 - static_cast<int>(std::ceil(std::log2(hits_max))));
+  double d1min = 1e30;
+  for (std::size_t t = 0; t < n; ++t)
+    if (dd.albedo[t] != glm::vec3(0.0f))
+      d1min = std::min(d1min, double(glm::length(dd.position[t] - view.light.position)));
+  d1min = std::max(d1min - double(depth_tol), 1e-3);
+  const double v_bound = std::max(double(vplkit::luminance(view.light.intensity)), 1e-30) /
+                         (3.141592653589793 * d1min * d1min);
+  const double scale = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(max_units / v_bound))));
+
+  std::vector<glm::vec4> gbuf(3 * std::max<std::size_t>(n_pixels, 1), glm::vec4(0.0f));
+  for (std::size_t i = 0; i < n_pixels; ++i) {
+    gbuf[3 * i] = glm::vec4(gb.position[i], 0.0f);
+    gbuf[3 * i + 1] = glm::vec4(gb.normal[i], 0.0f);
+    gbuf[3 * i + 2] = glm::vec4(gb.albedo[i], 0.0f);
+  }
+  std::vector<glm::vec4> dprsm(3 * n, glm::vec4(0.0f));
+  for (std::size_t i = 0; i < n; ++i) {
+    dprsm[3 * i] = glm::vec4(dd.position[i], 0.0f);
+    dprsm[3 * i + 1] = glm::vec4(dd.normal[i], 0.0f);
+    dprsm[3 * i + 2] = glm::vec4(dd.albedo[i], 0.0f);
+  }
+  std::vector<std::uint32_t> words(grid.words, grid.words + vplkit::voxel_word_count(grid.resolution));
+  if (words.empty()) words.push_back(0u);
+
+  const gl::program& acc_prog = pack_kernel("vplkit/builders/gbg_accumulate.comp");
+  const gl::program& fin_prog = pack_kernel("vplkit/builders/gbg_finish.comp");
+  gl::buffer b_gbuf = gl::buffer::from_vector(gbuf);
+  gl::buffer b_dprsm = gl::buffer::from_vector(dprsm);
+  gl::buffer b_words = gl::buffer::from_vector(words);
+  gl::buffer b_acc = gl::buffer::filled(2 * n * 4, 0);
+  gl::buffer b_stats = gl::buffer::filled(8 * 4, 0);
+  gl::buffer b_weights = gl::buffer::filled(n * 4, 0);
+
+  // llvmpipe leaves every loop after 65535 iterations per invocation: one ray marches at most
+  // nx + ny + nz voxels (+ 8 for the rest of its body), so split the directions over dispatches
+  // (the fixed-point sums do not depend on the split).
+  const long long per_dir = static_cast<long long>(grid.resolution.x) + grid.resolution.y + grid.resolution.z + 8;
+  const int dirs_per = static_cast<int>(std::max(1LL, gpu_loop_budget / per_dir));
+  const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), 64);
+  const GLuint gx = std::min<GLuint>(groups, 65535u);
+  const GLuint gy = (groups + gx - 1) / gx;
+  const light_block light = light_of(view);
+  std::vector<gl::buffer> blocks;
+  int dispatches = 0;
+  {
+    gl::timer_query tq;
+    tq.begin();
+    for (int begin = 0; begin < es.dirs; begin += dirs_per) {
+      const int end = std::min(es.dirs, begin + dirs_per);
+      const gbg_accumulate_block p{light,
+                                   glm::vec4(grid.bounds_min, 0.0f),
+                                   glm::vec4(grid.bounds_max, 0.0f),
+                                   glm::ivec4(grid.resolution.x, grid.resolution.y, grid.resolution.z, 0),
+                                   glm::ivec4(W, H, R, es.dirs),
+                                   glm::ivec4(1, begin, end, begin == 0 ? 1 : 0),
+                                   glm::uvec4(builder_seed(es.seed, 2), 0u, 0u, 0u),
+                                   glm::vec4(es.dmin, depth_tol, float(vplkit::voxel_surface_offset_default), 0.0f),
+                                   glm::vec4(float(scale), float(max_units), 0.0f, 0.0f)};
+      blocks.push_back(gl::buffer::from_vector(std::vector<gbg_accumulate_block>{p}));
+      b_gbuf.bind(0);
+      b_dprsm.bind(1);
+      b_words.bind(2);
+      b_acc.bind(3);
+      b_stats.bind(4);
+      glBindBufferBase(GL_UNIFORM_BUFFER, 0, blocks.back().id());
+      gl::dispatch(acc_prog, gx, gy);
+      ++dispatches;
+    }
+    const gbg_finish_block fp{light, glm::ivec4(R, es.dirs, 1, 0), glm::vec4(float(1.0 / scale), 0.0f, 0.0f, 0.0f)};
+    blocks.push_back(gl::buffer::from_vector(std::vector<gbg_finish_block>{fp}));
+    b_acc.bind(0);
+    b_stats.bind(1);
+    b_dprsm.bind(2);
+    b_weights.bind(3);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, blocks.back().id());
+    const GLuint fg = gl::groups_for(static_cast<std::size_t>(R), 8);
+    gl::dispatch(fin_prog, fg, fg, 2);
+    tq.end();
+    timer.add("gbg weights + hole fill (gpu)", tq.milliseconds(), "gpu");
+  }
+  gbg_gpu_weights out;
+  out.weights = b_weights.read<float>(n);
+  const std::vector<std::uint32_t> st = b_stats.read<std::uint32_t>(8);
+  out.scale = scale;
+  out.lit_hits = static_cast<long long>(st[2]);
+  out.gather_points = static_cast<int>(st[0]);
+  det["gbg"] = {{"gather_points", st[0]},     {"rays", static_cast<long long>(st[0]) * es.dirs},
+                {"hits", st[1]},              {"lit_hits", st[2]},
+                {"reached_texels", st[4]},    {"holes", st[5]},
+                {"filled", st[6]},            {"accumulator", "gathering"},
+                {"backend", "gpu"},           {"fixed_point_scale", scale},
+                {"fixed_point_max_units", max_units}, {"saturated_hits", st[3]},
+                {"dispatches", dispatches}};
+  return out;
+}
 
 int gpu_pass_count(const estimator_settings& es, int dprsm_resolution, const vplkit::ivec3& voxel_resolution,
                    int regions) {
@@ -113,7 +277,14 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   det["dmin"] = es.dmin;
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
-  const cpu_distributions built = build_distributions_cpu(gb, dd, grid, es, timer, progress, det);
+  cpu_distributions built;
+  if (gpu_builder_available(es.meth)) {
+    const gbg_gpu_weights w = build_gbg_weights_gpu(gb, dd, grid, es, timer, det);
+    auto t = timer.scoped("cdf (cpu)");
+    built.dists.push_back(vplkit::make_vpl_distribution(w.weights, view, es.eps));
+  } else {
+    built = build_distributions_cpu(gb, dd, grid, es, timer, progress, det);
+  }
   const kernel_kind kind = kernel_of(es.meth);
 
   std::vector<glm::vec4> gbuf(3 * std::max<std::size_t>(n_pixels, 1), glm::vec4(0.0f));
@@ -221,7 +392,8 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
                 {"passes", passes},
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
-                {"builders", "cpu (uploaded)"},
+                {"builders", gpu_builder_available(es.meth) ? "gpu (gbg_accumulate.comp + gbg_finish.comp, read back)"
+                                                            : "cpu (uploaded)"},
                 {"cdf", "cpu (vplkit::make_vpl_distribution, uploaded)"},
                 {"direct_light", "cpu (after read-back)"}};
   {

@@ -1,11 +1,15 @@
 #pragma once
 // The GPU backend: vplrender's estimators as compute shaders built from the GLSL pack
 // (examples/vplrender/shaders/estimate.comp), one invocation per pixel, the CPU backend's random
-// streams (make_counter_rng(seed, pixel)). Builders, hole filling and CDFs still run on the CPU
-// (build_distributions_cpu) and are uploaded; the direct light is added on the CPU after read-back.
+// streams (make_counter_rng(seed, pixel)). The GBG weights (gbg, mis, mis-as-published) are built on
+// the GPU by the pack's gbg_accumulate.comp + gbg_finish.comp (fixed point, hole fill) and read
+// back; the other builders and every CDF run on the CPU (build_distributions_cpu,
+// make_vpl_distribution) and are uploaded; the direct light is added on the CPU after read-back.
 #include "cpu_backend.hpp"
 
 #include <vplkit/visibility/voxel_grid.hpp>
+
+#include <vector>
 
 namespace vplrender {
 
@@ -17,6 +21,25 @@ bool gpu_estimator_available(method m);
 // failures. Requires gpu_estimator_available(es.meth).
 cpu_render_result render_gpu(const gbuffer_data& g, const dprsm_data& d, const vplkit::voxel_grid_view<float>& grid,
                              const estimator_settings& es, stage_timer& timer, const progress_fn& progress = {});
+
+// True for the methods whose builder runs on the GPU (the GBG weights: gbg, mis, mis-as-published).
+bool gpu_builder_available(method m);
+
+// The GBG weights on the GPU (current GL context): gbg_accumulate.comp over the valid pixels with
+// the CPU builder's parameters (n_dirs = es.dirs, es.dmin, gathering_depth_tolerance(grid),
+// seed builder_seed(es.seed, 2), gathering accumulator), then gbg_finish.comp with the hole fill.
+// Returns the filled weights (2 R^2); equal to build_distributions_cpu's within the fixed-point
+// bound of docs/glsl/builders.md. Facts (as the CPU's "gbg" key plus scale, max_units, saturated)
+// go to `det`, the GPU time to `timer` ("gbg weights + hole fill (gpu)", GPU timer query).
+struct gbg_gpu_weights {
+  std::vector<float> weights;
+  double scale = 0.0;   // fixed-point units per unit of weight sum (a power of two)
+  long long lit_hits = 0;
+  int gather_points = 0;
+};
+gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& g, const dprsm_data& d,
+                                      const vplkit::voxel_grid_view<float>& grid, const estimator_settings& es,
+                                      stage_timer& timer, nlohmann::json& det);
 
 // Loop iterations one dispatch may spend per invocation (llvmpipe stops every loop after 65535 per
 // invocation, silently; the host keeps a margin) and the passes a method is split into.

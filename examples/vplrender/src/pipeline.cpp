@@ -100,7 +100,7 @@ cpu_render_result run_estimator(const options& o, const prepared_scene& p, const
   }
   det["estimator"] = cr.details;
   det["estimator_backend"] = gpu_estimator ? "gpu" : "cpu";
-  det["builders_backend"] = "cpu";
+  det["builders_backend"] = gpu_estimator && gpu_builder_available(es.meth) ? "gpu (gbg)" : "cpu";
   return cr;
 }
 
