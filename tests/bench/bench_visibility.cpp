@@ -1,0 +1,166 @@
+// Voxel visibility (include/vplkit/visibility), T = float:
+//  - triangle_box_overlap (the SAT of the voxeliser), random small triangles against unit boxes;
+//  - voxelize: the dense mesh of bench_common.hpp (the room tessellated + block + 2 spheres,
+//    5388 triangles) into a fresh grid at 64^3 and 128^3, per triangle;
+//  - dda_first_hit per ray in the synthetic room's grid (24 triangles voxelised, mostly empty):
+//    "short" rays stop after 4 voxel lengths, "long" rays run until they hit a wall;
+//  - voxel_visible (one-sided, the paper's) and voxel_visible_two_sided per query between a gather
+//    point of a 64 x 64 G-buffer and a VPL of the R = 64 DPRSM.
+#include "bench_common.hpp"
+
+#include <vplkit/visibility/dda.hpp>
+#include <vplkit/visibility/triangle_box_overlap.hpp>
+#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/visibility/voxel_visible.hpp>
+#include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+
+namespace {
+
+using namespace vplkit_bench;
+
+void BM_triangle_box_overlap(benchmark::State& state) {
+  const std::vector<float> u = uniforms(9 * kBatch, 51u);
+  std::vector<v3f> a(kBatch), b(kBatch), c(kBatch);
+  for (std::size_t i = 0; i < kBatch; ++i) {
+    // Triangles of size ~1 around points within 1.5 of the box: about half overlap.
+    const v3f o(3 * u[9 * i] - 1.5f, 3 * u[9 * i + 1] - 1.5f, 3 * u[9 * i + 2] - 1.5f);
+    a[i] = o;
+    b[i] = o + v3f(u[9 * i + 3], u[9 * i + 4], u[9 * i + 5]) - 0.5f;
+    c[i] = o + v3f(u[9 * i + 6], u[9 * i + 7], u[9 * i + 8]) - 0.5f;
+  }
+  int acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i)
+      acc += vplkit::triangle_box_overlap(v3f(0), v3f(0.5f), a[i], b[i], c[i]) ? 1 : 0;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+const mesh& dense() {
+  static const mesh* m = new mesh(dense_mesh());
+  return *m;
+}
+
+void BM_voxelize_dense_mesh(benchmark::State& state) {
+  const int res = int(state.range(0));
+  const mesh& m = dense();
+  const auto bounds = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
+  vplkit::voxel_grid<float> grid(bounds.min, bounds.max, vplkit::ivec3(res));
+  for (auto _ : state) {
+    grid.clear_all();
+    vplkit::voxelize(grid, m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+    benchmark::DoNotOptimize(grid.words().data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["triangles"] = double(m.triangle_count());
+  state.counters["occupied"] = double(grid.count());
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(m.triangle_count()));
+}
+
+// Rays from random points inside the room (away from the walls and the block's shell) in random
+// directions.
+struct rays_t {
+  std::vector<v3f> o, d;
+  explicit rays_t(const vplkit::voxel_grid<float>& g) {
+    const std::vector<v3f> dirs = unit_directions(kBatch, 52u);
+    std::mt19937 gen(53u);
+    std::uniform_real_distribution<float> ux(-1.8f, 1.8f), uy(0.2f, 2.8f);
+    const auto view = g.view();
+    while (o.size() < kBatch) {
+      const v3f p(ux(gen), uy(gen), ux(gen));
+      if (vplkit::voxel_test(view, vplkit::world_to_voxel(view, p))) continue;
+      o.push_back(p);
+      d.push_back(dirs[o.size() - 1]);
+    }
+  }
+};
+
+void BM_dda_first_hit(benchmark::State& state) {
+  const int res = int(state.range(0));
+  const bool is_short = state.range(1) != 0;
+  const auto& grid = room_grid(res);
+  const auto view = grid.view();
+  const rays_t rays(grid);
+  const float t_max = is_short ? 4.0f * grid.voxel_length() : std::numeric_limits<float>::infinity();
+  int hits = 0;
+  float acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      const auto h = vplkit::dda_first_hit(view, rays.o[i], rays.d[i], t_max);
+      hits += h.hit ? 1 : 0;
+      acc += h.t;
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.counters["hit_fraction"] = double(hits) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+// (gather point, VPL) queries.
+struct queries_t {
+  std::vector<vplkit::gather_point<float>> gp;
+  std::vector<vplkit::vpl<float>> v;
+  queries_t() {
+    const auto view = room_dprsm(64).view();
+    const auto points = room_gather_points(64);
+    std::vector<vplkit::vpl<float>> vpls;
+    for (int t = 0; t < view.texel_count(); ++t) {
+      const auto x = view.vpl_at(t);
+      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
+    }
+    std::mt19937 g(54u);
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      gp.push_back(points[g() % points.size()]);
+      v.push_back(vpls[g() % vpls.size()]);
+    }
+  }
+};
+
+const queries_t& queries() {
+  static const queries_t* q = new queries_t();
+  return *q;
+}
+
+void BM_voxel_visible_one_sided(benchmark::State& state) {
+  const auto view = room_grid(int(state.range(0))).view();
+  const auto& q = queries();
+  int acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i)
+      acc += vplkit::voxel_visible(view, q.gp[i].position, q.gp[i].normal, q.v[i].position) ? 1 : 0;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.counters["visible_fraction"] = double(acc) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+void BM_voxel_visible_two_sided(benchmark::State& state) {
+  const auto view = room_grid(int(state.range(0))).view();
+  const auto& q = queries();
+  int acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i)
+      acc += vplkit::voxel_visible_two_sided(view, q.gp[i].position, q.gp[i].normal, q.v[i].position, q.v[i].normal) ? 1 : 0;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.counters["visible_fraction"] = double(acc) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+}  // namespace
+
+BENCHMARK(BM_triangle_box_overlap)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_voxelize_dense_mesh)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_dda_first_hit)
+    ->ArgNames({"res", "short"})
+    ->Args({64, 1})
+    ->Args({64, 0})
+    ->Args({128, 1})
+    ->Args({128, 0})
+    ->Apply(vplkit_bench::standard);
+BENCHMARK(BM_voxel_visible_one_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_voxel_visible_two_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
+
+VPLKIT_BENCH_MAIN()

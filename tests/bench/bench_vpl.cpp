@@ -1,0 +1,118 @@
+// The VPL model (include/vplkit/vpl) on the synthetic room (tests/support/synthetic_scene.hpp,
+// 24 triangles, light at (0.3, 2.6, 0.2) looking down), T = float:
+//  - vpl_at: the VPL (flux, position, normal) of a DPRSM texel, over every texel of a 2 x R x R map;
+//  - vpl_contribution: L_t(x) of one VPL at one gather point (gather points of a 64 x 64 G-buffer,
+//    VPLs of the DPRSM at R = 64, no visibility);
+//  - reflected_radiance, dprsm_lookup (projection into the DPRSM and the depth test);
+//  - render_dprsm: the CPU DPRSM ray caster with the scene's brute-force tracer (24 triangles),
+//    per texel of the 2 x R x R map (invalid corner texels cost no ray).
+#include "bench_common.hpp"
+
+#include <vplkit/vpl/dprsm_lookup.hpp>
+#include <vplkit/vpl/dprsm_raycast.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
+
+namespace {
+
+using namespace vplkit_bench;
+
+void BM_vpl_at_all_texels(benchmark::State& state) {
+  const int R = int(state.range(0));
+  const auto view = room_dprsm(R).view();
+  const int n = view.texel_count();
+  float acc = 0;
+  for (auto _ : state) {
+    for (int t = 0; t < n; ++t) acc += view.vpl_at(t).flux.x;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * n);
+}
+
+// Pairs (gather point, VPL carrying flux), precomputed.
+struct pairs_t {
+  std::vector<vplkit::gather_point<float>> gp;
+  std::vector<vplkit::vpl<float>> v;
+  pairs_t() {
+    const auto view = room_dprsm(64).view();
+    const auto points = room_gather_points(64);
+    std::vector<vplkit::vpl<float>> vpls;
+    for (int t = 0; t < view.texel_count(); ++t) {
+      const auto x = view.vpl_at(t);
+      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
+    }
+    std::mt19937 g(41u);
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      gp.push_back(points[g() % points.size()]);
+      v.push_back(vpls[g() % vpls.size()]);
+    }
+  }
+};
+
+const pairs_t& pairs() {
+  static const pairs_t* p = new pairs_t();
+  return *p;
+}
+
+void BM_vpl_contribution(benchmark::State& state) {
+  const auto& p = pairs();
+  const float dmin = 0.1f;
+  float acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i)
+      acc += vplkit::vpl_contribution(p.gp[i].position, p.gp[i].normal, p.gp[i].albedo, p.v[i], dmin).y;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+void BM_reflected_radiance(benchmark::State& state) {
+  const auto& p = pairs();
+  const auto& light = room().light;
+  float acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i)
+      acc += vplkit::reflected_radiance(light.position, light.intensity, p.v[i].position, p.v[i].normal, v3f(0.5f)).x;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+// Surface points of the room (the G-buffer's), projected into the DPRSM at R.
+void BM_dprsm_lookup(benchmark::State& state) {
+  const int R = int(state.range(0));
+  const auto view = room_dprsm(R).view();
+  const auto& p = pairs();
+  int acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      const auto r = vplkit::dprsm_lookup(view, p.gp[i].position, 0.05f);
+      acc += r.texel + (r.lit ? 1 : 0);
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+void BM_render_dprsm_raycast(benchmark::State& state) {
+  const int R = int(state.range(0));
+  const scene_t& s = room();
+  std::vector<v3f> pos, nrm, alb;
+  for (auto _ : state) {
+    const auto view = vplkit::render_dprsm(
+        s.light, R, [&s](v3f o, v3f d) { return s.trace_from_light(o, d); }, pos, nrm, alb);
+    benchmark::DoNotOptimize(view.position);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * vplkit::texel_count(R));
+}
+
+}  // namespace
+
+BENCHMARK(BM_vpl_at_all_texels)->Arg(64)->Arg(256)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_vpl_contribution)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_reflected_radiance)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_dprsm_lookup)->Arg(64)->Arg(256)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_render_dprsm_raycast)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+
+VPLKIT_BENCH_MAIN()
