@@ -4,6 +4,7 @@
 // (DESIGN 3.8): (a) the exhaustive VPL sum (method reference) and (b) converged gathering (method
 // gather at --ref-dirs directions). Writes PREFIX.csv, PREFIX.md and PREFIX.svg.
 #include "metrics.hpp"
+#include "pareto.hpp"
 #include "svg_plot.hpp"
 
 #include "errors.hpp"
@@ -21,9 +22,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -49,6 +53,13 @@ Sweep options:
                      mis-as-published: --vpls n and --dirs n
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
   --ref-dirs N       directions of the converged-gathering reference (default 4096)
+  --references LIST  which references to compute: vplsum, gather, both (default) or none.
+                     The exhaustive VPL sum costs 2 R^2 VPLs per pixel: skip it at large
+                     DPRSM sizes; errors against a skipped reference are left empty
+  --replot CSV       render nothing: redraw PREFIX.svg, PREFIX_samples.svg and PREFIX_pareto.md
+                     from a CSV this tool wrote (after changing the plots, or to merge sweeps)
+  --repeats K        time every run K times (default 1): the CSV's times are the median run's,
+                     total_ms_min the fastest; the image and its error are from the first run
   --cache-dir DIR    reference cache (default speed_vs_error_cache); references are EXR files
                      named by a hash of scene, size, DPRSM, voxels, backend, light, camera,
                      --direct, and for the gathering reference its directions and seed
@@ -58,7 +69,9 @@ Sweep options:
 
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps
-  --camera --light --paper --direct.  Not allowed: --method --vpls --seed --out --window.
+  --local-combination --gbg-accumulator --cdf-search --camera --light --paper --direct.
+  Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
+  --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
 Error metrics, on linear HDR values, over all pixels p and channels c (x = run, r = reference):
   RMSE   = sqrt( mean_{p,c} (x_pc - r_pc)^2 )
@@ -110,6 +123,9 @@ struct sweep_options {
   std::vector<int> samples{1, 4, 16, 64};
   std::vector<std::uint32_t> seeds{1};
   int ref_dirs = 4096;
+  bool ref_vplsum = true, ref_gather = true;
+  int repeats = 1;
+  std::string replot;  // --replot CSV
   std::string cache_dir = "speed_vs_error_cache";
   std::string out = "speed_vs_error";
   options base;
@@ -136,6 +152,20 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
       for (const std::string& t : split(value())) so.seeds.push_back(static_cast<std::uint32_t>(to_int(a, t, 0, 4294967295LL)));
     } else if (a == "--ref-dirs") {
       so.ref_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
+    } else if (a == "--references") {
+      const std::string v = value();
+      so.ref_vplsum = so.ref_gather = false;
+      if (v == "both") so.ref_vplsum = so.ref_gather = true;
+      else if (v != "none")
+        for (const std::string& t : split(v)) {
+          if (t == "vplsum") so.ref_vplsum = true;
+          else if (t == "gather") so.ref_gather = true;
+          else bad("--references: unknown reference '" + t + "' (vplsum, gather, both or none)");
+        }
+    } else if (a == "--replot") {
+      so.replot = value();
+    } else if (a == "--repeats") {
+      so.repeats = static_cast<int>(to_int(a, value(), 1, 1000));
     } else if (a == "--cache-dir") {
       so.cache_dir = value();
     } else if (a == "--out") {
@@ -158,6 +188,7 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
 }
 
 std::string num(double v) {
+  if (std::isnan(v)) return "";  // an error against a skipped reference
   char b[40];
   std::snprintf(b, sizeof b, "%.9g", v);
   return b;
@@ -239,6 +270,9 @@ struct run_row {
   int samples = 0;
   std::uint32_t seed = 0;
   double build_ms = 0, estimate_ms = 0, total_ms = 0, wall_ms = 0;
+  double total_ms_min = 0;
+  int repeats = 1;
+  long long gpu_peak_bytes = 0;  // GPU buffers the estimator held at its peak (docs/results.md, memory)
   std::string stages;
   speed_vs_error::image_error vs_vpl, vs_gather;
 };
@@ -262,9 +296,163 @@ std::string fixed(double v, int digits) {
 }
 
 std::string sci(double v) {
+  if (std::isnan(v)) return "-";
   char b[40];
   std::snprintf(b, sizeof b, "%.3e", v);
   return b;
+}
+
+
+// Per reference and method, the mean over seeds of time and error at each sample count; from
+// these: PREFIX.svg (error against time), PREFIX_samples.svg (error against samples: the paper's
+// Fig. 8) and PREFIX_pareto.md (Pareto front, equal-error table). Returns the files written.
+std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const std::vector<method>& methods,
+                                        const std::vector<int>& samples, bool has_vplsum, bool has_gather, int ref_dirs,
+                                        const std::string& caption, const std::string& scene_line,
+                                        const std::string& out) {
+  struct reference_view {
+    bool on;
+    std::string title;
+    speed_vs_error::image_error run_row::*err;
+  };
+  const std::vector<reference_view> refs = {
+      {has_vplsum, "RMSE vs exhaustive VPL sum", &run_row::vs_vpl},
+      {has_gather,
+       ref_dirs > 0 ? "RMSE vs converged gathering (" + std::to_string(ref_dirs) + " dirs)" : "RMSE vs converged gathering",
+       &run_row::vs_gather}};
+  std::vector<speed_vs_error::panel> by_time, by_samples;
+  std::ostringstream pareto;
+  pareto << scene_line << " Time = build + estimate (ms, mean over seeds of the median repeat); error = mean RMSE "
+         << "over seeds.\n";
+  for (const reference_view& ref : refs) {
+    if (!ref.on) continue;
+    speed_vs_error::panel pt, ps;
+    pt.title = ps.title = ref.title;
+    pt.x_label = "time per frame, ms (build + estimate)";
+    ps.x_label = "samples per pixel (VPLs; directions for gather; both for mis)";
+    pt.y_label = ps.y_label = "RMSE (linear HDR)";
+    std::vector<speed_vs_error::cost_error_point> points;
+    for (method m : methods) {
+      speed_vs_error::series lt{to_string(m), {}, {}}, ls{to_string(m), {}, {}};
+      for (int n : samples) {
+        double t = 0, e = 0;
+        int c = 0;
+        for (const run_row& r : rows)
+          if (r.meth == m && r.samples == n) t += r.total_ms, e += (r.*ref.err).rmse, ++c;
+        if (c == 0) continue;
+        lt.x.push_back(t / c), lt.y.push_back(e / c);
+        ls.x.push_back(n), ls.y.push_back(e / c);
+        points.push_back({to_string(m), n, t / c, e / c});
+      }
+      pt.lines.push_back(lt);
+      ps.lines.push_back(ls);
+    }
+    by_time.push_back(pt);
+    by_samples.push_back(ps);
+
+    pareto << "\n### " << ref.title << "\n\nPareto front (no other run is both faster and more accurate):\n\n"
+           << "| method | samples | ms | RMSE |\n|---|---:|---:|---:|\n";
+    for (const speed_vs_error::cost_error_point& q : speed_vs_error::pareto_front(points))
+      pareto << "| " << q.method << " | " << q.samples << " | " << fixed(q.ms, 1) << " | " << sci(q.error) << " |\n";
+    pareto << "\nEqual error: time (ms) each method needs to reach the RMSE of the row (log-log interpolation "
+              "between measured points; '-' = not reached in this sweep):\n\n| RMSE |";
+    for (method m : methods) pareto << " " << to_string(m) << " |";
+    pareto << " fastest |\n|---:|";
+    for (std::size_t i = 0; i < methods.size(); ++i) pareto << "---:|";
+    pareto << "---|\n";
+    for (double target : speed_vs_error::error_targets(points, 4)) {
+      pareto << "| " << sci(target) << " |";
+      std::string best;
+      double best_ms = 0;
+      for (method m : methods) {
+        std::vector<speed_vs_error::cost_error_point> mine;
+        for (const auto& q : points)
+          if (q.method == to_string(m)) mine.push_back(q);
+        const std::optional<double> t = speed_vs_error::time_to_error(mine, target);
+        pareto << " " << (t ? fixed(*t, 1) : std::string("-")) << " |";
+        if (t && (best.empty() || *t < best_ms)) best = to_string(m), best_ms = *t;
+      }
+      pareto << " " << (best.empty() ? "-" : best) << " |\n";
+    }
+  }
+  if (by_time.empty()) return {};
+  write_text(out + ".svg", speed_vs_error::svg_loglog(by_time, caption));
+  write_text(out + "_samples.svg", speed_vs_error::svg_loglog(by_samples, caption));
+  write_text(out + "_pareto.md", pareto.str());
+  return {out + ".svg", out + "_samples.svg", out + "_pareto.md"};
+}
+
+
+// --replot: the runs back from a CSV this tool wrote (columns found by name, so CSVs from older
+// versions with fewer columns still load), then write_analysis.
+std::vector<std::string> replot(const sweep_options& so) {
+  std::ifstream f(so.replot, std::ios::binary);
+  if (!f) throw input_error("--replot: cannot open '" + so.replot + "'");
+  std::string line;
+  const auto fields = [](const std::string& l) {
+    std::vector<std::string> v;
+    std::string cur;
+    for (char c : l) {
+      if (c == ',') v.push_back(cur), cur.clear();
+      else if (c != '\r') cur += c;
+    }
+    v.push_back(cur);
+    return v;
+  };
+  if (!std::getline(f, line)) throw input_error("--replot: '" + so.replot + "' is empty");
+  const std::vector<std::string> header = fields(line);
+  const auto col = [&](const std::string& name) -> std::size_t {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return i;
+    throw input_error("--replot: '" + so.replot + "' has no column '" + name + "'");
+  };
+  const std::size_t c_scene = col("scene"), c_backend = col("backend"), c_method = col("method"),
+                    c_samples = col("samples"), c_width = col("width"), c_height = col("height"),
+                    c_total = col("total_ms"), c_rv = col("rmse_vplsum"), c_lv = col("relmse_vplsum"),
+                    c_rg = col("rmse_gather"), c_lg = col("relmse_gather");
+  const auto number = [&](const std::string& t, int line_no) {
+    if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0')
+      throw input_error("--replot: " + so.replot + ":" + std::to_string(line_no) + ": '" + t + "' is not a number");
+    return v;
+  };
+  std::vector<run_row> rows;
+  std::vector<method> methods;
+  std::vector<int> samples;
+  std::string scene, backend, size;
+  bool has_vpl = false, has_gather = false;
+  int line_no = 1;
+  while (std::getline(f, line)) {
+    ++line_no;
+    if (line.empty() || line == "\r") continue;
+    const std::vector<std::string> v = fields(line);
+    if (v.size() != header.size())
+      throw input_error("--replot: " + so.replot + ":" + std::to_string(line_no) + ": " + std::to_string(v.size()) +
+                        " fields, the header has " + std::to_string(header.size()));
+    run_row r;
+    try {
+      r.meth = parse_method(v[c_method]);
+    } catch (const usage_error& e) {
+      throw input_error("--replot: " + so.replot + ":" + std::to_string(line_no) + ": " + e.what());
+    }
+    r.samples = static_cast<int>(number(v[c_samples], line_no));
+    r.total_ms = number(v[c_total], line_no);
+    r.vs_vpl = {number(v[c_rv], line_no), number(v[c_lv], line_no)};
+    r.vs_gather = {number(v[c_rg], line_no), number(v[c_lg], line_no)};
+    has_vpl = has_vpl || !std::isnan(r.vs_vpl.rmse);
+    has_gather = has_gather || !std::isnan(r.vs_gather.rmse);
+    if (std::find(methods.begin(), methods.end(), r.meth) == methods.end()) methods.push_back(r.meth);
+    if (std::find(samples.begin(), samples.end(), r.samples) == samples.end()) samples.push_back(r.samples);
+    scene = v[c_scene], backend = v[c_backend], size = v[c_width] + "x" + v[c_height];
+    rows.push_back(r);
+  }
+  if (rows.empty()) throw input_error("--replot: '" + so.replot + "' has no rows");
+  std::sort(samples.begin(), samples.end());
+  const std::string caption = scene + " " + size + ", backend " + backend + " (from " + base_name(so.replot) + ".csv)";
+  return write_analysis(rows, methods, samples, has_vpl, has_gather, 0, caption,
+                        "Scene `" + scene + "`, " + size + ", backend `" + backend + "`.", so.out);
 }
 
 }  // namespace
@@ -282,6 +470,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (!so.replot.empty()) {
+      const std::vector<std::string> files = replot(so);
+      std::cout << "wrote";
+      for (std::size_t i = 0; i < files.size(); ++i) std::cout << (i ? ", " : " ") << files[i];
+      std::cout << "\n";
+      return 0;
+    }
     const options& base = so.base;
     {
       // Fail before the sweep, not after it.
@@ -302,8 +497,19 @@ int main(int argc, char** argv) {
               << base.voxels << "^3 voxels, backend " << to_string(base.back) << "\nGL: " << b.gl_renderer
               << "\nprepare (G-buffer, DPRSM, voxels): " << num(prepare_ms) << " ms" << std::endl;
 
-    const reference_image ref_vpl = get_reference(base, p, b, so.cache_dir, "vplsum", 0, 0);
-    const reference_image ref_gather = get_reference(base, p, b, so.cache_dir, "gather", so.ref_dirs, k_gather_reference_seed);
+    const reference_image ref_vpl =
+        so.ref_vplsum ? get_reference(base, p, b, so.cache_dir, "vplsum", 0, 0) : reference_image{};
+    const reference_image ref_gather =
+        so.ref_gather ? get_reference(base, p, b, so.cache_dir, "gather", so.ref_dirs, k_gather_reference_seed)
+                      : reference_image{};
+    // Against a skipped reference every error is NaN, written as an empty field.
+    const auto against = [](const image_rgb& img, const reference_image& ref) {
+      if (ref.img.rgb.empty()) {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        return speed_vs_error::image_error{nan, nan};
+      }
+      return speed_vs_error::compare(img, ref.img);
+    };
 
     std::vector<run_row> rows;
     std::vector<bias_variance_row> bv_rows;
@@ -317,22 +523,35 @@ int main(int argc, char** argv) {
           if (m == method::gather) o.dirs = n;
           else o.vpls = n;
           if (m == method::mis || m == method::mis_as_published) o.dirs = n;
-          stage_timer t;
-          nlohmann::json det;
-          const auto start = std::chrono::steady_clock::now();
-          const image_rgb img = run_estimator(o, p, b, t, {}, det).image;
-          run_row r;
-          r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+          // --repeats: the same run K times (same seed, same image); the median run's times are
+          // reported, and the fastest total beside them (the machines are noisy).
+          image_rgb img;
+          std::vector<run_row> timed;
+          for (int k = 0; k < so.repeats; ++k) {
+            stage_timer t;
+            nlohmann::json det;
+            const auto start = std::chrono::steady_clock::now();
+            image_rgb im = run_estimator(o, p, b, t, {}, det).image;
+            run_row r;
+            r.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            for (const stage_time& st : t.stages()) {
+              (st.name.rfind("estimate", 0) == 0 ? r.estimate_ms : r.build_ms) += st.ms;
+              r.stages += (r.stages.empty() ? "" : "|") + st.name + "=" + num(st.ms);
+            }
+            r.total_ms = r.build_ms + r.estimate_ms;
+            if (det.contains("memory")) r.gpu_peak_bytes = det["memory"].value("gpu_peak_bytes_estimator", 0LL);
+            if (k == 0) img = std::move(im);
+            timed.push_back(std::move(r));
+          }
+          std::sort(timed.begin(), timed.end(), [](const run_row& x, const run_row& y) { return x.total_ms < y.total_ms; });
+          run_row r = timed[(timed.size() - 1) / 2];
+          r.total_ms_min = timed.front().total_ms;
+          r.repeats = static_cast<int>(timed.size());
           r.meth = m;
           r.samples = n;
           r.seed = seed;
-          for (const stage_time& st : t.stages()) {
-            (st.name.rfind("estimate", 0) == 0 ? r.estimate_ms : r.build_ms) += st.ms;
-            r.stages += (r.stages.empty() ? "" : "|") + st.name + "=" + num(st.ms);
-          }
-          r.total_ms = r.build_ms + r.estimate_ms;
-          r.vs_vpl = speed_vs_error::compare(img, ref_vpl.img);
-          r.vs_gather = speed_vs_error::compare(img, ref_gather.img);
+          r.vs_vpl = against(img, ref_vpl);
+          r.vs_gather = against(img, ref_gather);
           std::cout << to_string(m) << " samples " << n << " seed " << seed << ": " << fixed(r.total_ms, 1)
                     << " ms, RMSE vs VPL sum " << sci(r.vs_vpl.rmse) << ", vs gathering " << sci(r.vs_gather.rmse)
                     << std::endl;
@@ -340,30 +559,40 @@ int main(int argc, char** argv) {
           if (so.seeds.size() >= 2) group.push_back(img);
         }
         if (group.size() >= 2) {
-          const speed_vs_error::bias_variance a = speed_vs_error::split(group, ref_vpl.img);
-          const speed_vs_error::bias_variance g = speed_vs_error::split(group, ref_gather.img);
-          bv_rows.push_back({m, n, static_cast<int>(group.size()), a.variance, a.bias2, g.bias2});
+          const double nan = std::numeric_limits<double>::quiet_NaN();
+          const speed_vs_error::bias_variance a =
+              ref_vpl.img.rgb.empty() ? speed_vs_error::bias_variance{nan, nan} : speed_vs_error::split(group, ref_vpl.img);
+          const speed_vs_error::bias_variance g = ref_gather.img.rgb.empty()
+                                                      ? speed_vs_error::bias_variance{nan, nan}
+                                                      : speed_vs_error::split(group, ref_gather.img);
+          const double variance = std::isnan(a.variance) ? g.variance : a.variance;
+          bv_rows.push_back({m, n, static_cast<int>(group.size()), variance, a.bias2, g.bias2});
         }
       }
 
     // CSV
     std::ostringstream csv;
-    csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,prepare_ms,build_ms,estimate_ms,total_ms,"
-           "wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,relmse_gather,stages\n";
+    csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,eps,local_combination,gbg_accumulator,"
+           "cdf_search,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
+           "relmse_gather,total_ms_min,repeats,gpu_peak_bytes,stages\n";
     for (const run_row& r : rows)
       csv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
           << r.seed << "," << base.width << "," << base.height << "," << base.dprsm << "," << base.voxels << ","
-          << num(prepare_ms) << "," << num(r.build_ms) << "," << num(r.estimate_ms) << "," << num(r.total_ms) << ","
+          << num(base.eps) << "," << to_string(base.local_combination) << "," << to_string(base.gbg_accumulator) << ","
+          << to_string(base.cdf_search) << "," << num(prepare_ms) << "," << num(r.build_ms) << "," << num(r.estimate_ms) << "," << num(r.total_ms) << ","
           << num(r.wall_ms) << "," << num(r.vs_vpl.rmse) << "," << num(r.vs_vpl.relmse) << "," << num(r.vs_gather.rmse)
-          << "," << num(r.vs_gather.relmse) << "," << r.stages << "\n";
+          << "," << num(r.vs_gather.relmse) << "," << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes
+          << "," << r.stages << "\n";
     write_text(so.out + ".csv", csv.str());
 
     if (!bv_rows.empty()) {
       std::ostringstream bv;
-      bv << "scene,backend,method,samples,seeds,variance,bias2_vplsum,bias2_gather\n";
+      bv << "scene,backend,method,samples,seeds,eps,local_combination,gbg_accumulator,cdf_search,variance,"
+            "bias2_vplsum,bias2_gather\n";
       for (const bias_variance_row& r : bv_rows)
         bv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
-           << r.seeds << "," << num(r.variance) << "," << num(r.bias2_vpl) << "," << num(r.bias2_gather) << "\n";
+           << r.seeds << "," << num(base.eps) << "," << to_string(base.local_combination) << ","
+           << to_string(base.gbg_accumulator) << "," << to_string(base.cdf_search) << "," << num(r.variance) << "," << num(r.bias2_vpl) << "," << num(r.bias2_gather) << "\n";
       write_text(so.out + "_bias_variance.csv", bv.str());
     }
 
@@ -371,10 +600,15 @@ int main(int argc, char** argv) {
     std::ostringstream md;
     md << "Scene `" << p.s.name << "`, " << base.width << "x" << base.height << ", DPRSM 2x" << base.dprsm << "x"
        << base.dprsm << ", " << base.voxels << "^3 voxels, backend `" << to_string(base.back) << "`, GL `"
-       << b.gl_renderer << "`. Prepare (G-buffer + DPRSM + voxels, once): " << fixed(prepare_ms, 1)
-       << " ms. References: VPL sum " << (ref_vpl.hit ? "from cache" : fixed(ref_vpl.ms, 0) + " ms")
-       << ", gathering at " << so.ref_dirs << " dirs " << (ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms")
-       << ". Between the references: RMSE " << sci(speed_vs_error::compare(ref_gather.img, ref_vpl.img).rmse) << ".\n\n";
+       << b.gl_renderer << "`, eps " << num(base.eps) << ", local combination `" << to_string(base.local_combination)
+       << "`, GBG accumulator `" << to_string(base.gbg_accumulator) << "`, CDF search `" << to_string(base.cdf_search)
+       << "`. Prepare (G-buffer + DPRSM + voxels, once): " << fixed(prepare_ms, 1) << " ms. References: VPL sum "
+       << (!so.ref_vplsum ? "skipped" : ref_vpl.hit ? "from cache" : fixed(ref_vpl.ms, 0) + " ms") << ", gathering at "
+       << so.ref_dirs << " dirs "
+       << (!so.ref_gather ? "skipped" : ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms");
+    if (so.ref_vplsum && so.ref_gather)
+      md << ". Between the references: RMSE " << sci(speed_vs_error::compare(ref_gather.img, ref_vpl.img).rmse);
+    md << ". Times: the median of " << so.repeats << " repeat(s) of each run.\n\n";
     md << "| method | samples | seed | build ms | estimate ms | total ms | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
           "gathering | relMSE vs gathering |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const run_row& r : rows)
@@ -383,32 +617,15 @@ int main(int argc, char** argv) {
          << sci(r.vs_vpl.relmse) << " | " << sci(r.vs_gather.rmse) << " | " << sci(r.vs_gather.relmse) << " |\n";
     write_text(so.out + ".md", md.str());
 
-    // SVG: per method, the mean over seeds of time and error at each sample count.
-    std::vector<speed_vs_error::panel> panels(2);
-    panels[0].title = "RMSE vs exhaustive VPL sum";
-    panels[1].title = "RMSE vs converged gathering (" + std::to_string(so.ref_dirs) + " dirs)";
-    for (auto& pn : panels) {
-      pn.x_label = "time per frame, ms (build + estimate)";
-      pn.y_label = "RMSE (linear HDR)";
-    }
-    for (method m : so.methods) {
-      speed_vs_error::series a{to_string(m), {}, {}}, g{to_string(m), {}, {}};
-      for (int n : so.samples) {
-        double t = 0, ea = 0, eg = 0;
-        int c = 0;
-        for (const run_row& r : rows)
-          if (r.meth == m && r.samples == n) t += r.total_ms, ea += r.vs_vpl.rmse, eg += r.vs_gather.rmse, ++c;
-        if (c == 0) continue;
-        a.x.push_back(t / c), a.y.push_back(ea / c), g.x.push_back(t / c), g.y.push_back(eg / c);
-      }
-      panels[0].lines.push_back(a);
-      panels[1].lines.push_back(g);
-    }
     const std::string caption = base_name(p.s.name) + " " + std::to_string(base.width) + "x" +
                                 std::to_string(base.height) + ", backend " + to_string(base.back) + ", " + b.gl_renderer;
-    write_text(so.out + ".svg", speed_vs_error::svg_loglog(panels, caption));
-    std::cout << "wrote " << so.out << ".csv, " << so.out << ".md, " << so.out << ".svg"
-              << (bv_rows.empty() ? "" : ", " + so.out + "_bias_variance.csv") << "\n";
+    const std::string scene_line = "Scene `" + p.s.name + "`, " + std::to_string(base.width) + "x" +
+                                   std::to_string(base.height) + ", backend `" + to_string(base.back) + "`.";
+    const std::vector<std::string> plots =
+        write_analysis(rows, so.methods, so.samples, so.ref_vplsum, so.ref_gather, so.ref_dirs, caption, scene_line, so.out);
+    std::cout << "wrote " << so.out << ".csv, " << so.out << ".md";
+    for (const std::string& f : plots) std::cout << ", " << f;
+    std::cout << (bv_rows.empty() ? "" : ", " + so.out + "_bias_variance.csv") << "\n";
     return 0;
   } catch (const usage_error& e) {
     std::cerr << "speed_vs_error: error: " << e.what() << "\n";

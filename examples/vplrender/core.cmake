@@ -85,8 +85,8 @@ set(VPLRENDER_CORE_AVAILABLE ON)
 # vplrender_pipeline: the GPU rasterisation stages and the pipeline that drives them; needs the
 # headless GL support library (support/, built when examples or GL tests are on).
 if(TARGET vplkit_headless_gl)
-  add_library(vplrender_pipeline STATIC ${_vr}/gl_raster.cpp ${_vr}/gpu_backend.cpp ${_vr}/pipeline.cpp
-              ${_vr}/voxels_gpu.cpp)
+  add_library(vplrender_pipeline STATIC ${_vr}/gl_raster.cpp ${_vr}/gpu_backend.cpp ${_vr}/gpu_builders.cpp
+              ${_vr}/gpu_cdf.cpp ${_vr}/pipeline.cpp ${_vr}/voxels_gpu.cpp)
   target_link_libraries(vplrender_pipeline PUBLIC vplrender_core vplkit::headless_gl PRIVATE vplkit_project_options)
   # The estimator kernel is read at run time from the source tree (like the pack's kernels).
   target_compile_definitions(vplrender_pipeline PRIVATE

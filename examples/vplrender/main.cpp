@@ -72,11 +72,11 @@ int main(int argc, char** argv) {
     std::cout << describe(p, o);
     if (o.back == backend::gpu) {
       if (gpu_estimator_available(o.meth) && gpu_builder_available(o.meth))
-        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; GBG weights + hole fill on the GPU, "
-                     "CDF and direct light on the CPU)\nbuilders backend: gpu (gbg)\n";
+        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; builder weights, CDFs and direct "
+                     "light on the GPU)\nbuilders backend: gpu\n";
       else if (gpu_estimator_available(o.meth))
-        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; builders, CDFs and direct light on "
-                     "the CPU)\n";
+        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; no builders; direct light on the "
+                     "GPU)\n";
       else
         std::cout << "estimator backend: cpu (no GPU kernel for --method " << to_string(o.meth)
                   << " in this build; falling back to the C++ templates)\n";
@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
     run.stages = timer.stages();
     nlohmann::json report = make_report(o, p, run);
     report["pipeline"] = res.details;
+    report["host_peak_rss_bytes"] = host_peak_rss_bytes();
     write_json(o.json_path(), report);
     double total = 0.0;
     for (const stage_time& st : run.stages) total += st.ms;

@@ -140,14 +140,40 @@ GLint program::uniform_location(const char* name) const {
   return glGetUniformLocation(id_, name);
 }
 
+// ---- GPU memory accounting --------------------------------------------------------------------
+namespace {
+gpu_memory& memory_counters() {
+  static gpu_memory m;
+  return m;
+}
+// A buffer holds at least one word (a zero-sized SSBO cannot be bound).
+long long stored_bytes(std::size_t bytes) { return static_cast<long long>(bytes > 0 ? bytes : 4); }
+}  // namespace
+
+void track_gpu_bytes(long long delta_bytes) {
+  gpu_memory& m = memory_counters();
+  m.live_bytes += delta_bytes;
+  if (m.live_bytes > m.peak_bytes) m.peak_bytes = m.live_bytes;
+}
+
+gpu_memory gpu_memory_usage() { return memory_counters(); }
+
+void reset_gpu_memory_peak() { memory_counters().peak_bytes = memory_counters().live_bytes; }
+
 // ---- buffer -----------------------------------------------------------------------------------
 buffer::~buffer() {
-  if (id_ != 0) glDeleteBuffers(1, &id_);
+  if (id_ != 0) {
+    glDeleteBuffers(1, &id_);
+    track_gpu_bytes(-stored_bytes(bytes_));
+  }
 }
 
 buffer& buffer::operator=(buffer&& other) noexcept {
   if (this != &other) {
-    if (id_ != 0) glDeleteBuffers(1, &id_);
+    if (id_ != 0) {
+      glDeleteBuffers(1, &id_);
+      track_gpu_bytes(-stored_bytes(bytes_));
+    }
     id_ = std::exchange(other.id_, 0);
     bytes_ = std::exchange(other.bytes_, 0);
   }
@@ -164,6 +190,7 @@ buffer buffer::from_bytes(const void* data, std::size_t bytes) {
   glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes > 0 ? bytes : 4),
                bytes > 0 ? data : zero.data(), GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  track_gpu_bytes(stored_bytes(bytes));  // before the check: b's destructor untracks on a throw
   check_gl("creating a shader storage buffer");
   return b;
 }

@@ -281,3 +281,54 @@ TEST_CASE("the --help flag returns the help text, which documents every flag") {
   for (const char* m : {"reference", "global", "local", "gbg", "gather", "mis-as-published"}) CHECK(r.help.find(m) != std::string::npos);
   CHECK(parse_command_line({"vplrender", "--vpls", "3", "-h"}).what == parse_result::action::help);
 }
+
+TEST_CASE("the switches of issue 5: defaults, every value, and bad values naming the flag") {
+  const options d = parse({});
+  CHECK(d.local_combination == local_combination_choice::balance);
+  CHECK(d.gbg_accumulator == gbg_accumulator_choice::gathering);
+  CHECK(d.cdf_search == cdf_search_choice::guide);
+  CHECK(parse({"--local-combination", "average"}).local_combination == local_combination_choice::average);
+  CHECK(parse({"--local-combination", "balance"}).local_combination == local_combination_choice::balance);
+  CHECK(parse({"--gbg-accumulator", "paper"}).gbg_accumulator == gbg_accumulator_choice::paper);
+  CHECK(parse({"--gbg-accumulator", "gathering"}).gbg_accumulator == gbg_accumulator_choice::gathering);
+  CHECK(parse({"--cdf-search", "binary"}).cdf_search == cdf_search_choice::binary);
+  CHECK(parse({"--cdf-search", "guide"}).cdf_search == cdf_search_choice::guide);
+  // Independent of each other and of --paper (which sets sizes and counts only).
+  const options all = parse({"--paper", "--cdf-search", "binary", "--gbg-accumulator", "paper", "--local-combination",
+                             "average"});
+  CHECK(all.local_combination == local_combination_choice::average);
+  CHECK(all.gbg_accumulator == gbg_accumulator_choice::paper);
+  CHECK(all.cdf_search == cdf_search_choice::binary);
+  CHECK(parse({"--paper"}).cdf_search == cdf_search_choice::guide);
+  CHECK(std::string(to_string(local_combination_choice::average)) == "average");
+  CHECK(std::string(to_string(gbg_accumulator_choice::paper)) == "paper");
+  CHECK(std::string(to_string(cdf_search_choice::binary)) == "binary");
+
+  const std::string e1 = error_of({"--local-combination", "mean"});
+  CHECK(starts_with(e1, "--local-combination: "));
+  CHECK(e1.find("'mean'") != std::string::npos);
+  CHECK(e1.find("balance|average") != std::string::npos);
+  const std::string e2 = error_of({"--gbg-accumulator", "Paper"});
+  CHECK(starts_with(e2, "--gbg-accumulator: "));
+  CHECK(e2.find("'Paper'") != std::string::npos);
+  CHECK(e2.find("gathering|paper") != std::string::npos);
+  const std::string e3 = error_of({"--cdf-search", "linear"});
+  CHECK(starts_with(e3, "--cdf-search: "));
+  CHECK(e3.find("'linear'") != std::string::npos);
+  CHECK(e3.find("guide|binary") != std::string::npos);
+  CHECK(starts_with(error_of({"--cdf-search", ""}), "--cdf-search: "));
+  CHECK(error_of({"--cdf-search"}).find("--cdf-search") != std::string::npos);
+  CHECK(error_of({"--cdf-search", "guide", "--cdf-search", "binary"}).find("--cdf-search") != std::string::npos);
+
+  // The help wraps lines: compare with runs of whitespace collapsed to one space.
+  std::string help;
+  for (char c : help_text("vplrender")) {
+    const bool space = c == ' ' || c == '\n';
+    if (!(space && !help.empty() && help.back() == ' ')) help += space ? ' ' : c;
+  }
+  for (const char* s : {"--local-combination", "balance|average", "--gbg-accumulator", "gathering|paper",
+                        "--cdf-search", "guide|binary", "default balance", "default gathering", "default guide"}) {
+    INFO(s);
+    CHECK(help.find(s) != std::string::npos);
+  }
+}

@@ -8,13 +8,15 @@
 // kernel once per range. Between passes each pixel keeps its float sum (and the Neumaier
 // compensation of the reference) and its counter_rng in the state buffer: the sequence of float
 // operations and random numbers is exactly that of one C++ loop (cpu_backend.cpp), whatever the
-// split. The last pass writes sum / N (as the C++ estimators divide) to the RGBA32F output; the
-// host adds direct light and applies max(., 0) and the finite guard as the CPU backend does.
+// split. The last pass writes sum / N (as the C++ estimators divide), plus the direct light when
+// u_direct is set (vr_direct_light: cpu_backend.cpp's direct_light() statement for statement), to
+// the RGBA32F output; the host applies max(., 0) and the finite guard as the CPU backend does.
 //
 // Random numbers: vplkit_make_counter_rng(u_seed, pixel), the CPU backend's stream per pixel.
-// Distributions: defensive mixtures built on the CPU (vplkit::make_vpl_distribution) and uploaded
-// as their CDF + guide arrays and the C++ objects' scalars (bit-exact sampling, pack
-// distribution/defensive_mixture.glsl).
+// Distributions: defensive mixtures as CDF + guide arrays and the mixture scalars (pack
+// distribution/defensive_mixture.glsl). Built on the GPU for global, local, gbg, mis and
+// mis-as-published (gpu_cdf.cpp: cdf_build.comp, the same layout); the vr_dist_* layout below is
+// also what an upload of C++ vplkit::make_vpl_distribution objects fills.
 #define VR_REFERENCE 0
 #define VR_VPL_SAMPLING 1
 #define VR_LOCAL 2
@@ -32,6 +34,7 @@ layout(local_size_x = 64) in;
 #include "vplkit/estimators/visibility_callables.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/vpl/dprsm_lookup.glsl"
 
 // A G-buffer pixel or a DPRSM texel: xyz used, w ignored (std430 vec3 arrays take 16 bytes anyway).
 struct vr_surfel {
@@ -82,6 +85,9 @@ uniform int u_n_samples;   // VPL sampling: samples; local: rounds
 uniform int u_n_dists;
 uniform int u_mis_mode;
 uniform uint u_slot_base;
+uniform int u_direct;  // 1: add the direct light (--direct) in the last pass
+uniform int u_cdf_search;          // 0: guide table (vplkit_defensive_mixture_sample), 1: plain binary search
+uniform int u_local_combination;   // vplkit_local_balance or vplkit_local_average (--local-combination)
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
   return vplkit_gather_point(vr_gbuffer[pixel].position.xyz, vr_gbuffer[pixel].normal.xyz,
@@ -106,10 +112,27 @@ vplkit_defensive_mixture vr_mixture(uint d) {
                                   uintBitsToFloat(vr_dist_meta[b + 9u]), uintBitsToFloat(vr_dist_meta[b + 10u]));
 }
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u) {
+  // --cdf-search: both searches return the same index and pmf (uniform branch, no divergence).
+  if (u_cdf_search != 0) return vplkit_defensive_mixture_sample_binary_search(vr_mixture(distribution), u);
   return vplkit_defensive_mixture_sample(vr_mixture(distribution), u);
 }
 float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
   return vplkit_defensive_mixture_pmf(vr_mixture(distribution), index);
+}
+
+// cpu_backend.cpp direct_light(): the direct light at a valid gather point through the DPRSM
+// shadow test (0 in shadow). Same statements and order; the tolerance formula is the C++ one.
+vec3 vr_direct_light(vplkit_gather_point gp, vplkit_dprsm_view view) {
+  vec3 to_light = view.light.position - gp.position;
+  float d = length(to_light);
+  if (!(d > 0.0)) return vec3(0.0);
+  float cos_a = dot(normalize(gp.normal), to_light / d);
+  if (!(cos_a > 0.0)) return vec3(0.0);
+  float tan_a = min(20.0, sqrt(max(0.0, 1.0 - cos_a * cos_a)) / cos_a);
+  float tol = d * (4.0 / float(view.resolution)) * (0.5 + tan_a) + 1e-4 * d;
+  vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, gp.position, tol);
+  if (!r.lit) return vec3(0.0);
+  return vplkit_reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
 }
 
 void main() {
@@ -156,7 +179,7 @@ void main() {
     for (int k = u_begin; k < u_end; ++k)
       sum += vplkit_vpl_sampling_sample(gp, view, 0u, vplkit_rng_next_unit(rng), visibility, u_dmin);
 #elif VR_METHOD == VR_LOCAL
-    // vplkit_estimate_local's loop (balance combination), rounds u_begin .. u_end - 1.
+    // vplkit_estimate_local's loop (combination u_local_combination), rounds u_begin .. u_end - 1.
     uint n_texels = uint(vplkit_dprsm_view_texel_count(view));
     for (int r = u_begin; r < u_end; ++r)
       for (int i = 0; i < u_n_dists; ++i) {
@@ -165,7 +188,9 @@ void main() {
         if (!(pmf_i > 0.0) || s.index >= n_texels) continue;
         vec3 c = vplkit_vpl_visible_contribution(gp, view, int(s.index), visibility, u_dmin);
         if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) continue;
-        float divisor = vplkit_local_mixture_pmf_sum(0u, u_n_dists, s.index);
+        float divisor = u_local_combination == vplkit_local_balance
+                            ? vplkit_local_mixture_pmf_sum(0u, u_n_dists, s.index)
+                            : pmf_i * float(u_n_dists);
         sum += vplkit_estimator_finite_or_zero(vec3(vplkit_mis_div(c.x, divisor), vplkit_mis_div(c.y, divisor),
                                                     vplkit_mis_div(c.z, divisor)));
       }
@@ -210,6 +235,7 @@ void main() {
 #elif VR_METHOD == VR_MIS
       e = u_mis_mode == vplkit_mis_as_published ? sum / float(u_n_dirs > 0 ? u_n_dirs : u_n_vpls) : sum;
 #endif
+      if (u_direct != 0) e += vr_direct_light(gp, view);
     }
     vr_out[p] = vec4(e, 1.0);
   }

@@ -35,6 +35,9 @@ estimator_settings make_estimator_settings(const options& o, const scene& s) {
   e.regions_x = o.regions_x;
   e.regions_y = o.regions_y;
   e.eps = static_cast<float>(o.eps);
+  e.local_combination = o.local_combination;
+  e.gbg_accumulator = o.gbg_accumulator;
+  e.cdf_search = o.cdf_search;
   e.seed = o.seed;
   e.direct = o.direct;
   // The VPL clamp of DESIGN 3.2: 1% of the scene diagonal (a documented, tunable bias; the
@@ -108,6 +111,14 @@ void global_weights(const vplkit::dprsm_view<float>& view, const std::vector<gat
   });
 }
 
+// --cdf-search binary: the estimators' Distribution interface over a defensive mixture, drawing by
+// plain binary search (the same index and pmf as the guided sample(), at another cost).
+struct binary_searched_mixture {
+  const vplkit::defensive_mixture<float>* m = nullptr;
+  vplkit::discrete_sample<float> sample(float u) const noexcept { return m->sample_binary_search(u); }
+  float pmf(std::size_t i) const noexcept { return m->pmf(i); }
+};
+
 std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>& g, const std::vector<int>& pixels) {
   std::vector<gather_point<float>> pts;
   for (int p : pixels) {
@@ -168,7 +179,8 @@ cpu_distributions build_distributions_cpu(const gbuffer_data& gb, const dprsm_da
       params.dmin = es.dmin;
       params.depth_tolerance = depth_tol;
       params.seed = builder_seed(es.seed, 2);
-      params.accumulator = vplkit::gbg_accumulator::gathering;
+      params.accumulator = es.gbg_accumulator == gbg_accumulator_choice::paper ? vplkit::gbg_accumulator::paper
+                                                                               : vplkit::gbg_accumulator::gathering;
       std::vector<std::vector<double>> acc(static_cast<std::size_t>(threads));
       std::vector<vplkit::gbg_stats> per(static_cast<std::size_t>(threads));
       std::vector<int> counts(static_cast<std::size_t>(threads), 0);
@@ -204,7 +216,7 @@ cpu_distributions build_distributions_cpu(const gbuffer_data& gb, const dprsm_da
     }
     det["gbg"] = {{"gather_points", stats.gather_points}, {"rays", stats.rays},         {"hits", stats.hits},
                   {"lit_hits", stats.lit_hits},           {"reached_texels", stats.reached_texels},
-                  {"holes", stats.holes},                 {"filled", stats.filled},     {"accumulator", "gathering"}};
+                  {"holes", stats.holes},                 {"filled", stats.filled},     {"accumulator", to_string(es.gbg_accumulator)}};
     auto t = timer.scoped("cdf (cpu)");
     return vplkit::make_vpl_distribution(weights, view, es.eps);
   };
@@ -252,7 +264,7 @@ cpu_distributions build_distributions_cpu(const gbuffer_data& gb, const dprsm_da
       // about --vpls samples whatever N is.
       out.local_rounds = std::max(1, es.vpls / N);
       det["local_rounds"] = out.local_rounds;
-      det["local_combination"] = "balance";
+      det["local_combination"] = to_string(es.local_combination);
       break;
     }
     case method::gbg:
@@ -282,7 +294,11 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
   const vplkit::voxel_tracer<float> tracer{grid};
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
+  det["cdf_search"] = to_string(es.cdf_search);
   const cpu_distributions built = build_distributions_cpu(gb, dd, grid, es, timer, progress, det);
+  const bool binary = es.cdf_search == cdf_search_choice::binary;
+  std::vector<binary_searched_mixture> binary_dists;
+  for (const auto& m : built.dists) binary_dists.push_back({&m});
 
   // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
   auto render_pixels = [&](auto&& est) {
@@ -316,17 +332,31 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
     case method::global:
     case method::gbg: {
       const auto& dist = built.dists.front();
-      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-        return vplkit::estimate_vpl_sampling(gp, view, dist, rng, es.vpls, visibility, es.dmin);
-      });
+      if (binary)
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_vpl_sampling(gp, view, binary_dists.front(), rng, es.vpls, visibility, es.dmin);
+        });
+      else
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_vpl_sampling(gp, view, dist, rng, es.vpls, visibility, es.dmin);
+        });
       break;
     }
     case method::local: {
       const int N = static_cast<int>(built.dists.size());
-      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-        return vplkit::estimate_local(gp, view, built.dists.data(), N, rng, built.local_rounds, visibility, es.dmin,
-                                      vplkit::local_combination::balance);
-      });
+      const vplkit::local_combination comb = es.local_combination == local_combination_choice::average
+                                                 ? vplkit::local_combination::average
+                                                 : vplkit::local_combination::balance;
+      if (binary)
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_local(gp, view, binary_dists.data(), N, rng, built.local_rounds, visibility, es.dmin,
+                                        comb);
+        });
+      else
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_local(gp, view, built.dists.data(), N, rng, built.local_rounds, visibility, es.dmin,
+                                        comb);
+        });
       break;
     }
     case method::gather: {
@@ -340,9 +370,15 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
       const auto& dist = built.dists.front();
       const vplkit::mis_mode mode =
           es.meth == method::mis ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published;
-      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-        return vplkit::estimate_mis(gp, view, dist, rng, es.dirs, es.vpls, tracer, visibility, depth_tol, mode);
-      });
+      if (binary)
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_mis(gp, view, binary_dists.front(), rng, es.dirs, es.vpls, tracer, visibility,
+                                      depth_tol, mode);
+        });
+      else
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_mis(gp, view, dist, rng, es.dirs, es.vpls, tracer, visibility, depth_tol, mode);
+        });
       break;
     }
   }

@@ -25,6 +25,9 @@ struct estimator_settings {
   int dirs = 16;              // gathering directions (gbg NBDIR, gather, mis)
   int regions_x = 2, regions_y = 2;
   float eps = 0.05f;
+  local_combination_choice local_combination = local_combination_choice::balance;
+  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;
+  cdf_search_choice cdf_search = cdf_search_choice::guide;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF

@@ -195,7 +195,10 @@ void main() {
   float denom = dot(v_plane.xyz, dir);
   if (abs(denom) > 1e-6) {
     float t = (v_plane.w - dot(v_plane.xyz, u_light)) / denom;
-    if (t > 0.0) p = u_light + t * dir;
+    // The texel's ray meets the plane behind the light: this triangle cannot be what the texel
+    // sees (a triangle whose interpolation wrapped across the face, see tessellate.hpp).
+    if (!(t > 0.0)) discard;
+    p = u_light + t * dir;
   }
   vec3 n = v_normal;
   float len = length(n);
@@ -215,6 +218,7 @@ struct vertex {
 
 struct mesh {
   GLuint vao = 0, vbo = 0;
+  long long bytes = 0;  // vbo storage, for vplkit::gl::track_gpu_bytes
   // Ranges of vertices per material (triangles sorted by material).
   struct range {
     std::uint32_t material;
@@ -226,6 +230,8 @@ struct mesh {
     if (vbo) glDeleteBuffers(1, &vbo);
     if (vao) glDeleteVertexArrays(1, &vao);
     vao = vbo = 0;
+    vplkit::gl::track_gpu_bytes(-bytes);
+    bytes = 0;
     ranges.clear();
   }
 };
@@ -267,6 +273,9 @@ void upload(mesh& m, const std::vector<triangle>& tris_in) {
   glBindVertexArray(m.vao);
   glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(verts.size() * sizeof(vertex)), verts.data(), GL_STATIC_DRAW);
+  const long long vbo_bytes = static_cast<long long>(verts.size() * sizeof(vertex));
+  vplkit::gl::track_gpu_bytes(vbo_bytes - m.bytes);
+  m.bytes = vbo_bytes;
   const GLsizei stride = sizeof(vertex);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(vertex, p)));
@@ -301,6 +310,7 @@ struct target {
     glBindRenderbuffer(GL_RENDERBUFFER, depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    vplkit::gl::track_gpu_bytes(bytes());
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     glDrawBuffers(3, bufs);
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
@@ -327,7 +337,10 @@ struct target {
     check_gl("vplrender: read-back");
     return px;
   }
+  // Three RGBA32F targets and a 32-bit depth buffer.
+  long long bytes() const { return static_cast<long long>(w) * h * (3 * 16 + 4); }
   void release() {
+    if (fbo) vplkit::gl::track_gpu_bytes(-bytes());
     if (depth) glDeleteRenderbuffers(1, &depth);
     if (color[0]) glDeleteTextures(3, color);
     if (fbo) glDeleteFramebuffers(1, &fbo);
@@ -343,9 +356,11 @@ struct gl_rasterizer::impl {
   GLuint gbuffer_program = 0, dprsm_program = 0;
   std::vector<GLuint> textures;  // per scene texture
   mesh scene_mesh;               // the scene as is (G-buffer)
+  long long texture_bytes = 0;   // RGB8 is padded to 4 bytes per texel by most drivers
   ~impl() {
     scene_mesh.release();
     if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
+    vplkit::gl::track_gpu_bytes(-texture_bytes);
     if (gbuffer_program) glDeleteProgram(gbuffer_program);
     if (dprsm_program) glDeleteProgram(dprsm_program);
   }
@@ -394,6 +409,9 @@ gl_rasterizer::gl_rasterizer(const scene& s) : impl_(std::make_unique<impl>()) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     impl_->textures.push_back(id);
+    const long long tb = 4LL * t.width * t.height;
+    impl_->texture_bytes += tb;
+    vplkit::gl::track_gpu_bytes(tb);
   }
   upload(impl_->scene_mesh, s.triangles);
   check_gl("vplrender: rasteriser setup");

@@ -1,5 +1,7 @@
 #include "gpu_backend.hpp"
 
+#include "gpu_builders.hpp"
+
 #include <headless_gl/compute.hpp>
 
 #include <vplkit/core/error.hpp>
@@ -131,12 +133,13 @@ const vplkit::gl::program& pack_kernel(const std::string& rel) {
 bool gpu_estimator_available(method) { return true; }
 
 bool gpu_builder_available(method m) {
-  return m == method::gbg || m == method::mis || m == method::mis_as_published;
+  return m == method::global || m == method::local || m == method::gbg || m == method::mis ||
+         m == method::mis_as_published;
 }
 
 gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& dd,
                                       const vplkit::voxel_grid_view<float>& grid, const estimator_settings& es,
-                                      stage_timer& timer, nlohmann::json& det) {
+                                      stage_timer& timer, nlohmann::json& det, bool read_back) {
   namespace gl = vplkit::gl;
   const vplkit::gbuffer_view<float> g = gb.view();
   const vplkit::dprsm_view<float> view = dd.view();
@@ -162,8 +165,13 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
     if (dd.albedo[t] != glm::vec3(0.0f))
       d1min = std::min(d1min, double(glm::length(dd.position[t] - view.light.position)));
   d1min = std::max(d1min - double(depth_tol), 1e-3);
-  const double v_bound = std::max(double(vplkit::luminance(view.light.intensity)), 1e-30) /
-                         (3.141592653589793 * d1min * d1min);
+  // The paper accumulator (luminance of eq. 5 clamped at dmin) is bounded instead by
+  // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_cdf.glsl); dmin > 0 here.
+  const bool paper_acc = es.gbg_accumulator == gbg_accumulator_choice::paper;
+  const double lum_i = std::max(double(vplkit::luminance(view.light.intensity)), 1e-30);
+  const double dmin_b = std::max(double(es.dmin), 1e-6);
+  const double v_bound = paper_acc ? lum_i * (16.0 / (double(R) * R)) / (9.869604401089358 * dmin_b * dmin_b)
+                                   : lum_i / (3.141592653589793 * d1min * d1min);
   const double scale = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(max_units / v_bound))));
 
   std::vector<glm::vec4> gbuf(3 * std::max<std::size_t>(n_pixels, 1), glm::vec4(0.0f));
@@ -211,7 +219,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
                                    glm::vec4(grid.bounds_max, 0.0f),
                                    glm::ivec4(grid.resolution.x, grid.resolution.y, grid.resolution.z, 0),
                                    glm::ivec4(W, H, R, es.dirs),
-                                   glm::ivec4(1, begin, end, begin == 0 ? 1 : 0),
+                                   glm::ivec4(paper_acc ? 0 : 1, begin, end, begin == 0 ? 1 : 0),
                                    glm::uvec4(builder_seed(es.seed, 2), 0u, 0u, 0u),
                                    glm::vec4(es.dmin, depth_tol, float(vplkit::voxel_surface_offset_default), 0.0f),
                                    glm::vec4(float(scale), float(max_units), 0.0f, 0.0f)};
@@ -238,15 +246,16 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
     timer.add("gbg weights + hole fill (gpu)", tq.milliseconds(), "gpu");
   }
   gbg_gpu_weights out;
-  out.weights = b_weights.read<float>(n);
+  if (read_back) out.weights = b_weights.read<float>(n);
   const std::vector<std::uint32_t> st = b_stats.read<std::uint32_t>(8);
   out.scale = scale;
   out.lit_hits = static_cast<long long>(st[2]);
   out.gather_points = static_cast<int>(st[0]);
+  out.buffer = std::move(b_weights);
   det["gbg"] = {{"gather_points", st[0]},     {"rays", static_cast<long long>(st[0]) * es.dirs},
                 {"hits", st[1]},              {"lit_hits", st[2]},
                 {"reached_texels", st[4]},    {"holes", st[5]},
-                {"filled", st[6]},            {"accumulator", "gathering"},
+                {"filled", st[6]},            {"accumulator", to_string(es.gbg_accumulator)},
                 {"backend", "gpu"},           {"fixed_point_scale", scale},
                 {"fixed_point_max_units", max_units}, {"saturated_hits", st[3]},
                 {"dispatches", dispatches}};
@@ -277,11 +286,14 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   det["dmin"] = es.dmin;
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
+  det["cdf_search"] = to_string(es.cdf_search);
   cpu_distributions built;
-  if (gpu_builder_available(es.meth)) {
-    const gbg_gpu_weights w = build_gbg_weights_gpu(gb, dd, grid, es, timer, det);
-    auto t = timer.scoped("cdf (cpu)");
-    built.dists.push_back(vplkit::make_vpl_distribution(w.weights, view, es.eps));
+  // Builders and CDFs on the GPU (gpu_builders.cpp, gpu_cdf.cpp): the mixtures stay there.
+  const bool gpu_dists = gpu_builder_available(es.meth);
+  gpu_mixtures gm;
+  if (gpu_dists) {
+    gm = build_distributions_gpu(gb, dd, grid, es, timer, det);
+    built.local_rounds = gm.local_rounds;
   } else {
     built = build_distributions_cpu(gb, dd, grid, es, timer, progress, det);
   }
@@ -335,13 +347,14 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
     if (meta.empty()) meta.push_back(0u);
     if (dist_data.empty()) dist_data.push_back(0u);
   }
-  const std::uint32_t slot_base = static_cast<std::uint32_t>(12 * built.dists.size());
+  const std::uint32_t slot_base = gpu_dists ? gm.slot_base : static_cast<std::uint32_t>(12 * built.dists.size());
+  const int n_dists = gpu_dists ? gm.count : static_cast<int>(built.dists.size());
 
   gl::buffer b_gbuf = gl::buffer::from_vector(gbuf);
   gl::buffer b_dprsm = gl::buffer::from_vector(dprsm);
   gl::buffer b_words = gl::buffer::from_vector(words);
-  gl::buffer b_data = gl::buffer::from_vector(dist_data);
-  gl::buffer b_meta = gl::buffer::from_vector(meta);
+  gl::buffer b_data = gpu_dists ? std::move(gm.data) : gl::buffer::from_vector(dist_data);
+  gl::buffer b_meta = gpu_dists ? std::move(gm.meta) : gl::buffer::from_vector(meta);
   gl::buffer b_state = gl::buffer::filled(48 * std::max<std::size_t>(n_pixels, 1), 0);
   gl::buffer b_out = gl::buffer::filled(16 * std::max<std::size_t>(n_pixels, 1), 0xFF);
 
@@ -368,8 +381,11 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   set_i("u_n_dirs", es.dirs);
   set_i("u_n_vpls", es.vpls);
   set_i("u_n_samples", kind == k_local ? built.local_rounds : es.vpls);
-  set_i("u_n_dists", static_cast<int>(built.dists.size()));
+  set_i("u_n_dists", n_dists);
+  set_i("u_direct", es.direct ? 1 : 0);
   set_i("u_mis_mode", es.meth == method::mis_as_published ? 1 : 0);
+  set_i("u_cdf_search", es.cdf_search == cdf_search_choice::binary ? 1 : 0);
+  set_i("u_local_combination", es.local_combination == local_combination_choice::average ? 1 : 0);
   glUniform1ui(prog.uniform_location("u_slot_base"), slot_base);
   gl::check_gl("estimate.comp uniforms");
   b_gbuf.bind(0);
@@ -380,7 +396,7 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   b_state.bind(5);
   b_out.bind(6);
 
-  const int regions = std::max(1, static_cast<int>(built.dists.size()));
+  const int regions = std::max(1, n_dists);
   const work_shape shape = shape_of(es, view.resolution, grid.resolution, regions, built.local_rounds);
   const long long chunk = std::max(1LL, gpu_loop_budget / shape.cost);
   const long long units = std::max(1LL, shape.units);
@@ -392,10 +408,10 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
                 {"passes", passes},
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
-                {"builders", gpu_builder_available(es.meth) ? "gpu (gbg_accumulate.comp + gbg_finish.comp, read back)"
+                {"builders", gpu_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)"
                                                             : "cpu (uploaded)"},
-                {"cdf", "cpu (vplkit::make_vpl_distribution, uploaded)"},
-                {"direct_light", "cpu (after read-back)"}};
+                {"cdf", gpu_dists ? "gpu (cdf_build.comp)" : "none"},
+                {"direct_light", es.direct ? "gpu (estimate.comp)" : "off"}};
   {
     gl::timer_query tq;
     tq.begin();
@@ -416,15 +432,14 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   }
   const std::vector<glm::vec4> out = b_out.read<glm::vec4>(n_pixels);
   {
-    auto t = timer.scoped("read-back + direct (cpu)");
+    auto t = timer.scoped("read-back (cpu)");
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         const int p = y * W + x;
         const vplkit::gather_point<float> gp = g.at(p);
         glm::vec3 c(0.0f);
         if (vplkit::gather_point_valid(gp)) {
-          c = glm::vec3(out[static_cast<std::size_t>(p)]);
-          if (es.direct) c += direct_light(gp, view);
+          c = glm::vec3(out[static_cast<std::size_t>(p)]);  // direct light included (estimate.comp)
           c = vplkit::estimator_finite_or_zero(glm::max(c, glm::vec3(0.0f)));
         }
         float* o = result.image.at(x, y);

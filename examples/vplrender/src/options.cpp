@@ -33,13 +33,19 @@ const char* to_string(progress_mode p) {
   return p == progress_mode::always ? "always" : p == progress_mode::never ? "never" : "auto";
 }
 
+const char* to_string(local_combination_choice c) {
+  return c == local_combination_choice::average ? "average" : "balance";
+}
+const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_choice::paper ? "paper" : "gathering"; }
+const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
+
 namespace {
 
 std::string replace_extension(const std::string& out, const char* ext) { return out.substr(0, out.size() - 4) + ext; }
 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
-      window_script;
+      window_script, local_combination, gbg_accumulator, cdf_search;
   bool paper = false, direct = false, window = false;
 };
 
@@ -99,6 +105,22 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--eps", v.eps, d("Defensive mixing weight: p = (1-eps) p_cdf + eps p_uniform (default 0.05; "
                                  "0..1; 0 reproduces the paper)."))
       ->type_name("X");
+  app.add_option("--local-combination", v.local_combination,
+                 d("How --method local combines its N region CDFs (default balance): balance = each sample "
+                   "divided by the sum of the N pmfs (the mixture; unbiased wherever any CDF covers the VPL); "
+                   "average = each sample divided by N times the pmf of the CDF that drew it (the paper's; "
+                   "unbiased only where every CDF covers the VPL, more noise at region borders)."))
+      ->type_name("balance|average");
+  app.add_option("--gbg-accumulator", v.gbg_accumulator,
+                 d("Value each lit GBG ray adds to its texel's weight, for gbg, mis and mis-as-published (default "
+                   "gathering): gathering = luminance of the gathering estimator's value rho_x L_o(y); paper = "
+                   "luminance of the VPL's contribution to the gather point (eq. 5, clamped at dmin)."))
+      ->type_name("gathering|paper");
+  app.add_option("--cdf-search", v.cdf_search,
+                 d("How every CDF sample is searched (default guide): guide = guide table (cutpoint method) then "
+                   "at most a short binary search; binary = plain binary search over the whole CDF. Both return "
+                   "the same index for every u, so the image is identical: this measures the search's cost."))
+      ->type_name("guide|binary");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -266,6 +288,18 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.progress = parse_choice<progress_mode>("--progress", v.progress,
                                              {{"auto", progress_mode::automatic}, {"always", progress_mode::always},
                                               {"never", progress_mode::never}});
+  if (given("--local-combination"))
+    o.local_combination = parse_choice<local_combination_choice>(
+        "--local-combination", v.local_combination,
+        {{"balance", local_combination_choice::balance}, {"average", local_combination_choice::average}});
+  if (given("--gbg-accumulator"))
+    o.gbg_accumulator = parse_choice<gbg_accumulator_choice>(
+        "--gbg-accumulator", v.gbg_accumulator,
+        {{"gathering", gbg_accumulator_choice::gathering}, {"paper", gbg_accumulator_choice::paper}});
+  if (given("--cdf-search"))
+    o.cdf_search = parse_choice<cdf_search_choice>("--cdf-search", v.cdf_search,
+                                                   {{"guide", cdf_search_choice::guide},
+                                                    {"binary", cdf_search_choice::binary}});
   o.paper = v.paper;
   if (o.paper) {
     o.width = o.height = 512;

@@ -13,10 +13,18 @@ namespace vplrender {
 enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
 enum class backend { gpu, cpu };
 enum class progress_mode { automatic, always, never };
+// Departures from the paper that can be switched back (issue 5): the local CDFs' combination,
+// the GBG accumulator and the CDF search.
+enum class local_combination_choice { balance, average };
+enum class gbg_accumulator_choice { gathering, paper };
+enum class cdf_search_choice { guide, binary };
 
 const char* to_string(method m);
 const char* to_string(backend b);
 const char* to_string(progress_mode p);
+const char* to_string(local_combination_choice c);
+const char* to_string(gbg_accumulator_choice a);
+const char* to_string(cdf_search_choice s);
 
 // Limits: anything outside is "absurd" and refused with a message naming the flag.
 struct limits {
@@ -52,6 +60,9 @@ struct options {
   int regions_x = 2, regions_y = 2;  // ... as a grid (the most nearly square factorisation)
   int dirs = 16;                  // gathering directions per gather point (GBG NBDIR, MIS, gather)
   double eps = 0.05;              // defensive mixing weight (0 = the paper)
+  local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
+  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
+  cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

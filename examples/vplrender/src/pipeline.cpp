@@ -91,6 +91,10 @@ cpu_render_result run_estimator(const options& o, const prepared_scene& p, const
   // --backend gpu: the estimator as a compute shader (gpu_backend.cpp) where this build has one;
   // --backend cpu, or a method without a kernel: the C++ templates (cpu_backend.cpp).
   const bool gpu_estimator = o.back == backend::gpu && gpu_estimator_available(es.meth);
+  // GPU memory of this estimator alone: the peak restarts from what is live now (the prepare
+  // stages' GL objects are gone by then; their peak is kept as gpu_peak_bytes_prepare).
+  const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();
+  vplkit::gl::reset_gpu_memory_peak();
   cpu_render_result cr;
   try {
     cr = gpu_estimator ? render_gpu(b.gbuf, b.dprsm, b.grid.view(), es, timer, progress)
@@ -100,7 +104,11 @@ cpu_render_result run_estimator(const options& o, const prepared_scene& p, const
   }
   det["estimator"] = cr.details;
   det["estimator_backend"] = gpu_estimator ? "gpu" : "cpu";
-  det["builders_backend"] = gpu_estimator && gpu_builder_available(es.meth) ? "gpu (gbg)" : "cpu";
+  const vplkit::gl::gpu_memory after = vplkit::gl::gpu_memory_usage();
+  det["memory"] = {{"gpu_peak_bytes_prepare", before.peak_bytes},
+                   {"gpu_live_bytes_before_estimator", before.live_bytes},
+                   {"gpu_peak_bytes_estimator", after.peak_bytes - before.live_bytes}};
+  det["builders_backend"] = gpu_estimator && gpu_builder_available(es.meth) ? "gpu" : "cpu";
   return cr;
 }
 

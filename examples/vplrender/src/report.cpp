@@ -10,6 +10,8 @@
 #include <cstring>
 #include <memory>
 
+#include <sys/resource.h>
+
 namespace vplrender {
 
 namespace {
@@ -32,6 +34,9 @@ nlohmann::json options_to_json(const options& o) {
   j["regions_grid"] = nlohmann::json::array({o.regions_x, o.regions_y});
   j["dirs"] = o.dirs;
   j["eps"] = o.eps;
+  j["local_combination"] = to_string(o.local_combination);
+  j["gbg_accumulator"] = to_string(o.gbg_accumulator);
+  j["cdf_search"] = to_string(o.cdf_search);
   j["voxels"] = o.voxels;
   j["dprsm"] = o.dprsm;
   j["paper"] = o.paper;
@@ -48,6 +53,12 @@ nlohmann::json options_to_json(const options& o) {
     if (o.light->intensity) j["light"]["intensity"] = j3(*o.light->intensity);
   }
   return j;
+}
+
+long long host_peak_rss_bytes() {
+  rusage u{};
+  if (getrusage(RUSAGE_SELF, &u) != 0) return -1;
+  return static_cast<long long>(u.ru_maxrss) * 1024;  // Linux reports kibibytes
 }
 
 nlohmann::json make_report(const options& o, const prepared_scene& p, const run_info& run) {

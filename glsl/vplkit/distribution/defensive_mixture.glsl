@@ -97,4 +97,18 @@ vplkit_discrete_sample vplkit_defensive_mixture_sample(vplkit_defensive_mixture 
   return vplkit_discrete_sample(i, vplkit_defensive_mixture_pmf(m, i));
 }
 
+// C++ sample_binary_search(u): the same index and pmf as vplkit_defensive_mixture_sample, each
+// component searched by a plain binary search over its whole CDF (no guide table read).
+vplkit_discrete_sample vplkit_defensive_mixture_sample_binary_search(vplkit_defensive_mixture m, float u) {
+  if (vplkit_defensive_mixture_empty(m)) return vplkit_discrete_sample(0u, 0.0);
+  float e = m.effective_eps;
+  u = vplkit_discrete_clamp_u(u);
+  uint i = u < e
+      ? vplkit_discrete_cdf_sample_binary_search(m.fallback,
+                                                 vplkit_discrete_clamp_u(u * m.fallback_scale)).index
+      : vplkit_discrete_cdf_sample_binary_search(m.learned,
+                                                 vplkit_discrete_clamp_u((u - e) * m.learned_scale)).index;
+  return vplkit_discrete_sample(i, vplkit_defensive_mixture_pmf(m, i));
+}
+
 #endif  // VPLKIT_DISTRIBUTION_DEFENSIVE_MIXTURE_GLSL

@@ -85,6 +85,20 @@ public:
     return {i, pmf(i)};
   }
 
+  // The same index and pmf as sample(u), with each component searched by a plain binary search
+  // over its whole CDF (discrete_cdf::sample_binary_search) instead of the guide table: the
+  // guided search returns exactly the binary search's index, so this exists to measure the guide
+  // table's cost, not to change any result.
+  discrete_sample<T> sample_binary_search(T u) const noexcept {
+    if (empty()) return {0, T(0)};
+    const T e = effective_eps_;
+    u = discrete_clamp_u(u);
+    const std::size_t i =
+        u < e ? fallback_.sample_binary_search(discrete_clamp_u(u * fallback_scale_)).index
+              : learned_.sample_binary_search(discrete_clamp_u((u - e) * learned_scale_)).index;
+    return {i, pmf(i)};
+  }
+
   // 1 / eps and 1 / (1 - eps) as T (0 where undefined), for a GPU mirror.
   T fallback_scale() const noexcept { return fallback_scale_; }
   T learned_scale() const noexcept { return learned_scale_; }

@@ -1,0 +1,140 @@
+// The DPRSM tessellation (tessellate.cpp): every output edge within theta_max at the light, even
+// next to the light (the sub-triangle that wrapped over the DPRSM's front face at R = 8, see
+// tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike.
+#include "options.hpp"
+#include "render_data.hpp"
+#include "scene_setup.hpp"
+#include "tessellate.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+using namespace vplrender;
+
+namespace {
+
+scene cornell() {
+  options o;
+  o.scene = "cornell";
+  return prepare_scene(o).s;
+}
+
+double angle_at(const glm::dvec3& c, const vec3& a, const vec3& b) {
+  const glm::dvec3 u = glm::dvec3(a) - c, v = glm::dvec3(b) - c;
+  return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
+}
+
+glm::dvec3 twice_area(const std::array<vec3, 3>& p) {
+  return glm::cross(glm::dvec3(p[1]) - glm::dvec3(p[0]), glm::dvec3(p[2]) - glm::dvec3(p[0]));
+}
+
+// Output corners lying on the segment a-b (distance to the segment < eps), sorted.
+std::vector<std::array<float, 3>> points_on(const std::vector<triangle>& tris, const vec3& a, const vec3& b, double eps) {
+  std::vector<std::array<float, 3>> out;
+  const glm::dvec3 A(a), B(b);
+  const glm::dvec3 d = B - A;
+  for (const triangle& t : tris)
+    for (const vec3& p : t.p) {
+      const glm::dvec3 P(p);
+      const double s = glm::dot(P - A, d) / glm::dot(d, d);
+      if (s < -1e-9 || s > 1.0 + 1e-9) continue;
+      if (glm::length(P - (A + s * d)) < eps) out.push_back({p.x, p.y, p.z});
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("every sub-triangle edge subtends at most theta_max at the light -- also right next to it") {
+  const scene s = cornell();
+  for (float light_y : {1.9f, 1.99f})  // 0.1 and 0.01 below the ceiling
+    for (int R : {8, 64}) {
+      INFO("light y " << light_y << ", R " << R);
+      const glm::dvec3 c(0.0, light_y, 0.0);
+      tessellation_params tp;
+      tp.max_angle = tessellation_angle_for_resolution(R);
+      tessellation_stats st;
+      const std::vector<triangle> out = tessellate_for_light(s.triangles, vec3(c), tp, &st);
+      CHECK(st.input == s.triangles.size());
+      CHECK(st.output == out.size());
+      CHECK(st.capped == 0);
+      double worst = 0.0;
+      for (const triangle& t : out)
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, angle_at(c, t.p[k], t.p[(k + 1) % 3]));
+      // The old uniform n x n split left a ~150 degree sub-triangle above the light.
+      CHECK(worst <= tp.max_angle * (1.0 + 1e-6));
+    }
+}
+
+TEST_CASE("sub-triangles tile their parent: same plane, winding, material, total area and corners") {
+  const scene s = cornell();
+  tessellation_params tp;
+  tp.max_angle = tessellation_angle_for_resolution(8);
+  const glm::dvec3 c(0.0, 1.99, 0.0);
+  for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+    const triangle& parent = s.triangles[i];
+    const std::vector<triangle> out = tessellate_for_light({parent}, vec3(c), tp);
+    REQUIRE(!out.empty());
+    const glm::dvec3 pa = twice_area(parent.p);
+    const double area = glm::length(pa);
+    const glm::dvec3 pn = pa / area;
+    double sum = 0.0;
+    for (const triangle& t : out) {
+      const glm::dvec3 a = twice_area(t.p);
+      CHECK(glm::dot(a, pn) > 0.0);  // same winding, never degenerate
+      sum += glm::length(a);
+      for (const vec3& p : t.p) CHECK(std::abs(glm::dot(glm::dvec3(p) - glm::dvec3(parent.p[0]), pn)) < 1e-5);
+      CHECK(t.material == parent.material);
+      for (const vec3& n : t.n) CHECK(std::abs(glm::length(n) - 1.0f) < 1e-5f);
+    }
+    CHECK(sum == Approx(area).epsilon(1e-5));
+  }
+}
+
+TEST_CASE("two triangles sharing an edge split it at the same points (no T-junction, no crack)") {
+  const scene s = cornell();
+  tessellation_params tp;
+  tp.max_angle = tessellation_angle_for_resolution(16);
+  const vec3 light(0.0f, 1.99f, 0.0f);
+  const double eps = 1e-6 * bounds(s).diagonal();
+  int shared = 0, split = 0;
+  for (std::size_t i = 0; i < s.triangles.size(); ++i)
+    for (std::size_t j = i + 1; j < s.triangles.size(); ++j)
+      for (int ei = 0; ei < 3; ++ei)
+        for (int ej = 0; ej < 3; ++ej) {
+          const vec3 a = s.triangles[i].p[static_cast<std::size_t>(ei)], b = s.triangles[i].p[static_cast<std::size_t>((ei + 1) % 3)];
+          const vec3 c = s.triangles[j].p[static_cast<std::size_t>(ej)], d = s.triangles[j].p[static_cast<std::size_t>((ej + 1) % 3)];
+          if (!((a == c && b == d) || (a == d && b == c))) continue;
+          ++shared;
+          const auto pi = points_on(tessellate_for_light({s.triangles[i]}, light, tp), a, b, eps);
+          const auto pj = points_on(tessellate_for_light({s.triangles[j]}, light, tp), a, b, eps);
+          INFO("triangles " << i << " and " << j);
+          if (pi.size() > 2) ++split;  // the edge was split (the ceiling's and walls' edges are wide)
+          CHECK(pi == pj);
+        }
+  CHECK(shared >= 6);  // each wall / box face is two triangles sharing a diagonal
+  CHECK(split >= 6);
+}
+
+TEST_CASE("no tessellation when max_angle <= 0 -- and edges shorter than min_edge are left alone (counted)") {
+  const scene s = cornell();
+  tessellation_params off;
+  tessellation_stats st;
+  const std::vector<triangle> same = tessellate_for_light(s.triangles, vec3(0.0f, 1.9f, 0.0f), off, &st);
+  CHECK(same.size() == s.triangles.size());
+  CHECK(st.capped == 0);
+  tessellation_params coarse;
+  coarse.max_angle = tessellation_angle_for_resolution(512);
+  coarse.min_edge = 10.0;  // longer than every edge: nothing may be split
+  const std::vector<triangle> kept = tessellate_for_light(s.triangles, vec3(0.0f, 1.9f, 0.0f), coarse, &st);
+  CHECK(kept.size() == s.triangles.size());
+  CHECK(st.capped > 0);
+}
