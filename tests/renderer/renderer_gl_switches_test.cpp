@@ -3,6 +3,8 @@
 // construction), so the image is bit-identical; --local-combination average is a different
 // estimator from balance (different image) with finite values; --gbg-accumulator paper builds
 // other GBG weights (different image). Small images, DPRSM 2x16x16, 32^3 voxels.
+#include "renderer_gl_fixture.hpp"
+
 #include "builtin_scenes.hpp"
 #include "cpu_backend.hpp"
 #include "gl_raster.hpp"
@@ -21,34 +23,9 @@ using namespace vplrender;
 
 namespace {
 
-struct fixture {
-  options o;
-  prepared_scene p;
-  gbuffer_data g;
-  dprsm_data d;
-  vplkit::voxel_grid<float> grid;
-};
+using fixture = vplrender_test::gl_fixture;
 
-fixture make_fixture() {
-  pipeline_gl_context();
-  options o;
-  o.scene = "cornell";
-  o.width = 24;
-  o.height = 16;
-  o.dprsm = 16;
-  o.voxels = 32;
-  o.vpls = 8;
-  o.dirs = 8;
-  o.progress = progress_mode::never;
-  prepared_scene p = prepare_scene(o);
-  gl_rasterizer raster(p.s);
-  gbuffer_data g = raster.render_gbuffer(p.s.cam, o.width, o.height);
-  tessellation_params tp;
-  tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
-  dprsm_data d = raster.render_dprsm(dprsm_light(p.s), o.dprsm, tp);
-  vplkit::voxel_grid<float> grid = voxelize_cpu(p.s, o.voxels);
-  return {o, std::move(p), std::move(g), std::move(d), std::move(grid)};
-}
+fixture make_fixture() { return vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell")); }
 
 image_rgb render(const fixture& f, const options& o) {
   estimator_settings es = make_estimator_settings(o, f.p.s);

@@ -5,6 +5,8 @@
 //  - the CDFs of build_mixtures_gpu (cdf_build.comp, double accumulation) against
 //    vplkit::discrete_cdf<float> built from the SAME weights (read back), and the mixture scalars
 //    against vplkit::make_vpl_distribution's.
+#include "renderer_gl_fixture.hpp"
+
 #include "builtin_scenes.hpp"
 #include "cpu_backend.hpp"
 #include "gl_raster.hpp"
@@ -34,29 +36,14 @@ using namespace vplrender;
 
 namespace {
 
-struct fixture {
-  options o;
-  prepared_scene p;
-  gbuffer_data g;
-  dprsm_data d;
-};
+using fixture = vplrender_test::gl_fixture;
 
+// 64x48 pixels, DPRSM 2 x dprsm^2, 32^3 voxels, the default VPL and direction counts.
 fixture make_fixture(const char* scene_name, int dprsm = 16) {
-  pipeline_gl_context();
-  fixture f;
-  f.o.scene = scene_name;
-  f.o.width = 64;
-  f.o.height = 48;
-  f.o.dprsm = dprsm;
-  f.o.voxels = 32;
-  f.o.progress = progress_mode::never;
-  f.p = prepare_scene(f.o);
-  gl_rasterizer raster(f.p.s);
-  f.g = raster.render_gbuffer(f.p.s.cam, f.o.width, f.o.height);
-  tessellation_params tp;
-  tp.max_angle = tessellation_angle_for_resolution(f.o.dprsm);
-  f.d = raster.render_dprsm(dprsm_light(f.p.s), f.o.dprsm, tp);
-  return f;
+  vplrender::options o = vplrender_test::small_options(scene_name, 64, 48, dprsm, 32);
+  o.vpls = vplrender::options{}.vpls;
+  o.dirs = vplrender::options{}.dirs;
+  return vplrender_test::make_gl_fixture(o);
 }
 
 std::uint32_t bits(float x) {
@@ -258,7 +245,7 @@ TEST_CASE("GPU-built CDFs equal vplkit::discrete_cdf of the same weights within 
 
 TEST_CASE("GPU distributions: builder facts use the CPU builder's keys") {
   fixture f = make_fixture("cornell");
-  const vplkit::voxel_grid<float> grid = voxelize_cpu(f.p.s, f.o.voxels);
+  const vplkit::voxel_grid<float>& grid = f.grid;
   for (method m : {method::global, method::local, method::gbg}) {
     f.o.meth = m;
     estimator_settings es = make_estimator_settings(f.o, f.p.s);

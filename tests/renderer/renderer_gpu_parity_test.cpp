@@ -13,6 +13,8 @@
 // sampled CDF index at a bin edge, a DDA step at a voxel-boundary tie, a cosine or depth test at
 // its threshold. Such pixels are rare; we require >= 99% of the pixels within the bound and every
 // pixel finite and non-negative on both sides.
+#include "renderer_gl_fixture.hpp"
+
 #include "builtin_scenes.hpp"
 #include "cpu_backend.hpp"
 #include "gl_raster.hpp"
@@ -94,23 +96,12 @@ parity compare(const image_rgb& c, const image_rgb& g, double rel_bound) {
 }
 
 void run_scene(const std::string& scene_name) {
-  pipeline_gl_context();
-  options o;
-  o.scene = scene_name;
-  o.width = 24;
-  o.height = 16;
-  o.dprsm = 16;
-  o.voxels = 32;
-  o.vpls = 8;
-  o.dirs = 8;
-  o.progress = progress_mode::never;
-  const prepared_scene p = prepare_scene(o);
-  gl_rasterizer raster(p.s);
-  const gbuffer_data g = raster.render_gbuffer(p.s.cam, o.width, o.height);
-  tessellation_params tp;
-  tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
-  const dprsm_data d = raster.render_dprsm(dprsm_light(p.s), o.dprsm, tp);
-  const vplkit::voxel_grid<float> grid = voxelize_cpu(p.s, o.voxels);
+  const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene_name));
+  options o = f.o;
+  const prepared_scene& p = f.p;
+  const gbuffer_data& g = f.g;
+  const dprsm_data& d = f.d;
+  const vplkit::voxel_grid<float>& grid = f.grid;
   for (method m : {method::reference, method::global, method::local, method::gbg, method::gather, method::mis,
                    method::mis_as_published}) {
     if (!gpu_estimator_available(m)) continue;
@@ -173,25 +164,16 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
   // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
   // docs/glsl/builders.md per texel: H_t 0.5 / scale / (|G| n_dirs) + 5e-6 relative, with H_t
   // bounded by all lit hits. 600 directions at 32^3 voxels split the rays over two dispatches (576 per dispatch).
-  pipeline_gl_context();
   for (const char* scene_name : {"cornell", "open"}) {
-    options o;
-    o.scene = scene_name;
-    o.width = 24;
-    o.height = 16;
-    o.dprsm = 16;
-    o.voxels = 32;
-    o.vpls = 8;
-    o.dirs = 600;
-    o.meth = method::gbg;
-    o.progress = progress_mode::never;
-    const prepared_scene p = prepare_scene(o);
-    gl_rasterizer raster(p.s);
-    const gbuffer_data g = raster.render_gbuffer(p.s.cam, o.width, o.height);
-    tessellation_params tp;
-    tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
-    const dprsm_data d = raster.render_dprsm(dprsm_light(p.s), o.dprsm, tp);
-    const vplkit::voxel_grid<float> grid = voxelize_cpu(p.s, o.voxels);
+    options small = vplrender_test::small_options(scene_name);
+    small.dirs = 600;
+    small.meth = method::gbg;
+    const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(small);
+    const options& o = f.o;
+    const prepared_scene& p = f.p;
+    const gbuffer_data& g = f.g;
+    const dprsm_data& d = f.d;
+    const vplkit::voxel_grid<float>& grid = f.grid;
     const estimator_settings es = make_estimator_settings(o, p.s);
     vplkit::gbg_params<float> params;
     params.n_dirs = es.dirs;
@@ -261,23 +243,12 @@ TEST_CASE("GPU estimators match the CPU backend with the non-default switches of
   // same bounds as the default cases above (the paper accumulator's GBG weights are GPU-built, so
   // they take the GPU-builder bound; its fixed-point scale comes from the paper bound of
   // gbg_cdf.glsl, and no hit may saturate).
-  pipeline_gl_context();
-  options o;
-  o.scene = "cornell";
-  o.width = 24;
-  o.height = 16;
-  o.dprsm = 16;
-  o.voxels = 32;
-  o.vpls = 8;
-  o.dirs = 8;
-  o.progress = progress_mode::never;
-  const prepared_scene p = prepare_scene(o);
-  gl_rasterizer raster(p.s);
-  const gbuffer_data g = raster.render_gbuffer(p.s.cam, o.width, o.height);
-  tessellation_params tp;
-  tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
-  const dprsm_data d = raster.render_dprsm(dprsm_light(p.s), o.dprsm, tp);
-  const vplkit::voxel_grid<float> grid = voxelize_cpu(p.s, o.voxels);
+  const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell"));
+  options o = f.o;
+  const prepared_scene& p = f.p;
+  const gbuffer_data& g = f.g;
+  const dprsm_data& d = f.d;
+  const vplkit::voxel_grid<float>& grid = f.grid;
   struct switch_case {
     const char* name;
     method m;

@@ -1,0 +1,56 @@
+#pragma once
+// The inputs most GL renderer tests start from, made the way the pipeline makes them: a scene
+// prepared from `o`, its G-buffer and its DPRSM (tessellated for o.dprsm) rasterised on the
+// pipeline's GL context, and the CPU voxel grid. The tests then run builders or estimators on them
+// with both backends.
+#include "gl_raster.hpp"
+#include "options.hpp"
+#include "pipeline.hpp"
+#include "render_data.hpp"
+#include "scene_setup.hpp"
+#include "tessellate.hpp"
+#include "voxels.hpp"
+
+#include <vplkit/visibility/voxel_grid.hpp>
+
+#include <string>
+#include <utility>
+
+namespace vplrender_test {
+
+struct gl_fixture {
+  vplrender::options o;
+  vplrender::prepared_scene p;
+  vplrender::gbuffer_data g;
+  vplrender::dprsm_data d;
+  vplkit::voxel_grid<float> grid;
+};
+
+// Small test sizes: WxH pixels, DPRSM 2 x dprsm^2, voxels^3, 8 VPLs and 8 directions, no progress.
+inline vplrender::options small_options(const std::string& scene, int width = 24, int height = 16, int dprsm = 16,
+                                        int voxels = 32) {
+  vplrender::options o;
+  o.scene = scene;
+  o.width = width;
+  o.height = height;
+  o.dprsm = dprsm;
+  o.voxels = voxels;
+  o.vpls = 8;
+  o.dirs = 8;
+  o.progress = vplrender::progress_mode::never;
+  return o;
+}
+
+inline gl_fixture make_gl_fixture(const vplrender::options& o) {
+  vplrender::pipeline_gl_context();
+  vplrender::prepared_scene p = vplrender::prepare_scene(o);
+  vplrender::gl_rasterizer raster(p.s);
+  vplrender::gbuffer_data g = raster.render_gbuffer(p.s.cam, o.width, o.height);
+  vplrender::tessellation_params tp;
+  tp.max_angle = vplrender::tessellation_angle_for_resolution(o.dprsm);
+  vplrender::dprsm_data d = raster.render_dprsm(vplrender::dprsm_light(p.s), o.dprsm, tp);
+  vplkit::voxel_grid<float> grid = vplrender::voxelize_cpu(p.s, o.voxels);
+  return {o, std::move(p), std::move(g), std::move(d), std::move(grid)};
+}
+
+}  // namespace vplrender_test
