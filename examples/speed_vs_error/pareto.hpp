@@ -18,15 +18,16 @@ struct cost_error_point {
   double error = 0.0;
 };
 
+// A point that can be placed on a log-log plot: finite, positive time and error.
+inline bool usable(const cost_error_point& p) {
+  return std::isfinite(p.ms) && std::isfinite(p.error) && p.ms > 0.0 && p.error > 0.0;
+}
+
 // The points no other point beats in both time and error: sorted by time, each strictly more
 // accurate than every faster point. Points with a non-finite or non-positive time or error are
 // ignored (they cannot be placed on a log-log plot either). Ties in time keep the lower error.
 inline std::vector<cost_error_point> pareto_front(std::vector<cost_error_point> pts) {
-  pts.erase(std::remove_if(pts.begin(), pts.end(),
-                           [](const cost_error_point& p) {
-                             return !(std::isfinite(p.ms) && std::isfinite(p.error) && p.ms > 0.0 && p.error > 0.0);
-                           }),
-            pts.end());
+  pts.erase(std::remove_if(pts.begin(), pts.end(), [](const cost_error_point& p) { return !usable(p); }), pts.end());
   std::stable_sort(pts.begin(), pts.end(), [](const cost_error_point& a, const cost_error_point& b) {
     return a.ms < b.ms || (a.ms == b.ms && a.error < b.error);
   });
@@ -42,12 +43,7 @@ inline std::vector<cost_error_point> pareto_front(std::vector<cost_error_point> 
 // point already at or below the target gives its own time when it is the fastest such point.
 // Empty when the method never reaches the target (no extrapolation: the claim would be unmeasured).
 inline std::optional<double> time_to_error(std::vector<cost_error_point> pts, double target) {
-  pts = [&] {
-    std::vector<cost_error_point> ok;
-    for (const cost_error_point& p : pts)
-      if (std::isfinite(p.ms) && std::isfinite(p.error) && p.ms > 0.0 && p.error > 0.0) ok.push_back(p);
-    return ok;
-  }();
+  pts.erase(std::remove_if(pts.begin(), pts.end(), [](const cost_error_point& p) { return !usable(p); }), pts.end());
   if (pts.empty() || !(target > 0.0)) return std::nullopt;
   std::sort(pts.begin(), pts.end(), [](const cost_error_point& a, const cost_error_point& b) { return a.ms < b.ms; });
   if (pts.front().error <= target) return pts.front().ms;

@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -59,12 +58,6 @@ const vplkit::gl::program& kernel(kernel_kind k) {
   vplkit::gl::program prog = vplkit::gl::program::compute_with_includes(
       text.str(), path, {}, "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n");
   return cache.emplace(k, std::move(prog)).first->second;
-}
-
-std::uint32_t float_bits(float x) {
-  std::uint32_t u;
-  std::memcpy(&u, &x, sizeof u);
-  return u;
 }
 
 // Worst-case loop iterations of one unit of work (a texel, sample, round, direction or MIS step)
@@ -287,21 +280,17 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(es.cdf_search);
-  cpu_distributions built;
-  // Builders and CDFs on the GPU (gpu_builders.cpp, gpu_cdf.cpp): the mixtures stay there.
+  // Builders and CDFs on the GPU (gpu_builders.cpp, gpu_cdf.cpp): the mixtures stay there. The
+  // methods without a builder (reference, gather) sample no distribution at all.
   const bool gpu_dists = gpu_builder_available(es.meth);
   gpu_mixtures gm;
-  if (gpu_dists) {
-    gm = build_distributions_gpu(gb, dd, grid, es, timer, det);
-    built.local_rounds = gm.local_rounds;
-  } else {
-    built = build_distributions_cpu(gb, dd, grid, es, timer, progress, det);
-  }
+  if (gpu_dists) gm = build_distributions_gpu(gb, dd, grid, es, timer, det);
+  const int local_rounds = gpu_dists ? gm.local_rounds : 0;
   const kernel_kind kind = kernel_of(es.meth);
 
   std::vector<glm::vec4> gbuf(3 * std::max<std::size_t>(n_pixels, 1), glm::vec4(0.0f));
   std::vector<glm::vec4> dprsm(3 * static_cast<std::size_t>(view.texel_count()), glm::vec4(0.0f));
-  std::vector<std::uint32_t> words, dist_data, meta;
+  std::vector<std::uint32_t> words;
   {
     auto t = timer.scoped("upload (cpu)");
     for (std::size_t i = 0; i < n_pixels; ++i) {
@@ -316,45 +305,16 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
     }
     words.assign(grid.words, grid.words + vplkit::voxel_word_count(grid.resolution));
     if (words.empty()) words.push_back(0u);
-    // Mixture d uses slots 2d (learned) and 2d + 1 (fallback); every slot stores cdf then guide.
-    const std::size_t D = built.dists.size();
-    std::vector<std::uint32_t> slots;
-    auto add_slot = [&](const vplkit::discrete_cdf<float>& c) {
-      slots.push_back(static_cast<std::uint32_t>(dist_data.size()));
-      for (float x : c.cdf()) dist_data.push_back(float_bits(x));
-      slots.push_back(static_cast<std::uint32_t>(dist_data.size()));
-      dist_data.insert(dist_data.end(), c.guide().begin(), c.guide().end());
-    };
-    for (std::size_t d = 0; d < D; ++d) {
-      const auto& m = built.dists[d];
-      add_slot(m.learned());
-      add_slot(m.fallback());
-      const std::uint32_t rec[12] = {static_cast<std::uint32_t>(2 * d),
-                                     static_cast<std::uint32_t>(m.learned().size()),
-                                     static_cast<std::uint32_t>(m.learned().guide_size()),
-                                     float_bits(m.learned().total()),
-                                     static_cast<std::uint32_t>(2 * d + 1),
-                                     static_cast<std::uint32_t>(m.fallback().size()),
-                                     static_cast<std::uint32_t>(m.fallback().guide_size()),
-                                     float_bits(m.fallback().total()),
-                                     float_bits(m.effective_eps()),
-                                     float_bits(m.fallback_scale()),
-                                     float_bits(m.learned_scale()),
-                                     0u};
-      meta.insert(meta.end(), rec, rec + 12);
-    }
-    meta.insert(meta.end(), slots.begin(), slots.end());
-    if (meta.empty()) meta.push_back(0u);
-    if (dist_data.empty()) dist_data.push_back(0u);
   }
-  const std::uint32_t slot_base = gpu_dists ? gm.slot_base : static_cast<std::uint32_t>(12 * built.dists.size());
-  const int n_dists = gpu_dists ? gm.count : static_cast<int>(built.dists.size());
+  const std::uint32_t slot_base = gpu_dists ? gm.slot_base : 0u;
+  const int n_dists = gpu_dists ? gm.count : 0;
 
   gl::buffer b_gbuf = gl::buffer::from_vector(gbuf);
   gl::buffer b_dprsm = gl::buffer::from_vector(dprsm);
   gl::buffer b_words = gl::buffer::from_vector(words);
-  gl::buffer b_data = gpu_dists ? std::move(gm.data) : gl::buffer::from_vector(dist_data);
-  gl::buffer b_meta = gpu_dists ? std::move(gm.meta) : gl::buffer::from_vector(meta);
+  // Without distributions the kernel still binds both buffers: one zero word each.
+  gl::buffer b_data = gpu_dists ? std::move(gm.data) : gl::buffer::filled(4, 0);
+  gl::buffer b_meta = gpu_dists ? std::move(gm.meta) : gl::buffer::filled(4, 0);
   gl::buffer b_state = gl::buffer::filled(48 * std::max<std::size_t>(n_pixels, 1), 0);
   gl::buffer b_out = gl::buffer::filled(16 * std::max<std::size_t>(n_pixels, 1), 0xFF);
 
@@ -380,7 +340,7 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   glUniform1ui(prog.uniform_location("u_seed"), es.seed);
   set_i("u_n_dirs", es.dirs);
   set_i("u_n_vpls", es.vpls);
-  set_i("u_n_samples", kind == k_local ? built.local_rounds : es.vpls);
+  set_i("u_n_samples", kind == k_local ? local_rounds : es.vpls);
   set_i("u_n_dists", n_dists);
   set_i("u_direct", es.direct ? 1 : 0);
   set_i("u_mis_mode", es.meth == method::mis_as_published ? 1 : 0);
@@ -397,7 +357,7 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   b_out.bind(6);
 
   const int regions = std::max(1, n_dists);
-  const work_shape shape = shape_of(es, view.resolution, grid.resolution, regions, built.local_rounds);
+  const work_shape shape = shape_of(es, view.resolution, grid.resolution, regions, local_rounds);
   const long long chunk = std::max(1LL, gpu_loop_budget / shape.cost);
   const long long units = std::max(1LL, shape.units);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
@@ -409,7 +369,7 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
                 {"builders", gpu_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)"
-                                                            : "cpu (uploaded)"},
+                                                            : "none"},
                 {"cdf", gpu_dists ? "gpu (cdf_build.comp)" : "none"},
                 {"direct_light", es.direct ? "gpu (estimate.comp)" : "off"}};
   {
