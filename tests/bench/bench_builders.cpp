@@ -17,7 +17,7 @@
 #include <vplkit/builders/gbg_cdf.hpp>
 #include <vplkit/builders/global_cdf.hpp>
 #include <vplkit/builders/local_cdf.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 
 namespace {
 

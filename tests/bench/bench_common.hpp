@@ -13,8 +13,8 @@
 // Everything is T = float: the type a renderer stores and the GPU mirror computes in.
 #include <synthetic_scene.hpp>
 
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxelize.hpp>
 

@@ -18,8 +18,8 @@
 #include <headless_gl/context.hpp>
 
 #include <vplkit/distribution/discrete_cdf.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/luminance.hpp>
 
 #include <iostream>

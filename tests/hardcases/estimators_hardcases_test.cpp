@@ -12,8 +12,8 @@
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/luminance.hpp>
 
 #include <catch2/catch.hpp>

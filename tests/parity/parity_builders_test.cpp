@@ -27,8 +27,8 @@
 #include <vplkit/builders/gbg_cdf.hpp>
 #include <vplkit/builders/global_cdf.hpp>
 #include <vplkit/builders/local_cdf.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/luminance.hpp>
 
 #include <algorithm>

@@ -14,7 +14,7 @@
 #include <parity_harness.hpp>
 #include <synthetic_scene.hpp>
 
-#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
@@ -127,8 +127,8 @@ inline std::vector<float4> pack_points(const std::vector<named_point>& pts) {
 
 // Accessors and helpers over the buffers above. Kernels include what they use after this.
 inline const char* scene_prelude = R"(
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/core/gather_point.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 layout(std430, binding = 2) readonly buffer Positions { vec4 dprsm_position[]; };
 layout(std430, binding = 3) readonly buffer Normals { vec4 dprsm_normal[]; };

@@ -22,23 +22,23 @@
 #include "parity_sampling_mis_support.hpp"
 
 #include <vplkit/builders/defensive.hpp>
+#include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_cdf.hpp>
 #include <vplkit/builders/local_cdf.hpp>
-#include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
+#include <vplkit/distribution/flat_face_roulette.hpp>
 #include <vplkit/estimators/cdf_estimator.hpp>
-#include <vplkit/estimators/flat_face_roulette.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -179,7 +179,7 @@ const char* distribution_block = R"(
 #include "vplkit/distribution/alias_table.glsl"
 #include "vplkit/distribution/defensive_mixture.glsl"
 #include "vplkit/distribution/discrete_cdf.glsl"
-#include "vplkit/estimators/flat_face_roulette.glsl"
+#include "vplkit/distribution/flat_face_roulette.glsl"
 struct dist_record { ivec4 a; vec4 b; };
 layout(std430, binding = 9) readonly buffer Pool { uint pool[]; };
 layout(std430, binding = 10) readonly buffer Records { dist_record records[]; };

@@ -11,10 +11,10 @@
 // instead (see "texel of a direction" below).
 #include <parity_harness.hpp>
 
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/paraboloid/light_frame.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -115,7 +115,7 @@ vplkit::parity::comparison cmp(const std::vector<float>& gpu, const std::vector<
 // ---- unit_or_zero ----------------------------------------------------------------------------
 
 const std::string unit_or_zero_kernel = R"(
-#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 layout(std430, binding = 0) readonly buffer In { vec4 v[]; };
 layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
 void main() {

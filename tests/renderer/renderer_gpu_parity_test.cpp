@@ -25,7 +25,7 @@
 #include "voxels.hpp"
 
 #include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 
 #include <catch2/catch.hpp>
 

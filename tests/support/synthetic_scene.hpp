@@ -30,8 +30,8 @@
 //   s.make_gbuffer(w = 16, h = 16)            -> gbuffer_data<T> (owns arrays; .view())
 //   s.gather_points()                         -> std::vector<named_gather_point<T>>
 //   exact_visibility<T>{&s}, exact_tracer<T>{&s}: the callables estimators / builders take.
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxelize.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>

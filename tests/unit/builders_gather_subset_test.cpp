@@ -2,7 +2,7 @@
 // stratum, are distinct, valid and deterministic, and background strata resample or drop.
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/core/error.hpp>
-#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/core/gather_point.hpp>
 
 #include <catch2/catch.hpp>
 

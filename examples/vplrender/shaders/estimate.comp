@@ -25,15 +25,15 @@
 
 layout(local_size_x = 64) in;
 
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/defensive_mixture.glsl"
 #include "vplkit/estimators/cdf_estimator.glsl"
-#include "vplkit/estimators/gather_point.glsl"
 #include "vplkit/estimators/gathering_estimator.glsl"
 #include "vplkit/estimators/local_estimator.glsl"
 #include "vplkit/estimators/mis_estimator.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_lookup.glsl"
 
 // A G-buffer pixel or a DPRSM texel: xyz used, w ignored (std430 vec3 arrays take 16 bytes anyway).

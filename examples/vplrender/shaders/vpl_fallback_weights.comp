@@ -3,10 +3,10 @@
 // turns into the uniform distribution over the VPL texels. One invocation per texel; the host
 // (gpu_cdf.cpp) prepends "#version 430".
 //
-// "Carries a VPL" is the C++ vpl_has_flux(view.vpl_at(t)): flux > 0 in some channel, i.e. albedo
-// > 0, the texel inside its face's disk (solid angle > 0) and the surface facing the light. Only
-// the last test involves rounding (a dot product against 0), so CPU and GPU can disagree only for
-// a surface seen exactly edge-on from the light.
+// "Carries a VPL" is vplkit_vpl_has_flux (vpl/vpl.glsl, as the C++): flux > 0 in some channel,
+// i.e. albedo > 0, the texel inside its face's disk (solid angle > 0) and the surface facing the
+// light. Only the last test involves rounding (a dot product against 0), so CPU and GPU can
+// disagree only for a surface seen exactly edge-on from the light.
 layout(local_size_x = 64) in;
 
 #include "vplkit/vpl/dprsm_view.glsl"
@@ -38,6 +38,5 @@ void main() {
                                       vplkit_light_frame(u_frame_pos, u_axis_x, u_axis_y, u_axis_z)));
   int t = int(gl_GlobalInvocationID.x);
   if (t >= vplkit_dprsm_view_texel_count(view)) return;
-  vec3 flux = vplkit_dprsm_view_vpl_at(view, t).flux;
-  vr_weights[u_offset + uint(t)] = (flux.x > 0.0 || flux.y > 0.0 || flux.z > 0.0) ? 1.0 : 0.0;
+  vr_weights[u_offset + uint(t)] = vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, t)) ? 1.0 : 0.0;
 }

@@ -9,9 +9,9 @@
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
-#include <vplkit/estimators/visibility_callables.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 
 #include <glm/geometric.hpp>

@@ -3,7 +3,7 @@
 // CPU arrays in the layouts vplkit's views expect.
 #include "scene.hpp"
 
-#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
 #include <vector>

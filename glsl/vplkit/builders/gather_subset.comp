@@ -20,7 +20,7 @@
 //   VPLKIT_GATHER_SUBSET_LOCAL_SIZE       (default 64)
 // Dispatch: ceil(count / LOCAL_SIZE) groups.
 #include "vplkit/builders/gather_subset.glsl"
-#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/core/gather_point.glsl"
 
 #ifndef VPLKIT_GATHER_SUBSET_BINDING_GBUFFER
 #define VPLKIT_GATHER_SUBSET_BINDING_GBUFFER 0

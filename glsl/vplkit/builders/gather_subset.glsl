@@ -11,12 +11,12 @@
 // in GLSL as in IEEE), so the GPU picks exactly the C++ pixels: same seed, same streams
 // make_counter_rng(seed, stream_offset + k), same draws (2a for x, 2a + 1 for y of attempt a).
 //
-// ACCESSOR: vplkit_gather_point vplkit_load_gather_point(int pixel) (estimators/gather_point.glsl),
+// ACCESSOR: vplkit_gather_point vplkit_load_gather_point(int pixel) (core/gather_point.glsl),
 // for the validity of the picked pixel.
 #ifndef VPLKIT_BUILDERS_GATHER_SUBSET_GLSL
 #define VPLKIT_BUILDERS_GATHER_SUBSET_GLSL
 
-#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/sampling/rng.glsl"
 
 // Half-open pixel rectangle [x0, x0 + width) x [y0, y0 + height).

@@ -40,8 +40,8 @@
 // bound v_bound of the per-hit value (formulas in gbg_cdf.glsl); hits above it saturate at
 // max_units and are counted in stats[3].
 #include "vplkit/builders/gbg_cdf.glsl"
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/core/gather_point.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 
 #ifndef VPLKIT_GBG_BINDING_GBUFFER
 #define VPLKIT_GBG_BINDING_GBUFFER 0

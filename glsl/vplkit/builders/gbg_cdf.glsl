@@ -14,7 +14,7 @@
 //   gbg_hit_value, gbg_direction       <-> vplkit_gbg_hit_value, vplkit_gbg_direction
 //   gbg_accumulate_gather_point        <-> vplkit_gbg_accumulate_gather_point (the C++ `double*
 //                                          acc` becomes the hook vplkit_store_gbg_hit; the tracer a
-//                                          vplkit_voxel_tracer, estimators/visibility_callables.glsl)
+//                                          vplkit_voxel_tracer, visibility/visibility_callables.glsl)
 //
 // HOOK (the including shader defines it): void vplkit_store_gbg_hit(int texel, float value);
 //   called once per lit hit with the value to add to texel's accumulator. gbg_accumulate.comp
@@ -52,12 +52,12 @@
 #ifndef VPLKIT_BUILDERS_GBG_CDF_GLSL
 #define VPLKIT_BUILDERS_GBG_CDF_GLSL
 
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
-#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/core/gather_point.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/sampling/cosine_hemisphere.glsl"
 #include "vplkit/sampling/orthonormal_basis.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_lookup.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/luminance.glsl"
@@ -77,18 +77,6 @@ struct vplkit_gbg_params {
 };
 
 void vplkit_store_gbg_hit(int texel, float value);
-
-// A VPL is present where its flux is positive in some channel: the one test every builder uses for
-// "this texel carries a VPL". Defined in global_cdf.glsl (as in C++) and gbg_cdf.glsl under one
-// guard, so that gbg_cdf.glsl need not include global_cdf.glsl, whose
-// vplkit_global_weight_texel references the subset accessor (Mesa wants a definition for every
-// referenced accessor, called or not).
-#ifndef VPLKIT_BUILDERS_VPL_HAS_FLUX
-#define VPLKIT_BUILDERS_VPL_HAS_FLUX
-bool vplkit_vpl_has_flux(vplkit_vpl v) {
-  return v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0;
-}
-#endif
 
 // Value accumulated for one lit hit.
 float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, int texel, vec3 hit_position, float dmin,

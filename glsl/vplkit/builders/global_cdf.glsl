@@ -20,24 +20,12 @@
 #ifndef VPLKIT_BUILDERS_GLOBAL_CDF_GLSL
 #define VPLKIT_BUILDERS_GLOBAL_CDF_GLSL
 
-#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/luminance.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
 vplkit_gather_point vplkit_load_subset_gather_point(int i);
-
-// A VPL is present where its flux is positive in some channel: the one test every builder uses for
-// "this texel carries a VPL". Defined in global_cdf.glsl (as in C++) and gbg_cdf.glsl under one
-// guard, so that gbg_cdf.glsl need not include global_cdf.glsl, whose
-// vplkit_global_weight_texel references the subset accessor (Mesa wants a definition for every
-// referenced accessor, called or not).
-#ifndef VPLKIT_BUILDERS_VPL_HAS_FLUX
-#define VPLKIT_BUILDERS_VPL_HAS_FLUX
-bool vplkit_vpl_has_flux(vplkit_vpl v) {
-  return v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0;
-}
-#endif
 
 // w_t for one texel from the `count` subset entries; 0 when no entry is valid or the texel carries
 // no VPL.

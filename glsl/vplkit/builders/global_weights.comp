@@ -29,7 +29,7 @@
 // (a few ulps, FMA contraction and the GPU's normalisation) accumulated over |S| terms in the same
 // order: measured in tests/parity/parity_builders_test.cpp (docs/glsl/builders.md).
 #include "vplkit/builders/global_cdf.glsl"
-#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/core/gather_point.glsl"
 
 #ifndef VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER
 #define VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER 0

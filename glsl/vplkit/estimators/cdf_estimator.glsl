@@ -22,7 +22,7 @@
 //
 // Random numbers, as in the C++: for k = 0 .. N-1, one u = vplkit_rng_next_unit(rng) passed to the
 // sample hook. An invalid gather point or N <= 0 returns 0 and consumes none. Visibility: a
-// vplkit_visibility value (estimators/visibility_callables.glsl) stands for the C++ callable.
+// vplkit_visibility value (visibility/visibility_callables.glsl) stands for the C++ callable.
 //
 // ACCESSORS used: those of vpl/dprsm_view.glsl and visibility/voxel_grid.glsl, plus the two hooks.
 // Divisions by a pmf go through vplkit_mis_div (mis/heuristics.glsl): x / y for any y, so a
@@ -30,12 +30,12 @@
 #ifndef VPLKIT_ESTIMATORS_CDF_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_CDF_ESTIMATOR_GLSL
 
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);

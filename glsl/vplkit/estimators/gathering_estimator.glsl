@@ -7,7 +7,7 @@
 // 0 when the hit is seen from behind n_t); the estimate is their average over n_dirs. Converges to
 // the one-bounce integral as the DPRSM sees it, not to the VPL sum (docs/api/estimators.md).
 //
-// Tracing: a vplkit_voxel_tracer (estimators/visibility_callables.glsl) stands for the C++ Tracer
+// Tracing: a vplkit_voxel_tracer (visibility/visibility_callables.glsl) stands for the C++ Tracer
 // callable: the pack's voxel DDA from x lifted offset_voxels along n_x, hit reported where the ray
 // enters the first occupied voxel (use depth_tolerance >= vplkit_voxel_tracer_depth_tolerance).
 //
@@ -27,13 +27,13 @@
 #ifndef VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
 
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/core/gather_point.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
-#include "vplkit/paraboloid/unit_or_zero.glsl"
 #include "vplkit/sampling/cosine_hemisphere.glsl"
 #include "vplkit/sampling/orthonormal_basis.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_lookup.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"

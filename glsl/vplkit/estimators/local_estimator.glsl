@@ -22,12 +22,12 @@
 #ifndef VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL
 
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);

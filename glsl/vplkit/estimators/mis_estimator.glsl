@@ -17,7 +17,7 @@
 //   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
 //   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
 // Visibility and tracing: vplkit_visibility and vplkit_voxel_tracer
-// (estimators/visibility_callables.glsl) stand for the C++ callables.
+// (visibility/visibility_callables.glsl) stand for the C++ callables.
 //
 // Random numbers (both modes), as in the C++: for j = 0 .. max(n_dirs, n_vpls)-1: if j < n_vpls,
 // one u for the VPL (sample hook); then, if j < n_dirs, u0 and u1 for the direction (as in
@@ -32,17 +32,17 @@
 #ifndef VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
 
+#include "vplkit/core/gather_point.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
-#include "vplkit/estimators/gather_point.glsl"
 #include "vplkit/estimators/gathering_estimator.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/mis/pdf_conversion.glsl"
-#include "vplkit/paraboloid/unit_or_zero.glsl"
 #include "vplkit/sampling/cosine_hemisphere.glsl"
 #include "vplkit/sampling/orthonormal_basis.glsl"
 #include "vplkit/sampling/rng.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
@@ -118,7 +118,7 @@ vec3 vplkit_mis_vpl_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint 
     return vplkit_estimator_finite_or_zero(c * vplkit_mis_div(w.vpl, pmf));
   }
   vplkit_vpl v = vplkit_dprsm_view_vpl_at(view, t);
-  if (!(v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0)) return vec3(0.0);
+  if (!vplkit_vpl_has_flux(v)) return vec3(0.0);
   if (vplkit_vpl_points_coincide(gp.position, v.position)) return vec3(0.0);
   vec3 wd = vplkit_unit_or_zero(v.position - gp.position);  // x -> y_t
   float cos2 = dot(vplkit_unit_or_zero(gp.normal), wd);

@@ -2,7 +2,7 @@
 // of every CDF method, and the per-sample pieces every VPL-sampling estimator shares; mirrors
 // include/vplkit/estimators/vpl_sum.hpp (T = float).
 //
-// Visibility: a vplkit_visibility value (estimators/visibility_callables.glsl) stands for the C++
+// Visibility: a vplkit_visibility value (visibility/visibility_callables.glsl) stands for the C++
 // Visibility callable: V = 1, the two-sided or one-sided voxel test, or the user's hook.
 //
 // ACCESSORS used (defined by the including shader):
@@ -21,8 +21,8 @@
 #ifndef VPLKIT_ESTIMATORS_VPL_SUM_GLSL
 #define VPLKIT_ESTIMATORS_VPL_SUM_GLSL
 
-#include "vplkit/estimators/gather_point.glsl"
-#include "vplkit/estimators/visibility_callables.glsl"
+#include "vplkit/core/gather_point.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
 

@@ -10,7 +10,7 @@
 #ifndef VPLKIT_PARABOLOID_LIGHT_FRAME_GLSL
 #define VPLKIT_PARABOLOID_LIGHT_FRAME_GLSL
 
-#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 
 struct vplkit_light_frame {
   vec3 position;

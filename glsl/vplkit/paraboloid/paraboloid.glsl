@@ -8,7 +8,7 @@
 #ifndef VPLKIT_PARABOLOID_PARABOLOID_GLSL
 #define VPLKIT_PARABOLOID_PARABOLOID_GLSL
 
-#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 
 const int vplkit_paraboloid_front = 0;
 const int vplkit_paraboloid_back = 1;

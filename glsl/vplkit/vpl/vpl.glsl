@@ -13,13 +13,19 @@
 #define VPLKIT_VPL_VPL_GLSL
 
 #include "vplkit/core/constants.glsl"
-#include "vplkit/paraboloid/unit_or_zero.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 
 struct vplkit_vpl {
   vec3 position;  // y_t
   vec3 normal;    // n_t (any length; normalised where used)
   vec3 flux;      // Phi_t, RGB watts
 };
+
+// A texel carries a VPL where its flux is positive in some channel: the one test every builder
+// uses.
+bool vplkit_vpl_has_flux(vplkit_vpl v) {
+  return v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0;
+}
 
 // vpl_pi<float>: the same float as vplkit_PI.
 const float vplkit_vpl_pi = vplkit_PI;

@@ -10,11 +10,11 @@
 // the estimator must then return 0 for the pixel) rather than silently switching to uniform.
 // eps > 0 with all-zero weights gives the uniform distribution over F (defensive_mixture sends all
 // mass to the fallback); a DPRSM with no VPL at all (F empty) gives an empty distribution.
-#include <vplkit/builders/global_cdf.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
 
 #include <cmath>
 #include <cstddef>

@@ -20,7 +20,7 @@
 // stratum that is mostly background may be dropped (probability (background fraction)^max_attempts),
 // and the subset then holds fewer than `count` pixels. A stratum with no valid pixel always drops.
 #include <vplkit/core/error.hpp>
-#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/sampling/rng.hpp>
 
 #include <cmath>

@@ -40,13 +40,13 @@
 // window never crosses faces), fillable = "carries a VPL" (so invalid texels, empty texels and
 // texels facing away from the light stay exactly 0). gbg_fill_holes is the step on its own, so a
 // renderer can time it; build_gbg_weights runs it when params.fill_holes is set.
-#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/detail/argument_checks.hpp>
 #include <vplkit/core/error.hpp>
+#include <vplkit/core/gather_point.hpp>
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/image/median_fill.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>

@@ -14,9 +14,10 @@
 // of |S| positive terms is within about |S| * 2^-24 relative of exact (2.4e-4 at |S| = 4096, far
 // less typically): the weights only shape the pmf, and every estimator divides by the pmf of the
 // stored CDF, so this rounding costs no bias.
+#include <vplkit/builders/detail/argument_checks.hpp>
 #include <vplkit/core/error.hpp>
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/luminance.hpp>
 #include <vplkit/vpl/vpl.hpp>
@@ -27,13 +28,6 @@
 #include <vector>
 
 namespace vplkit {
-
-// A VPL is present where its flux is positive in some channel (albedo and intensity are >= 0, so
-// no channel is negative). The one test every builder uses for "this texel carries a VPL".
-template <class T>
-inline bool vpl_has_flux(const vpl<T>& v) {
-  return v.flux.x > T(0) || v.flux.y > T(0) || v.flux.z > T(0);
-}
 
 // w_t for one texel from `count` gather points (all assumed valid). The per-invocation function of
 // a GPU pass; never throws. 0 when count == 0 or the texel carries no VPL.
@@ -51,23 +45,6 @@ inline T global_weight_texel(const dprsm_view<T>& view, int texel, const gather_
 }
 
 namespace detail {
-
-template <class T>
-inline void check_dmin(T dmin, const char* who) {
-  if (!(dmin >= T(0)) || !std::isfinite(dmin))
-    throw invalid_input(std::string(who) + ": dmin = " + std::to_string(dmin) +
-                        " must be finite and >= 0");
-}
-
-template <class T>
-inline void check_weights_span(const dprsm_view<T>& view, const T* weights,
-                               std::size_t weights_size, const char* who) {
-  const std::size_t n = std::size_t(view.texel_count());
-  if (weights_size != n)
-    throw invalid_input(std::string(who) + ": weights span has " + std::to_string(weights_size) +
-                        " entries, the DPRSM has 2 R^2 = " + std::to_string(n) + " texels");
-  if (weights == nullptr) throw invalid_input(std::string(who) + ": null weights pointer");
-}
 
 // The valid gather points among pixel indices `pixels` (throws for an index outside the image).
 template <class T>

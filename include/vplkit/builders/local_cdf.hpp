@@ -16,7 +16,7 @@
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_cdf.hpp>
 #include <vplkit/core/error.hpp>
-#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
 #include <cstddef>

@@ -9,10 +9,10 @@
 // Random numbers, in this order (the GLSL mirror follows it): for k = 0 .. N-1, one u = the next
 // rng_next_unit<T>(rng), passed to sample(u). An invalid gather point returns 0 and consumes none.
 // Visibility(x, n_x, y_t, n_t) -> bool is queried once per sample with a non-zero contribution.
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
-#include <vplkit/estimators/flat_face_roulette.hpp>
-#include <vplkit/estimators/gather_point.hpp>
+#include <vplkit/distribution/flat_face_roulette.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>

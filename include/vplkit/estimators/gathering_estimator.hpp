@@ -23,10 +23,10 @@
 // Random numbers: for each direction k = 0 .. n_dirs-1: u0 = rng_next_unit<T>(rng), then u1;
 // omega = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1))).
 // An invalid gather point returns 0 and consumes none.
+#include <vplkit/core/gather_point.hpp>
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>

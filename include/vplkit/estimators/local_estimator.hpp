@@ -15,8 +15,8 @@
 // Random numbers: for round r = 0 .. n_rounds-1, for i = 0 .. N-1: one u = rng_next_unit<T>(rng),
 // passed to distributions[i].sample(u). Cost: `balance` evaluates N pmfs per sample (N^2 per
 // round). An invalid gather point returns 0 and consumes none.
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>

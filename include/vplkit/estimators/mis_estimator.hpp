@@ -37,13 +37,13 @@
 // (distribution.sample(u)); then if j < n_dirs, u0 and u1 for the direction (as in
 // estimate_gathering). An invalid gather point returns 0 and consumes none.
 // Never NaN or Inf: every division goes through balance_combined or is guarded.
+#include <vplkit/core/gather_point.hpp>
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/mis/heuristics.hpp>
 #include <vplkit/mis/pdf_conversion.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
@@ -129,7 +129,7 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
   const vpl<T> v = view.vpl_at(t);
-  if (!(v.flux.x > T(0) || v.flux.y > T(0) || v.flux.z > T(0))) return vec3<T>(T(0));
+  if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
   const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y_t
   const T cos2 = glm::dot(unit_or_zero(gp.normal), wd);

@@ -1,8 +1,8 @@
 #pragma once
 // The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (DESIGN 3.2): the estimand of every CDF
 // method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 

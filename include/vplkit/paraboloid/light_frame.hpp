@@ -4,8 +4,8 @@
 // Light-space coordinates of a world direction d are (dot(d, axis_x), dot(d, axis_y),
 // dot(d, axis_z)).
 #include <vplkit/core/error.hpp>
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 
 #include <cmath>
 #include <string>

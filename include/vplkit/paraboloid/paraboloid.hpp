@@ -6,8 +6,8 @@
 // rim direction (d.z = 0) has the same uv on either face and the two maps join continuously
 // along the rim. Consequence for a rasteriser: the back projection is a reflection (z -> -z) of
 // the front one, so triangle winding flips on the back face.
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 
 #include <cmath>
 #include <limits>

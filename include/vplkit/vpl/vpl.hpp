@@ -12,8 +12,8 @@
 //  - Squared distances are raised to at least vpl_distance_sq_floor = sqrt(smallest normal)
 //    (2^-63 in float, 2^-511 in double), so 1 / (pi d^2) <= 2.9e18 in float: the result is
 //    finite whenever |flux| * albedo (resp. |I| * albedo) stays below ~1e19 (float).
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/paraboloid/unit_or_zero.hpp>
 
 #include <cmath>
 #include <limits>
@@ -26,6 +26,13 @@ struct vpl {
   vec3<T> normal;    // n_t (any length; normalised where used)
   vec3<T> flux;      // Phi_t, RGB watts
 };
+
+// A texel carries a VPL where its flux is positive in some channel (albedo and intensity are
+// >= 0, so no channel is negative): the one test every builder uses.
+template <class T>
+inline bool vpl_has_flux(const vpl<T>& v) {
+  return v.flux.x > T(0) || v.flux.y > T(0) || v.flux.z > T(0);
+}
 
 template <class T>
 inline constexpr T vpl_pi = T(3.14159265358979323846);

@@ -4,8 +4,8 @@
 //   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
 //   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
 // Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
-#include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>

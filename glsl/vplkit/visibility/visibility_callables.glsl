@@ -1,5 +1,5 @@
 // vplkit GLSL pack: the visibility and tracing "callables" of the estimators, on the GPU; mirrors
-// include/vplkit/estimators/visibility_callables.hpp (T = float).
+// include/vplkit/visibility/visibility_callables.hpp (T = float).
 //
 // The C++ estimators take two host callables: visibility(x, n_x, y, n_y) -> bool and
 // tracer(x, n_x, dir) -> ray_hit. A GPU has no host callables, and GLSL has no templates, so the
@@ -28,10 +28,10 @@
 //
 // ACCESSOR: uint vplkit_load_voxel_word(uint word_index) (visibility/voxel_grid.glsl), needed
 // whenever a voxel kind is used (in practice: always define it; it may return 0u if unused).
-#ifndef VPLKIT_ESTIMATORS_VISIBILITY_CALLABLES_GLSL
-#define VPLKIT_ESTIMATORS_VISIBILITY_CALLABLES_GLSL
+#ifndef VPLKIT_VISIBILITY_VISIBILITY_CALLABLES_GLSL
+#define VPLKIT_VISIBILITY_VISIBILITY_CALLABLES_GLSL
 
-#include "vplkit/estimators/gather_point.glsl"
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/visibility/dda.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
 #include "vplkit/visibility/voxel_visible.glsl"
@@ -113,4 +113,4 @@ float vplkit_voxel_tracer_depth_tolerance(vplkit_voxel_grid g) {
   return 1.7320508075688772 * vplkit_voxel_length(g);
 }
 
-#endif  // VPLKIT_ESTIMATORS_VISIBILITY_CALLABLES_GLSL
+#endif  // VPLKIT_VISIBILITY_VISIBILITY_CALLABLES_GLSL

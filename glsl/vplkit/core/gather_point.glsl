@@ -1,5 +1,5 @@
 // vplkit GLSL pack: what builders and estimators know of the camera's visible points; mirrors
-// include/vplkit/estimators/gather_point.hpp (T = float).
+// include/vplkit/core/gather_point.hpp (T = float).
 //
 //   gather_point<float>{position, normal, albedo} <-> vplkit_gather_point (normal any length; zero
 //                                                     means background)
@@ -23,8 +23,8 @@
 // and n2 and the position finite, tested on the bits (GLSL compilers may assume no NaN/Inf in
 // comparisons). A GPU that flushes denormals reads a normal with n2 < 2^-126 (components below
 // about 1e-19) as zero, i.e. as background, where llvmpipe and the CPU still see a surface.
-#ifndef VPLKIT_ESTIMATORS_GATHER_POINT_GLSL
-#define VPLKIT_ESTIMATORS_GATHER_POINT_GLSL
+#ifndef VPLKIT_CORE_GATHER_POINT_GLSL
+#define VPLKIT_CORE_GATHER_POINT_GLSL
 
 struct vplkit_gather_point {
   vec3 position;
@@ -63,4 +63,4 @@ int vplkit_gbuffer_view_pixel_count(vplkit_gbuffer_view v) {
   return v.width * v.height;
 }
 
-#endif  // VPLKIT_ESTIMATORS_GATHER_POINT_GLSL
+#endif  // VPLKIT_CORE_GATHER_POINT_GLSL

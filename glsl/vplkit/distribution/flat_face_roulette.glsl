@@ -1,7 +1,7 @@
 // vplkit GLSL pack: a face roulette seen as one distribution over the flat DPRSM index
 // (face * R * R + index within the face), so that the estimators' distribution hooks can serve the
 // paper's Alg. 1 / 3 like any other distribution; mirrors
-// include/vplkit/estimators/flat_face_roulette.hpp (T = float).
+// include/vplkit/distribution/flat_face_roulette.hpp (T = float).
 //
 //   flat_face_roulette<float>(roulette, R)  <-> vplkit_make_flat_face_roulette(roulette, R)
 //   .size() / .empty() / .pmf(flat) / .sample(u) <-> vplkit_flat_face_roulette_size / _empty /
@@ -11,8 +11,8 @@
 // object's probabilities and scales) the flat index and pmf are exact too.
 //
 // ACCESSORS: those of distribution/discrete_cdf.glsl (vplkit_load_cdf, vplkit_load_guide).
-#ifndef VPLKIT_ESTIMATORS_FLAT_FACE_ROULETTE_GLSL
-#define VPLKIT_ESTIMATORS_FLAT_FACE_ROULETTE_GLSL
+#ifndef VPLKIT_DISTRIBUTION_FLAT_FACE_ROULETTE_GLSL
+#define VPLKIT_DISTRIBUTION_FLAT_FACE_ROULETTE_GLSL
 
 #include "vplkit/distribution/discrete_sample.glsl"
 #include "vplkit/distribution/face_roulette.glsl"
@@ -46,4 +46,4 @@ vplkit_discrete_sample vplkit_flat_face_roulette_sample(vplkit_flat_face_roulett
   return vplkit_discrete_sample(uint(s.face) * f.face_size + s.index, s.pmf);
 }
 
-#endif  // VPLKIT_ESTIMATORS_FLAT_FACE_ROULETTE_GLSL
+#endif  // VPLKIT_DISTRIBUTION_FLAT_FACE_ROULETTE_GLSL

@@ -1,7 +1,7 @@
 // vplkit GLSL pack: normalisation that cannot produce NaN or Inf, shared by the paraboloid mapping
-// and the VPL model. Mirrors include/vplkit/paraboloid/unit_or_zero.hpp (T = float) line for line.
-#ifndef VPLKIT_PARABOLOID_UNIT_OR_ZERO_GLSL
-#define VPLKIT_PARABOLOID_UNIT_OR_ZERO_GLSL
+// and the VPL model. Mirrors include/vplkit/core/unit_or_zero.hpp (T = float) line for line.
+#ifndef VPLKIT_CORE_UNIT_OR_ZERO_GLSL
+#define VPLKIT_CORE_UNIT_OR_ZERO_GLSL
 
 #include "vplkit/core/constants.glsl"
 
@@ -29,4 +29,4 @@ vec3 vplkit_unit_or_zero(vec3 v) {
   return s / sqrt(len2);
 }
 
-#endif  // VPLKIT_PARABOLOID_UNIT_OR_ZERO_GLSL
+#endif  // VPLKIT_CORE_UNIT_OR_ZERO_GLSL
