@@ -50,16 +50,16 @@
 #include <vplkit/vpl/dprsm_raycast.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 
-// builders: global, local and gathering-based CDF builders
+// builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
-#include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/builders/defensive.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum
 #include <vplkit/estimators/vpl_sum.hpp>
-#include <vplkit/estimators/cdf_estimator.hpp>
+#include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>

@@ -2164,7 +2164,7 @@ inline bool voxel_visible_two_sided(const voxel_grid_view<T>& g, vec3<T> x, vec3
 
 namespace vplkit {
 
-// V = 1 everywhere: the unoccluded VPL sum (what the global CDF builder assumes).
+// V = 1 everywhere: the unoccluded VPL sum (what the global weights assume).
 struct always_visible {
   template <class T>
   bool operator()(vec3<T>, vec3<T>, vec3<T>, vec3<T>) const {
@@ -2948,7 +2948,7 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
 }  // namespace vplkit
 // ---- end vplkit/vpl/dprsm_lookup.hpp ----
 
-// builders: global, local and gathering-based CDF builders
+// builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
 // ---- begin vplkit/builders/gather_subset.hpp ----
 // Stratified (jittered-grid) choice of gather pixels inside a rectangle of the image: the subset S
 // of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (DESIGN 3.4).
@@ -3117,8 +3117,8 @@ inline pixel_rect full_image_rect(const gbuffer_view<T>& gbuffer) {
 
 }  // namespace vplkit
 // ---- end vplkit/builders/gather_subset.hpp ----
-// ---- begin vplkit/builders/global_cdf.hpp ----
-// Global CDF weights (BRSM, Ritschel et al. 2011; DESIGN 3.4): the mean luminance of every VPL's
+// ---- begin vplkit/builders/global_weights.hpp ----
+// Global weights (BRSM, Ritschel et al. 2011; DESIGN 3.4): the mean luminance of every VPL's
 // contribution to a subset S of gather points, without visibility:
 //     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (DESIGN 3.2).
 // A texel that carries no VPL (invalid, saw nothing, or faces away from the light: vpl_at gives
@@ -3248,11 +3248,11 @@ inline std::vector<T> build_global_weights(const gbuffer_view<T>& gbuffer,
 }
 
 }  // namespace vplkit
-// ---- end vplkit/builders/global_cdf.hpp ----
-// ---- begin vplkit/builders/local_cdf.hpp ----
-// Local CDF weights (paper 5.2, DESIGN 3.4): the image is split into an rx x ry grid of regions
+// ---- end vplkit/builders/global_weights.hpp ----
+// ---- begin vplkit/builders/local_weights.hpp ----
+// Local weights (paper 5.2, DESIGN 3.4): the image is split into an rx x ry grid of regions
 // (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built exactly
-// like the global weights (global_cdf.hpp) from a stratified subset S_i of the region's pixels.
+// like the global weights (global_weights.hpp) from a stratified subset S_i of the region's pixels.
 //
 // Region grid: column c covers x in [floor(c W / rx), floor((c + 1) W / rx)), row r likewise with
 // H and ry; region index i = r * rx + c (row-major). With rx <= W and ry <= H every region holds
@@ -3393,9 +3393,9 @@ inline std::vector<T> build_local_weights(const gbuffer_view<T>& gbuffer,
 }
 
 }  // namespace vplkit
-// ---- end vplkit/builders/local_cdf.hpp ----
-// ---- begin vplkit/builders/gbg_cdf.hpp ----
-// Gathering-based global (GBG) CDF weights (paper 5.3 and Alg. 2, DESIGN 3.4).
+// ---- end vplkit/builders/local_weights.hpp ----
+// ---- begin vplkit/builders/gbg_weights.hpp ----
+// Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, DESIGN 3.4).
 //
 // For EVERY valid gather point x (pixel p = y * width + x of the G-buffer) and every direction
 // j in [0, n_dirs):
@@ -3641,8 +3641,8 @@ inline std::vector<T> build_gbg_weights(const gbuffer_view<T>& gbuffer, const dp
 }
 
 }  // namespace vplkit
-// ---- end vplkit/builders/gbg_cdf.hpp ----
-// ---- begin vplkit/builders/defensive.hpp ----
+// ---- end vplkit/builders/gbg_weights.hpp ----
+// ---- begin vplkit/builders/vpl_distribution.hpp ----
 // From builder weights to the distribution the estimators sample (DESIGN 3.3, 3.5):
 //     p(t) = (1 - eps) w_t / sum w  +  eps / |F|    for t in F, the texels carrying a VPL,
 // F = { t : vpl_at(t).flux > 0 in some channel } (vpl_has_flux). Every VPL that can contribute is
@@ -3768,7 +3768,7 @@ inline std::vector<defensive_mixture<T>> make_local_vpl_distributions(
 }
 
 }  // namespace vplkit
-// ---- end vplkit/builders/defensive.hpp ----
+// ---- end vplkit/builders/vpl_distribution.hpp ----
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum
 // ---- begin vplkit/estimators/vpl_sum.hpp ----
@@ -3816,7 +3816,7 @@ inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>
 
 }  // namespace vplkit
 // ---- end vplkit/estimators/vpl_sum.hpp ----
-// ---- begin vplkit/estimators/cdf_estimator.hpp ----
+// ---- begin vplkit/estimators/vpl_sampling_estimator.hpp ----
 // VPL sampling by inverse transform (DESIGN 3.3): L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),
 // t_k ~ p. Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
 // (defensive_mixture guarantees that; a plain CDF with holes is biased, the paper's behaviour).
@@ -3866,7 +3866,7 @@ inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view
 }
 
 }  // namespace vplkit
-// ---- end vplkit/estimators/cdf_estimator.hpp ----
+// ---- end vplkit/estimators/vpl_sampling_estimator.hpp ----
 // ---- begin vplkit/estimators/local_estimator.hpp ----
 // Local CDFs (DESIGN 3.4, paper section 5.2): N distributions, one per image region. Each round
 // draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N * n_rounds VPLs.

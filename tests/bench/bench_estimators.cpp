@@ -10,17 +10,17 @@
 // MIS 8 rays + 8 VPLs), or gather points for the exhaustive sum (every texel of the map).
 #include "bench_common.hpp"
 
-#include <vplkit/builders/defensive.hpp>
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
-#include <vplkit/estimators/cdf_estimator.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 

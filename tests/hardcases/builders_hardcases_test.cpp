@@ -1,10 +1,10 @@
 // DESIGN section 7 for the CDF builders: empty inputs, empty DPRSMs, degenerate tracers, bad
 // weights. One TEST_CASE per hard case; nothing may produce NaN or Inf.
-#include <vplkit/builders/defensive.hpp>
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/core/error.hpp>
 
 #include <synthetic_scene.hpp>

@@ -24,9 +24,9 @@
 #include "parity_estimators_support.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/luminance.hpp>
@@ -357,7 +357,7 @@ struct ray_out {
 
 std::vector<ray_out> gpu_rays(const vplkit_test::gbuffer_data<float>& gbuf, const gbg_setup& st) {
   const std::string body = R"(
-#include "vplkit/builders/gbg_cdf.glsl"
+#include "vplkit/builders/gbg_weights.glsl"
 struct ray_out { int texel; uint flags; float value; uint pad; };
 layout(std430, binding = 1) writeonly buffer Out { ray_out result[]; };
 void vplkit_store_gbg_hit(int texel, float value) {}
@@ -456,7 +456,7 @@ std::uint64_t host_units(float v, float scale, float max_units) {
   return std::uint64_t(double(q));
 }
 
-// Fixed-point parameters as gbg_cdf.glsl recommends: max_units = 2^(63 - ceil(log2 H)), H = |G| n_dirs,
+// Fixed-point parameters as gbg_weights.glsl recommends: max_units = 2^(63 - ceil(log2 H)), H = |G| n_dirs,
 // scale = 2^floor(log2(max_units / v_bound)).
 void choose_fixed_point(gbg_setup& st, int gather_points) {
   const auto& s = fx().s;

@@ -21,19 +21,19 @@
 #include "parity_estimators_support.hpp"
 #include "parity_sampling_mis_support.hpp"
 
-#include <vplkit/builders/defensive.hpp>
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
 #include <vplkit/distribution/flat_face_roulette.hpp>
-#include <vplkit/estimators/cdf_estimator.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
@@ -561,7 +561,7 @@ namespace {
 
 // The estimator kernels (also run with zero intensity by the hard-case test).
 const char* const k_vpl_sampling = R"(
-#include "vplkit/estimators/cdf_estimator.glsl"
+#include "vplkit/estimators/vpl_sampling_estimator.glsl"
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= VPLKIT_PARITY_COUNT) return;

@@ -18,10 +18,10 @@
 #include "tessellate.hpp"
 #include "voxels.hpp"
 
-#include <vplkit/builders/defensive.hpp>
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 
 #include <catch2/catch.hpp>

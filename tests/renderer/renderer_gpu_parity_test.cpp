@@ -24,7 +24,7 @@
 #include "tessellate.hpp"
 #include "voxels.hpp"
 
-#include <vplkit/builders/gbg_cdf.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 
 #include <catch2/catch.hpp>
@@ -195,7 +195,7 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
                              (double(std::max(gw.gather_points, 1)) * es.dirs);
     // A ray whose voxel step or depth test sits at a float tie can hit on one side only (the GPU's
     // sqrt/div are a few ulps off): such texels differ by whole hits, v <= v_bound = 2 max_units /
-    // scale each (gbg_cdf.glsl's scale choice). Allowed in <= 2% of the texels, <= 2 hits each,
+    // scale each (gbg_weights.glsl's scale choice). Allowed in <= 2% of the texels, <= 2 hits each,
     // as parity_builders_test excludes and counts the texels of flipped rays.
     const double hit_bound = 2.0 * det["gbg"]["fixed_point_max_units"].get<double>() / gw.scale /
                              (double(std::max(gw.gather_points, 1)) * es.dirs);
@@ -242,7 +242,7 @@ TEST_CASE("GPU estimators match the CPU backend with the non-default switches of
   // --local-combination average, --gbg-accumulator paper, --cdf-search binary (global, mis): the
   // same bounds as the default cases above (the paper accumulator's GBG weights are GPU-built, so
   // they take the GPU-builder bound; its fixed-point scale comes from the paper bound of
-  // gbg_cdf.glsl, and no hit may saturate).
+  // gbg_weights.glsl, and no hit may saturate).
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell"));
   options o = f.o;
   const prepared_scene& p = f.p;

@@ -4,7 +4,7 @@
 //         cos(theta) / pi  d omega
 // (value = the accumulator's per-hit value), computed in spherical coordinates with no use of the
 // cosine sampler. Holes are not filled (the fill is a deliberate bias).
-#include <vplkit/builders/gbg_cdf.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
 
 #include <synthetic_scene.hpp>
 

@@ -8,7 +8,7 @@
 
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
-#include <vplkit/estimators/cdf_estimator.hpp>
+#include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 
 #include <catch2/catch.hpp>

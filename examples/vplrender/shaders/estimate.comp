@@ -27,10 +27,10 @@ layout(local_size_x = 64) in;
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/defensive_mixture.glsl"
-#include "vplkit/estimators/cdf_estimator.glsl"
 #include "vplkit/estimators/gathering_estimator.glsl"
 #include "vplkit/estimators/local_estimator.glsl"
 #include "vplkit/estimators/mis_estimator.glsl"
+#include "vplkit/estimators/vpl_sampling_estimator.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/sampling/rng.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"

@@ -1,5 +1,5 @@
 // The defensive fallback's weights on the GPU: 1 where a DPRSM texel carries a VPL, else 0 --
-// the weights of vplkit::make_vpl_fallback (builders/defensive.hpp), which cdf_build.comp then
+// the weights of vplkit::make_vpl_fallback (builders/vpl_distribution.hpp), which cdf_build.comp then
 // turns into the uniform distribution over the VPL texels. One invocation per texel; the host
 // (gpu_cdf.cpp) prepends "#version 430".
 //

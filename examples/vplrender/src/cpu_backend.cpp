@@ -1,14 +1,14 @@
 #include "cpu_backend.hpp"
 
-#include <vplkit/builders/defensive.hpp>
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
-#include <vplkit/estimators/cdf_estimator.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>

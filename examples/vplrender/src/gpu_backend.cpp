@@ -4,12 +4,12 @@
 
 #include <headless_gl/compute.hpp>
 
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
-#include <vplkit/vpl/luminance.hpp>
-#include <vplkit/builders/defensive.hpp>
-#include <vplkit/builders/gbg_cdf.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
+#include <vplkit/vpl/luminance.hpp>
 
 #include <glm/vec4.hpp>
 #include <glm/gtc/type_precision.hpp>
@@ -147,7 +147,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
   for (std::size_t p = 0; p < n_pixels; ++p)
     if (vplkit::gather_point_valid(g.at(static_cast<int>(p)))) ++gather_points;
 
-  // Fixed point as gbg_cdf.glsl recommends: max_units = 2^(63 - ceil(log2(|G| n_dirs))) keeps any
+  // Fixed point as gbg_weights.glsl recommends: max_units = 2^(63 - ceil(log2(|G| n_dirs))) keeps any
   // texel's sum below 2^63; scale = 2^floor(log2(max_units / v_bound)) with v_bound the gathering
   // accumulator's largest per-hit value, I / (pi d1min^2) in luminance, d1min the nearest lit
   // texel's distance to the light less the depth tolerance. A power of two, so 1 / scale is exact.
@@ -159,7 +159,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
       d1min = std::min(d1min, double(glm::length(dd.position[t] - view.light.position)));
   d1min = std::max(d1min - double(depth_tol), 1e-3);
   // The paper accumulator (luminance of eq. 5 clamped at dmin) is bounded instead by
-  // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_cdf.glsl); dmin > 0 here.
+  // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_weights.glsl); dmin > 0 here.
   const bool paper_acc = es.gbg_accumulator == gbg_accumulator_choice::paper;
   const double lum_i = std::max(double(vplkit::luminance(view.light.intensity)), 1e-30);
   const double dmin_b = std::max(double(es.dmin), 1e-6);

@@ -3,7 +3,7 @@
 #include "gpu_backend.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/local_weights.hpp>
 #include <vplkit/core/error.hpp>
 
 #include <glm/vec4.hpp>

@@ -1,5 +1,5 @@
 // vplkit kernel: GBG accumulation (paper Alg. 2, DESIGN 3.4), one invocation per G-buffer pixel:
-// the GPU side of the accumulation loop of vplkit::build_gbg_weights (gbg_cdf.hpp), with the
+// the GPU side of the accumulation loop of vplkit::build_gbg_weights (gbg_weights.hpp), with the
 // pack's voxel tracer (the GPU has no host tracer: vplkit_voxel_tracer over the voxel grid below).
 // For every valid gather point: directions [dir_begin, dir_end) of its n_dirs cosine rays, the
 // voxel DDA hit, vplkit_dprsm_lookup, and for a lit hit on a texel that carries a VPL the chosen
@@ -32,14 +32,14 @@
 // loop; one ray marches up to nx + ny + nz voxels, so keep (dir_end - dir_begin) * (nx + ny + nz +
 // 8) below 65535 there (docs/glsl/builders.md). GPUs have no such limit.
 //
-// FIXED POINT (gbg_cdf.glsl): units = roundEven(min(v * scale, max_units)) per lit hit, summed
+// FIXED POINT (gbg_weights.glsl): units = roundEven(min(v * scale, max_units)) per lit hit, summed
 // exactly in 64 bits. Precision: <= 0.5 / scale absolute per hit (0 when v * scale >= 2^24), the
 // per-texel sum exact and order-independent (bit-identical on every device), read back within
 // 1.5 float ulps. No overflow while (hits of one texel) * max_units < 2^64: take
 // max_units = 2^(63 - ceil(log2(|G| n_dirs))) and scale = 2^floor(log2(max_units / v_bound)) for a
-// bound v_bound of the per-hit value (formulas in gbg_cdf.glsl); hits above it saturate at
+// bound v_bound of the per-hit value (formulas in gbg_weights.glsl); hits above it saturate at
 // max_units and are counted in stats[3].
-#include "vplkit/builders/gbg_cdf.glsl"
+#include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
 

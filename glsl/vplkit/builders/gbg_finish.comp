@@ -26,7 +26,7 @@
 // 2.5 ulps): <= (H_t 0.5 / scale) / (|G| n_dirs) + 4 ulps of w_t, H_t the hits of texel t, plus the
 // float difference of the hit values themselves (docs/glsl/builders.md). No valid gather point
 // (|G| = 0) gives all zeros.
-#include "vplkit/builders/gbg_cdf.glsl"
+#include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/image/median_fill.glsl"
 #include "vplkit/paraboloid/texel_grid.glsl"
 
@@ -77,7 +77,7 @@ layout(std140, binding = VPLKIT_GBG_FINISH_BINDING_PARAMS) uniform vplkit_gbg_fi
 vec3 vplkit_load_dprsm_position(int texel) { return vplkit_gbg_finish_dprsm[3 * texel].xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vplkit_gbg_finish_dprsm[3 * texel + 1].xyz; }
 vec3 vplkit_load_dprsm_albedo(int texel) { return vplkit_gbg_finish_dprsm[3 * texel + 2].xyz; }
-// Referenced by gbg_cdf.glsl's accumulation loop, not called here (Mesa wants them defined).
+// Referenced by gbg_weights.glsl's accumulation loop, not called here (Mesa wants them defined).
 void vplkit_store_gbg_hit(int texel, float value) {}
 uint vplkit_load_voxel_word(uint word_index) { return 0u; }
 

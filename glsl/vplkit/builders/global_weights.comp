@@ -1,6 +1,6 @@
-// vplkit kernel: global CDF weights (BRSM; DESIGN 3.4), one invocation per (texel, region): the GPU
+// vplkit kernel: global weights (BRSM; DESIGN 3.4), one invocation per (texel, region): the GPU
 // side of vplkit::build_global_weights and, with N regions, of vplkit::build_local_weights
-// (global_cdf.hpp, local_cdf.hpp). Per texel it runs vplkit_global_weight_texel (global_cdf.glsl):
+// (global_weights.hpp, local_weights.hpp). Per texel it runs vplkit_global_weight_texel (global_weights.glsl):
 // the mean over the region's subset of luminance(vpl_contribution), no visibility, summed in float
 // in the subset's order and multiplied by 1 / |S| -- the C++ arithmetic statement for statement.
 //
@@ -28,7 +28,7 @@
 // Precision against the C++ float build: the per-term float error of luminance(vpl_contribution)
 // (a few ulps, FMA contraction and the GPU's normalisation) accumulated over |S| terms in the same
 // order: measured in tests/parity/parity_builders_test.cpp (docs/glsl/builders.md).
-#include "vplkit/builders/global_cdf.glsl"
+#include "vplkit/builders/global_weights.glsl"
 #include "vplkit/core/gather_point.glsl"
 
 #ifndef VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER

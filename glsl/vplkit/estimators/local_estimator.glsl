@@ -9,7 +9,7 @@
 //
 // Distributions: the C++ `const Distribution* distributions, int n` becomes the ids
 // first_distribution .. first_distribution + n - 1 of the distribution hooks (declared and
-// documented in cdf_estimator.glsl; the including shader defines them):
+// documented in vpl_sampling_estimator.glsl; the including shader defines them):
 //   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
 //   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
 // An empty CDF draws nothing (pmf 0, adds 0) but still counts in N for `average`.

@@ -12,7 +12,7 @@
 //   L_t V * (w.vpl / alpha); the sum is divided by n_dirs (n_vpls when n_dirs = 0).
 // See docs/api/estimators.md for the expectation and the measured bias.
 //
-// Distributions: the distribution hooks (declared and documented in cdf_estimator.glsl; the
+// Distributions: the distribution hooks (declared and documented in vpl_sampling_estimator.glsl; the
 // including shader defines them); `distribution` is passed to both:
 //   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
 //   float vplkit_estimator_distribution_pmf(uint distribution, uint index);

@@ -12,7 +12,7 @@
 
 namespace vplkit {
 
-// V = 1 everywhere: the unoccluded VPL sum (what the global CDF builder assumes).
+// V = 1 everywhere: the unoccluded VPL sum (what the global weights assume).
 struct always_visible {
   template <class T>
   bool operator()(vec3<T>, vec3<T>, vec3<T>, vec3<T>) const {

@@ -1,5 +1,5 @@
-// vplkit GLSL pack: gathering-based global (GBG) CDF weights (paper 5.3 and Alg. 2, DESIGN 3.4);
-// mirrors include/vplkit/builders/gbg_cdf.hpp (T = float). The kernels gbg_accumulate.comp (one
+// vplkit GLSL pack: gathering-based global (GBG) weights (paper 5.3 and Alg. 2, DESIGN 3.4);
+// mirrors include/vplkit/builders/gbg_weights.hpp (T = float). The kernels gbg_accumulate.comp (one
 // invocation per gather point) and gbg_finish.comp (one per texel: normalise, fill holes) run it.
 //
 // Per valid gather point x (pixel p) and direction j, exactly as the C++:
@@ -49,8 +49,8 @@
 // minus depth_tolerance; for the paper accumulator: luminance(I_s) Omega_max / (pi^2 max(d2,
 // dmin)^2) with Omega_max = 4 (2/R)^2, unbounded for dmin = 0 (then pick a bound from the scene
 // and accept the saturation count).
-#ifndef VPLKIT_BUILDERS_GBG_CDF_GLSL
-#define VPLKIT_BUILDERS_GBG_CDF_GLSL
+#ifndef VPLKIT_BUILDERS_GBG_WEIGHTS_GLSL
+#define VPLKIT_BUILDERS_GBG_WEIGHTS_GLSL
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
@@ -148,4 +148,4 @@ float vplkit_gbg_fixed_to_float(uint lo, uint hi) {
   return float(hi) * 4294967296.0 + float(lo);
 }
 
-#endif  // VPLKIT_BUILDERS_GBG_CDF_GLSL
+#endif  // VPLKIT_BUILDERS_GBG_WEIGHTS_GLSL

@@ -1,9 +1,9 @@
 // make_vpl_distribution with eps > 0: every VPL with nonzero flux has a positive pmf, samples
 // follow the pmf (chi-square), and the one-sample VPL estimator is unbiased where the plain CDF
 // (eps = 0) of hole-ridden GBG weights is not.
-#include <vplkit/builders/defensive.hpp>
-#include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/sampling/rng.hpp>
 
 #include <synthetic_scene.hpp>

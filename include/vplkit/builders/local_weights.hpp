@@ -1,7 +1,7 @@
 #pragma once
-// Local CDF weights (paper 5.2, DESIGN 3.4): the image is split into an rx x ry grid of regions
+// Local weights (paper 5.2, DESIGN 3.4): the image is split into an rx x ry grid of regions
 // (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built exactly
-// like the global weights (global_cdf.hpp) from a stratified subset S_i of the region's pixels.
+// like the global weights (global_weights.hpp) from a stratified subset S_i of the region's pixels.
 //
 // Region grid: column c covers x in [floor(c W / rx), floor((c + 1) W / rx)), row r likewise with
 // H and ry; region index i = r * rx + c (row-major). With rx <= W and ry <= H every region holds
@@ -14,7 +14,7 @@
 // stream_offset = i * count): stratum k of region i uses stream i * count + k, so no two strata of
 // one build share a stream.
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/global_weights.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>

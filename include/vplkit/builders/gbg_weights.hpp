@@ -1,5 +1,5 @@
 #pragma once
-// Gathering-based global (GBG) CDF weights (paper 5.3 and Alg. 2, DESIGN 3.4).
+// Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, DESIGN 3.4).
 //
 // For EVERY valid gather point x (pixel p = y * width + x of the G-buffer) and every direction
 // j in [0, n_dirs):

@@ -1,7 +1,7 @@
 // Global (BRSM) weights: equal to an independent brute-force double loop, exactly 0 where no VPL
 // is, background skipped, and the argument checks.
 #include <vplkit/builders/gather_subset.hpp>
-#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/global_weights.hpp>
 #include <vplkit/core/error.hpp>
 
 #include <synthetic_scene.hpp>

@@ -1,7 +1,7 @@
-// vplkit GLSL pack: global CDF weights (BRSM, Ritschel et al. 2011; DESIGN 3.4), the mean
+// vplkit GLSL pack: global weights (BRSM, Ritschel et al. 2011; DESIGN 3.4), the mean
 // luminance of every VPL's contribution to a subset S of gather points, without visibility:
 //     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g));
-// mirrors include/vplkit/builders/global_cdf.hpp (T = float). The kernel global_weights.comp runs
+// mirrors include/vplkit/builders/global_weights.hpp (T = float). The kernel global_weights.comp runs
 // it over all texels (and the N regions of the local method).
 //
 // ACCESSORS (the including shader defines them):
@@ -17,8 +17,8 @@
 // multiplied by 1.0 / float(|S|). A texel that carries no VPL gets exactly 0 without evaluating
 // any contribution. llvmpipe runs at most 65535 loop iterations per invocation (see
 // docs/glsl/estimators.md): |S| must stay below about 65000 there (the paper's reference used 4k).
-#ifndef VPLKIT_BUILDERS_GLOBAL_CDF_GLSL
-#define VPLKIT_BUILDERS_GLOBAL_CDF_GLSL
+#ifndef VPLKIT_BUILDERS_GLOBAL_WEIGHTS_GLSL
+#define VPLKIT_BUILDERS_GLOBAL_WEIGHTS_GLSL
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
@@ -44,4 +44,4 @@ float vplkit_global_weight_texel(vplkit_dprsm_view view, int texel, int count, f
   return sum * (1.0 / float(used));
 }
 
-#endif  // VPLKIT_BUILDERS_GLOBAL_CDF_GLSL
+#endif  // VPLKIT_BUILDERS_GLOBAL_WEIGHTS_GLSL

@@ -1,8 +1,8 @@
 // Gathering-based global (GBG) weights on the synthetic scene with the exact tracer: support,
 // random-number order, hole filling, both accumulators, and agreement with the exhaustive
 // per-texel contribution sum.
-#include <vplkit/builders/gbg_cdf.hpp>
-#include <vplkit/builders/global_cdf.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/global_weights.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 

@@ -1,8 +1,8 @@
 // Local CDF: the region grid partitions the image, subsets stay in their region, and each region's
 // weights are the global weights of its own subset.
-#include <vplkit/builders/defensive.hpp>
-#include <vplkit/builders/global_cdf.hpp>
-#include <vplkit/builders/local_cdf.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/core/error.hpp>
 
 #include <synthetic_scene.hpp>

@@ -1,11 +1,11 @@
 // vplkit GLSL pack: VPL sampling by inverse transform (DESIGN 3.3):
 // L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k), t_k ~ p; mirrors
-// include/vplkit/estimators/cdf_estimator.hpp (T = float).
+// include/vplkit/estimators/vpl_sampling_estimator.hpp (T = float).
 //
 // DISTRIBUTION HOOKS. The C++ estimators are templates over the distribution (discrete_cdf,
 // alias_table, defensive_mixture, flat_face_roulette, ...); GLSL has no templates, so the
 // estimators name a distribution by a uint id and the including shader defines two functions that
-// sample it and evaluate its pmf (the same two prototypes are declared in cdf_estimator.glsl,
+// sample it and evaluate its pmf (the same two prototypes are declared in vpl_sampling_estimator.glsl,
 // local_estimator.glsl and mis_estimator.glsl; define them once):
 //   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
 //     C++ distribution.sample(u): {index over the flat DPRSM index face * R * R + y * R + x, pmf}
@@ -27,8 +27,8 @@
 // ACCESSORS used: those of vpl/dprsm_view.glsl and visibility/voxel_grid.glsl, plus the two hooks.
 // Divisions by a pmf go through vplkit_mis_div (mis/heuristics.glsl): x / y for any y, so a
 // denormal pmf divides as in C++ on devices that keep denormals (llvmpipe).
-#ifndef VPLKIT_ESTIMATORS_CDF_ESTIMATOR_GLSL
-#define VPLKIT_ESTIMATORS_CDF_ESTIMATOR_GLSL
+#ifndef VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL
+#define VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
@@ -68,4 +68,4 @@ vec3 vplkit_estimate_vpl_sampling(vplkit_gather_point gp, vplkit_dprsm_view view
   return sum / float(n_samples);
 }
 
-#endif  // VPLKIT_ESTIMATORS_CDF_ESTIMATOR_GLSL
+#endif  // VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL

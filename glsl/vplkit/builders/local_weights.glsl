@@ -1,14 +1,14 @@
 // vplkit GLSL pack: the region grid of the local CDFs (paper 5.2, DESIGN 3.4): which of the
 // rx x ry regions a pixel belongs to, and each region's rectangle; mirrors the integer part of
-// include/vplkit/builders/local_cdf.hpp. A renderer's estimator kernel uses
+// include/vplkit/builders/local_weights.hpp. A renderer's estimator kernel uses
 // vplkit_region_of_pixel to pick the pixel's own region; the weights of region i are
 // global_weights.comp over the subset S_i (region-major layout: weights[i * 2 R^2 + t]).
 //   image_regions{width, height, rx, ry} <-> vplkit_image_regions (validated by the host: the C++
 //                                            constructor throws unless 1 <= rx <= width etc.)
 // Integer arithmetic only, identical to the C++ for images up to 32768 pixels on a side.
 // No accessor.
-#ifndef VPLKIT_BUILDERS_LOCAL_CDF_GLSL
-#define VPLKIT_BUILDERS_LOCAL_CDF_GLSL
+#ifndef VPLKIT_BUILDERS_LOCAL_WEIGHTS_GLSL
+#define VPLKIT_BUILDERS_LOCAL_WEIGHTS_GLSL
 
 #include "vplkit/builders/gather_subset.glsl"
 
@@ -45,4 +45,4 @@ vplkit_pixel_rect vplkit_image_regions_region_rect(vplkit_image_regions r, int i
   return vplkit_pixel_rect(xa, ya, xb - xa, yb - ya);
 }
 
-#endif  // VPLKIT_BUILDERS_LOCAL_CDF_GLSL
+#endif  // VPLKIT_BUILDERS_LOCAL_WEIGHTS_GLSL
