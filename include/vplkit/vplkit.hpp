@@ -43,12 +43,13 @@
 // image: hole-aware median fill
 #include <vplkit/image/median_fill.hpp>
 
-// vpl: VPL flux and contribution, luminance, DPRSM view
+// vpl: VPL flux and contribution, luminance, DPRSM view and lookup, direct light
 #include <vplkit/vpl/luminance.hpp>
 #include <vplkit/vpl/vpl.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
+#include <vplkit/vpl/direct_light.hpp>
 
 // builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
 #include <vplkit/builders/gather_subset.hpp>
@@ -58,6 +59,7 @@
 #include <vplkit/builders/vpl_distribution.hpp>
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum
+#include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>

@@ -2580,7 +2580,7 @@ inline void median_fill_dprsm(const T* in, T* out, int R) {
 }  // namespace vplkit
 // ---- end vplkit/image/median_fill.hpp ----
 
-// vpl: VPL flux and contribution, luminance, DPRSM view
+// vpl: VPL flux and contribution, luminance, DPRSM view and lookup, direct light
 // ---- begin vplkit/vpl/luminance.hpp ----
 // Scalar weight of an RGB quantity (paper eq. 6; ITU-R BT.601 luma weights).
 
@@ -2947,6 +2947,46 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
 
 }  // namespace vplkit
 // ---- end vplkit/vpl/dprsm_lookup.hpp ----
+// ---- begin vplkit/vpl/direct_light.hpp ----
+// Direct light at a gather point from the DPRSM's point light, shadowed by the DPRSM itself: the
+// DPRSM records what the light sees, so it doubles as the light's shadow map (docs/api/vpl.md,
+// "Direct light"). GLSL: vpl/direct_light.glsl, statement for statement.
+
+#include <algorithm>
+#include <cmath>
+
+namespace vplkit {
+
+// Depth tolerance of the shadow test for a point at distance d from the light whose normal makes
+// cos_a > 0 with the direction to the light. A texel's footprint is at most 4 d / R wide (the
+// paraboloid's angular texel size is 2/R at the rim, 4/R at the pole); on a surface tilted by
+// alpha the depth along the light ray varies by footprint * tan(alpha) across it, tan capped at
+// 20; 1e-4 d more covers the depth's own rounding.
+template <class T>
+inline T direct_light_depth_tolerance(T d, T cos_a, int resolution) {
+  const T tan_a = std::min(T(20), std::sqrt(std::max(T(0), T(1) - cos_a * cos_a)) / cos_a);
+  return d * (T(4) / T(resolution)) * (T(0.5) + tan_a) + T(1e-4) * d;
+}
+
+// L_o(x) = rho_x I_s cos(alpha) / (pi d^2) (reflected_radiance) where the DPRSM sees x lit
+// (dprsm_lookup within direct_light_depth_tolerance), else 0: background pixels, points at the
+// light or facing away from it, points in shadow.
+template <class T>
+inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view) {
+  if (!gather_point_valid(gp)) return vec3<T>(T(0));
+  const vec3<T> to_light = view.light.position - gp.position;
+  const T d = glm::length(to_light);
+  if (!(d > T(0))) return vec3<T>(T(0));
+  const T cos_a = glm::dot(glm::normalize(gp.normal), to_light / d);
+  if (!(cos_a > T(0))) return vec3<T>(T(0));
+  const T tolerance = direct_light_depth_tolerance(d, cos_a, view.resolution);
+  const dprsm_lookup_result r = dprsm_lookup(view, gp.position, tolerance);
+  if (!r.lit) return vec3<T>(T(0));
+  return reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/vpl/direct_light.hpp ----
 
 // builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
 // ---- begin vplkit/builders/gather_subset.hpp ----
@@ -3771,6 +3811,30 @@ inline std::vector<defensive_mixture<T>> make_local_vpl_distributions(
 // ---- end vplkit/builders/vpl_distribution.hpp ----
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum
+// ---- begin vplkit/estimators/estimator_state.hpp ----
+// What a per-pixel estimate carries from one range of its samples to the next: the running sum
+// and the random-number stream. Every estimator comes in three parts (docs/api/estimators.md,
+// "Range forms"): estimate_X_range(..., state, begin, end, ...) runs samples [begin, end) of its
+// loop, estimate_X_finish(state, ...) turns the sum into the estimate, and the one-shot
+// estimate_X(..., rng, n, ...) is make_estimator_state + range(0, n) + finish. Consecutive ranges
+// that cover [0, n) perform exactly the floating-point operations and random draws of one loop,
+// so a GPU can spread an estimate over several dispatches and match the one-shot bit for bit.
+
+namespace vplkit {
+
+template <class T>
+struct estimator_state {
+  vec3<T> sum = vec3<T>(T(0));  // the samples' values so far, added in sample order
+  counter_rng rng{};            // where the next draw comes from
+};
+
+template <class T>
+inline estimator_state<T> make_estimator_state(const counter_rng& rng) {
+  return estimator_state<T>{vec3<T>(T(0)), rng};
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/estimator_state.hpp ----
 // ---- begin vplkit/estimators/vpl_sum.hpp ----
 // The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (DESIGN 3.2): the estimand of every CDF
 // method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
@@ -3801,17 +3865,40 @@ inline vec3<T> vpl_visible_contribution(const gather_point<T>& gp, const dprsm_v
   return visibility(gp.position, gp.normal, v.position, v.normal) ? c : vec3<T>(T(0));
 }
 
-// sum_t L_t(x) V(x, y_t) over all 2 R^2 texels (invalid and unlit texels have zero flux).
-// Accumulated in double whatever T is, so the reference does not lose digits over 10^5+ terms;
-// rounded once to T. 0 for an invalid (background) gather point.
+// The exhaustive sum's running total, kept in double whatever T is, so the reference does not
+// lose digits over 10^5+ terms (the GLSL mirror keeps a compensated float pair instead).
+struct vpl_sum_state {
+  vec3<double> sum = vec3<double>(0.0);
+};
+
+// Adds L_t(x) V(x, y_t) of the texels [begin, end) (clipped to the view) to state.sum, in texel
+// order; nothing for an invalid (background) gather point.
+template <class T, class Visibility>
+inline void exhaustive_vpl_sum_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     vpl_sum_state& state, int begin, int end,
+                                     const Visibility& visibility, T dmin) {
+  if (!gather_point_valid(gp)) return;
+  const int n = view.texel_count();
+  const int first = begin < 0 ? 0 : begin, last = end < n ? end : n;
+  for (int t = first; t < last; ++t)
+    state.sum += vec3<double>(vpl_visible_contribution(gp, view, t, visibility, dmin));
+}
+
+// The sum rounded once to T.
+template <class T>
+inline vec3<T> exhaustive_vpl_sum_finish(const vpl_sum_state& state) {
+  return vec3<T>(state.sum);
+}
+
+// sum_t L_t(x) V(x, y_t) over all 2 R^2 texels (invalid and unlit texels have zero flux); 0 for
+// an invalid (background) gather point.
 template <class T, class Visibility>
 inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>& view,
                                   const Visibility& visibility, T dmin) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
-  vec3<double> sum(0.0);
-  const int n = view.texel_count();
-  for (int t = 0; t < n; ++t) sum += vec3<double>(vpl_visible_contribution(gp, view, t, visibility, dmin));
-  return vec3<T>(sum);
+  vpl_sum_state state;
+  exhaustive_vpl_sum_range(gp, view, state, 0, view.texel_count(), visibility, dmin);
+  return exhaustive_vpl_sum_finish<T>(state);
 }
 
 }  // namespace vplkit
@@ -3844,15 +3931,30 @@ inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T
   return estimator_finite_or_zero(c / pmf);
 }
 
+// Samples [begin, end) of estimate_vpl_sampling (estimator_state.hpp).
+template <class T, class Distribution, class Visibility>
+inline void estimate_vpl_sampling_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                        const Distribution& distribution, estimator_state<T>& state,
+                                        int begin, int end, const Visibility& visibility, T dmin) {
+  if (!gather_point_valid(gp)) return;
+  for (int k = begin; k < end; ++k)
+    state.sum += vpl_sampling_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, dmin);
+}
+
+template <class T>
+inline vec3<T> estimate_vpl_sampling_finish(const estimator_state<T>& state, int n_samples) {
+  return n_samples > 0 ? state.sum / T(n_samples) : vec3<T>(T(0));
+}
+
 template <class T, class Distribution, class Visibility>
 inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view<T>& view,
                                      const Distribution& distribution, counter_rng& rng, int n_samples,
                                      const Visibility& visibility, T dmin) {
   if (!gather_point_valid(gp) || n_samples <= 0) return vec3<T>(T(0));
-  vec3<T> sum(T(0));
-  for (int k = 0; k < n_samples; ++k)
-    sum += vpl_sampling_sample(gp, view, distribution, rng_next_unit<T>(rng), visibility, dmin);
-  return sum / T(n_samples);
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin);
+  rng = state.rng;
+  return estimate_vpl_sampling_finish(state, n_samples);
 }
 
 // The paper's Alg. 1 / 3: Russian roulette between the faces, then the face's CDF (one u per
@@ -3899,18 +4001,17 @@ inline T local_mixture_pmf_sum(const Distribution* distributions, int n_distribu
   return s;
 }
 
+// Rounds [begin, end) of estimate_local (estimator_state.hpp).
 template <class T, class Distribution, class Visibility>
-inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& view,
-                              const Distribution* distributions, int n_distributions, counter_rng& rng,
-                              int n_rounds, const Visibility& visibility, T dmin,
-                              local_combination combination = local_combination::balance) {
-  if (!gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0 || distributions == nullptr)
-    return vec3<T>(T(0));
+inline void estimate_local_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                 const Distribution* distributions, int n_distributions,
+                                 estimator_state<T>& state, int begin, int end, const Visibility& visibility,
+                                 T dmin, local_combination combination = local_combination::balance) {
+  if (!gather_point_valid(gp) || n_distributions <= 0 || distributions == nullptr) return;
   const std::size_t n_texels = std::size_t(view.texel_count());
-  vec3<T> sum(T(0));
-  for (int r = 0; r < n_rounds; ++r)
+  for (int r = begin; r < end; ++r)
     for (int i = 0; i < n_distributions; ++i) {
-      const auto s = distributions[i].sample(rng_next_unit<T>(rng));
+      const auto s = distributions[i].sample(rng_next_unit<T>(state.rng));
       const T pmf_i = T(s.pmf);
       if (!(pmf_i > T(0)) || s.index >= n_texels) continue;
       const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
@@ -3919,9 +4020,27 @@ inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& vi
       const T divisor = combination == local_combination::balance
                             ? local_mixture_pmf_sum<T>(distributions, n_distributions, s.index)
                             : pmf_i * T(n_distributions);
-      sum += estimator_finite_or_zero(c / divisor);
+      state.sum += estimator_finite_or_zero(c / divisor);
     }
-  return sum / T(n_rounds);
+}
+
+template <class T>
+inline vec3<T> estimate_local_finish(const estimator_state<T>& state, int n_rounds) {
+  return n_rounds > 0 ? state.sum / T(n_rounds) : vec3<T>(T(0));
+}
+
+template <class T, class Distribution, class Visibility>
+inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& view,
+                              const Distribution* distributions, int n_distributions, counter_rng& rng,
+                              int n_rounds, const Visibility& visibility, T dmin,
+                              local_combination combination = local_combination::balance) {
+  if (!gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0 || distributions == nullptr)
+    return vec3<T>(T(0));
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_local_range(gp, view, distributions, n_distributions, state, 0, n_rounds, visibility, dmin,
+                       combination);
+  rng = state.rng;
+  return estimate_local_finish(state, n_rounds);
 }
 
 }  // namespace vplkit
@@ -3994,18 +4113,34 @@ inline vec3<T> gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& 
   return estimator_finite_or_zero(gp.albedo * r.radiance);
 }
 
+// Directions [begin, end) of estimate_gathering (estimator_state.hpp).
+template <class T, class Tracer>
+inline void estimate_gathering_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     estimator_state<T>& state, int begin, int end, const Tracer& tracer,
+                                     T depth_tolerance) {
+  if (!gather_point_valid(gp)) return;
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  for (int k = begin; k < end; ++k) {
+    const T u0 = rng_next_unit<T>(state.rng);
+    const T u1 = rng_next_unit<T>(state.rng);
+    state.sum += gathering_sample(gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer,
+                                  depth_tolerance);
+  }
+}
+
+template <class T>
+inline vec3<T> estimate_gathering_finish(const estimator_state<T>& state, int n_dirs) {
+  return n_dirs > 0 ? state.sum / T(n_dirs) : vec3<T>(T(0));
+}
+
 template <class T, class Tracer>
 inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>& view, counter_rng& rng,
                                   int n_dirs, const Tracer& tracer, T depth_tolerance) {
   if (!gather_point_valid(gp) || n_dirs <= 0) return vec3<T>(T(0));
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
-  vec3<T> sum(T(0));
-  for (int k = 0; k < n_dirs; ++k) {
-    const T u0 = rng_next_unit<T>(rng);
-    const T u1 = rng_next_unit<T>(rng);
-    sum += gathering_sample(gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer, depth_tolerance);
-  }
-  return sum / T(n_dirs);
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_gathering_range(gp, view, state, 0, n_dirs, tracer, depth_tolerance);
+  rng = state.rng;
+  return estimate_gathering_finish(state, n_dirs);
 }
 
 }  // namespace vplkit
@@ -4145,6 +4280,41 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
   return mis_balance_value(f, n1, p1, n2, p2);
 }
 
+// Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then
+// direction j (j < n_dirs), so the steps run to max(n_dirs, n_vpls). Negative counts count as 0.
+template <class T, class Distribution, class Tracer, class Visibility>
+inline void estimate_mis_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                               const Distribution& distribution, estimator_state<T>& state, int begin, int end,
+                               int n_dirs, int n_vpls, const Tracer& tracer, const Visibility& visibility,
+                               T depth_tolerance, mis_mode mode = mis_mode::solid_angle) {
+  if (!gather_point_valid(gp)) return;
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  const T n1 = T(n_dirs), n2 = T(n_vpls);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  for (int j = begin; j < end; ++j) {
+    if (j < n_vpls)
+      state.sum += mis_vpl_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, n1, n2, mode);
+    if (j < n_dirs) {
+      const T u0 = rng_next_unit<T>(state.rng);
+      const T u1 = rng_next_unit<T>(state.rng);
+      state.sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)),
+                                        tracer, depth_tolerance, n1, n2, mode);
+    }
+  }
+}
+
+// solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
+template <class T>
+inline vec3<T> estimate_mis_finish(const estimator_state<T>& state, int n_dirs, int n_vpls,
+                                   mis_mode mode = mis_mode::solid_angle) {
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  if (n_dirs == 0 && n_vpls == 0) return vec3<T>(T(0));
+  if (mode == mis_mode::as_published) return state.sum / T(n_dirs > 0 ? n_dirs : n_vpls);
+  return state.sum;
+}
+
 template <class T, class Distribution, class Tracer, class Visibility>
 inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
                             counter_rng& rng, int n_dirs, int n_vpls, const Tracer& tracer,
@@ -4154,23 +4324,11 @@ inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   if (n_dirs == 0 && n_vpls == 0) return vec3<T>(T(0));
-  const T n1 = T(n_dirs), n2 = T(n_vpls);
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
-  vec3<T> sum(T(0));
-  const int n = n_dirs > n_vpls ? n_dirs : n_vpls;
-  for (int j = 0; j < n; ++j) {
-    if (j < n_vpls)
-      sum += mis_vpl_sample(gp, view, distribution, rng_next_unit<T>(rng), visibility, n1, n2, mode);
-    if (j < n_dirs) {
-      const T u0 = rng_next_unit<T>(rng);
-      const T u1 = rng_next_unit<T>(rng);
-      sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer,
-                                  depth_tolerance, n1, n2, mode);
-    }
-  }
-  // solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
-  if (mode == mis_mode::as_published) return sum / T(n_dirs > 0 ? n_dirs : n_vpls);
-  return sum;
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_mis_range(gp, view, distribution, state, 0, n_dirs > n_vpls ? n_dirs : n_vpls, n_dirs, n_vpls,
+                     tracer, visibility, depth_tolerance, mode);
+  rng = state.rng;
+  return estimate_mis_finish(state, n_dirs, n_vpls, mode);
 }
 
 }  // namespace vplkit

@@ -513,8 +513,10 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= VPLKIT_PARITY_COUNT) return;
   uint p = i / uint(ip.z), c = i % uint(ip.z);
-  vec3 s = vplkit_exhaustive_vpl_sum_range(load_point(p), load_view(), make_visibility(ip.y), fp.x,
-                                           int(c) * ip.w, ip.w);
+  vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
+  vplkit_exhaustive_vpl_sum_range(load_point(p), load_view(), st, int(c) * ip.w, int(c + 1u) * ip.w,
+                                  make_visibility(ip.y), fp.x);
+  vec3 s = vplkit_exhaustive_vpl_sum_finish(st);
   result[i] = est_out(vec4(s, 0.0), uvec4(0u));
 }
 )";
@@ -1024,7 +1026,9 @@ void main() {
   vec3 a = vplkit_estimate_gathering(gp, load_view(), rng, ip.w, tu, fp.y);
   vplkit_visibility vu = vplkit_make_voxel_visibility(load_grid());
   vu.kind = vplkit_visibility_user;
-  vec3 b = vplkit_exhaustive_vpl_sum_range(gp, load_view(), vu, 0.05, 0, 128);
+  vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
+  vplkit_exhaustive_vpl_sum_range(gp, load_view(), st, 0, 128, vu, 0.05);
+  vec3 b = vplkit_exhaustive_vpl_sum_finish(st);
   result[i] = est_out(vec4(a.x, a.y, a.z, b.x), uvec4(rng.counter, floatBitsToUint(b.y), floatBitsToUint(b.z), 0u));
 }
 )";
@@ -1033,7 +1037,9 @@ void main() {
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= VPLKIT_PARITY_COUNT) return;
-  vec3 b = vplkit_exhaustive_vpl_sum_range(load_point(i), load_view(), make_visibility(ip.y), 0.05, 0, 128);
+  vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
+  vplkit_exhaustive_vpl_sum_range(load_point(i), load_view(), st, 0, 128, make_visibility(ip.y), 0.05);
+  vec3 b = vplkit_exhaustive_vpl_sum_finish(st);
   result[i] = est_out(vec4(b, 0.0), uvec4(0u));
 }
 )";
@@ -1054,5 +1060,115 @@ void main() {
         c.push_back(bits_of(v));
     }
     VPLKIT_CHECK_PARITY(compare_exact(g, c, {}, "user visibility / tracer hooks = built-in voxel kinds (bits)"));
+  }
+}
+
+TEST_CASE("range forms: each GLSL estimate split into ranges equals its one-shot form bit for bit") {
+  // What examples/vplrender's estimate.comp relies on across its passes: in one invocation, every
+  // estimator once as the one-shot form and once as range(0, a) + range(a, b) + range(b, n) +
+  // finish on one state (b = a for an empty middle range); the values and the streams must agree
+  // bit for bit, including at background pixels.
+  const scene_fixture& f = fixture();
+  const auto pts = gather_points(3);
+  distribution_pool pool(32);
+  const auto cases = vpl_distribution_cases(pool);
+  std::vector<dist_record> recs;
+  for (const auto& c : cases) recs.push_back(c.record);
+  const std::string body = R"(
+#include "vplkit/estimators/gathering_estimator.glsl"
+#include "vplkit/estimators/local_estimator.glsl"
+#include "vplkit/estimators/mis_estimator.glsl"
+#include "vplkit/estimators/vpl_sampling_estimator.glsl"
+struct range_out { vec4 one[5]; vec4 split[5]; };
+layout(std430, binding = 1) writeonly buffer Out { range_out result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  vplkit_gather_point gp = load_point(i);
+  vplkit_dprsm_view view = load_view();
+  vplkit_visibility vis = vplkit_make_voxel_visibility(load_grid());
+  vplkit_voxel_tracer tracer = vplkit_make_voxel_tracer(load_grid());
+  int n = ip.w, a = ip2.z, b = ip2.w, n_dirs = ip2.x, n_vpls = ip2.y, mis_n = max(n_dirs, n_vpls);
+  float dmin = fp.x, tol = fp.y;
+  uint seed = uint(ip.z);
+  vplkit_counter_rng rng;
+  vplkit_estimator_state s;
+
+  rng = vplkit_make_counter_rng(seed, i);
+  vec3 e = vplkit_estimate_vpl_sampling(gp, view, 1u, rng, n, vis, dmin);
+  result[i].one[0] = vec4(e, uintBitsToFloat(rng.counter));
+  s = vplkit_make_estimator_state(vplkit_make_counter_rng(seed, i));
+  vplkit_estimate_vpl_sampling_range(gp, view, 1u, s, 0, a, vis, dmin);
+  vplkit_estimate_vpl_sampling_range(gp, view, 1u, s, a, b, vis, dmin);
+  vplkit_estimate_vpl_sampling_range(gp, view, 1u, s, b, n, vis, dmin);
+  result[i].split[0] = vec4(vplkit_estimate_vpl_sampling_finish(s, n), uintBitsToFloat(s.rng.counter));
+
+  rng = vplkit_make_counter_rng(seed, i);
+  e = vplkit_estimate_local(gp, view, 0u, 2, rng, n, vis, dmin, ip.y);
+  result[i].one[1] = vec4(e, uintBitsToFloat(rng.counter));
+  s = vplkit_make_estimator_state(vplkit_make_counter_rng(seed, i));
+  vplkit_estimate_local_range(gp, view, 0u, 2, s, 0, a, vis, dmin, ip.y);
+  vplkit_estimate_local_range(gp, view, 0u, 2, s, a, b, vis, dmin, ip.y);
+  vplkit_estimate_local_range(gp, view, 0u, 2, s, b, n, vis, dmin, ip.y);
+  result[i].split[1] = vec4(vplkit_estimate_local_finish(s, n), uintBitsToFloat(s.rng.counter));
+
+  rng = vplkit_make_counter_rng(seed, i);
+  e = vplkit_estimate_gathering(gp, view, rng, n, tracer, tol);
+  result[i].one[2] = vec4(e, uintBitsToFloat(rng.counter));
+  s = vplkit_make_estimator_state(vplkit_make_counter_rng(seed, i));
+  vplkit_estimate_gathering_range(gp, view, s, 0, a, tracer, tol);
+  vplkit_estimate_gathering_range(gp, view, s, a, b, tracer, tol);
+  vplkit_estimate_gathering_range(gp, view, s, b, n, tracer, tol);
+  result[i].split[2] = vec4(vplkit_estimate_gathering_finish(s, n), uintBitsToFloat(s.rng.counter));
+
+  rng = vplkit_make_counter_rng(seed, i);
+  e = vplkit_estimate_mis(gp, view, 1u, rng, n_dirs, n_vpls, tracer, vis, tol, ip.y);
+  result[i].one[3] = vec4(e, uintBitsToFloat(rng.counter));
+  s = vplkit_make_estimator_state(vplkit_make_counter_rng(seed, i));
+  vplkit_estimate_mis_range(gp, view, 1u, s, 0, a, n_dirs, n_vpls, tracer, vis, tol, ip.y);
+  vplkit_estimate_mis_range(gp, view, 1u, s, a, b, n_dirs, n_vpls, tracer, vis, tol, ip.y);
+  vplkit_estimate_mis_range(gp, view, 1u, s, b, mis_n, n_dirs, n_vpls, tracer, vis, tol, ip.y);
+  result[i].split[3] = vec4(vplkit_estimate_mis_finish(s, n_dirs, n_vpls, ip.y), uintBitsToFloat(s.rng.counter));
+
+  // The exhaustive sum over the first 120 texels (all of it would pass llvmpipe's loop budget;
+  // docs/glsl.md), in one range and in ranges of 40.
+  vplkit_vpl_sum_state whole = vplkit_make_vpl_sum_state();
+  vplkit_exhaustive_vpl_sum_range(gp, view, whole, 0, 120, vis, dmin);
+  result[i].one[4] = vec4(vplkit_exhaustive_vpl_sum_finish(whole), 0.0);
+  vplkit_vpl_sum_state parts = vplkit_make_vpl_sum_state();
+  for (int t = 0; t < 120; t += 40) vplkit_exhaustive_vpl_sum_range(gp, view, parts, t, t + 40, vis, dmin);
+  result[i].split[4] = vec4(vplkit_exhaustive_vpl_sum_finish(parts), 0.0);
+}
+)";
+  struct range_out {
+    float4 one[5], split[5];
+  };
+  for (int mode : {0, 1}) {  // local: balance / average; MIS: solid_angle / as_published
+    for (const auto& cut : {std::vector<int>{3, 9}, std::vector<int>{5, 5}}) {
+      scene_params p = f.params();
+      p.ip.y = mode;
+      p.ip.z = int(seed);
+      p.ip.w = 12;
+      p.ip2 = {6, 11, cut[0], cut[1]};
+      p.fp.x = 0.05f;
+      p.fp.y = gathering_tolerance();
+      const auto gpu = run_kernel<range_out>(std::string(distribution_block) + body, pts.size(), p, pts,
+                                             pool_inputs(pool, recs), "estimator_ranges.comp", "");
+      std::vector<std::uint32_t> one, split;
+      std::size_t nonzero = 0;  // the comparison must not be one of zeros
+      for (const auto& r : gpu)
+        for (int k = 0; k < 5; ++k) nonzero += r.one[k].x != 0.0f ? 1 : 0;
+      CHECK(nonzero > pts.size() * 2);
+      for (const auto& r : gpu)
+        for (int k = 0; k < 5; ++k)
+          for (float v : {r.one[k].x, r.one[k].y, r.one[k].z, r.one[k].w}) one.push_back(bits_of(v));
+      for (const auto& r : gpu)
+        for (int k = 0; k < 5; ++k)
+          for (float v : {r.split[k].x, r.split[k].y, r.split[k].z, r.split[k].w}) split.push_back(bits_of(v));
+      VPLKIT_CHECK_PARITY(compare_exact(split, one, {},
+                                        "ranges [0, " + std::to_string(cut[0]) + "), [" + std::to_string(cut[0]) +
+                                            ", " + std::to_string(cut[1]) + "), [" + std::to_string(cut[1]) +
+                                            ", n) = one-shot (bits; mode " + std::to_string(mode) + ")"));
+    }
   }
 }

@@ -14,6 +14,7 @@
 
 #include <vplkit/paraboloid/paraboloid.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/vpl/direct_light.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
@@ -1003,6 +1004,97 @@ void main() {
                                       what + ": texel (edge/seam differences explained above)"));
     VPLKIT_CHECK_PARITY(compare_exact(g_lit, c_lit, describe,
                                       what + ": lit (exact outside the band)"));
+  }
+}
+
+TEST_CASE("direct_light: lit decision and value, exact decisions except near a depth-tolerance edge") {
+  for (int which = 0; which < 2; ++which) {
+    const dprsm_data d = make_dprsm(which);
+    random_source rnd(77 + std::uint32_t(which));
+    std::vector<vplkit::gather_point<float>> gps;
+    std::vector<std::string> kind;
+    // What the light sees (lit, by construction, but for the hand-made texels of light 0) ...
+    for (int i = 0; i < d.view.texel_count(); ++i) {
+      if (d.A[std::size_t(i)] == vec3<float>(0)) continue;
+      gps.push_back({d.P[std::size_t(i)], d.N[std::size_t(i)], d.A[std::size_t(i)]});
+      kind.push_back("texel " + std::to_string(i));
+    }
+    // ... and the floor, partly in the shadow of the walls, with unnormalised normals.
+    for (int i = 0; i < 20000; ++i) {
+      const vec3<float> p(float(rnd.uniform(-6, 6)), float(rnd.uniform(-6, 6)), 0.0f);
+      gps.push_back({p, vec3<float>(0, 0, float(rnd.uniform(0.01, 10))), vec3<float>(0.8f, 0.5f, 0.3f)});
+      kind.push_back("floor");
+    }
+    gps.push_back({d.light.position, vec3<float>(0, 0, 1), vec3<float>(1)});
+    kind.push_back("at the light");
+    gps.push_back({vec3<float>(1, 1, 0), vec3<float>(0, 0, -1), vec3<float>(1)});
+    kind.push_back("facing away");
+    gps.push_back({vec3<float>(1, 1, 0), vec3<float>(0), vec3<float>(1)});
+    kind.push_back("background");
+    std::vector<float4> in;
+    for (const auto& g : gps) {
+      in.push_back(f4(g.position));
+      in.push_back(f4(g.normal));
+      in.push_back(f4(g.albedo));
+    }
+    auto inputs = dprsm_inputs(d);
+    inputs.push_back(input(0, in));
+    vplkit::parity::kernel_call call;
+    call.source = dprsm_prelude + R"(
+#include "vplkit/vpl/direct_light.glsl"
+layout(std430, binding = 0) readonly buffer Q { vec4 q[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= VPLKIT_PARITY_COUNT) return;
+  vplkit_gather_point gp = vplkit_gather_point(q[3u * i].xyz, q[3u * i + 1u].xyz, q[3u * i + 2u].xyz);
+  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);
+}
+)";
+    call.inputs = inputs;
+    call.output_binding = 1;
+    const auto gpu = vplkit::parity::run_compute<float4>(call, gps.size());
+    std::size_t lit = 0, edge = 0;
+    std::vector<std::int32_t> g_lit, c_lit;
+    std::vector<float> gv[3];
+    std::vector<double> cv[3];
+    for (std::size_t i = 0; i < gps.size(); ++i) {
+      const vplkit::gather_point<float>& g = gps[i];
+      const vec3<float> c = vplkit::direct_light(g, d.view);
+      const vec3<float> gc(gpu[i].x, gpu[i].y, gpu[i].z);
+      int gl = gc != vec3<float>(0) ? 1 : 0;
+      const int cl = c != vec3<float>(0) ? 1 : 0;
+      lit += std::size_t(cl);
+      if (gl != cl) {
+        // The decision turns on |d_y - d_t| <= tolerance with lengths, a tolerance and a texel
+        // of a few float roundings each: a flip is explained only near the tolerance's edge (or
+        // at a texel edge, where both sides may look up different texels; counted together).
+        ++edge;
+        gl = cl;
+      }
+      g_lit.push_back(gl);
+      c_lit.push_back(cl);
+      // Values where both are lit, scaled by rho I / (pi d^2): what is compared is cos(alpha).
+      const vec3<double> w = vec3<double>(d.light.position) - vec3<double>(g.position);
+      for (int ch = 0; ch < 3; ++ch) {
+        const double scale = double(g.albedo[ch]) * double(d.light.intensity[ch]) / (pi * glm::dot(w, w));
+        const bool both = gc != vec3<float>(0) && c != vec3<float>(0);
+        gv[ch].push_back(both ? float(double(gc[ch]) / scale) : 0.0f);
+        cv[ch].push_back(both ? double(c[ch]) / scale : 0.0);
+      }
+    }
+    const std::string what = "direct_light (light " + std::to_string(which) + ", R " + std::to_string(d.R) + ")";
+    std::cout << "  " << what << ": " << gps.size() << " gather points, " << lit
+              << " lit on the CPU; decisions differing at a tolerance or texel edge: " << edge << "\n";
+    CHECK(lit > gps.size() / 4);
+    CHECK(lit < gps.size() - 1000);  // the walls' shadows are there
+    CHECK(edge <= gps.size() / 1000);
+    auto describe = [&](std::size_t i) { return kind[i] + ": x " + show3(gps[i].position); };
+    VPLKIT_CHECK_PARITY(compare_exact(g_lit, c_lit, describe, what + ": lit (flips at edges counted above)"));
+    const char* ch_name[3] = {"r", "g", "b"};
+    for (int ch = 0; ch < 3; ++ch)
+      VPLKIT_CHECK_PARITY(cmp(gv[ch], cv[ch], cosine_bound, describe,
+                              what + ": " + ch_name[ch] + " / (rho I / pi d^2)"));
   }
 }
 

@@ -120,8 +120,8 @@ void run_scene(const std::string& scene_name) {
                     << r.worst_any);
     CHECK(r.within >= required_fraction);
   }
-  // --direct: the direct light is added inside estimate.comp (vr_direct_light, the C++
-  // direct_light() statement for statement): the same float arithmetic on the same inputs, so it
+  // --direct: the direct light is added inside estimate.comp (vplkit_direct_light, the C++
+  // vplkit::direct_light statement for statement): the same float arithmetic on the same inputs, so it
   // adds only the few-ulp differences of length/normalize/sqrt/division (~1e-6 relative) to each
   // method's bound; a shadow test at its depth threshold can flip a pixel (the 99% rule above).
   // Measured worst: printed below.

@@ -1,16 +1,16 @@
-// vplrender's estimator kernel (--backend gpu): one invocation per pixel, the GLSL pack's
-// estimators over the renderer's buffers. Compiled once per method with VR_METHOD defined by the
-// host (gpu_backend.cpp puts "#version 430" first and the define in the preamble).
+// vplrender's estimator kernel (--backend gpu): one invocation per pixel, glue between the
+// renderer's buffers and the GLSL pack's estimators. Compiled once per method with VR_METHOD
+// defined by the host (gpu_backend.cpp puts "#version 430" first and the define in the preamble).
 //
 // Passes: llvmpipe (Mesa 22.3) runs at most 65535 loop iterations per invocation and silently
-// leaves every loop after that (docs/glsl/estimators.md), so the host splits the samples (texels
-// for the reference) into ranges [u_begin, u_end) small enough for that budget and dispatches this
-// kernel once per range. Between passes each pixel keeps its float sum (and the Neumaier
-// compensation of the reference) and its counter_rng in the state buffer: the sequence of float
-// operations and random numbers is exactly that of one C++ loop (cpu_backend.cpp), whatever the
-// split. The last pass writes sum / N (as the C++ estimators divide), plus the direct light when
-// u_direct is set (vr_direct_light: cpu_backend.cpp's direct_light() statement for statement), to
-// the RGBA32F output; the host applies max(., 0) and the finite guard as the CPU backend does.
+// leaves every loop after that (docs/glsl.md), so the host splits the samples (texels for the
+// reference) into ranges [u_begin, u_end) small enough for that budget and dispatches this kernel
+// once per range. Each pass runs the pack's range form of the method's estimator
+// (vplkit_estimate_*_range, vplkit_exhaustive_vpl_sum_range) on the pixel's state, kept in the
+// state buffer between passes; consecutive ranges perform exactly the float operations and draws
+// of the one-shot estimator, i.e. of the C++ loop of cpu_backend.cpp, whatever the split. The last
+// pass writes the estimator's _finish, plus vplkit_direct_light when u_direct is set, to the
+// RGBA32F output; the host applies max(., 0) and the finite guard as the CPU backend does.
 //
 // Random numbers: vplkit_make_counter_rng(u_seed, pixel), the CPU backend's stream per pixel.
 // Distributions: defensive mixtures as CDF + guide arrays and the mixture scalars (pack
@@ -27,6 +27,7 @@ layout(local_size_x = 64) in;
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/defensive_mixture.glsl"
+#include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/gathering_estimator.glsl"
 #include "vplkit/estimators/local_estimator.glsl"
 #include "vplkit/estimators/mis_estimator.glsl"
@@ -34,7 +35,7 @@ layout(local_size_x = 64) in;
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/sampling/rng.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
-#include "vplkit/vpl/dprsm_lookup.glsl"
+#include "vplkit/vpl/direct_light.glsl"
 
 // A G-buffer pixel or a DPRSM texel: xyz used, w ignored (std430 vec3 arrays take 16 bytes anyway).
 struct vr_surfel {
@@ -42,9 +43,11 @@ struct vr_surfel {
   vec4 normal;
   vec4 albedo;
 };
+// A pixel's estimator state between passes: vplkit_estimator_state (sum, rng), or for the
+// reference vplkit_vpl_sum_state (sum, compensation).
 struct vr_state {
   vec4 sum;
-  vec4 comp;   // Neumaier compensation (reference only)
+  vec4 comp;   // the reference's compensation
   uvec4 rng;   // key, counter
 };
 
@@ -120,21 +123,6 @@ float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
   return vplkit_defensive_mixture_pmf(vr_mixture(distribution), index);
 }
 
-// cpu_backend.cpp direct_light(): the direct light at a valid gather point through the DPRSM
-// shadow test (0 in shadow). Same statements and order; the tolerance formula is the C++ one.
-vec3 vr_direct_light(vplkit_gather_point gp, vplkit_dprsm_view view) {
-  vec3 to_light = view.light.position - gp.position;
-  float d = length(to_light);
-  if (!(d > 0.0)) return vec3(0.0);
-  float cos_a = dot(normalize(gp.normal), to_light / d);
-  if (!(cos_a > 0.0)) return vec3(0.0);
-  float tan_a = min(20.0, sqrt(max(0.0, 1.0 - cos_a * cos_a)) / cos_a);
-  float tol = d * (4.0 / float(view.resolution)) * (0.5 + tan_a) + 1e-4 * d;
-  vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, gp.position, tol);
-  if (!r.lit) return vec3(0.0);
-  return vplkit_reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
-}
-
 void main() {
   // Groups are spread over y past 65535 (the host's dispatch); pixel = flat invocation index.
   uint p = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
@@ -149,7 +137,8 @@ void main() {
   } else {
     st = vr_states[p];
   }
-  vplkit_counter_rng rng = vplkit_counter_rng(st.rng.x, st.rng.y);
+  vplkit_estimator_state est = vplkit_estimator_state(st.sum.xyz, vplkit_counter_rng(st.rng.x, st.rng.y));
+  vplkit_vpl_sum_state ref = vplkit_vpl_sum_state(st.sum.xyz, st.comp.xyz);
   vplkit_dprsm_view view = vplkit_dprsm_view(
       u_dprsm_res, vplkit_point_light(u_light_pos, u_light_int,
                                       vplkit_light_frame(u_frame_pos, u_axis_x, u_axis_y, u_axis_z)));
@@ -157,85 +146,44 @@ void main() {
   vplkit_visibility visibility = vplkit_make_voxel_visibility(grid);
   vplkit_voxel_tracer tracer = vplkit_make_voxel_tracer(grid);
   bool valid = vplkit_gather_point_valid(gp);
-  vec3 sum = st.sum.xyz;
   if (valid) {
 #if VR_METHOD == VR_REFERENCE
-    // vplkit_exhaustive_vpl_sum_range's Neumaier loop with its state kept across passes (the C++
-    // sums in double; this is as accurate in practice, vpl_sum.glsl).
-    precise vec3 s_sum = sum;
-    precise vec3 s_comp = st.comp.xyz;
-    for (int t = u_begin; t < u_end; ++t) {
-      vec3 c = vplkit_vpl_visible_contribution(gp, view, t, visibility, u_dmin);
-      precise vec3 s = s_sum + c;
-      precise vec3 big = mix(c, s_sum, greaterThanEqual(abs(s_sum), abs(c)));
-      precise vec3 small = mix(s_sum, c, greaterThanEqual(abs(s_sum), abs(c)));
-      s_comp += (big - s) + small;
-      s_sum = s;
-    }
-    sum = s_sum;
-    st.comp = vec4(s_comp, 0.0);
+    vplkit_exhaustive_vpl_sum_range(gp, view, ref, u_begin, u_end, visibility, u_dmin);
 #elif VR_METHOD == VR_VPL_SAMPLING
-    // vplkit_estimate_vpl_sampling's loop, samples u_begin .. u_end - 1.
-    for (int k = u_begin; k < u_end; ++k)
-      sum += vplkit_vpl_sampling_sample(gp, view, 0u, vplkit_rng_next_unit(rng), visibility, u_dmin);
+    vplkit_estimate_vpl_sampling_range(gp, view, 0u, est, u_begin, u_end, visibility, u_dmin);
 #elif VR_METHOD == VR_LOCAL
-    // vplkit_estimate_local's loop (combination u_local_combination), rounds u_begin .. u_end - 1.
-    uint n_texels = uint(vplkit_dprsm_view_texel_count(view));
-    for (int r = u_begin; r < u_end; ++r)
-      for (int i = 0; i < u_n_dists; ++i) {
-        vplkit_discrete_sample s = vplkit_estimator_distribution_sample(uint(i), vplkit_rng_next_unit(rng));
-        float pmf_i = s.pmf;
-        if (!(pmf_i > 0.0) || s.index >= n_texels) continue;
-        vec3 c = vplkit_vpl_visible_contribution(gp, view, int(s.index), visibility, u_dmin);
-        if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) continue;
-        float divisor = u_local_combination == vplkit_local_balance
-                            ? vplkit_local_mixture_pmf_sum(0u, u_n_dists, s.index)
-                            : pmf_i * float(u_n_dists);
-        sum += vplkit_estimator_finite_or_zero(vec3(vplkit_mis_div(c.x, divisor), vplkit_mis_div(c.y, divisor),
-                                                    vplkit_mis_div(c.z, divisor)));
-      }
+    vplkit_estimate_local_range(gp, view, 0u, u_n_dists, est, u_begin, u_end, visibility, u_dmin,
+                                u_local_combination);
 #elif VR_METHOD == VR_GATHER
-    // vplkit_estimate_gathering's loop, directions u_begin .. u_end - 1.
-    vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
-    for (int k = u_begin; k < u_end; ++k) {
-      float u0 = vplkit_rng_next_unit(rng);
-      float u1 = vplkit_rng_next_unit(rng);
-      sum += vplkit_gathering_sample(gp, view, frame, vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
-                                     u_depth_tol);
-    }
+    vplkit_estimate_gathering_range(gp, view, est, u_begin, u_end, tracer, u_depth_tol);
 #elif VR_METHOD == VR_MIS
-    // vplkit_estimate_mis's loop, j = u_begin .. u_end - 1.
-    float n1 = float(u_n_dirs), n2 = float(u_n_vpls);
-    vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
-    for (int j = u_begin; j < u_end; ++j) {
-      if (j < u_n_vpls)
-        sum += vplkit_mis_vpl_sample(gp, view, 0u, vplkit_rng_next_unit(rng), visibility, n1, n2, u_mis_mode);
-      if (j < u_n_dirs) {
-        float u0 = vplkit_rng_next_unit(rng);
-        float u1 = vplkit_rng_next_unit(rng);
-        sum += vplkit_mis_gathering_sample(gp, view, 0u, frame, vplkit_sample_cosine_hemisphere(vec2(u0, u1)),
-                                           tracer, u_depth_tol, n1, n2, u_mis_mode);
-      }
-    }
+    vplkit_estimate_mis_range(gp, view, 0u, est, u_begin, u_end, u_n_dirs, u_n_vpls, tracer, visibility,
+                              u_depth_tol, u_mis_mode);
 #endif
   }
-  st.sum = vec4(sum, 0.0);
-  st.rng = uvec4(rng.key, rng.counter, 0u, 0u);
+#if VR_METHOD == VR_REFERENCE
+  st.sum = vec4(ref.sum, 0.0);
+  st.comp = vec4(ref.compensation, 0.0);
+#else
+  st.sum = vec4(est.sum, 0.0);
+  st.rng = uvec4(est.rng.key, est.rng.counter, 0u, 0u);
+#endif
   vr_states[p] = st;
   if (u_last_pass != 0) {
     vec3 e = vec3(0.0);
     if (valid) {
 #if VR_METHOD == VR_REFERENCE
-      precise vec3 total = sum + st.comp.xyz;
-      e = total;
-#elif VR_METHOD == VR_VPL_SAMPLING || VR_METHOD == VR_LOCAL
-      e = sum / float(u_n_samples);
+      e = vplkit_exhaustive_vpl_sum_finish(ref);
+#elif VR_METHOD == VR_VPL_SAMPLING
+      e = vplkit_estimate_vpl_sampling_finish(est, u_n_samples);
+#elif VR_METHOD == VR_LOCAL
+      e = vplkit_estimate_local_finish(est, u_n_samples);
 #elif VR_METHOD == VR_GATHER
-      e = sum / float(u_n_dirs);
+      e = vplkit_estimate_gathering_finish(est, u_n_dirs);
 #elif VR_METHOD == VR_MIS
-      e = u_mis_mode == vplkit_mis_as_published ? sum / float(u_n_dirs > 0 ? u_n_dirs : u_n_vpls) : sum;
+      e = vplkit_estimate_mis_finish(est, u_n_dirs, u_n_vpls, u_mis_mode);
 #endif
-      if (u_direct != 0) e += vr_direct_light(gp, view);
+      if (u_direct != 0) e += vplkit_direct_light(gp, view);
     }
     vr_out[p] = vec4(e, 1.0);
   }

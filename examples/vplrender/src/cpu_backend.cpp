@@ -12,7 +12,7 @@
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
-#include <vplkit/vpl/dprsm_lookup.hpp>
+#include <vplkit/vpl/direct_light.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -129,23 +129,6 @@ std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>&
 }
 
 }  // namespace
-
-vec3 direct_light(const gather_point<float>& gp, const vplkit::dprsm_view<float>& view) {
-  if (!vplkit::gather_point_valid(gp)) return vec3(0.0f);
-  const vec3f to_light = view.light.position - gp.position;
-  const float d = glm::length(to_light);
-  if (!(d > 0.0f)) return vec3(0.0f);
-  const float cos_a = glm::dot(glm::normalize(gp.normal), to_light / d);
-  if (!(cos_a > 0.0f)) return vec3(0.0f);
-  // Shadow-map depth tolerance: a texel's footprint is at most 4 d / R wide (the paraboloid's
-  // angular texel size is 2/R at the rim, 4/R at the pole), and on a surface tilted by alpha the
-  // depth along the light ray varies by footprint * tan(alpha) across it; tan is capped at 20.
-  const float tan_a = std::min(20.0f, std::sqrt(std::max(0.0f, 1.0f - cos_a * cos_a)) / cos_a);
-  const float tol = d * (4.0f / static_cast<float>(view.resolution)) * (0.5f + tan_a) + 1e-4f * d;
-  const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, gp.position, tol);
-  if (!r.lit) return vec3(0.0f);
-  return vplkit::reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
-}
 
 int estimator_threads(int requested) { return thread_count(requested); }
 
@@ -311,7 +294,7 @@ cpu_render_result render_cpu(const gbuffer_data& gb, const dprsm_data& dd, const
         if (vplkit::gather_point_valid(gp)) {
           vplkit::counter_rng rng = vplkit::make_counter_rng(es.seed, static_cast<std::uint32_t>(p));
           c = est(gp, rng);
-          if (es.direct) c += direct_light(gp, view);
+          if (es.direct) c += vplkit::direct_light(gp, view);
           c = vplkit::estimator_finite_or_zero(glm::max(c, vec3f(0.0f)));
         }
         float* o = result.image.at(x, y);

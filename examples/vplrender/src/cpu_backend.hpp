@@ -72,7 +72,4 @@ float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid);
 // Threads the CPU stages use for es.threads (0: hardware concurrency).
 int estimator_threads(int requested);
 
-// Direct light at a gather point through the DPRSM shadow test (0 when in shadow or background).
-vec3 direct_light(const vplkit::gather_point<float>& gp, const vplkit::dprsm_view<float>& view);
-
 }  // namespace vplrender

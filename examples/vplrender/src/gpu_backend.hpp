@@ -8,7 +8,7 @@
 // defensive fallback by cdf_build.comp (gpu_cdf.cpp). The weights and CDF arrays never leave the
 // GPU; only the CDF totals (16 bytes per distribution) and the subsets' sizes come back, for the
 // mixture scalars and the report. The direct light (--direct) is added inside estimate.comp
-// (u_direct, the CPU backend's direct_light() statement for statement), so the host only reads the
+// (u_direct: vplkit_direct_light, the CPU backend's vplkit::direct_light), so the host only reads the
 // finished image back. Stage times (docs/renderer.md): "<builder> (gpu)", "cdf (gpu)",
 // "estimate (gpu)", "read-back (cpu)".
 #include "cpu_backend.hpp"

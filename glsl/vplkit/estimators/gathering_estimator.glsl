@@ -29,6 +29,7 @@
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
+#include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/sampling/cosine_hemisphere.glsl"
 #include "vplkit/sampling/orthonormal_basis.glsl"
@@ -74,18 +75,31 @@ vec3 vplkit_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view, vpl
   return vplkit_estimator_finite_or_zero(gp.albedo * r.radiance);
 }
 
+// Directions [begin, end) of vplkit_estimate_gathering (estimator_state.glsl).
+void vplkit_estimate_gathering_range(vplkit_gather_point gp, vplkit_dprsm_view view,
+                                     inout vplkit_estimator_state state, int begin, int end,
+                                     vplkit_voxel_tracer tracer, float depth_tolerance) {
+  if (!vplkit_gather_point_valid(gp)) return;
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
+  for (int k = begin; k < end; ++k) {
+    float u0 = vplkit_rng_next_unit(state.rng);
+    float u1 = vplkit_rng_next_unit(state.rng);
+    state.sum += vplkit_gathering_sample(gp, view, frame, vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
+                                         depth_tolerance);
+  }
+}
+
+vec3 vplkit_estimate_gathering_finish(vplkit_estimator_state state, int n_dirs) {
+  return n_dirs > 0 ? state.sum / float(n_dirs) : vec3(0.0);
+}
+
 vec3 vplkit_estimate_gathering(vplkit_gather_point gp, vplkit_dprsm_view view, inout vplkit_counter_rng rng,
                                int n_dirs, vplkit_voxel_tracer tracer, float depth_tolerance) {
   if (!vplkit_gather_point_valid(gp) || n_dirs <= 0) return vec3(0.0);
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
-  vec3 sum = vec3(0.0);
-  for (int k = 0; k < n_dirs; ++k) {
-    float u0 = vplkit_rng_next_unit(rng);
-    float u1 = vplkit_rng_next_unit(rng);
-    sum += vplkit_gathering_sample(gp, view, frame, vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
-                                   depth_tolerance);
-  }
-  return sum / float(n_dirs);
+  vplkit_estimator_state state = vplkit_make_estimator_state(rng);
+  vplkit_estimate_gathering_range(gp, view, state, 0, n_dirs, tracer, depth_tolerance);
+  rng = state.rng;
+  return vplkit_estimate_gathering_finish(state, n_dirs);
 }
 
 #endif  // VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL

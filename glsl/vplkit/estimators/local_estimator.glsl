@@ -24,6 +24,7 @@
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
+#include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/sampling/rng.glsl"
@@ -44,16 +45,16 @@ float vplkit_local_mixture_pmf_sum(uint first_distribution, int n_distributions,
   return s;
 }
 
-vec3 vplkit_estimate_local(vplkit_gather_point gp, vplkit_dprsm_view view, uint first_distribution,
-                           int n_distributions, inout vplkit_counter_rng rng, int n_rounds,
-                           vplkit_visibility visibility, float dmin, int combination) {
-  if (!vplkit_gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0) return vec3(0.0);
+// Rounds [begin, end) of vplkit_estimate_local (estimator_state.glsl).
+void vplkit_estimate_local_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint first_distribution,
+                                 int n_distributions, inout vplkit_estimator_state state, int begin, int end,
+                                 vplkit_visibility visibility, float dmin, int combination) {
+  if (!vplkit_gather_point_valid(gp) || n_distributions <= 0) return;
   uint n_texels = uint(vplkit_dprsm_view_texel_count(view));
-  vec3 sum = vec3(0.0);
-  for (int r = 0; r < n_rounds; ++r)
+  for (int r = begin; r < end; ++r)
     for (int i = 0; i < n_distributions; ++i) {
       vplkit_discrete_sample s =
-          vplkit_estimator_distribution_sample(first_distribution + uint(i), vplkit_rng_next_unit(rng));
+          vplkit_estimator_distribution_sample(first_distribution + uint(i), vplkit_rng_next_unit(state.rng));
       float pmf_i = s.pmf;
       if (!(pmf_i > 0.0) || s.index >= n_texels) continue;
       vec3 c = vplkit_vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
@@ -62,10 +63,24 @@ vec3 vplkit_estimate_local(vplkit_gather_point gp, vplkit_dprsm_view view, uint 
       float divisor = combination == vplkit_local_balance
                           ? vplkit_local_mixture_pmf_sum(first_distribution, n_distributions, s.index)
                           : pmf_i * float(n_distributions);
-      sum += vplkit_estimator_finite_or_zero(vec3(vplkit_mis_div(c.x, divisor), vplkit_mis_div(c.y, divisor),
-                                                  vplkit_mis_div(c.z, divisor)));
+      state.sum += vplkit_estimator_finite_or_zero(vec3(vplkit_mis_div(c.x, divisor), vplkit_mis_div(c.y, divisor),
+                                                        vplkit_mis_div(c.z, divisor)));
     }
-  return sum / float(n_rounds);
+}
+
+vec3 vplkit_estimate_local_finish(vplkit_estimator_state state, int n_rounds) {
+  return n_rounds > 0 ? state.sum / float(n_rounds) : vec3(0.0);
+}
+
+vec3 vplkit_estimate_local(vplkit_gather_point gp, vplkit_dprsm_view view, uint first_distribution,
+                           int n_distributions, inout vplkit_counter_rng rng, int n_rounds,
+                           vplkit_visibility visibility, float dmin, int combination) {
+  if (!vplkit_gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0) return vec3(0.0);
+  vplkit_estimator_state state = vplkit_make_estimator_state(rng);
+  vplkit_estimate_local_range(gp, view, first_distribution, n_distributions, state, 0, n_rounds, visibility, dmin,
+                              combination);
+  rng = state.rng;
+  return vplkit_estimate_local_finish(state, n_rounds);
 }
 
 #endif  // VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL

@@ -35,6 +35,7 @@
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
+#include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/gathering_estimator.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/mis/heuristics.glsl"
@@ -134,6 +135,40 @@ vec3 vplkit_mis_vpl_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint 
   return vplkit_mis_balance_value(f, n1, p1, n2, p2);
 }
 
+// Steps [begin, end) of vplkit_estimate_mis (estimator_state.glsl); step j draws VPL j
+// (j < n_vpls), then direction j (j < n_dirs). Negative counts count as 0.
+void vplkit_estimate_mis_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                               inout vplkit_estimator_state state, int begin, int end, int n_dirs, int n_vpls,
+                               vplkit_voxel_tracer tracer, vplkit_visibility visibility, float depth_tolerance,
+                               int mode) {
+  if (!vplkit_gather_point_valid(gp)) return;
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  float n1 = float(n_dirs), n2 = float(n_vpls);
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
+  for (int j = begin; j < end; ++j) {
+    if (j < n_vpls)
+      state.sum += vplkit_mis_vpl_sample(gp, view, distribution, vplkit_rng_next_unit(state.rng), visibility, n1,
+                                         n2, mode);
+    if (j < n_dirs) {
+      float u0 = vplkit_rng_next_unit(state.rng);
+      float u1 = vplkit_rng_next_unit(state.rng);
+      state.sum += vplkit_mis_gathering_sample(gp, view, distribution, frame,
+                                               vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
+                                               depth_tolerance, n1, n2, mode);
+    }
+  }
+}
+
+// solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
+vec3 vplkit_estimate_mis_finish(vplkit_estimator_state state, int n_dirs, int n_vpls, int mode) {
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  if (n_dirs == 0 && n_vpls == 0) return vec3(0.0);
+  if (mode == vplkit_mis_as_published) return state.sum / float(n_dirs > 0 ? n_dirs : n_vpls);
+  return state.sum;
+}
+
 vec3 vplkit_estimate_mis(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                          inout vplkit_counter_rng rng, int n_dirs, int n_vpls, vplkit_voxel_tracer tracer,
                          vplkit_visibility visibility, float depth_tolerance, int mode) {
@@ -141,24 +176,11 @@ vec3 vplkit_estimate_mis(vplkit_gather_point gp, vplkit_dprsm_view view, uint di
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   if (n_dirs == 0 && n_vpls == 0) return vec3(0.0);
-  float n1 = float(n_dirs), n2 = float(n_vpls);
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
-  vec3 sum = vec3(0.0);
-  int n = n_dirs > n_vpls ? n_dirs : n_vpls;
-  for (int j = 0; j < n; ++j) {
-    if (j < n_vpls)
-      sum += vplkit_mis_vpl_sample(gp, view, distribution, vplkit_rng_next_unit(rng), visibility, n1, n2, mode);
-    if (j < n_dirs) {
-      float u0 = vplkit_rng_next_unit(rng);
-      float u1 = vplkit_rng_next_unit(rng);
-      sum += vplkit_mis_gathering_sample(gp, view, distribution, frame,
-                                         vplkit_sample_cosine_hemisphere(vec2(u0, u1)), tracer,
-                                         depth_tolerance, n1, n2, mode);
-    }
-  }
-  // solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
-  if (mode == vplkit_mis_as_published) return sum / float(n_dirs > 0 ? n_dirs : n_vpls);
-  return sum;
+  vplkit_estimator_state state = vplkit_make_estimator_state(rng);
+  vplkit_estimate_mis_range(gp, view, distribution, state, 0, n_dirs > n_vpls ? n_dirs : n_vpls, n_dirs, n_vpls,
+                            tracer, visibility, depth_tolerance, mode);
+  rng = state.rng;
+  return vplkit_estimate_mis_finish(state, n_dirs, n_vpls, mode);
 }
 
 #endif  // VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL

@@ -32,6 +32,7 @@
 
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/distribution/discrete_sample.glsl"
+#include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/sampling/rng.glsl"
@@ -58,14 +59,28 @@ vec3 vplkit_vpl_sampling_sample(vplkit_gather_point gp, vplkit_dprsm_view view, 
   return vplkit_estimator_finite_or_zero(vplkit_estimator_div(c, pmf));
 }
 
+// Samples [begin, end) of vplkit_estimate_vpl_sampling (estimator_state.glsl).
+void vplkit_estimate_vpl_sampling_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                                        inout vplkit_estimator_state state, int begin, int end,
+                                        vplkit_visibility visibility, float dmin) {
+  if (!vplkit_gather_point_valid(gp)) return;
+  for (int k = begin; k < end; ++k)
+    state.sum += vplkit_vpl_sampling_sample(gp, view, distribution, vplkit_rng_next_unit(state.rng), visibility,
+                                            dmin);
+}
+
+vec3 vplkit_estimate_vpl_sampling_finish(vplkit_estimator_state state, int n_samples) {
+  return n_samples > 0 ? state.sum / float(n_samples) : vec3(0.0);
+}
+
 vec3 vplkit_estimate_vpl_sampling(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                   inout vplkit_counter_rng rng, int n_samples, vplkit_visibility visibility,
                                   float dmin) {
   if (!vplkit_gather_point_valid(gp) || n_samples <= 0) return vec3(0.0);
-  vec3 sum = vec3(0.0);
-  for (int k = 0; k < n_samples; ++k)
-    sum += vplkit_vpl_sampling_sample(gp, view, distribution, vplkit_rng_next_unit(rng), visibility, dmin);
-  return sum / float(n_samples);
+  vplkit_estimator_state state = vplkit_make_estimator_state(rng);
+  vplkit_estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin);
+  rng = state.rng;
+  return vplkit_estimate_vpl_sampling_finish(state, n_samples);
 }
 
 #endif  // VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL

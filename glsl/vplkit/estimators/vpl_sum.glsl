@@ -43,21 +43,30 @@ vec3 vplkit_vpl_visible_contribution(vplkit_gather_point gp, vplkit_dprsm_view v
   return vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal) ? c : vec3(0.0);
 }
 
-// GLSL-only: sum_t L_t(x) V(x, y_t) over the texels first .. first + count - 1 (clipped to the
-// view), compensated as below. For splitting the exhaustive sum over invocations: llvmpipe (Mesa
-// 22.3, measured) runs at most 65535 loop iterations per invocation, all loops together, and
-// silently exits every loop after that; one voxel visibility test marches up to nx + ny + nz
-// voxels, so the whole sum with voxel visibility exceeds that budget from about R = 16 on. Sum the
-// partial results of texel ranges (in double, or compensated) instead.
-vec3 vplkit_exhaustive_vpl_sum_range(vplkit_gather_point gp, vplkit_dprsm_view view,
-                                     vplkit_visibility visibility, float dmin, int first, int count) {
-  if (!vplkit_gather_point_valid(gp)) return vec3(0.0);
-  precise vec3 sum = vec3(0.0);
-  precise vec3 comp = vec3(0.0);  // Neumaier: the low-order parts lost by the additions
+// The exhaustive sum's running total: a Neumaier-compensated float pair where the C++
+// vpl_sum_state keeps a double (see the header).
+struct vplkit_vpl_sum_state {
+  vec3 sum;
+  vec3 compensation;  // the low-order parts lost by the additions
+};
+
+vplkit_vpl_sum_state vplkit_make_vpl_sum_state() {
+  return vplkit_vpl_sum_state(vec3(0.0), vec3(0.0));
+}
+
+// Adds L_t(x) V(x, y_t) of the texels [begin, end) (clipped to the view) to the state, in texel
+// order; nothing for an invalid (background) gather point. Also the way to split the sum over
+// dispatches under llvmpipe's loop budget (docs/glsl.md).
+void vplkit_exhaustive_vpl_sum_range(vplkit_gather_point gp, vplkit_dprsm_view view,
+                                     inout vplkit_vpl_sum_state state, int begin, int end,
+                                     vplkit_visibility visibility, float dmin) {
+  if (!vplkit_gather_point_valid(gp)) return;
+  precise vec3 sum = state.sum;
+  precise vec3 comp = state.compensation;
   int n = vplkit_dprsm_view_texel_count(view);
-  int begin = first < 0 ? 0 : first;
-  int end = count > n - begin ? n : begin + count;
-  for (int t = begin; t < end; ++t) {
+  int first = begin < 0 ? 0 : begin;
+  int last = end < n ? end : n;
+  for (int t = first; t < last; ++t) {
     vec3 c = vplkit_vpl_visible_contribution(gp, view, t, visibility, dmin);
     precise vec3 s = sum + c;
     precise vec3 big = mix(c, sum, greaterThanEqual(abs(sum), abs(c)));    // the larger term
@@ -65,16 +74,23 @@ vec3 vplkit_exhaustive_vpl_sum_range(vplkit_gather_point gp, vplkit_dprsm_view v
     comp += (big - s) + small;
     sum = s;
   }
-  precise vec3 total = sum + comp;
+  state.sum = sum;
+  state.compensation = comp;
+}
+
+// The compensated total.
+vec3 vplkit_exhaustive_vpl_sum_finish(vplkit_vpl_sum_state state) {
+  precise vec3 total = state.sum + state.compensation;
   return total;
 }
 
 // sum_t L_t(x) V(x, y_t) over all 2 R^2 texels; 0 for an invalid (background) gather point.
-// Compensated float summation (see the header) where the C++ sums in double. See
-// vplkit_exhaustive_vpl_sum_range for llvmpipe's loop budget.
 vec3 vplkit_exhaustive_vpl_sum(vplkit_gather_point gp, vplkit_dprsm_view view,
                                vplkit_visibility visibility, float dmin) {
-  return vplkit_exhaustive_vpl_sum_range(gp, view, visibility, dmin, 0, vplkit_dprsm_view_texel_count(view));
+  if (!vplkit_gather_point_valid(gp)) return vec3(0.0);
+  vplkit_vpl_sum_state state = vplkit_make_vpl_sum_state();
+  vplkit_exhaustive_vpl_sum_range(gp, view, state, 0, vplkit_dprsm_view_texel_count(view), visibility, dmin);
+  return vplkit_exhaustive_vpl_sum_finish(state);
 }
 
 #endif  // VPLKIT_ESTIMATORS_VPL_SUM_GLSL

@@ -26,6 +26,7 @@
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
+#include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
@@ -76,18 +77,34 @@ inline vec3<T> gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& 
   return estimator_finite_or_zero(gp.albedo * r.radiance);
 }
 
+// Directions [begin, end) of estimate_gathering (estimator_state.hpp).
+template <class T, class Tracer>
+inline void estimate_gathering_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     estimator_state<T>& state, int begin, int end, const Tracer& tracer,
+                                     T depth_tolerance) {
+  if (!gather_point_valid(gp)) return;
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  for (int k = begin; k < end; ++k) {
+    const T u0 = rng_next_unit<T>(state.rng);
+    const T u1 = rng_next_unit<T>(state.rng);
+    state.sum += gathering_sample(gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer,
+                                  depth_tolerance);
+  }
+}
+
+template <class T>
+inline vec3<T> estimate_gathering_finish(const estimator_state<T>& state, int n_dirs) {
+  return n_dirs > 0 ? state.sum / T(n_dirs) : vec3<T>(T(0));
+}
+
 template <class T, class Tracer>
 inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>& view, counter_rng& rng,
                                   int n_dirs, const Tracer& tracer, T depth_tolerance) {
   if (!gather_point_valid(gp) || n_dirs <= 0) return vec3<T>(T(0));
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
-  vec3<T> sum(T(0));
-  for (int k = 0; k < n_dirs; ++k) {
-    const T u0 = rng_next_unit<T>(rng);
-    const T u1 = rng_next_unit<T>(rng);
-    sum += gathering_sample(gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer, depth_tolerance);
-  }
-  return sum / T(n_dirs);
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_gathering_range(gp, view, state, 0, n_dirs, tracer, depth_tolerance);
+  rng = state.rng;
+  return estimate_gathering_finish(state, n_dirs);
 }
 
 }  // namespace vplkit

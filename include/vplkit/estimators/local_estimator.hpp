@@ -17,6 +17,7 @@
 // round). An invalid gather point returns 0 and consumes none.
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
+#include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
@@ -35,18 +36,17 @@ inline T local_mixture_pmf_sum(const Distribution* distributions, int n_distribu
   return s;
 }
 
+// Rounds [begin, end) of estimate_local (estimator_state.hpp).
 template <class T, class Distribution, class Visibility>
-inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& view,
-                              const Distribution* distributions, int n_distributions, counter_rng& rng,
-                              int n_rounds, const Visibility& visibility, T dmin,
-                              local_combination combination = local_combination::balance) {
-  if (!gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0 || distributions == nullptr)
-    return vec3<T>(T(0));
+inline void estimate_local_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                 const Distribution* distributions, int n_distributions,
+                                 estimator_state<T>& state, int begin, int end, const Visibility& visibility,
+                                 T dmin, local_combination combination = local_combination::balance) {
+  if (!gather_point_valid(gp) || n_distributions <= 0 || distributions == nullptr) return;
   const std::size_t n_texels = std::size_t(view.texel_count());
-  vec3<T> sum(T(0));
-  for (int r = 0; r < n_rounds; ++r)
+  for (int r = begin; r < end; ++r)
     for (int i = 0; i < n_distributions; ++i) {
-      const auto s = distributions[i].sample(rng_next_unit<T>(rng));
+      const auto s = distributions[i].sample(rng_next_unit<T>(state.rng));
       const T pmf_i = T(s.pmf);
       if (!(pmf_i > T(0)) || s.index >= n_texels) continue;
       const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
@@ -55,9 +55,27 @@ inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& vi
       const T divisor = combination == local_combination::balance
                             ? local_mixture_pmf_sum<T>(distributions, n_distributions, s.index)
                             : pmf_i * T(n_distributions);
-      sum += estimator_finite_or_zero(c / divisor);
+      state.sum += estimator_finite_or_zero(c / divisor);
     }
-  return sum / T(n_rounds);
+}
+
+template <class T>
+inline vec3<T> estimate_local_finish(const estimator_state<T>& state, int n_rounds) {
+  return n_rounds > 0 ? state.sum / T(n_rounds) : vec3<T>(T(0));
+}
+
+template <class T, class Distribution, class Visibility>
+inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& view,
+                              const Distribution* distributions, int n_distributions, counter_rng& rng,
+                              int n_rounds, const Visibility& visibility, T dmin,
+                              local_combination combination = local_combination::balance) {
+  if (!gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0 || distributions == nullptr)
+    return vec3<T>(T(0));
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_local_range(gp, view, distributions, n_distributions, state, 0, n_rounds, visibility, dmin,
+                       combination);
+  rng = state.rng;
+  return estimate_local_finish(state, n_rounds);
 }
 
 }  // namespace vplkit

@@ -40,6 +40,7 @@
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
+#include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/mis/heuristics.hpp>
@@ -145,6 +146,41 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
   return mis_balance_value(f, n1, p1, n2, p2);
 }
 
+// Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then
+// direction j (j < n_dirs), so the steps run to max(n_dirs, n_vpls). Negative counts count as 0.
+template <class T, class Distribution, class Tracer, class Visibility>
+inline void estimate_mis_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                               const Distribution& distribution, estimator_state<T>& state, int begin, int end,
+                               int n_dirs, int n_vpls, const Tracer& tracer, const Visibility& visibility,
+                               T depth_tolerance, mis_mode mode = mis_mode::solid_angle) {
+  if (!gather_point_valid(gp)) return;
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  const T n1 = T(n_dirs), n2 = T(n_vpls);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  for (int j = begin; j < end; ++j) {
+    if (j < n_vpls)
+      state.sum += mis_vpl_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, n1, n2, mode);
+    if (j < n_dirs) {
+      const T u0 = rng_next_unit<T>(state.rng);
+      const T u1 = rng_next_unit<T>(state.rng);
+      state.sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)),
+                                        tracer, depth_tolerance, n1, n2, mode);
+    }
+  }
+}
+
+// solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
+template <class T>
+inline vec3<T> estimate_mis_finish(const estimator_state<T>& state, int n_dirs, int n_vpls,
+                                   mis_mode mode = mis_mode::solid_angle) {
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_vpls < 0) n_vpls = 0;
+  if (n_dirs == 0 && n_vpls == 0) return vec3<T>(T(0));
+  if (mode == mis_mode::as_published) return state.sum / T(n_dirs > 0 ? n_dirs : n_vpls);
+  return state.sum;
+}
+
 template <class T, class Distribution, class Tracer, class Visibility>
 inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
                             counter_rng& rng, int n_dirs, int n_vpls, const Tracer& tracer,
@@ -154,23 +190,11 @@ inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   if (n_dirs == 0 && n_vpls == 0) return vec3<T>(T(0));
-  const T n1 = T(n_dirs), n2 = T(n_vpls);
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
-  vec3<T> sum(T(0));
-  const int n = n_dirs > n_vpls ? n_dirs : n_vpls;
-  for (int j = 0; j < n; ++j) {
-    if (j < n_vpls)
-      sum += mis_vpl_sample(gp, view, distribution, rng_next_unit<T>(rng), visibility, n1, n2, mode);
-    if (j < n_dirs) {
-      const T u0 = rng_next_unit<T>(rng);
-      const T u1 = rng_next_unit<T>(rng);
-      sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer,
-                                  depth_tolerance, n1, n2, mode);
-    }
-  }
-  // solid_angle: the 1/n_i are inside balance_combined. as_published: Alg. 4 divides by NBDIR.
-  if (mode == mis_mode::as_published) return sum / T(n_dirs > 0 ? n_dirs : n_vpls);
-  return sum;
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_mis_range(gp, view, distribution, state, 0, n_dirs > n_vpls ? n_dirs : n_vpls, n_dirs, n_vpls,
+                     tracer, visibility, depth_tolerance, mode);
+  rng = state.rng;
+  return estimate_mis_finish(state, n_dirs, n_vpls, mode);
 }
 
 }  // namespace vplkit

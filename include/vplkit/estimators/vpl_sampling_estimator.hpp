@@ -13,6 +13,7 @@
 #include <vplkit/core/vector.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
 #include <vplkit/distribution/flat_face_roulette.hpp>
+#include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
@@ -33,15 +34,30 @@ inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T
   return estimator_finite_or_zero(c / pmf);
 }
 
+// Samples [begin, end) of estimate_vpl_sampling (estimator_state.hpp).
+template <class T, class Distribution, class Visibility>
+inline void estimate_vpl_sampling_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                        const Distribution& distribution, estimator_state<T>& state,
+                                        int begin, int end, const Visibility& visibility, T dmin) {
+  if (!gather_point_valid(gp)) return;
+  for (int k = begin; k < end; ++k)
+    state.sum += vpl_sampling_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, dmin);
+}
+
+template <class T>
+inline vec3<T> estimate_vpl_sampling_finish(const estimator_state<T>& state, int n_samples) {
+  return n_samples > 0 ? state.sum / T(n_samples) : vec3<T>(T(0));
+}
+
 template <class T, class Distribution, class Visibility>
 inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view<T>& view,
                                      const Distribution& distribution, counter_rng& rng, int n_samples,
                                      const Visibility& visibility, T dmin) {
   if (!gather_point_valid(gp) || n_samples <= 0) return vec3<T>(T(0));
-  vec3<T> sum(T(0));
-  for (int k = 0; k < n_samples; ++k)
-    sum += vpl_sampling_sample(gp, view, distribution, rng_next_unit<T>(rng), visibility, dmin);
-  return sum / T(n_samples);
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin);
+  rng = state.rng;
+  return estimate_vpl_sampling_finish(state, n_samples);
 }
 
 // The paper's Alg. 1 / 3: Russian roulette between the faces, then the face's CDF (one u per

@@ -32,17 +32,40 @@ inline vec3<T> vpl_visible_contribution(const gather_point<T>& gp, const dprsm_v
   return visibility(gp.position, gp.normal, v.position, v.normal) ? c : vec3<T>(T(0));
 }
 
-// sum_t L_t(x) V(x, y_t) over all 2 R^2 texels (invalid and unlit texels have zero flux).
-// Accumulated in double whatever T is, so the reference does not lose digits over 10^5+ terms;
-// rounded once to T. 0 for an invalid (background) gather point.
+// The exhaustive sum's running total, kept in double whatever T is, so the reference does not
+// lose digits over 10^5+ terms (the GLSL mirror keeps a compensated float pair instead).
+struct vpl_sum_state {
+  vec3<double> sum = vec3<double>(0.0);
+};
+
+// Adds L_t(x) V(x, y_t) of the texels [begin, end) (clipped to the view) to state.sum, in texel
+// order; nothing for an invalid (background) gather point.
+template <class T, class Visibility>
+inline void exhaustive_vpl_sum_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     vpl_sum_state& state, int begin, int end,
+                                     const Visibility& visibility, T dmin) {
+  if (!gather_point_valid(gp)) return;
+  const int n = view.texel_count();
+  const int first = begin < 0 ? 0 : begin, last = end < n ? end : n;
+  for (int t = first; t < last; ++t)
+    state.sum += vec3<double>(vpl_visible_contribution(gp, view, t, visibility, dmin));
+}
+
+// The sum rounded once to T.
+template <class T>
+inline vec3<T> exhaustive_vpl_sum_finish(const vpl_sum_state& state) {
+  return vec3<T>(state.sum);
+}
+
+// sum_t L_t(x) V(x, y_t) over all 2 R^2 texels (invalid and unlit texels have zero flux); 0 for
+// an invalid (background) gather point.
 template <class T, class Visibility>
 inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>& view,
                                   const Visibility& visibility, T dmin) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
-  vec3<double> sum(0.0);
-  const int n = view.texel_count();
-  for (int t = 0; t < n; ++t) sum += vec3<double>(vpl_visible_contribution(gp, view, t, visibility, dmin));
-  return vec3<T>(sum);
+  vpl_sum_state state;
+  exhaustive_vpl_sum_range(gp, view, state, 0, view.texel_count(), visibility, dmin);
+  return exhaustive_vpl_sum_finish<T>(state);
 }
 
 }  // namespace vplkit

@@ -1,0 +1,70 @@
+// Direct light through the DPRSM's shadow test (vpl/direct_light.hpp): at the synthetic scene's
+// gather points it is lit exactly where an exact shadow ray says so, and then equals the light's
+// reflected radiance; background, back-facing and coincident points give 0.
+#include <synthetic_scene.hpp>
+
+#include <vplkit/vpl/direct_light.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace vplkit;
+using namespace vplkit_test;
+
+TEMPLATE_TEST_CASE("direct_light: lit where an exact shadow ray is, with the reflected radiance", "[vpl]",
+                   float, double) {
+  using T = TestType;
+  const synthetic_scene<T> scene;
+  const dprsm_data<T> d = scene.make_dprsm(64);
+  const dprsm_view<T> view = d.view();
+  int lit = 0;
+  for (const auto& g : scene.gather_points()) {
+    INFO(g.name);
+    const vec3<T> e = direct_light(g.gp, view);
+    if (g.in_shadow) {
+      CHECK(e == vec3<T>(T(0)));
+    } else {
+      ++lit;
+      CHECK(e == reflected_radiance(view.light.position, view.light.intensity, g.gp.position, g.gp.normal,
+                                    g.gp.albedo));
+      CHECK(e.x > T(0));
+    }
+    // The same point with a longer normal: the same answer.
+    gather_point<T> scaled = g.gp;
+    scaled.normal *= T(7);
+    CHECK(direct_light(scaled, view) == e);
+  }
+  CHECK(lit >= 3);
+}
+
+TEMPLATE_TEST_CASE("direct_light: 0 for background, back-facing points and the light's own position", "[vpl]",
+                   float, double) {
+  using T = TestType;
+  const synthetic_scene<T> scene;
+  const dprsm_data<T> d = scene.make_dprsm(32);
+  const dprsm_view<T> view = d.view();
+  const gather_point<T> lit = scene.gather_points().front().gp;  // floor_open
+  REQUIRE(direct_light(lit, view).x > T(0));
+  gather_point<T> g = lit;
+  g.normal = vec3<T>(T(0));
+  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  g.normal = -lit.normal;
+  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  g = lit;
+  g.position = view.light.position;
+  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  g = lit;
+  g.position.x = std::numeric_limits<T>::quiet_NaN();
+  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+}
+
+TEST_CASE("direct_light_depth_tolerance: a footprint of 4 d / R, times 1/2 + tan(alpha) capped at 20") {
+  const double d = 2.0;
+  const int R = 64;
+  const double footprint = d * 4.0 / R;
+  CHECK(direct_light_depth_tolerance(d, 1.0, R) == Approx(footprint * 0.5 + 1e-4 * d));
+  const double c = std::cos(1.0);
+  CHECK(direct_light_depth_tolerance(d, c, R) == Approx(footprint * (0.5 + std::tan(1.0)) + 1e-4 * d));
+  CHECK(direct_light_depth_tolerance(d, 1e-6, R) == Approx(footprint * 20.5 + 1e-4 * d));
+}
