@@ -17,9 +17,14 @@
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
 
+#include <vplkit/builders/gbg_accumulate_params.h>
+#include <vplkit/builders/gbg_finish_params.h>
+#include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/image/median_fill_params.h>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
+#include <vplkit/visibility/voxelize_params.h>
 #include <vplkit/vpl/luminance.hpp>
 
 #include <iostream>
@@ -32,9 +37,6 @@ namespace gl = vplkit::gl;
 
 struct float4 {
   float x, y, z, w;
-};
-struct int4 {
-  int x, y, z, w;
 };
 float4 f4(v3f v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
 
@@ -99,21 +101,23 @@ void BM_gpu_cdf_build(benchmark::State& state) {
   gl::buffer wb = gl::buffer::from_vector(w);
   gl::buffer cdf = gl::buffer::filled(std::size_t(n + 1) * 4);
   gl::buffer guide = gl::buffer::filled(std::size_t(m + 1) * 4);
-  gl::buffer blk = gl::buffer::filled(std::size_t(blocks) * 32);
-  gl::buffer info = gl::buffer::filled(16);
-  gl::buffer params = gl::buffer::filled(16);
-  wb.bind(0);
-  cdf.bind(1);
-  guide.bind(2);
-  blk.bind(3);
-  info.bind(4);
-  bind_uniform(params, 0);
+  gl::buffer blk = gl::buffer::filled(std::size_t(blocks) * sizeof(vplkit::gpu::cdf_build_block));
+  gl::buffer info = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_info));
+  gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params));
+  wb.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
+  cdf.bind(VPLKIT_CDF_BUILD_BINDING_CDF);
+  guide.bind(VPLKIT_CDF_BUILD_BINDING_GUIDE);
+  blk.bind(VPLKIT_CDF_BUILD_BINDING_BLOCKS);
+  info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
+  bind_uniform(params, VPLKIT_CDF_BUILD_BINDING_PARAMS);
   timed(
       state, [] {},
       [&] {
         for (std::uint32_t pass = 1; pass <= 6; ++pass) {
-          const std::uint32_t p[4] = {n, pass, 0, 0};
-          params.write_bytes(p, 0, sizeof p);
+          vplkit::gpu::cdf_build_params p{};
+          p.n = n;
+          p.pass = pass;
+          params.write_bytes(&p, 0, sizeof p);
           const std::uint32_t gx = pass == 2 || pass == 4 ? 1u : pass == 6 ? guide_groups : groups;
           gl::dispatch(prog, gx, 1, 1);
         }
@@ -124,25 +128,6 @@ void BM_gpu_cdf_build(benchmark::State& state) {
 }
 
 // ---- gbg_accumulate.comp + gbg_finish.comp ------------------------------------------------------
-struct light_block {
-  float4 position, intensity, axis_x, axis_y, axis_z;
-};
-struct gbg_block {
-  light_block light;
-  float4 grid_min, grid_max;
-  int4 grid_res;
-  int4 sizes;    // W, H, R, n_dirs
-  int4 options;  // accumulator, dir_begin, dir_end, count_gather_points
-  std::uint32_t seed, pad0, pad1, pad2;
-  float4 reals;  // dmin, depth_tolerance, offset_voxels
-  float4 fixed;  // scale, max_units
-};
-struct finish_block {
-  light_block light;
-  int4 sizes;    // R, n_dirs, fill
-  float4 fixed;  // 1 / scale
-};
-
 std::vector<float4> surfels(const std::vector<v3f>& p, const std::vector<v3f>& n, const std::vector<v3f>& a) {
   std::vector<float4> out;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -174,40 +159,59 @@ void run_gpu_gbg(benchmark::State& state, gbg_part part) {
   const double v_bound = double(vplkit::luminance(dp.light.intensity)) / (3.141592653589793 * d1min * d1min);
   const float scale = float(std::ldexp(1.0, int(std::floor(std::log2(double(max_units) / v_bound)))));
 
-  const auto& L = dp.light;
-  const light_block lb{f4(L.position), f4(L.intensity), f4(L.frame.axis_x), f4(L.frame.axis_y), f4(L.frame.axis_z)};
-  const vplkit::ivec3 r = grid.resolution();
-  const gbg_block p{lb, f4(grid.bounds_min()), f4(grid.bounds_max()), {r.x, r.y, r.z, 0}, {W, W, R, n_dirs},
-                    {1, 0, n_dirs, 1}, 21u, 0, 0, 0, {0.1f, tol, 1.75f, 0}, {scale, max_units, 0, 0}};
-  const finish_block fp{lb, {R, n_dirs, 1, 0}, {1.0f / scale, 0, 0, 0}};
+  vplkit::gpu::gbg_accumulate_params p{};
+  p.light = vplkit::gpu::make_light_params(dp.light);
+  p.grid_min = glm::vec4(grid.bounds_min(), 0.0f);
+  p.grid_max = glm::vec4(grid.bounds_max(), 0.0f);
+  p.grid_resolution = glm::ivec4(grid.resolution(), 0);
+  p.width = W;
+  p.height = W;
+  p.resolution = R;
+  p.n_dirs = n_dirs;
+  p.accumulator = 1;
+  p.dir_begin = 0;
+  p.dir_end = n_dirs;
+  p.count_gather_points = 1;
+  p.seed = 21u;
+  p.dmin = 0.1f;
+  p.depth_tolerance = tol;
+  p.offset_voxels = 1.75f;
+  p.scale = scale;
+  p.max_units = max_units;
+  vplkit::gpu::gbg_finish_params fp{};
+  fp.light = p.light;
+  fp.resolution = R;
+  fp.n_dirs = n_dirs;
+  fp.fill_holes = 1;
+  fp.inv_scale = 1.0f / scale;
   const auto& acc_prog = kernel("vplkit/builders/gbg_accumulate.comp");
   const auto& fin_prog = kernel("vplkit/builders/gbg_finish.comp");
   auto gb = gl::buffer::from_vector(surfels(gbd.position, gbd.normal, gbd.albedo));
   auto dpb = gl::buffer::from_vector(surfels(dp.position, dp.normal, dp.albedo));
   auto vx = gl::buffer::from_vector(grid.words());
   auto acc = gl::buffer::filled(std::size_t(2 * n) * 4, 0);
-  auto stats = gl::buffer::filled(8 * 4, 0);
+  auto stats = gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
   auto weights = gl::buffer::filled(std::size_t(n) * 4, 0);
   auto ub_acc = gl::buffer::from_bytes(&p, sizeof p);
   auto ub_fin = gl::buffer::from_bytes(&fp, sizeof fp);
   const std::vector<std::uint32_t> zeros(std::size_t(2 * n), 0u);
-  const std::vector<std::uint32_t> zero_stats(8, 0u);
+  const std::vector<std::uint32_t> zero_stats(VPLKIT_GBG_STATS_SIZE, 0u);
   auto accumulate = [&] {
-    gb.bind(0);
-    dpb.bind(1);
-    vx.bind(2);
-    acc.bind(3);
-    stats.bind(4);
-    bind_uniform(ub_acc, 0);
-    gl::dispatch(acc_prog, gl::groups_for(std::size_t(W * W), 64));
+    gb.bind(VPLKIT_GBG_BINDING_GBUFFER);
+    dpb.bind(VPLKIT_GBG_BINDING_DPRSM);
+    vx.bind(VPLKIT_GBG_BINDING_VOXELS);
+    acc.bind(VPLKIT_GBG_BINDING_ACC);
+    stats.bind(VPLKIT_GBG_BINDING_STATS);
+    bind_uniform(ub_acc, VPLKIT_GBG_BINDING_PARAMS);
+    gl::dispatch(acc_prog, gl::groups_for(std::size_t(W * W), VPLKIT_GBG_LOCAL_SIZE));
   };
   auto finish = [&] {
-    acc.bind(0);
-    stats.bind(1);
-    dpb.bind(2);
-    weights.bind(3);
-    bind_uniform(ub_fin, 0);
-    const GLuint g = gl::groups_for(std::size_t(R), 8);
+    acc.bind(VPLKIT_GBG_FINISH_BINDING_ACC);
+    stats.bind(VPLKIT_GBG_FINISH_BINDING_STATS);
+    dpb.bind(VPLKIT_GBG_FINISH_BINDING_DPRSM);
+    weights.bind(VPLKIT_GBG_FINISH_BINDING_WEIGHTS);
+    bind_uniform(ub_fin, VPLKIT_GBG_FINISH_BINDING_PARAMS);
+    const GLuint g = gl::groups_for(std::size_t(R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
     gl::dispatch(fin_prog, g, g, 2);
   };
   auto clear = [&] {
@@ -227,7 +231,7 @@ void run_gpu_gbg(benchmark::State& state, gbg_part part) {
     });
   }
   const std::vector<std::uint32_t> s = stats.read<std::uint32_t>();
-  state.counters["lit_hit_fraction"] = double(s[2]) / H;
+  state.counters["lit_hit_fraction"] = double(s[VPLKIT_GBG_STAT_LIT_HITS]) / H;
   state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(part == gbg_part::finish ? n : G * n_dirs));
 }
 
@@ -252,25 +256,18 @@ void BM_gpu_median_fill(benchmark::State& state) {
   const auto& prog = kernel("vplkit/image/median_fill.comp");
   auto in = gl::buffer::from_vector(w);
   auto out = gl::buffer::filled(w.size() * 4);
-  const int params[4] = {R, 0, 0, 0};
-  auto ub = gl::buffer::from_bytes(params, sizeof params);
-  in.bind(0);
-  out.bind(1);
-  bind_uniform(ub, 2);
-  const GLuint gxy = gl::groups_for(std::size_t(R), 8);
+  vplkit::gpu::median_fill_params params{};
+  params.resolution = R;
+  auto ub = gl::buffer::from_bytes(&params, sizeof params);
+  in.bind(VPLKIT_MEDIAN_FILL_BINDING_IN);
+  out.bind(VPLKIT_MEDIAN_FILL_BINDING_OUT);
+  bind_uniform(ub, VPLKIT_MEDIAN_FILL_BINDING_PARAMS);
+  const GLuint gxy = gl::groups_for(std::size_t(R), VPLKIT_MEDIAN_FILL_LOCAL_SIZE);
   timed(state, [] {}, [&] { gl::dispatch(prog, gxy, gxy, 2); });
   state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(w.size()));
 }
 
 // ---- voxelize.comp ------------------------------------------------------------------------------
-struct voxelize_params {
-  float4 bmin, bmax;
-  int4 res;
-  std::uint32_t triangle_count;
-  float margin;
-  std::uint32_t pad[2];
-};
-
 void BM_gpu_voxelize(benchmark::State& state) {
   const int res = int(state.range(0));
   static const mesh* m = new mesh(dense_mesh());
@@ -279,7 +276,12 @@ void BM_gpu_voxelize(benchmark::State& state) {
   std::vector<float4> pos;
   for (const v3f& q : m->positions) pos.push_back(f4(q, 1.0f));
   const std::size_t T = m->triangle_count();
-  const voxelize_params params{f4(bounds.min), f4(bounds.max), {res, res, res, 0}, std::uint32_t(T), 1e-4f, {0, 0}};
+  vplkit::gpu::voxelize_params params{};
+  params.bounds_min = glm::vec4(bounds.min, 0.0f);
+  params.bounds_max = glm::vec4(bounds.max, 0.0f);
+  params.resolution = glm::ivec4(res, res, res, 0);
+  params.triangle_count = std::uint32_t(T);
+  params.margin_voxels = 1e-4f;
   const auto& prog = kernel("vplkit/visibility/voxelize.comp");
   auto pb = gl::buffer::from_vector(pos);
   auto ib = gl::buffer::from_vector(m->indices);
@@ -290,10 +292,10 @@ void BM_gpu_voxelize(benchmark::State& state) {
   timed(
       state, [&] { wb.write(zeros); },
       [&] {
-        pb.bind(0);
-        ib.bind(1);
-        wb.bind(2);
-        bind_uniform(ub, 3);
+        pb.bind(VPLKIT_VOXELIZE_BINDING_POSITIONS);
+        ib.bind(VPLKIT_VOXELIZE_BINDING_INDICES);
+        wb.bind(VPLKIT_VOXELIZE_BINDING_WORDS);
+        bind_uniform(ub, VPLKIT_VOXELIZE_BINDING_PARAMS);
         gl::dispatch(prog, gx, gy);
       });
   std::int64_t occupied = 0;

@@ -1,6 +1,7 @@
 # Configures, builds and runs a consumer project against vplkit, the way a user would.
 #   MODE=install      : install vplkit into a scratch prefix, consumer uses find_package(vplkit)
-#   MODE=subdirectory : consumer uses add_subdirectory(<vplkit source>) and compiles README's example
+#   MODE=subdirectory : consumer uses add_subdirectory(<vplkit source>), compiles README's example
+#                       and a program that includes kernel parameter headers
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -35,3 +36,6 @@ else()
 endif()
 run(${CMAKE_COMMAND} --build "${work}/build")
 run("${work}/build/consumer")
+if(MODE STREQUAL "subdirectory")
+  run("${work}/build/params_consumer")
+endif()

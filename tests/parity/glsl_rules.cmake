@@ -2,11 +2,14 @@
 #   cmake -DFILE=<glsl/vplkit/.../x.glsl> -DREL=<vplkit/.../x.glsl> -P glsl_rules.cmake
 #  - no #version (the including shader chooses it);
 #  - guarded: the first directive is `#ifndef VPLKIT_<PATH>_GLSL` (vplkit/core/constants.glsl ->
-#    VPLKIT_CORE_CONSTANTS_GLSL), the next one `#define` of the same name, the last one #endif;
+#    VPLKIT_CORE_CONSTANTS_GLSL; a two-language header vplkit/core/params.h -> VPLKIT_CORE_PARAMS_H),
+#    the next one `#define` of the same name, the last one #endif;
 #  - no layout bindings (`binding =`): the host chooses them;
 #  - every name declared at column 0 (functions, constants, structs, macros) starts with
 #    vplkit_ / VPLKIT_. The pack writes top-level declarations at column 0, so this catches a
 #    forgotten prefix; it is a lint, not a parser.
+# The C++ branches of a two-language header (the first branch of `#ifdef __cplusplus`, the later
+# ones of `#ifndef __cplusplus`, as include_resolver.hpp reads them) are not GLSL and not checked.
 # Prints every violation, then fails if there was one.
 if(NOT FILE OR NOT REL)
   message(FATAL_ERROR "glsl_rules.cmake needs -DFILE=... and -DREL=...")
@@ -20,13 +23,13 @@ string(REPLACE "]" " RBRACKET " content "${content}")
 string(REPLACE "\\" " BACKSLASH " content "${content}")
 string(REPLACE "\r" "" content "${content}")
 string(REPLACE "\n" ";" lines "${content}")
-string(REGEX REPLACE "\\.glsl$" "" guard "${REL}")
-string(TOUPPER "${guard}" guard)
-string(REGEX REPLACE "[^A-Z0-9]" "_" guard "${guard}_GLSL")
+string(TOUPPER "${REL}" guard)
+string(REGEX REPLACE "[^A-Z0-9]" "_" guard "${guard}")
 
 set(problems "")
 set(directives "")
 set(in_comment FALSE)
+set(groups "")  # one "<condition>:<branch>" per open #if group (condition 1 / -1 / 0 as below)
 set(n 0)
 foreach(line IN LISTS lines)
   math(EXPR n "${n} + 1")
@@ -53,12 +56,38 @@ foreach(line IN LISTS lines)
     set(directive "${CMAKE_MATCH_1}")
     set(macro "${CMAKE_MATCH_2}")
     list(APPEND directives "${directive} ${macro}")
+    if(directive MATCHES "^if")
+      string(REGEX REPLACE "[ \t()]" "" compact "${text}")
+      if(compact MATCHES "^#(ifdef|ifdefined)__cplusplus$")
+        list(APPEND groups "1:0")
+      elseif(compact MATCHES "^#(ifndef|if!defined)__cplusplus$")
+        list(APPEND groups "-1:0")
+      else()
+        list(APPEND groups "0:0")
+      endif()
+    elseif(directive MATCHES "^(else|elif)$" AND groups)
+      list(GET groups -1 top)
+      list(REMOVE_AT groups -1)
+      string(REGEX REPLACE ":.*" "" condition "${top}")
+      list(APPEND groups "${condition}:1")
+    elseif(directive STREQUAL "endif" AND groups)
+      list(REMOVE_AT groups -1)
+    endif()
     if(directive STREQUAL "version")
       list(APPEND problems "${REL}:${n}: #version in an include file")
     endif()
     if(directive STREQUAL "define" AND NOT macro MATCHES "^(VPLKIT_|vplkit_)")
       list(APPEND problems "${REL}:${n}: macro ${macro} lacks the VPLKIT_ prefix")
     endif()
+    continue()
+  endif()
+  set(cplusplus FALSE)
+  foreach(g IN LISTS groups)
+    if(g STREQUAL "1:0" OR g STREQUAL "-1:1")
+      set(cplusplus TRUE)
+    endif()
+  endforeach()
+  if(cplusplus)
     continue()
   endif()
   if(text MATCHES "binding[ \t]*=")

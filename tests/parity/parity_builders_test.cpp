@@ -24,8 +24,12 @@
 #include "parity_estimators_support.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
+#include <vplkit/builders/gather_subset_params.h>
+#include <vplkit/builders/gbg_accumulate_params.h>
+#include <vplkit/builders/gbg_finish_params.h>
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/global_weights_params.h>
 #include <vplkit/builders/local_weights.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
@@ -103,14 +107,6 @@ std::vector<float4> dprsm_surfels(const vplkit_test::dprsm_data<float>& d) {
   return surfels(d.position, d.normal, d.albedo);
 }
 
-struct light_block {  // the first five vec4 of every builder kernel's uniform block
-  float4 position, intensity, axis_x, axis_y, axis_z;
-};
-light_block light_of(const vplkit_test::dprsm_data<float>& d) {
-  const auto& L = d.light;
-  return {f4(L.position), f4(L.intensity), f4(L.frame.axis_x), f4(L.frame.axis_y), f4(L.frame.axis_z)};
-}
-
 }  // namespace
 
 // =================================================================================================
@@ -120,11 +116,6 @@ TEST_CASE("gather_subset.comp: the C++ stratified subsets, pixel for pixel") {
   const auto gb = s.gbuffer.view();
   const auto& prog = kernel_program("vplkit/builders/gather_subset.comp");
   auto gbuf = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
-  struct params {
-    int4 rect, shape;
-    std::uint32_t seed, offset, attempts, out_offset;
-    int4 image;
-  };
   struct run {
     vplkit::pixel_rect rect;
     int count;
@@ -140,16 +131,14 @@ TEST_CASE("gather_subset.comp: the C++ stratified subsets, pixel for pixel") {
   std::size_t dropped_total = 0;
   for (const run& r : runs) {
     const auto shape = vplkit::gather_subset_grid(r.rect, r.count);
-    params p{{r.rect.x0, r.rect.y0, r.rect.width, r.rect.height},
-             {shape.count, shape.columns, shape.rows, shape.last_columns},
-             r.seed, r.offset, std::uint32_t(r.attempts), 3u,
-             {gb.width, gb.height, 0, 0}};
-    auto ub = vplkit::gl::buffer::from_vector(std::vector<params>{p});
+    const vplkit::gpu::gather_subset_params p =
+        vplkit::gpu::make_gather_subset_params(gb, r.rect, r.count, r.seed, r.offset, r.attempts, 3u);
+    auto ub = vplkit::gl::buffer::from_bytes(&p, sizeof p);
     auto out = vplkit::gl::buffer::filled(std::size_t(shape.count + 3) * 4, 0xFF);
-    gbuf.bind(0);
-    out.bind(1);
-    bind_uniform(ub, 0);
-    vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(shape.count), 64));
+    gbuf.bind(VPLKIT_GATHER_SUBSET_BINDING_GBUFFER);
+    out.bind(VPLKIT_GATHER_SUBSET_BINDING_PIXELS);
+    bind_uniform(ub, VPLKIT_GATHER_SUBSET_BINDING_PARAMS);
+    vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(shape.count), VPLKIT_GATHER_SUBSET_LOCAL_SIZE));
     const auto gpu = out.read<std::int32_t>();
     std::vector<std::int32_t> g(gpu.begin() + 3, gpu.end()), c;
     for (int k = 0; k < shape.count; ++k)
@@ -173,12 +162,6 @@ TEST_CASE("gather_subset.comp: the C++ stratified subsets, pixel for pixel") {
 // ---- global / local weights ----------------------------------------------------------------------
 namespace {
 
-struct weights_params {
-  light_block light;
-  int4 sizes;  // R, N, pixel count
-  float4 reals;  // dmin
-};
-
 std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subsets, float dmin) {
   const auto& s = fx().s;
   const auto& prog = kernel_program("vplkit/builders/global_weights.comp");
@@ -191,20 +174,25 @@ std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subse
   if (flat.empty()) flat.push_back(-1);
   const int n = vplkit::texel_count(s.R);
   const int N = int(subsets.size());
-  weights_params p{light_of(s.dprsm), {s.R, N, s.gbuffer.width * s.gbuffer.height, 0}, {dmin, 0, 0, 0}};
+  vplkit::gpu::global_weights_params p{};
+  p.light = vplkit::gpu::make_light_params(s.dprsm.light);
+  p.resolution = s.R;
+  p.regions = N;
+  p.pixel_count = s.gbuffer.width * s.gbuffer.height;
+  p.dmin = dmin;
   auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
   auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
   auto sb = vplkit::gl::buffer::from_vector(flat);
   auto ob = vplkit::gl::buffer::from_vector(offsets);
   auto wb = vplkit::gl::buffer::filled(std::size_t(N * n) * 4, 0xFF);
-  auto ub = vplkit::gl::buffer::from_vector(std::vector<weights_params>{p});
-  gb.bind(0);
-  dp.bind(1);
-  sb.bind(2);
-  ob.bind(3);
-  wb.bind(4);
-  bind_uniform(ub, 0);
-  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(n), 64), GLuint(N));
+  auto ub = vplkit::gl::buffer::from_bytes(&p, sizeof p);
+  gb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER);
+  dp.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM);
+  sb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET);
+  ob.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
+  wb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS);
+  bind_uniform(ub, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS);
+  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N));
   return wb.read<float>();
 }
 
@@ -271,23 +259,6 @@ TEST_CASE("global_weights.comp: global and local weights against the C++ builder
 // ---- GBG ----------------------------------------------------------------------------------------
 namespace {
 
-struct gbg_block {
-  light_block light;
-  float4 grid_min, grid_max;
-  int4 grid_res;
-  int4 sizes;    // W, H, R, n_dirs
-  int4 options;  // accumulator, dir_begin, dir_end, count_gather_points
-  std::uint32_t seed, pad0, pad1, pad2;
-  float4 reals;  // dmin, depth_tolerance, offset_voxels
-  float4 fixed;  // scale, max_units
-};
-
-struct finish_block {
-  light_block light;
-  int4 sizes;    // R, n_dirs, fill
-  float4 fixed;  // 1 / scale
-};
-
 struct gbg_setup {
   int n_dirs = 16;
   float dmin = 0.05f;
@@ -300,7 +271,7 @@ struct gbg_setup {
 
 struct gbg_gpu_result {
   std::vector<std::uint32_t> acc;    // (lo, hi) per texel
-  std::vector<std::uint32_t> stats;  // 8
+  std::vector<std::uint32_t> stats;  // VPLKIT_GBG_STATS_SIZE counters (VPLKIT_GBG_STAT_*)
   std::vector<float> weights;
 };
 
@@ -316,33 +287,53 @@ gbg_gpu_result run_gbg(const vplkit_test::gbuffer_data<float>& gbuf, const gbg_s
   std::vector<std::uint32_t> words = s.grid.words();
   auto vx = vplkit::gl::buffer::from_vector(words);
   auto acc = vplkit::gl::buffer::filled(std::size_t(2 * n) * 4, 0);
-  auto stats = vplkit::gl::buffer::filled(8 * 4, 0);
+  auto stats = vplkit::gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
   auto weights = vplkit::gl::buffer::filled(std::size_t(n) * 4, 0xFF);
-  const vplkit::ivec3 r = s.grid.resolution();
   bool first = true;
   std::vector<vplkit::gl::buffer> keep;
   for (const auto& range : ranges) {
-    gbg_block p{light_of(s.dprsm), f4(s.grid.bounds_min()), f4(s.grid.bounds_max()), {r.x, r.y, r.z, 0},
-                {gbuf.width, gbuf.height, s.R, st.n_dirs}, {st.accumulator, range.first, range.second, first ? 1 : 0},
-                st.seed, 0, 0, 0, {st.dmin, st.tol, 1.75f, 0}, {st.scale, st.max_units, 0, 0}};
+    vplkit::gpu::gbg_accumulate_params p{};
+    p.light = vplkit::gpu::make_light_params(s.dprsm.light);
+    p.grid_min = glm::vec4(s.grid.bounds_min(), 0.0f);
+    p.grid_max = glm::vec4(s.grid.bounds_max(), 0.0f);
+    p.grid_resolution = glm::ivec4(s.grid.resolution(), 0);
+    p.width = gbuf.width;
+    p.height = gbuf.height;
+    p.resolution = s.R;
+    p.n_dirs = st.n_dirs;
+    p.accumulator = st.accumulator;
+    p.dir_begin = range.first;
+    p.dir_end = range.second;
+    p.count_gather_points = first ? 1 : 0;
+    p.seed = st.seed;
+    p.dmin = st.dmin;
+    p.depth_tolerance = st.tol;
+    p.offset_voxels = 1.75f;
+    p.scale = st.scale;
+    p.max_units = st.max_units;
     first = false;
-    keep.push_back(vplkit::gl::buffer::from_vector(std::vector<gbg_block>{p}));
-    gb.bind(0);
-    dp.bind(1);
-    vx.bind(2);
-    acc.bind(3);
-    stats.bind(4);
-    bind_uniform(keep.back(), 0);
-    vplkit::gl::dispatch(acc_prog, vplkit::gl::groups_for(std::size_t(gbuf.width * gbuf.height), 64));
+    keep.push_back(vplkit::gl::buffer::from_bytes(&p, sizeof p));
+    gb.bind(VPLKIT_GBG_BINDING_GBUFFER);
+    dp.bind(VPLKIT_GBG_BINDING_DPRSM);
+    vx.bind(VPLKIT_GBG_BINDING_VOXELS);
+    acc.bind(VPLKIT_GBG_BINDING_ACC);
+    stats.bind(VPLKIT_GBG_BINDING_STATS);
+    bind_uniform(keep.back(), VPLKIT_GBG_BINDING_PARAMS);
+    vplkit::gl::dispatch(acc_prog, vplkit::gl::groups_for(std::size_t(gbuf.width * gbuf.height), VPLKIT_GBG_LOCAL_SIZE));
   }
-  finish_block fp{light_of(s.dprsm), {s.R, st.n_dirs, fill ? 1 : 0, 0}, {1.0f / st.scale, 0, 0, 0}};
-  auto ub = vplkit::gl::buffer::from_vector(std::vector<finish_block>{fp});
-  acc.bind(0);
-  stats.bind(1);
-  dp.bind(2);
-  weights.bind(3);
-  bind_uniform(ub, 0);
-  const GLuint g = vplkit::gl::groups_for(std::size_t(s.R), 8);
+  vplkit::gpu::gbg_finish_params fp{};
+  fp.light = vplkit::gpu::make_light_params(s.dprsm.light);
+  fp.resolution = s.R;
+  fp.n_dirs = st.n_dirs;
+  fp.fill_holes = fill ? 1 : 0;
+  fp.inv_scale = 1.0f / st.scale;
+  auto ub = vplkit::gl::buffer::from_bytes(&fp, sizeof fp);
+  acc.bind(VPLKIT_GBG_FINISH_BINDING_ACC);
+  stats.bind(VPLKIT_GBG_FINISH_BINDING_STATS);
+  dp.bind(VPLKIT_GBG_FINISH_BINDING_DPRSM);
+  weights.bind(VPLKIT_GBG_FINISH_BINDING_WEIGHTS);
+  bind_uniform(ub, VPLKIT_GBG_FINISH_BINDING_PARAMS);
+  const GLuint g = vplkit::gl::groups_for(std::size_t(s.R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
   vplkit::gl::dispatch(fin_prog, g, g, 2);
   return {acc.read<std::uint32_t>(), stats.read<std::uint32_t>(), weights.read<float>()};
 }
@@ -550,7 +541,7 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
     std::size_t sat = 0;
     const auto one = run_gbg(s.gbuffer, st, {{0, st.n_dirs}}, false);
     VPLKIT_CHECK_PARITY(compare_exact(one.acc, expected_acc(st, &sat), {}, "GBG " + acc_name + ": fixed-point sums (lo, hi)"));
-    CHECK(one.stats[3] == sat);
+    CHECK(one.stats[VPLKIT_GBG_STAT_SATURATED_HITS] == sat);
     CHECK(sat == 0);
     const auto split = run_gbg(s.gbuffer, st, {{0, 5}, {5, 11}, {11, st.n_dirs}}, false);
     VPLKIT_CHECK_PARITY(compare_exact(split.acc, one.acc, {}, "GBG " + acc_name + ": 3 direction ranges = 1 dispatch"));
@@ -572,7 +563,7 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
       for (std::size_t t = 0; t < r.acc.size(); t += 2) high += r.acc[t + 1] != 0 ? 1 : 0;
       std::cout << "  carry test: " << high << " texels with a non-zero high word\n";
       CHECK(high > 100);
-      CHECK(r.stats[3] == sat_big);
+      CHECK(r.stats[VPLKIT_GBG_STAT_SATURATED_HITS] == sat_big);
       // Saturation: max_units below most values.
       gbg_setup low = st;
       low.max_units = std::ldexp(1.0f, 20);
@@ -582,7 +573,7 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
       const auto rl = run_gbg(s.gbuffer, low, {{0, low.n_dirs}}, false);
       std::cout << "  saturation test: " << sat_low << " of " << counted << " hits saturate\n";
       CHECK(sat_low > 0);
-      CHECK(rl.stats[3] == sat_low);
+      CHECK(rl.stats[VPLKIT_GBG_STAT_SATURATED_HITS] == sat_low);
       VPLKIT_CHECK_PARITY(compare_exact(rl.acc, expected, {}, "GBG " + acc_name + ": saturated sums"));
     }
 
@@ -600,11 +591,13 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
       const auto gpu = fill ? run_gbg(s.gbuffer, st, {{0, st.n_dirs}}, true) : one;
       const std::string what = "GBG " + acc_name + (fill ? ", filled" : ", raw");
       // Stats: exact unless a ray flipped.
-      std::vector<std::uint32_t> gstat = {gpu.stats[0], gpu.stats[1], gpu.stats[2], gpu.stats[4], gpu.stats[5]};
+      std::vector<std::uint32_t> gstat = {
+          gpu.stats[VPLKIT_GBG_STAT_GATHER_POINTS], gpu.stats[VPLKIT_GBG_STAT_HITS], gpu.stats[VPLKIT_GBG_STAT_LIT_HITS],
+          gpu.stats[VPLKIT_GBG_STAT_REACHED_TEXELS], gpu.stats[VPLKIT_GBG_STAT_HOLES]};
       std::vector<std::uint32_t> cstat = {std::uint32_t(cs.gather_points), std::uint32_t(cs.hits), std::uint32_t(cs.lit_hits),
                                           std::uint32_t(cs.reached_texels), std::uint32_t(cs.holes)};
       if (fill) {
-        gstat.push_back(gpu.stats[6]);
+        gstat.push_back(gpu.stats[VPLKIT_GBG_STAT_FILLED]);
         cstat.push_back(std::uint32_t(cs.filled));
       }
       if (flips == 0) {
@@ -677,12 +670,14 @@ TEST_CASE("GBG kernels: all-background G-buffer gives zero weights and stats, no
   std::vector<std::uint32_t> bits, zeros(std::size_t(n), 0u);
   for (float w : r.weights) bits.push_back(bits_of(w));
   VPLKIT_CHECK_PARITY(compare_exact(bits, zeros, {}, "GBG all background: weights are +0 (bits)"));
-  for (int k : {0, 1, 2, 3, 4, 6}) CHECK(r.stats[std::size_t(k)] == 0u);
+  for (int k : {VPLKIT_GBG_STAT_GATHER_POINTS, VPLKIT_GBG_STAT_HITS, VPLKIT_GBG_STAT_LIT_HITS,
+                VPLKIT_GBG_STAT_SATURATED_HITS, VPLKIT_GBG_STAT_REACHED_TEXELS, VPLKIT_GBG_STAT_FILLED})
+    CHECK(r.stats[std::size_t(k)] == 0u);
   // Every texel carrying a VPL is a hole that stays one.
   vplkit::gbg_params<float> params;
   params.depth_tolerance = 0.3f;
   vplkit::gbg_stats cs;
   vplkit::build_gbg_weights(empty.view(), s.view(), vplkit::voxel_tracer<float>{s.grid.view()}, params, &cs);
-  CHECK(r.stats[5] == std::uint32_t(cs.holes));
+  CHECK(r.stats[VPLKIT_GBG_STAT_HOLES] == std::uint32_t(cs.holes));
 }
 

@@ -5,6 +5,7 @@
 // CDF build kernel glsl/vplkit/distribution/cdf_build.comp with the comparisons that measure it.
 #include <parity_harness.hpp>
 
+#include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/discrete_cdf.hpp>
 
 #include <algorithm>
@@ -160,12 +161,9 @@ struct build_options {
   }
 };
 
-struct build_info {
-  u32 sum_bits[2];  // the accumulator (double, or (hi, lo) floats)
-  float total;
-  u32 zeroed;
-};
-static_assert(sizeof(build_info) == 16, "std430 vplkit_cdf_build_info");
+// The kernel's per-distribution record (its sum is a double, or (hi, lo) floats in the same 8
+// bytes with VPLKIT_CDF_BUILD_FLOAT_FLOAT; only total and zeroed are read here).
+using build_info = vplkit::gpu::cdf_build_info;
 
 struct build_result {
   std::vector<float> cdf;    // D * (n + 1)
@@ -206,22 +204,24 @@ inline build_result gpu_build(const std::vector<float>& weights, u32 n, u32 coun
   gl::buffer w = gl::buffer::from_vector(weights);
   gl::buffer cdf = gl::buffer::filled(std::size_t(count) * (n + 1) * 4, 0xFF);
   gl::buffer guide = gl::buffer::filled(std::size_t(count) * (m + 1) * 4, 0xFF);
-  gl::buffer blk = gl::buffer::filled(std::size_t(count) * blocks * 32, 0xFF);
-  gl::buffer info = gl::buffer::filled(std::size_t(count) * 16, 0xFF);
-  gl::buffer params = gl::buffer::filled(16, 0);
-  w.bind(0);
-  cdf.bind(1);
-  guide.bind(2);
-  blk.bind(3);
-  info.bind(4);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, params.id());
+  gl::buffer blk = gl::buffer::filled(std::size_t(count) * blocks * sizeof(vplkit::gpu::cdf_build_block), 0xFF);
+  gl::buffer info = gl::buffer::filled(std::size_t(count) * sizeof(build_info), 0xFF);
+  gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
+  w.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
+  cdf.bind(VPLKIT_CDF_BUILD_BINDING_CDF);
+  guide.bind(VPLKIT_CDF_BUILD_BINDING_GUIDE);
+  blk.bind(VPLKIT_CDF_BUILD_BINDING_BLOCKS);
+  info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_CDF_BUILD_BINDING_PARAMS, params.id());
   gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
   for (int pass = 1; pass <= 6; ++pass) build_program(o, o.program_per_pass ? pass : 0);
   glFinish();
   const auto t0 = std::chrono::steady_clock::now();
   for (int pass = 1; pass <= 6; ++pass) {
-    const u32 p[4] = {n, u32(pass), 0, 0};
-    params.write_bytes(p, 0, sizeof p);
+    vplkit::gpu::cdf_build_params p{};
+    p.n = n;
+    p.pass = u32(pass);
+    params.write_bytes(&p, 0, sizeof p);
     const u32 g = pass == 2 || pass == 4 ? 1u : pass == 6 ? guide_groups : groups;
     gl::dispatch(build_program(o, o.program_per_pass ? pass : 0), g, 1, count);
     if (std::getenv("VPLKIT_CDF_BUILD_PROFILE")) {

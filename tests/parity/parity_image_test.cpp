@@ -10,6 +10,7 @@
 #include <parity_harness.hpp>
 
 #include <vplkit/image/median_fill.hpp>
+#include <vplkit/image/median_fill_params.h>
 #include <vplkit/paraboloid/texel_grid.hpp>
 
 #include <algorithm>
@@ -75,10 +76,11 @@ std::vector<float> gpu_fill_dprsm(const std::vector<float>& in, int R, unsigned 
                               "#define VPLKIT_MEDIAN_FILL_BINDING_PARAMS 1\n#define VPLKIT_MEDIAN_FILL_LOCAL_SIZE " +
                               std::to_string(local_size) + "\n";
   const auto& prog = kernel_program(defines);
-  const std::int32_t params[4] = {R, 0, 0, 0};  // std140: one int, block size 16
+  vplkit::gpu::median_fill_params params{};
+  params.resolution = R;
   auto ib = vplkit::gl::buffer::from_vector(in);
   auto ob = vplkit::gl::buffer::filled(in.size() * sizeof(float), 0xFF);
-  auto ub = vplkit::gl::buffer::from_bytes(params, sizeof params);
+  auto ub = vplkit::gl::buffer::from_bytes(&params, sizeof params);
   ib.bind(3);
   ob.bind(5);
   glBindBufferBase(GL_UNIFORM_BUFFER, 1, ub.id());

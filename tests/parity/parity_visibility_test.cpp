@@ -26,6 +26,7 @@
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
 #include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/visibility/voxelize_params.h>
 
 #include <glm/mat3x3.hpp>
 
@@ -480,15 +481,6 @@ dmat3 rotation(double ax, double ay, double az) {
 
 // ---- voxelize.comp ------------------------------------------------------------------------------
 
-struct voxelize_params {  // std140 block: vec4, vec4, ivec4, uint, float (+ padding to 64 bytes)
-  float4 bmin, bmax;
-  int4 res;
-  std::uint32_t triangle_count;
-  float margin;
-  std::uint32_t pad[2];
-};
-static_assert(sizeof(voxelize_params) == 64, "std140 layout of the voxelize parameters");
-
 std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, const mesh& m, float margin) {
   const auto& prog = kernel_program("vplkit/visibility/voxelize.comp",
                                     "#define VPLKIT_VOXELIZE_BINDING_POSITIONS 4\n"
@@ -498,9 +490,12 @@ std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, c
                                     "#define VPLKIT_VOXELIZE_LOCAL_SIZE 64\n");
   std::vector<float4> pos;
   for (const v3f& p : m.positions) pos.push_back(f4(p, 1.0f));
-  const ivec3 r = like.resolution();
-  const voxelize_params params{f4(like.bounds_min()), f4(like.bounds_max()), {r.x, r.y, r.z, 0},
-                               std::uint32_t(m.indices.size() / 3), margin, {0, 0}};
+  vplkit::gpu::voxelize_params params{};
+  params.bounds_min = glm::vec4(like.bounds_min(), 0.0f);
+  params.bounds_max = glm::vec4(like.bounds_max(), 0.0f);
+  params.resolution = glm::ivec4(like.resolution(), 0);
+  params.triangle_count = std::uint32_t(m.indices.size() / 3);
+  params.margin_voxels = margin;
   auto pb = vplkit::gl::buffer::from_vector(pos);
   auto ib = vplkit::gl::buffer::from_vector(m.indices);
   auto wb = vplkit::gl::buffer::filled(like.word_count() * 4, 0);

@@ -210,3 +210,43 @@ TEST_CASE("include_resolver: map_log names files in Mesa, glslang and NVIDIA log
   // Numbers beyond the table and numbers inside messages stay as they are.
   CHECK(r.map_log("5:1(1): error: 0:3 is not a file") == "5:1(1): error: 0:3 is not a file");
 }
+
+TEST_CASE("include_resolver: includes in C++ branches of two-language headers are left out") {
+  temp_tree t;
+  // A *_params.h-style header: C++ includes under __cplusplus that do not exist for GLSL, GLSL
+  // includes in the other branches, and an ordinary #ifdef whose include must still exist.
+  t.write("pack/vplkit/core/g.glsl", "float vplkit_g() { return 2.0; }\n");
+  t.write("pack/vplkit/core/h.glsl", "float vplkit_h() { return 3.0; }\n");
+  t.write("pack/vplkit/core/params.h",
+          "#ifdef __cplusplus\n"
+          "#include <glm/vec4.hpp>\n"                      // 2: C++ only
+          "#if SOMETHING\n"
+          "#include \"cxx_only.hpp\"\n"                    // 4: nested in the C++ branch
+          "#endif\n"
+          "#else\n"
+          "#include \"g.glsl\"\n"                          // 7: GLSL
+          "#endif\n"
+          "#if defined( __cplusplus )  // comment\n"
+          "#include <cstdint>\n"                           // 10: C++ only
+          "#endif\n"
+          "#ifndef __cplusplus\n"
+          "#include \"h.glsl\"\n"                          // 13: GLSL
+          "#elif OTHER\n"
+          "#include <other_cxx.hpp>\n"                     // 15: C++ only (needs __cplusplus)
+          "#else\n"
+          "#include <more_cxx.hpp>\n"                      // 17: C++ only
+          "#endif\n"
+          "struct vplkit_p { vec4 a; };\n");
+  const auto r = resolve_includes("#version 430\n#include \"vplkit/core/params.h\"\nvoid main() {}\n", "root",
+                                  {t.dir("pack")});
+  CHECK(count_of(r.text, "vplkit_g()") == 1);
+  CHECK(count_of(r.text, "vplkit_h()") == 1);
+  CHECK(count_of(r.text, "glm/vec4.hpp") == 0);
+  CHECK(count_of(r.text, "#include") == 0);
+  CHECK(location_of(r.text, "struct vplkit_p { vec4 a; };") == "1:19");  // numbering kept
+  CHECK(r.files.size() == 4);  // root, params.h, g.glsl, h.glsl
+
+  // An include in an ordinary conditional branch is still looked up.
+  t.write("pack/vplkit/core/q.h", "#ifdef VPLKIT_OPTION\n#include \"missing.glsl\"\n#endif\n");
+  CHECK_THROWS_AS(resolve_includes("#include \"vplkit/core/q.h\"\n", "root", {t.dir("pack")}), include_error);
+}

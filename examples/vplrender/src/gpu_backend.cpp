@@ -4,6 +4,8 @@
 
 #include <headless_gl/compute.hpp>
 
+#include <vplkit/builders/gbg_accumulate_params.h>
+#include <vplkit/builders/gbg_finish_params.h>
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/core/error.hpp>
@@ -12,7 +14,6 @@
 #include <vplkit/vpl/luminance.hpp>
 
 #include <glm/vec4.hpp>
-#include <glm/gtc/type_precision.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -83,32 +84,6 @@ work_shape shape_of(const estimator_settings& es, int R, const vplkit::ivec3& vr
     case k_mis: s.cost = 2 * dda + cdf + 8; s.units = std::max(es.dirs, es.vpls); break;
   }
   return s;
-}
-
-// The std140 blocks of the pack's gbg_accumulate.comp / gbg_finish.comp (their header comments).
-struct light_block {
-  glm::vec4 position, intensity, axis_x, axis_y, axis_z;
-};
-struct gbg_accumulate_block {
-  light_block light;
-  glm::vec4 grid_min, grid_max;
-  glm::ivec4 grid_res;
-  glm::ivec4 sizes;    // W, H, R, n_dirs
-  glm::ivec4 options;  // accumulator, dir_begin, dir_end, count_gather_points
-  glm::uvec4 seed;
-  glm::vec4 reals;  // dmin, depth_tolerance, offset_voxels
-  glm::vec4 fixed;  // scale, max_units
-};
-struct gbg_finish_block {
-  light_block light;
-  glm::ivec4 sizes;  // R, n_dirs, fill_holes
-  glm::vec4 fixed;   // 1 / scale
-};
-
-light_block light_of(const vplkit::dprsm_view<float>& v) {
-  const auto& L = v.light;
-  return {glm::vec4(L.position, 0.0f), glm::vec4(L.intensity, 0.0f), glm::vec4(L.frame.axis_x, 0.0f),
-          glm::vec4(L.frame.axis_y, 0.0f), glm::vec4(L.frame.axis_z, 0.0f)};
 }
 
 const vplkit::gl::program& pack_kernel(const std::string& rel) {
@@ -188,7 +163,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
   gl::buffer b_dprsm = gl::buffer::from_vector(dprsm);
   gl::buffer b_words = gl::buffer::from_vector(words);
   gl::buffer b_acc = gl::buffer::filled(2 * n * 4, 0);
-  gl::buffer b_stats = gl::buffer::filled(8 * 4, 0);
+  gl::buffer b_stats = gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
   gl::buffer b_weights = gl::buffer::filled(n * 4, 0);
 
   // llvmpipe leaves every loop after 65535 iterations per invocation: one ray marches at most
@@ -196,10 +171,10 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
   // (the fixed-point sums do not depend on the split).
   const long long per_dir = static_cast<long long>(grid.resolution.x) + grid.resolution.y + grid.resolution.z + 8;
   const int dirs_per = static_cast<int>(std::max(1LL, gpu_loop_budget / per_dir));
-  const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), 64);
+  const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), VPLKIT_GBG_LOCAL_SIZE);
   const GLuint gx = std::min<GLuint>(groups, 65535u);
   const GLuint gy = (groups + gx - 1) / gx;
-  const light_block light = light_of(view);
+  const vplkit::gpu::light_params light = vplkit::gpu::make_light_params(view.light);
   std::vector<gl::buffer> blocks;
   int dispatches = 0;
   {
@@ -207,50 +182,72 @@ gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& 
     tq.begin();
     for (int begin = 0; begin < es.dirs; begin += dirs_per) {
       const int end = std::min(es.dirs, begin + dirs_per);
-      const gbg_accumulate_block p{light,
-                                   glm::vec4(grid.bounds_min, 0.0f),
-                                   glm::vec4(grid.bounds_max, 0.0f),
-                                   glm::ivec4(grid.resolution.x, grid.resolution.y, grid.resolution.z, 0),
-                                   glm::ivec4(W, H, R, es.dirs),
-                                   glm::ivec4(paper_acc ? 0 : 1, begin, end, begin == 0 ? 1 : 0),
-                                   glm::uvec4(builder_seed(es.seed, 2), 0u, 0u, 0u),
-                                   glm::vec4(es.dmin, depth_tol, float(vplkit::voxel_surface_offset_default), 0.0f),
-                                   glm::vec4(float(scale), float(max_units), 0.0f, 0.0f)};
-      blocks.push_back(gl::buffer::from_vector(std::vector<gbg_accumulate_block>{p}));
-      b_gbuf.bind(0);
-      b_dprsm.bind(1);
-      b_words.bind(2);
-      b_acc.bind(3);
-      b_stats.bind(4);
-      glBindBufferBase(GL_UNIFORM_BUFFER, 0, blocks.back().id());
+      vplkit::gpu::gbg_accumulate_params p{};
+      p.light = light;
+      p.grid_min = glm::vec4(grid.bounds_min, 0.0f);
+      p.grid_max = glm::vec4(grid.bounds_max, 0.0f);
+      p.grid_resolution = glm::ivec4(grid.resolution, 0);
+      p.width = W;
+      p.height = H;
+      p.resolution = R;
+      p.n_dirs = es.dirs;
+      p.accumulator = paper_acc ? 0 : 1;
+      p.dir_begin = begin;
+      p.dir_end = end;
+      p.count_gather_points = begin == 0 ? 1 : 0;
+      p.seed = builder_seed(es.seed, 2);
+      p.dmin = es.dmin;
+      p.depth_tolerance = depth_tol;
+      p.offset_voxels = float(vplkit::voxel_surface_offset_default);
+      p.scale = float(scale);
+      p.max_units = float(max_units);
+      blocks.push_back(gl::buffer::from_bytes(&p, sizeof p));
+      b_gbuf.bind(VPLKIT_GBG_BINDING_GBUFFER);
+      b_dprsm.bind(VPLKIT_GBG_BINDING_DPRSM);
+      b_words.bind(VPLKIT_GBG_BINDING_VOXELS);
+      b_acc.bind(VPLKIT_GBG_BINDING_ACC);
+      b_stats.bind(VPLKIT_GBG_BINDING_STATS);
+      glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GBG_BINDING_PARAMS, blocks.back().id());
       gl::dispatch(acc_prog, gx, gy);
       ++dispatches;
     }
-    const gbg_finish_block fp{light, glm::ivec4(R, es.dirs, 1, 0), glm::vec4(float(1.0 / scale), 0.0f, 0.0f, 0.0f)};
-    blocks.push_back(gl::buffer::from_vector(std::vector<gbg_finish_block>{fp}));
-    b_acc.bind(0);
-    b_stats.bind(1);
-    b_dprsm.bind(2);
-    b_weights.bind(3);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, blocks.back().id());
-    const GLuint fg = gl::groups_for(static_cast<std::size_t>(R), 8);
+    vplkit::gpu::gbg_finish_params fp{};
+    fp.light = light;
+    fp.resolution = R;
+    fp.n_dirs = es.dirs;
+    fp.fill_holes = 1;
+    fp.inv_scale = float(1.0 / scale);
+    blocks.push_back(gl::buffer::from_bytes(&fp, sizeof fp));
+    b_acc.bind(VPLKIT_GBG_FINISH_BINDING_ACC);
+    b_stats.bind(VPLKIT_GBG_FINISH_BINDING_STATS);
+    b_dprsm.bind(VPLKIT_GBG_FINISH_BINDING_DPRSM);
+    b_weights.bind(VPLKIT_GBG_FINISH_BINDING_WEIGHTS);
+    glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GBG_FINISH_BINDING_PARAMS, blocks.back().id());
+    const GLuint fg = gl::groups_for(static_cast<std::size_t>(R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
     gl::dispatch(fin_prog, fg, fg, 2);
     tq.end();
     timer.add("gbg weights + hole fill (gpu)", tq.milliseconds(), "gpu");
   }
   gbg_gpu_weights out;
   if (read_back) out.weights = b_weights.read<float>(n);
-  const std::vector<std::uint32_t> st = b_stats.read<std::uint32_t>(8);
+  const std::vector<std::uint32_t> st = b_stats.read<std::uint32_t>(VPLKIT_GBG_STATS_SIZE);
+  const std::uint32_t g_points = st[VPLKIT_GBG_STAT_GATHER_POINTS];
   out.scale = scale;
-  out.lit_hits = static_cast<long long>(st[2]);
-  out.gather_points = static_cast<int>(st[0]);
+  out.lit_hits = static_cast<long long>(st[VPLKIT_GBG_STAT_LIT_HITS]);
+  out.gather_points = static_cast<int>(g_points);
   out.buffer = std::move(b_weights);
-  det["gbg"] = {{"gather_points", st[0]},     {"rays", static_cast<long long>(st[0]) * es.dirs},
-                {"hits", st[1]},              {"lit_hits", st[2]},
-                {"reached_texels", st[4]},    {"holes", st[5]},
-                {"filled", st[6]},            {"accumulator", to_string(es.gbg_accumulator)},
-                {"backend", "gpu"},           {"fixed_point_scale", scale},
-                {"fixed_point_max_units", max_units}, {"saturated_hits", st[3]},
+  det["gbg"] = {{"gather_points", g_points},
+                {"rays", static_cast<long long>(g_points) * es.dirs},
+                {"hits", st[VPLKIT_GBG_STAT_HITS]},
+                {"lit_hits", st[VPLKIT_GBG_STAT_LIT_HITS]},
+                {"reached_texels", st[VPLKIT_GBG_STAT_REACHED_TEXELS]},
+                {"holes", st[VPLKIT_GBG_STAT_HOLES]},
+                {"filled", st[VPLKIT_GBG_STAT_FILLED]},
+                {"accumulator", to_string(es.gbg_accumulator)},
+                {"backend", "gpu"},
+                {"fixed_point_scale", scale},
+                {"fixed_point_max_units", max_units},
+                {"saturated_hits", st[VPLKIT_GBG_STAT_SATURATED_HITS]},
                 {"dispatches", dispatches}};
   return out;
 }

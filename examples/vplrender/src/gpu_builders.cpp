@@ -3,11 +3,12 @@
 #include "gpu_backend.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
+#include <vplkit/builders/gather_subset_params.h>
+#include <vplkit/builders/global_weights_params.h>
 #include <vplkit/builders/local_weights.hpp>
 #include <vplkit/core/error.hpp>
 
 #include <glm/vec4.hpp>
-#include <glm/gtc/type_precision.hpp>
 
 #include <algorithm>
 #include <map>
@@ -26,19 +27,6 @@ const gl::program& pack_program(const std::string& rel) {
   gl::program prog = gl::program::compute_with_includes("#version 430\n#include \"" + rel + "\"\n", rel);
   return cache.emplace(rel, std::move(prog)).first->second;
 }
-
-// The std140 blocks of gather_subset.comp and global_weights.comp (their header comments).
-struct subset_block {
-  glm::ivec4 rect;   // x0, y0, width, height
-  glm::ivec4 shape;  // count, columns, rows, last_columns
-  glm::uvec4 rng;    // seed, stream_offset, max_attempts, out_offset
-  glm::ivec4 image;  // W, H
-};
-struct weights_block {
-  glm::vec4 position, intensity, axis_x, axis_y, axis_z;
-  glm::ivec4 sizes;  // R, N, W H
-  glm::vec4 reals;   // dmin
-};
 
 gl::buffer surfels(const std::vector<vec3>& p, const std::vector<vec3>& nrm, const std::vector<vec3>& a) {
   std::vector<glm::vec4> s(3 * std::max<std::size_t>(p.size(), 1), glm::vec4(0.0f));
@@ -94,33 +82,30 @@ gpu_weights build_brsm_weights_gpu(const gbuffer_data& gb, const dprsm_data& dd,
     const vplkit::gather_subset_grid_shape shape = vplkit::gather_subset_grid(r, count);
     if (shape.count <= 0) continue;
     const std::uint32_t first = static_cast<std::uint32_t>(i) * static_cast<std::uint32_t>(count);
-    const subset_block p{glm::ivec4(r.x0, r.y0, r.width, r.height),
-                         glm::ivec4(shape.count, shape.columns, shape.rows, shape.last_columns),
-                         glm::uvec4(seed, first, static_cast<std::uint32_t>(vplkit::gather_subset_default_attempts), first),
-                         glm::ivec4(g.width, g.height, 0, 0)};
-    blocks.push_back(gl::buffer::from_vector(std::vector<subset_block>{p}));
-    b_gbuf.bind(0);
-    b_subset.bind(1);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, blocks.back().id());
-    gl::dispatch(sp, gl::groups_for(static_cast<std::size_t>(shape.count), 64));
+    const vplkit::gpu::gather_subset_params p =
+        vplkit::gpu::make_gather_subset_params(g, r, count, seed, first, vplkit::gather_subset_default_attempts, first);
+    blocks.push_back(gl::buffer::from_bytes(&p, sizeof p));
+    b_gbuf.bind(VPLKIT_GATHER_SUBSET_BINDING_GBUFFER);
+    b_subset.bind(VPLKIT_GATHER_SUBSET_BINDING_PIXELS);
+    glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GATHER_SUBSET_BINDING_PARAMS, blocks.back().id());
+    gl::dispatch(sp, gl::groups_for(static_cast<std::size_t>(shape.count), VPLKIT_GATHER_SUBSET_LOCAL_SIZE));
   }
   out.weights = gl::buffer::filled((static_cast<std::size_t>(N) + 1) * n * 4, 0);
-  const auto& L = view.light;
-  const weights_block wp{glm::vec4(L.position, 0.0f),
-                         glm::vec4(L.intensity, 0.0f),
-                         glm::vec4(L.frame.axis_x, 0.0f),
-                         glm::vec4(L.frame.axis_y, 0.0f),
-                         glm::vec4(L.frame.axis_z, 0.0f),
-                         glm::ivec4(view.resolution, N, g.width * g.height, 0),
-                         glm::vec4(es.dmin, 0.0f, 0.0f, 0.0f)};
-  blocks.push_back(gl::buffer::from_vector(std::vector<weights_block>{wp}));
-  b_gbuf.bind(0);
-  b_dprsm.bind(1);
-  b_subset.bind(2);
-  b_offsets.bind(3);
-  out.weights.bind(4);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, blocks.back().id());
-  gl::dispatch(pack_program("vplkit/builders/global_weights.comp"), gl::groups_for(n, 64), static_cast<GLuint>(N));
+  vplkit::gpu::global_weights_params wp{};
+  wp.light = vplkit::gpu::make_light_params(view.light);
+  wp.resolution = view.resolution;
+  wp.regions = N;
+  wp.pixel_count = g.width * g.height;
+  wp.dmin = es.dmin;
+  blocks.push_back(gl::buffer::from_bytes(&wp, sizeof wp));
+  b_gbuf.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER);
+  b_dprsm.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM);
+  b_subset.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET);
+  b_offsets.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
+  out.weights.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, blocks.back().id());
+  gl::dispatch(pack_program("vplkit/builders/global_weights.comp"), gl::groups_for(n, VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE),
+               static_cast<GLuint>(N));
   // |S_i| for the report: the subsets are a few hundred ints.
   const std::vector<std::int32_t> picks = b_subset.read<std::int32_t>(cap);
   out.used.assign(static_cast<std::size_t>(N), 0);

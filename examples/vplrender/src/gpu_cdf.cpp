@@ -1,6 +1,7 @@
 #include "gpu_cdf.hpp"
 
 #include <vplkit/core/error.hpp>
+#include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 
@@ -45,15 +46,7 @@ std::uint32_t float_bits(float x) {
   return u;
 }
 
-// cdf_build.comp's per-distribution info record (its header).
-struct cdf_info {
-  double sum;
-  float total;
-  std::uint32_t zeroed;
-};
-static_assert(sizeof(cdf_info) == 16, "cdf_build info is 16 bytes");
-
-constexpr std::size_t cdf_block = 256 * 4;  // LOCAL_SIZE x ITEMS (the kernel's defaults)
+constexpr std::size_t cdf_block = VPLKIT_CDF_BUILD_BLOCK;  // weights per block (the kernel's defaults)
 
 }  // namespace
 
@@ -87,9 +80,10 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   gl::timer_query tq;
   tq.begin();
   out.data = gl::buffer::filled((guide_base + guide_words) * 4, 0);
-  gl::buffer b_blocks = gl::buffer::filled(std::max<std::size_t>(1, dists * blocks) * 32, 0);
-  gl::buffer b_info = gl::buffer::filled(dists * sizeof(cdf_info), 0);
-  gl::buffer b_params = gl::buffer::filled(16, 0);
+  gl::buffer b_blocks =
+      gl::buffer::filled(std::max<std::size_t>(1, dists * blocks) * sizeof(vplkit::gpu::cdf_build_block), 0);
+  gl::buffer b_info = gl::buffer::filled(dists * sizeof(vplkit::gpu::cdf_build_info), 0);
+  gl::buffer b_params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
   if (with_fallback) {
     const gl::program& fp = fallback_program();
     fp.use();
@@ -108,25 +102,28 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
     gl::dispatch(fp, gl::groups_for(n, 64));
   }
   const gl::program& cp = cdf_build_program();
-  weights.bind(0);
-  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, out.data.id(), 0, static_cast<GLsizeiptr>(cdf_words * 4));
-  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, out.data.id(), static_cast<GLintptr>(guide_base * 4),
-                    static_cast<GLsizeiptr>(guide_words * 4));
-  b_blocks.bind(3);
-  b_info.bind(4);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, b_params.id());
+  weights.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VPLKIT_CDF_BUILD_BINDING_CDF, out.data.id(), 0,
+                    static_cast<GLsizeiptr>(cdf_words * 4));
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VPLKIT_CDF_BUILD_BINDING_GUIDE, out.data.id(),
+                    static_cast<GLintptr>(guide_base * 4), static_cast<GLsizeiptr>(guide_words * 4));
+  b_blocks.bind(VPLKIT_CDF_BUILD_BINDING_BLOCKS);
+  b_info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_CDF_BUILD_BINDING_PARAMS, b_params.id());
   gl::check_gl("cdf_build.comp bindings");
   const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), 65535));
   const GLuint guide_groups =
       static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, 65535));
   for (std::uint32_t pass = 1; pass <= 6; ++pass) {
-    const std::uint32_t p[4] = {static_cast<std::uint32_t>(n), pass, 0u, 0u};
-    b_params.write_bytes(p, 0, sizeof p);
+    vplkit::gpu::cdf_build_params p{};
+    p.n = static_cast<std::uint32_t>(n);
+    p.pass = pass;
+    b_params.write_bytes(&p, 0, sizeof p);
     gl::dispatch(cp, pass == 2 || pass == 4 ? 1 : pass == 6 ? guide_groups : groups, 1, static_cast<GLuint>(dists));
   }
   // The only read-back: the totals (16 bytes per distribution).
-  std::vector<cdf_info> info(dists);
-  b_info.read_bytes(info.data(), 0, dists * sizeof(cdf_info));
+  std::vector<vplkit::gpu::cdf_build_info> info(dists);
+  b_info.read_bytes(info.data(), 0, dists * sizeof(vplkit::gpu::cdf_build_info));
 
   // Mixture d: slot 2d (learned d) and 2d + 1 (the shared fallback); every slot stores the uint
   // offsets of its cdf and guide in `data`.

@@ -5,6 +5,7 @@
 #include <headless_gl/compute.hpp>
 
 #include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/visibility/voxelize_params.h>
 
 #include <glm/vec4.hpp>
 
@@ -35,29 +36,21 @@ vplkit::voxel_grid<float> voxelize_gpu(const scene& s, int resolution, double* m
   auto positions = vplkit::gl::buffer::from_vector(pos);
   auto indices = vplkit::gl::buffer::from_vector(m.indices);
   auto grid = vplkit::gl::buffer::filled(words * sizeof(std::uint32_t), 0);
-  struct params {
-    float bmin[4], bmax[4];
-    int res[4];
-    std::uint32_t triangle_count;
-    float margin;
-    float pad[2];
-  } pr{};
-  for (int a = 0; a < 3; ++a) {
-    pr.bmin[a] = b.min[a];
-    pr.bmax[a] = b.max[a];
-    pr.res[a] = resolution;
-  }
+  vplkit::gpu::voxelize_params pr{};
+  pr.bounds_min = glm::vec4(b.min, 0.0f);
+  pr.bounds_max = glm::vec4(b.max, 0.0f);
+  pr.resolution = glm::ivec4(res, 0);
   const std::uint32_t tris = static_cast<std::uint32_t>(m.indices.size() / 3);
   pr.triangle_count = tris;
-  pr.margin = static_cast<float>(vplkit::voxelize_default_margin);
+  pr.margin_voxels = static_cast<float>(vplkit::voxelize_default_margin);
   GLuint ubo = 0;
   glGenBuffers(1, &ubo);
   glBindBuffer(GL_UNIFORM_BUFFER, ubo);
   glBufferData(GL_UNIFORM_BUFFER, sizeof(pr), &pr, GL_STATIC_DRAW);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 3, ubo);
-  positions.bind(0);
-  indices.bind(1);
-  grid.bind(2);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_VOXELIZE_BINDING_PARAMS, ubo);
+  positions.bind(VPLKIT_VOXELIZE_BINDING_POSITIONS);
+  indices.bind(VPLKIT_VOXELIZE_BINDING_INDICES);
+  grid.bind(VPLKIT_VOXELIZE_BINDING_WORDS);
   vplkit::gl::timer_query tq;
   tq.begin();
   // One work group per triangle (voxelize.comp's dispatch rule), spread over y past 65535.

@@ -7,33 +7,16 @@
 // here stratum k always writes pixels[out_offset + k], -1 when dropped, which
 // global_weights.comp skips: the same weights.
 //
-// Interface (no #version; the host prepends it and its #defines):
-//   VPLKIT_GATHER_SUBSET_BINDING_GBUFFER  (default 0) SSBO, std430, readonly: vec4 gbuffer[3 W H]
-//                                         (position, normal, albedo of pixel p at 3p .. 3p + 2;
-//                                         only the validity of a pixel is read)
-//   VPLKIT_GATHER_SUBSET_BINDING_PIXELS   (default 1) SSBO, std430, writeonly: int pixels[]
-//   VPLKIT_GATHER_SUBSET_BINDING_PARAMS   (default 0) uniform block, std140:
-//     ivec4 rect   (x0, y0, width, height) inside the W x H image (validated by the host)
-//     ivec4 shape  (count, columns, rows, last_columns) = the C++ gather_subset_grid(rect, count)
-//     uvec4 rng    (seed, stream_offset, max_attempts, out_offset)
-//     ivec4 image  (W, H)
-//   VPLKIT_GATHER_SUBSET_LOCAL_SIZE       (default 64)
+// Interface (no #version; the host prepends it and its #defines): gather_subset_params.h, shared
+// with the C++ host -- bindings (VPLKIT_GATHER_SUBSET_BINDING_*: the G-buffer as vec4 gbuffer[3 W H]
+// of which only the validity of a pixel is read; int pixels[] written), the local size and the
+// std140 block vplkit_gather_subset_params (the rectangle inside the W x H image, validated by the
+// host; the grid shape of the C++ gather_subset_grid(rect, count); seed, stream_offset,
+// max_attempts, out_offset).
 // Dispatch: ceil(count / LOCAL_SIZE) groups.
 #include "vplkit/builders/gather_subset.glsl"
+#include "vplkit/builders/gather_subset_params.h"
 #include "vplkit/core/gather_point.glsl"
-
-#ifndef VPLKIT_GATHER_SUBSET_BINDING_GBUFFER
-#define VPLKIT_GATHER_SUBSET_BINDING_GBUFFER 0
-#endif
-#ifndef VPLKIT_GATHER_SUBSET_BINDING_PIXELS
-#define VPLKIT_GATHER_SUBSET_BINDING_PIXELS 1
-#endif
-#ifndef VPLKIT_GATHER_SUBSET_BINDING_PARAMS
-#define VPLKIT_GATHER_SUBSET_BINDING_PARAMS 0
-#endif
-#ifndef VPLKIT_GATHER_SUBSET_LOCAL_SIZE
-#define VPLKIT_GATHER_SUBSET_LOCAL_SIZE 64
-#endif
 
 layout(local_size_x = VPLKIT_GATHER_SUBSET_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
 
@@ -43,11 +26,8 @@ layout(std430, binding = VPLKIT_GATHER_SUBSET_BINDING_GBUFFER) readonly buffer v
 layout(std430, binding = VPLKIT_GATHER_SUBSET_BINDING_PIXELS) writeonly buffer vplkit_gather_subset_pixels_buffer {
   int vplkit_gather_subset_pixels[];
 };
-layout(std140, binding = VPLKIT_GATHER_SUBSET_BINDING_PARAMS) uniform vplkit_gather_subset_block {
-  ivec4 vplkit_gather_subset_rect;
-  ivec4 vplkit_gather_subset_shape;
-  uvec4 vplkit_gather_subset_rng;
-  ivec4 vplkit_gather_subset_image;
+layout(std140, binding = VPLKIT_GATHER_SUBSET_BINDING_PARAMS) uniform vplkit_gather_subset_uniforms {
+  vplkit_gather_subset_params vplkit_gather_subset;
 };
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
@@ -57,11 +37,10 @@ vplkit_gather_point vplkit_load_gather_point(int pixel) {
 
 void main() {
   int k = int(gl_GlobalInvocationID.x);
-  ivec4 s = vplkit_gather_subset_shape;
-  if (k >= s.x) return;
-  ivec4 r = vplkit_gather_subset_rect;
-  uvec4 q = vplkit_gather_subset_rng;
-  vplkit_gather_subset_pixels[q.w + uint(k)] = vplkit_gather_subset_pick(
-      vplkit_gbuffer_view(vplkit_gather_subset_image.x, vplkit_gather_subset_image.y), vplkit_pixel_rect(r.x, r.y, r.z, r.w),
-      vplkit_gather_subset_grid_shape(s.x, s.y, s.z, s.w), k, q.x, q.y, int(q.z));
+  vplkit_gather_subset_params p = vplkit_gather_subset;
+  if (k >= p.count) return;
+  vplkit_gather_subset_pixels[p.out_offset + uint(k)] = vplkit_gather_subset_pick(
+      vplkit_gbuffer_view(p.image_width, p.image_height), vplkit_pixel_rect(p.x0, p.y0, p.width, p.height),
+      vplkit_gather_subset_grid_shape(p.count, p.columns, p.rows, p.last_columns), k, p.seed, p.stream_offset,
+      p.max_attempts);
 }

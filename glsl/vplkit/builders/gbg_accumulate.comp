@@ -7,22 +7,17 @@
 // Then gbg_finish.comp turns acc into weights w_t = acc / (|G| n_dirs) and fills holes.
 //
 // Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
-// "#extension GL_GOOGLE_include_directive : require"), then its #defines):
-//   VPLKIT_GBG_BINDING_GBUFFER  (default 0) SSBO, std430, readonly:
-//                               vec4 gbuffer[3 * W * H]: position, normal, albedo of pixel p at
-//                               3p, 3p + 1, 3p + 2 (xyz; p = y * W + x; zero normal = background)
-//   VPLKIT_GBG_BINDING_DPRSM    (default 1) SSBO, std430, readonly: vec4 dprsm[3 * 2 R^2], likewise
-//                               per texel (index = face * R * R + y * R + x)
-//   VPLKIT_GBG_BINDING_VOXELS   (default 2) SSBO, std430, readonly: uint words[] of the voxel grid
-//                               (visibility/voxel_grid.glsl layout, as vplkit::voxel_grid::words())
-//   VPLKIT_GBG_BINDING_ACC      (default 3) SSBO, std430: uint acc[2 * 2 R^2], (lo, hi) per texel;
-//                               ZEROED by the host before the first dispatch
-//   VPLKIT_GBG_BINDING_STATS    (default 4) SSBO, std430: uint stats[8], ZEROED by the host:
-//                               [0] |G| valid gather points (counted when count_gather_points),
-//                               [1] hits, [2] lit hits (as vplkit::gbg_stats), [3] saturated hits;
-//                               [4..6] are gbg_finish.comp's
-//   VPLKIT_GBG_BINDING_PARAMS   (default 0) uniform block, std140, vplkit_gbg_block below
-//   VPLKIT_GBG_LOCAL_SIZE       (default 64)
+// "#extension GL_GOOGLE_include_directive : require"), then its #defines): gbg_accumulate_params.h,
+// shared with the C++ host -- bindings (VPLKIT_GBG_BINDING_*), the local size, the stats counters
+// and the std140 block vplkit_gbg_accumulate_params. Buffers:
+//   GBUFFER  vec4 gbuffer[3 W H]: position, normal, albedo of pixel p at 3p, 3p + 1, 3p + 2 (xyz;
+//            p = y * W + x; zero normal = background)
+//   DPRSM    vec4 dprsm[3 * 2 R^2], likewise per texel (index = face * R * R + y * R + x)
+//   VOXELS   uint words[] of the voxel grid (visibility/voxel_grid.glsl, as voxel_grid::words())
+//   ACC      uint acc[2 * 2 R^2], (lo, hi) per texel; ZEROED by the host before the first dispatch
+//   STATS    uint stats[VPLKIT_GBG_STATS_SIZE], ZEROED by the host: |G| (counted where
+//            count_gather_points is set), hits, lit hits (as vplkit::gbg_stats), saturated hits;
+//            the rest are gbg_finish.comp's
 // Dispatch: ceil(W * H / LOCAL_SIZE) invocations in x, spread over y when above 65535 groups
 // (pixel = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * LOCAL_SIZE).
 // Several dispatches over direction ranges [dir_begin, dir_end) that cover [0, n_dirs) once give
@@ -38,32 +33,11 @@
 // 1.5 float ulps. No overflow while (hits of one texel) * max_units < 2^64: take
 // max_units = 2^(63 - ceil(log2(|G| n_dirs))) and scale = 2^floor(log2(max_units / v_bound)) for a
 // bound v_bound of the per-hit value (formulas in gbg_weights.glsl); hits above it saturate at
-// max_units and are counted in stats[3].
+// max_units and are counted (VPLKIT_GBG_STAT_SATURATED_HITS).
+#include "vplkit/builders/gbg_accumulate_params.h"
 #include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/core/gather_point.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
-
-#ifndef VPLKIT_GBG_BINDING_GBUFFER
-#define VPLKIT_GBG_BINDING_GBUFFER 0
-#endif
-#ifndef VPLKIT_GBG_BINDING_DPRSM
-#define VPLKIT_GBG_BINDING_DPRSM 1
-#endif
-#ifndef VPLKIT_GBG_BINDING_VOXELS
-#define VPLKIT_GBG_BINDING_VOXELS 2
-#endif
-#ifndef VPLKIT_GBG_BINDING_ACC
-#define VPLKIT_GBG_BINDING_ACC 3
-#endif
-#ifndef VPLKIT_GBG_BINDING_STATS
-#define VPLKIT_GBG_BINDING_STATS 4
-#endif
-#ifndef VPLKIT_GBG_BINDING_PARAMS
-#define VPLKIT_GBG_BINDING_PARAMS 0
-#endif
-#ifndef VPLKIT_GBG_LOCAL_SIZE
-#define VPLKIT_GBG_LOCAL_SIZE 64
-#endif
 
 layout(local_size_x = VPLKIT_GBG_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
 
@@ -82,21 +56,8 @@ layout(std430, binding = VPLKIT_GBG_BINDING_ACC) buffer vplkit_gbg_acc_buffer {
 layout(std430, binding = VPLKIT_GBG_BINDING_STATS) buffer vplkit_gbg_stats_buffer {
   uint vplkit_gbg_stats[];
 };
-layout(std140, binding = VPLKIT_GBG_BINDING_PARAMS) uniform vplkit_gbg_block {
-  vec4 vplkit_gbg_light_position;   // xyz: c (also the light frame's position)
-  vec4 vplkit_gbg_light_intensity;  // xyz: I_s
-  vec4 vplkit_gbg_light_axis_x;     // xyz: the DPRSM's light frame
-  vec4 vplkit_gbg_light_axis_y;
-  vec4 vplkit_gbg_light_axis_z;
-  vec4 vplkit_gbg_grid_min;         // xyz: voxel grid bounds
-  vec4 vplkit_gbg_grid_max;
-  ivec4 vplkit_gbg_grid_res;        // xyz: voxel grid resolution
-  ivec4 vplkit_gbg_sizes;           // x: G-buffer width W, y: height H, z: DPRSM R, w: n_dirs
-  ivec4 vplkit_gbg_options;         // x: accumulator (0 paper, 1 gathering), y: dir_begin,
-                                    // z: dir_end, w: count_gather_points (0 / 1)
-  uvec4 vplkit_gbg_seed;            // x: seed (streams are pixel indices)
-  vec4 vplkit_gbg_reals;            // x: dmin, y: depth_tolerance, z: tracer offset_voxels (1.75)
-  vec4 vplkit_gbg_fixed;            // x: scale, y: max_units (<= 2^63)
+layout(std140, binding = VPLKIT_GBG_BINDING_PARAMS) uniform vplkit_gbg_accumulate_uniforms {
+  vplkit_gbg_accumulate_params vplkit_gbg_accumulate;
 };
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
@@ -112,8 +73,8 @@ uint vplkit_load_voxel_word(uint word_index) { return vplkit_gbg_voxels[word_ind
 // before this add (atomicAdd returns it), so every wrap of the low word adds 1 to the high word
 // exactly once, whatever the order of the adds.
 void vplkit_store_gbg_hit(int texel, float value) {
-  float scale = vplkit_gbg_fixed.x, max_units = vplkit_gbg_fixed.y;
-  if (vplkit_gbg_fixed_saturates(value, scale, max_units)) atomicAdd(vplkit_gbg_stats[3], 1u);
+  float scale = vplkit_gbg_accumulate.scale, max_units = vplkit_gbg_accumulate.max_units;
+  if (vplkit_gbg_fixed_saturates(value, scale, max_units)) atomicAdd(vplkit_gbg_stats[VPLKIT_GBG_STAT_SATURATED_HITS], 1u);
   uvec2 q = vplkit_gbg_fixed_units(value, scale, max_units);
   if (q.x != 0u) {
     uint old = atomicAdd(vplkit_gbg_acc[2 * texel], q.x);
@@ -123,24 +84,21 @@ void vplkit_store_gbg_hit(int texel, float value) {
 }
 
 void main() {
+  vplkit_gbg_accumulate_params p = vplkit_gbg_accumulate;
   uint pixel = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(VPLKIT_GBG_LOCAL_SIZE);
-  if (pixel >= uint(vplkit_gbg_sizes.x) * uint(vplkit_gbg_sizes.y)) return;
+  if (pixel >= uint(p.width) * uint(p.height)) return;
   vplkit_gather_point g = vplkit_load_gather_point(int(pixel));
   if (!vplkit_gather_point_valid(g)) return;
-  if (vplkit_gbg_options.w != 0) atomicAdd(vplkit_gbg_stats[0], 1u);
+  if (p.count_gather_points != 0) atomicAdd(vplkit_gbg_stats[VPLKIT_GBG_STAT_GATHER_POINTS], 1u);
 
-  vplkit_light_frame frame = vplkit_light_frame(vplkit_gbg_light_position.xyz, vplkit_gbg_light_axis_x.xyz,
-                                                vplkit_gbg_light_axis_y.xyz, vplkit_gbg_light_axis_z.xyz);
-  vplkit_dprsm_view view = vplkit_dprsm_view(
-      vplkit_gbg_sizes.z, vplkit_point_light(vplkit_gbg_light_position.xyz, vplkit_gbg_light_intensity.xyz, frame));
-  vplkit_voxel_tracer tracer = vplkit_make_voxel_tracer(
-      vplkit_voxel_grid(vplkit_gbg_grid_min.xyz, vplkit_gbg_grid_max.xyz, vplkit_gbg_grid_res.xyz));
-  tracer.offset_voxels = vplkit_gbg_reals.z;
-  vplkit_gbg_params params = vplkit_gbg_params(vplkit_gbg_sizes.w, vplkit_gbg_reals.x, vplkit_gbg_reals.y,
-                                               vplkit_gbg_seed.x, vplkit_gbg_options.x, false);
-  int dir_begin = max(vplkit_gbg_options.y, 0);
-  int dir_end = min(vplkit_gbg_options.z, params.n_dirs);
+  vplkit_dprsm_view view = vplkit_dprsm_view(p.resolution, vplkit_light_params_point_light(p.light));
+  vplkit_voxel_tracer tracer =
+      vplkit_make_voxel_tracer(vplkit_voxel_grid(p.grid_min.xyz, p.grid_max.xyz, p.grid_resolution.xyz));
+  tracer.offset_voxels = p.offset_voxels;
+  vplkit_gbg_params params = vplkit_gbg_params(p.n_dirs, p.dmin, p.depth_tolerance, p.seed, p.accumulator, false);
+  int dir_begin = max(p.dir_begin, 0);
+  int dir_end = min(p.dir_end, params.n_dirs);
   ivec2 counts = vplkit_gbg_accumulate_gather_point(g, int(pixel), view, tracer, params, dir_begin, dir_end);
-  if (counts.x != 0) atomicAdd(vplkit_gbg_stats[1], uint(counts.x));
-  if (counts.y != 0) atomicAdd(vplkit_gbg_stats[2], uint(counts.y));
+  if (counts.x != 0) atomicAdd(vplkit_gbg_stats[VPLKIT_GBG_STAT_HITS], uint(counts.x));
+  if (counts.y != 0) atomicAdd(vplkit_gbg_stats[VPLKIT_GBG_STAT_LIT_HITS], uint(counts.y));
 }

@@ -3,17 +3,12 @@
 // docs/glsl/distribution.md states its accuracy against the C++ build).
 //
 // Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
-// "#extension GL_GOOGLE_include_directive : require"), then its #defines):
-//   VPLKIT_CDF_BUILD_BINDING_WEIGHTS (default 0) SSBO, std430, readonly: float weights[D * n]
-//   VPLKIT_CDF_BUILD_BINDING_CDF     (default 1) SSBO, std430: float cdf[D * (n + 1)]
-//   VPLKIT_CDF_BUILD_BINDING_GUIDE   (default 2) SSBO, std430: uint guide[D * (m + 1)]
-//   VPLKIT_CDF_BUILD_BINDING_BLOCKS  (default 3) SSBO, std430, scratch:
-//                                                vplkit_cdf_build_block blocks[D * B]  (32 bytes each)
-//   VPLKIT_CDF_BUILD_BINDING_INFO    (default 4) SSBO, std430: vplkit_cdf_build_info info[D] (16 bytes)
-//   VPLKIT_CDF_BUILD_BINDING_PARAMS  (default 0) uniform block, std140: uint n; uint pass;
-//   VPLKIT_CDF_BUILD_LOCAL_SIZE      (default 256) invocations per work group
-//   VPLKIT_CDF_BUILD_ITEMS           (default 4)   weights per invocation; a block is
-//                                                  LOCAL_SIZE * ITEMS weights
+// "#extension GL_GOOGLE_include_directive : require"), then its #defines): cdf_build_params.h,
+// shared with the C++ host -- bindings (VPLKIT_CDF_BUILD_BINDING_*: float weights[D n] read, float
+// cdf[D (n + 1)] and uint guide[D (m + 1)] written, blocks[D B] scratch, info[D]), the local size,
+// VPLKIT_CDF_BUILD_ITEMS weights per invocation (a block is VPLKIT_CDF_BUILD_BLOCK = LOCAL_SIZE *
+// ITEMS weights), the std140 block vplkit_cdf_build_params (n, pass) and the std430 records
+// vplkit_cdf_build_block (32 bytes) and vplkit_cdf_build_info (16 bytes). Options:
 //   VPLKIT_CDF_BUILD_PASS            (optional) 1..6: compile only that pass (one program per
 //                                    pass); without it the uniform `pass` selects it at run time
 //   VPLKIT_CDF_BUILD_FLOAT_FLOAT     (optional) accumulate in pairs of floats instead of double,
@@ -68,60 +63,10 @@
 // and differs only where the exact quotient lies that close to a float rounding tie.
 // Denormal weights count on devices that keep denormals (llvmpipe); a device that flushes them
 // treats them as 0 (both paths).
+#include "vplkit/distribution/cdf_build_params.h"
 #include "vplkit/distribution/discrete_cdf.glsl"
 
-#ifndef VPLKIT_CDF_BUILD_BINDING_WEIGHTS
-#define VPLKIT_CDF_BUILD_BINDING_WEIGHTS 0
-#endif
-#ifndef VPLKIT_CDF_BUILD_BINDING_CDF
-#define VPLKIT_CDF_BUILD_BINDING_CDF 1
-#endif
-#ifndef VPLKIT_CDF_BUILD_BINDING_GUIDE
-#define VPLKIT_CDF_BUILD_BINDING_GUIDE 2
-#endif
-#ifndef VPLKIT_CDF_BUILD_BINDING_BLOCKS
-#define VPLKIT_CDF_BUILD_BINDING_BLOCKS 3
-#endif
-#ifndef VPLKIT_CDF_BUILD_BINDING_INFO
-#define VPLKIT_CDF_BUILD_BINDING_INFO 4
-#endif
-#ifndef VPLKIT_CDF_BUILD_BINDING_PARAMS
-#define VPLKIT_CDF_BUILD_BINDING_PARAMS 0
-#endif
-#ifndef VPLKIT_CDF_BUILD_LOCAL_SIZE
-#define VPLKIT_CDF_BUILD_LOCAL_SIZE 256
-#endif
-#ifndef VPLKIT_CDF_BUILD_ITEMS
-#define VPLKIT_CDF_BUILD_ITEMS 4
-#endif
-#define VPLKIT_CDF_BUILD_BLOCK (VPLKIT_CDF_BUILD_LOCAL_SIZE * VPLKIT_CDF_BUILD_ITEMS)
-
-#ifdef VPLKIT_CDF_BUILD_FLOAT_FLOAT
-#define VPLKIT_CDF_BUILD_ACC vec2
-#else
-#define VPLKIT_CDF_BUILD_ACC double
-#endif
-
 layout(local_size_x = VPLKIT_CDF_BUILD_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
-
-// Per block of one distribution. sum / offset: the accumulator (double, or (hi, lo) floats);
-// max_bits / prefix_max_bits: float bits of the block's largest normalised value and of the
-// largest one in all earlier blocks (non-negative floats order like their bits).
-struct vplkit_cdf_build_block {
-  VPLKIT_CDF_BUILD_ACC sum;
-  VPLKIT_CDF_BUILD_ACC offset;
-  uint max_bits;
-  uint prefix_max_bits;
-  uint zeroed;
-  uint pad;
-};
-
-// Per distribution: sum (the accumulator, internal), total (float, for the descriptor), zeroed.
-struct vplkit_cdf_build_info {
-  VPLKIT_CDF_BUILD_ACC sum;
-  float total;
-  uint zeroed;
-};
 
 layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_WEIGHTS) readonly buffer vplkit_cdf_build_weights_buffer {
   float vplkit_cdf_build_weights[];
@@ -138,18 +83,17 @@ layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_BLOCKS) buffer vplkit_cdf_buil
 layout(std430, binding = VPLKIT_CDF_BUILD_BINDING_INFO) buffer vplkit_cdf_build_info_buffer {
   vplkit_cdf_build_info vplkit_cdf_build_infos[];
 };
-layout(std140, binding = VPLKIT_CDF_BUILD_BINDING_PARAMS) uniform vplkit_cdf_build_params {
-  uint vplkit_cdf_build_n;
-  uint vplkit_cdf_build_pass;
+layout(std140, binding = VPLKIT_CDF_BUILD_BINDING_PARAMS) uniform vplkit_cdf_build_uniforms {
+  vplkit_cdf_build_params vplkit_cdf_build;
 };
 
 // The accessors of discrete_cdf.glsl on this kernel's buffers (Mesa's linker wants a body for
 // every accessor an included function calls, called or not).
 float vplkit_load_cdf(uint distribution, uint i) {
-  return vplkit_cdf_build_cdf[distribution * (vplkit_cdf_build_n + 1u) + i];
+  return vplkit_cdf_build_cdf[distribution * (vplkit_cdf_build.n + 1u) + i];
 }
 uint vplkit_load_guide(uint distribution, uint j) {
-  return vplkit_cdf_build_guide[distribution * (vplkit_discrete_guide_size(vplkit_cdf_build_n) + 1u) + j];
+  return vplkit_cdf_build_guide[distribution * (vplkit_discrete_guide_size(vplkit_cdf_build.n) + 1u) + j];
 }
 
 shared VPLKIT_CDF_BUILD_ACC vplkit_cdf_build_s_acc[VPLKIT_CDF_BUILD_LOCAL_SIZE];
@@ -322,7 +266,7 @@ uint vplkit_cdf_build_block_count(uint n) {
 // Weight i of distribution d; negative, NaN and infinite weights (C++: rejected) count as 0.
 // -0 is a valid zero. Tested on the bits: no dependence on the driver's NaN comparisons.
 float vplkit_cdf_build_weight(uint d, uint i, inout uint zeroed) {
-  float w = vplkit_cdf_build_weights[d * vplkit_cdf_build_n + i];
+  float w = vplkit_cdf_build_weights[d * vplkit_cdf_build.n + i];
   uint bits = floatBitsToUint(w);
   if (bits == 0x80000000u) return 0.0;
   if (bits >= 0x7F800000u) {  // sign set, Inf or NaN
@@ -335,7 +279,7 @@ float vplkit_cdf_build_weight(uint d, uint i, inout uint zeroed) {
 // ---- passes -------------------------------------------------------------------------------------
 // 1: block sums (and the count of zeroed weights per block).
 void vplkit_cdf_build_pass_block_sums(uint d) {
-  uint n = vplkit_cdf_build_n;
+  uint n = vplkit_cdf_build.n;
   uint blocks = vplkit_cdf_build_block_count(n);
   uint t = gl_LocalInvocationID.x;
   for (uint b = gl_WorkGroupID.x; b < blocks; b += gl_NumWorkGroups.x) {
@@ -360,7 +304,7 @@ void vplkit_cdf_build_pass_block_sums(uint d) {
 // order), the total and the zeroed count.
 void vplkit_cdf_build_pass_block_offsets(uint d) {
   if (gl_WorkGroupID.x != 0u) return;
-  uint n = vplkit_cdf_build_n;
+  uint n = vplkit_cdf_build.n;
   uint blocks = vplkit_cdf_build_block_count(n);
   uint t = gl_LocalInvocationID.x;
   VPLKIT_CDF_BUILD_ACC carry = vplkit_cdf_build_acc_zero();
@@ -399,7 +343,7 @@ void vplkit_cdf_build_pass_block_offsets(uint d) {
 
 // 3: normalised partial sums, prefix max within each block.
 void vplkit_cdf_build_pass_normalise(uint d) {
-  uint n = vplkit_cdf_build_n;
+  uint n = vplkit_cdf_build.n;
   uint blocks = vplkit_cdf_build_block_count(n);
   uint t = gl_LocalInvocationID.x;
   VPLKIT_CDF_BUILD_ACC total = vplkit_cdf_build_infos[d].sum;
@@ -440,7 +384,7 @@ void vplkit_cdf_build_pass_normalise(uint d) {
 // 4: exclusive prefix max of the block maxima (work group 0).
 void vplkit_cdf_build_pass_block_prefix_max(uint d) {
   if (gl_WorkGroupID.x != 0u) return;
-  uint n = vplkit_cdf_build_n;
+  uint n = vplkit_cdf_build.n;
   uint blocks = vplkit_cdf_build_block_count(n);
   uint t = gl_LocalInvocationID.x;
   uint carry = 0u;
@@ -467,7 +411,7 @@ void vplkit_cdf_build_pass_block_prefix_max(uint d) {
 
 // 5: the prefix max across blocks, and the two ends.
 void vplkit_cdf_build_pass_finish(uint d) {
-  uint n = vplkit_cdf_build_n;
+  uint n = vplkit_cdf_build.n;
   uint blocks = vplkit_cdf_build_block_count(n);
   uint t = gl_LocalInvocationID.x;
   bool empty = vplkit_cdf_build_acc_is_zero(vplkit_cdf_build_infos[d].sum);
@@ -509,7 +453,7 @@ uint vplkit_cdf_build_guide_owner(uint base, uint n, float fm, uint j) {
 }
 
 void vplkit_cdf_build_pass_guide(uint d) {
-  uint n = vplkit_cdf_build_n;
+  uint n = vplkit_cdf_build.n;
   uint m = vplkit_discrete_guide_size(n);
   float fm = float(m);
   bool empty = vplkit_cdf_build_acc_is_zero(vplkit_cdf_build_infos[d].sum);
@@ -543,7 +487,7 @@ void main() {
 #ifdef VPLKIT_CDF_BUILD_PASS
   uint pass = uint(VPLKIT_CDF_BUILD_PASS);
 #else
-  uint pass = vplkit_cdf_build_pass;
+  uint pass = vplkit_cdf_build.pass;
 #endif
   if (pass == 1u) vplkit_cdf_build_pass_block_sums(d);
   else if (pass == 2u) vplkit_cdf_build_pass_block_offsets(d);

@@ -7,18 +7,11 @@
 // first for a fresh grid.
 //
 // Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
-// "#extension GL_GOOGLE_include_directive : require"), then its #defines; the defaults are
-// distinct numbers so that they also form a valid Vulkan set 0):
-//   VPLKIT_VOXELIZE_BINDING_POSITIONS (default 0) SSBO std430 readonly: vec4 positions[] (xyz; w unused)
-//   VPLKIT_VOXELIZE_BINDING_INDICES   (default 1) SSBO std430 readonly: uint indices[3 * triangle_count]
-//   VPLKIT_VOXELIZE_BINDING_WORDS     (default 2) SSBO std430 read/write: uint words[ceil(nx ny nz / 32)]
-//   VPLKIT_VOXELIZE_BINDING_PARAMS    (default 3) uniform block, std140:
-//       vec4  bounds_min;       // xyz: the grid's bounds_min (w unused)
-//       vec4  bounds_max;       // xyz
-//       ivec4 resolution;       // xyz: nx, ny, nz (w unused)
-//       uint  triangle_count;
-//       float margin_voxels;    // the C++ default is 1e-4 (voxelize_default_margin)
-//   VPLKIT_VOXELIZE_LOCAL_SIZE        (default 64) work group = LOCAL_SIZE x 1 x 1
+// "#extension GL_GOOGLE_include_directive : require"), then its #defines): voxelize_params.h,
+// shared with the C++ host -- bindings (VPLKIT_VOXELIZE_BINDING_*: vec4 positions[] (xyz), uint
+// indices[3 T], the grid's uint words[] read and written), the local size (work groups
+// LOCAL_SIZE x 1 x 1) and the std140 block vplkit_voxelize_params (bounds, resolution, triangle
+// count, margin in voxels; the C++ default margin is 1e-4, voxelize_default_margin).
 // Dispatch: one work group per triangle, (min(T, 65535), ceil(T / 65535), 1) groups for T
 // triangles; triangle = group x + group y * groups x (groups past T return at once).
 // The host validates what vplkit::voxelize validates (bounds, resolution, margin in [0, 0.5)); a
@@ -44,22 +37,7 @@
 // boxes of up to 64 * 65535 / (longest column + 1) columns (all of a 128^3 grid).
 #include "vplkit/visibility/triangle_box_overlap.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
-
-#ifndef VPLKIT_VOXELIZE_BINDING_POSITIONS
-#define VPLKIT_VOXELIZE_BINDING_POSITIONS 0
-#endif
-#ifndef VPLKIT_VOXELIZE_BINDING_INDICES
-#define VPLKIT_VOXELIZE_BINDING_INDICES 1
-#endif
-#ifndef VPLKIT_VOXELIZE_BINDING_WORDS
-#define VPLKIT_VOXELIZE_BINDING_WORDS 2
-#endif
-#ifndef VPLKIT_VOXELIZE_BINDING_PARAMS
-#define VPLKIT_VOXELIZE_BINDING_PARAMS 3
-#endif
-#ifndef VPLKIT_VOXELIZE_LOCAL_SIZE
-#define VPLKIT_VOXELIZE_LOCAL_SIZE 64
-#endif
+#include "vplkit/visibility/voxelize_params.h"
 
 layout(local_size_x = VPLKIT_VOXELIZE_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
 
@@ -72,12 +50,8 @@ layout(std430, binding = VPLKIT_VOXELIZE_BINDING_INDICES) readonly buffer vplkit
 layout(std430, binding = VPLKIT_VOXELIZE_BINDING_WORDS) buffer vplkit_voxelize_words_buffer {
   uint vplkit_voxelize_words[];
 };
-layout(std140, binding = VPLKIT_VOXELIZE_BINDING_PARAMS) uniform vplkit_voxelize_params {
-  vec4 vplkit_voxelize_bounds_min;
-  vec4 vplkit_voxelize_bounds_max;
-  ivec4 vplkit_voxelize_resolution;
-  uint vplkit_voxelize_triangle_count;
-  float vplkit_voxelize_margin_voxels;
+layout(std140, binding = VPLKIT_VOXELIZE_BINDING_PARAMS) uniform vplkit_voxelize_uniforms {
+  vplkit_voxelize_params vplkit_voxelize;
 };
 
 uint vplkit_load_voxel_word(uint word_index) {
@@ -91,12 +65,12 @@ void vplkit_voxelize_set(ivec3 resolution, ivec3 c) {
 
 void main() {
   uint t = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
-  if (t >= vplkit_voxelize_triangle_count) return;
+  if (t >= vplkit_voxelize.triangle_count) return;
   uint lane = gl_LocalInvocationIndex;
-  vplkit_voxel_grid g = vplkit_voxel_grid(vplkit_voxelize_bounds_min.xyz, vplkit_voxelize_bounds_max.xyz,
-                                          vplkit_voxelize_resolution.xyz);
+  vplkit_voxel_grid g = vplkit_voxel_grid(vplkit_voxelize.bounds_min.xyz, vplkit_voxelize.bounds_max.xyz,
+                                          vplkit_voxelize.resolution.xyz);
   ivec3 res = g.resolution;
-  float margin = vplkit_voxelize_margin_voxels;
+  float margin = vplkit_voxelize.margin_voxels;
 
   // Vertices in continuous voxel coordinates (the grid's own convention, as the C++ but in float).
   vec3 v[3];

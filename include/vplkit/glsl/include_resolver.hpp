@@ -19,7 +19,10 @@
 //  - `#extension GL_GOOGLE_include_directive : ...` is dropped (no GL driver knows it);
 //  - a missing file names the including file and line; an include cycle is an error;
 //  - includes inside /* */ comments are ignored; #if/#ifdef are NOT evaluated, so an include
-//    in a disabled branch must still exist.
+//    in a disabled branch must still exist -- except in a C++ branch of a file that compiles as
+//    both languages (the kernels' *_params.h): the first branch of `#ifdef __cplusplus` (or
+//    `#if defined(__cplusplus)`) and the later branches of `#ifndef __cplusplus` are never GLSL,
+//    so their includes are left out (blank lines keep the numbering).
 // Header-only, C++17, standard library only. Errors throw vplkit::glsl::include_error.
 #include <cctype>
 #include <cstddef>
@@ -194,6 +197,25 @@ inline bool parse_include(const std::string& line, bool& quoted, std::string& na
   return false;
 }
 
+// For `#if...` lines: does the group test __cplusplus alone? +1: its first branch is C++ (#ifdef
+// __cplusplus, #if defined(__cplusplus), #if defined __cplusplus); -1: its first branch is GLSL
+// (#ifndef __cplusplus, #if !defined(...)); 0: anything else.
+inline int cplusplus_condition(const std::string& line) {
+  std::string t = trim_left(line);
+  t = trim_left(t.substr(1));  // after '#'
+  std::string compact;
+  for (char c : t) {
+    if (c == '/' && !compact.empty() && compact.back() == '/') {
+      compact.pop_back();
+      break;
+    }
+    if (c != ' ' && c != '\t' && c != '(' && c != ')') compact += c;
+  }
+  if (compact == "ifdef__cplusplus" || compact == "ifdefined__cplusplus") return 1;
+  if (compact == "ifndef__cplusplus" || compact == "if!defined__cplusplus") return -1;
+  return 0;
+}
+
 inline bool is_google_extension(const std::string& line) {
   return line.find("GL_GOOGLE_include_directive") != std::string::npos ||
          line.find("GL_GOOGLE_cpp_style_line_directive") != std::string::npos;
@@ -251,10 +273,34 @@ struct resolver {
     const std::string label = stack_labels.back();
     body += "#line " + std::to_string(first + 1) + " " + std::to_string(index) + "\n";
     bool in_comment = false, code = false;
+    // Open conditional groups: cplusplus_condition of the #if line, and the branch we are in
+    // (0 before the first #elif / #else). A branch is C++ when it is the first of a +1 group or a
+    // later one of a -1 group.
+    struct group {
+      int condition;
+      int branch;
+    };
+    std::vector<group> groups;
+    auto in_cplusplus = [&groups] {
+      for (const group& g : groups)
+        if ((g.condition == 1 && g.branch == 0) || (g.condition == -1 && g.branch > 0)) return true;
+      return false;
+    };
     for (std::size_t i = 0; i < first; ++i) scan_line(lines[i], in_comment, code);
     for (std::size_t i = first; i < lines.size(); ++i) {
       const std::string& line = lines[i];
       const std::string d = scan_line(line, in_comment, code);
+      if (d == "if" || d == "ifdef" || d == "ifndef") {
+        groups.push_back({cplusplus_condition(line), 0});
+      } else if ((d == "else" || d == "elif") && !groups.empty()) {
+        ++groups.back().branch;
+      } else if (d == "endif" && !groups.empty()) {
+        groups.pop_back();
+      }
+      if (d == "include" && in_cplusplus()) {
+        body += "\n";  // C++ only: not GLSL, not looked up
+        continue;
+      }
       if (d == "extension") {
         hoist_extension(line);
         body += "\n";  // a blank line keeps the numbering

@@ -1,4 +1,6 @@
-// A consumer of the installed package: the umbrella header, a distribution, the GLSL pack path.
+// A consumer of the installed package: the umbrella header, a distribution, the GLSL pack path,
+// and a kernel's parameter header from the installed pack (the target puts its root on the path).
+#include <vplkit/builders/gbg_accumulate_params.h>
 #include <vplkit/vplkit.hpp>
 
 #include <cstdio>
@@ -11,6 +13,13 @@ int main() {
   const auto s = cdf.sample(0.5);
   if (s.index != 3 || s.pmf != 0.75) {
     std::fprintf(stderr, "unexpected sample %zu pmf %g\n", s.index, s.pmf);
+    return 1;
+  }
+  vplkit::gpu::gbg_accumulate_params params{};
+  params.light = vplkit::gpu::make_light_params(vplkit::make_point_light(vplkit::vec3<float>(0.0f),
+                                                                         vplkit::vec3<float>(1.0f)));
+  if (sizeof params != 208 || params.light.intensity.x != 1.0f || VPLKIT_GBG_BINDING_PARAMS != 0) {
+    std::fprintf(stderr, "unexpected gbg_accumulate_params\n");
     return 1;
   }
   std::ifstream glsl(VPLKIT_GLSL_DIR "/vplkit/core/constants.glsl");

@@ -1,0 +1,180 @@
+// The kernels' parameter headers (glsl/vplkit/<area>/<kernel>_params.h) compile as C++ here and
+// as GLSL inside each kernel; this test asks the GL driver where every member of each kernel's
+// uniform block (and of cdf_build.comp's std430 records) lies, and checks that the C++ struct puts
+// it at the same byte offset, with the same block size. A member added on one side only, or a
+// padding mistake, fails here instead of corrupting a dispatch.
+#include <parity_harness.hpp>
+
+#include <vplkit/builders/gather_subset_params.h>
+#include <vplkit/builders/gbg_accumulate_params.h>
+#include <vplkit/builders/gbg_finish_params.h>
+#include <vplkit/builders/global_weights_params.h>
+#include <vplkit/distribution/cdf_build_params.h>
+#include <vplkit/image/median_fill_params.h>
+#include <vplkit/visibility/voxelize_params.h>
+#include <vplkit/vpl/light_params.h>
+
+#include <catch2/catch.hpp>
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace gl = vplkit::gl;
+namespace gpu = vplkit::gpu;
+
+struct member {
+  std::string name;    // the GLSL name below the block's struct variable
+  std::size_t offset;  // the C++ offsetof
+};
+
+// The light's five members inside a struct at `base`.
+std::vector<member> light_members(const std::string& prefix, std::size_t base) {
+  return {{prefix + "position", base + offsetof(gpu::light_params, position)},
+          {prefix + "intensity", base + offsetof(gpu::light_params, intensity)},
+          {prefix + "axis_x", base + offsetof(gpu::light_params, axis_x)},
+          {prefix + "axis_y", base + offsetof(gpu::light_params, axis_y)},
+          {prefix + "axis_z", base + offsetof(gpu::light_params, axis_z)}};
+}
+
+const gl::program& kernel(const std::string& file) {
+  vplkit::parity::context();
+  static auto* cache = new std::map<std::string, gl::program>();  // lives with the context
+  auto it = cache->find(file);
+  if (it == cache->end())
+    it = cache->emplace(file, gl::program::compute_with_includes("#version 430\n#include \"" + file + "\"\n", file))
+             .first;
+  return it->second;
+}
+
+GLint resource_value(GLuint prog, GLenum interface, const std::string& name, GLenum property) {
+  const GLuint index = glGetProgramResourceIndex(prog, interface, name.c_str());
+  INFO(name);
+  REQUIRE(index != GL_INVALID_INDEX);
+  GLint value = -1;
+  glGetProgramResourceiv(prog, interface, index, 1, &property, 1, nullptr, &value);
+  gl::check_gl("glGetProgramResourceiv");
+  return value;
+}
+
+// Every listed member at its C++ offset, and the block's size equal to the struct's.
+void check_block(const std::string& file, const std::string& block, const std::string& variable,
+                 std::size_t cpp_size, const std::vector<member>& members) {
+  const GLuint prog = kernel(file).id();
+  INFO(file << ": uniform block " << block);
+  CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, block, GL_BUFFER_DATA_SIZE)) == cpp_size);
+  GLint active = 0;
+  const GLenum count_property = GL_NUM_ACTIVE_VARIABLES;
+  glGetProgramResourceiv(prog, GL_UNIFORM_BLOCK, glGetProgramResourceIndex(prog, GL_UNIFORM_BLOCK, block.c_str()), 1,
+                         &count_property, 1, nullptr, &active);
+  CHECK(std::size_t(active) == members.size());  // std140: every member is active, none missed here
+  for (const member& m : members) {
+    INFO(variable << "." << m.name);
+    CHECK(std::size_t(resource_value(prog, GL_UNIFORM, variable + "." + m.name, GL_OFFSET)) == m.offset);
+  }
+}
+
+#define VPLKIT_MEMBER(type, field) member{#field, offsetof(type, field)}
+
+}  // namespace
+
+TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 layout") {
+  check_block("vplkit/builders/gather_subset.comp", "vplkit_gather_subset_uniforms", "vplkit_gather_subset",
+              sizeof(gpu::gather_subset_params),
+              {VPLKIT_MEMBER(gpu::gather_subset_params, x0), VPLKIT_MEMBER(gpu::gather_subset_params, y0),
+               VPLKIT_MEMBER(gpu::gather_subset_params, width), VPLKIT_MEMBER(gpu::gather_subset_params, height),
+               VPLKIT_MEMBER(gpu::gather_subset_params, count), VPLKIT_MEMBER(gpu::gather_subset_params, columns),
+               VPLKIT_MEMBER(gpu::gather_subset_params, rows), VPLKIT_MEMBER(gpu::gather_subset_params, last_columns),
+               VPLKIT_MEMBER(gpu::gather_subset_params, seed), VPLKIT_MEMBER(gpu::gather_subset_params, stream_offset),
+               VPLKIT_MEMBER(gpu::gather_subset_params, max_attempts),
+               VPLKIT_MEMBER(gpu::gather_subset_params, out_offset),
+               VPLKIT_MEMBER(gpu::gather_subset_params, image_width),
+               VPLKIT_MEMBER(gpu::gather_subset_params, image_height), VPLKIT_MEMBER(gpu::gather_subset_params, pad0),
+               VPLKIT_MEMBER(gpu::gather_subset_params, pad1)});
+
+  std::vector<member> gw = light_members("light.", offsetof(gpu::global_weights_params, light));
+  for (const member& m :
+       {VPLKIT_MEMBER(gpu::global_weights_params, resolution), VPLKIT_MEMBER(gpu::global_weights_params, regions),
+        VPLKIT_MEMBER(gpu::global_weights_params, pixel_count), VPLKIT_MEMBER(gpu::global_weights_params, pad0),
+        VPLKIT_MEMBER(gpu::global_weights_params, dmin), VPLKIT_MEMBER(gpu::global_weights_params, pad1),
+        VPLKIT_MEMBER(gpu::global_weights_params, pad2), VPLKIT_MEMBER(gpu::global_weights_params, pad3)})
+    gw.push_back(m);
+  check_block("vplkit/builders/global_weights.comp", "vplkit_global_weights_uniforms", "vplkit_global_weights",
+              sizeof(gpu::global_weights_params), gw);
+
+  using acc = gpu::gbg_accumulate_params;
+  std::vector<member> ga = light_members("light.", offsetof(acc, light));
+  for (const member& m :
+       {VPLKIT_MEMBER(acc, grid_min), VPLKIT_MEMBER(acc, grid_max), VPLKIT_MEMBER(acc, grid_resolution),
+        VPLKIT_MEMBER(acc, width), VPLKIT_MEMBER(acc, height), VPLKIT_MEMBER(acc, resolution),
+        VPLKIT_MEMBER(acc, n_dirs), VPLKIT_MEMBER(acc, accumulator), VPLKIT_MEMBER(acc, dir_begin),
+        VPLKIT_MEMBER(acc, dir_end), VPLKIT_MEMBER(acc, count_gather_points), VPLKIT_MEMBER(acc, seed),
+        VPLKIT_MEMBER(acc, pad0), VPLKIT_MEMBER(acc, pad1), VPLKIT_MEMBER(acc, pad2), VPLKIT_MEMBER(acc, dmin),
+        VPLKIT_MEMBER(acc, depth_tolerance), VPLKIT_MEMBER(acc, offset_voxels), VPLKIT_MEMBER(acc, pad3),
+        VPLKIT_MEMBER(acc, scale), VPLKIT_MEMBER(acc, max_units), VPLKIT_MEMBER(acc, pad4), VPLKIT_MEMBER(acc, pad5)})
+    ga.push_back(m);
+  check_block("vplkit/builders/gbg_accumulate.comp", "vplkit_gbg_accumulate_uniforms", "vplkit_gbg_accumulate",
+              sizeof(acc), ga);
+
+  using fin = gpu::gbg_finish_params;
+  std::vector<member> gf = light_members("light.", offsetof(fin, light));
+  for (const member& m : {VPLKIT_MEMBER(fin, resolution), VPLKIT_MEMBER(fin, n_dirs), VPLKIT_MEMBER(fin, fill_holes),
+                          VPLKIT_MEMBER(fin, pad0), VPLKIT_MEMBER(fin, inv_scale), VPLKIT_MEMBER(fin, pad1),
+                          VPLKIT_MEMBER(fin, pad2), VPLKIT_MEMBER(fin, pad3)})
+    gf.push_back(m);
+  check_block("vplkit/builders/gbg_finish.comp", "vplkit_gbg_finish_uniforms", "vplkit_gbg_finish", sizeof(fin), gf);
+
+  check_block("vplkit/distribution/cdf_build.comp", "vplkit_cdf_build_uniforms", "vplkit_cdf_build",
+              sizeof(gpu::cdf_build_params),
+              {VPLKIT_MEMBER(gpu::cdf_build_params, n), VPLKIT_MEMBER(gpu::cdf_build_params, pass),
+               VPLKIT_MEMBER(gpu::cdf_build_params, pad0), VPLKIT_MEMBER(gpu::cdf_build_params, pad1)});
+
+  check_block("vplkit/image/median_fill.comp", "vplkit_median_fill_uniforms", "vplkit_median_fill",
+              sizeof(gpu::median_fill_params),
+              {VPLKIT_MEMBER(gpu::median_fill_params, resolution), VPLKIT_MEMBER(gpu::median_fill_params, pad0),
+               VPLKIT_MEMBER(gpu::median_fill_params, pad1), VPLKIT_MEMBER(gpu::median_fill_params, pad2)});
+
+  check_block("vplkit/visibility/voxelize.comp", "vplkit_voxelize_uniforms", "vplkit_voxelize",
+              sizeof(gpu::voxelize_params),
+              {VPLKIT_MEMBER(gpu::voxelize_params, bounds_min), VPLKIT_MEMBER(gpu::voxelize_params, bounds_max),
+               VPLKIT_MEMBER(gpu::voxelize_params, resolution), VPLKIT_MEMBER(gpu::voxelize_params, triangle_count),
+               VPLKIT_MEMBER(gpu::voxelize_params, margin_voxels), VPLKIT_MEMBER(gpu::voxelize_params, pad0),
+               VPLKIT_MEMBER(gpu::voxelize_params, pad1)});
+}
+
+TEST_CASE("kernel parameters: cdf_build.comp's std430 records have the C++ layout") {
+  const GLuint prog = kernel("vplkit/distribution/cdf_build.comp").id();
+  auto offset = [&](const std::string& name) {
+    return std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_OFFSET));
+  };
+  auto stride = [&](const std::string& name) {
+    return std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_TOP_LEVEL_ARRAY_STRIDE));
+  };
+  using block = gpu::cdf_build_block;
+  using info = gpu::cdf_build_info;
+  CHECK(stride("vplkit_cdf_build_blocks[0].sum") == sizeof(block));
+  CHECK(offset("vplkit_cdf_build_blocks[0].sum") == offsetof(block, sum));
+  CHECK(offset("vplkit_cdf_build_blocks[0].offset") == offsetof(block, offset));
+  CHECK(offset("vplkit_cdf_build_blocks[0].max_bits") == offsetof(block, max_bits));
+  CHECK(offset("vplkit_cdf_build_blocks[0].prefix_max_bits") == offsetof(block, prefix_max_bits));
+  CHECK(offset("vplkit_cdf_build_blocks[0].zeroed") == offsetof(block, zeroed));
+  CHECK(stride("vplkit_cdf_build_infos[0].sum") == sizeof(info));
+  CHECK(offset("vplkit_cdf_build_infos[0].sum") == offsetof(info, sum));
+  CHECK(offset("vplkit_cdf_build_infos[0].total") == offsetof(info, total));
+  CHECK(offset("vplkit_cdf_build_infos[0].zeroed") == offsetof(info, zeroed));
+}
+
+TEST_CASE("kernel parameters: make_light_params packs a point light as the kernels unpack it") {
+  const auto light = vplkit::make_point_light(vplkit::vec3<float>(1, 2, 3), vplkit::vec3<float>(4, 5, 6),
+                                              vplkit::vec3<float>(0.3f, -0.2f, 0.9f));
+  const gpu::light_params p = gpu::make_light_params(light);
+  CHECK(vplkit::vec3<float>(p.position) == light.position);
+  CHECK(vplkit::vec3<float>(p.intensity) == light.intensity);
+  CHECK(vplkit::vec3<float>(p.axis_x) == light.frame.axis_x);
+  CHECK(vplkit::vec3<float>(p.axis_y) == light.frame.axis_y);
+  CHECK(vplkit::vec3<float>(p.axis_z) == light.frame.axis_z);
+  CHECK(light.frame.position == light.position);  // the kernels use position for both
+}
