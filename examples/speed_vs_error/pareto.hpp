@@ -1,6 +1,6 @@
 #pragma once
 // Equal-error comparison and the Pareto front of (time, error) points: which method reaches a
-// given error fastest (issue 5, item 3). Pure functions on numbers, so they are unit-tested
+// given error fastest. Pure functions on numbers, so they are unit-tested
 // without running a renderer (tests/renderer/renderer_pareto_test.cpp).
 #include <algorithm>
 #include <cmath>

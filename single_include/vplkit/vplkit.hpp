@@ -823,7 +823,7 @@ private:
 }  // namespace vplkit
 // ---- end vplkit/distribution/alias_table.hpp ----
 // ---- begin vplkit/distribution/defensive_mixture.hpp ----
-// Defensive sampling (DESIGN 3.5): p(i) = (1 - eps) p_learned(i) + eps p_fallback(i). With a
+// Defensive sampling (docs/math.md section 3, defensive mixing): p(i) = (1 - eps) p_learned(i) + eps p_fallback(i). With a
 // fallback that covers every index that may contribute (typically uniform over the valid
 // paraboloid texels: a discrete_cdf of 0/1 weights), p(i) > 0 wherever the learned CDF left a
 // hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned CDF exactly
@@ -936,7 +936,7 @@ private:
 }  // namespace vplkit
 // ---- end vplkit/distribution/defensive_mixture.hpp ----
 // ---- begin vplkit/distribution/face_roulette.hpp ----
-// Russian roulette between the front and the back paraboloid (paper Alg. 1, DESIGN 3.3):
+// Russian roulette between the front and the back paraboloid (paper Alg. 1, docs/math.md section 3):
 // choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's
 // weights, then sample within that face's CDF. The probability of (face, t) is
 // b_F * w_t / v_F = w_t / (v_F + v_B): the same as one CDF over both faces' weights.
@@ -1078,7 +1078,7 @@ private:
 
 // paraboloid: dual paraboloid mapping, texel grid, texel solid angle
 // ---- begin vplkit/paraboloid/paraboloid.hpp ----
-// Dual paraboloid mapping in light space (DESIGN 3.1): direction <-> (face, uv).
+// Dual paraboloid mapping in light space (docs/math.md section 1): direction <-> (face, uv).
 //
 // Convention (mirrored by glsl/vplkit): the front face covers d.z >= 0 (-0.0 included), the back
 // face d.z < 0. The back face is NOT mirrored: uv = (d.x, d.y) / (1 + |d.z|) on both faces, so a
@@ -1154,7 +1154,7 @@ inline T paraboloid_jacobian(vec2<T> uv) {
 }  // namespace vplkit
 // ---- end vplkit/paraboloid/paraboloid.hpp ----
 // ---- begin vplkit/paraboloid/texel_grid.hpp ----
-// The R x R texel grid of each paraboloid face over uv in [-1,1]^2 (DESIGN 3.1).
+// The R x R texel grid of each paraboloid face over uv in [-1,1]^2 (docs/math.md section 1).
 //
 // Layout (mirrored by glsl/vplkit): x runs along u, y along v; texel (x, y) covers
 // u in [-1 + 2x/R, -1 + 2(x+1)/R] and likewise for v; its centre is
@@ -1485,7 +1485,7 @@ template <class T> inline T cosine_hemisphere_pdf(T cos_theta) {
 
 // visibility: voxel grid, conservative voxelisation, DDA ray marching
 // ---- begin vplkit/visibility/voxel_grid.hpp ----
-// Binary occupancy grid over an axis-aligned box (DESIGN 3.7).
+// Binary occupancy grid over an axis-aligned box (docs/math.md section 7).
 //
 // Layout (shared with the GPU, which fills and reads the same words):
 //   voxel (x, y, z), 0 <= x < nx etc.; flat index  i = x + y * nx + z * nx * ny
@@ -1778,7 +1778,7 @@ inline bool triangle_box_overlap(vec3<T> box_center, vec3<T> box_half, vec3<T> a
 }  // namespace vplkit
 // ---- end vplkit/visibility/triangle_box_overlap.hpp ----
 // ---- begin vplkit/visibility/voxelize.hpp ----
-// Conservative CPU voxelisation (DESIGN 3.7): every voxel whose closed box overlaps a triangle is
+// Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a triangle is
 // marked. Only the voxels of the triangle's bounding box are tested.
 //
 // Numerical care:
@@ -2081,7 +2081,7 @@ inline dda_trace_result<T> dda_trace_hit_point(const voxel_grid_view<T>& g, vec3
 }  // namespace vplkit
 // ---- end vplkit/visibility/dda.hpp ----
 // ---- begin vplkit/visibility/voxel_visible.hpp ----
-// Point-to-point visibility through the voxel grid (DESIGN 3.7; the paper's Alg. 6, lines 8-10).
+// Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6, lines 8-10).
 // L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
 //
 // voxel_visible (the paper's test, one-sided):
@@ -2226,7 +2226,7 @@ inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
 // ---- begin vplkit/mis/heuristics.hpp ----
 // Multiple importance sampling weights (Veach & Guibas 1995) for two strategies: n1 samples from
 // density p1 and n2 from p2, both densities of the same point in the same measure (for vplkit:
-// solid angle at the gather point, DESIGN 3.6; see pdf_conversion.hpp).
+// solid angle at the gather point, docs/math.md section 5; see pdf_conversion.hpp).
 //
 //   balance_heuristic(n1,p1,n2,p2) = n1 p1 / (n1 p1 + n2 p2)
 //   power_heuristic(n1,p1,n2,p2)   = (n1 p1)^2 / ((n1 p1)^2 + (n2 p2)^2)        (beta = 2)
@@ -2330,14 +2330,14 @@ template <class T> inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
 }  // namespace vplkit
 // ---- end vplkit/mis/heuristics.hpp ----
 // ---- begin vplkit/mis/pdf_conversion.hpp ----
-// Densities of the two strategies of DESIGN 3.6, expressed in one measure — solid angle at the
+// Densities of the two strategies of docs/math.md section 5, expressed in one measure — solid angle at the
 // gather point x — so that the heuristics of heuristics.hpp may compare them.
 //
 //   gathering:    p1(omega) = cos(theta2) / pi                        (theta2 at x, vs n_x)
 //   VPL sampling: p2(omega) = pmf(t) * d2^2 / (A_t * cos(theta1))     (theta1 at y_t, vs n_t)
 // p2 converts "pick texel t with probability pmf(t), then a point uniformly on its patch of area
 // A_t" (area density pmf/A_t) to solid angle at x with the Jacobian dA = d2^2 / cos(theta1) domega.
-// A_t = Omega_t d1^2 / cos(alpha) (DESIGN 3.2) comes from the VPL model (vpl_patch_area); it is
+// A_t = Omega_t d1^2 / cos(alpha) (docs/math.md section 2) comes from the VPL model (vpl_patch_area); it is
 // taken here as a number. For a VPL sample, f/p2 = L_t(x)/pmf(t) without any distance clamp; as
 // d2 -> 0, p2 -> 0 and the balance heuristic hands the point to the gathering strategy.
 //
@@ -2423,7 +2423,7 @@ template <class T> inline mis_weight_pair<T> mis_weights_as_published(T cos_thet
 
 // image: hole-aware median fill
 // ---- begin vplkit/image/median_fill.hpp ----
-// Hole-aware 3x3 median fill (DESIGN 3.4): the gathering pass of the GBG builder leaves texels
+// Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves texels
 // that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its non-hole
 // 3x3 neighbours.
 //
@@ -2594,7 +2594,7 @@ inline T luminance(vec3<T> rgb) {
 }  // namespace vplkit
 // ---- end vplkit/vpl/luminance.hpp ----
 // ---- begin vplkit/vpl/vpl.hpp ----
-// VPL model (DESIGN 3.2, 3.6): flux of a DPRSM texel, contribution of a VPL to a gather point,
+// VPL model (docs/math.md sections 2 and 5): flux of a DPRSM texel, contribution of a VPL to a gather point,
 // radiance reflected by a directly lit diffuse point. No visibility here: callers multiply by V.
 //
 // Robustness contract (every function below): never NaN or Inf for finite inputs, and 0 (not NaN)
@@ -2632,7 +2632,7 @@ inline constexpr T vpl_pi = T(3.14159265358979323846);
 
 // Phi_t = rho_t * I_s * Omega_t (RGB). Independent of the distance and of the incidence angle:
 // the patch seen through the texel grows as d1^2 / cos(alpha) while its irradiance falls as
-// cos(alpha) / d1^2 (DESIGN 3.2; the paper's eq. 1-3 omit Omega_t).
+// cos(alpha) / d1^2 (docs/math.md section 2; the paper's eq. 1-3 omit Omega_t).
 template <class T>
 inline vec3<T> vpl_flux(vec3<T> albedo, vec3<T> intensity, T solid_angle) {
   return albedo * intensity * solid_angle;
@@ -2676,7 +2676,7 @@ inline T vpl_geometry_term(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y, T dmi
   return cos1 * cos2 / (vpl_pi<T> * d2sq);  // d2sq = Inf (huge separation) gives 0
 }
 
-// L_t(x) = (rho_x / pi) * Phi_t * G (DESIGN 3.2, paper eq. 5 with the patch area restored).
+// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area restored).
 template <class T>
 inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl<T>& v, T dmin) {
   const T g = vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
@@ -2699,7 +2699,7 @@ inline T vpl_cos_alpha(vec3<T> light_pos, vec3<T> y, vec3<T> n_y) {
 
 // Area of the surface patch seen through a texel: A_t = Omega_t d1^2 / cos(alpha), with
 // cos(alpha) raised to vpl_min_cos_alpha (also when it is <= 0 or NaN). Needed to turn the VPL pmf
-// into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (DESIGN 3.6).
+// into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md section 5).
 template <class T>
 inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
   // written so that a NaN cos_alpha also takes the floor
@@ -2709,7 +2709,7 @@ inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
 //   L_o(y) = rho_y I_s cos(alpha) / (pi d1^2),
-// cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of DESIGN 3.6 is
+// cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5 is
 // f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
 // (coincident y and c -> 0, d1^2 raised to vpl_distance_sq_floor).
 template <class T>
@@ -2915,7 +2915,7 @@ inline dprsm_view<T> render_dprsm(const point_light<T>& light, int R, TraceFn&& 
 // ---- end vplkit/vpl/dprsm_raycast.hpp ----
 // ---- begin vplkit/vpl/dprsm_lookup.hpp ----
 // Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
-// gathering estimator and of the GBG builder (DESIGN 3.4): y is lit when the light, looking
+// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light, looking
 // through the texel y projects into, saw a surface at y's distance (within a depth tolerance).
 
 #include <cmath>
@@ -2991,7 +2991,7 @@ inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view
 // builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
 // ---- begin vplkit/builders/gather_subset.hpp ----
 // Stratified (jittered-grid) choice of gather pixels inside a rectangle of the image: the subset S
-// of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (DESIGN 3.4).
+// of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (docs/math.md section 4).
 //
 // Strata: `count` cells that tile the rectangle exactly. Rows: `rows`; every row but the last has
 // `columns` cells, the last row has `last_columns` = count - (rows - 1) * columns (1..columns) wider
@@ -3158,9 +3158,9 @@ inline pixel_rect full_image_rect(const gbuffer_view<T>& gbuffer) {
 }  // namespace vplkit
 // ---- end vplkit/builders/gather_subset.hpp ----
 // ---- begin vplkit/builders/global_weights.hpp ----
-// Global weights (BRSM, Ritschel et al. 2011; DESIGN 3.4): the mean luminance of every VPL's
+// Global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4): the mean luminance of every VPL's
 // contribution to a subset S of gather points, without visibility:
-//     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (DESIGN 3.2).
+//     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (docs/math.md section 2).
 // A texel that carries no VPL (invalid, saw nothing, or faces away from the light: vpl_at gives
 // zero flux) gets exactly 0 without evaluating any contribution, so it can never be sampled.
 //
@@ -3290,7 +3290,7 @@ inline std::vector<T> build_global_weights(const gbuffer_view<T>& gbuffer,
 }  // namespace vplkit
 // ---- end vplkit/builders/global_weights.hpp ----
 // ---- begin vplkit/builders/local_weights.hpp ----
-// Local weights (paper 5.2, DESIGN 3.4): the image is split into an rx x ry grid of regions
+// Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of regions
 // (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built exactly
 // like the global weights (global_weights.hpp) from a stratified subset S_i of the region's pixels.
 //
@@ -3435,47 +3435,14 @@ inline std::vector<T> build_local_weights(const gbuffer_view<T>& gbuffer,
 }  // namespace vplkit
 // ---- end vplkit/builders/local_weights.hpp ----
 // ---- begin vplkit/builders/gbg_weights.hpp ----
-// Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, DESIGN 3.4).
-//
-// For EVERY valid gather point x (pixel p = y * width + x of the G-buffer) and every direction
-// j in [0, n_dirs):
-//   rng    = make_counter_rng(seed, p)           stream = pixel index; draws 2j, 2j + 1 below
-//   u0, u1 = rng_next_unit<T>(rng) twice          (direction j consumes counters 2j and 2j + 1)
-//   dir    = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1)))
-//   (a direction exactly on the horizon, local z = 0, is skipped untraced: p1 = 0 there)
-//   hit    = trace(x, n_x, dir)                   host callable -> ray_hit<T> (origin offset is
-//                                                 the host's business)
-//   if hit: (texel, lit) = dprsm_lookup(view, hit.position, depth_tolerance)
-//   if lit and vpl_at(texel) carries a VPL (vpl_has_flux):  acc[texel] += value, where
-//     paper:     value = luminance(vpl_contribution(x, n_x, rho_x, vpl_at(texel), dmin))
-//                (the paper's eq. 5 value, with the patch area of DESIGN 3.2)
-//     gathering: value = luminance(rho_x * reflected_radiance(c, I_s, hit.position, n_t, rho_t))
-//                (the gathering estimator's f / p1: f = (rho_x / pi) L_o(y) cos(theta2),
-//                 p1 = cos(theta2) / pi; L_o at the hit point y with the texel's normal and
-//                 albedo; needs no clamp), and 0 when the hit is seen from behind n_t
-//                (n_t . (x - y) <= 0: one-sided emission, as estimators/gathering_estimator.hpp)
-// then w_t = acc[t] / (|G| * n_dirs), |G| = number of valid gather points.
-//
-// Normalisation: the paper divides by |G| only; the extra constant 1 / n_dirs does not change the
-// pmf (nor the face roulette's b_F), and it makes the gathering weights an unbiased estimate of
-//     (1 / |G|) sum_x  integral over the directions from x whose first hit is lit and projects
-//                      into texel t  of  f(omega) d omega,
-// i.e. of texel t's share of the one-bounce radiance summed over the image: as texels shrink, the
-// global weight WITH visibility over all gather points, (1 / |G|) sum_x V(x, y_t) luminance(L_t(x))
-// at dmin = 0. The paper accumulator estimates the same sum with every term multiplied by the
-// probability of a ray from x landing in t: it favours texels close to the receivers.
-//
-// Accumulation runs in double whatever T is (per texel, gather points in pixel order, directions in
-// order), and the division is done in double before the one rounding to T: a float running sum
-// over a million gather points would stall (DESIGN 4). A GPU mirror scatters with atomics (e.g.
-// fixed point in uint, or float atomics): it matches within a stated relative bound, not bit for
-// bit, because atomic order is unspecified.
-//
-// Holes: texels that carry a VPL but no ray reached have w_t = 0 after accumulation. Holes are
-// then filled by the hole-aware 3x3 median of image/median_fill.hpp, each face on its own (the
-// window never crosses faces), fillable = "carries a VPL" (so invalid texels, empty texels and
-// texels facing away from the light stay exactly 0). gbg_fill_holes is the step on its own, so a
-// renderer can time it; build_gbg_weights runs it when params.fill_holes is set.
+// Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md section 4): every
+// valid gather point shoots n_dirs cosine rays through the host's tracer; a hit that the DPRSM sees
+// lit, on a texel that carries a VPL, adds the accumulator's value to that texel; then
+// w_t = acc[t] / (|G| n_dirs), accumulated in double, and the hole-aware 3x3 median fills the
+// texels that carry a VPL but no ray reached. The per-gather-point random numbers (stream = pixel,
+// direction j = counters 2j, 2j + 1) are the GPU mirror's (glsl/vplkit/builders/gbg_weights.glsl).
+// The two accumulators, what each estimates, normalisation, holes, depth tolerance:
+// docs/api/builders.md, "GBG weights".
 
 #include <cmath>
 #include <cstddef>
@@ -3683,7 +3650,7 @@ inline std::vector<T> build_gbg_weights(const gbuffer_view<T>& gbuffer, const dp
 }  // namespace vplkit
 // ---- end vplkit/builders/gbg_weights.hpp ----
 // ---- begin vplkit/builders/vpl_distribution.hpp ----
-// From builder weights to the distribution the estimators sample (DESIGN 3.3, 3.5):
+// From builder weights to the distribution the estimators sample (docs/math.md section 3):
 //     p(t) = (1 - eps) w_t / sum w  +  eps / |F|    for t in F, the texels carrying a VPL,
 // F = { t : vpl_at(t).flux > 0 in some channel } (vpl_has_flux). Every VPL that can contribute is
 // in F, so with eps > 0 every contributing VPL has p(t) >= eps / |F| > 0 and the estimator
@@ -3836,7 +3803,7 @@ inline estimator_state<T> make_estimator_state(const counter_rng& rng) {
 }  // namespace vplkit
 // ---- end vplkit/estimators/estimator_state.hpp ----
 // ---- begin vplkit/estimators/vpl_sum.hpp ----
-// The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (DESIGN 3.2): the estimand of every CDF
+// The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of every CDF
 // method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
 
 #include <cmath>
@@ -3904,7 +3871,7 @@ inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>
 }  // namespace vplkit
 // ---- end vplkit/estimators/vpl_sum.hpp ----
 // ---- begin vplkit/estimators/vpl_sampling_estimator.hpp ----
-// VPL sampling by inverse transform (DESIGN 3.3): L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),
+// VPL sampling by inverse transform (docs/math.md section 3): L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),
 // t_k ~ p. Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
 // (defensive_mixture guarantees that; a plain CDF with holes is biased, the paper's behaviour).
 //
@@ -3970,7 +3937,7 @@ inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view
 }  // namespace vplkit
 // ---- end vplkit/estimators/vpl_sampling_estimator.hpp ----
 // ---- begin vplkit/estimators/local_estimator.hpp ----
-// Local CDFs (DESIGN 3.4, paper section 5.2): N distributions, one per image region. Each round
+// Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region. Each round
 // draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N * n_rounds VPLs.
 //
 // Combinations (the estimand is the exhaustive VPL sum in both):
@@ -4046,30 +4013,15 @@ inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& vi
 }  // namespace vplkit
 // ---- end vplkit/estimators/local_estimator.hpp ----
 // ---- begin vplkit/estimators/gathering_estimator.hpp ----
-// Cosine gathering through the DPRSM (DESIGN 3.6 strategy 1; the paper's Alg. 5 without MIS):
-// directions omega ~ cos(theta2)/pi around n_x, traced to the first hit y; y is lit when the
-// DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup with depth_tolerance).
-// Each direction adds f / p1 = rho_x L_o(y); the estimate is their average over n_dirs.
-//
-// Converges to the continuous one-bounce integral int (rho_x/pi) L_o(y(omega)) cos(theta2) domega
-// as the DPRSM sees it, NOT to the VPL sum: the two differ by discretisation (DESIGN 3.8).
-//
-// What is known at the hit. The host's tracer returns only a position (a voxel DDA knows no
-// surface attributes), so the normal and albedo at y come from the DPRSM texel y projects into:
-// exactly what a GPU shader can fetch. L_o(y) = reflected_radiance(c, I_s, y, n_t, rho_t) is
-// evaluated at the hit position y itself (d1 and cos(alpha) of y, not of the texel centre y_t).
-// A hit seen from behind the texel's normal (cos(theta1) = n_t . (x - y) <= 0) adds 0: VPL
-// emission is one-sided, and the MIS densities assume the same (mis/pdf_conversion.hpp).
-//
-// Depth tolerance: y and the texel centre y_t lie on the same surface but along different rays
-// from the light; their distances to the light differ by up to about half the texel's footprint
-// times tan(alpha) (grazing surfaces: large), plus the tracer's own error (voxel_tracer: a voxel
-// diagonal, voxel_tracer_depth_tolerance). Too small a tolerance darkens grazing surfaces; too
-// large lets light leak past occluders closer to the surface than the tolerance.
-//
-// Random numbers: for each direction k = 0 .. n_dirs-1: u0 = rng_next_unit<T>(rng), then u1;
-// omega = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1))).
-// An invalid gather point returns 0 and consumes none.
+// Cosine gathering through the DPRSM (docs/math.md section 5, strategy 1; the paper's Alg. 5
+// without MIS): directions omega ~ cos(theta2)/pi around n_x are traced to their first hit y; y is
+// lit when the DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup within
+// depth_tolerance), and each direction adds f / p1 = rho_x L_o(y), with L_o evaluated at y with the
+// texel's normal and albedo (0 seen from behind: one-sided emission). Converges to the one-bounce
+// integral as the DPRSM sees it, not to the VPL sum (docs/math.md section 8).
+// Random numbers: per direction u0, then u1 (estimator_state.hpp for the range form). An invalid
+// gather point gives 0 and draws nothing. What is known at the hit, choosing the depth tolerance:
+// docs/api/estimators.md, "Gathering".
 
 namespace vplkit {
 
@@ -4147,43 +4099,18 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 // ---- end vplkit/estimators/gathering_estimator.hpp ----
 // ---- begin vplkit/estimators/mis_estimator.hpp ----
 // Multiple importance sampling of cosine gathering (strategy 1, n_dirs samples) and VPL sampling
-// from a distribution (strategy 2, n_vpls samples) at one gather point (DESIGN 3.6, paper sec. 6).
-//
-// mis_mode::solid_angle (default). Both strategies are densities of a direction at x in solid
-// angle: p1 = cos(theta2)/pi, p2 = p(t) d2^2 / (A_t cos(theta1)) with A_t = vpl_patch_area(Omega_t,
-// d1(y_t), cos(alpha)(y_t)) -- the VPL strategy read as "texel t, then a point of its patch". Both
-// evaluate the same integrand f = (rho_x/pi) L_o(y) cos(theta2) (L_o = reflected_radiance with the
-// texel's normal and albedo), and every sample of either strategy adds
-//   balance_combined(f, n_dirs, p1, n_vpls, p2) = f / (n_dirs p1 + n_vpls p2)   (per channel).
-// For a VPL sample f/p2 = L_t(x)/p(t) with no clamp (exactly, while cos(alpha) >= 1e-6); as
-// d2 -> 0, p2 -> 0 and gathering takes over, so no dmin is needed or taken. Where p(t) = 0 (a
-// hole) gathering alone covers the direction, so holes cause no bias.
-// What it converges to: the gathering samples integrate f continuously; the VPL samples evaluate
-// f at texel centres only. The expectation is therefore
-//   int n1 p1 f / (n1 p1 + n2 p2) domega  +  sum_t n2 p(t) f(y_t) V / (n1 p1 + n2 p2)(y_t),
-// the continuous integral up to the midpoint-rule error of the second term (a discretisation
-// bias of the order of, and in practice well below, VPL sum minus integral; see the docs and
-// tests/statistical/estimators_mis_test.cpp).
-//
-// mis_mode::as_published. The paper's weights and evaluation, literally (eq. 7-15, Alg. 4 and 6):
-//   p1 = cos(theta) sin(theta) / pi   (eq. 10/15, a density over (theta, phi)),  p2 = alpha = p(t)
-//   (eq. 11), balance weights w1 = p1/(p1 + alpha), w2 = alpha/(p1 + alpha) (eq. 8/9,
-//   mis_weights_as_published), theta between n_x and the ray / the direction to y_t (eq. 13/14).
-//   gathering sample (Alg. 5): the texel t the hit projects into gives alpha; value w1 f / p1 with
-//     f the same per-steradian integrand as above (Alg. 5 is not in our text; "the incident
-//     radiance due to the VPL at the hit" read as the gathering integrand, as in mis.md);
-//   VPL sample (Alg. 6): value w2 L_t(x) V / alpha, L_t from eq. 5 (vpl_contribution, patch area
-//     restored as everywhere in vplkit, no dmin clamp: the paper has none);
-//   final (Alg. 4 line 9): (sum of both) / n_dirs -- the paper's NBDIR, which equals Veach's 1/n_i
-//     only when n_dirs == n_vpls (the paper uses 800 and 800); n_dirs == 0 divides by n_vpls.
-// Biased (measured in the tests): the gathering value divides a per-steradian f by a per-(theta,
-// phi) density, i.e. carries an extra 1/sin(theta); and the weights follow resolution-dependent
-// mixed measures.
-//
-// Random numbers (both modes): for j = 0 .. max(n_dirs, n_vpls)-1: if j < n_vpls, one u for the VPL
-// (distribution.sample(u)); then if j < n_dirs, u0 and u1 for the direction (as in
-// estimate_gathering). An invalid gather point returns 0 and consumes none.
-// Never NaN or Inf: every division goes through balance_combined or is guarded.
+// from a distribution (strategy 2, n_vpls samples) at one gather point (docs/math.md section 5,
+// paper section 6).
+//   mis_mode::solid_angle (default): both strategies as solid-angle densities at x,
+//     p1 = cos(theta2)/pi and p2 = p(t) d2^2 / (A_t cos(theta1)); every sample of either adds
+//     balance_combined(f, n_dirs, p1, n_vpls, p2), f = (rho_x/pi) L_o cos(theta2). No dmin clamp;
+//     holes are covered by gathering. Converges to the one-bounce integral up to the midpoint-rule
+//     error of the VPL term.
+//   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
+//     biased (measured).
+// Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL, then if
+// j < n_dirs u0, u1 for the direction. An invalid gather point gives 0 and draws nothing; never
+// NaN or Inf. The expectation, both modes in detail, the measured bias: docs/api/estimators.md, "MIS".
 
 #include <cmath>
 #include <cstddef>
@@ -4207,7 +4134,7 @@ inline T mis_texel_patch_area(const dprsm_view<T>& view, int t) {
                         vpl_cos_alpha(view.light.position, y_t, view.normal[t]));
 }
 
-// p2 of DESIGN 3.6 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
 template <class T>
 inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> w = x - y;

@@ -68,7 +68,7 @@ private:
 // GL has no portable query for what a context holds, so the allocations are counted where they are
 // made: every `buffer` below, plus what other code reports with track_gpu_bytes (render targets,
 // vertex buffers, textures). Process-wide (one context per process in vplkit's tools); the peak is
-// what issue 5's memory table reports per method.
+// what the results' memory table reports per method.
 struct gpu_memory {
   long long live_bytes = 0;
   long long peak_bytes = 0;  // largest live_bytes since the last reset_gpu_memory_peak()

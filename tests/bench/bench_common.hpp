@@ -63,7 +63,7 @@ inline int run_main(int argc, char** argv) {
   int main(int argc, char** argv) { return vplkit_bench::run_main(argc, argv); }
 
 // ---- fixed random inputs --------------------------------------------------------------------------
-// n numbers in [0, 1) on the 2^-24 grid (the RNG convention of DESIGN 5).
+// n numbers in [0, 1) on the 2^-24 grid (the RNG convention of docs/math.md section 6).
 inline std::vector<float> uniforms(std::size_t n, std::uint32_t seed) {
   std::mt19937 g(seed);
   std::vector<float> u(n);

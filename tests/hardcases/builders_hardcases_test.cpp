@@ -1,4 +1,4 @@
-// DESIGN section 7 for the CDF builders: empty inputs, empty DPRSMs, degenerate tracers, bad
+// docs/math.md section 10 for the CDF builders: empty inputs, empty DPRSMs, degenerate tracers, bad
 // weights. One TEST_CASE per hard case; nothing may produce NaN or Inf.
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gbg_weights.hpp>

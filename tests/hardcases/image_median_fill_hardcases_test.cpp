@@ -1,4 +1,4 @@
-// DESIGN section 7, median fill: borders, all-hole neighbourhoods; nothing NaN or infinite.
+// docs/math.md section 10, median fill: borders, all-hole neighbourhoods; nothing NaN or infinite.
 // One TEST_CASE per hard case.
 #include <vplkit/image/median_fill.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>

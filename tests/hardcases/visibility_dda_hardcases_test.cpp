@@ -1,4 +1,4 @@
-// DESIGN section 7, DDA: axis-parallel rays, rays outside the grid, zero length; plus rays along
+// docs/math.md section 10, DDA: axis-parallel rays, rays outside the grid, zero length; plus rays along
 // voxel boundaries and exactly through voxel corners. One TEST_CASE per hard case; every case
 // checks that nothing NaN or infinite comes out.
 #include <vplkit/visibility/dda.hpp>

@@ -36,7 +36,7 @@ constexpr float flt_inf = std::numeric_limits<float>::infinity();
 constexpr float flt_nan = std::numeric_limits<float>::quiet_NaN();
 constexpr float u_max = 0x1.fffffep-1f;  // the largest float below 1
 
-// u that every sampler must survive (DESIGN 7: 0, the largest float below 1, exactly 1, NaN).
+// u that every sampler must survive (docs/math.md section 10: 0, the largest float below 1, exactly 1, NaN).
 std::vector<float> special_us() {
   return {0.0f,  -0.0f, std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(),
           u_max, 1.0f,  std::nextafter(1.0f, 2.0f), 2.0f, flt_inf, -flt_inf, flt_nan, -flt_nan,
@@ -74,7 +74,7 @@ struct cdf_result {
   float binary_pmf;
 };
 
-// The distributions of the CDF tests (DESIGN 7 hard cases among them).
+// The distributions of the CDF tests (docs/math.md section 10 hard cases among them).
 struct named_cdf {
   std::string name;
   vplkit::discrete_cdf<float> cdf;
@@ -107,7 +107,7 @@ std::vector<named_cdf> test_cdfs() {
     v.push_back({"denormal weights among normal ones, n = 1000", vplkit::discrete_cdf<float>(w)});
   }
   {
-    // 1e-38 .. 1e38 (DESIGN 7): two 1e38 among tiny ones (the sum stays below FLT_MAX).
+    // 1e-38 .. 1e38 (docs/math.md section 10): two 1e38 among tiny ones (the sum stays below FLT_MAX).
     std::vector<float> w = log_uniform_weights(5000, -38, 0, 16);
     w[100] = 1e38f;
     w[4000] = 1e38f;
@@ -464,7 +464,7 @@ float host_reciprocal(float p) { return p > 0.0f ? float(1.0 / double(p)) : 0.0f
 
 TEST_CASE("defensive_mixture.glsl: index exact and pmf within 1 ulp for eps from 0 to 1 and empty parts") {
   // learned: random with holes (median-filled CDFs leave zeros); fallback: uniform over "valid"
-  // texels (0/1 weights), as in DESIGN 3.5.
+  // texels (0/1 weights), as in docs/math.md section 3, defensive mixing.
   const u32 n = 50000;
   std::vector<float> learned_w = zero_run_weights(n, 2000, 51);
   std::vector<float> valid(n);

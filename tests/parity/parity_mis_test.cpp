@@ -230,7 +230,7 @@ void main() {
   CHECK(bad == 0);
 }
 
-TEST_CASE("heuristics.glsl: the hard cases of DESIGN 7 give the C++ values on the GPU") {
+TEST_CASE("heuristics.glsl: the MIS hard cases (both pdfs 0, one infinite, denormal) give the C++ values on the GPU") {
   // (n1, p1, n2, p2, f) rows of mis_hardcases_test.cpp with their exact expected balance weight
   // (and power weight / balance_combined where that test pins them).
   const bool ftz = device_flushes_denormals();

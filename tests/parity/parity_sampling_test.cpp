@@ -2,7 +2,7 @@
 // templates of include/vplkit/sampling/ (T = float, and T = double where it says how far each side
 // is from the exact value).
 //
-// - RNG: integers and float bits compared exactly (DESIGN 5: identical bits on both sides).
+// - RNG: integers and float bits compared exactly (docs/math.md section 9: identical bits on both sides).
 // - Orthonormal basis and cosine hemisphere: floats within the bounds stated at each check, chosen
 //   from measurement with margin (docs/glsl/sampling.md lists the measured worst differences).
 //
@@ -388,7 +388,7 @@ struct onb_case {
   std::string label;
 };
 
-// The hard cases of DESIGN 7 / docs/api/sampling.md for the basis.
+// The hard cases of docs/math.md section 10 / docs/api/sampling.md for the basis.
 std::vector<onb_case> onb_hard_cases() {
   std::vector<onb_case> c;
   c.push_back({0.0f, 0.0f, -1.0f, "(0,0,-1)"});

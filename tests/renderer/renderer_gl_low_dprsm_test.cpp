@@ -1,5 +1,5 @@
 // DPRSM 2x8x8 (the smallest --dprsm): the rasterised map agrees with a ray cast, and the
-// gathering image is not black. Regression for issue 4: the ceiling, 0.1 above the cornell light,
+// gathering image is not black. A regression test: the ceiling, 0.1 above the cornell light,
 // was tessellated uniformly; the sub-triangle above the light spanned ~147 degrees, its corners all
 // lay inside the back face's rim margin (z' >= -4/R = -0.5), and its homogeneous interpolation
 // wrapped over the FRONT face's pole: the whole downward face showed the ceiling at depth 0.1.

@@ -1,4 +1,4 @@
-// GPU memory accounting (issue 5, memory table): vplkit::gl::track_gpu_bytes counts every SSBO of
+// GPU memory accounting (the results' memory table): vplkit::gl::track_gpu_bytes counts every SSBO of
 // the `buffer` class and what the rasteriser allocates; run_estimator reports what a method's
 // builders, CDFs and estimator held at their peak, per texel and per pixel, and nothing on the CPU
 // backend.

@@ -1,4 +1,4 @@
-// The estimator switches of issue 5 on the CPU backend: --cdf-search binary draws exactly the
+// The estimator switches on the CPU backend: --cdf-search binary draws exactly the
 // indices of the guide table (the guided search returns the binary search's index by
 // construction), so the image is bit-identical; --local-combination average is a different
 // estimator from balance (different image) with finite values; --gbg-accumulator paper builds

@@ -238,7 +238,7 @@ TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {
   CHECK(gpu_pass_count(es, 512, vplkit::ivec3(128), 1) > 1);
 }
 
-TEST_CASE("GPU estimators match the CPU backend with the non-default switches of issue 5") {
+TEST_CASE("GPU estimators match the CPU backend with the non-default estimator switches (local combination, GBG accumulator, CDF search)") {
   // --local-combination average, --gbg-accumulator paper, --cdf-search binary (global, mis): the
   // same bounds as the default cases above (the paper accumulator's GBG weights are GPU-built, so
   // they take the GPU-builder bound; its fixed-point scale comes from the paper bound of

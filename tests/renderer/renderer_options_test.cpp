@@ -282,7 +282,7 @@ TEST_CASE("the --help flag returns the help text, which documents every flag") {
   CHECK(parse_command_line({"vplrender", "--vpls", "3", "-h"}).what == parse_result::action::help);
 }
 
-TEST_CASE("the switches of issue 5: defaults, every value, and bad values naming the flag") {
+TEST_CASE("the estimator switches (local combination, GBG accumulator, CDF search): defaults, every value, and bad values naming the flag") {
   const options d = parse({});
   CHECK(d.local_combination == local_combination_choice::balance);
   CHECK(d.gbg_accumulator == gbg_accumulator_choice::gathering);

@@ -43,7 +43,7 @@ foreach(line IN LISTS lines)
     message(FATAL_ERROR "sweep.csv: scene/backend in '${line}'")
   endif()
   list(APPEND seen "${method}/${samples}")
-  # The switches of issue 5 (passed through with --cdf-search binary; defaults otherwise).
+  # The estimator switches (passed through with --cdf-search binary; defaults otherwise).
   list(SUBLIST f 9 4 switches)
   if(NOT switches STREQUAL "0.05;balance;gathering;binary")
     message(FATAL_ERROR "sweep.csv: eps/local_combination/gbg_accumulator/cdf_search = '${switches}' in '${line}'")

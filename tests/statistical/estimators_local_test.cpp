@@ -1,4 +1,4 @@
-// Local CDFs at a seam (DESIGN 3.4): two image regions, one seeing only the floor, the other only
+// Local CDFs at a seam (docs/math.md section 4): two image regions, one seeing only the floor, the other only
 // the ceiling. Each region's CDF (built like the global builder from that region's points, V = 1)
 // gives weight 0 to VPLs that cannot reach its own points -- the floor CDF misses the floor and
 // the block top (coplanar or facing away), the ceiling CDF misses the ceiling -- yet points on the

@@ -1,4 +1,4 @@
-// MIS in solid angle is unbiased: a small analytic version of DESIGN 3.6.
+// MIS in solid angle is unbiased: a small analytic version of docs/math.md section 5.
 //
 // Gather point x at the origin, normal +z. Above it, at height h, a downward-facing planar
 // emitter split into K x K "texels" of constant radiance L_k (a DPRSM in miniature). The

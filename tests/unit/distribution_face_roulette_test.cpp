@@ -53,7 +53,7 @@ TEMPLATE_TEST_CASE("face_roulette: b_F = v_F / (v_F + v_B)", "[distribution]", f
   REQUIRE(&r.face(1) == &r.back());
 }
 
-// DESIGN 3.3: the roulette and one CDF over both faces' weights give the same pmf.
+// docs/math.md section 3: the roulette and one CDF over both faces' weights give the same pmf.
 TEMPLATE_TEST_CASE("face_roulette: same pmf as one CDF over the concatenated weights",
                    "[distribution]", float, double) {
   using T = TestType;

@@ -154,7 +154,7 @@ TEST_CASE("estimators: MIS reduces to each strategy alone") {
   CHECK(r.counter == 3u + 10u);
 }
 
-TEST_CASE("estimators: MIS samples carry the DESIGN 3.6 and paper eq. 8-15 values") {
+TEST_CASE("estimators: MIS samples carry the solid-angle and the paper eq. 8-15 values") {
   const fixture f;
   const discrete_cdf<double> cdf(f.w);
   const auto& g = f.gps[0];

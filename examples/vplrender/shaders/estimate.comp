@@ -2,8 +2,8 @@
 // renderer's buffers and the GLSL pack's estimators. Compiled once per method with VR_METHOD
 // defined by the host (gpu_backend.cpp puts "#version 430" first and the define in the preamble).
 //
-// Passes: llvmpipe (Mesa 22.3) runs at most 65535 loop iterations per invocation and silently
-// leaves every loop after that (docs/glsl.md), so the host splits the samples (texels for the
+// Passes: under llvmpipe's loop budget (docs/glsl.md: 65535 loop iterations per invocation, then
+// every loop is left silently) the host splits the samples (texels for the
 // reference) into ranges [u_begin, u_end) small enough for that budget and dispatches this kernel
 // once per range. Each pass runs the pack's range form of the method's estimator
 // (vplkit_estimate_*_range, vplkit_exhaustive_vpl_sum_range) on the pixel's state, kept in the

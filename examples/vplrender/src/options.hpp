@@ -1,5 +1,5 @@
 #pragma once
-// The command line contract of vplrender (issue 4): names, defaults, limits. Parsing produces a
+// The command line contract of vplrender: names, defaults, limits. Parsing produces a
 // plain struct and touches nothing else, so it is tested without running anything.
 #include <glm/vec3.hpp>
 
@@ -13,7 +13,7 @@ namespace vplrender {
 enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
 enum class backend { gpu, cpu };
 enum class progress_mode { automatic, always, never };
-// Departures from the paper that can be switched back (issue 5): the local CDFs' combination,
+// Departures from the paper that can be switched back: the local CDFs' combination,
 // the GBG accumulator and the CDF search.
 enum class local_combination_choice { balance, average };
 enum class gbg_accumulator_choice { gathering, paper };

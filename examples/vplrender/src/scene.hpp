@@ -1,5 +1,5 @@
 #pragma once
-// The scene model of DESIGN section 2, and nothing more: triangles with normals, diffuse
+// The scene model the renderer needs, and nothing more: triangles with normals, diffuse
 // materials (a constant Kd or an 8-bit texture), one point light and a pinhole camera.
 // Conventions: right-handed, +Y up (the OBJ habit), lengths in scene units, angles in degrees
 // at the interface, light intensity in W/sr (RGB).

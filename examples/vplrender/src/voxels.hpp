@@ -1,5 +1,5 @@
 #pragma once
-// The scene's voxel grid (DESIGN 3.7): bounds = the triangles' box padded by 1% of its largest
+// The scene's voxel grid (docs/math.md section 7): bounds = the triangles' box padded by 1% of its largest
 // extent and made cubic (vplkit::fit_voxel_bounds), `resolution` voxels per axis.
 #include "scene.hpp"
 

@@ -1,19 +1,11 @@
-// vplkit kernel: stratified gather subset (DESIGN 3.4), one invocation per stratum: the GPU side of
-// vplkit::stratified_gather_subset (gather_subset.hpp) for one rectangle -- the whole image for the
-// global CDF, region i with stream_offset = i * count for the local CDFs (dispatch once per region,
-// writing at out_offset = the region's first entry). Exact: the same pixels as the C++ (integer
-// arithmetic and one correctly rounded float product per coordinate, the bit-exact counter_rng).
-// Difference in layout: the C++ list leaves dropped strata (all max_attempts picks background) out;
-// here stratum k always writes pixels[out_offset + k], -1 when dropped, which
-// global_weights.comp skips: the same weights.
-//
-// Interface (no #version; the host prepends it and its #defines): gather_subset_params.h, shared
-// with the C++ host -- bindings (VPLKIT_GATHER_SUBSET_BINDING_*: the G-buffer as vec4 gbuffer[3 W H]
-// of which only the validity of a pixel is read; int pixels[] written), the local size and the
-// std140 block vplkit_gather_subset_params (the rectangle inside the W x H image, validated by the
-// host; the grid shape of the C++ gather_subset_grid(rect, count); seed, stream_offset,
-// max_attempts, out_offset).
-// Dispatch: ceil(count / LOCAL_SIZE) groups.
+// vplkit kernel: stratified gather subset (docs/math.md section 4), one invocation per stratum: the
+// GPU side of vplkit::stratified_gather_subset for one rectangle -- the whole image for the global
+// weights, region i with stream_offset = i * count for the local ones (one dispatch per region).
+// Exact: the C++ pixels (integer arithmetic, one correctly rounded float product per coordinate,
+// the bit-exact counter_rng). Stratum k always writes pixels[out_offset + k], -1 when dropped
+// (the C++ list leaves it out; global_weights.comp skips -1: the same weights). Interface:
+// gather_subset_params.h, shared with the C++ host (make_gather_subset_params fills it). Dispatch:
+// ceil(count / LOCAL_SIZE) groups. docs/glsl/builders.md.
 #include "vplkit/builders/gather_subset.glsl"
 #include "vplkit/builders/gather_subset_params.h"
 #include "vplkit/core/gather_point.glsl"

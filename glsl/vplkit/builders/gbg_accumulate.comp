@@ -1,39 +1,14 @@
-// vplkit kernel: GBG accumulation (paper Alg. 2, DESIGN 3.4), one invocation per G-buffer pixel:
-// the GPU side of the accumulation loop of vplkit::build_gbg_weights (gbg_weights.hpp), with the
-// pack's voxel tracer (the GPU has no host tracer: vplkit_voxel_tracer over the voxel grid below).
-// For every valid gather point: directions [dir_begin, dir_end) of its n_dirs cosine rays, the
-// voxel DDA hit, vplkit_dprsm_lookup, and for a lit hit on a texel that carries a VPL the chosen
-// accumulator's value added to acc[texel] in 64-bit FIXED POINT with 32-bit atomics.
-// Then gbg_finish.comp turns acc into weights w_t = acc / (|G| n_dirs) and fills holes.
-//
-// Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
-// "#extension GL_GOOGLE_include_directive : require"), then its #defines): gbg_accumulate_params.h,
-// shared with the C++ host -- bindings (VPLKIT_GBG_BINDING_*), the local size, the stats counters
-// and the std140 block vplkit_gbg_accumulate_params. Buffers:
-//   GBUFFER  vec4 gbuffer[3 W H]: position, normal, albedo of pixel p at 3p, 3p + 1, 3p + 2 (xyz;
-//            p = y * W + x; zero normal = background)
-//   DPRSM    vec4 dprsm[3 * 2 R^2], likewise per texel (index = face * R * R + y * R + x)
-//   VOXELS   uint words[] of the voxel grid (visibility/voxel_grid.glsl, as voxel_grid::words())
-//   ACC      uint acc[2 * 2 R^2], (lo, hi) per texel; ZEROED by the host before the first dispatch
-//   STATS    uint stats[VPLKIT_GBG_STATS_SIZE], ZEROED by the host: |G| (counted where
-//            count_gather_points is set), hits, lit hits (as vplkit::gbg_stats), saturated hits;
-//            the rest are gbg_finish.comp's
-// Dispatch: ceil(W * H / LOCAL_SIZE) invocations in x, spread over y when above 65535 groups
-// (pixel = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * LOCAL_SIZE).
-// Several dispatches over direction ranges [dir_begin, dir_end) that cover [0, n_dirs) once give
-// exactly the result of one dispatch over all of them (the fixed-point sum does not depend on the
-// order of the adds); set count_gather_points = 1 in exactly one of them. Why ranges: llvmpipe
-// (Mesa 22.3) runs at most 65535 loop iterations per invocation and then silently leaves every
-// loop; one ray marches up to nx + ny + nz voxels, so keep (dir_end - dir_begin) * (nx + ny + nz +
-// 8) below 65535 there (docs/glsl/builders.md). GPUs have no such limit.
-//
-// FIXED POINT (gbg_weights.glsl): units = roundEven(min(v * scale, max_units)) per lit hit, summed
-// exactly in 64 bits. Precision: <= 0.5 / scale absolute per hit (0 when v * scale >= 2^24), the
-// per-texel sum exact and order-independent (bit-identical on every device), read back within
-// 1.5 float ulps. No overflow while (hits of one texel) * max_units < 2^64: take
-// max_units = 2^(63 - ceil(log2(|G| n_dirs))) and scale = 2^floor(log2(max_units / v_bound)) for a
-// bound v_bound of the per-hit value (formulas in gbg_weights.glsl); hits above it saturate at
-// max_units and are counted (VPLKIT_GBG_STAT_SATURATED_HITS).
+// vplkit kernel: GBG accumulation (paper Alg. 2, docs/math.md section 4), one invocation per
+// G-buffer pixel: the accumulation loop of vplkit::build_gbg_weights for directions
+// [dir_begin, dir_end) of every valid gather point, traced with the pack's voxel tracer; the value
+// of each lit hit on a texel that carries a VPL goes to acc[texel] in 64-bit fixed point with
+// 32-bit atomics (exact and order-independent), and the counters to the stats buffer.
+// gbg_finish.comp then turns acc into weights and fills the holes.
+// Interface: gbg_accumulate_params.h, shared with the C++ host (bindings, local size, stats
+// counters, parameter block). The host zeroes acc and the stats first; dispatches over direction
+// ranges that cover [0, n_dirs) once give exactly one dispatch's result (keep each range under
+// llvmpipe's loop budget: docs/glsl.md). Buffers, dispatch, the fixed-point format and the choice
+// of scale and max_units: docs/glsl/builders.md, "GBG".
 #include "vplkit/builders/gbg_accumulate_params.h"
 #include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/core/gather_point.glsl"

@@ -1,29 +1,11 @@
 // vplkit kernel: finishes the GBG weights from gbg_accumulate.comp's fixed-point sums, one
-// invocation per texel: w_t = acc[t] / scale / (|G| n_dirs) (the C++ gbg_finish), then, when
-// fill_holes is set, the hole-aware 3x3 lower-median fill of vplkit::gbg_fill_holes, per face,
-// fillable = the texel carries a VPL (vplkit_vpl_has_flux): texels without a VPL stay exactly 0.
-// One pass does both: the fill reads its neighbours' finished values straight from acc (the
-// conversion is a pure function of acc, so this equals finishing first and filling second).
-//
-// Interface (no #version; the host prepends it and its #defines): gbg_finish_params.h, shared with
-// the C++ host -- bindings (VPLKIT_GBG_FINISH_BINDING_*), the local size (work groups LOCAL_SIZE x
-// LOCAL_SIZE x 1) and the std140 block vplkit_gbg_finish_params (light, R, n_dirs, fill_holes,
-// 1 / scale). Buffers:
-//   ACC      uint acc[2 * 2 R^2] of gbg_accumulate.comp
-//   STATS    gbg_accumulate.comp's stats: reads |G|, adds the reached texels (raw weight != 0),
-//            holes (raw 0, carries a VPL) and filled holes (a hole the fill made non-zero) -- zero
-//            them before, as the whole buffer is zeroed before accumulating
-//   DPRSM    vec4 dprsm[3 * 2 R^2] (as gbg_accumulate.comp; read for the fillable mask)
-//   WEIGHTS  float weights[2 R^2], written
-// Dispatch: (ceil(R / LOCAL_SIZE), ceil(R / LOCAL_SIZE), 2); invocation (x, y, face).
-//
-// Precision against the C++ (which sums the float hit values in double and divides once):
-// the fixed-point quantisation of gbg_accumulate.comp (<= 0.5 / scale per hit), the read-out
-// float(hi) 2^32 + float(lo) (<= 1.5 ulps), the product by 1 / scale (exact for a power of two)
-// and one float division by float(|G|) * float(n_dirs) (exact below 2^24; GLSL division within
-// 2.5 ulps): <= (H_t 0.5 / scale) / (|G| n_dirs) + 4 ulps of w_t, H_t the hits of texel t, plus the
-// float difference of the hit values themselves (docs/glsl/builders.md). No valid gather point
-// (|G| = 0) gives all zeros.
+// invocation (x, y, face) per texel: w_t = acc[t] / scale / (|G| n_dirs) (the C++ gbg_finish), then
+// with fill_holes the hole-aware 3x3 median fill of vplkit::gbg_fill_holes (per face, fillable =
+// the texel carries a VPL), in one pass: the fill reads its neighbours' finished values straight
+// from acc. Adds the reached, hole and filled counts to the stats; |G| = 0 gives all zeros.
+// Interface: gbg_finish_params.h, shared with the C++ host. Dispatch (ceil(R / LOCAL_SIZE),
+// ceil(R / LOCAL_SIZE), 2). Precision against the C++ (the fixed-point quantisation, <= 4 ulps of
+// read-out and division): docs/glsl/builders.md, "GBG".
 #include "vplkit/builders/gbg_finish_params.h"
 #include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/image/median_fill.glsl"
@@ -51,7 +33,8 @@ layout(std140, binding = VPLKIT_GBG_FINISH_BINDING_PARAMS) uniform vplkit_gbg_fi
 vec3 vplkit_load_dprsm_position(int texel) { return vplkit_gbg_finish_dprsm[3 * texel].xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vplkit_gbg_finish_dprsm[3 * texel + 1].xyz; }
 vec3 vplkit_load_dprsm_albedo(int texel) { return vplkit_gbg_finish_dprsm[3 * texel + 2].xyz; }
-// Referenced by gbg_weights.glsl's accumulation loop, not called here (Mesa wants them defined).
+// Referenced by gbg_weights.glsl's accumulation loop, not called here; they still need a body
+// (docs/glsl.md, "Accessors and Mesa's linker").
 void vplkit_store_gbg_hit(int texel, float value) {}
 uint vplkit_load_voxel_word(uint word_index) { return 0u; }
 

@@ -1,54 +1,13 @@
-// vplkit GLSL pack: gathering-based global (GBG) weights (paper 5.3 and Alg. 2, DESIGN 3.4);
-// mirrors include/vplkit/builders/gbg_weights.hpp (T = float). The kernels gbg_accumulate.comp (one
-// invocation per gather point) and gbg_finish.comp (one per texel: normalise, fill holes) run it.
-//
-// Per valid gather point x (pixel p) and direction j, exactly as the C++:
-//   rng = vplkit_make_counter_rng(seed, p), direction j consumes counters 2j and 2j + 1;
-//   local = vplkit_sample_cosine_hemisphere(vec2(u0, u1)); skipped untraced when local.z <= 0;
-//   hit = tracer(x, n_x, to_world(frame, local)); (texel, lit) = vplkit_dprsm_lookup(view, hit, tol);
-//   if lit and the texel carries a VPL: acc[texel] += vplkit_gbg_hit_value(...)
-// then w_t = acc[t] / (|G| n_dirs), |G| = number of valid gather points.
-//
-//   gbg_accumulator::paper / gathering <-> vplkit_gbg_accumulator_paper / _gathering
-//   gbg_params<float>                  <-> vplkit_gbg_params (fill_holes: gbg_finish.comp's flag)
-//   gbg_hit_value, gbg_direction       <-> vplkit_gbg_hit_value, vplkit_gbg_direction
-//   gbg_accumulate_gather_point        <-> vplkit_gbg_accumulate_gather_point (the C++ `double*
-//                                          acc` becomes the hook vplkit_store_gbg_hit; the tracer a
-//                                          vplkit_voxel_tracer, visibility/visibility_callables.glsl)
-//
-// HOOK (the including shader defines it): void vplkit_store_gbg_hit(int texel, float value);
-//   called once per lit hit with the value to add to texel's accumulator. gbg_accumulate.comp
-//   adds it in 64-bit fixed point with 32-bit atomics (below).
-// ACCESSORS used: vplkit_load_dprsm_position / _normal / _albedo (vpl/dprsm_view.glsl) and
-//   vplkit_load_voxel_word (visibility/voxel_grid.glsl).
-// Mesa (22.3, measured) wants a definition of every accessor and hook referenced anywhere in the
-// shader, called or not: a shader that includes this file only for the fixed-point helpers still
-// defines the hook (empty) and the accessors (gbg_finish.comp does).
-//
-// FIXED-POINT ACCUMULATION (float atomics are not portable: core GLSL has none; NVIDIA and Mesa
-// offer GL_NV_shader_atomic_float / GL_EXT_shader_atomic_float unevenly, and a float atomic sum
-// depends on the order of the adds). A value v >= 0 becomes
-//     units = roundEven(min(v * scale, max_units))      (an integer below 2^64, as (lo, hi) uints)
-// and the two words are added with atomicAdd, the carry of the low word detected from the value
-// atomicAdd returns. The per-texel sum of units is exact, independent of the order of the adds,
-// and identical on every device. With a power-of-two scale S and max_units Q:
-//   resolution: 1/S per hit (rounding error <= 0.5/S per hit, 0 for v * S >= 2^24, where
-//               v * S is already an integer in float); relative to a texel's weight:
-//               <= 0.5 / (S * mean value of its hits).
-//   saturation: a hit with v * S > Q adds only Q units (a bias; counted by the kernel, so the host
-//               can see it). Choose S from a bound of the per-hit value, v_bound:
-//               S = 2^floor(log2(Q / v_bound)), then no hit saturates.
-//   overflow:   none while (hits of one texel) * Q < 2^64. With H = an upper bound of the hits of
-//               one texel (the number of rays, |G| n_dirs), Q = 2^(63 - ceil(log2 H)) keeps every
-//               sum below 2^63. Example: 2^21 gather points x 64 directions: H = 2^27,
-//               Q = 2^36, resolution v_bound * 2^-36 or finer.
-//   read-out:   vplkit_gbg_fixed_to_float(lo, hi) = float(hi) * 2^32 + float(lo), within
-//               1.5 float ulps of the exact integer (one rounding per term and the sum).
-// v_bound for the gathering accumulator: luminance(rho_x rho_t I_s cos(alpha) / (pi d1^2)) <=
-// luminance(I_s) / (pi d1_min^2) (albedos <= 1), d1_min = the smallest |y_t - c| over the texels
-// minus depth_tolerance; for the paper accumulator: luminance(I_s) Omega_max / (pi^2 max(d2,
-// dmin)^2) with Omega_max = 4 (2/R)^2, unbounded for dmin = 0 (then pick a bound from the scene
-// and accept the saturation count).
+// vplkit GLSL pack: gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md
+// section 4); mirrors include/vplkit/builders/gbg_weights.hpp (T = float): the same random numbers
+// (stream = pixel, direction j = counters 2j, 2j + 1), rays, lookups and hit values. The kernels
+// gbg_accumulate.comp (per gather point) and gbg_finish.comp (per texel) run it.
+// The C++ `double* acc` becomes the HOOK void vplkit_store_gbg_hit(int texel, float value), called
+// once per lit hit; gbg_accumulate.comp adds the value in 64-bit fixed point with 32-bit atomics,
+// with the helpers below (format, precision, the choice of scale and max_units:
+// docs/glsl/builders.md, "GBG"). The tracer is a vplkit_voxel_tracer. ACCESSORS: the DPRSM's and
+// vplkit_load_voxel_word; define them and the hook whenever this file is included
+// (docs/glsl.md, "Accessors and Mesa's linker").
 #ifndef VPLKIT_BUILDERS_GBG_WEIGHTS_GLSL
 #define VPLKIT_BUILDERS_GBG_WEIGHTS_GLSL
 

@@ -1,26 +1,12 @@
-// vplkit kernel: global weights (BRSM; DESIGN 3.4), one invocation per (texel, region): the GPU
-// side of vplkit::build_global_weights and, with N regions, of vplkit::build_local_weights
-// (global_weights.hpp, local_weights.hpp). Per texel it runs vplkit_global_weight_texel (global_weights.glsl):
-// the mean over the region's subset of luminance(vpl_contribution), no visibility, summed in float
-// in the subset's order and multiplied by 1 / |S| -- the C++ arithmetic statement for statement.
-//
-// Interface (no #version; the host prepends it and its #defines): global_weights_params.h, shared
-// with the C++ host -- bindings (VPLKIT_GLOBAL_WEIGHTS_BINDING_*), the local size and the std140
-// block vplkit_global_weights_params (light, R, N regions, pixel count W H, dmin). Buffers:
-//   GBUFFER  vec4 gbuffer[3 W H]: position, normal, albedo of pixel p at 3p, 3p + 1, 3p + 2
-//   DPRSM    vec4 dprsm[3 * 2 R^2], likewise per texel
-//   SUBSET   int pixels[]: the N subsets back to back, flat pixel indices y * W + x; -1 (a dropped
-//            stratum of gather_subset.comp), an index outside the image or a background pixel is
-//            skipped and not counted (the C++ drops background entries and throws for indices
-//            outside the image)
-//   OFFSETS  uint offsets[N + 1]: region i's subset is pixels[offsets[i] .. offsets[i+1])
-//   WEIGHTS  float weights[N * 2 R^2], region-major (weights[i * 2 R^2 + t], the layout of
-//            build_local_weights; N = 1: global)
-// Dispatch: (ceil(2 R^2 / LOCAL_SIZE), N, 1); invocation (texel, region).
-// llvmpipe runs at most 65535 loop iterations per invocation: keep each |S_i| below ~65000 there.
-// Precision against the C++ float build: the per-term float error of luminance(vpl_contribution)
-// (a few ulps, FMA contraction and the GPU's normalisation) accumulated over |S| terms in the same
-// order: measured in tests/parity/parity_builders_test.cpp (docs/glsl/builders.md).
+// vplkit kernel: global weights (BRSM; docs/math.md section 4), one invocation per (texel, region):
+// the GPU side of vplkit::build_global_weights and, with N regions, of build_local_weights. Per
+// texel it runs vplkit_global_weight_texel over the region's subset pixels[offsets[i] ..
+// offsets[i + 1]) (entries -1, outside the image or background are skipped and not counted) and
+// writes weights[i * 2 R^2 + t] (region-major; N = 1: global) -- the C++ float arithmetic
+// statement for statement. Interface: global_weights_params.h, shared with the C++ host; the
+// G-buffer and the DPRSM are vec4 triplets (position, normal, albedo). Dispatch
+// (ceil(2 R^2 / LOCAL_SIZE), N, 1); under llvmpipe's loop budget (docs/glsl.md) keep each |S_i|
+// below ~65000. Precision: docs/glsl/builders.md.
 #include "vplkit/builders/global_weights.glsl"
 #include "vplkit/builders/global_weights_params.h"
 #include "vplkit/core/gather_point.glsl"

@@ -1,4 +1,4 @@
-// vplkit GLSL pack: global weights (BRSM, Ritschel et al. 2011; DESIGN 3.4), the mean
+// vplkit GLSL pack: global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4), the mean
 // luminance of every VPL's contribution to a subset S of gather points, without visibility:
 //     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g));
 // mirrors include/vplkit/builders/global_weights.hpp (T = float). The kernel global_weights.comp runs
@@ -15,8 +15,8 @@
 //
 // Arithmetic, as in the C++: the per-texel sum runs in float over the subset in order, then is
 // multiplied by 1.0 / float(|S|). A texel that carries no VPL gets exactly 0 without evaluating
-// any contribution. llvmpipe runs at most 65535 loop iterations per invocation (see
-// docs/glsl/estimators.md): |S| must stay below about 65000 there (the paper's reference used 4k).
+// any contribution. Under llvmpipe's loop budget (docs/glsl.md) |S| must stay below about 65000
+// (the paper's reference used 4k).
 #ifndef VPLKIT_BUILDERS_GLOBAL_WEIGHTS_GLSL
 #define VPLKIT_BUILDERS_GLOBAL_WEIGHTS_GLSL
 

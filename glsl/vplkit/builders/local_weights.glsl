@@ -1,4 +1,4 @@
-// vplkit GLSL pack: the region grid of the local CDFs (paper 5.2, DESIGN 3.4): which of the
+// vplkit GLSL pack: the region grid of the local CDFs (paper 5.2, docs/math.md section 4): which of the
 // rx x ry regions a pixel belongs to, and each region's rectangle; mirrors the integer part of
 // include/vplkit/builders/local_weights.hpp. A renderer's estimator kernel uses
 // vplkit_region_of_pixel to pick the pixel's own region; the weights of region i are

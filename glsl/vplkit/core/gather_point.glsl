@@ -1,28 +1,9 @@
 // vplkit GLSL pack: what builders and estimators know of the camera's visible points; mirrors
-// include/vplkit/core/gather_point.hpp (T = float).
-//
-//   gather_point<float>{position, normal, albedo} <-> vplkit_gather_point (normal any length; zero
-//                                                     means background)
-//   gather_point_valid(g)                          <-> vplkit_gather_point_valid(g)
-//   gbuffer_view<float>{width, height, arrays}     <-> vplkit_gbuffer_view{width, height} + accessor
-//   view.at(index), view.at(x, y)                  <-> vplkit_load_gather_point(index),
-//                                                      vplkit_load_gather_point(y * width + x)
-//   ray_hit<float>{hit, position}                  <-> vplkit_ray_hit
-// gbuffer_view::validate() is host-side (it throws): upload only validated G-buffers.
-//
-// ACCESSOR, declared here and referenced only by builders/gather_subset.glsl (the estimators take
-// one gather point by value). Mesa (22.3, measured) wants a definition for every function
-// referenced anywhere in the shader, called or not, so a shader defines it exactly when it
-// includes a file that references it:
-//   vplkit_gather_point vplkit_load_gather_point(int pixel);
-//     the G-buffer entry of flat pixel index pixel = y * width + x (row-major), e.g. from three
-//     vec4 SSBOs (std430: a vec3 array element has a 16-byte stride).
-//
-// Validity, decided as the C++ decides it: n2 = dot(n, n) written out in glm's order and `precise`
-// (so an overflow to +inf or an underflow to 0 happens where it happens in C++ float), n2 > 0,
-// and n2 and the position finite, tested on the bits (GLSL compilers may assume no NaN/Inf in
-// comparisons). A GPU that flushes denormals reads a normal with n2 < 2^-126 (components below
-// about 1e-19) as zero, i.e. as background, where llvmpipe and the CPU still see a surface.
+// include/vplkit/core/gather_point.hpp (T = float): vplkit_gather_point, vplkit_gather_point_valid
+// (decided as the C++ decides it), vplkit_gbuffer_view (the sizes; the arrays are the accessor),
+// vplkit_ray_hit. ACCESSOR, declared here and referenced only by builders/gather_subset.glsl:
+//   vplkit_gather_point vplkit_load_gather_point(int pixel);   // pixel = y * width + x
+// docs/glsl/core.md.
 #ifndef VPLKIT_CORE_GATHER_POINT_GLSL
 #define VPLKIT_CORE_GATHER_POINT_GLSL
 

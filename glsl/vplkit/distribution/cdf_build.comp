@@ -1,68 +1,16 @@
-// vplkit kernel: builds discrete CDFs and their guide tables on the GPU, from float weights, in the
-// layout discrete_cdf.glsl samples (the GPU side of the vplkit::discrete_cdf<float> build;
-// docs/glsl/distribution.md states its accuracy against the C++ build).
+// vplkit kernel: builds discrete CDFs and their guide tables on the GPU from float weights, in the
+// layout discrete_cdf.glsl samples: the GPU side of the vplkit::discrete_cdf<float> build, for D
+// distributions of n weights each per set of dispatches (work group z = distribution).
 //
-// Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
-// "#extension GL_GOOGLE_include_directive : require"), then its #defines): cdf_build_params.h,
-// shared with the C++ host -- bindings (VPLKIT_CDF_BUILD_BINDING_*: float weights[D n] read, float
-// cdf[D (n + 1)] and uint guide[D (m + 1)] written, blocks[D B] scratch, info[D]), the local size,
-// VPLKIT_CDF_BUILD_ITEMS weights per invocation (a block is VPLKIT_CDF_BUILD_BLOCK = LOCAL_SIZE *
-// ITEMS weights), the std140 block vplkit_cdf_build_params (n, pass) and the std430 records
-// vplkit_cdf_build_block (32 bytes) and vplkit_cdf_build_info (16 bytes). Options:
-//   VPLKIT_CDF_BUILD_PASS            (optional) 1..6: compile only that pass (one program per
-//                                    pass); without it the uniform `pass` selects it at run time
-//   VPLKIT_CDF_BUILD_FLOAT_FLOAT     (optional) accumulate in pairs of floats instead of double,
-//                                    for devices without fp64 (see "Precision" below)
-// D distributions of n weights each (1 <= n <= 2^31, D * (m + 1) < 2^32), stored back to back:
-// distribution d has weights[d * n + i], cdf[d * (n + 1) + i], guide[d * (m + 1) + j] with
-// m = vplkit_discrete_guide_size(n), blocks[d * B + b] with B = ceil(n / (LOCAL_SIZE * ITEMS)).
-// Dispatch: passes 1 to 6 in order, with a shader-storage barrier
-// (glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)) between them; passes 1, 3, 5, 6 with
-// (G, 1, D) work groups, any G >= 1 (the kernels stride over blocks; G = min(B, 65535) is the
-// natural choice), passes 2 and 4 with (1, 1, D) (only work group 0 of a distribution works there;
-// more groups return at once). Nothing needs clearing beforehand.
-//   1 block sums        blocks[b].sum, blocks[b].zeroed
-//   2 block offsets     blocks[b].offset (exclusive scan of the sums), info[d] (total, zeroed)
-//   3 normalise         cdf[i + 1] = prefix max within the block of the normalised partial sums
-//   4 block prefix max  blocks[b].prefix_max_bits
-//   5 finish the cdf    cdf[0] = 0, cdf[i + 1] = max(cdf[i + 1], prefix max of earlier blocks),
-//                       cdf[n] = 1 (0 when empty)
-//   6 guide             guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m
-// (G for pass 6: the kernel strides over runs of LOCAL_SIZE * ITEMS guide entries; m + 1 entries
-// need ceil((m + 1) / (LOCAL_SIZE * ITEMS)) groups to go without striding.)
-//
-// Output: what discrete_cdf<float> stores (discrete_cdf.glsl): cdf[0] = 0, cdf[n] = 1 exactly,
-// non-decreasing, a zero weight gives exactly equal neighbours (so it is never sampled), the guide
-// exactly as the C++ defines it for the stored cdf; an all-zero distribution gives n + 1 zeros and
-// m + 1 zero guide entries (empty, as in C++). info[d].total = the sum of the weights rounded to
-// float (the vplkit_discrete_cdf descriptor's total), info[d].zeroed = how many weights were
-// negative, NaN or infinite: the C++ constructor throws for those, the kernel treats them as 0
-// (as discrete_cdf::sanitized does). A sum above the largest float (C++: throws) gives
-// info[d].total = +Inf; the cdf is then still right with double accumulation and unspecified with
-// VPLKIT_CDF_BUILD_FLOAT_FLOAT.
-//
-// How: the partial sums P_i are a two-level scan (each invocation sums ITEMS
-// weights in order, the work group combines them with a Hillis-Steele scan, pass 2 scans the block
-// sums the same way, sequentially over chunks of blocks), so P_i differs from the C++ double
-// running sum only by the rounding of a few dozen additions. cdf[i + 1] = float(min(P_i / total, 1))
-// for a weight > 0; the prefix MAX over those values (exact: max does not round) then gives a
-// monotone CDF in which a zero weight repeats its left neighbour bit for bit, whatever rounding the
-// scan did (a floating-point tree scan is not monotone by itself, nor does it leave partial sums
-// unchanged across zeros). The last weight > 0 maps to exactly 1: its P is within ~2^-45 of the
-// total, and every value within 2^-25 of 1 rounds to 1.
-// Precision (measured in tests/parity/parity_distribution_build_test.cpp; the bound is derived in
-// docs/glsl/distribution.md): every P_i passes through at most
-// k = 3 ITEMS + 2 log2(LOCAL_SIZE) + ceil(B / BLOCK) + 4 roundings of positive terms (~33 at 2^20).
-//   double (default): P_i within k 2^-53 of exact (relative). Needs fp64 (GL 4.0 core; Vulkan:
-//     shaderFloat64).
-//   float-float: each P_i is a pair (hi, lo) of floats added with error-free transformations
-//     (TwoSum, `precise`; <= 3 2^-48 per addition); the quotient is refined from a float division
-//     with an exact Dekker product; ~2^-40 in all. Cdf values below 2^-126 (weights below 2^-126
-//     of the total) lose accuracy: the low word underflows.
-// The C++ build is within (n / 4) 2^-53, so a GPU cdf value is the C++ value or a float neighbour,
-// and differs only where the exact quotient lies that close to a float rounding tie.
-// Denormal weights count on devices that keep denormals (llvmpipe); a device that flushes them
-// treats them as 0 (both paths).
+// Interface: cdf_build_params.h, shared with the C++ host (bindings, local size, ITEMS, the
+// parameter block, the blocks / info records). Options: VPLKIT_CDF_BUILD_PASS (1..6: compile one
+// pass per program), VPLKIT_CDF_BUILD_FLOAT_FLOAT (float pairs instead of double, without fp64).
+// Dispatch passes 1 to 6 in order with a shader-storage barrier between them; nothing needs
+// clearing first. Output: what discrete_cdf<float> stores (cdf[0] = 0, cdf[n] = 1, a zero weight
+// never sampled, the C++ guide for the stored cdf); info[d] gets the float total and the count of
+// rejected (negative, NaN, infinite) weights, which count as 0. Every cdf value is the C++ value
+// or a float neighbour. Passes, group counts, how and why, the accuracy bound and measurements:
+// docs/glsl/distribution.md, "cdf_build.comp".
 #include "vplkit/distribution/cdf_build_params.h"
 #include "vplkit/distribution/discrete_cdf.glsl"
 
@@ -87,8 +35,8 @@ layout(std140, binding = VPLKIT_CDF_BUILD_BINDING_PARAMS) uniform vplkit_cdf_bui
   vplkit_cdf_build_params vplkit_cdf_build;
 };
 
-// The accessors of discrete_cdf.glsl on this kernel's buffers (Mesa's linker wants a body for
-// every accessor an included function calls, called or not).
+// The accessors of discrete_cdf.glsl on this kernel's buffers (every referenced accessor needs a
+// body: docs/glsl.md, "Accessors and Mesa's linker").
 float vplkit_load_cdf(uint distribution, uint i) {
   return vplkit_cdf_build_cdf[distribution * (vplkit_cdf_build.n + 1u) + i];
 }

@@ -1,33 +1,12 @@
-// vplkit GLSL pack: sampling a discrete distribution by inverse transform (mirrors the sampling
-// side of include/vplkit/distribution/discrete_cdf.hpp, T = float). Building the arrays: the C++
-// discrete_cdf<float> (upload cdf() and guide()) or the GPU kernel cdf_build.comp; both store the
-// same layout.
-//
-// Stored arrays of one distribution of n weights (n >= 1; at most 2^31 on the GPU, so that the
-// guide size m fits in a uint):
-//   cdf   : n + 1 floats, cdf[0] = 0, cdf[n] = 1 exactly, non-decreasing; a zero weight gives
-//           exactly equal neighbours. Empty distribution (all weights 0): n + 1 zeros.
-//   guide : m + 1 uints, m = vplkit_discrete_guide_size(n) (a power of two >= n);
-//           guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m.
-// Sampling returns the largest i with cdf[i] <= u (u clamped to [0, 1)); that bin has
-// cdf[i + 1] > u >= cdf[i], a positive width, so a zero weight is never returned, whatever u is.
-// Both searches below return exactly the index the C++ returns for the same stored floats and the
-// same u: they use only float comparisons and u * 2^k (exact), no rounding-dependent arithmetic.
-//
-// ACCESSORS (the including shader defines them; it chooses buffers, bindings and layout):
-//   float vplkit_load_cdf(uint distribution, uint i);    // cdf[i] of distribution `distribution`,
-//                                                        //   0 <= i <= n
-//   uint  vplkit_load_guide(uint distribution, uint j);  // guide[j], 0 <= j <= m
-// `distribution` is the `id` of the vplkit_discrete_cdf descriptor, passed through untouched, so
-// one shader can hold several distributions (the local method's N CDFs, the two halves of a
-// defensive mixture, the two faces of a roulette), e.g. stored back to back:
-//   layout(std430, binding = 0) readonly buffer Cdfs { float cdfs[]; };     // D * (n + 1)
-//   layout(std430, binding = 1) readonly buffer Guides { uint guides[]; };  // D * (m + 1)
-//   float vplkit_load_cdf(uint d, uint i) { return cdfs[d * (N + 1u) + i]; }
-//   uint vplkit_load_guide(uint d, uint j) { return guides[d * (M + 1u) + j]; }
-// Define both, even if the shader only calls the binary search: Mesa's GLSL linker wants a body
-// for every accessor that any included function calls (glslang only for those really called).
-// A stub does: uint vplkit_load_guide(uint d, uint j) { return 0u; }
+// vplkit GLSL pack: sampling a discrete distribution by inverse transform; mirrors the sampling
+// side of include/vplkit/distribution/discrete_cdf.hpp (T = float). The arrays come from the C++
+// discrete_cdf<float> (upload cdf() and guide()) or from the kernel cdf_build.comp, in the same
+// layout: cdf[0 .. n] (cdf[0] = 0, cdf[n] = 1, n + 1 zeros when empty) and the guide[0 .. m],
+// m = vplkit_discrete_guide_size(n). Sampling returns the largest i with cdf[i] <= u, never a zero
+// weight, and exactly the index the C++ returns for the same floats and u (comparisons and exact
+// u * 2^k only). ACCESSORS vplkit_load_cdf(distribution, i) and vplkit_load_guide(distribution, j),
+// `distribution` being the descriptor's id: define both, even for the binary search alone
+// (docs/glsl/distribution.md, "Accessors").
 #ifndef VPLKIT_DISTRIBUTION_DISCRETE_CDF_GLSL
 #define VPLKIT_DISTRIBUTION_DISCRETE_CDF_GLSL
 

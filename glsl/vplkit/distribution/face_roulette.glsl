@@ -1,5 +1,5 @@
 // vplkit GLSL pack: Russian roulette between the front and the back paraboloid (paper Alg. 1,
-// DESIGN 3.3; mirrors include/vplkit/distribution/face_roulette.hpp, T = float).
+// docs/math.md section 3; mirrors include/vplkit/distribution/face_roulette.hpp, T = float).
 //
 // Front face with probability b_F = v_F / (v_F + v_B) (v = the sum of a face's weights), then
 // inverse transform within that face's CDF: P(face, t) = w_t / (v_F + v_B), the same as one CDF

@@ -1,29 +1,11 @@
-// vplkit GLSL pack: cosine gathering through the DPRSM (DESIGN 3.6 strategy 1; the paper's Alg. 5
-// without MIS); mirrors include/vplkit/estimators/gathering_estimator.hpp (T = float).
-//
-// Directions omega ~ cos(theta2)/pi around n_x are traced to the first hit y; y is lit when the
-// DPRSM texel it projects into saw a surface at y's depth (vplkit_dprsm_lookup, depth_tolerance).
-// Each direction adds f / p1 = rho_x L_o(y) (L_o at the hit y with the texel's normal and albedo;
-// 0 when the hit is seen from behind n_t); the estimate is their average over n_dirs. Converges to
-// the one-bounce integral as the DPRSM sees it, not to the VPL sum (docs/api/estimators.md).
-//
-// Tracing: a vplkit_voxel_tracer (visibility/visibility_callables.glsl) stands for the C++ Tracer
-// callable: the pack's voxel DDA from x lifted offset_voxels along n_x, hit reported where the ray
-// enters the first occupied voxel (use depth_tolerance >= vplkit_voxel_tracer_depth_tolerance).
-//
-// Random numbers, exactly as the C++ (counter_rng passed inout): for k = 0 .. n_dirs-1:
-// u0 = vplkit_rng_next_unit(rng), then u1; omega = vplkit_to_world(vplkit_make_orthonormal_basis(
-// n_x), vplkit_sample_cosine_hemisphere(vec2(u0, u1))). An invalid gather point or n_dirs <= 0
-// returns 0 and consumes none.
-//
-// ACCESSORS used: vplkit_load_dprsm_position / _normal / _albedo (vpl/dprsm_view.glsl) and
-// vplkit_load_voxel_word (visibility/voxel_grid.glsl).
-//
-// Where the GPU may differ: the direction goes through the GPU's sin/cos (GLSL does not bound
-// their error tightly; a few ulp on llvmpipe), so a ray passing within about 1e-6 of a voxel edge
-// can hit another voxel, project into another texel, or cross the depth tolerance the other way;
-// the back-face test against n_t is a sign decision on a dot product. Such samples are rare and
-// counted by the parity test (docs/glsl/estimators.md).
+// vplkit GLSL pack: cosine gathering through the DPRSM (docs/math.md section 5, strategy 1; the
+// paper's Alg. 5 without MIS); mirrors include/vplkit/estimators/gathering_estimator.hpp
+// (T = float), random numbers included: each direction omega ~ cos(theta2)/pi adds
+// f / p1 = rho_x L_o(y) where the DPRSM sees its first hit y lit from the front. Tracing: a
+// vplkit_voxel_tracer stands for the C++ tracer (use depth_tolerance >=
+// vplkit_voxel_tracer_depth_tolerance). ACCESSORS: the DPRSM's and vplkit_load_voxel_word.
+// Rays within about 1e-6 of a voxel edge, texel edge or the tolerance may decide differently from
+// the C++ (GPU sin/cos); the parity test counts them (docs/glsl/estimators.md).
 #ifndef VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
 

@@ -1,24 +1,10 @@
-// vplkit GLSL pack: local CDFs (DESIGN 3.4, paper section 5.2): N distributions, one per image
-// region; each round draws one VPL from every distribution; mirrors
-// include/vplkit/estimators/local_estimator.hpp (T = float).
-//
-//   balance (vplkit_local_balance, the default): a sample t drawn from CDF_i adds
-//     L_t V / sum_j p_j(t); the total is divided by n_rounds (sampling the mixture; unbiased
-//     wherever ANY CDF covers t).
-//   average (vplkit_local_average, as published): (1 / (N n_rounds)) sum L_t V / p_i(t).
-//
-// Distributions: the C++ `const Distribution* distributions, int n` becomes the ids
-// first_distribution .. first_distribution + n - 1 of the distribution hooks (declared and
-// documented in vpl_sampling_estimator.glsl; the including shader defines them):
-//   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
-//   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
-// An empty CDF draws nothing (pmf 0, adds 0) but still counts in N for `average`.
-//
-// Random numbers, as in the C++: for round r = 0 .. n_rounds-1, for i = 0 .. N-1: one
-// u = vplkit_rng_next_unit(rng), passed to the sample hook of distribution first + i. An invalid
-// gather point, n_rounds <= 0 or N <= 0 returns 0 and consumes none.
-// Arithmetic as in the C++: sum_j p_j(t) summed in float in j order; the divisor of `average` is
-// p_i(t) * float(N).
+// vplkit GLSL pack: local CDFs (docs/math.md section 4, paper section 5.2), N distributions, one
+// per image region, each round drawing one VPL from every one; mirrors
+// include/vplkit/estimators/local_estimator.hpp (T = float): the combinations
+// (vplkit_local_balance, the default, and vplkit_local_average, as published), random numbers and
+// arithmetic. The C++ `const Distribution* distributions, int n` becomes the hook ids
+// first_distribution .. first_distribution + n - 1 (vpl_sampling_estimator.glsl declares the
+// hooks; docs/glsl/estimators.md).
 #ifndef VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_LOCAL_ESTIMATOR_GLSL
 

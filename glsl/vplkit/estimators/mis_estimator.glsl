@@ -1,34 +1,10 @@
-// vplkit GLSL pack: multiple importance sampling of cosine gathering (strategy 1, n_dirs samples)
-// and VPL sampling from a distribution (strategy 2, n_vpls samples) at one gather point (DESIGN
-// 3.6, paper section 6); mirrors include/vplkit/estimators/mis_estimator.hpp (T = float).
-//
-// vplkit_mis_solid_angle (default): both strategies as solid-angle densities at x,
-//   p1 = cos(theta2)/pi, p2 = p(t) d2^2 / (A_t cos(theta1)), A_t = vplkit_mis_texel_patch_area;
-//   every sample of either strategy adds vplkit_balance_combined(f, n_dirs, p1, n_vpls, p2) per
-//   channel, f = (rho_x/pi) L_o cos(theta2). No dmin clamp; holes (p(t) = 0) are covered by
-//   gathering. Converges to the one-bounce integral up to the midpoint-rule error of the VPL term.
-// vplkit_mis_as_published: the paper's weights (eq. 7-15, Alg. 4-6) evaluated as written (biased):
-//   gathering sample adds f * (w.gathering / p1) with p1 = cos sin / pi, VPL sample adds
-//   L_t V * (w.vpl / alpha); the sum is divided by n_dirs (n_vpls when n_dirs = 0).
-// See docs/api/estimators.md for the expectation and the measured bias.
-//
-// Distributions: the distribution hooks (declared and documented in vpl_sampling_estimator.glsl; the
-// including shader defines them); `distribution` is passed to both:
-//   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
-//   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
-// Visibility and tracing: vplkit_visibility and vplkit_voxel_tracer
-// (visibility/visibility_callables.glsl) stand for the C++ callables.
-//
-// Random numbers (both modes), as in the C++: for j = 0 .. max(n_dirs, n_vpls)-1: if j < n_vpls,
-// one u for the VPL (sample hook); then, if j < n_dirs, u0 and u1 for the direction (as in
-// vplkit_estimate_gathering). An invalid gather point returns 0 and consumes none. Negative counts
-// count as 0.
-//
-// Order of operations as in the C++ (docs/api/estimators.md, "For the GLSL mirror"):
-// vplkit_mis_vpl_sample tests coincidence, then flux, then the cosines, then visibility;
-// vplkit_trace_gathering_ray looks up, then tests lit, then the back face against n_t, then
-// evaluates reflected_radiance at the hit. Never NaN or Inf: every division goes through
-// vplkit_balance_combined or vplkit_mis_div behind a guard.
+// vplkit GLSL pack: multiple importance sampling of cosine gathering and VPL sampling at one
+// gather point (docs/math.md section 5); mirrors include/vplkit/estimators/mis_estimator.hpp
+// (T = float): the same modes (vplkit_mis_solid_angle, vplkit_mis_as_published), random numbers
+// and order of operations (docs/api/estimators.md, "For the GLSL mirror"). The distribution is an
+// id for the two distribution hooks, visibility and tracing are the structs of
+// visibility/visibility_callables.glsl (docs/glsl/estimators.md). Never NaN or Inf: every division
+// goes through vplkit_balance_combined or vplkit_mis_div behind a guard.
 #ifndef VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_MIS_ESTIMATOR_GLSL
 
@@ -67,7 +43,7 @@ float vplkit_mis_texel_patch_area(vplkit_dprsm_view view, int t) {
                                vplkit_vpl_cos_alpha(view.light.position, y_t, vplkit_load_dprsm_normal(t)));
 }
 
-// p2 of DESIGN 3.6 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
 float vplkit_mis_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x, vec3 y) {
   vec3 w = x - y;
   float cos1 = dot(vplkit_unit_or_zero(vplkit_load_dprsm_normal(t)), vplkit_unit_or_zero(w));

@@ -1,32 +1,13 @@
-// vplkit GLSL pack: VPL sampling by inverse transform (DESIGN 3.3):
+// vplkit GLSL pack: VPL sampling by inverse transform (docs/math.md section 3),
 // L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k), t_k ~ p; mirrors
-// include/vplkit/estimators/vpl_sampling_estimator.hpp (T = float).
-//
-// DISTRIBUTION HOOKS. The C++ estimators are templates over the distribution (discrete_cdf,
-// alias_table, defensive_mixture, flat_face_roulette, ...); GLSL has no templates, so the
-// estimators name a distribution by a uint id and the including shader defines two functions that
-// sample it and evaluate its pmf (the same two prototypes are declared in vpl_sampling_estimator.glsl,
-// local_estimator.glsl and mis_estimator.glsl; define them once):
+// include/vplkit/estimators/vpl_sampling_estimator.hpp (T = float), random numbers included.
+// HOOKS (the shader defines them once; the local and MIS estimators declare the same two): the
+// distribution is an id, sampled and evaluated by
 //   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
-//     C++ distribution.sample(u): {index over the flat DPRSM index face * R * R + y * R + x, pmf}
 //   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
-//     C++ distribution.pmf(index)
-// Typically one line each over the distribution pack, e.g. for defensive mixtures (eps = 0 is the
-// plain discrete CDF, bit for bit) held in the shader:
-//   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint d, float u) {
-//     return vplkit_defensive_mixture_sample(my_mixture(d), u); }
-//   float vplkit_estimator_distribution_pmf(uint d, uint i) {
-//     return vplkit_defensive_mixture_pmf(my_mixture(d), i); }
-// (vplkit_discrete_cdf_*, vplkit_alias_table_*, vplkit_flat_face_roulette_* work the same way.)
-// A draw with pmf 0 (empty distribution) or an index outside the view adds 0 and is never divided.
-//
-// Random numbers, as in the C++: for k = 0 .. N-1, one u = vplkit_rng_next_unit(rng) passed to the
-// sample hook. An invalid gather point or N <= 0 returns 0 and consumes none. Visibility: a
-// vplkit_visibility value (visibility/visibility_callables.glsl) stands for the C++ callable.
-//
-// ACCESSORS used: those of vpl/dprsm_view.glsl and visibility/voxel_grid.glsl, plus the two hooks.
-// Divisions by a pmf go through vplkit_mis_div (mis/heuristics.glsl): x / y for any y, so a
-// denormal pmf divides as in C++ on devices that keep denormals (llvmpipe).
+// usually one line each over the distribution pack (docs/glsl/estimators.md, "Distributions: two
+// hooks"). ACCESSORS: the DPRSM's and vplkit_load_voxel_word. Divisions by a pmf go through
+// vplkit_mis_div, so a denormal pmf divides as in C++ where denormals are kept.
 #ifndef VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL
 

@@ -1,4 +1,4 @@
-// vplkit GLSL pack: the exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (DESIGN 3.2), the estimand
+// vplkit GLSL pack: the exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2), the estimand
 // of every CDF method, and the per-sample pieces every VPL-sampling estimator shares; mirrors
 // include/vplkit/estimators/vpl_sum.hpp (T = float).
 //
@@ -16,8 +16,8 @@
 //    step `precise` (no reassociation may remove the compensation): the sum of the float terms is
 //    then accurate to about 2 float ulps whatever the number of terms, the double sum's accuracy
 //    in practice. What remains is each term's own float error (docs/glsl/estimators.md).
-//  - vplkit_estimator_finite_or_zero decides "finite" on the bits: Mesa rewrites
-//    `a <= c && b <= c` into `max(a, b) <= c`, and max() drops a NaN operand.
+//  - vplkit_estimator_finite_or_zero decides "finite" on the bits: compilers may fold NaN
+//    comparisons (docs/glsl.md, "NaN, FMA and compiler rewrites").
 #ifndef VPLKIT_ESTIMATORS_VPL_SUM_GLSL
 #define VPLKIT_ESTIMATORS_VPL_SUM_GLSL
 

@@ -1,28 +1,12 @@
-// vplkit GLSL pack: hole-aware 3x3 median fill (DESIGN 3.4; mirrors
-// include/vplkit/image/median_fill.hpp, T = float).
-//
-// Per texel (one invocation per texel; the fill reads only the input, so it is one Jacobi pass and
-// the visiting order does not matter):
-//  - hole: value == 0.0 (-0.0 too);
-//  - a non-hole is returned unchanged (same bits);
-//  - a hole that is not fillable, or whose 3x3 window (clipped to the image) holds no non-hole,
-//    gives +0.0;
-//  - otherwise the LOWER median of the k non-hole neighbours: sorted ascending s[0..k-1], the value
-//    s[(k - 1) / 2]. It is always one neighbour's own value, so CPU and GPU agree bit for bit.
-// A neighbour counts whenever it is not a hole, fillable or not.
-//
-// ACCESSOR (the including shader defines it; it chooses the buffer / image and the layout):
-//   float vplkit_load_weight(int face, int x, int y);
-//     the unfilled input value of texel (x, y) of image `face`, 0 <= x < width, 0 <= y < height.
-//     The fill only asks for texels inside the image, and only within one `face`: for a DPRSM
-//     weight array of 2 R R floats that is weights[face * R * R + y * R + x] (the window never
-//     crosses from one face to the other). `face` is passed through untouched, so a single image
-//     may ignore it.
-// The C++ `fillable(x, y)` callable becomes the bool argument `fillable` (evaluated by the caller;
-// for a DPRSM: the texel is valid, centre in the unit disk; see median_fill.comp).
-//
-// Denormals: the hole test compares with 0. An implementation that flushes denormal inputs to zero
-// treats a denormal weight as a hole where the C++ does not (llvmpipe keeps denormals).
+// vplkit GLSL pack: hole-aware 3x3 median fill, per texel (docs/math.md section 4); mirrors
+// include/vplkit/image/median_fill.hpp (T = float): a hole (value 0) that is fillable gets the
+// lower median of the non-hole values of its 3x3 window (clipped to the image), always one
+// neighbour's own value, so CPU and GPU agree bit for bit; everything else keeps its bits (an
+// unfillable or isolated hole gives +0). One Jacobi pass: only the input is read.
+// ACCESSOR: float vplkit_load_weight(int face, int x, int y), the unfilled input of texel (x, y) of
+// image `face` (never crossing faces). The C++ fillable(x, y) callable becomes the bool argument
+// `fillable`. A device that flushes denormals treats a denormal weight as a hole.
+// docs/glsl/image.md.
 #ifndef VPLKIT_IMAGE_MEDIAN_FILL_GLSL
 #define VPLKIT_IMAGE_MEDIAN_FILL_GLSL
 

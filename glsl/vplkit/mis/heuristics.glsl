@@ -1,6 +1,6 @@
 // vplkit GLSL pack: multiple importance sampling weights for two strategies (n1 samples of
 // density p1, n2 of p2, both densities of the same point in the same measure: solid angle at the
-// gather point, DESIGN 3.6); the float mirror of include/vplkit/mis/heuristics.hpp
+// gather point, docs/math.md section 5); the float mirror of include/vplkit/mis/heuristics.hpp
 // (docs/api/mis.md, docs/glsl/mis.md).
 //   vplkit_balance_heuristic(n1,p1,n2,p2)   = n1 p1 / (n1 p1 + n2 p2)
 //   vplkit_power_heuristic(n1,p1,n2,p2)     = (n1 p1)^2 / ((n1 p1)^2 + (n2 p2)^2)
@@ -13,10 +13,8 @@
 //
 // GLSL-only additions (the rest reads line for line like the C++):
 // - vplkit_mis_is_nan(x) decides NaN on the bits, and guards every place where the C++ relies on
-//   a comparison being false for NaN. GLSL compilers may not keep NaN in comparisons: Mesa 22.3
-//   (measured on llvmpipe) rewrites `!(a > 0.0) || !(b > 0.0)` into `min(a, b) <= 0.0` and
-//   `a > 0.0 && b > 0.0` into `min(a, b) > 0.0`, and min() drops a NaN operand, so the C++ form
-//   alone lets NaN through.
+//   a comparison being false for NaN: compilers may fold such comparisons into min/max, which drop
+//   a NaN (docs/glsl.md, "NaN, FMA and compiler rewrites"), so the C++ form alone lets NaN through.
 // - vplkit_mis_div(x, y) stands where the C++ writes x / y with a divisor that may lie outside
 //   [2^-126, 2^126]; on an IEEE device it gives the bits of x / y.
 // On a GPU that flushes denormals to zero, denormal inputs and results read as 0 (see

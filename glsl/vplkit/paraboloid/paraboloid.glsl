@@ -1,4 +1,4 @@
-// vplkit GLSL pack: dual paraboloid mapping in light space (DESIGN 3.1), direction <-> (face, uv).
+// vplkit GLSL pack: dual paraboloid mapping in light space (docs/math.md section 1), direction <-> (face, uv).
 // Mirrors include/vplkit/paraboloid/paraboloid.hpp (T = float) line for line.
 //
 // Convention (identical to the C++): the front face covers d.z >= 0 (-0.0 included), the back face

@@ -27,9 +27,8 @@ struct vplkit_orthonormal_basis {
 vec3 vplkit_onb_normalize(vec3 n) {
   float ax = abs(n.x), ay = abs(n.y), az = abs(n.z);
   // Not finite (NaN or inf) -> canonical. The C++ writes !(ax <= big && ay <= big && az <= big);
-  // GLSL decides it on the bits (exponent all ones), because optimisers may not keep NaN in a
-  // chain of comparisons: Mesa (22.3, measured on llvmpipe) rewrites `a <= c && b <= c` into
-  // `max(a, b) <= c`, and max() drops a NaN operand.
+  // GLSL decides it on the bits (exponent all ones): compilers may fold a chain of comparisons
+  // into max(), which drops a NaN (docs/glsl.md, "NaN, FMA and compiler rewrites").
   if (any(equal(floatBitsToUint(n) & 0x7F800000u, uvec3(0x7F800000u)))) return vec3(0.0, 0.0, 1.0);
   float m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
   // GLSL-only, exact: GLSL specifies x / y only for |y| in [2^-126, 2^126] (GPUs divide through a

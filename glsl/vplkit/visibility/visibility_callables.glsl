@@ -1,33 +1,12 @@
-// vplkit GLSL pack: the visibility and tracing "callables" of the estimators, on the GPU; mirrors
-// include/vplkit/visibility/visibility_callables.hpp (T = float).
-//
-// The C++ estimators take two host callables: visibility(x, n_x, y, n_y) -> bool and
-// tracer(x, n_x, dir) -> ray_hit. A GPU has no host callables, and GLSL has no templates, so the
-// GLSL estimators take these two small structs instead, which describe the voxel grid of the pack
-// (visibility/voxel_grid.glsl; its words come through the accessor vplkit_load_voxel_word):
-//
-//   always_visible{}                          <-> vplkit_make_always_visible()
-//   voxel_visibility<float>{grid, off, tol}   <-> vplkit_make_voxel_visibility(grid) (kind two-sided)
-//   voxel_visibility_one_sided<float>{...}    <-> vplkit_make_voxel_visibility_one_sided(grid)
-//   visibility(x, n_x, y, n_y)                <-> vplkit_visibility_test(vis, x, n_x, y, n_y)
-//   voxel_tracer<float>{grid, off}            <-> vplkit_make_voxel_tracer(grid)
-//   tracer(x, n_x, dir)                       <-> vplkit_voxel_tracer_trace(tracer, x, n_x, dir)
-//   voxel_tracer_depth_tolerance(grid)        <-> vplkit_voxel_tracer_depth_tolerance(grid)
-// Defaults as in C++: offset 1.75 voxels; tolerance 0 voxels (two-sided), 2 voxels (one-sided).
-// The structs are plain values: change offset_voxels / tolerance_voxels after making them.
-//
-// A shader with its own geometry (an exact BVH, hardware ray queries) can plug it in:
-//   #define VPLKIT_USER_VISIBILITY before the include, define
-//     bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y);
-//   and make the visibility with kind vplkit_visibility_user;
-//   #define VPLKIT_USER_TRACER and define
-//     vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir);
-//   and set the tracer's `user` field to true.
-// Without the macros those kinds are not compiled in (an undefined prototype that is called fails
-// at link time even if the call is never reached).
-//
-// ACCESSOR: uint vplkit_load_voxel_word(uint word_index) (visibility/voxel_grid.glsl), needed
-// whenever a voxel kind is used (in practice: always define it; it may return 0u if unused).
+// vplkit GLSL pack: the visibility and tracing "callables" of builders and estimators on the GPU;
+// mirrors include/vplkit/visibility/visibility_callables.hpp (T = float). GLSL has neither host
+// callables nor templates, so vplkit_visibility and vplkit_voxel_tracer are small structs over the
+// pack's voxel grid (the C++ adaptors' defaults: offset 1.75 voxels; tolerance 0 voxels two-sided,
+// 2 one-sided), or route to the shader's own geometry: #define VPLKIT_USER_VISIBILITY /
+// VPLKIT_USER_TRACER before the first include and define vplkit_user_visible / vplkit_user_trace
+// (without the macros those kinds are not compiled in). The C++ <-> GLSL table:
+// docs/glsl/visibility.md, "Visibility and tracing for builders and estimators". ACCESSOR:
+// vplkit_load_voxel_word (define it always; it may return 0u when no voxel kind is used).
 #ifndef VPLKIT_VISIBILITY_VISIBILITY_CALLABLES_GLSL
 #define VPLKIT_VISIBILITY_VISIBILITY_CALLABLES_GLSL
 

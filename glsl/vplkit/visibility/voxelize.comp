@@ -1,40 +1,13 @@
-// vplkit kernel: conservative voxelisation of a triangle mesh into the binary voxel grid (the GPU
-// side of vplkit::voxelize; grid layout in voxel_grid.glsl). One work group per triangle: the
-// group converts the triangle's vertices to continuous voxel coordinates, its invocations share
-// the voxel columns of the triangle's bounding box (column k goes to invocation k % LOCAL_SIZE),
-// test the voxels with vplkit_triangle_box_overlap (boxes inflated by margin_voxels) and set the
-// bits of the overlapping ones with atomicOr. Like the C++ it ORs into the grid: clear the words
-// first for a fresh grid.
-//
-// Interface (no #version: the host prepends "#version 430" (GL) or "#version 450" (Vulkan, plus
-// "#extension GL_GOOGLE_include_directive : require"), then its #defines): voxelize_params.h,
-// shared with the C++ host -- bindings (VPLKIT_VOXELIZE_BINDING_*: vec4 positions[] (xyz), uint
-// indices[3 T], the grid's uint words[] read and written), the local size (work groups
-// LOCAL_SIZE x 1 x 1) and the std140 block vplkit_voxelize_params (bounds, resolution, triangle
-// count, margin in voxels; the C++ default margin is 1e-4, voxelize_default_margin).
-// Dispatch: one work group per triangle, (min(T, 65535), ceil(T / 65535), 1) groups for T
-// triangles; triangle = group x + group y * groups x (groups past T return at once).
-// The host validates what vplkit::voxelize validates (bounds, resolution, margin in [0, 0.5)); a
-// triangle with an index past the end of `positions` or a non-finite vertex is skipped here (the
-// C++ throws for the whole mesh instead).
-//
-// Parity with the C++ voxelize (which converts to voxel coordinates and tests in double): the GPU
-// works in float, so a voxel can differ only where the double test is within float rounding of
-// flipping, i.e. where the voxel's distance to the triangle is within ~1e-5 voxel of the margin.
-// Measured and bounded in tests/parity/parity_visibility_test.cpp; see docs/glsl/visibility.md.
-//
-// Cost: the triangle normal's dominant axis w is swept per column: for every (u, v) voxel column of
-// the bounding box only the w-range where the plane can pass the SAT's normal-axis test (widened
-// by one voxel each side for rounding) is tested, so a large tilted triangle costs O(area), not
-// O(bounding-box volume). Degenerate triangles, and slivers or far-away vertices for which float
-// rounding there could exceed a quarter voxel, fall back to the whole bounding box. The SAT alone
-// decides which voxels are marked.
-// Why a work group per triangle rather than an invocation: besides spreading a large triangle over
-// many lanes, Mesa's llvmpipe stops every loop of an invocation after 65535 iterations in total
-// (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops), silently. One invocation looping over a
-// large triangle's bounding box passes that easily (a 60^3 box already does); shared over 64
-// lanes, a column sweep stays far below it, and even the fallback stays below it for bounding
-// boxes of up to 64 * 65535 / (longest column + 1) columns (all of a 128^3 grid).
+// vplkit kernel: conservative voxelisation of a triangle mesh into the binary voxel grid, the GPU
+// side of vplkit::voxelize (grid layout in voxel_grid.glsl). One work group per triangle: its
+// invocations share the voxel columns of the triangle's bounding box, sweep only the part of each
+// column the triangle's plane can reach, test the voxels with vplkit_triangle_box_overlap (boxes
+// inflated by margin_voxels) and atomicOr the overlapping ones into the grid (clear it first for
+// a fresh grid). Interface: voxelize_params.h, shared with the C++ host. Dispatch:
+// (min(T, 65535), ceil(T / 65535), 1) groups for T triangles. The host validates what voxelize
+// validates; a triangle with an index past the positions or a non-finite vertex is skipped (the
+// C++ throws). A voxel differs from the C++ (double) only within ~1e-5 voxel of the margin. Cost,
+// the work-group layout and why: docs/glsl/visibility.md, "voxelize.comp".
 #include "vplkit/visibility/triangle_box_overlap.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
 #include "vplkit/visibility/voxelize_params.h"

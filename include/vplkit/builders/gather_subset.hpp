@@ -1,6 +1,6 @@
 #pragma once
 // Stratified (jittered-grid) choice of gather pixels inside a rectangle of the image: the subset S
-// of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (DESIGN 3.4).
+// of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (docs/math.md section 4).
 //
 // Strata: `count` cells that tile the rectangle exactly. Rows: `rows`; every row but the last has
 // `columns` cells, the last row has `last_columns` = count - (rows - 1) * columns (1..columns) wider

@@ -1,45 +1,12 @@
 #pragma once
-// Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, DESIGN 3.4).
-//
-// For EVERY valid gather point x (pixel p = y * width + x of the G-buffer) and every direction
-// j in [0, n_dirs):
-//   rng    = make_counter_rng(seed, p)           stream = pixel index; draws 2j, 2j + 1 below
-//   u0, u1 = rng_next_unit<T>(rng) twice          (direction j consumes counters 2j and 2j + 1)
-//   dir    = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1)))
-//   (a direction exactly on the horizon, local z = 0, is skipped untraced: p1 = 0 there)
-//   hit    = trace(x, n_x, dir)                   host callable -> ray_hit<T> (origin offset is
-//                                                 the host's business)
-//   if hit: (texel, lit) = dprsm_lookup(view, hit.position, depth_tolerance)
-//   if lit and vpl_at(texel) carries a VPL (vpl_has_flux):  acc[texel] += value, where
-//     paper:     value = luminance(vpl_contribution(x, n_x, rho_x, vpl_at(texel), dmin))
-//                (the paper's eq. 5 value, with the patch area of DESIGN 3.2)
-//     gathering: value = luminance(rho_x * reflected_radiance(c, I_s, hit.position, n_t, rho_t))
-//                (the gathering estimator's f / p1: f = (rho_x / pi) L_o(y) cos(theta2),
-//                 p1 = cos(theta2) / pi; L_o at the hit point y with the texel's normal and
-//                 albedo; needs no clamp), and 0 when the hit is seen from behind n_t
-//                (n_t . (x - y) <= 0: one-sided emission, as estimators/gathering_estimator.hpp)
-// then w_t = acc[t] / (|G| * n_dirs), |G| = number of valid gather points.
-//
-// Normalisation: the paper divides by |G| only; the extra constant 1 / n_dirs does not change the
-// pmf (nor the face roulette's b_F), and it makes the gathering weights an unbiased estimate of
-//     (1 / |G|) sum_x  integral over the directions from x whose first hit is lit and projects
-//                      into texel t  of  f(omega) d omega,
-// i.e. of texel t's share of the one-bounce radiance summed over the image: as texels shrink, the
-// global weight WITH visibility over all gather points, (1 / |G|) sum_x V(x, y_t) luminance(L_t(x))
-// at dmin = 0. The paper accumulator estimates the same sum with every term multiplied by the
-// probability of a ray from x landing in t: it favours texels close to the receivers.
-//
-// Accumulation runs in double whatever T is (per texel, gather points in pixel order, directions in
-// order), and the division is done in double before the one rounding to T: a float running sum
-// over a million gather points would stall (DESIGN 4). A GPU mirror scatters with atomics (e.g.
-// fixed point in uint, or float atomics): it matches within a stated relative bound, not bit for
-// bit, because atomic order is unspecified.
-//
-// Holes: texels that carry a VPL but no ray reached have w_t = 0 after accumulation. Holes are
-// then filled by the hole-aware 3x3 median of image/median_fill.hpp, each face on its own (the
-// window never crosses faces), fillable = "carries a VPL" (so invalid texels, empty texels and
-// texels facing away from the light stay exactly 0). gbg_fill_holes is the step on its own, so a
-// renderer can time it; build_gbg_weights runs it when params.fill_holes is set.
+// Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md section 4): every
+// valid gather point shoots n_dirs cosine rays through the host's tracer; a hit that the DPRSM sees
+// lit, on a texel that carries a VPL, adds the accumulator's value to that texel; then
+// w_t = acc[t] / (|G| n_dirs), accumulated in double, and the hole-aware 3x3 median fills the
+// texels that carry a VPL but no ray reached. The per-gather-point random numbers (stream = pixel,
+// direction j = counters 2j, 2j + 1) are the GPU mirror's (glsl/vplkit/builders/gbg_weights.glsl).
+// The two accumulators, what each estimates, normalisation, holes, depth tolerance:
+// docs/api/builders.md, "GBG weights".
 #include <vplkit/builders/detail/argument_checks.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/gather_point.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Local weights (paper 5.2, DESIGN 3.4): the image is split into an rx x ry grid of regions
+// Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of regions
 // (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built exactly
 // like the global weights (global_weights.hpp) from a stratified subset S_i of the region's pixels.
 //

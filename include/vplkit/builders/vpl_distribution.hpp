@@ -1,5 +1,5 @@
 #pragma once
-// From builder weights to the distribution the estimators sample (DESIGN 3.3, 3.5):
+// From builder weights to the distribution the estimators sample (docs/math.md section 3):
 //     p(t) = (1 - eps) w_t / sum w  +  eps / |F|    for t in F, the texels carrying a VPL,
 // F = { t : vpl_at(t).flux > 0 in some channel } (vpl_has_flux). Every VPL that can contribute is
 // in F, so with eps > 0 every contributing VPL has p(t) >= eps / |F| > 0 and the estimator

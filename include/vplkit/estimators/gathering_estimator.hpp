@@ -1,28 +1,13 @@
 #pragma once
-// Cosine gathering through the DPRSM (DESIGN 3.6 strategy 1; the paper's Alg. 5 without MIS):
-// directions omega ~ cos(theta2)/pi around n_x, traced to the first hit y; y is lit when the
-// DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup with depth_tolerance).
-// Each direction adds f / p1 = rho_x L_o(y); the estimate is their average over n_dirs.
-//
-// Converges to the continuous one-bounce integral int (rho_x/pi) L_o(y(omega)) cos(theta2) domega
-// as the DPRSM sees it, NOT to the VPL sum: the two differ by discretisation (DESIGN 3.8).
-//
-// What is known at the hit. The host's tracer returns only a position (a voxel DDA knows no
-// surface attributes), so the normal and albedo at y come from the DPRSM texel y projects into:
-// exactly what a GPU shader can fetch. L_o(y) = reflected_radiance(c, I_s, y, n_t, rho_t) is
-// evaluated at the hit position y itself (d1 and cos(alpha) of y, not of the texel centre y_t).
-// A hit seen from behind the texel's normal (cos(theta1) = n_t . (x - y) <= 0) adds 0: VPL
-// emission is one-sided, and the MIS densities assume the same (mis/pdf_conversion.hpp).
-//
-// Depth tolerance: y and the texel centre y_t lie on the same surface but along different rays
-// from the light; their distances to the light differ by up to about half the texel's footprint
-// times tan(alpha) (grazing surfaces: large), plus the tracer's own error (voxel_tracer: a voxel
-// diagonal, voxel_tracer_depth_tolerance). Too small a tolerance darkens grazing surfaces; too
-// large lets light leak past occluders closer to the surface than the tolerance.
-//
-// Random numbers: for each direction k = 0 .. n_dirs-1: u0 = rng_next_unit<T>(rng), then u1;
-// omega = to_world(make_orthonormal_basis(n_x), sample_cosine_hemisphere(vec2(u0, u1))).
-// An invalid gather point returns 0 and consumes none.
+// Cosine gathering through the DPRSM (docs/math.md section 5, strategy 1; the paper's Alg. 5
+// without MIS): directions omega ~ cos(theta2)/pi around n_x are traced to their first hit y; y is
+// lit when the DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup within
+// depth_tolerance), and each direction adds f / p1 = rho_x L_o(y), with L_o evaluated at y with the
+// texel's normal and albedo (0 seen from behind: one-sided emission). Converges to the one-bounce
+// integral as the DPRSM sees it, not to the VPL sum (docs/math.md section 8).
+// Random numbers: per direction u0, then u1 (estimator_state.hpp for the range form). An invalid
+// gather point gives 0 and draws nothing. What is known at the hit, choosing the depth tolerance:
+// docs/api/estimators.md, "Gathering".
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Local CDFs (DESIGN 3.4, paper section 5.2): N distributions, one per image region. Each round
+// Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region. Each round
 // draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N * n_rounds VPLs.
 //
 // Combinations (the estimand is the exhaustive VPL sum in both):

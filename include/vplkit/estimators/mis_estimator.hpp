@@ -1,42 +1,17 @@
 #pragma once
 // Multiple importance sampling of cosine gathering (strategy 1, n_dirs samples) and VPL sampling
-// from a distribution (strategy 2, n_vpls samples) at one gather point (DESIGN 3.6, paper sec. 6).
-//
-// mis_mode::solid_angle (default). Both strategies are densities of a direction at x in solid
-// angle: p1 = cos(theta2)/pi, p2 = p(t) d2^2 / (A_t cos(theta1)) with A_t = vpl_patch_area(Omega_t,
-// d1(y_t), cos(alpha)(y_t)) -- the VPL strategy read as "texel t, then a point of its patch". Both
-// evaluate the same integrand f = (rho_x/pi) L_o(y) cos(theta2) (L_o = reflected_radiance with the
-// texel's normal and albedo), and every sample of either strategy adds
-//   balance_combined(f, n_dirs, p1, n_vpls, p2) = f / (n_dirs p1 + n_vpls p2)   (per channel).
-// For a VPL sample f/p2 = L_t(x)/p(t) with no clamp (exactly, while cos(alpha) >= 1e-6); as
-// d2 -> 0, p2 -> 0 and gathering takes over, so no dmin is needed or taken. Where p(t) = 0 (a
-// hole) gathering alone covers the direction, so holes cause no bias.
-// What it converges to: the gathering samples integrate f continuously; the VPL samples evaluate
-// f at texel centres only. The expectation is therefore
-//   int n1 p1 f / (n1 p1 + n2 p2) domega  +  sum_t n2 p(t) f(y_t) V / (n1 p1 + n2 p2)(y_t),
-// the continuous integral up to the midpoint-rule error of the second term (a discretisation
-// bias of the order of, and in practice well below, VPL sum minus integral; see the docs and
-// tests/statistical/estimators_mis_test.cpp).
-//
-// mis_mode::as_published. The paper's weights and evaluation, literally (eq. 7-15, Alg. 4 and 6):
-//   p1 = cos(theta) sin(theta) / pi   (eq. 10/15, a density over (theta, phi)),  p2 = alpha = p(t)
-//   (eq. 11), balance weights w1 = p1/(p1 + alpha), w2 = alpha/(p1 + alpha) (eq. 8/9,
-//   mis_weights_as_published), theta between n_x and the ray / the direction to y_t (eq. 13/14).
-//   gathering sample (Alg. 5): the texel t the hit projects into gives alpha; value w1 f / p1 with
-//     f the same per-steradian integrand as above (Alg. 5 is not in our text; "the incident
-//     radiance due to the VPL at the hit" read as the gathering integrand, as in mis.md);
-//   VPL sample (Alg. 6): value w2 L_t(x) V / alpha, L_t from eq. 5 (vpl_contribution, patch area
-//     restored as everywhere in vplkit, no dmin clamp: the paper has none);
-//   final (Alg. 4 line 9): (sum of both) / n_dirs -- the paper's NBDIR, which equals Veach's 1/n_i
-//     only when n_dirs == n_vpls (the paper uses 800 and 800); n_dirs == 0 divides by n_vpls.
-// Biased (measured in the tests): the gathering value divides a per-steradian f by a per-(theta,
-// phi) density, i.e. carries an extra 1/sin(theta); and the weights follow resolution-dependent
-// mixed measures.
-//
-// Random numbers (both modes): for j = 0 .. max(n_dirs, n_vpls)-1: if j < n_vpls, one u for the VPL
-// (distribution.sample(u)); then if j < n_dirs, u0 and u1 for the direction (as in
-// estimate_gathering). An invalid gather point returns 0 and consumes none.
-// Never NaN or Inf: every division goes through balance_combined or is guarded.
+// from a distribution (strategy 2, n_vpls samples) at one gather point (docs/math.md section 5,
+// paper section 6).
+//   mis_mode::solid_angle (default): both strategies as solid-angle densities at x,
+//     p1 = cos(theta2)/pi and p2 = p(t) d2^2 / (A_t cos(theta1)); every sample of either adds
+//     balance_combined(f, n_dirs, p1, n_vpls, p2), f = (rho_x/pi) L_o cos(theta2). No dmin clamp;
+//     holes are covered by gathering. Converges to the one-bounce integral up to the midpoint-rule
+//     error of the VPL term.
+//   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
+//     biased (measured).
+// Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL, then if
+// j < n_dirs u0, u1 for the direction. An invalid gather point gives 0 and draws nothing; never
+// NaN or Inf. The expectation, both modes in detail, the measured bias: docs/api/estimators.md, "MIS".
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
@@ -73,7 +48,7 @@ inline T mis_texel_patch_area(const dprsm_view<T>& view, int t) {
                         vpl_cos_alpha(view.light.position, y_t, view.normal[t]));
 }
 
-// p2 of DESIGN 3.6 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
 template <class T>
 inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> w = x - y;

@@ -1,29 +1,13 @@
 #pragma once
-// OPTIONAL helper, not included by <vplkit/vplkit.hpp> (so the single-header amalgamation leaves
-// it out on purpose): include it yourself when you feed vplkit's GLSL pack to plain OpenGL.
-//
-// OpenGL drivers do not implement #include. vplkit::glsl::resolve_includes() inlines
-//   #include "vplkit/sampling/rng.glsl"      (quoted: the including file's folder, then dirs)
-//   #include <vplkit/sampling/rng.glsl>      (angle: the include dirs only)
-// recursively, the same lookup rules as glslang's GL_GOOGLE_include_directive, so one shader
-// source serves Vulkan (glslangValidator -I<dir>) and OpenGL (this helper). Rules:
-//  - each file is inlined once (like #pragma once; the pack has include guards as well);
-//  - `#line <n> <k>` directives keep driver messages pointing at the right file: GLSL's #line
-//    takes a source-string number, not a name, so the result keeps a table k -> file and
-//    resolved_source::map_log() rewrites "0:12(3): error" (Mesa), "ERROR: 1:12:" (glslang,
-//    AMD) and "1(12) : error" (NVIDIA) into "path:12...";
-//  - the #version line stays first; every later #extension line (of the root or of an included
-//    file; duplicates once) is hoisted to just after it, because GLSL wants #extension before
-//    any other token (mind: an #extension inside #ifdef is hoisted out of it); the optional
-//    preamble (e.g. #defines) follows;
-//  - `#extension GL_GOOGLE_include_directive : ...` is dropped (no GL driver knows it);
-//  - a missing file names the including file and line; an include cycle is an error;
-//  - includes inside /* */ comments are ignored; #if/#ifdef are NOT evaluated, so an include
-//    in a disabled branch must still exist -- except in a C++ branch of a file that compiles as
-//    both languages (the kernels' *_params.h): the first branch of `#ifdef __cplusplus` (or
-//    `#if defined(__cplusplus)`) and the later branches of `#ifndef __cplusplus` are never GLSL,
-//    so their includes are left out (blank lines keep the numbering).
-// Header-only, C++17, standard library only. Errors throw vplkit::glsl::include_error.
+// OPTIONAL helper, not included by <vplkit/vplkit.hpp> (nor the single header): include it when
+// you feed vplkit's GLSL pack to plain OpenGL, whose drivers do not implement #include.
+// vplkit::glsl::resolve_includes() inlines `#include "..."` / `#include <...>` recursively with the
+// lookup rules of glslang's GL_GOOGLE_include_directive (so one source serves Vulkan and OpenGL),
+// each file once, with `#line` directives and a table that map driver logs back to file names
+// (resolved_source::map_log); it keeps #version first and hoists #extension lines after it. It
+// does not evaluate #if, except that includes in the C++ branches of a two-language header (the
+// kernels' *_params.h) are left out. Every rule, and the errors (include_error): docs/glsl.md,
+// "Using the pack with OpenGL". Header-only, C++17, standard library only.
 #include <cctype>
 #include <cstddef>
 #include <filesystem>

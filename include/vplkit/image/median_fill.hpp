@@ -1,5 +1,5 @@
 #pragma once
-// Hole-aware 3x3 median fill (DESIGN 3.4): the gathering pass of the GBG builder leaves texels
+// Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves texels
 // that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its non-hole
 // 3x3 neighbours.
 //

@@ -1,7 +1,7 @@
 #pragma once
 // Multiple importance sampling weights (Veach & Guibas 1995) for two strategies: n1 samples from
 // density p1 and n2 from p2, both densities of the same point in the same measure (for vplkit:
-// solid angle at the gather point, DESIGN 3.6; see pdf_conversion.hpp).
+// solid angle at the gather point, docs/math.md section 5; see pdf_conversion.hpp).
 //
 //   balance_heuristic(n1,p1,n2,p2) = n1 p1 / (n1 p1 + n2 p2)
 //   power_heuristic(n1,p1,n2,p2)   = (n1 p1)^2 / ((n1 p1)^2 + (n2 p2)^2)        (beta = 2)

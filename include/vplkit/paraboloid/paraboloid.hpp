@@ -1,5 +1,5 @@
 #pragma once
-// Dual paraboloid mapping in light space (DESIGN 3.1): direction <-> (face, uv).
+// Dual paraboloid mapping in light space (docs/math.md section 1): direction <-> (face, uv).
 //
 // Convention (mirrored by glsl/vplkit): the front face covers d.z >= 0 (-0.0 included), the back
 // face d.z < 0. The back face is NOT mirrored: uv = (d.x, d.y) / (1 + |d.z|) on both faces, so a

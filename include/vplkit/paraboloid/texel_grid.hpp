@@ -1,5 +1,5 @@
 #pragma once
-// The R x R texel grid of each paraboloid face over uv in [-1,1]^2 (DESIGN 3.1).
+// The R x R texel grid of each paraboloid face over uv in [-1,1]^2 (docs/math.md section 1).
 //
 // Layout (mirrored by glsl/vplkit): x runs along u, y along v; texel (x, y) covers
 // u in [-1 + 2x/R, -1 + 2(x+1)/R] and likewise for v; its centre is

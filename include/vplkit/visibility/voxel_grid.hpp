@@ -1,5 +1,5 @@
 #pragma once
-// Binary occupancy grid over an axis-aligned box (DESIGN 3.7).
+// Binary occupancy grid over an axis-aligned box (docs/math.md section 7).
 //
 // Layout (shared with the GPU, which fills and reads the same words):
 //   voxel (x, y, z), 0 <= x < nx etc.; flat index  i = x + y * nx + z * nx * ny

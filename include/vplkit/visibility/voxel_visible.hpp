@@ -1,5 +1,5 @@
 #pragma once
-// Point-to-point visibility through the voxel grid (DESIGN 3.7; the paper's Alg. 6, lines 8-10).
+// Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6, lines 8-10).
 // L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
 //
 // voxel_visible (the paper's test, one-sided):

@@ -1,5 +1,5 @@
 #pragma once
-// Conservative CPU voxelisation (DESIGN 3.7): every voxel whose closed box overlaps a triangle is
+// Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a triangle is
 // marked. Only the voxels of the triangle's bounding box are tested.
 //
 // Numerical care:
