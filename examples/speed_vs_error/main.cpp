@@ -1,8 +1,8 @@
 // speed_vs_error: for one scene, every requested method over a sweep of sample counts in one
 // process. The scene, G-buffer, DPRSM and voxel grid are prepared once (prepare_buffers) and every
 // run reuses them (run_estimator); each run is timed per stage and compared with two references
-// (docs/math.md section 8): (a) the exhaustive VPL sum (method reference) and (b) converged gathering (method
-// gather at --ref-dirs directions). Writes PREFIX.csv, PREFIX.md and PREFIX.svg.
+// (docs/math.md section 8): (a) the exhaustive VPL sum (method reference) and (b) converged
+// gathering (method gather at --ref-dirs directions). Writes PREFIX.csv, PREFIX.md and PREFIX.svg.
 #include "metrics.hpp"
 #include "pareto.hpp"
 #include "svg_plot.hpp"

@@ -823,8 +823,9 @@ private:
 }  // namespace vplkit
 // ---- end vplkit/distribution/alias_table.hpp ----
 // ---- begin vplkit/distribution/defensive_mixture.hpp ----
-// Defensive sampling (docs/math.md section 3, defensive mixing): p(i) = (1 - eps) p_learned(i) + eps p_fallback(i). With a
-// fallback that covers every index that may contribute (typically uniform over the valid
+// Defensive sampling (docs/math.md section 3, defensive mixing):
+//     p(i) = (1 - eps) p_learned(i) + eps p_fallback(i).
+// With a fallback that covers every index that may contribute (typically uniform over the valid
 // paraboloid texels: a discrete_cdf of 0/1 weights), p(i) > 0 wherever the learned CDF left a
 // hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned CDF exactly
 // (same index, same pmf for every u).
@@ -936,8 +937,8 @@ private:
 }  // namespace vplkit
 // ---- end vplkit/distribution/defensive_mixture.hpp ----
 // ---- begin vplkit/distribution/face_roulette.hpp ----
-// Russian roulette between the front and the back paraboloid (paper Alg. 1, docs/math.md section 3):
-// choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's
+// Russian roulette between the front and the back paraboloid (paper Alg. 1, docs/math.md section
+// 3): choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's
 // weights, then sample within that face's CDF. The probability of (face, t) is
 // b_F * w_t / v_F = w_t / (v_F + v_B): the same as one CDF over both faces' weights.
 //
@@ -1778,8 +1779,8 @@ inline bool triangle_box_overlap(vec3<T> box_center, vec3<T> box_half, vec3<T> a
 }  // namespace vplkit
 // ---- end vplkit/visibility/triangle_box_overlap.hpp ----
 // ---- begin vplkit/visibility/voxelize.hpp ----
-// Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a triangle is
-// marked. Only the voxels of the triangle's bounding box are tested.
+// Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a
+// triangle is marked. Only the voxels of the triangle's bounding box are tested.
 //
 // Numerical care:
 // - Vertices are converted once to continuous voxel coordinates in double, c = (p - bounds_min) /
@@ -2081,8 +2082,8 @@ inline dda_trace_result<T> dda_trace_hit_point(const voxel_grid_view<T>& g, vec3
 }  // namespace vplkit
 // ---- end vplkit/visibility/dda.hpp ----
 // ---- begin vplkit/visibility/voxel_visible.hpp ----
-// Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6, lines 8-10).
-// L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
+// Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6,
+// lines 8-10). L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
 //
 // voxel_visible (the paper's test, one-sided):
 //   o = surface_ray_origin(x, n_x),  dist = |y - o|,
@@ -2330,16 +2331,17 @@ template <class T> inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
 }  // namespace vplkit
 // ---- end vplkit/mis/heuristics.hpp ----
 // ---- begin vplkit/mis/pdf_conversion.hpp ----
-// Densities of the two strategies of docs/math.md section 5, expressed in one measure — solid angle at the
-// gather point x — so that the heuristics of heuristics.hpp may compare them.
+// Densities of the two strategies of docs/math.md section 5, expressed in one measure — solid angle
+// at the gather point x — so that the heuristics of heuristics.hpp may compare them.
 //
 //   gathering:    p1(omega) = cos(theta2) / pi                        (theta2 at x, vs n_x)
 //   VPL sampling: p2(omega) = pmf(t) * d2^2 / (A_t * cos(theta1))     (theta1 at y_t, vs n_t)
 // p2 converts "pick texel t with probability pmf(t), then a point uniformly on its patch of area
 // A_t" (area density pmf/A_t) to solid angle at x with the Jacobian dA = d2^2 / cos(theta1) domega.
-// A_t = Omega_t d1^2 / cos(alpha) (docs/math.md section 2) comes from the VPL model (vpl_patch_area); it is
-// taken here as a number. For a VPL sample, f/p2 = L_t(x)/pmf(t) without any distance clamp; as
-// d2 -> 0, p2 -> 0 and the balance heuristic hands the point to the gathering strategy.
+// A_t = Omega_t d1^2 / cos(alpha) (docs/math.md section 2) comes from the VPL model
+// (vpl_patch_area); it is taken here as a number. For a VPL sample, f/p2 = L_t(x)/pmf(t) without
+// any distance clamp; as d2 -> 0, p2 -> 0 and the balance heuristic hands the point to the
+// gathering strategy.
 //
 // The paper's forms (eq. 10, 11, 15) are kept as `_as_published`; see mis_weights_as_published.
 
@@ -2423,9 +2425,9 @@ template <class T> inline mis_weight_pair<T> mis_weights_as_published(T cos_thet
 
 // image: hole-aware median fill
 // ---- begin vplkit/image/median_fill.hpp ----
-// Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves texels
-// that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its non-hole
-// 3x3 neighbours.
+// Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves
+// texels that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its
+// non-hole 3x3 neighbours.
 //
 // Median convention (the GLSL mirror must reproduce it exactly): with k non-hole neighbours
 // (1 <= k <= 8) sorted ascending as s[0] <= ... <= s[k-1], the fill value is the LOWER median
@@ -2594,8 +2596,9 @@ inline T luminance(vec3<T> rgb) {
 }  // namespace vplkit
 // ---- end vplkit/vpl/luminance.hpp ----
 // ---- begin vplkit/vpl/vpl.hpp ----
-// VPL model (docs/math.md sections 2 and 5): flux of a DPRSM texel, contribution of a VPL to a gather point,
-// radiance reflected by a directly lit diffuse point. No visibility here: callers multiply by V.
+// VPL model (docs/math.md sections 2 and 5): flux of a DPRSM texel, contribution of a VPL to a
+// gather point, radiance reflected by a directly lit diffuse point. No visibility here: callers
+// multiply by V.
 //
 // Robustness contract (every function below): never NaN or Inf for finite inputs, and 0 (not NaN)
 // when a position or normal has a NaN coordinate.
@@ -2676,7 +2679,8 @@ inline T vpl_geometry_term(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y, T dmi
   return cos1 * cos2 / (vpl_pi<T> * d2sq);  // d2sq = Inf (huge separation) gives 0
 }
 
-// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area restored).
+// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area
+// restored).
 template <class T>
 inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl<T>& v, T dmin) {
   const T g = vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
@@ -2699,7 +2703,8 @@ inline T vpl_cos_alpha(vec3<T> light_pos, vec3<T> y, vec3<T> n_y) {
 
 // Area of the surface patch seen through a texel: A_t = Omega_t d1^2 / cos(alpha), with
 // cos(alpha) raised to vpl_min_cos_alpha (also when it is <= 0 or NaN). Needed to turn the VPL pmf
-// into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md section 5).
+// into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md
+// section 5).
 template <class T>
 inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
   // written so that a NaN cos_alpha also takes the floor
@@ -2709,8 +2714,8 @@ inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
 //   L_o(y) = rho_y I_s cos(alpha) / (pi d1^2),
-// cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5 is
-// f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
+// cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5
+// is f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
 // (coincident y and c -> 0, d1^2 raised to vpl_distance_sq_floor).
 template <class T>
 inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_y,
@@ -2915,8 +2920,9 @@ inline dprsm_view<T> render_dprsm(const point_light<T>& light, int R, TraceFn&& 
 // ---- end vplkit/vpl/dprsm_raycast.hpp ----
 // ---- begin vplkit/vpl/dprsm_lookup.hpp ----
 // Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
-// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light, looking
-// through the texel y projects into, saw a surface at y's distance (within a depth tolerance).
+// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light,
+// looking through the texel y projects into, saw a surface at y's distance (within a depth
+// tolerance).
 
 #include <cmath>
 
@@ -3158,9 +3164,10 @@ inline pixel_rect full_image_rect(const gbuffer_view<T>& gbuffer) {
 }  // namespace vplkit
 // ---- end vplkit/builders/gather_subset.hpp ----
 // ---- begin vplkit/builders/global_weights.hpp ----
-// Global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4): the mean luminance of every VPL's
-// contribution to a subset S of gather points, without visibility:
-//     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (docs/math.md section 2).
+// Global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4): the mean luminance of every
+// VPL's contribution to a subset S of gather points, without visibility:
+//     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (docs/math.md
+//     section 2).
 // A texel that carries no VPL (invalid, saw nothing, or faces away from the light: vpl_at gives
 // zero flux) gets exactly 0 without evaluating any contribution, so it can never be sampled.
 //
@@ -3290,9 +3297,10 @@ inline std::vector<T> build_global_weights(const gbuffer_view<T>& gbuffer,
 }  // namespace vplkit
 // ---- end vplkit/builders/global_weights.hpp ----
 // ---- begin vplkit/builders/local_weights.hpp ----
-// Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of regions
-// (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built exactly
-// like the global weights (global_weights.hpp) from a stratified subset S_i of the region's pixels.
+// Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of
+// regions (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built
+// exactly like the global weights (global_weights.hpp) from a stratified subset S_i of the region's
+// pixels.
 //
 // Region grid: column c covers x in [floor(c W / rx), floor((c + 1) W / rx)), row r likewise with
 // H and ry; region index i = r * rx + c (row-major). With rx <= W and ry <= H every region holds
@@ -3803,8 +3811,8 @@ inline estimator_state<T> make_estimator_state(const counter_rng& rng) {
 }  // namespace vplkit
 // ---- end vplkit/estimators/estimator_state.hpp ----
 // ---- begin vplkit/estimators/vpl_sum.hpp ----
-// The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of every CDF
-// method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
+// The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of
+// every CDF method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
 
 #include <cmath>
 #include <limits>
@@ -3871,8 +3879,9 @@ inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>
 }  // namespace vplkit
 // ---- end vplkit/estimators/vpl_sum.hpp ----
 // ---- begin vplkit/estimators/vpl_sampling_estimator.hpp ----
-// VPL sampling by inverse transform (docs/math.md section 3): L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),
-// t_k ~ p. Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
+// VPL sampling by inverse transform (docs/math.md section 3):
+//     L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),   t_k ~ p.
+// Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
 // (defensive_mixture guarantees that; a plain CDF with holes is biased, the paper's behaviour).
 //
 // Distribution: anything with `sample(T u) -> {index, pmf}` over the flat DPRSM index
@@ -3937,8 +3946,9 @@ inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view
 }  // namespace vplkit
 // ---- end vplkit/estimators/vpl_sampling_estimator.hpp ----
 // ---- begin vplkit/estimators/local_estimator.hpp ----
-// Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region. Each round
-// draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N * n_rounds VPLs.
+// Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region.
+// Each round draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N *
+// n_rounds VPLs.
 //
 // Combinations (the estimand is the exhaustive VPL sum in both):
 //   balance (default): sample t drawn from CDF_i adds L_t V / sum_j p_j(t); the total is divided
@@ -4134,7 +4144,8 @@ inline T mis_texel_patch_area(const dprsm_view<T>& view, int t) {
                         vpl_cos_alpha(view.light.position, y_t, view.normal[t]));
 }
 
-// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x:
+// pmf d2^2 / (A_t cos(theta1)).
 template <class T>
 inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> w = x - y;

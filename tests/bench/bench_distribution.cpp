@@ -1,9 +1,9 @@
 // Build and sampling throughput of the discrete samplers against std::discrete_distribution.
 //   bench_distribution --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // Weights are exponential (not trivially uniform); the u are precomputed (2^20 of them, the
-// RNG convention of docs/math.md section 6) so that the timing is the sampler, not the RNG. Every sampler
-// sees the same u sequence; std::discrete_distribution gets the same bits through a replaying
-// URNG (it turns each 64-bit draw into a double in [0, 1) itself).
+// RNG convention of docs/math.md section 6) so that the timing is the sampler, not the RNG. Every
+// sampler sees the same u sequence; std::discrete_distribution gets the same bits through a
+// replaying URNG (it turns each 64-bit draw into a double in [0, 1) itself).
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 

@@ -1,7 +1,7 @@
-// docs/math.md section 10 for the estimators: d2 -> 0 (gather point on a VPL), back-facing gather points,
-// unnormalised normals, a zero-flux DPRSM, empty distributions, background pixels, denormal pmfs.
-// Every estimator (exhaustive sum, VPL sampling, local balance / average, gathering, MIS in both
-// modes) must return finite, non-negative values -- never NaN or Inf -- in float and double.
+// docs/math.md section 10 for the estimators: d2 -> 0 (gather point on a VPL), back-facing gather
+// points, unnormalised normals, a zero-flux DPRSM, empty distributions, background pixels, denormal
+// pmfs. Every estimator (exhaustive sum, VPL sampling, local balance / average, gathering, MIS in
+// both modes) must return finite, non-negative values -- never NaN or Inf -- in float and double.
 #include <synthetic_scene.hpp>
 
 #include <vplkit/distribution/alias_table.hpp>

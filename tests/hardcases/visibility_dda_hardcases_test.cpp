@@ -1,5 +1,5 @@
-// docs/math.md section 10, DDA: axis-parallel rays, rays outside the grid, zero length; plus rays along
-// voxel boundaries and exactly through voxel corners. One TEST_CASE per hard case; every case
+// docs/math.md section 10, DDA: axis-parallel rays, rays outside the grid, zero length; plus rays
+// along voxel boundaries and exactly through voxel corners. One TEST_CASE per hard case; every case
 // checks that nothing NaN or infinite comes out.
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>

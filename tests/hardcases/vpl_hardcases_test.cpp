@@ -1,5 +1,6 @@
-// docs/math.md section 10, contribution: d2 -> 0, back-facing, unnormalised normals (and zero normals);
-// the same care in reflected_radiance and vpl_patch_area. Nothing may come out NaN or Inf.
+// docs/math.md section 10, contribution: d2 -> 0, back-facing, unnormalised normals (and zero
+// normals); the same care in reflected_radiance and vpl_patch_area. Nothing may come out NaN or
+// Inf.
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 

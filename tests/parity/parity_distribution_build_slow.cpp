@@ -1,7 +1,7 @@
-// cdf_build.comp at 2^24 and more weights (docs/math.md section 10: "2^24+ equal weights"), label `slow`: the
-// block offsets and prefix maxima then span several chunks of passes 2 and 4 with the default
-// block size (2^24 / 1024 = 16384 blocks, 17 chunks), and a float CDF can no longer resolve every
-// step (n > 2^24). Same checks and bounds as parity_distribution_build_test.cpp.
+// cdf_build.comp at 2^24 and more weights (docs/math.md section 10: "2^24+ equal weights"), label
+// `slow`: the block offsets and prefix maxima then span several chunks of passes 2 and 4 with the
+// default block size (2^24 / 1024 = 16384 blocks, 17 chunks), and a float CDF can no longer resolve
+// every step (n > 2^24). Same checks and bounds as parity_distribution_build_test.cpp.
 #include <parity_distribution_support.hpp>
 
 #include <vplkit/distribution/discrete_cdf.hpp>

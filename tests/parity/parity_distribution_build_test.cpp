@@ -117,7 +117,8 @@ void edge_case_test(bool float_float) {
   }
   {
     // Rejected weights (C++: the constructor throws, sanitized() zeroes them) and valid oddities:
-    // -0, denormals, FLT_MAX-sized weights whose sum stays finite, 1e-38 beside 1e38 (docs/math.md section 10).
+    // -0, denormals, FLT_MAX-sized weights whose sum stays finite, 1e-38 beside 1e38 (docs/math.md
+    // section 10).
     std::vector<float> w = random_weights(3000, 30);
     w[0] = std::numeric_limits<float>::quiet_NaN();
     w[5] = -1.0f;

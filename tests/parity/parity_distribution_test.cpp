@@ -36,7 +36,8 @@ constexpr float flt_inf = std::numeric_limits<float>::infinity();
 constexpr float flt_nan = std::numeric_limits<float>::quiet_NaN();
 constexpr float u_max = 0x1.fffffep-1f;  // the largest float below 1
 
-// u that every sampler must survive (docs/math.md section 10: 0, the largest float below 1, exactly 1, NaN).
+// u that every sampler must survive (docs/math.md section 10: 0, the largest float below 1, exactly
+// 1, NaN).
 std::vector<float> special_us() {
   return {0.0f,  -0.0f, std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(),
           u_max, 1.0f,  std::nextafter(1.0f, 2.0f), 2.0f, flt_inf, -flt_inf, flt_nan, -flt_nan,
@@ -107,7 +108,8 @@ std::vector<named_cdf> test_cdfs() {
     v.push_back({"denormal weights among normal ones, n = 1000", vplkit::discrete_cdf<float>(w)});
   }
   {
-    // 1e-38 .. 1e38 (docs/math.md section 10): two 1e38 among tiny ones (the sum stays below FLT_MAX).
+    // 1e-38 .. 1e38 (docs/math.md section 10): two 1e38 among tiny ones (the sum stays below
+    // FLT_MAX).
     std::vector<float> w = log_uniform_weights(5000, -38, 0, 16);
     w[100] = 1e38f;
     w[4000] = 1e38f;

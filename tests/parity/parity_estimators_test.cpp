@@ -1,10 +1,10 @@
 // CPU/GPU parity of glsl/vplkit/estimators/*.glsl with include/vplkit/estimators/*.hpp (T = float)
 // on the synthetic scene of tests/support/synthetic_scene.hpp: DPRSM R = 32, 32^3 voxel grid, the
 // voxel visibility / voxel tracer on BOTH sides (the GPU can only march voxels), a 24 x 24
-// G-buffer plus the scene's named gather points and the hard cases of docs/math.md section 10 that concern the
-// estimators (gather point on a VPL and 8 eps / 1e-3 from one, back-facing, unnormalised normals,
-// background pixels, NaN / Inf positions and normals, zero / negative counts, zero intensity,
-// empty distributions, denormal pmfs, indices outside the view).
+// G-buffer plus the scene's named gather points and the hard cases of docs/math.md section 10 that
+// concern the estimators (gather point on a VPL and 8 eps / 1e-3 from one, back-facing,
+// unnormalised normals, background pixels, NaN / Inf positions and normals, zero / negative counts,
+// zero intensity, empty distributions, denormal pmfs, indices outside the view).
 //
 // Same seeds and streams on both sides: gather point i uses make_counter_rng(seed, i). The RNG is
 // bit-exact, so the random-number ORDER is checked exactly (the counter after each estimate), and

@@ -1,7 +1,8 @@
 // CPU/GPU parity of glsl/vplkit/paraboloid/*.glsl with include/vplkit/paraboloid/*.hpp (T = float):
 // unit_or_zero, the dual paraboloid mapping both ways, the texel grid (integers exact), the texel
-// solid angle and the light frame. Random inputs with fixed seeds plus the hard cases of docs/math.md section 10
-// (poles, rim z = 0 and +-1 ulp, r2 slightly above 1 from rounding, texels next to the rim).
+// solid angle and the light frame. Random inputs with fixed seeds plus the hard cases of
+// docs/math.md section 10 (poles, rim z = 0 and +-1 ulp, r2 slightly above 1 from rounding, texels
+// next to the rim).
 //
 // Why exact integers are possible: every integer result (face, texel) is decided on values that
 // both sides compute with the same correctly rounded operations (GLSL 4.30 4.7.1: + - * are

@@ -2,7 +2,8 @@
 // templates of include/vplkit/sampling/ (T = float, and T = double where it says how far each side
 // is from the exact value).
 //
-// - RNG: integers and float bits compared exactly (docs/math.md section 9: identical bits on both sides).
+// - RNG: integers and float bits compared exactly (docs/math.md section 9: identical bits on both
+//   sides).
 // - Orthonormal basis and cosine hemisphere: floats within the bounds stated at each check, chosen
 //   from measurement with margin (docs/glsl/sampling.md lists the measured worst differences).
 //

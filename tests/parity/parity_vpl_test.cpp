@@ -2,7 +2,8 @@
 // the VPL model (flux, geometry term, contribution, cos(alpha), patch area, reflected radiance),
 // the DPRSM view (vpl_at over a synthetic DPRSM uploaded as vec4 SSBOs, texel_of_direction /
 // texel_of_point) and dprsm_lookup. Random configurations with fixed seeds plus the hard cases of
-// docs/math.md section 10 (d2 -> 0, coincident points, back-facing, unnormalised and zero normals, dmin = 0).
+// docs/math.md section 10 (d2 -> 0, coincident points, back-facing, unnormalised and zero normals,
+// dmin = 0).
 //
 // Measured on llvmpipe (Mesa 22.3.6): + - * / and sqrt are correctly rounded there, but the
 // compiler contracts some a*b + c (dot products) into FMAs and turns 1/sqrt(x) and x/sqrt(y) into

@@ -1,9 +1,9 @@
 // Convergence of the unbiased methods: 4x the samples must cut the RMSE against the estimand to
 // about half (bound 0.6 for noise). The CDF methods (global, local, gbg with eps > 0) estimate the
 // exhaustive VPL sum: their estimand is the `reference` image, computed exactly. gather and mis
-// estimate the continuous one-bounce integral seen through the DPRSM (docs/math.md section 8): their estimand
-// is approximated by a 2048-direction gathering image (its own noise is ~1/11 of the 16-direction
-// image's and is included in the bound's margin).
+// estimate the continuous one-bounce integral seen through the DPRSM (docs/math.md section 8):
+// their estimand is approximated by a 2048-direction gathering image (its own noise is ~1/11 of the
+// 16-direction image's and is included in the bound's margin).
 #include "pipeline.hpp"
 #include "scene_setup.hpp"
 

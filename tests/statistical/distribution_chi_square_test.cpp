@@ -26,8 +26,8 @@ std::vector<T> exponential_weights(std::size_t n, unsigned seed, double zero_fra
   return w;
 }
 
-// The RNG convention of docs/math.md section 6: 24 random bits on the 2^-24 grid (for double too, so the
-// double samplers are tested with the u a GPU would feed them).
+// The RNG convention of docs/math.md section 6: 24 random bits on the 2^-24 grid (for double too,
+// so the double samplers are tested with the u a GPU would feed them).
 template <class T>
 T u01(std::mt19937& rng) {
   return T(rng() >> 8) * T(0x1p-24);

@@ -1,8 +1,8 @@
-// Defensive mixing (docs/math.md section 3, defensive mixing): a CDF with zero weight on VPLs that contribute gives a biased
-// estimate (it converges to the sum over the VPLs it covers); mixing in eps > 0 of a uniform
-// distribution over the valid texels removes the bias; eps = 0 reproduces the plain CDF exactly.
-// Here the CDF's back paraboloid (the ceiling and the upper walls) is zeroed, as a badly filled
-// GBG CDF or a builder ignoring part of the map would leave it.
+// Defensive mixing (docs/math.md section 3, defensive mixing): a CDF with zero weight on VPLs that
+// contribute gives a biased estimate (it converges to the sum over the VPLs it covers); mixing in
+// eps > 0 of a uniform distribution over the valid texels removes the bias; eps = 0 reproduces the
+// plain CDF exactly. Here the CDF's back paraboloid (the ceiling and the upper walls) is zeroed, as
+// a badly filled GBG CDF or a builder ignoring part of the map would leave it.
 #include <estimators_reference.hpp>
 #include <synthetic_scene.hpp>
 

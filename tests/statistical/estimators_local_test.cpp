@@ -1,8 +1,8 @@
-// Local CDFs at a seam (docs/math.md section 4): two image regions, one seeing only the floor, the other only
-// the ceiling. Each region's CDF (built like the global builder from that region's points, V = 1)
-// gives weight 0 to VPLs that cannot reach its own points -- the floor CDF misses the floor and
-// the block top (coplanar or facing away), the ceiling CDF misses the ceiling -- yet points on the
-// walls between the regions receive light from all of them.
+// Local CDFs at a seam (docs/math.md section 4): two image regions, one seeing only the floor, the
+// other only the ceiling. Each region's CDF (built like the global builder from that region's
+// points, V = 1) gives weight 0 to VPLs that cannot reach its own points -- the floor CDF misses
+// the floor and the block top (coplanar or facing away), the ceiling CDF misses the ceiling -- yet
+// points on the walls between the regions receive light from all of them.
 //   holes:   average (as published) is biased (each CDF's missing share is lost), balance is not;
 //   covered: with a small flux floor every CDF covers every VPL; both are unbiased, and balance has
 //            the smaller variance (a VPL rare under one CDF is divided by the SUM of the pmfs).

@@ -1,5 +1,6 @@
 // mis_mode::as_published (the paper's eq. 7-15 and Alg. 4-6, evaluated as published) is biased;
-// mis_mode::solid_angle (docs/math.md section 5) is not. Same scene, CDF, sample counts and reference:
+// mis_mode::solid_angle (docs/math.md section 5) is not. Same scene, CDF, sample counts and
+// reference:
 //   I = the continuous one-bounce integral seen through the DPRSM (512^2 midpoint quadrature),
 //   E = each mode's exact expectation (quadrature of its gathering samples + exact sum of its VPL
 //       samples), which the sample mean must match: the bias is the estimator's, not noise.

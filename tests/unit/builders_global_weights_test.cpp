@@ -17,8 +17,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The global weight of texel t written out from docs/math.md section 1-3.2 in double, sharing no code with
-// the library except the texel layout.
+// The global weight of texel t written out from docs/math.md section 1-3.2 in double, sharing no
+// code with the library except the texel layout.
 double brute_force_weight(const vplkit::dprsm_view<double>& view,
                           const std::vector<vplkit::gather_point<double>>& pts, int t,
                           double dmin) {

@@ -209,8 +209,8 @@ TEMPLATE_TEST_CASE("physics: one bounce inside a sphere is rho^2 I / (pi r^2) ev
 }
 
 TEST_CASE("physics: VPL sum and gathering integral agree at a box floor", "[vpl][physics]") {
-  // No closed form here: the two estimands of docs/math.md section 8 (VPL sum vs continuous one-bounce
-  // integral) must agree to discretisation error at a point far from the box edges.
+  // No closed form here: the two estimands of docs/math.md section 8 (VPL sum vs continuous
+  // one-bounce integral) must agree to discretisation error at a point far from the box edges.
   using T = double;
   const box_scene<T> scene{vec3<T>(-1, -2, -0.5), vec3<T>(3, 1, 2.5), vec3<T>(0.7, 0.4, 0.9)};
   const auto light =

@@ -13,8 +13,8 @@ inline float linear_to_srgb(float c) {
   return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
 }
 
-// Rec. 709 / sRGB-primaries luminance of linear RGB. (The VPL weights of docs/math.md section 2 use the
-// paper's 0.299/0.587/0.114; this one is only for tone mapping, where the primaries matter.)
+// Rec. 709 / sRGB-primaries luminance of linear RGB. (The VPL weights of docs/math.md section 2 use
+// the paper's 0.299/0.587/0.114; this one is only for tone mapping, where the primaries matter.)
 inline float luminance_rec709(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
 }  // namespace vplrender

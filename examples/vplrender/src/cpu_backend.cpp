@@ -40,8 +40,8 @@ estimator_settings make_estimator_settings(const options& o, const scene& s) {
   e.cdf_search = o.cdf_search;
   e.seed = o.seed;
   e.direct = o.direct;
-  // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias; the
-  // reference uses the same value, so the CDF methods converge to it exactly).
+  // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;
+  // the reference uses the same value, so the CDF methods converge to it exactly).
   e.dmin = 0.01f * bounds(s).diagonal();
   return e;
 }

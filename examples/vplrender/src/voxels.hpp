@@ -1,6 +1,6 @@
 #pragma once
-// The scene's voxel grid (docs/math.md section 7): bounds = the triangles' box padded by 1% of its largest
-// extent and made cubic (vplkit::fit_voxel_bounds), `resolution` voxels per axis.
+// The scene's voxel grid (docs/math.md section 7): bounds = the triangles' box padded by 1% of its
+// largest extent and made cubic (vplkit::fit_voxel_bounds), `resolution` voxels per axis.
 #include "scene.hpp"
 
 #include <vplkit/visibility/voxel_grid.hpp>

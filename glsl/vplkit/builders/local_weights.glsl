@@ -1,5 +1,5 @@
-// vplkit GLSL pack: the region grid of the local CDFs (paper 5.2, docs/math.md section 4): which of the
-// rx x ry regions a pixel belongs to, and each region's rectangle; mirrors the integer part of
+// vplkit GLSL pack: the region grid of the local CDFs (paper 5.2, docs/math.md section 4): which of
+// the rx x ry regions a pixel belongs to, and each region's rectangle; mirrors the integer part of
 // include/vplkit/builders/local_weights.hpp. A renderer's estimator kernel uses
 // vplkit_region_of_pixel to pick the pixel's own region; the weights of region i are
 // global_weights.comp over the subset S_i (region-major layout: weights[i * 2 R^2 + t]).

@@ -16,7 +16,8 @@ const float vplkit_INV_FOUR_PI = 0.0795774715459476678845;
 // Largest float below 1 (0x3F7FFFFF): uniform variates are clamped to it so that u = 1 never
 // indexes one past a CDF.
 const float vplkit_ONE_MINUS_EPSILON = 0.999999940395355224609375;
-// 2^-24: (hash >> 8) * 2^-24 turns a 32-bit hash into a float in [0, 1) exactly (docs/math.md section 6).
+// 2^-24: (hash >> 8) * 2^-24 turns a 32-bit hash into a float in [0, 1) exactly (docs/math.md
+// section 6).
 const float vplkit_TWO_POW_MINUS_24 = 5.9604644775390625e-8;
 // Largest finite float and smallest normal float.
 const float vplkit_FLT_MAX = 3.40282346638528859811704183484516925e+38;

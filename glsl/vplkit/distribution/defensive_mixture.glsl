@@ -1,5 +1,6 @@
 // vplkit GLSL pack: defensive sampling, p(i) = (1 - eps) p_learned(i) + eps p_fallback(i)
-// (docs/math.md section 3, defensive mixing; mirrors include/vplkit/distribution/defensive_mixture.hpp, T = float).
+// (docs/math.md section 3, defensive mixing; mirrors
+// include/vplkit/distribution/defensive_mixture.hpp, T = float).
 //
 // One u serves both decisions: u < eps picks the fallback and is rescaled to u * (1 / eps),
 // otherwise the learned CDF gets (u - eps) * (1 / (1 - eps)). The reciprocals are constants of the

@@ -43,7 +43,8 @@ float vplkit_mis_texel_patch_area(vplkit_dprsm_view view, int t) {
                                vplkit_vpl_cos_alpha(view.light.position, y_t, vplkit_load_dprsm_normal(t)));
 }
 
-// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x:
+// pmf d2^2 / (A_t cos(theta1)).
 float vplkit_mis_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x, vec3 y) {
   vec3 w = x - y;
   float cos1 = dot(vplkit_unit_or_zero(vplkit_load_dprsm_normal(t)), vplkit_unit_or_zero(w));

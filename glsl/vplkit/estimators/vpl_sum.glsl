@@ -1,6 +1,6 @@
-// vplkit GLSL pack: the exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2), the estimand
-// of every CDF method, and the per-sample pieces every VPL-sampling estimator shares; mirrors
-// include/vplkit/estimators/vpl_sum.hpp (T = float).
+// vplkit GLSL pack: the exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2),
+// the estimand of every CDF method, and the per-sample pieces every VPL-sampling estimator shares;
+// mirrors include/vplkit/estimators/vpl_sum.hpp (T = float).
 //
 // Visibility: a vplkit_visibility value (visibility/visibility_callables.glsl) stands for the C++
 // Visibility callable: V = 1, the two-sided or one-sided voxel test, or the user's hook.

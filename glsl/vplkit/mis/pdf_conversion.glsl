@@ -1,6 +1,6 @@
-// vplkit GLSL pack: densities of the two strategies of docs/math.md section 5 in one measure (solid angle at
-// the gather point x), and the paper's mixed-measure forms (`_as_published`); the float mirror of
-// include/vplkit/mis/pdf_conversion.hpp (docs/api/mis.md, docs/glsl/mis.md).
+// vplkit GLSL pack: densities of the two strategies of docs/math.md section 5 in one measure (solid
+// angle at the gather point x), and the paper's mixed-measure forms (`_as_published`); the float
+// mirror of include/vplkit/mis/pdf_conversion.hpp (docs/api/mis.md, docs/glsl/mis.md).
 //   gathering:    p1(omega) = cos(theta2) / pi                        (theta2 at x, vs n_x)
 //   VPL sampling: p2(omega) = pmf(t) * d2^2 / (A_t * cos(theta1))     (theta1 at y_t, vs n_t)
 // Paper (eq. 10/15, 11, 8/9): p1 = cos sin / pi against the texel pmf alpha; biased in a

@@ -1,5 +1,5 @@
-// vplkit GLSL pack: dual paraboloid mapping in light space (docs/math.md section 1), direction <-> (face, uv).
-// Mirrors include/vplkit/paraboloid/paraboloid.hpp (T = float) line for line.
+// vplkit GLSL pack: dual paraboloid mapping in light space (docs/math.md section 1), direction <->
+// (face, uv). Mirrors include/vplkit/paraboloid/paraboloid.hpp (T = float) line for line.
 //
 // Convention (identical to the C++): the front face covers d.z >= 0 (-0.0 included), the back face
 // d.z < 0. The back face is NOT mirrored: uv = (d.x, d.y) / (1 + |d.z|) on both faces, so a rim

@@ -1,5 +1,5 @@
-// vplkit GLSL pack: the R x R texel grid of each paraboloid face over uv in [-1,1]^2 (docs/math.md section 1).
-// Mirrors include/vplkit/paraboloid/texel_grid.hpp (T = float) line for line.
+// vplkit GLSL pack: the R x R texel grid of each paraboloid face over uv in [-1,1]^2 (docs/math.md
+// section 1). Mirrors include/vplkit/paraboloid/texel_grid.hpp (T = float) line for line.
 //
 // Layout: x runs along u, y along v; texel (x, y) covers u in [-1 + 2x/R, -1 + 2(x+1)/R) and
 // likewise for v; its centre is ((x + 0.5) / R * 2 - 1, (y + 0.5) / R * 2 - 1). The flat index

@@ -1,5 +1,5 @@
-// vplkit GLSL pack: point-to-point visibility through the voxel grid (docs/math.md section 7, the paper's
-// Alg. 6; mirrors include/vplkit/visibility/voxel_visible.hpp, T = float).
+// vplkit GLSL pack: point-to-point visibility through the voxel grid (docs/math.md section 7, the
+// paper's Alg. 6; mirrors include/vplkit/visibility/voxel_visible.hpp, T = float).
 // L = vplkit_voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
 //
 //   vplkit_voxel_visible (the paper's one-sided test):

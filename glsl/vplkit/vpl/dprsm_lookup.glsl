@@ -1,7 +1,7 @@
 // vplkit GLSL pack: is a surface point lit by the light, and through which DPRSM texel? Mirrors
 // include/vplkit/vpl/dprsm_lookup.hpp (T = float): the shadow-map test of the gathering estimator
-// and of the GBG builder (docs/math.md section 4). y is lit when the light, looking through the texel y
-// projects into, saw a surface at y's distance (within a depth tolerance).
+// and of the GBG builder (docs/math.md section 4). y is lit when the light, looking through the
+// texel y projects into, saw a surface at y's distance (within a depth tolerance).
 //
 // ACCESSORS used (declared in dprsm_view.glsl, defined by the including shader):
 //   vec3 vplkit_load_dprsm_position(int texel);

@@ -1,6 +1,6 @@
-// vplkit GLSL pack: VPL model (docs/math.md sections 2 and 5), mirroring include/vplkit/vpl/vpl.hpp (T = float)
-// line for line: flux of a DPRSM texel, contribution of a VPL to a gather point, radiance reflected
-// by a directly lit diffuse point. No visibility here: callers multiply by V.
+// vplkit GLSL pack: VPL model (docs/math.md sections 2 and 5), mirroring include/vplkit/vpl/vpl.hpp
+// (T = float) line for line: flux of a DPRSM texel, contribution of a VPL to a gather point,
+// radiance reflected by a directly lit diffuse point. No visibility here: callers multiply by V.
 //
 // Robustness (as on the CPU): never NaN or Inf for finite inputs.
 //  - Normals may have any length (vplkit_unit_or_zero); a zero normal gives 0.
@@ -65,7 +65,8 @@ float vplkit_vpl_geometry_term(vec3 x, vec3 n_x, vec3 y, vec3 n_y, float dmin) {
   return cos1 * cos2 / (vplkit_vpl_pi * d2sq);  // d2sq = Inf (huge separation) gives 0
 }
 
-// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area restored).
+// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area
+// restored).
 vec3 vplkit_vpl_contribution(vec3 x, vec3 n_x, vec3 rho_x, vplkit_vpl v, float dmin) {
   float g = vplkit_vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
   float brdf_scale = 1.0 / vplkit_vpl_pi;  // diffuse BRDF rho_x / pi

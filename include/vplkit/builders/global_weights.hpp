@@ -1,7 +1,8 @@
 #pragma once
-// Global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4): the mean luminance of every VPL's
-// contribution to a subset S of gather points, without visibility:
-//     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (docs/math.md section 2).
+// Global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4): the mean luminance of every
+// VPL's contribution to a subset S of gather points, without visibility:
+//     w_t = (1 / |S|) sum_{g in S} luminance(L_t(g)),   L_t = vpl_contribution (docs/math.md
+//     section 2).
 // A texel that carries no VPL (invalid, saw nothing, or faces away from the light: vpl_at gives
 // zero flux) gets exactly 0 without evaluating any contribution, so it can never be sampled.
 //

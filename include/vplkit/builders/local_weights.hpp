@@ -1,7 +1,8 @@
 #pragma once
-// Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of regions
-// (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built exactly
-// like the global weights (global_weights.hpp) from a stratified subset S_i of the region's pixels.
+// Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of
+// regions (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built
+// exactly like the global weights (global_weights.hpp) from a stratified subset S_i of the region's
+// pixels.
 //
 // Region grid: column c covers x in [floor(c W / rx), floor((c + 1) W / rx)), row r likewise with
 // H and ry; region index i = r * rx + c (row-major). With rx <= W and ry <= H every region holds

@@ -1,6 +1,7 @@
 #pragma once
-// Defensive sampling (docs/math.md section 3, defensive mixing): p(i) = (1 - eps) p_learned(i) + eps p_fallback(i). With a
-// fallback that covers every index that may contribute (typically uniform over the valid
+// Defensive sampling (docs/math.md section 3, defensive mixing):
+//     p(i) = (1 - eps) p_learned(i) + eps p_fallback(i).
+// With a fallback that covers every index that may contribute (typically uniform over the valid
 // paraboloid texels: a discrete_cdf of 0/1 weights), p(i) > 0 wherever the learned CDF left a
 // hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned CDF exactly
 // (same index, same pmf for every u).

@@ -1,6 +1,6 @@
 #pragma once
-// Russian roulette between the front and the back paraboloid (paper Alg. 1, docs/math.md section 3):
-// choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's
+// Russian roulette between the front and the back paraboloid (paper Alg. 1, docs/math.md section
+// 3): choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's
 // weights, then sample within that face's CDF. The probability of (face, t) is
 // b_F * w_t / v_F = w_t / (v_F + v_B): the same as one CDF over both faces' weights.
 //

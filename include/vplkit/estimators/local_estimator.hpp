@@ -1,6 +1,7 @@
 #pragma once
-// Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region. Each round
-// draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N * n_rounds VPLs.
+// Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region.
+// Each round draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N *
+// n_rounds VPLs.
 //
 // Combinations (the estimand is the exhaustive VPL sum in both):
 //   balance (default): sample t drawn from CDF_i adds L_t V / sum_j p_j(t); the total is divided

@@ -48,7 +48,8 @@ inline T mis_texel_patch_area(const dprsm_view<T>& view, int t) {
                         vpl_cos_alpha(view.light.position, y_t, view.normal[t]));
 }
 
-// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x: pmf d2^2 / (A_t cos(theta1)).
+// p2 of docs/math.md section 5 for the point y on texel t's patch seen from x:
+// pmf d2^2 / (A_t cos(theta1)).
 template <class T>
 inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> w = x - y;

@@ -1,6 +1,7 @@
 #pragma once
-// VPL sampling by inverse transform (docs/math.md section 3): L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),
-// t_k ~ p. Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
+// VPL sampling by inverse transform (docs/math.md section 3):
+//     L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),   t_k ~ p.
+// Unbiased for the exhaustive VPL sum wherever p(t) > 0 for every t with L_t(x) > 0
 // (defensive_mixture guarantees that; a plain CDF with holes is biased, the paper's behaviour).
 //
 // Distribution: anything with `sample(T u) -> {index, pmf}` over the flat DPRSM index

@@ -1,6 +1,6 @@
 #pragma once
-// The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of every CDF
-// method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
+// The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of
+// every CDF method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>

@@ -1,7 +1,7 @@
 #pragma once
-// Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves texels
-// that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its non-hole
-// 3x3 neighbours.
+// Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves
+// texels that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its
+// non-hole 3x3 neighbours.
 //
 // Median convention (the GLSL mirror must reproduce it exactly): with k non-hole neighbours
 // (1 <= k <= 8) sorted ascending as s[0] <= ... <= s[k-1], the fill value is the LOWER median

@@ -1,14 +1,15 @@
 #pragma once
-// Densities of the two strategies of docs/math.md section 5, expressed in one measure — solid angle at the
-// gather point x — so that the heuristics of heuristics.hpp may compare them.
+// Densities of the two strategies of docs/math.md section 5, expressed in one measure — solid angle
+// at the gather point x — so that the heuristics of heuristics.hpp may compare them.
 //
 //   gathering:    p1(omega) = cos(theta2) / pi                        (theta2 at x, vs n_x)
 //   VPL sampling: p2(omega) = pmf(t) * d2^2 / (A_t * cos(theta1))     (theta1 at y_t, vs n_t)
 // p2 converts "pick texel t with probability pmf(t), then a point uniformly on its patch of area
 // A_t" (area density pmf/A_t) to solid angle at x with the Jacobian dA = d2^2 / cos(theta1) domega.
-// A_t = Omega_t d1^2 / cos(alpha) (docs/math.md section 2) comes from the VPL model (vpl_patch_area); it is
-// taken here as a number. For a VPL sample, f/p2 = L_t(x)/pmf(t) without any distance clamp; as
-// d2 -> 0, p2 -> 0 and the balance heuristic hands the point to the gathering strategy.
+// A_t = Omega_t d1^2 / cos(alpha) (docs/math.md section 2) comes from the VPL model
+// (vpl_patch_area); it is taken here as a number. For a VPL sample, f/p2 = L_t(x)/pmf(t) without
+// any distance clamp; as d2 -> 0, p2 -> 0 and the balance heuristic hands the point to the
+// gathering strategy.
 //
 // The paper's forms (eq. 10, 11, 15) are kept as `_as_published`; see mis_weights_as_published.
 #include <vplkit/mis/heuristics.hpp>

@@ -1,6 +1,6 @@
 #pragma once
-// Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6, lines 8-10).
-// L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
+// Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6,
+// lines 8-10). L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.
 //
 // voxel_visible (the paper's test, one-sided):
 //   o = surface_ray_origin(x, n_x),  dist = |y - o|,

@@ -1,6 +1,6 @@
 #pragma once
-// Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a triangle is
-// marked. Only the voxels of the triangle's bounding box are tested.
+// Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a
+// triangle is marked. Only the voxels of the triangle's bounding box are tested.
 //
 // Numerical care:
 // - Vertices are converted once to continuous voxel coordinates in double, c = (p - bounds_min) /

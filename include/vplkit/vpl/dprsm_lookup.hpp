@@ -1,7 +1,8 @@
 #pragma once
 // Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
-// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light, looking
-// through the texel y projects into, saw a surface at y's distance (within a depth tolerance).
+// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light,
+// looking through the texel y projects into, saw a surface at y's distance (within a depth
+// tolerance).
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 

@@ -1,6 +1,7 @@
 #pragma once
-// VPL model (docs/math.md sections 2 and 5): flux of a DPRSM texel, contribution of a VPL to a gather point,
-// radiance reflected by a directly lit diffuse point. No visibility here: callers multiply by V.
+// VPL model (docs/math.md sections 2 and 5): flux of a DPRSM texel, contribution of a VPL to a
+// gather point, radiance reflected by a directly lit diffuse point. No visibility here: callers
+// multiply by V.
 //
 // Robustness contract (every function below): never NaN or Inf for finite inputs, and 0 (not NaN)
 // when a position or normal has a NaN coordinate.
@@ -83,7 +84,8 @@ inline T vpl_geometry_term(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y, T dmi
   return cos1 * cos2 / (vpl_pi<T> * d2sq);  // d2sq = Inf (huge separation) gives 0
 }
 
-// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area restored).
+// L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area
+// restored).
 template <class T>
 inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl<T>& v, T dmin) {
   const T g = vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
@@ -106,7 +108,8 @@ inline T vpl_cos_alpha(vec3<T> light_pos, vec3<T> y, vec3<T> n_y) {
 
 // Area of the surface patch seen through a texel: A_t = Omega_t d1^2 / cos(alpha), with
 // cos(alpha) raised to vpl_min_cos_alpha (also when it is <= 0 or NaN). Needed to turn the VPL pmf
-// into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md section 5).
+// into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md
+// section 5).
 template <class T>
 inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
   // written so that a NaN cos_alpha also takes the floor
@@ -116,8 +119,8 @@ inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
 //   L_o(y) = rho_y I_s cos(alpha) / (pi d1^2),
-// cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5 is
-// f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
+// cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5
+// is f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
 // (coincident y and c -> 0, d1^2 raised to vpl_distance_sq_floor).
 template <class T>
 inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_y,
