@@ -42,8 +42,8 @@
 // m + 1 zero guide entries (empty, as in C++). info[d].total = the sum of the weights rounded to
 // float (the vplkit_discrete_cdf descriptor's total), info[d].zeroed = how many weights were
 // negative, NaN or infinite: the C++ constructor throws for those, the kernel treats them as 0
-// (as discrete_cdf::sanitized does). A sum above the largest float (C++: throws) gives
-// info[d].total = +Inf; the cdf is then still right with double accumulation and unspecified with
+// (as discrete_cdf::sanitized does). A sum above the largest float gives info[d].total = +Inf
+// (as the C++ total()); the cdf is then still right with double accumulation and unspecified with
 // VPLKIT_CDF_BUILD_FLOAT_FLOAT.
 //
 // How: the partial sums P_i are a two-level scan (each invocation sums ITEMS
