@@ -8,6 +8,12 @@
 
 // ---- begin vplkit/core/version.hpp ----
 
+// vplkit is C++17 (inline variables, if constexpr, std::data). Say so before anything else fails.
+// MSVC reports __cplusplus as 199711L unless /Zc:__cplusplus is given; _MSVC_LANG is reliable.
+#if (defined(_MSVC_LANG) ? _MSVC_LANG : __cplusplus) < 201703L
+#error "vplkit needs C++17 or later: compile with -std=c++17 (or /std:c++17), or link the CMake target vplkit::vplkit, which asks for cxx_std_17"
+#endif
+
 #define VPLKIT_VERSION_MAJOR 0
 #define VPLKIT_VERSION_MINOR 1
 #define VPLKIT_VERSION_PATCH 0
@@ -34,6 +40,7 @@ using uvec3 = glm::vec<3, std::uint32_t, glm::defaultp>;
 // ---- begin vplkit/core/error.hpp ----
 // One exception type for bad input, so a host renderer can catch vplkit's complaints apart from
 // its own. Messages name what was wrong and where (an index, a texel, a size).
+
 #include <stdexcept>
 #include <string>
 
