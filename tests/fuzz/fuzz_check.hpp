@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// What the harnesses share: a contract check that crashes (libFuzzer then saves the input), and a
-// reader that turns the fuzzer's bytes into values.
+// What the harnesses share: a contract check that crashes (libFuzzer then saves the input), a
+// reader that turns the fuzzer's bytes into values, and a private folder for the files they write.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
 
 // Not assert(): it must hold in every build type, and it says which contract broke.
 #define VPLKIT_FUZZ_CHECK(cond)                                                                 \
@@ -38,5 +42,19 @@ private:
   const std::uint8_t* p_;
   std::size_t n_;
 };
+
+// A new folder under the system's temporary directory, e.g. make_temp_dir("vplkit_fuzz_obj").
+inline std::filesystem::path make_temp_dir(const std::string& stem) {
+  std::string tmpl = (std::filesystem::temp_directory_path() / (stem + "_XXXXXX")).string();
+  std::vector<char> buf(tmpl.begin(), tmpl.end());
+  buf.push_back('\0');
+  if (!mkdtemp(buf.data())) std::abort();
+  return std::filesystem::path(buf.data());
+}
+
+inline void write_file(const std::filesystem::path& p, const std::string& bytes) {
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f << bytes;
+}
 
 }  // namespace vplkit_fuzz

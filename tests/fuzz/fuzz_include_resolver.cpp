@@ -22,20 +22,14 @@ namespace fs = std::filesystem;
 
 const fs::path& work_dir() {
   static const fs::path dir = [] {
-    std::string tmpl = (fs::temp_directory_path() / "vplkit_fuzz_include_XXXXXX").string();
-    std::vector<char> buf(tmpl.begin(), tmpl.end());
-    buf.push_back('\0');
-    if (!mkdtemp(buf.data())) std::abort();
-    fs::create_directories(fs::path(buf.data()) / "sub");
-    return fs::path(buf.data());
+    const fs::path d = vplkit_fuzz::make_temp_dir("vplkit_fuzz_include");
+    fs::create_directories(d / "sub");
+    return d;
   }();
   return dir;
 }
 
-void write(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << text;
-}
+using vplkit_fuzz::write_file;
 
 // A source file's lines as the resolver reads them (one trailing '\r' dropped: CRLF files).
 std::vector<std::string> lines_of(const std::string& text) {
@@ -127,10 +121,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   parts.resize(4);
   const fs::path& dir = work_dir();
-  write(dir / "a.glsl", parts[1]);
-  write(dir / "b.glsl", parts[2]);
-  write(dir / "sub" / "c.glsl", parts[3]);
-  write(dir / "root.glsl", parts[0]);
+  write_file(dir / "a.glsl", parts[1]);
+  write_file(dir / "b.glsl", parts[2]);
+  write_file(dir / "sub" / "c.glsl", parts[3]);
+  write_file(dir / "root.glsl", parts[0]);
   const std::vector<std::string> dirs = {dir.string()};
   for (int mode = 0; mode < 2; ++mode) {
     try {

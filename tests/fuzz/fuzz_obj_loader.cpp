@@ -24,17 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void write(const fs::path& p, const std::string& bytes) {
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << bytes;
-}
+using vplkit_fuzz::write_file;
 
 const std::string& work_dir() {
   static const std::string dir = [] {
-    std::string tmpl = (fs::temp_directory_path() / "vplkit_fuzz_obj_XXXXXX").string();
-    std::vector<char> buf(tmpl.begin(), tmpl.end());
-    buf.push_back('\0');
-    if (!mkdtemp(buf.data())) std::abort();
+    const fs::path d = vplkit_fuzz::make_temp_dir("vplkit_fuzz_obj");
     // A 2x2 RGB PNG (red, green / blue, white), the smallest texture map_Kd can name.
     static const unsigned char png[] = {
         0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00,
@@ -42,8 +36,8 @@ const std::string& work_dir() {
         0x00, 0x00, 0x12, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8, 0xcf, 0xc0, 0xc0, 0x00, 0xc2, 0x0c,
         0xff, 0x81, 0x00, 0x00, 0x1f, 0xee, 0x05, 0xfb, 0x0b, 0xd9, 0x68, 0x8b, 0x00, 0x00, 0x00, 0x00, 0x49,
         0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
-    write(fs::path(buf.data()) / "tex.png", std::string(reinterpret_cast<const char*>(png), sizeof png));
-    return std::string(buf.data());
+    write_file(d / "tex.png", std::string(reinterpret_cast<const char*>(png), sizeof png));
+    return d.string();
   }();
   return dir;
 }
@@ -83,7 +77,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::size_t nul = input.find('\0');
   const std::string obj = input.substr(0, nul);
   const std::string& dir = work_dir();
-  write(fs::path(dir) / "m.mtl", nul == std::string::npos ? std::string() : input.substr(nul + 1));
+  write_file(fs::path(dir) / "m.mtl", nul == std::string::npos ? std::string() : input.substr(nul + 1));
   try {
     const vplrender::scene s = vplrender::load_obj_text(obj, "fuzz.obj", dir);
     check_scene(s);
