@@ -444,6 +444,10 @@ TEST_CASE("MTL: one-number Kd is grey, unused statements are ignored, orphans an
   CHECK(has_warning(s, "m.mtl:1: 1 Kd/Ke/map_Kd statement(s) before the first newmtl belong to no material"));
   CHECK(has_warning(s, "m.mtl:7: unknown statement 'foo' ignored (2 lines)"));
   CHECK(s.warnings.size() == 2);  // Ka abc and Ns x are not used: no word about them
+  // Names after mtllib may be separated by tabs (tinyobjloader alone splits on spaces only).
+  const scene tabbed = load_obj_scene(d.write("tab.obj", "mtllib\tnowhere.mtl\tm.mtl\n" + obj.substr(obj.find('\n') + 1)));
+  CHECK(tabbed.materials[tabbed.triangles[0].material].name == "grey");
+  CHECK(has_warning(tabbed, "material library 'nowhere.mtl' not found"));
 }
 
 TEST_CASE("a scene file that is not a regular file is refused at once: FIFO, /dev/zero, directory") {

@@ -135,7 +135,12 @@ obj_scan_result scan_obj(const std::string& text, const std::string& filename) {
       if (it == ignored.end()) ignored.emplace(std::string(t[0]), std::make_pair(line, std::size_t{1}));
       else ++it->second.second;
     }
-    if (keep) {
+    if (keep && t[0] == "mtllib") {
+      // tinyobjloader splits mtllib names on spaces only; our names (split on blanks) are what
+      // the loader serves, so hand it exactly those, one space apart.
+      r.cleaned += "mtllib";
+      for (std::size_t i = 1; i < t.size(); ++i) (r.cleaned += ' ') += t[i];
+    } else if (keep) {
       // Up to the comment (tokenize stopped there); names keep their inner '#'.
       const std::string_view last = t.back();
       r.cleaned.append(s.data(), static_cast<std::size_t>(last.data() + last.size() - s.data()));
