@@ -17,6 +17,7 @@ packages=(
   libtinyobjloader-dev             # OBJ/MTL scenes
   nlohmann-json3-dev               # JSON run reports
   libcli11-dev                     # command-line parsing of the example renderer
+  clang libclang-rt-14-dev         # libFuzzer harnesses (tests/fuzz, scripts/fuzz.sh)
 )
 
 missing=()

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The one test command (README.md, .ci/run): installs what is missing, builds everything with
 # warnings as errors, runs the whole test suite, then runs it again under ASan + UBSan.
-#   scripts/test.sh            everything (default build + sanitizer build)
-#   scripts/test.sh --quick    default build only, slow tests skipped
+#   scripts/test.sh            everything (default build + sanitizer build + a short fuzz pass)
+#   scripts/test.sh --quick    default build only, slow tests skipped, no fuzzing
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
@@ -30,3 +30,6 @@ cmake --build build/sanitize -j"$jobs"
 echo "== tests under ASan + UBSan =="
 (cd build/sanitize && ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
    ctest -j"$jobs" --output-on-failure -LE 'slow|packaging')
+
+echo "== fuzz (short pass: each libFuzzer harness 10 s, clang build in build/fuzz) =="
+scripts/fuzz.sh 10

@@ -58,6 +58,7 @@ add_library(vplrender_core STATIC
   ${_vr}/exr_io.cpp
   ${_vr}/framing.cpp
   ${_vr}/image.cpp
+  ${_vr}/mtl_scan.cpp
   ${_vr}/obj_loader.cpp
   ${_vr}/obj_scan.cpp
   ${_vr}/options.cpp

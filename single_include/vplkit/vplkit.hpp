@@ -9,6 +9,12 @@
 
 // ---- begin vplkit/core/version.hpp ----
 
+// vplkit is C++17 (inline variables, if constexpr, std::data). Say so before anything else fails.
+// MSVC reports __cplusplus as 199711L unless /Zc:__cplusplus is given; _MSVC_LANG is reliable.
+#if (defined(_MSVC_LANG) ? _MSVC_LANG : __cplusplus) < 201703L
+#error "vplkit needs C++17 or later: compile with -std=c++17 (or /std:c++17), or link the CMake target vplkit::vplkit, which asks for cxx_std_17"
+#endif
+
 #define VPLKIT_VERSION_MAJOR 0
 #define VPLKIT_VERSION_MINOR 1
 #define VPLKIT_VERSION_PATCH 0
@@ -35,6 +41,7 @@ using uvec3 = glm::vec<3, std::uint32_t, glm::defaultp>;
 // ---- begin vplkit/core/error.hpp ----
 // One exception type for bad input, so a host renderer can catch vplkit's complaints apart from
 // its own. Messages name what was wrong and where (an index, a texel, a size).
+
 #include <stdexcept>
 #include <string>
 
@@ -320,7 +327,10 @@ inline void for_each_in_lanes(const lane_partition& lanes, F&& f) {
 
 // Lane totals (the running max of each lane's running sum: see running_sum) and their offsets;
 // validates the weights on the way. Throws invalid_input naming the first negative / NaN /
-// infinite weight, or when the total does not fit in T (total() must be a finite T).
+// infinite weight, or when the double total overflows. That never happens for float weights
+// (fewer than 2^32 of them, each at most FLT_MAX, sum to far less than DBL_MAX): a float total
+// above FLT_MAX is accepted, every pmf is a well-defined double quotient rounded to float, and
+// only total() (the sum rounded to T) reads +Inf.
 template <class T>
 struct lane_sums {
   double offset[kLanes + 1];  // offset[kLanes] is the total
@@ -350,10 +360,9 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
     finite &= std::isfinite(acc[k].value());
   }
   if (!all_valid) find_and_throw_bad_weight(who, w, lanes.begin[kLanes]);
-  if (!finite || !(out.total() <= double(std::numeric_limits<T>::max()))) {
-    throw invalid_input(std::string(who) + ": the weights sum to more than the largest finite " +
-                        (std::is_same<T, float>::value ? "float" : "double") +
-                        "; scale them down (or use double for float weights)");
+  if (!finite || !std::isfinite(out.total())) {
+    throw invalid_input(std::string(who) +
+                        ": the weights sum to more than the largest finite double; scale them down");
   }
   return out;
 }
@@ -487,8 +496,8 @@ public:
   // Empty distribution: size 0, sample() returns {0, 0}.
   discrete_cdf() : cdf_(1, T(0)), guide_(2, 0u) {}
 
-  // Throws invalid_input naming the first negative, NaN or infinite weight, when the sum
-  // overflows T, or when n > 2^32 - 1.
+  // Throws invalid_input naming the first negative, NaN or infinite weight, when the double sum
+  // overflows (double weights only), or when n > 2^32 - 1.
   discrete_cdf(const T* weights, std::size_t n) { build(weights, n); }
 
   // Any contiguous range of T: std::vector, std::array, a C array, a span.
@@ -519,13 +528,18 @@ public:
   }
 
   std::size_t size() const noexcept { return n_; }
-  // Sum of the weights, accumulated in double and rounded once to T.
+  // Sum of the weights, accumulated in double and rounded once to T: +Inf for float weights that
+  // sum past FLT_MAX (accepted: the CDF is normalised by the double sum()).
   T total() const noexcept { return total_; }
+  // The same sum before that rounding: finite for every accepted input.
+  double sum() const noexcept { return sum_; }
   bool empty() const noexcept { return total_ == T(0); }
 
   // Probability that sample() returns i: the width of bin i of the stored CDF, i.e. exactly
   // the fraction of [0, 1) that maps to i, up to the one rounding of this subtraction. 0 for
-  // i >= size() and for an empty distribution.
+  // i >= size() and for an empty distribution. A positive weight too small to move its CDF
+  // value (w_i / total below half an ulp of cdf[i + 1], e.g. 2^-149 beside 2) gets a bin of
+  // width 0: pmf 0, and sample() never returns it.
   T pmf(std::size_t i) const noexcept { return i < n_ ? cdf_[i + 1] - cdf_[i] : T(0); }
 
   // Inverse transform with the guide table. u NaN or < 0 is taken as 0, u >= 1 as the largest
@@ -562,6 +576,7 @@ private:
     guide_.reserve(m + 1);
     const double total = sums.total();
     n_ = n;
+    sum_ = total;
     total_ = T(total);  // > 0 whenever total > 0: a sum of T values is >= the smallest of them
     m_ = m;
     cdf_.resize(n + 1);
@@ -617,6 +632,7 @@ private:
 
   std::size_t n_ = 0;
   T total_ = T(0);
+  double sum_ = 0.0;
   std::size_t m_ = 1;
   std::vector<T> cdf_;
   std::vector<std::uint32_t> guide_;
@@ -637,7 +653,10 @@ private:
 //   threshold in [0, 1]: keep the bucket itself when the fraction f < threshold. A zero weight
 //   has threshold exactly 0 (f < 0 never holds) and an alias whose weight is > 0, so it is never
 //   returned, whatever u is. A full bucket has threshold 1 (f < 1 always holds).
-//   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket.
+//   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket. A positive
+//   weight whose pmf rounds to 0 in T (w_i / total below 2^-150 for float) is built like a
+//   zero weight: threshold 0, never returned (its threshold n w_i / total could survive as a
+//   denormal and hand out index i with pmf 0, an infinite 1 / pmf). discrete_cdf drops it too.
 // An empty table (all weights 0, or n = 0) stores n bins {0, 0, 0}.
 
 #include <cstddef>
@@ -685,7 +704,7 @@ public:
   alias_table() = default;
 
   // Same validation as discrete_cdf: invalid_input names the first negative, NaN or infinite
-  // weight; also thrown when the sum overflows T or n > 2^32 - 1.
+  // weight; also thrown when the double sum overflows (double weights only) or n > 2^32 - 1.
   alias_table(const T* weights, std::size_t n) { build(weights, n); }
 
   template <class Range,
@@ -713,10 +732,14 @@ public:
   }
 
   std::size_t size() const noexcept { return bins_.size(); }
+  // The double sum of the weights rounded to T: +Inf for float weights that sum past FLT_MAX
+  // (accepted: every pmf is computed from the double sum()).
   T total() const noexcept { return total_; }
+  double sum() const noexcept { return sum_; }
   bool empty() const noexcept { return total_ == T(0); }
 
-  // w_i / total, computed in double and rounded once to T; 0 for i >= size().
+  // w_i / total, computed in double and rounded once to T; 0 for i >= size(). 0 also for a
+  // positive weight whose quotient rounds to 0 in T: such an index is never returned.
   T pmf(std::size_t i) const noexcept { return i < bins_.size() ? bins_[i].pmf : T(0); }
 
   // One u for both decisions: x = u * n, bucket floor(x), fraction x - floor(x). The fraction
@@ -756,6 +779,7 @@ private:
     bins_.reserve(n);
     std::vector<double> q(total == 0.0 ? 0 : n);
     std::vector<std::uint32_t> work(total == 0.0 ? 0 : n);
+    sum_ = total;
     total_ = T(total);
     bins_.assign(n, bin{T(0), T(0), 0u});
     if (total == 0.0) return;
@@ -771,7 +795,7 @@ private:
     // between the two are free, which lets both pushes below be branch-free (q < 1 is a coin
     // flip the branch predictor cannot learn).
     std::size_t small_end = 0, large_begin = n;
-    std::uint32_t any_positive = 0;
+    std::uint32_t any_positive = 0;  // an index with pmf > 0 (the largest weight has pmf >= 1/n)
     for (std::size_t i = 0; i < n; ++i) {
       const double p = divide ? double(w[i]) / total : double(w[i]) * inv;
       bins_[i].pmf = T(p);
@@ -781,17 +805,18 @@ private:
       work[large_begin - 1] = std::uint32_t(i);
       small_end += is_small ? 1 : 0;
       large_begin -= is_small ? 0 : 1;
-      any_positive = w[i] > T(0) ? std::uint32_t(i) : any_positive;
+      any_positive = bins_[i].pmf > T(0) ? std::uint32_t(i) : any_positive;
     }
     // Vose: pair a small bucket with a large index; the large one donates 1 - q_s and joins the
     // small list when it falls below 1. The excess is (q_l - 1) + q_s, exact while q_l <= 2
-    // (Sterbenz), rather than (q_l + q_s) - 1. Only indices with q >= 1 (so w > 0) ever become
-    // aliases, and a zero weight keeps threshold exactly q = 0.
+    // (Sterbenz), rather than (q_l + q_s) - 1. Only indices with q >= 1 (so pmf >= 1/n) ever
+    // become aliases; a zero weight keeps threshold exactly q = 0, and so does an index whose pmf
+    // rounded to 0 (its q, below n 2^-150, gives its alias an extra probability below 2^-150).
     std::size_t small_begin = 0;
     while (small_begin < small_end && large_begin < n) {
       const std::uint32_t s = work[small_begin++];
       const std::uint32_t l = work[large_begin];
-      bins_[s].threshold = T(q[s]);
+      bins_[s].threshold = bins_[s].pmf > T(0) ? T(q[s]) : T(0);
       bins_[s].alias = l;
       q[l] = (q[l] - 1.0) + q[s];
       const bool demote = q[l] < 1.0;
@@ -801,22 +826,23 @@ private:
       work[small_end] = l;
       small_end += demote ? 1 : 0;
     }
-    // Leftovers carry q = 1 up to rounding: they keep themselves. A zero weight left over (only
-    // possible through rounding) must still never be returned: threshold 0, alias to a
-    // positive weight.
+    // Leftovers carry q = 1 up to rounding: they keep themselves. A zero weight (or pmf) left
+    // over (only possible through rounding) must still never be returned: threshold 0, alias to
+    // an index with pmf > 0.
     for (std::size_t k = large_begin; k < n; ++k) {
       bins_[work[k]].threshold = T(1);
       bins_[work[k]].alias = work[k];
     }
     for (std::size_t k = small_begin; k < small_end; ++k) {
       const std::uint32_t s = work[k];
-      const bool zero = !(w[s] > T(0));
+      const bool zero = !(bins_[s].pmf > T(0));
       bins_[s].threshold = zero ? T(0) : T(1);
       bins_[s].alias = zero ? any_positive : s;
     }
   }
 
   T total_ = T(0);
+  double sum_ = 0.0;
   std::vector<bin> bins_;
 };
 
@@ -952,6 +978,7 @@ private:
 // the same face and index bit for bit, which a GLSL division (2.5 ulp) would not promise.
 
 #include <cstddef>
+#include <limits>
 #include <utility>
 
 namespace vplkit {
@@ -982,7 +1009,12 @@ public:
   // The faces may differ in size. A face may be empty (or default-constructed).
   face_roulette(discrete_cdf<T> front, discrete_cdf<T> back)
       : front_(std::move(front)), back_(std::move(back)) {
-    b_front_ = face_roulette_front_probability(front_.total(), back_.total());
+    // From the totals as T (what a GPU mirror has), unless one is +Inf (float weights summing
+    // past FLT_MAX): then from the double sums, which keep the ratio the rounding lost.
+    const bool overflowed = front_.total() > std::numeric_limits<T>::max() ||
+                            back_.total() > std::numeric_limits<T>::max();
+    b_front_ = overflowed ? T(front_.sum() / (front_.sum() + back_.sum()))
+                          : face_roulette_front_probability(front_.total(), back_.total());
     b_back_ = empty() ? T(0) : T(1) - b_front_;
     front_scale_ = detail::reciprocal_or_zero(b_front_);
     back_scale_ = detail::reciprocal_or_zero(b_back_);

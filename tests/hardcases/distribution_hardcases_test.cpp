@@ -85,27 +85,34 @@ std::vector<double> realised_alias_pmf(const vplkit::alias_table<T>& a) {
   return p;
 }
 
+// A returned index has a positive weight and a positive pmf, the one pmf(index) reports.
+template <class T>
+void require_alias_sample_valid(const vplkit::alias_table<T>& a, const std::vector<T>& w,
+                                const vplkit::discrete_sample<T>& s) {
+  REQUIRE(w[s.index] > T(0));
+  REQUIRE(s.pmf > T(0));
+  REQUIRE(s.pmf == a.pmf(s.index));
+}
+
 template <class T>
 void require_alias_never_returns_zero(const vplkit::alias_table<T>& a, const std::vector<T>& w) {
   const std::vector<T> us = edge_us<T>();
   for (T u1 : us) {
-    const auto s = a.sample(u1);
-    REQUIRE(w[s.index] > T(0));
-    REQUIRE(s.pmf == a.pmf(s.index));
-    for (T u2 : us) REQUIRE(w[a.sample(u1, u2).index] > T(0));
+    require_alias_sample_valid(a, w, a.sample(u1));
+    for (T u2 : us) require_alias_sample_valid(a, w, a.sample(u1, u2));
   }
   for (std::size_t j = 0; j < a.size(); ++j) {
     const auto& b = a.bins()[j];
     REQUIRE(finite_nonneg(b.threshold));
     REQUIRE(finite_nonneg(b.pmf));
-    if (w[j] == T(0)) REQUIRE(b.threshold == T(0));
-    if (b.threshold < T(1)) REQUIRE(w[b.alias] > T(0));
+    if (w[j] == T(0) || b.pmf == T(0)) REQUIRE(b.threshold == T(0));
+    if (b.threshold < T(1)) REQUIRE(a.bins()[b.alias].pmf > T(0));
     // Every bucket's edge and its neighbours, with fractions 0 and just below 1.
     const T e = T(j) / T(a.size());
     for (T u : {e, std::nextafter(e, T(0)), std::nextafter(e, T(2))}) {
-      REQUIRE(w[a.sample(u).index] > T(0));
-      REQUIRE(w[a.sample(u, T(0)).index] > T(0));
-      REQUIRE(w[a.sample(u, std::nextafter(T(1), T(0))).index] > T(0));
+      require_alias_sample_valid(a, w, a.sample(u));
+      require_alias_sample_valid(a, w, a.sample(u, T(0)));
+      require_alias_sample_valid(a, w, a.sample(u, std::nextafter(T(1), T(0))));
     }
   }
 }
@@ -377,6 +384,93 @@ TEST_CASE("CDF hard case: denormal weights", "[distribution][hardcase]") {
     for (std::size_t i = 0; i < w.size(); ++i) REQUIRE(a.pmf(i) == Approx(1e-3).epsilon(1e-12));
     require_alias_never_returns_zero(a, w);
   }
+}
+
+TEST_CASE("CDF hard case: a positive weight whose probability underflows float",
+          "[distribution][hardcase]") {
+  // w / total = 2^-150 rounds to 0 in float while the alias threshold n w / total = 2^-149
+  // survives as a denormal: before the fix sample(0.5) returned {1, 0} (1 / pmf = Inf).
+  const float dm = std::numeric_limits<float>::denorm_min();
+  for (const std::vector<float>& w : {std::vector<float>{2.0f, dm}, std::vector<float>{dm, 2.0f},
+                                      std::vector<float>{1.0f, dm, 1.0f, 0.0f}}) {
+    const std::size_t tiny = w[0] == dm ? 0 : 1;
+    const vplkit::alias_table<float> a(w);
+    REQUIRE(a.pmf(tiny) == 0.0f);
+    REQUIRE(a.bins()[tiny].threshold == 0.0f);
+    const auto half = a.sample(0.5f);
+    REQUIRE(half.index != tiny);
+    REQUIRE(half.pmf > 0.0f);
+    require_alias_never_returns_zero(a, w);
+    // Every u on the RNG's 2^-24 grid, one-u and two-u (u2 = 0 keeps every bucket it can).
+    std::size_t bad = 0;
+    for (std::uint32_t k = 0; k < (1u << 24); ++k) {
+      const float u = float(k) * 0x1p-24f;
+      const auto s1 = a.sample(u), s2 = a.sample(u, 0.0f);
+      bad += std::size_t(s1.index == tiny || !(s1.pmf > 0.0f) || s1.pmf != a.pmf(s1.index));
+      bad += std::size_t(s2.index == tiny || !(s2.pmf > 0.0f) || s2.pmf != a.pmf(s2.index));
+    }
+    REQUIRE(bad == 0);
+    // discrete_cdf drops the same weight the same way: a bin of width 0, never returned.
+    const vplkit::discrete_cdf<float> d(w);
+    REQUIRE(d.pmf(tiny) == 0.0f);
+    require_cdf_sampling_consistent(d);
+    for (std::uint32_t k = 0; k < (1u << 24); k += 7) {
+      const auto s = d.sample(float(k) * 0x1p-24f);
+      bad += std::size_t(s.index == tiny || !(s.pmf > 0.0f));
+    }
+    REQUIRE(bad == 0);
+  }
+  // A pmf that is itself a (positive) denormal is kept, and its index can be returned.
+  const std::vector<float> w = {1.0f, 1e-40f};
+  const vplkit::alias_table<float> a(w);
+  REQUIRE(a.pmf(1) > 0.0f);
+  REQUIRE(a.pmf(1) < std::numeric_limits<float>::min());
+  const auto s = a.sample(0.5f);  // bucket 1, fraction 0 < its threshold 2e-40
+  REQUIRE(s.index == 1);
+  REQUIRE(s.pmf == a.pmf(1));
+  require_alias_never_returns_zero(a, w);
+}
+
+TEST_CASE("CDF hard case: finite float weights whose sum passes FLT_MAX",
+          "[distribution][hardcase]") {
+  // The sums run in double, so every pmf is defined; total() (the sum rounded to float) is +Inf
+  // and sum() keeps the double value.
+  const std::vector<float> w = {3e38f, 0.0f, 3e38f, 1.0f, std::numeric_limits<float>::max()};
+  const double sum = 6e38 + 1.0 + double(std::numeric_limits<float>::max());
+  const vplkit::discrete_cdf<float> d(w);
+  REQUIRE(std::isinf(d.total()));
+  REQUIRE(d.sum() == Approx(double(3e38f) * 2.0 + double(std::numeric_limits<float>::max())));
+  REQUIRE_FALSE(d.empty());
+  require_cdf_invariants(d, w);
+  require_cdf_sampling_consistent(d);
+  REQUIRE(double(d.pmf(0)) == Approx(double(3e38f) / sum).epsilon(1e-6));
+  REQUIRE(double(d.pmf(4)) == Approx(double(std::numeric_limits<float>::max()) / sum).epsilon(1e-6));
+  const vplkit::alias_table<float> a(w);
+  REQUIRE(std::isinf(a.total()));
+  REQUIRE(a.sum() == d.sum());
+  REQUIRE(a.pmf(3) > 0.0f);  // 1 / 9.4e38: a normal float
+  require_alias_never_returns_zero(a, w);
+  const std::vector<double> p = realised_alias_pmf(a);
+  for (std::size_t i = 0; i < w.size(); ++i) REQUIRE(p[i] == Approx(double(w[i]) / sum).margin(1e-7));
+  // The exact case of the report: two weights of 3e38.
+  const vplkit::alias_table<float> two(std::vector<float>{3e38f, 3e38f});
+  REQUIRE(two.pmf(0) == 0.5f);
+  REQUIRE(two.pmf(1) == 0.5f);
+  REQUIRE(two.sample(0.75f).pmf == 0.5f);
+  // The roulette keeps the ratio of the double sums (its float totals are both +Inf here).
+  const vplkit::discrete_cdf<float> big(std::vector<float>{3e38f, 3e38f, 3e38f});
+  const vplkit::face_roulette<float> r(d, big);
+  REQUIRE(double(r.front_probability()) == Approx(d.sum() / (d.sum() + big.sum())).epsilon(1e-6));
+  REQUIRE(double(r.back_probability()) == Approx(big.sum() / (d.sum() + big.sum())).epsilon(1e-6));
+  for (float u : edge_us<float>()) {
+    const auto f = r.sample(u);
+    REQUIRE(std::isfinite(f.pmf));
+    REQUIRE(f.pmf > 0.0f);
+    REQUIRE(f.pmf == r.pmf(f.face, f.index));
+  }
+  const vplkit::discrete_cdf<float> small(std::vector<float>{1.0f, 2.0f});
+  REQUIRE(vplkit::face_roulette<float>(d, small).front_probability() == 1.0f);
+  REQUIRE(vplkit::face_roulette<float>(small, d).front_probability() == Approx(3.0 / sum));
 }
 
 TEST_CASE("CDF hard case: NaN, Inf and negative weights", "[distribution][hardcase]") {

@@ -115,6 +115,12 @@ std::vector<named_cdf> test_cdfs() {
     w[4000] = 1e38f;
     v.push_back({"weights 1e-38 .. 1e38, n = 5000", vplkit::discrete_cdf<float>(w)});
   }
+  {
+    // Finite weights summing past FLT_MAX: total() is +Inf, the CDF is normalised in double.
+    std::vector<float> w = random_weights(3000, 17);
+    for (float& x : w) x *= 3e36f;
+    v.push_back({"weights summing past FLT_MAX (total +Inf), n = 3000", vplkit::discrete_cdf<float>(w)});
+  }
   v.push_back({"n = 1", vplkit::discrete_cdf<float>(std::vector<float>{2.5f})});
   v.push_back({"n = 3, middle zero", vplkit::discrete_cdf<float>(std::vector<float>{1.0f, 0.0f, 3.0f})});
   return v;
@@ -351,6 +357,13 @@ TEST_CASE("alias_table.glsl: one-u and two-u sampling return the C++ index and p
   tables.push_back({"log-uniform 1e-30 .. 1e30, n = 4097",
                     vplkit::alias_table<float>(log_uniform_weights(4097, -30, 30, 43))});
   tables.push_back({"n = 3", vplkit::alias_table<float>(std::vector<float>{1.0f, 0.0f, 2.0f})});
+  // w / total rounds to 0 while n w / total would be a denormal threshold: never returned.
+  tables.push_back({"{2, 2^-149}: pmf rounds to 0",
+                    vplkit::alias_table<float>(std::vector<float>{2.0f, std::numeric_limits<float>::denorm_min()})});
+  tables.push_back({"{1, 1e-40}: denormal pmf and threshold",
+                    vplkit::alias_table<float>(std::vector<float>{1.0f, 1e-40f})});
+  tables.push_back({"{3e38, 3e38, 1}: sum past FLT_MAX (total +Inf)",
+                    vplkit::alias_table<float>(std::vector<float>{3e38f, 3e38f, 1.0f})});
   tables.push_back({"empty (zeros)", vplkit::alias_table<float>(std::vector<float>(17, 0.0f))});
   tables.push_back({"empty (default)", vplkit::alias_table<float>()});
 
@@ -617,6 +630,13 @@ TEST_CASE("face_roulette.glsl: face and index exact and pmf within 1 ulp with em
   rs.push_back({"v_F + v_B = 0", vplkit::face_roulette<float>(zeros, none)});
   rs.push_back({"back share rounds to 0", vplkit::face_roulette<float>(huge, tiny)});
   rs.push_back({"front share tiny", vplkit::face_roulette<float>(tiny, huge)});
+  // A front face whose float total is +Inf (weights summing past FLT_MAX) against a finite back:
+  // b_F rounds to 1 in C++ (double sums) and vplkit_make_face_roulette gives 1 as well.
+  std::vector<float> over_w = random_weights(800, 66);
+  for (float& w : over_w) w *= 3e36f;
+  const vplkit::discrete_cdf<float> over(over_w);
+  REQUIRE(std::isinf(over.total()));
+  rs.push_back({"front total +Inf", vplkit::face_roulette<float>(over, back)});
   CHECK(rs[4].r.back_probability() == 0.0f);
 
   packed_cdfs packed;

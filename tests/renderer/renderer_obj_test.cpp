@@ -14,7 +14,16 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <string>
+#include <thread>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 using namespace vplrender;
 using vplrender_test::temp_dir;
@@ -48,6 +57,64 @@ std::string load_error(const std::string& text, const std::string& name = "bad.o
     return m.substr(path.size());   // ":line: message" or ": message"
   }
   return "";
+}
+
+// The one-line error loading an OBJ whose MTL library holds `mtl` produces, without the MTL
+// path that must start it ("" if it loads).
+std::string mtl_error(const std::string& mtl) {
+  temp_dir d;
+  const std::string lib = d.write("m.mtl", mtl);
+  const std::string obj = d.write("m.obj", "mtllib m.mtl\n" + std::string(kQuad) + "usemtl a\nf 1 2 3 4\n");
+  try {
+    load_obj_scene(obj);
+  } catch (const input_error& e) {
+    std::string m = e.what();
+    CHECK(m.find('\n') == std::string::npos);
+    CHECK(m.rfind(lib + ":", 0) == 0);  // names the MTL file
+    return m.substr(std::min(lib.size(), m.size()));
+  }
+  return "";
+}
+
+// A FIFO at `path`, and a watchdog for it: should the code under test still wait on the FIFO
+// after 5 s, the watchdog opens it for writing once, which releases a blocked open (and the read
+// after it sees end of file). A regression then fails its checks instead of hanging the suite.
+class fifo_with_watchdog {
+public:
+  explicit fifo_with_watchdog(std::string path) : path_(std::move(path)) {
+    REQUIRE(::mkfifo(path_.c_str(), 0600) == 0);
+    thread_ = std::thread([this] {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (cv_.wait_for(lock, std::chrono::seconds(5), [this] { return done_; })) return;
+      released_ = true;
+      const int fd = ::open(path_.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd >= 0) ::close(fd);
+    });
+  }
+  ~fifo_with_watchdog() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      done_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  fifo_with_watchdog(const fifo_with_watchdog&) = delete;
+  fifo_with_watchdog& operator=(const fifo_with_watchdog&) = delete;
+  // True when the code under test waited on the FIFO (the watchdog had to release it).
+  bool released() const { return released_; }
+
+private:
+  std::string path_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool done_ = false;
+  std::atomic<bool> released_{false};
+  std::thread thread_;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
@@ -327,4 +394,108 @@ TEST_CASE("mutated files either load into a valid scene or fail with input_error
   CHECK(loaded + refused == 3000);
   CHECK(loaded > 100);
   CHECK(refused > 100);
+}
+
+TEST_CASE("malformed MTL statements are errors naming the MTL file and line") {
+  CHECK(mtl_error("newmtl a\nKd abc\n") == ":2: malformed Kd: 'abc' is not a number");
+  CHECK(mtl_error("newmtl a\nKd nan nan nan\n") == ":2: malformed Kd: 'nan' is not a number");
+  CHECK(mtl_error("newmtl a\nKd 1 2\n") == ":2: malformed Kd: expected 1 or 3 numbers, got 2");
+  CHECK(mtl_error("newmtl a\nKd 1 2 3 4\n") == ":2: malformed Kd: expected 1 or 3 numbers, got 4");
+  CHECK(mtl_error("newmtl a\nKd\n") == ":2: malformed Kd: expected 1 or 3 numbers, got 0");
+  CHECK(mtl_error("newmtl a\nKd 0 0 1e39\n") == ":2: Kd value '1e39' is out of range (not a finite float)");
+  CHECK(mtl_error("newmtl a\nKd inf 0 0\n") == ":2: malformed Kd: 'inf' is not a number");
+  CHECK(mtl_error("newmtl a\r\n\r\nKe 1 x 1\r\n") == ":3: malformed Ke: 'x' is not a number");
+  CHECK(mtl_error("newmtl a\nKd spectral white.rfl\n") == ":2: Kd spectral is not supported; give Kd r g b");
+  CHECK(mtl_error("newmtl a\nKd xyz 0.5 0.5 0.5\n") == ":2: Kd xyz is not supported; give Kd r g b");
+  CHECK(mtl_error("newmtl\n") == ":1: newmtl without a material name");
+  CHECK(mtl_error("newmtl a\nmap_Kd\n") == ":2: map_Kd without a file name");
+  CHECK(mtl_error("newmtl a\nmap_Kd -s 2 3 1\n") == ":2: map_Kd without a file name");
+  CHECK(mtl_error("newmtl a\nmap_Kd -s tex.png\n") == ":2: malformed map_Kd: -s needs 1 to 3 numbers");
+  CHECK(mtl_error("newmtl a\nmap_Kd -o 1e40 tex.png\n") ==
+        ":2: map_Kd -o value '1e40' is out of range (not a finite float)");
+  CHECK(mtl_error("newmtl a\nmap_Kd -bm\n") == ":2: malformed map_Kd: -bm needs 1 value and a file name after it");
+  CHECK(mtl_error("newmtl a\nmap_Kd -mm 0 x tex.png\n") == ":2: malformed map_Kd -mm: 'x' is not a number");
+  CHECK(mtl_error(std::string("newmtl a\nKd 1\0 1 1\n", 19)) == ":2: NUL byte: this is not a text MTL file");
+  CHECK(mtl_error("newmtl a\nKd 1 1 \\\n1\n") == ":2: line continuation with '\\' is not supported");
+}
+
+TEST_CASE("MTL: one-number Kd is grey, unused statements are ignored, orphans and unknowns warn") {
+  temp_dir d;
+  const unsigned char px[] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+  REQUIRE(stbi_write_png(d.file("tex.png").c_str(), 2, 2, 3, px, 6));
+  d.write("m.mtl",
+          "Kd 0.1 0.1 0.1\n"                              // before any newmtl: no material
+          "newmtl grey # comment\nKd 0.5 # one number: grey\nKa abc\nNs x\nillum 2\nfoo 1\nfoo 2\n"
+          "newmtl tex\nKd 0.2 0.3 0.4\nmap_Kd -s 2 -blendu off tex.png\n"
+          "newmtl hot\nKd 0 0 0\nKe 1 2\t3\n");
+  const std::string obj = "mtllib m.mtl\n" + std::string(kQuad) + "vt 0 0\nvt 1 0\nvt 1 1\n" +
+                          "usemtl grey\nf 1 2 3\nusemtl tex\nf 1/1 2/2 3/3\nusemtl hot\nf 1 3 4\n";
+  const scene s = load_obj_scene(d.write("m.obj", obj));
+  REQUIRE(s.triangles.size() == 3);
+  const material& grey = s.materials[s.triangles[0].material];
+  CHECK(grey.name == "grey");
+  CHECK(grey.kd == vec3(0.5f));
+  // map_Kd -s 2 means a scale of (2, 1, 1) and still names tex.png (tinyobjloader alone loses it).
+  const material& tex = s.materials[s.triangles[1].material];
+  CHECK(tex.texture == 0);
+  CHECK(s.triangles[1].uv[1] == vec2(2.0f, 0.0f));
+  CHECK(s.triangles[1].uv[2] == vec2(2.0f, 1.0f));
+  CHECK(s.materials[s.triangles[2].material].ke == vec3(1.0f, 2.0f, 3.0f));
+  CHECK(has_warning(s, "m.mtl:1: 1 Kd/Ke/map_Kd statement(s) before the first newmtl belong to no material"));
+  CHECK(has_warning(s, "m.mtl:7: unknown statement 'foo' ignored (2 lines)"));
+  CHECK(s.warnings.size() == 2);  // Ka abc and Ns x are not used: no word about them
+  // Names after mtllib may be separated by tabs (tinyobjloader alone splits on spaces only).
+  const scene tabbed = load_obj_scene(d.write("tab.obj", "mtllib\tnowhere.mtl\tm.mtl\n" + obj.substr(obj.find('\n') + 1)));
+  CHECK(tabbed.materials[tabbed.triangles[0].material].name == "grey");
+  CHECK(has_warning(tabbed, "material library 'nowhere.mtl' not found"));
+}
+
+TEST_CASE("a scene file that is not a regular file is refused at once: FIFO, /dev/zero, directory") {
+  temp_dir d;
+  const std::string fifo = d.file("scene.obj");
+  fifo_with_watchdog guard(fifo);
+  const auto t0 = std::chrono::steady_clock::now();
+  CHECK_THROWS_WITH(load_obj_scene(fifo), fifo + ": is not a regular file (a named pipe)");
+  CHECK(seconds_since(t0) < 2.0);
+  CHECK_FALSE(guard.released());
+  // /dev/zero never ends: it must be refused before a byte is read.
+  CHECK_THROWS_WITH(load_obj_scene("/dev/zero"), "/dev/zero: is not a regular file (a character device)");
+  CHECK_THROWS_WITH(load_texture("/dev/zero"), "/dev/zero: is not a regular file (a character device)");
+  CHECK_THROWS_WITH(load_texture(fifo), fifo + ": is not a regular file (a named pipe)");
+  CHECK_FALSE(guard.released());
+  // A link to a device is judged by what it points to.
+  REQUIRE(::symlink("/dev/zero", d.file("link.obj").c_str()) == 0);
+  CHECK_THROWS_WITH(load_obj_scene(d.file("link.obj")),
+                    d.file("link.obj") + ": is not a regular file (a character device)");
+}
+
+TEST_CASE("an MTL library or texture that is not a regular file is a warning, never a wait") {
+  temp_dir d;
+  fifo_with_watchdog mtl_fifo(d.file("pipe.mtl"));
+  fifo_with_watchdog tex_fifo(d.file("pipe.png"));
+  REQUIRE(::symlink("/dev/zero", d.file("zero.mtl").c_str()) == 0);
+  REQUIRE(::symlink("/dev/zero", d.file("zero.png").c_str()) == 0);
+  d.write("ok.mtl", "newmtl a\nKd 0.25 0.5 0.75\nmap_Kd pipe.png\nnewmtl b\nKd 0.5 0.5 0.5\nmap_Kd zero.png\n");
+  const std::string obj = "mtllib pipe.mtl zero.mtl ok.mtl\n" + std::string(kQuad) + "vt 0 0\n" +
+                          "usemtl a\nf 1/1 2/1 3/1\nusemtl b\nf 1/1 3/1 4/1\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const scene s = load_obj_scene(d.write("p.obj", obj));
+  CHECK(seconds_since(t0) < 2.0);
+  CHECK_FALSE(mtl_fifo.released());
+  CHECK_FALSE(tex_fifo.released());
+  REQUIRE(s.triangles.size() == 2);
+  CHECK(has_warning(s, ":1: material library 'pipe.mtl' (" + d.file("pipe.mtl") +
+                           ") is not a regular file (a named pipe); its materials fall back to the default"));
+  CHECK(has_warning(s, ":1: material library 'zero.mtl' (" + d.file("zero.mtl") +
+                           ") is not a regular file (a character device)"));
+  // ok.mtl still loads; its textures are refused with the reason, and the materials use Kd.
+  const material& a = s.materials[s.triangles[0].material];
+  CHECK(a.name == "a");
+  CHECK(a.texture == -1);
+  CHECK(a.kd == vec3(0.25f, 0.5f, 0.75f));
+  CHECK(has_warning(s, "texture 'pipe.png' of material 'a' unreadable: " + d.file("pipe.png") +
+                           " is not a regular file (a named pipe); using Kd"));
+  CHECK(has_warning(s, "texture 'zero.png' of material 'b' unreadable: " + d.file("zero.png") +
+                           " is not a regular file (a character device); using Kd"));
+  CHECK(s.textures.empty());
 }

@@ -201,3 +201,27 @@ TEMPLATE_TEST_CASE("alias_table: assign rebuilds in place, rejected weights chan
   REQUIRE(t.empty());
   REQUIRE(t.sample(T(0.5)).pmf == T(0));
 }
+
+TEST_CASE("alias_table<float>: a weight whose w / total rounds to 0 is never returned",
+          "[distribution]") {
+  // n w / total = 2^-149 survives as a threshold while w / total = 2^-150 rounds to pmf 0: the
+  // table must not keep that bucket (it used to: sample(0.5) gave {1, 0}).
+  const float w[] = {2.0f, 1.4e-45f};
+  const vplkit::alias_table<float> a(w, 2);
+  REQUIRE(a.pmf(1) == 0.0f);
+  REQUIRE(a.bins()[1].threshold == 0.0f);
+  REQUIRE(a.bins()[1].alias == 0u);
+  for (float u : {0.0f, 0.25f, 0.5f, 0.75f, std::nextafter(1.0f, 0.0f)}) {
+    const auto s = a.sample(u);
+    REQUIRE(s.index == 0);
+    REQUIRE(s.pmf == 1.0f);
+    REQUIRE(a.sample(u, 0.0f).index == 0);
+  }
+  // The same weights sum past FLT_MAX: accepted, total() is +Inf, sum() the double sum.
+  const float big[] = {3e38f, 3e38f};
+  const vplkit::alias_table<float> b(big, 2);
+  REQUIRE(std::isinf(b.total()));
+  REQUIRE(b.sum() == 2.0 * double(3e38f));
+  REQUIRE(b.pmf(0) == 0.5f);
+  REQUIRE(b.sample(0.25f).pmf == 0.5f);
+}

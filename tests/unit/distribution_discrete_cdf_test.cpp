@@ -171,16 +171,21 @@ TEMPLATE_TEST_CASE("discrete_cdf: sanitized zeroes and counts bad weights", "[di
   REQUIRE(clean.zeroed == 0);
 }
 
-TEST_CASE("discrete_cdf<float>: a total beyond FLT_MAX is rejected, double accepts it",
-          "[distribution]") {
-  const std::vector<float> w(4, std::ldexp(1.0f, 127));
-  REQUIRE_THROWS_WITH(vplkit::discrete_cdf<float>(w), Catch::Matchers::Contains("overflows") ||
-                                                          Catch::Matchers::Contains("largest"));
-  const std::vector<double> wd(4, std::ldexp(1.0, 127));  // 4 * 2^127 > FLT_MAX
+TEST_CASE("discrete_cdf<float>: a total beyond FLT_MAX is accepted (total() is +Inf, sum() "
+          "finite); a double sum that overflows is rejected", "[distribution]") {
+  const std::vector<float> w(4, std::ldexp(1.0f, 127));  // 4 * 2^127 > FLT_MAX
+  const vplkit::discrete_cdf<float> f(w);
+  REQUIRE(std::isinf(f.total()));
+  REQUIRE(f.sum() == std::ldexp(1.0, 129));
+  REQUIRE_FALSE(f.empty());
+  for (std::size_t i = 0; i < 4; ++i) REQUIRE(f.pmf(i) == 0.25f);
+  REQUIRE(f.cdf() == std::vector<float>{0.0f, 0.25f, 0.5f, 0.75f, 1.0f});
+  const std::vector<double> wd(4, std::ldexp(1.0, 127));
   const vplkit::discrete_cdf<double> d(wd);
   REQUIRE(d.pmf(2) == 0.25);
   const std::vector<double> huge(4, 1e308);
-  REQUIRE_THROWS_AS(vplkit::discrete_cdf<double>(huge), vplkit::invalid_input);
+  REQUIRE_THROWS_WITH(vplkit::discrete_cdf<double>(huge),
+                      Catch::Matchers::Contains("sum to more than the largest finite double"));
   // Overflow inside one summation lane (the first two of 16 weights share a lane).
   std::vector<double> lane(16, 0.0);
   lane[0] = lane[1] = 1.7e308;

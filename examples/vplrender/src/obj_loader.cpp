@@ -1,6 +1,7 @@
 #include "obj_loader.hpp"
 
 #include "errors.hpp"
+#include "mtl_scan.hpp"
 #include "obj_scan.hpp"
 #include "text_file.hpp"
 #include "texture.hpp"
@@ -46,7 +47,10 @@ void forward_tinyobj_warnings(const std::string& warn, const std::string& file, 
 }
 
 // Where a map_Kd name may live: beside the OBJ, beside each MTL, and with Windows separators fixed.
-std::string find_texture(const std::string& name, const fs::path& obj_dir, const std::vector<fs::path>& mtl_dirs) {
+// Returns the first regular file; else "" and, in *problem, why the first candidate that exists
+// cannot be read (a FIFO, a device, a directory), or "" when none exists.
+std::string find_texture(const std::string& name, const fs::path& obj_dir, const std::vector<fs::path>& mtl_dirs,
+                         std::string* problem) {
   std::string fixed = name;
   std::replace(fixed.begin(), fixed.end(), '\\', '/');
   std::vector<fs::path> candidates;
@@ -55,10 +59,34 @@ std::string find_texture(const std::string& name, const fs::path& obj_dir, const
     candidates.push_back(obj_dir / n);
     for (const fs::path& d : mtl_dirs) candidates.push_back(d / n);
   }
-  for (const fs::path& c : candidates)
-    if (is_regular_file(c.string())) return c.string();
+  problem->clear();
+  for (const fs::path& c : candidates) {
+    const std::string why = file_problem(c.string());
+    if (why.empty()) return c.string();
+    if (problem->empty() && why != "does not exist") *problem = c.string() + " " + why;
+  }
   return {};
 }
+
+// Serves tinyobjloader the MTL libraries we already read, validated and cleaned (mtl_scan.hpp),
+// from memory: tinyobjloader never opens an MTL itself (it would wait on a FIFO, read /dev/zero
+// until memory runs out, and take 'Kd abc' for black).
+class validated_mtl_reader : public tinyobj::MaterialReader {
+public:
+  void add(const std::string& name, std::string cleaned) { texts_.emplace(name, std::move(cleaned)); }
+  bool has(const std::string& name) const { return texts_.count(name) > 0; }
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* material_map, std::string* warn, std::string* err) override {
+    const auto it = texts_.find(name);
+    if (it == texts_.end()) return false;
+    std::istringstream in(it->second);
+    tinyobj::LoadMtl(material_map, materials, &in, warn, err);
+    return true;
+  }
+
+private:
+  std::map<std::string, std::string> texts_;
+};
 
 }  // namespace
 
@@ -78,13 +106,32 @@ scene load_obj_text(const std::string& bytes, const std::string& path, const std
 
   const fs::path obj_dir = base_dir.empty() ? fs::path(".") : fs::path(base_dir);
   std::vector<fs::path> mtl_dirs;
+  validated_mtl_reader reader;
   for (const auto& lib : scan.mtllibs) {
+    if (reader.has(lib.name)) continue;
     const fs::path p = obj_dir / lib.name;
-    if (!is_regular_file(p.string()))
-      s.warnings.push_back(path + ":" + std::to_string(lib.line) + ": material library '" + lib.name +
-                           "' not found; its materials fall back to the default (Kd 0.8)");
-    else
-      mtl_dirs.push_back(p.parent_path());
+    const std::string where = path + ":" + std::to_string(lib.line) + ": material library '" + lib.name + "' ";
+    const std::string fallback = "; its materials fall back to the default (Kd 0.8)";
+    const std::string problem = file_problem(p.string());
+    if (problem == "does not exist") {
+      s.warnings.push_back(where + "not found" + fallback);
+      continue;
+    }
+    if (!problem.empty()) {
+      s.warnings.push_back(where + "(" + p.string() + ") " + problem + fallback);
+      continue;
+    }
+    std::string text;
+    try {
+      text = read_file_bytes(p.string());
+    } catch (const input_error& e) {
+      s.warnings.push_back(where + "cannot be read (" + e.what() + ")" + fallback);
+      continue;
+    }
+    mtl_scan_result mtl = scan_mtl(text, p.string());  // malformed content: input_error naming file:line
+    s.warnings.insert(s.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
+    reader.add(lib.name, std::move(mtl.cleaned));
+    mtl_dirs.push_back(p.parent_path());
   }
 
   tinyobj::attrib_t attrib;
@@ -92,7 +139,6 @@ scene load_obj_text(const std::string& bytes, const std::string& path, const std
   std::vector<tinyobj::material_t> mats;
   std::string warn, err;
   std::istringstream in(scan.cleaned);
-  tinyobj::MaterialFileReader reader(obj_dir.string());
   const bool ok = tinyobj::LoadObj(&attrib, &shapes, &mats, &warn, &err, &in, &reader, /*triangulate=*/false);
   forward_tinyobj_warnings(warn, path, s.warnings);
   if (!ok) {
@@ -126,10 +172,11 @@ scene load_obj_text(const std::string& bytes, const std::string& path, const std
     if (std::isfinite(ke[0]) && std::isfinite(ke[1]) && std::isfinite(ke[2]))
       out.ke = glm::max(vec3(ke[0], ke[1], ke[2]), vec3(0.0f));
     if (!m.diffuse_texname.empty()) {
-      const std::string found = find_texture(m.diffuse_texname, obj_dir, mtl_dirs);
+      std::string problem;
+      const std::string found = find_texture(m.diffuse_texname, obj_dir, mtl_dirs, &problem);
       if (found.empty()) {
-        s.warnings.push_back(path + ": texture '" + m.diffuse_texname + "' of material '" + m.name +
-                             "' not found; using Kd");
+        s.warnings.push_back(path + ": texture '" + m.diffuse_texname + "' of material '" + m.name + "' " +
+                             (problem.empty() ? std::string("not found") : "unreadable: " + problem) + "; using Kd");
       } else {
         auto it = texture_index.find(found);
         if (it != texture_index.end()) {

@@ -12,7 +12,10 @@ namespace vplrender {
 // - missing normals (no vn on a corner, or a zero one): the flat normal of the face, following its
 //   winding (counter-clockwise = front); given normals are normalised and kept as authored;
 // - faces with no usemtl, or an unknown material, get the material "default" (Kd 0.8);
-// - a missing MTL or texture is a warning and the material falls back to Kd; a texture replaces Kd;
+// - MTL files pass our own validation first (mtl_scan.hpp): malformed Kd/Ke/map_Kd is an error
+//   naming the MTL file and line;
+// - a missing MTL or texture is a warning and the material falls back to Kd (so is one that is not
+//   a regular file: a FIFO or a device is never opened); a texture replaces Kd;
 //   Kd outside [0,1] is clamped with a warning; map_Kd -s/-o options are applied to the texcoords;
 // - triangles whose height is below 1e-9 of their longest edge are dropped with a warning.
 // Throws input_error naming file and line for malformed input, and "file: ..." for an empty or

@@ -1,6 +1,7 @@
 #include "obj_scan.hpp"
 
 #include "errors.hpp"
+#include "obj_syntax.hpp"
 
 #include <cerrno>
 #include <cfloat>
@@ -15,66 +16,8 @@ namespace vplrender {
 
 namespace {
 
-// Calls f(line_number, line) for every line; "\n", "\r\n" and a lone "\r" end a line, as in
-// tinyobjloader's safeGetline. A final line without terminator counts; an empty tail does not.
-template <class F>
-void for_each_line(const std::string& text, F&& f) {
-  std::size_t line = 0, begin = 0;
-  const std::size_t n = text.size();
-  while (begin < n) {
-    std::size_t end = begin;
-    while (end < n && text[end] != '\n' && text[end] != '\r') ++end;
-    ++line;
-    f(line, std::string_view(text.data() + begin, end - begin));
-    if (end < n && text[end] == '\r' && end + 1 < n && text[end + 1] == '\n') ++end;
-    begin = end + 1;
-  }
-}
-
-bool is_space(char c) { return c == ' ' || c == '\t'; }
-
-// Tokens split on blanks, stopping at a token that starts with '#'.
-std::vector<std::string_view> tokenize(std::string_view s) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && is_space(s[i])) ++i;
-    if (i >= s.size() || s[i] == '#') break;
-    std::size_t j = i;
-    while (j < s.size() && !is_space(s[j])) ++j;
-    out.push_back(s.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
-
-// The decimal grammar tinyobjloader reads: [+-] (digits [. digits*] | . digits) [(e|E) [+-] digits].
-// strtod would also take "nan", "inf" and hex floats, which tinyobjloader reads as 0.
-bool is_obj_number(std::string_view t) {
-  std::size_t i = 0;
-  auto digits = [&]() {
-    const std::size_t s = i;
-    while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
-    return i - s;
-  };
-  if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
-  if (i < t.size() && t[i] == '.') {
-    ++i;
-    if (digits() == 0) return false;
-  } else {
-    if (digits() == 0) return false;
-    if (i < t.size() && t[i] == '.') {
-      ++i;
-      digits();
-    }
-  }
-  if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
-    ++i;
-    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
-    if (digits() == 0) return false;
-  }
-  return i == t.size();
-}
+using obj_syntax::for_each_line;
+using obj_syntax::tokenize;
 
 bool is_integer(std::string_view t) {
   std::size_t i = 0;
@@ -94,9 +37,8 @@ struct scanner {
 
   void number(std::size_t line, std::string_view tok, const char* what) const {
     const std::string s(tok);
-    if (!is_obj_number(tok)) fail(line, std::string("malformed ") + what + ": '" + s + "' is not a number");
-    const double v = std::strtod(s.c_str(), nullptr);
-    if (!std::isfinite(v) || std::abs(v) > static_cast<double>(FLT_MAX))
+    if (!obj_syntax::is_number(tok)) fail(line, std::string("malformed ") + what + ": '" + s + "' is not a number");
+    if (!obj_syntax::is_finite_float(tok))
       fail(line, std::string(what) + " value '" + s + "' is out of range (not a finite float)");
   }
 
@@ -163,12 +105,8 @@ obj_scan_result scan_obj(const std::string& text, const std::string& filename) {
   std::map<std::string, std::pair<std::size_t, std::size_t>> ignored;  // keyword -> first line, count
   r.cleaned.reserve(text.size());
   for_each_line(text, [&](std::size_t line, std::string_view s) {
-    // Trim trailing blanks so that a continuation backslash is seen.
-    std::size_t e = s.size();
-    while (e > 0 && is_space(s[e - 1])) --e;
     const std::vector<std::string_view> t = tokenize(s);
-    if (!t.empty() && e > 0 && s[e - 1] == '\\' && t.back().back() == '\\')
-      sc.fail(line, "line continuation with '\\' is not supported");
+    if (obj_syntax::has_continuation(s, t)) sc.fail(line, "line continuation with '\\' is not supported");
     bool keep = true;
     if (t.empty()) {
       keep = false;
@@ -197,7 +135,12 @@ obj_scan_result scan_obj(const std::string& text, const std::string& filename) {
       if (it == ignored.end()) ignored.emplace(std::string(t[0]), std::make_pair(line, std::size_t{1}));
       else ++it->second.second;
     }
-    if (keep) {
+    if (keep && t[0] == "mtllib") {
+      // tinyobjloader splits mtllib names on spaces only; our names (split on blanks) are what
+      // the loader serves, so hand it exactly those, one space apart.
+      r.cleaned += "mtllib";
+      for (std::size_t i = 1; i < t.size(); ++i) (r.cleaned += ' ') += t[i];
+    } else if (keep) {
       // Up to the comment (tokenize stopped there); names keep their inner '#'.
       const std::string_view last = t.back();
       r.cleaned.append(s.data(), static_cast<std::size_t>(last.data() + last.size() - s.data()));

@@ -2,20 +2,30 @@
 
 #include "color.hpp"
 #include "errors.hpp"
+#include "text_file.hpp"
 
 #include <stb_image.h>
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 
 namespace vplrender {
 
 texture_rgb8 load_texture(const std::string& path) {
+  // Our reader, not stbi_load's fopen: a FIFO or a device is refused instead of read (or waited
+  // on) forever.
+  const std::string bytes = read_file_bytes(path);
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw input_error(path + ": cannot load texture (file larger than 2 GiB)");
   int w = 0, h = 0, channels = 0;
   // The _thread variant keeps the flip setting local; we flip by hand anyway for clarity.
   stbi_set_flip_vertically_on_load_thread(0);
-  std::unique_ptr<stbi_uc, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &channels, 3), stbi_image_free);
+  std::unique_ptr<stbi_uc, void (*)(void*)> data(
+      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), static_cast<int>(bytes.size()), &w, &h,
+                            &channels, 3),
+      stbi_image_free);
   if (!data) {
     const char* why = stbi_failure_reason();
     throw input_error(path + ": cannot load texture (" + (why ? why : "unknown reason") + ")");

@@ -42,10 +42,14 @@ struct vplkit_face_roulette {
 
 // b_F from the two face totals; 0 when both are 0. The C++ divides in double and rounds once;
 // GLSL is float only: the sum is formed at half scale when it would overflow, and the division is
-// GLSL's (within 2.5 ulp), so b_F may differ from the C++ value in its last bits.
+// GLSL's (within 2.5 ulp), so b_F may differ from the C++ value in its last bits. A total of +Inf
+// (float weights summing past FLT_MAX) has lost its size: an infinite face takes b = 1 against a
+// finite one and 0.5 against an infinite one, never NaN; the C++ uses its double sums there, so
+// upload its b_F (and scales) for such faces.
 float vplkit_face_roulette_front_probability(float v_front, float v_back) {
   float sum = v_front + v_back;
   if (!(sum > 0.0)) return 0.0;
+  if (isinf(v_front) || isinf(v_back)) return isinf(v_back) ? (isinf(v_front) ? 0.5 : 0.0) : 1.0;
   if (sum > uintBitsToFloat(0x7F7FFFFFu)) return (0.5 * v_front) / (0.5 * v_front + 0.5 * v_back);
   return min(v_front / sum, 1.0);
 }

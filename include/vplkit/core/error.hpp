@@ -1,6 +1,8 @@
 #pragma once
 // One exception type for bad input, so a host renderer can catch vplkit's complaints apart from
 // its own. Messages name what was wrong and where (an index, a texel, a size).
+#include <vplkit/core/version.hpp>  // the C++17 check, for every header that reports errors
+
 #include <stdexcept>
 #include <string>
 

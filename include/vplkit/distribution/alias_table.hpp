@@ -11,7 +11,10 @@
 //   threshold in [0, 1]: keep the bucket itself when the fraction f < threshold. A zero weight
 //   has threshold exactly 0 (f < 0 never holds) and an alias whose weight is > 0, so it is never
 //   returned, whatever u is. A full bucket has threshold 1 (f < 1 always holds).
-//   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket.
+//   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket. A positive
+//   weight whose pmf rounds to 0 in T (w_i / total below 2^-150 for float) is built like a
+//   zero weight: threshold 0, never returned (its threshold n w_i / total could survive as a
+//   denormal and hand out index i with pmf 0, an infinite 1 / pmf). discrete_cdf drops it too.
 // An empty table (all weights 0, or n = 0) stores n bins {0, 0, 0}.
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
@@ -61,7 +64,7 @@ public:
   alias_table() = default;
 
   // Same validation as discrete_cdf: invalid_input names the first negative, NaN or infinite
-  // weight; also thrown when the sum overflows T or n > 2^32 - 1.
+  // weight; also thrown when the double sum overflows (double weights only) or n > 2^32 - 1.
   alias_table(const T* weights, std::size_t n) { build(weights, n); }
 
   template <class Range,
@@ -89,10 +92,14 @@ public:
   }
 
   std::size_t size() const noexcept { return bins_.size(); }
+  // The double sum of the weights rounded to T: +Inf for float weights that sum past FLT_MAX
+  // (accepted: every pmf is computed from the double sum()).
   T total() const noexcept { return total_; }
+  double sum() const noexcept { return sum_; }
   bool empty() const noexcept { return total_ == T(0); }
 
-  // w_i / total, computed in double and rounded once to T; 0 for i >= size().
+  // w_i / total, computed in double and rounded once to T; 0 for i >= size(). 0 also for a
+  // positive weight whose quotient rounds to 0 in T: such an index is never returned.
   T pmf(std::size_t i) const noexcept { return i < bins_.size() ? bins_[i].pmf : T(0); }
 
   // One u for both decisions: x = u * n, bucket floor(x), fraction x - floor(x). The fraction
@@ -132,6 +139,7 @@ private:
     bins_.reserve(n);
     std::vector<double> q(total == 0.0 ? 0 : n);
     std::vector<std::uint32_t> work(total == 0.0 ? 0 : n);
+    sum_ = total;
     total_ = T(total);
     bins_.assign(n, bin{T(0), T(0), 0u});
     if (total == 0.0) return;
@@ -147,7 +155,7 @@ private:
     // between the two are free, which lets both pushes below be branch-free (q < 1 is a coin
     // flip the branch predictor cannot learn).
     std::size_t small_end = 0, large_begin = n;
-    std::uint32_t any_positive = 0;
+    std::uint32_t any_positive = 0;  // an index with pmf > 0 (the largest weight has pmf >= 1/n)
     for (std::size_t i = 0; i < n; ++i) {
       const double p = divide ? double(w[i]) / total : double(w[i]) * inv;
       bins_[i].pmf = T(p);
@@ -157,17 +165,18 @@ private:
       work[large_begin - 1] = std::uint32_t(i);
       small_end += is_small ? 1 : 0;
       large_begin -= is_small ? 0 : 1;
-      any_positive = w[i] > T(0) ? std::uint32_t(i) : any_positive;
+      any_positive = bins_[i].pmf > T(0) ? std::uint32_t(i) : any_positive;
     }
     // Vose: pair a small bucket with a large index; the large one donates 1 - q_s and joins the
     // small list when it falls below 1. The excess is (q_l - 1) + q_s, exact while q_l <= 2
-    // (Sterbenz), rather than (q_l + q_s) - 1. Only indices with q >= 1 (so w > 0) ever become
-    // aliases, and a zero weight keeps threshold exactly q = 0.
+    // (Sterbenz), rather than (q_l + q_s) - 1. Only indices with q >= 1 (so pmf >= 1/n) ever
+    // become aliases; a zero weight keeps threshold exactly q = 0, and so does an index whose pmf
+    // rounded to 0 (its q, below n 2^-150, gives its alias an extra probability below 2^-150).
     std::size_t small_begin = 0;
     while (small_begin < small_end && large_begin < n) {
       const std::uint32_t s = work[small_begin++];
       const std::uint32_t l = work[large_begin];
-      bins_[s].threshold = T(q[s]);
+      bins_[s].threshold = bins_[s].pmf > T(0) ? T(q[s]) : T(0);
       bins_[s].alias = l;
       q[l] = (q[l] - 1.0) + q[s];
       const bool demote = q[l] < 1.0;
@@ -177,22 +186,23 @@ private:
       work[small_end] = l;
       small_end += demote ? 1 : 0;
     }
-    // Leftovers carry q = 1 up to rounding: they keep themselves. A zero weight left over (only
-    // possible through rounding) must still never be returned: threshold 0, alias to a
-    // positive weight.
+    // Leftovers carry q = 1 up to rounding: they keep themselves. A zero weight (or pmf) left
+    // over (only possible through rounding) must still never be returned: threshold 0, alias to
+    // an index with pmf > 0.
     for (std::size_t k = large_begin; k < n; ++k) {
       bins_[work[k]].threshold = T(1);
       bins_[work[k]].alias = work[k];
     }
     for (std::size_t k = small_begin; k < small_end; ++k) {
       const std::uint32_t s = work[k];
-      const bool zero = !(w[s] > T(0));
+      const bool zero = !(bins_[s].pmf > T(0));
       bins_[s].threshold = zero ? T(0) : T(1);
       bins_[s].alias = zero ? any_positive : s;
     }
   }
 
   T total_ = T(0);
+  double sum_ = 0.0;
   std::vector<bin> bins_;
 };
 

@@ -83,8 +83,8 @@ public:
   // Empty distribution: size 0, sample() returns {0, 0}.
   discrete_cdf() : cdf_(1, T(0)), guide_(2, 0u) {}
 
-  // Throws invalid_input naming the first negative, NaN or infinite weight, when the sum
-  // overflows T, or when n > 2^32 - 1.
+  // Throws invalid_input naming the first negative, NaN or infinite weight, when the double sum
+  // overflows (double weights only), or when n > 2^32 - 1.
   discrete_cdf(const T* weights, std::size_t n) { build(weights, n); }
 
   // Any contiguous range of T: std::vector, std::array, a C array, a span.
@@ -115,13 +115,18 @@ public:
   }
 
   std::size_t size() const noexcept { return n_; }
-  // Sum of the weights, accumulated in double and rounded once to T.
+  // Sum of the weights, accumulated in double and rounded once to T: +Inf for float weights that
+  // sum past FLT_MAX (accepted: the CDF is normalised by the double sum()).
   T total() const noexcept { return total_; }
+  // The same sum before that rounding: finite for every accepted input.
+  double sum() const noexcept { return sum_; }
   bool empty() const noexcept { return total_ == T(0); }
 
   // Probability that sample() returns i: the width of bin i of the stored CDF, i.e. exactly
   // the fraction of [0, 1) that maps to i, up to the one rounding of this subtraction. 0 for
-  // i >= size() and for an empty distribution.
+  // i >= size() and for an empty distribution. A positive weight too small to move its CDF
+  // value (w_i / total below half an ulp of cdf[i + 1], e.g. 2^-149 beside 2) gets a bin of
+  // width 0: pmf 0, and sample() never returns it.
   T pmf(std::size_t i) const noexcept { return i < n_ ? cdf_[i + 1] - cdf_[i] : T(0); }
 
   // Inverse transform with the guide table. u NaN or < 0 is taken as 0, u >= 1 as the largest
@@ -158,6 +163,7 @@ private:
     guide_.reserve(m + 1);
     const double total = sums.total();
     n_ = n;
+    sum_ = total;
     total_ = T(total);  // > 0 whenever total > 0: a sum of T values is >= the smallest of them
     m_ = m;
     cdf_.resize(n + 1);
@@ -213,6 +219,7 @@ private:
 
   std::size_t n_ = 0;
   T total_ = T(0);
+  double sum_ = 0.0;
   std::size_t m_ = 1;
   std::vector<T> cdf_;
   std::vector<std::uint32_t> guide_;

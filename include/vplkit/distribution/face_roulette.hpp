@@ -16,6 +16,7 @@
 #include <vplkit/distribution/weights.hpp>
 
 #include <cstddef>
+#include <limits>
 #include <utility>
 
 namespace vplkit {
@@ -46,7 +47,12 @@ public:
   // The faces may differ in size. A face may be empty (or default-constructed).
   face_roulette(discrete_cdf<T> front, discrete_cdf<T> back)
       : front_(std::move(front)), back_(std::move(back)) {
-    b_front_ = face_roulette_front_probability(front_.total(), back_.total());
+    // From the totals as T (what a GPU mirror has), unless one is +Inf (float weights summing
+    // past FLT_MAX): then from the double sums, which keep the ratio the rounding lost.
+    const bool overflowed = front_.total() > std::numeric_limits<T>::max() ||
+                            back_.total() > std::numeric_limits<T>::max();
+    b_front_ = overflowed ? T(front_.sum() / (front_.sum() + back_.sum()))
+                          : face_roulette_front_probability(front_.total(), back_.total());
     b_back_ = empty() ? T(0) : T(1) - b_front_;
     front_scale_ = detail::reciprocal_or_zero(b_front_);
     back_scale_ = detail::reciprocal_or_zero(b_back_);

@@ -158,7 +158,10 @@ inline void for_each_in_lanes(const lane_partition& lanes, F&& f) {
 
 // Lane totals (the running max of each lane's running sum: see running_sum) and their offsets;
 // validates the weights on the way. Throws invalid_input naming the first negative / NaN /
-// infinite weight, or when the total does not fit in T (total() must be a finite T).
+// infinite weight, or when the double total overflows. That never happens for float weights
+// (fewer than 2^32 of them, each at most FLT_MAX, sum to far less than DBL_MAX): a float total
+// above FLT_MAX is accepted, every pmf is a well-defined double quotient rounded to float, and
+// only total() (the sum rounded to T) reads +Inf.
 template <class T>
 struct lane_sums {
   double offset[kLanes + 1];  // offset[kLanes] is the total
@@ -188,10 +191,9 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
     finite &= std::isfinite(acc[k].value());
   }
   if (!all_valid) find_and_throw_bad_weight(who, w, lanes.begin[kLanes]);
-  if (!finite || !(out.total() <= double(std::numeric_limits<T>::max()))) {
-    throw invalid_input(std::string(who) + ": the weights sum to more than the largest finite " +
-                        (std::is_same<T, float>::value ? "float" : "double") +
-                        "; scale them down (or use double for float weights)");
+  if (!finite || !std::isfinite(out.total())) {
+    throw invalid_input(std::string(who) +
+                        ": the weights sum to more than the largest finite double; scale them down");
   }
   return out;
 }

@@ -1,7 +1,15 @@
-// A consumer of the installed package: the umbrella header, a distribution, the GLSL pack path,
-// and a kernel's parameter header from the installed pack (the target puts its root on the path).
+// A consumer of vplkit (installed package, pkg-config, add_subdirectory with its own GLM, or
+// FetchContent): the umbrella header, a distribution, the GLSL pack path, and a kernel's parameter
+// header from the pack (every route puts the pack root on the include path).
 #include <vplkit/builders/gbg_accumulate_params.h>
 #include <vplkit/vplkit.hpp>
+
+#if defined(EXPECT_PARENT_GLM) && !defined(PARENT_OWN_GLM)
+#error "vplkit did not use the parent project's glm::glm target"
+#endif
+#if __cplusplus < 201703L
+#error "vplkit::vplkit should have raised the language level to C++17"
+#endif
 
 #include <cstdio>
 #include <fstream>
@@ -27,6 +35,6 @@ int main() {
     std::fprintf(stderr, "installed GLSL pack not found under %s\n", VPLKIT_GLSL_DIR);
     return 1;
   }
-  std::printf("find_package(vplkit) consumer OK\n");
+  std::printf("vplkit consumer OK (%s)\n", VPLKIT_GLSL_DIR);
   return 0;
 }

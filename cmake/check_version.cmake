@@ -1,0 +1,41 @@
+# SPDX-License-Identifier: MIT
+# The version lives in three places: project(VERSION) in CMakeLists.txt, the VPLKIT_VERSION_*
+# macros of include/vplkit/core/version.hpp, and CITATION.cff. vplkit_check_version() stops the
+# configure step when they disagree. As a script (the packaging test runs it):
+#   cmake -DVPLKIT_ROOT=<repo> -DVPLKIT_EXPECTED_VERSION=<x.y.z> -P cmake/check_version.cmake
+function(vplkit_check_version root expected)
+  set(header "${root}/include/vplkit/core/version.hpp")
+  file(STRINGS "${header}" defines REGEX "^#define VPLKIT_VERSION_(MAJOR|MINOR|PATCH) +[0-9]+")
+  set(parts "")
+  foreach(part MAJOR MINOR PATCH)
+    set(found "")
+    foreach(d IN LISTS defines)
+      if(d MATCHES "^#define VPLKIT_VERSION_${part} +([0-9]+)")
+        set(found "${CMAKE_MATCH_1}")
+      endif()
+    endforeach()
+    if(found STREQUAL "")
+      message(FATAL_ERROR "${header} does not define VPLKIT_VERSION_${part}")
+    endif()
+    list(APPEND parts "${found}")
+  endforeach()
+  list(JOIN parts "." header_version)
+  if(NOT header_version STREQUAL expected)
+    message(FATAL_ERROR "version mismatch: project(VERSION ${expected}) but ${header} says ${header_version}; "
+                        "update both (and CITATION.cff) together")
+  endif()
+  set(cff "${root}/CITATION.cff")
+  file(STRINGS "${cff}" cff_version REGEX "^version: ")
+  string(REGEX REPLACE "^version: *\"?([^\" ]+)\"? *$" "\\1" cff_version "${cff_version}")
+  if(NOT cff_version STREQUAL expected)
+    message(FATAL_ERROR "version mismatch: project(VERSION ${expected}) but ${cff} says version: ${cff_version}")
+  endif()
+endfunction()
+
+if(CMAKE_SCRIPT_MODE_FILE STREQUAL CMAKE_CURRENT_LIST_FILE)
+  if(NOT VPLKIT_ROOT OR NOT VPLKIT_EXPECTED_VERSION)
+    message(FATAL_ERROR "check_version.cmake needs -DVPLKIT_ROOT=... and -DVPLKIT_EXPECTED_VERSION=...")
+  endif()
+  vplkit_check_version("${VPLKIT_ROOT}" "${VPLKIT_EXPECTED_VERSION}")
+  message(STATUS "version ${VPLKIT_EXPECTED_VERSION}: version.hpp and CITATION.cff agree")
+endif()

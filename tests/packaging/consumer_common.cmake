@@ -1,0 +1,25 @@
+# SPDX-License-Identifier: MIT
+# The consumer program and the checks shared by the add_subdirectory / FetchContent consumers:
+# the GLSL root is vplkit_GLSL_DIR on every path (VPLKIT_GLSL_DIR: the deprecated alias, equal),
+# and no vplkit tests, examples or benchmarks were created.
+foreach(t vplkit_catch_main core_test vplrender)
+  if(TARGET ${t})
+    message(FATAL_ERROR "vplkit as a subproject created ${t}: tests/examples must be off")
+  endif()
+endforeach()
+if(NOT EXISTS "${vplkit_GLSL_DIR}/vplkit/distribution/discrete_cdf.glsl")
+  message(FATAL_ERROR "vplkit_GLSL_DIR (${vplkit_GLSL_DIR}) does not hold the GLSL pack")
+endif()
+if(NOT VPLKIT_GLSL_DIR STREQUAL vplkit_GLSL_DIR)
+  message(FATAL_ERROR "the deprecated VPLKIT_GLSL_DIR (${VPLKIT_GLSL_DIR}) differs from vplkit_GLSL_DIR")
+endif()
+add_executable(consumer ${CMAKE_CURRENT_LIST_DIR}/consumer_install/main.cpp)
+target_link_libraries(consumer PRIVATE vplkit::vplkit)
+target_compile_options(consumer PRIVATE -Wall -Wextra -Wpedantic -Werror)
+target_compile_definitions(consumer PRIVATE VPLKIT_GLSL_DIR="${vplkit_GLSL_DIR}")
+if(TARGET glm::glm)
+  get_target_property(_defs glm::glm INTERFACE_COMPILE_DEFINITIONS)
+  if(_defs MATCHES "PARENT_OWN_GLM")
+    target_compile_definitions(consumer PRIVATE EXPECT_PARENT_GLM=1)
+  endif()
+endif()
