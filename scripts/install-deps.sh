@@ -17,6 +17,7 @@ packages=(
   libtinyobjloader-dev             # OBJ/MTL scenes
   nlohmann-json3-dev               # JSON run reports
   libcli11-dev                     # command-line parsing of the example renderer
+  libembree-dev                    # Embree 3: the reference of the BVH (exact visibility) tests and benchmark
 )
 
 missing=()
