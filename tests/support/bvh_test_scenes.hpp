@@ -4,12 +4,11 @@
 //
 // The reference (reference_closest) decides what a correct closest hit is, up to the two
 // ambiguities no float intersector can resolve:
-//  - near an edge: a ray whose exact barycentrics lie within `eps` of 0 on a triangle may hit or
-//    miss it;
-//  - near a tie: triangles hit at parameters within a relative `eps` of the closest may be
+//  - near an edge: a ray passing within eps * scale of a triangle's edge may hit or miss it;
+//  - near a tie: a triangle hit within eps * scale (along the ray) of the closest hit may be
 //    reported instead of it.
-// It solves o + t d = v0 + b1 (v1 - v0) + b2 (v2 - v0) in double by Cramer's rule (Moeller-
-// Trumbore without any epsilon), which has nothing in common with the Woop test under test.
+// It works in double with Pluecker side products and the plane equation, which have nothing in
+// common with the Woop test under test.
 #include <vplkit/core/vector.hpp>
 
 #include <glm/mat3x3.hpp>
@@ -133,30 +132,40 @@ inline tri_mesh closed_room() {
 // ---- the double-precision reference ---------------------------------------------------------
 
 struct ref_ray_triangle_result {
-  bool valid = false;  // det != 0 (the ray is not parallel to the triangle's plane)
-  double t = 0.0;
-  double b0 = 0.0, b1 = 0.0, b2 = 0.0;  // barycentrics of the ray / plane point (may be < 0)
+  bool valid = false;   // the ray is not parallel to the triangle's plane
+  double t = 0.0;       // where the ray meets the plane
+  double margin = 0.0;  // signed distance of the ray's line to the triangle's edges, > 0 inside
 };
 
+// In double, from the exact float vertices: the side of the ray's line for each edge line
+// (Pluecker: dot(d, cross(p - o, q - o)) = distance between the lines * |d x (q - p)|), turned
+// into a distance, so "within eps of an edge" is a length, well defined at grazing angles where
+// barycentrics are not.
 inline ref_ray_triangle_result ref_ray_triangle(v3d o, v3d d, v3d v0, v3d v1, v3d v2) {
   ref_ray_triangle_result r;
-  const v3d e1 = v1 - v0, e2 = v2 - v0, p = glm::cross(d, e2);
-  const double det = glm::dot(e1, p);
-  if (det == 0.0 || !std::isfinite(det)) return r;
-  const v3d s = o - v0, q = glm::cross(s, e1);
+  const v3d n = glm::cross(v1 - v0, v2 - v0);
+  const double dn = glm::dot(n, d);
+  if (dn == 0.0 || !std::isfinite(dn)) return r;
   r.valid = true;
-  r.b1 = glm::dot(s, p) / det;
-  r.b2 = glm::dot(d, q) / det;
-  r.b0 = 1.0 - r.b1 - r.b2;
-  r.t = glm::dot(e2, q) / det;
+  r.t = glm::dot(n, v0 - o) / dn;
+  const v3d p[3] = {v0, v1, v2};
+  double side[3], len[3];
+  for (int k = 0; k < 3; ++k) {
+    const v3d a = p[k], b = p[(k + 1) % 3];
+    side[k] = glm::dot(d, glm::cross(a - o, b - o));
+    len[k] = glm::length(glm::cross(d, b - a));
+  }
+  const double sign = side[0] + side[1] + side[2] >= 0.0 ? 1.0 : -1.0;
+  r.margin = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) r.margin = std::min(r.margin, len[k] > 0.0 ? sign * side[k] / len[k] : 0.0);
   return r;
 }
 
 // Which answers of a closest-hit query are correct for the ray o + t d, t in (t_min, t_max].
 struct reference_answer {
-  double t_sure = std::numeric_limits<double>::infinity();  // closest hit inside every triangle by >= eps
+  double t_sure = std::numeric_limits<double>::infinity();  // closest hit at least eps inside a triangle
   int sure = -1;                                            // its triangle (-1: none)
-  std::vector<int> candidates;  // triangles that may be reported: within eps of their edges, t <= t_sure (1 + eps)
+  std::vector<int> candidates;  // triangles that may be reported: at most eps outside, t <= t_sure + tie
   bool miss_ok = true;          // no triangle is hit for sure
   bool acceptable(bool hit, int triangle) const {
     if (!hit) return miss_ok;
@@ -164,19 +173,18 @@ struct reference_answer {
   }
 };
 
-// eps: relative, on barycentrics and on t (a tie is t within eps * (t + scale / |d|)).
+// eps: relative to `scale` (the scene's size), for the distance of the ray to the edges and for
+// ties in t (two hits within eps * scale of each other along the ray).
 inline reference_answer reference_closest(const tri_mesh& m, v3f of, v3f df, double t_min, double t_max, double eps,
                                           double scale) {
   const v3d o(of), d(df);
-  const double tie = eps * scale / std::sqrt(glm::dot(d, d));
+  const double dist = eps * scale, tie = dist / std::sqrt(glm::dot(d, d));
   std::vector<ref_ray_triangle_result> r(m.triangle_count());
   reference_answer a;
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     r[t] = ref_ray_triangle(o, d, v3d(m.vertex(t, 0)), v3d(m.vertex(t, 1)), v3d(m.vertex(t, 2)));
     const auto& h = r[t];
-    if (!h.valid) continue;
-    const double bmin = std::min(h.b0, std::min(h.b1, h.b2));
-    if (bmin >= eps && h.t > t_min + eps * (h.t + tie) && h.t <= t_max - eps * (h.t + tie) && h.t < a.t_sure) {
+    if (h.valid && h.margin >= dist && h.t > t_min + tie && h.t <= t_max - tie && h.t < a.t_sure) {
       a.t_sure = h.t;
       a.sure = int(t);
     }
@@ -184,10 +192,7 @@ inline reference_answer reference_closest(const tri_mesh& m, v3f of, v3f df, dou
   a.miss_ok = a.sure < 0;
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
     const auto& h = r[t];
-    if (!h.valid) continue;
-    const double bmin = std::min(h.b0, std::min(h.b1, h.b2));
-    const double slack = eps * (h.t + tie) + tie;
-    if (bmin >= -eps && h.t > t_min - slack && h.t <= t_max + slack && h.t <= a.t_sure + eps * a.t_sure + tie)
+    if (h.valid && h.margin >= -dist && h.t > t_min - tie && h.t <= t_max + tie && h.t <= a.t_sure + tie)
       a.candidates.push_back(int(t));
   }
   return a;
