@@ -46,6 +46,12 @@
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
 
+// visibility, exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
+#include <vplkit/visibility/bvh_layout.hpp>
+#include <vplkit/visibility/bvh_ray.hpp>
+#include <vplkit/visibility/bvh_build.hpp>
+#include <vplkit/visibility/bvh_traverse.hpp>
+
 // builders: global, local and gathering-based CDF builders
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_cdf.hpp>
@@ -56,6 +62,7 @@
 // estimators: per-gather-point estimators and the exhaustive VPL sum
 #include <vplkit/estimators/gather_point.hpp>
 #include <vplkit/estimators/visibility_callables.hpp>
+#include <vplkit/visibility/bvh_visibility.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/estimators/flat_face_roulette.hpp>
 #include <vplkit/estimators/cdf_estimator.hpp>
