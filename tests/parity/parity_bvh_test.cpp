@@ -349,13 +349,7 @@ TEST_CASE("bvh visibility callables: visible, trace, offsets, the callable struc
     std::uint32_t answer, pad[3];
     float4 position, offset_point;
   };
-  auto surface_point = [&](v3f& p, v3f& n) {
-    const std::size_t t = std::size_t(rnd.integer(0, int(m.triangle_count()) - 1));
-    double u = rnd.unit(), v = rnd.unit();
-    if (u + v > 1) u = 1 - u, v = 1 - v;
-    p = (1.0f - float(u) - float(v)) * m.vertex(t, 0) + float(u) * m.vertex(t, 1) + float(v) * m.vertex(t, 2);
-    n = glm::cross(m.vertex(t, 1) - m.vertex(t, 0), m.vertex(t, 2) - m.vertex(t, 0)) * float(rnd.uniform(0.1, 10.0));
-  };
+  auto surface_point = [&](v3f& p, v3f& n) { vplkit_test::random_surface_point(rnd, m, p, n, 0.1, 10.0); };
   std::vector<callable_case> cases;
   for (int i = 0; i < 12000; ++i) {
     v3f x, nx, y, ny;

@@ -107,6 +107,17 @@ struct random_source {
   v3f point_in(v3d lo, v3d hi) { return v3f(uniform(lo.x, hi.x), uniform(lo.y, hi.y), uniform(lo.z, hi.z)); }
 };
 
+// A random point of a random triangle of m (barycentric, rounded to float, so slightly off the
+// plane like a rasterised point), and as its normal the triangle's cross(v1 - v0, v2 - v0) times a
+// random factor in [len_lo, len_hi] (normals of any length).
+inline void random_surface_point(random_source& rnd, const tri_mesh& m, v3f& p, v3f& n, double len_lo, double len_hi) {
+  const std::size_t t = std::size_t(rnd.integer(0, int(m.triangle_count()) - 1));
+  double u = rnd.unit(), v = rnd.unit();
+  if (u + v > 1) u = 1 - u, v = 1 - v;
+  p = (1.0f - float(u) - float(v)) * m.vertex(t, 0) + float(u) * m.vertex(t, 1) + float(v) * m.vertex(t, 2);
+  n = glm::cross(m.vertex(t, 1) - m.vertex(t, 0), m.vertex(t, 2) - m.vertex(t, 0)) * float(rnd.uniform(len_lo, len_hi));
+}
+
 // n triangles with centres uniform in [0, 1]^3, edge lengths log-uniform in [min_size, max_size]:
 // they intersect each other, overlap and vary in size over orders of magnitude.
 inline tri_mesh random_soup(random_source& rnd, int n, double min_size, double max_size) {

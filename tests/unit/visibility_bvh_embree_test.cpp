@@ -196,13 +196,7 @@ TEST_CASE("bvh_visibility vs Embree behind the same end-point offsets") {
   const vplkit_test::embree_scene e(m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
   const float offset = vplkit::bvh_surface_offset(b.view());
   random_source rnd(109);
-  auto surface_point = [&](v3f& p, v3f& n) {
-    const std::size_t t = std::size_t(rnd.integer(0, int(m.triangle_count()) - 1));
-    double u = rnd.unit(), v = rnd.unit();
-    if (u + v > 1) u = 1 - u, v = 1 - v;
-    p = (1.0f - float(u) - float(v)) * m.vertex(t, 0) + float(u) * m.vertex(t, 1) + float(v) * m.vertex(t, 2);
-    n = glm::cross(m.vertex(t, 1) - m.vertex(t, 0), m.vertex(t, 2) - m.vertex(t, 0)) * float(rnd.uniform(0.5, 4.0));
-  };
+  auto surface_point = [&](v3f& p, v3f& n) { vplkit_test::random_surface_point(rnd, m, p, n, 0.5, 4.0); };
   std::size_t pairs = 0, visible = 0, same = 0, ties = 0, wrong = 0;
   for (int i = 0; i < 20000; ++i) {
     v3f x, nx, y, ny;
