@@ -2870,7 +2870,7 @@ struct bvh_view {
 // Watertight: the test shears and permutes the ray onto +z once per ray, then evaluates the three
 // 2D edge functions of the projected triangle. An edge shared by two triangles has one pair of
 // transformed vertices and one edge function value whose sign flips exactly between the two
-// triangles (a*b - c*d and c*d - a*b round identically), so a ray can never pass between two
+// triangles (a*b - c*d and c*d - a*b round to exact negatives), so a ray can never pass between two
 // triangles that share an edge or a vertex; a ray exactly on the edge hits both (a zero edge
 // function counts as inside: triangles are closed). The paper's double-precision re-evaluation
 // of zero edge functions is left out: GLSL cannot rely on doubles, and watertightness does not
@@ -2885,7 +2885,7 @@ struct bvh_view {
 // no hit).
 // Degenerate triangles: repeated vertices give det == 0 exactly (no hit). Exactly collinear but
 // distinct vertices can round to a tiny det: a hit is then reported only where the ray passes
-// within rounding of the segment the triangle collapses to (as with Embree's robust mode).
+// within rounding of the segment the triangle collapses to.
 //
 // Box test: the slab distances (b - o) * (1 / d) carry at most 3 roundings each, so the exit
 // distance is multiplied by bvh_box_expansion >= 1 + 2 gamma(3) (Ize) before the comparison: a
@@ -3137,46 +3137,46 @@ inline int validate_bvh(const bvh_view<T>& b, const char* who = "validate_bvh") 
     const std::size_t i = stack.back().first;
     const int d = stack.back().second;
     stack.pop_back();
-    const std::string at = w + ": node " + std::to_string(i);
-    if (node_seen[i]) throw invalid_input(at + " is reached twice (not a tree)");
+    const auto at = [&] { return w + ": node " + std::to_string(i); };
+    if (node_seen[i]) throw invalid_input(at() + " is reached twice (not a tree)");
     node_seen[i] = 1;
     ++nodes_reached;
     if (d >= bvh_max_depth)
-      throw invalid_input(at + " lies at depth " + std::to_string(d) + " (limit " + std::to_string(bvh_max_depth - 1) + ")");
+      throw invalid_input(at() + " lies at depth " + std::to_string(d) + " (limit " + std::to_string(bvh_max_depth - 1) + ")");
     depth = std::max(depth, d + 1);
     const bvh_node<T>& n = b.nodes[i];
     if (!detail::bvh_vec3_finite(n.bounds_min) || !detail::bvh_vec3_finite(n.bounds_max) ||
         !detail::bvh_box_contains(n.bounds_min, n.bounds_max, n.bounds_min))
-      throw invalid_input(at + " has a non-finite or inverted box");
+      throw invalid_input(at() + " has a non-finite or inverted box");
     if (n.count == 0) {
       if (n.first == 0 || std::size_t(n.first) + 1 >= b.node_count)
-        throw invalid_input(at + " has children " + std::to_string(n.first) + ", " + std::to_string(n.first + 1ull) +
+        throw invalid_input(at() + " has children " + std::to_string(n.first) + ", " + std::to_string(n.first + 1ull) +
                             " outside [1, " + std::to_string(b.node_count) + ")");
       for (std::uint32_t c = n.first; c <= n.first + 1; ++c) {
         const bvh_node<T>& ch = b.nodes[c];
         if (!detail::bvh_box_contains(n.bounds_min, n.bounds_max, ch.bounds_min) ||
             !detail::bvh_box_contains(n.bounds_min, n.bounds_max, ch.bounds_max))
-          throw invalid_input(at + ": the box of child " + std::to_string(c) + " is not inside it");
+          throw invalid_input(at() + ": the box of child " + std::to_string(c) + " is not inside it");
         stack.push_back({c, d + 1});
       }
       continue;
     }
     if (n.count > std::uint32_t(bvh_max_leaf_size) || std::size_t(n.first) + n.count > b.triangle_count)
-      throw invalid_input(at + " is a leaf of " + std::to_string(n.count) + " triangles from slot " +
+      throw invalid_input(at() + " is a leaf of " + std::to_string(n.count) + " triangles from slot " +
                           std::to_string(n.first) + " (at most " + std::to_string(bvh_max_leaf_size) + ", within " +
                           std::to_string(b.triangle_count) + " slots)");
     for (std::uint32_t s = n.first; s < n.first + n.count; ++s) {
       const bvh_triangle<T>& tri = b.triangles[s];
-      if (slot_seen[s]) throw invalid_input(at + ": triangle slot " + std::to_string(s) + " is in two leaves");
+      if (slot_seen[s]) throw invalid_input(at() + ": triangle slot " + std::to_string(s) + " is in two leaves");
       slot_seen[s] = 1;
       ++slots_covered;
       if (std::size_t(tri.id) >= b.triangle_count || id_seen[tri.id])
-        throw invalid_input(at + ": triangle slot " + std::to_string(s) + " has id " + std::to_string(tri.id) +
+        throw invalid_input(at() + ": triangle slot " + std::to_string(s) + " has id " + std::to_string(tri.id) +
                             " (out of range or repeated)");
       id_seen[tri.id] = 1;
       for (const vec3<T>& v : {tri.v0, tri.v1, tri.v2})
         if (!detail::bvh_vec3_finite(v) || !detail::bvh_box_contains(n.bounds_min, n.bounds_max, v))
-          throw invalid_input(at + ": triangle slot " + std::to_string(s) + " has a vertex outside the leaf's box");
+          throw invalid_input(at() + ": triangle slot " + std::to_string(s) + " has a vertex outside the leaf's box");
     }
   }
   if (nodes_reached != b.node_count)
@@ -3230,23 +3230,40 @@ inline void validate_bvh_build_params(const bvh_build_params& p, const char* who
     throw invalid_input(std::string(who) + ": traversal_cost must be finite and >= 0");
 }
 
+// One triangle while building: its box, the box's centre (in double: exact enough to bin boxes
+// 1e30 wide) and its input index. Items are moved, not indexed, so every pass reads memory in
+// order.
+template <class T>
+struct bvh_build_item {
+  vec3<T> lo, hi;
+  vec3<double> centre;
+  std::uint32_t id;
+};
+
+// SAH bins of one axis: triangle count and the union of their boxes.
+template <class T>
+struct bvh_bin {
+  std::size_t n;
+  vec3<T> lo, hi;
+};
+
 // The binned SAH builder over triangle_count triangles whose vertices vertex(t, k) returns.
 template <class T, class Vertex>
 inline bvh<T> build_bvh_core(std::size_t triangle_count, Vertex vertex, const bvh_build_params& p) {
   if (triangle_count == 0) return bvh<T>();
   const std::size_t n = triangle_count;
-  std::vector<vec3<T>> lo(n), hi(n);
-  std::vector<vec3<double>> centre(n);
+  std::vector<bvh_build_item<T>> items(n);
   for (std::size_t t = 0; t < n; ++t) {
     const vec3<T> a = vertex(t, 0), b = vertex(t, 1), c = vertex(t, 2);
-    lo[t] = glm::min(a, glm::min(b, c));
-    hi[t] = glm::max(a, glm::max(b, c));
-    centre[t] = 0.5 * (vec3<double>(lo[t]) + vec3<double>(hi[t]));
+    bvh_build_item<T>& it = items[t];
+    it.lo = glm::min(a, glm::min(b, c));
+    it.hi = glm::max(a, glm::max(b, c));
+    it.centre = 0.5 * (vec3<double>(it.lo) + vec3<double>(it.hi));
+    it.id = std::uint32_t(t);
   }
-  std::vector<std::uint32_t> order(n);
-  for (std::size_t t = 0; t < n; ++t) order[t] = std::uint32_t(t);
 
   const int bins = p.bin_count;
+  const auto nbins = std::size_t(bins);
   const std::size_t leaf_size = std::size_t(p.max_leaf_size);
   std::vector<bvh_node<T>> nodes;
   nodes.reserve(2 * n - 1);
@@ -3257,23 +3274,22 @@ inline bvh<T> build_bvh_core(std::size_t triangle_count, Vertex vertex, const bv
     int depth;
   };
   std::vector<task> work{{0u, 0, n, 0}};
-  const auto nbins = std::size_t(bins);
-  std::vector<std::size_t> bin_n(nbins, 0), right_n(nbins, 0);
-  std::vector<vec3<T>> bin_lo(nbins), bin_hi(nbins);
+  std::vector<bvh_bin<T>> bin(3 * nbins);  // axis a: bin[a * nbins + k]
   std::vector<double> right_area(nbins, 0.0);
+  std::vector<std::size_t> right_n(nbins, 0);
 
   while (!work.empty()) {
     const task tk = work.back();
     work.pop_back();
     const std::size_t count = tk.end - tk.begin;
-    vec3<T> box_lo = lo[order[tk.begin]], box_hi = hi[order[tk.begin]];
-    vec3<double> c_lo = centre[order[tk.begin]], c_hi = c_lo;
-    for (std::size_t i = tk.begin; i < tk.end; ++i) {
-      const std::uint32_t t = order[i];
-      box_lo = glm::min(box_lo, lo[t]);
-      box_hi = glm::max(box_hi, hi[t]);
-      c_lo = glm::min(c_lo, centre[t]);
-      c_hi = glm::max(c_hi, centre[t]);
+    vec3<T> box_lo = items[tk.begin].lo, box_hi = items[tk.begin].hi;
+    vec3<double> c_lo = items[tk.begin].centre, c_hi = c_lo;
+    for (std::size_t i = tk.begin + 1; i < tk.end; ++i) {
+      const bvh_build_item<T>& it = items[i];
+      box_lo = glm::min(box_lo, it.lo);
+      box_hi = glm::max(box_hi, it.hi);
+      c_lo = glm::min(c_lo, it.centre);
+      c_hi = glm::max(c_hi, it.centre);
     }
     nodes[tk.node].bounds_min = box_lo;
     nodes[tk.node].bounds_max = box_hi;
@@ -3282,70 +3298,69 @@ inline bvh<T> build_bvh_core(std::size_t triangle_count, Vertex vertex, const bv
     if (count > 1) {
       const bool sah_allowed = tk.depth + 1 + bvh_median_levels(count, leaf_size) <= bvh_max_depth - 1;
       if (sah_allowed) {
-        // Binned SAH: cheapest split over all axes and bin boundaries (first minimum wins).
+        // Bin the centres along all three axes in one pass (an axis without extent is skipped).
+        vec3<double> scale(0.0);
+        for (int a = 0; a < 3; ++a) scale[a] = c_hi[a] > c_lo[a] ? double(bins) / (c_hi[a] - c_lo[a]) : 0.0;
+        auto bin_of = [&](const bvh_build_item<T>& it, int a) {
+          const int k = int((it.centre[a] - c_lo[a]) * scale[a]);
+          return k < bins - 1 ? k : bins - 1;
+        };
+        for (bvh_bin<T>& b : bin) b.n = 0;
+        for (std::size_t i = tk.begin; i < tk.end; ++i) {
+          const bvh_build_item<T>& it = items[i];
+          for (int a = 0; a < 3; ++a) {
+            if (scale[a] == 0.0) continue;
+            bvh_bin<T>& b = bin[std::size_t(a) * nbins + std::size_t(bin_of(it, a))];
+            b.lo = b.n == 0 ? it.lo : glm::min(b.lo, it.lo);
+            b.hi = b.n == 0 ? it.hi : glm::max(b.hi, it.hi);
+            ++b.n;
+          }
+        }
+        // Cost every split between two bins: sweep from the right, then from the left.
         const double node_area = bvh_half_area(box_lo, box_hi);
         double best_cost = 0.0;
         int best_axis = -1, best_bin = -1;
         for (int a = 0; a < 3; ++a) {
-          const double extent = c_hi[a] - c_lo[a];
-          if (!(extent > 0.0)) continue;
-          const double scale = double(bins) / extent;
-          auto bin_of = [&](std::uint32_t t) {
-            const int k = int((centre[t][a] - c_lo[a]) * scale);
-            return k < bins - 1 ? k : bins - 1;
-          };
-          std::fill(bin_n.begin(), bin_n.end(), std::size_t(0));
-          for (std::size_t i = tk.begin; i < tk.end; ++i) {
-            const std::uint32_t t = order[i];
-            const std::size_t k = std::size_t(bin_of(t));
-            bin_lo[k] = bin_n[k] == 0 ? lo[t] : glm::min(bin_lo[k], lo[t]);
-            bin_hi[k] = bin_n[k] == 0 ? hi[t] : glm::max(bin_hi[k], hi[t]);
-            ++bin_n[k];
-          }
-          // right_area[k], right_n[k]: bins k .. bins - 1.
+          if (scale[a] == 0.0) continue;
+          const bvh_bin<T>* ab = &bin[std::size_t(a) * nbins];
           vec3<T> r_lo(T(0)), r_hi(T(0));
           std::size_t r_n = 0;
-          for (int k = bins - 1; k >= 1; --k) {
-            const std::size_t kk = std::size_t(k);
-            if (bin_n[kk] > 0) {
-              r_lo = r_n == 0 ? bin_lo[kk] : glm::min(r_lo, bin_lo[kk]);
-              r_hi = r_n == 0 ? bin_hi[kk] : glm::max(r_hi, bin_hi[kk]);
-              r_n += bin_n[kk];
+          for (std::size_t k = nbins - 1; k >= 1; --k) {  // right_*[k]: bins k .. bins - 1
+            if (ab[k].n > 0) {
+              r_lo = r_n == 0 ? ab[k].lo : glm::min(r_lo, ab[k].lo);
+              r_hi = r_n == 0 ? ab[k].hi : glm::max(r_hi, ab[k].hi);
+              r_n += ab[k].n;
             }
-            right_n[kk] = r_n;
-            right_area[kk] = r_n == 0 ? 0.0 : bvh_half_area(r_lo, r_hi);
+            right_n[k] = r_n;
+            right_area[k] = r_n == 0 ? 0.0 : bvh_half_area(r_lo, r_hi);
           }
           vec3<T> l_lo(T(0)), l_hi(T(0));
           std::size_t l_n = 0;
-          for (int k = 0; k < bins - 1; ++k) {  // split between bin k and bin k + 1
-            const std::size_t kk = std::size_t(k);
-            if (bin_n[kk] > 0) {
-              l_lo = l_n == 0 ? bin_lo[kk] : glm::min(l_lo, bin_lo[kk]);
-              l_hi = l_n == 0 ? bin_hi[kk] : glm::max(l_hi, bin_hi[kk]);
-              l_n += bin_n[kk];
+          for (std::size_t k = 0; k + 1 < nbins; ++k) {  // split between bin k and bin k + 1
+            if (ab[k].n > 0) {
+              l_lo = l_n == 0 ? ab[k].lo : glm::min(l_lo, ab[k].lo);
+              l_hi = l_n == 0 ? ab[k].hi : glm::max(l_hi, ab[k].hi);
+              l_n += ab[k].n;
             }
-            if (l_n == 0 || right_n[kk + 1] == 0) continue;
-            const double weighted = bvh_half_area(l_lo, l_hi) * double(l_n) + right_area[kk + 1] * double(right_n[kk + 1]);
+            if (l_n == 0 || right_n[k + 1] == 0) continue;
+            const double weighted = bvh_half_area(l_lo, l_hi) * double(l_n) + right_area[k + 1] * double(right_n[k + 1]);
             // A node of zero area (all its triangles at one point) has no SAH: count triangles.
             const double cost = p.traversal_cost + (node_area > 0.0 ? weighted / node_area : double(count));
             if (best_axis < 0 || cost < best_cost) {
               best_cost = cost;
               best_axis = a;
-              best_bin = k;
+              best_bin = int(k);
             }
           }
         }
         if (best_axis >= 0 && (count > leaf_size || best_cost < double(count))) {
-          const int a = best_axis;
-          const double scale = double(bins) / (c_hi[a] - c_lo[a]);
           std::size_t i = tk.begin, j = tk.end;
           while (i < j) {  // in-place partition: bins <= best_bin go left
-            const int k = int((centre[order[i]][a] - c_lo[a]) * scale);
-            if ((k < bins - 1 ? k : bins - 1) <= best_bin) {
+            if (bin_of(items[i], best_axis) <= best_bin) {
               ++i;
             } else {
               --j;
-              std::swap(order[i], order[j]);
+              std::swap(items[i], items[j]);
             }
           }
           mid = i;
@@ -3355,9 +3370,9 @@ inline bvh<T> build_bvh_core(std::size_t triangle_count, Vertex vertex, const bv
         // Object median along the widest axis of the centres, ordered by (centre, input index).
         const vec3<double> ext = c_hi - c_lo;
         const int a = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
-        std::sort(order.begin() + std::ptrdiff_t(tk.begin), order.begin() + std::ptrdiff_t(tk.end),
-                  [&](std::uint32_t x, std::uint32_t y) {
-                    return centre[x][a] < centre[y][a] || (centre[x][a] == centre[y][a] && x < y);
+        std::sort(items.begin() + std::ptrdiff_t(tk.begin), items.begin() + std::ptrdiff_t(tk.end),
+                  [a](const bvh_build_item<T>& x, const bvh_build_item<T>& y) {
+                    return x.centre[a] < y.centre[a] || (x.centre[a] == y.centre[a] && x.id < y.id);
                   });
         mid = tk.begin + (count + 1) / 2;
       }
@@ -3378,7 +3393,7 @@ inline bvh<T> build_bvh_core(std::size_t triangle_count, Vertex vertex, const bv
 
   std::vector<bvh_triangle<T>> triangles(n);
   for (std::size_t s = 0; s < n; ++s) {
-    const std::uint32_t t = order[s];
+    const std::uint32_t t = items[s].id;
     triangles[s] = bvh_triangle<T>{vertex(t, 0), t, vertex(t, 1), 0u, vertex(t, 2), 0u};
   }
   return bvh<T>(std::move(nodes), std::move(triangles));

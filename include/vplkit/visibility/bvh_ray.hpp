@@ -12,7 +12,7 @@
 // Watertight: the test shears and permutes the ray onto +z once per ray, then evaluates the three
 // 2D edge functions of the projected triangle. An edge shared by two triangles has one pair of
 // transformed vertices and one edge function value whose sign flips exactly between the two
-// triangles (a*b - c*d and c*d - a*b round identically), so a ray can never pass between two
+// triangles (a*b - c*d and c*d - a*b round to exact negatives), so a ray can never pass between two
 // triangles that share an edge or a vertex; a ray exactly on the edge hits both (a zero edge
 // function counts as inside: triangles are closed). The paper's double-precision re-evaluation
 // of zero edge functions is left out: GLSL cannot rely on doubles, and watertightness does not
@@ -27,7 +27,7 @@
 // no hit).
 // Degenerate triangles: repeated vertices give det == 0 exactly (no hit). Exactly collinear but
 // distinct vertices can round to a tiny det: a hit is then reported only where the ray passes
-// within rounding of the segment the triangle collapses to (as with Embree's robust mode).
+// within rounding of the segment the triangle collapses to.
 //
 // Box test: the slab distances (b - o) * (1 / d) carry at most 3 roundings each, so the exit
 // distance is multiplied by bvh_box_expansion >= 1 + 2 gamma(3) (Ize) before the comparison: a
