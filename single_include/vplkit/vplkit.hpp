@@ -2803,7 +2803,7 @@ namespace vplkit {
 
 // Deepest leaf depth + 1 (the root has depth 0). A traversal keeps at most one deferred node per
 // level on its stack, so a stack of bvh_max_depth entries never overflows. The builder meets the
-// limit for any input (see bvh_build.hpp); Embree uses the same depth.
+// limit for any input (see bvh_build.hpp).
 constexpr int bvh_max_depth = 32;
 // Largest number of triangles in one leaf (the leaf loop's bound in GLSL).
 constexpr int bvh_max_leaf_size = 16;
