@@ -18,6 +18,7 @@ packages=(
   nlohmann-json3-dev               # JSON run reports
   libcli11-dev                     # command-line parsing of the example renderer
   clang libclang-rt-14-dev         # libFuzzer harnesses (tests/fuzz, scripts/fuzz.sh)
+  libembree-dev                    # Embree 3: the reference of the BVH (exact visibility) tests and benchmark
 )
 
 missing=()

@@ -35,6 +35,12 @@
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
+// exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
+#include <vplkit/visibility/bvh_layout.hpp>
+#include <vplkit/visibility/bvh_ray.hpp>
+#include <vplkit/visibility/bvh_build.hpp>
+#include <vplkit/visibility/bvh_traverse.hpp>
+#include <vplkit/visibility/bvh_visibility.hpp>
 
 // mis: balance / power heuristics, solid-angle pdf conversion
 #include <vplkit/mis/heuristics.hpp>

@@ -2254,6 +2254,922 @@ inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
 
 }  // namespace vplkit
 // ---- end vplkit/visibility/visibility_callables.hpp ----
+// exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
+// ---- begin vplkit/visibility/bvh_layout.hpp ----
+// The flat arrays of a bounding volume hierarchy over triangles, laid out exactly as the GLSL pack
+// reads them (glsl/vplkit/visibility/bvh_layout.glsl). For T = float, one bvh_node is the std430
+// struct { vec3 bounds_min; uint first; vec3 bounds_max; uint count; } (32 bytes) and one
+// bvh_triangle is { vec3 v0; uint id; vec3 v1; uint unused1; vec3 v2; uint unused2; } (48 bytes):
+// a std430 vec3 takes 12 bytes at a 16-byte boundary and the uint after it fills the 4 bytes left,
+// which is where glm's 12-byte vec3 puts it too. The static_asserts below pin the C++ half, and
+// parity_bvh_test reads every field of every node and triangle back from the GPU, bit for bit.
+//
+// Tree: node 0 is the root. An inner node has count == 0 and its two children at `first` and
+// `first + 1` (always adjacent, so a traversal can test both boxes at once). A leaf has
+// 1 <= count <= bvh_max_leaf_size and holds triangles [first, first + count) of the triangle array,
+// which the builder reorders so that every leaf's triangles are contiguous; bvh_triangle::id is
+// the triangle's index in the caller's input. An empty hierarchy has no nodes and no triangles.
+//
+// Bounds: every node's box is the exact (float min / max, no rounding) box of its triangles'
+// vertices, so it contains its children's boxes and its triangles.
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+namespace vplkit {
+
+// Deepest leaf depth + 1 (the root has depth 0). A traversal keeps at most one deferred node per
+// level on its stack, so a stack of bvh_max_depth entries never overflows. The builder meets the
+// limit for any input (see bvh_build.hpp).
+constexpr int bvh_max_depth = 32;
+// Largest number of triangles in one leaf (the leaf loop's bound in GLSL).
+constexpr int bvh_max_leaf_size = 16;
+// Largest triangle count: 2n - 1 nodes must fit a uint32 index.
+constexpr std::size_t bvh_max_triangles = std::size_t(1) << 30;
+
+template <class T>
+struct bvh_node {
+  vec3<T> bounds_min;
+  std::uint32_t first;  // inner: index of the first child (the second is first + 1); leaf: first triangle
+  vec3<T> bounds_max;
+  std::uint32_t count;  // inner: 0; leaf: number of triangles (1 .. bvh_max_leaf_size)
+};
+
+template <class T>
+struct bvh_triangle {
+  vec3<T> v0;
+  std::uint32_t id;  // the triangle's index in the builder's input
+  vec3<T> v1;
+  std::uint32_t unused1;  // 0 (std430 padding, kept defined so equal inputs give equal bytes)
+  vec3<T> v2;
+  std::uint32_t unused2;  // 0
+};
+
+static_assert(sizeof(vec3<float>) == 12, "glm vec3<float> must be 3 packed floats");
+static_assert(std::is_standard_layout<bvh_node<float>>::value && std::is_trivially_copyable<bvh_node<float>>::value,
+              "bvh_node<float> is uploaded as bytes");
+static_assert(sizeof(bvh_node<float>) == 32, "bvh_node<float> must match the std430 struct vplkit_bvh_node");
+static_assert(offsetof(bvh_node<float>, bounds_min) == 0 && offsetof(bvh_node<float>, first) == 12 &&
+                  offsetof(bvh_node<float>, bounds_max) == 16 && offsetof(bvh_node<float>, count) == 28,
+              "bvh_node<float> offsets must match std430 (vec3 at 0, uint at 12, vec3 at 16, uint at 28)");
+static_assert(std::is_standard_layout<bvh_triangle<float>>::value &&
+                  std::is_trivially_copyable<bvh_triangle<float>>::value,
+              "bvh_triangle<float> is uploaded as bytes");
+static_assert(sizeof(bvh_triangle<float>) == 48, "bvh_triangle<float> must match the std430 struct vplkit_bvh_triangle");
+static_assert(offsetof(bvh_triangle<float>, v0) == 0 && offsetof(bvh_triangle<float>, id) == 12 &&
+                  offsetof(bvh_triangle<float>, v1) == 16 && offsetof(bvh_triangle<float>, unused1) == 28 &&
+                  offsetof(bvh_triangle<float>, v2) == 32 && offsetof(bvh_triangle<float>, unused2) == 44,
+              "bvh_triangle<float> offsets must match std430");
+
+// Non-owning view of the two arrays; what the traversal takes (and, for T = float, what a renderer
+// uploads as two std430 buffers). Make one with bvh<T>::view() or make_bvh_view (which validates).
+template <class T>
+struct bvh_view {
+  const bvh_node<T>* nodes = nullptr;
+  std::size_t node_count = 0;
+  const bvh_triangle<T>* triangles = nullptr;
+  std::size_t triangle_count = 0;
+};
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_layout.hpp ----
+// ---- begin vplkit/visibility/bvh_ray.hpp ----
+// The two geometric tests of BVH traversal, mirrored statement for statement by
+// glsl/vplkit/visibility/bvh_ray.glsl:
+//  - the watertight ray/triangle test of Woop, Benthin and Wald, "Watertight ray/triangle
+//    intersection", JCGT 2(1), 2013;
+//  - the slab test against a node's box, made conservative as in Ize, "Robust BVH ray traversal",
+//    JCGT 2(2), 2013.
+//
+// Ray: origin + t * dir, dir of any length (t is in units of |dir|, as in Embree), hits accepted
+// for t in (t_min, t_max].
+//
+// Watertight: the test shears and permutes the ray onto +z once per ray, then evaluates the three
+// 2D edge functions of the projected triangle. An edge shared by two triangles has one pair of
+// transformed vertices and one edge function value whose sign flips exactly between the two
+// triangles (a*b - c*d and c*d - a*b round to exact negatives), so a ray can never pass between two
+// triangles that share an edge or a vertex; a ray exactly on the edge hits both (a zero edge
+// function counts as inside: triangles are closed). The paper's double-precision re-evaluation
+// of zero edge functions is left out: GLSL cannot rely on doubles, and watertightness does not
+// need it. Requires that a*b - c*d is not contracted into an FMA (GLSL: `precise`; C++: the
+// default on x86-64; with -march=native or on ARM compile with -ffp-contract=off for bit parity).
+// Epsilon policy: there is none. Both sides, and both tests, work on the exact float inputs;
+// self-intersection at surface points is the caller's business (bvh_visibility.hpp offsets the
+// segment ends).
+// Range: T (= Tn below) is a cubic expression in the vertex coordinates relative to the origin,
+// so with floats it overflows past about 2^42 (4e12) world units and underflows below about
+// 2^-42; beyond that a hit may be missed, never invented, and no NaN escapes (a non-finite t is
+// no hit).
+// Degenerate triangles: repeated vertices give det == 0 exactly (no hit). Exactly collinear but
+// distinct vertices can round to a tiny det: a hit is then reported only where the ray passes
+// within rounding of the segment the triangle collapses to.
+//
+// Box test: the slab distances (b - o) * (1 / d) carry at most 3 roundings each, so the exit
+// distance is multiplied by bvh_box_expansion >= 1 + 2 gamma(3) (Ize) before the comparison: a
+// ray that meets a box in exact arithmetic is never culled by rounding, flat boxes (a wall's
+// leaf) included. On an axis with a zero direction component the slab spans all t when the
+// origin lies in it (closed) and none otherwise, decided by comparison (no 0 * inf = NaN).
+// Direction components below FLT_MIN (1.17549435e-38, for T = double too) count as 0 because
+// GPUs flush denormals; a direction that is then zero, or a non-finite origin or direction,
+// makes the ray invalid (no hit).
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+namespace detail {
+
+template <class T>
+inline bool bvh_vec3_finite(vec3<T> v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// v / |v|, scaled by the largest component first (no overflow or underflow in the dot product);
+// 0 when v has a non-finite component or every component is below FLT_MIN (GPUs flush
+// denormals). Sums in glm's order, so the GLSL mirror rounds the same way.
+template <class T>
+inline vec3<T> bvh_unit_vector(vec3<T> v) {
+  if (!bvh_vec3_finite(v)) return vec3<T>(T(0));
+  const T m = std::fmax(std::abs(v.x), std::fmax(std::abs(v.y), std::abs(v.z)));
+  if (!(m >= T(1.17549435e-38f))) return vec3<T>(T(0));
+  const vec3<T> s = v / m;
+  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
+}
+
+}  // namespace detail
+
+// 1 + 2^-20 (8 float ulps at 1): above Ize's 1 + 2 gamma(3) = 1 + 3.6e-7, with room for the
+// rounding of the multiplication itself. Exactly representable in float and double.
+constexpr double bvh_box_expansion = 1.00000095367431640625;
+
+template <class T>
+struct bvh_ray {
+  vec3<T> origin;
+  vec3<T> dir;      // as given, with components below FLT_MIN set to 0
+  vec3<T> inv_dir;  // 1 / dir per component; 0 where dir is 0 (unused there)
+  ivec3 k;          // Woop's axis permutation: k.z = the dominant axis of dir, (k.x, k.y) the others
+  vec3<T> shear;    // (dir[k.x] / dir[k.z], dir[k.y] / dir[k.z], 1 / dir[k.z])
+  bool valid;       // finite origin, finite non-zero dir
+};
+
+template <class T>
+inline bvh_ray<T> make_bvh_ray(vec3<T> origin, vec3<T> dir) {
+  bvh_ray<T> r;
+  r.origin = origin;
+  r.dir = vec3<T>(T(0));
+  r.inv_dir = vec3<T>(T(0));
+  r.k = ivec3(0, 1, 2);
+  r.shear = vec3<T>(T(0));
+  r.valid = false;
+  if (!detail::bvh_vec3_finite(origin) || !detail::bvh_vec3_finite(dir)) return r;
+  const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
+  vec3<T> d = dir;
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(d[a]) < tiny) d[a] = T(0);
+  const vec3<T> ad(std::abs(d.x), std::abs(d.y), std::abs(d.z));
+  const int kz = ad.x >= ad.y ? (ad.x >= ad.z ? 0 : 2) : (ad.y >= ad.z ? 1 : 2);
+  if (!(ad[kz] > T(0))) return r;
+  int kx = kz + 1 == 3 ? 0 : kz + 1;
+  int ky = kx + 1 == 3 ? 0 : kx + 1;
+  if (d[kz] < T(0)) {  // keep the winding: a negative dominant axis swaps the other two
+    const int s = kx;
+    kx = ky;
+    ky = s;
+  }
+  r.dir = d;
+  for (int a = 0; a < 3; ++a) r.inv_dir[a] = d[a] != T(0) ? T(1) / d[a] : T(0);
+  r.k = ivec3(kx, ky, kz);
+  r.shear = vec3<T>(d[kx] / d[kz], d[ky] / d[kz], T(1) / d[kz]);
+  r.valid = true;
+  return r;
+}
+
+// Does the ray meet the closed box [bmin, bmax] for some t in [t_min, t_max] (conservatively)?
+// t_entry: where it enters, max(t_min, slab entry). An axis the ray does not move along is a
+// plain comparison (the origin inside the closed slab or not), since (b - o) * (1 / 0) would be
+// NaN exactly when the origin lies on the slab's plane, a common case (a ray along a wall).
+template <class T>
+inline bool bvh_ray_box(const bvh_ray<T>& r, vec3<T> bmin, vec3<T> bmax, T t_min, T t_max, T& t_entry) {
+  const T big = std::numeric_limits<T>::max();
+  vec3<T> t_in(T(0)), t_out(T(0));
+  t_entry = t_min;
+  for (int a = 0; a < 3; ++a) {
+    if (r.dir[a] == T(0)) {
+      if (r.origin[a] < bmin[a] || r.origin[a] > bmax[a]) return false;
+      t_in[a] = -big;
+      t_out[a] = big;
+    } else {
+      const T t0 = (bmin[a] - r.origin[a]) * r.inv_dir[a];
+      const T t1 = (bmax[a] - r.origin[a]) * r.inv_dir[a];
+      t_in[a] = t0 < t1 ? t0 : t1;
+      t_out[a] = t0 < t1 ? t1 : t0;
+    }
+  }
+  T t_near = t_in.x > t_in.y ? t_in.x : t_in.y;
+  t_near = t_in.z > t_near ? t_in.z : t_near;
+  t_near = t_min > t_near ? t_min : t_near;
+  T t_far = t_out.x < t_out.y ? t_out.x : t_out.y;
+  t_far = t_out.z < t_far ? t_out.z : t_far;
+  t_far = t_far * T(bvh_box_expansion);  // may overflow to +inf (an axis with dir 0): still right
+  t_far = t_max < t_far ? t_max : t_far;
+  t_entry = t_near;
+  return t_near <= t_far;
+}
+
+template <class T>
+struct bvh_triangle_hit {
+  bool hit;
+  T t;  // ray parameter of the hit, in (t_min, t_max]
+  T u;  // barycentric weight of v1 (Embree's u): hit point = w v0 + u v1 + v v2
+  T v;  // barycentric weight of v2
+  T w;  // barycentric weight of v0 (computed as such, not as 1 - u - v)
+};
+
+// Woop et al.'s watertight test of the ray against triangle (v0, v1, v2), both windings.
+template <class T>
+inline bvh_triangle_hit<T> bvh_ray_triangle(const bvh_ray<T>& r, vec3<T> v0, vec3<T> v1, vec3<T> v2, T t_min,
+                                            T t_max) {
+  bvh_triangle_hit<T> h{false, T(0), T(0), T(0), T(0)};
+  const vec3<T> a = v0 - r.origin, b = v1 - r.origin, c = v2 - r.origin;
+  const int kx = r.k.x, ky = r.k.y, kz = r.k.z;
+  const T ax = a[kx] - r.shear.x * a[kz], ay = a[ky] - r.shear.y * a[kz];
+  const T bx = b[kx] - r.shear.x * b[kz], by = b[ky] - r.shear.y * b[kz];
+  const T cx = c[kx] - r.shear.x * c[kz], cy = c[ky] - r.shear.y * c[kz];
+  const T eu = cx * by - cy * bx;  // edge function of (v1, v2): v0's weight
+  const T ev = ax * cy - ay * cx;  // edge function of (v2, v0): v1's weight
+  const T ew = bx * ay - by * ax;  // edge function of (v0, v1): v2's weight
+  if ((eu < T(0) || ev < T(0) || ew < T(0)) && (eu > T(0) || ev > T(0) || ew > T(0))) return h;
+  const T det = eu + ev + ew;
+  if (det == T(0)) return h;
+  const T az = r.shear.z * a[kz], bz = r.shear.z * b[kz], cz = r.shear.z * c[kz];
+  const T tn = eu * az + ev * bz + ew * cz;
+  const T t = tn / det;
+  if (!std::isfinite(t) || !(t > t_min) || !(t <= t_max)) return h;
+  h.hit = true;
+  h.t = t;
+  h.u = ev / det;
+  h.v = ew / det;
+  h.w = eu / det;
+  return h;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_ray.hpp ----
+// ---- begin vplkit/visibility/bvh_build.hpp ----
+// Building a BVH over triangles on the host: binned SAH (Wald, "On fast construction of SAH-based
+// bounding volume hierarchies", 2007), single-threaded and deterministic.
+//
+// Input is a view, as everywhere in vplkit: an indexed mesh (positions + 3 indices per triangle)
+// or a triangle soup (3 consecutive vertices per triangle). The result owns two flat arrays in
+// the GPU layout of bvh_layout.hpp.
+//
+// Algorithm, per node (top-down, depth first):
+// - Bin the triangles' bounding-box centres into bin_count equal bins along each axis of the
+//   centres' bounds; sweep the bins to cost every split between bins:
+//     cost = traversal_cost + (area(L) n_L + area(R) n_R) / area(node)   (one triangle test = 1).
+//   Areas are computed in double, so boxes spanning 1e30 do not overflow.
+// - A node with n <= max_leaf_size triangles becomes a leaf unless a split is strictly cheaper
+//   than n. A larger node always splits: at its cheapest SAH split, or, when every centre lies in
+//   one bin (identical centres, a zero-extent axis), at the object median.
+// - Depth limit: a node at depth d with n triangles may use SAH only while
+//   d + 1 + ceil(log2(ceil(n / max_leaf_size))) <= bvh_max_depth - 1; past that it is split at the
+//   object median, which halves it. So every leaf lies at depth <= bvh_max_depth - 1 whatever
+//   the input (2^30 triangles need at most 30 median levels).
+// Determinism: no threads, no unordered containers, ties broken by the lowest axis, then the
+// lowest bin, and the median sort orders by (centre, input index), a total order. The same input
+// gives the same bytes with every standard library.
+// Robustness: degenerate (zero-area, collinear, point) triangles are kept; their boxes are valid
+// and the ray test never reports them with a NaN (see bvh_ray.hpp). Non-finite vertices, indices
+// out of range and bad parameters throw invalid_input naming the culprit. Empty input gives an
+// empty hierarchy (no nodes) that every traversal misses.
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vplkit {
+
+struct bvh_build_params {
+  int bin_count = 32;           // SAH bins per axis, in [2, 256]
+  int max_leaf_size = 4;        // in [1, bvh_max_leaf_size]
+  double traversal_cost = 1.0;  // cost of visiting an inner node, in triangle tests; finite, >= 0
+};
+
+namespace detail {
+
+template <class T>
+inline bool bvh_box_contains(vec3<T> outer_min, vec3<T> outer_max, vec3<T> p) {
+  return p.x >= outer_min.x && p.y >= outer_min.y && p.z >= outer_min.z && p.x <= outer_max.x &&
+         p.y <= outer_max.y && p.z <= outer_max.z;
+}
+
+// Half the surface area of a box, in double (boxes of size 1e30 would overflow float).
+template <class T>
+inline double bvh_half_area(vec3<T> lo, vec3<T> hi) {
+  const double dx = double(hi.x) - double(lo.x), dy = double(hi.y) - double(lo.y), dz = double(hi.z) - double(lo.z);
+  return dx * dy + dy * dz + dz * dx;
+}
+
+// Levels of object-median splits that n triangles need to reach leaves of at most leaf_size.
+inline int bvh_median_levels(std::size_t n, std::size_t leaf_size) {
+  int levels = 0;
+  std::size_t capacity = leaf_size;
+  while (capacity < n) {
+    capacity *= 2;
+    ++levels;
+  }
+  return levels;
+}
+
+}  // namespace detail
+
+// Checks that (nodes, triangles) form a tree the traversal can walk safely: every node reached
+// exactly once from the root, no deeper than bvh_max_depth - 1, children inside the node array,
+// leaves of 1 .. bvh_max_leaf_size triangles covering every triangle slot exactly once, ids a
+// permutation of 0 .. triangle_count - 1, finite boxes that contain their children and their
+// triangles. Throws invalid_input naming the first bad node; returns the depth (levels; 0 if
+// empty).
+template <class T>
+inline int validate_bvh(const bvh_view<T>& b, const char* who = "validate_bvh") {
+  const std::string w(who);
+  if (b.node_count == 0) {
+    if (b.triangle_count != 0)
+      throw invalid_input(w + ": " + std::to_string(b.triangle_count) + " triangles but no nodes");
+    return 0;
+  }
+  if (b.nodes == nullptr || b.triangles == nullptr) throw invalid_input(w + ": null node or triangle array");
+  if (b.triangle_count == 0 || b.triangle_count > bvh_max_triangles)
+    throw invalid_input(w + ": triangle count " + std::to_string(b.triangle_count) + " is not in [1, 2^30]");
+  std::vector<unsigned char> node_seen(b.node_count, 0), slot_seen(b.triangle_count, 0), id_seen(b.triangle_count, 0);
+  std::vector<std::pair<std::size_t, int>> stack{{0, 0}};
+  int depth = 0;
+  std::size_t nodes_reached = 0, slots_covered = 0;
+  while (!stack.empty()) {
+    const std::size_t i = stack.back().first;
+    const int d = stack.back().second;
+    stack.pop_back();
+    const auto at = [&] { return w + ": node " + std::to_string(i); };
+    if (node_seen[i]) throw invalid_input(at() + " is reached twice (not a tree)");
+    node_seen[i] = 1;
+    ++nodes_reached;
+    if (d >= bvh_max_depth)
+      throw invalid_input(at() + " lies at depth " + std::to_string(d) + " (limit " + std::to_string(bvh_max_depth - 1) + ")");
+    depth = std::max(depth, d + 1);
+    const bvh_node<T>& n = b.nodes[i];
+    if (!detail::bvh_vec3_finite(n.bounds_min) || !detail::bvh_vec3_finite(n.bounds_max) ||
+        !detail::bvh_box_contains(n.bounds_min, n.bounds_max, n.bounds_min))
+      throw invalid_input(at() + " has a non-finite or inverted box");
+    if (n.count == 0) {
+      if (n.first == 0 || std::size_t(n.first) + 1 >= b.node_count)
+        throw invalid_input(at() + " has children " + std::to_string(n.first) + ", " + std::to_string(n.first + 1ull) +
+                            " outside [1, " + std::to_string(b.node_count) + ")");
+      for (std::uint32_t c = n.first; c <= n.first + 1; ++c) {
+        const bvh_node<T>& ch = b.nodes[c];
+        if (!detail::bvh_box_contains(n.bounds_min, n.bounds_max, ch.bounds_min) ||
+            !detail::bvh_box_contains(n.bounds_min, n.bounds_max, ch.bounds_max))
+          throw invalid_input(at() + ": the box of child " + std::to_string(c) + " is not inside it");
+        stack.push_back({c, d + 1});
+      }
+      continue;
+    }
+    if (n.count > std::uint32_t(bvh_max_leaf_size) || std::size_t(n.first) + n.count > b.triangle_count)
+      throw invalid_input(at() + " is a leaf of " + std::to_string(n.count) + " triangles from slot " +
+                          std::to_string(n.first) + " (at most " + std::to_string(bvh_max_leaf_size) + ", within " +
+                          std::to_string(b.triangle_count) + " slots)");
+    for (std::uint32_t s = n.first; s < n.first + n.count; ++s) {
+      const bvh_triangle<T>& tri = b.triangles[s];
+      if (slot_seen[s]) throw invalid_input(at() + ": triangle slot " + std::to_string(s) + " is in two leaves");
+      slot_seen[s] = 1;
+      ++slots_covered;
+      if (std::size_t(tri.id) >= b.triangle_count || id_seen[tri.id])
+        throw invalid_input(at() + ": triangle slot " + std::to_string(s) + " has id " + std::to_string(tri.id) +
+                            " (out of range or repeated)");
+      id_seen[tri.id] = 1;
+      for (const vec3<T>& v : {tri.v0, tri.v1, tri.v2})
+        if (!detail::bvh_vec3_finite(v) || !detail::bvh_box_contains(n.bounds_min, n.bounds_max, v))
+          throw invalid_input(at() + ": triangle slot " + std::to_string(s) + " has a vertex outside the leaf's box");
+    }
+  }
+  if (nodes_reached != b.node_count)
+    throw invalid_input(w + ": " + std::to_string(b.node_count - nodes_reached) + " nodes are not reachable from the root");
+  if (slots_covered != b.triangle_count)
+    throw invalid_input(w + ": " + std::to_string(b.triangle_count - slots_covered) + " triangle slots are in no leaf");
+  return depth;
+}
+
+// A view of arrays from elsewhere (a cache, a read-back), validated by validate_bvh.
+template <class T>
+inline bvh_view<T> make_bvh_view(const bvh_node<T>* nodes, std::size_t node_count, const bvh_triangle<T>* triangles,
+                                 std::size_t triangle_count) {
+  const bvh_view<T> v{nodes, node_count, triangles, triangle_count};
+  validate_bvh(v, "make_bvh_view");
+  return v;
+}
+
+// Owns the two arrays. Made by build_bvh / build_bvh_soup, or by adopting arrays (validated).
+template <class T>
+class bvh {
+ public:
+  bvh() = default;  // empty: no nodes, no triangles
+  bvh(std::vector<bvh_node<T>> nodes, std::vector<bvh_triangle<T>> triangles)
+      : nodes_(std::move(nodes)), triangles_(std::move(triangles)) {
+    depth_ = validate_bvh(view(), "bvh");
+  }
+  const std::vector<bvh_node<T>>& nodes() const { return nodes_; }
+  const std::vector<bvh_triangle<T>>& triangles() const { return triangles_; }
+  std::size_t node_count() const { return nodes_.size(); }
+  std::size_t triangle_count() const { return triangles_.size(); }
+  bool empty() const { return nodes_.empty(); }
+  int depth() const { return depth_; }  // levels: the deepest leaf's depth + 1 (0 if empty)
+  bvh_view<T> view() const { return bvh_view<T>{nodes_.data(), nodes_.size(), triangles_.data(), triangles_.size()}; }
+
+ private:
+  std::vector<bvh_node<T>> nodes_;
+  std::vector<bvh_triangle<T>> triangles_;
+  int depth_ = 0;
+};
+
+namespace detail {
+
+inline void validate_bvh_build_params(const bvh_build_params& p, const char* who) {
+  if (p.bin_count < 2 || p.bin_count > 256)
+    throw invalid_input(std::string(who) + ": bin_count " + std::to_string(p.bin_count) + " is not in [2, 256]");
+  if (p.max_leaf_size < 1 || p.max_leaf_size > bvh_max_leaf_size)
+    throw invalid_input(std::string(who) + ": max_leaf_size " + std::to_string(p.max_leaf_size) + " is not in [1, " +
+                        std::to_string(bvh_max_leaf_size) + "]");
+  if (!(p.traversal_cost >= 0.0) || !std::isfinite(p.traversal_cost))
+    throw invalid_input(std::string(who) + ": traversal_cost must be finite and >= 0");
+}
+
+// One triangle while building: its box, the box's centre (in double: exact enough to bin boxes
+// 1e30 wide) and its input index. Items are moved, not indexed, so every pass reads memory in
+// order.
+template <class T>
+struct bvh_build_item {
+  vec3<T> lo, hi;
+  vec3<double> centre;
+  std::uint32_t id;
+};
+
+// SAH bins of one axis: triangle count and the union of their boxes.
+template <class T>
+struct bvh_bin {
+  std::size_t n;
+  vec3<T> lo, hi;
+};
+
+// The binned SAH builder over triangle_count triangles whose vertices vertex(t, k) returns.
+template <class T, class Vertex>
+inline bvh<T> build_bvh_core(std::size_t triangle_count, Vertex vertex, const bvh_build_params& p) {
+  if (triangle_count == 0) return bvh<T>();
+  const std::size_t n = triangle_count;
+  std::vector<bvh_build_item<T>> items(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    const vec3<T> a = vertex(t, 0), b = vertex(t, 1), c = vertex(t, 2);
+    bvh_build_item<T>& it = items[t];
+    it.lo = glm::min(a, glm::min(b, c));
+    it.hi = glm::max(a, glm::max(b, c));
+    it.centre = 0.5 * (vec3<double>(it.lo) + vec3<double>(it.hi));
+    it.id = std::uint32_t(t);
+  }
+
+  const int bins = p.bin_count;
+  const auto nbins = std::size_t(bins);
+  const std::size_t leaf_size = std::size_t(p.max_leaf_size);
+  std::vector<bvh_node<T>> nodes;
+  nodes.reserve(2 * n - 1);
+  nodes.push_back(bvh_node<T>{vec3<T>(T(0)), 0u, vec3<T>(T(0)), 0u});
+  struct task {
+    std::uint32_t node;
+    std::size_t begin, end;
+    int depth;
+  };
+  std::vector<task> work{{0u, 0, n, 0}};
+  std::vector<bvh_bin<T>> bin(3 * nbins);  // axis a: bin[a * nbins + k]
+  std::vector<double> right_area(nbins, 0.0);
+  std::vector<std::size_t> right_n(nbins, 0);
+
+  while (!work.empty()) {
+    const task tk = work.back();
+    work.pop_back();
+    const std::size_t count = tk.end - tk.begin;
+    vec3<T> box_lo = items[tk.begin].lo, box_hi = items[tk.begin].hi;
+    vec3<double> c_lo = items[tk.begin].centre, c_hi = c_lo;
+    for (std::size_t i = tk.begin + 1; i < tk.end; ++i) {
+      const bvh_build_item<T>& it = items[i];
+      box_lo = glm::min(box_lo, it.lo);
+      box_hi = glm::max(box_hi, it.hi);
+      c_lo = glm::min(c_lo, it.centre);
+      c_hi = glm::max(c_hi, it.centre);
+    }
+    nodes[tk.node].bounds_min = box_lo;
+    nodes[tk.node].bounds_max = box_hi;
+
+    std::size_t mid = 0;  // 0: make a leaf
+    if (count > 1) {
+      const bool sah_allowed = tk.depth + 1 + bvh_median_levels(count, leaf_size) <= bvh_max_depth - 1;
+      if (sah_allowed) {
+        // Bin the centres along all three axes in one pass (an axis without extent is skipped).
+        vec3<double> scale(0.0);
+        for (int a = 0; a < 3; ++a) scale[a] = c_hi[a] > c_lo[a] ? double(bins) / (c_hi[a] - c_lo[a]) : 0.0;
+        auto bin_of = [&](const bvh_build_item<T>& it, int a) {
+          const int k = int((it.centre[a] - c_lo[a]) * scale[a]);
+          return k < bins - 1 ? k : bins - 1;
+        };
+        for (bvh_bin<T>& b : bin) b.n = 0;
+        for (std::size_t i = tk.begin; i < tk.end; ++i) {
+          const bvh_build_item<T>& it = items[i];
+          for (int a = 0; a < 3; ++a) {
+            if (scale[a] == 0.0) continue;
+            bvh_bin<T>& b = bin[std::size_t(a) * nbins + std::size_t(bin_of(it, a))];
+            b.lo = b.n == 0 ? it.lo : glm::min(b.lo, it.lo);
+            b.hi = b.n == 0 ? it.hi : glm::max(b.hi, it.hi);
+            ++b.n;
+          }
+        }
+        // Cost every split between two bins: sweep from the right, then from the left.
+        const double node_area = bvh_half_area(box_lo, box_hi);
+        double best_cost = 0.0;
+        int best_axis = -1, best_bin = -1;
+        for (int a = 0; a < 3; ++a) {
+          if (scale[a] == 0.0) continue;
+          const bvh_bin<T>* ab = &bin[std::size_t(a) * nbins];
+          vec3<T> r_lo(T(0)), r_hi(T(0));
+          std::size_t r_n = 0;
+          for (std::size_t k = nbins - 1; k >= 1; --k) {  // right_*[k]: bins k .. bins - 1
+            if (ab[k].n > 0) {
+              r_lo = r_n == 0 ? ab[k].lo : glm::min(r_lo, ab[k].lo);
+              r_hi = r_n == 0 ? ab[k].hi : glm::max(r_hi, ab[k].hi);
+              r_n += ab[k].n;
+            }
+            right_n[k] = r_n;
+            right_area[k] = r_n == 0 ? 0.0 : bvh_half_area(r_lo, r_hi);
+          }
+          vec3<T> l_lo(T(0)), l_hi(T(0));
+          std::size_t l_n = 0;
+          for (std::size_t k = 0; k + 1 < nbins; ++k) {  // split between bin k and bin k + 1
+            if (ab[k].n > 0) {
+              l_lo = l_n == 0 ? ab[k].lo : glm::min(l_lo, ab[k].lo);
+              l_hi = l_n == 0 ? ab[k].hi : glm::max(l_hi, ab[k].hi);
+              l_n += ab[k].n;
+            }
+            if (l_n == 0 || right_n[k + 1] == 0) continue;
+            const double weighted = bvh_half_area(l_lo, l_hi) * double(l_n) + right_area[k + 1] * double(right_n[k + 1]);
+            // A node of zero area (all its triangles at one point) has no SAH: count triangles.
+            const double cost = p.traversal_cost + (node_area > 0.0 ? weighted / node_area : double(count));
+            if (best_axis < 0 || cost < best_cost) {
+              best_cost = cost;
+              best_axis = a;
+              best_bin = int(k);
+            }
+          }
+        }
+        if (best_axis >= 0 && (count > leaf_size || best_cost < double(count))) {
+          std::size_t i = tk.begin, j = tk.end;
+          while (i < j) {  // in-place partition: bins <= best_bin go left
+            if (bin_of(items[i], best_axis) <= best_bin) {
+              ++i;
+            } else {
+              --j;
+              std::swap(items[i], items[j]);
+            }
+          }
+          mid = i;
+        }
+      }
+      if (mid == 0 && count > leaf_size) {
+        // Object median along the widest axis of the centres, ordered by (centre, input index).
+        const vec3<double> ext = c_hi - c_lo;
+        const int a = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
+        std::sort(items.begin() + std::ptrdiff_t(tk.begin), items.begin() + std::ptrdiff_t(tk.end),
+                  [a](const bvh_build_item<T>& x, const bvh_build_item<T>& y) {
+                    return x.centre[a] < y.centre[a] || (x.centre[a] == y.centre[a] && x.id < y.id);
+                  });
+        mid = tk.begin + (count + 1) / 2;
+      }
+    }
+    if (mid == 0) {
+      nodes[tk.node].first = std::uint32_t(tk.begin);
+      nodes[tk.node].count = std::uint32_t(count);
+      continue;
+    }
+    const auto left = std::uint32_t(nodes.size());
+    nodes.push_back(bvh_node<T>{vec3<T>(T(0)), 0u, vec3<T>(T(0)), 0u});
+    nodes.push_back(bvh_node<T>{vec3<T>(T(0)), 0u, vec3<T>(T(0)), 0u});
+    nodes[tk.node].first = left;
+    nodes[tk.node].count = 0u;
+    work.push_back(task{left + 1, mid, tk.end, tk.depth + 1});
+    work.push_back(task{left, tk.begin, mid, tk.depth + 1});  // the left subtree is built first
+  }
+
+  std::vector<bvh_triangle<T>> triangles(n);
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t t = items[s].id;
+    triangles[s] = bvh_triangle<T>{vertex(t, 0), t, vertex(t, 1), 0u, vertex(t, 2), 0u};
+  }
+  return bvh<T>(std::move(nodes), std::move(triangles));
+}
+
+}  // namespace detail
+
+// BVH over the index_count / 3 triangles of an indexed mesh. bvh_triangle::id is the triangle's
+// position in `indices` divided by 3.
+template <class T>
+inline bvh<T> build_bvh(const vec3<T>* positions, std::size_t vertex_count, const std::uint32_t* indices,
+                        std::size_t index_count, const bvh_build_params& params = bvh_build_params()) {
+  validate_triangle_mesh(positions, vertex_count, indices, index_count, "build_bvh");
+  detail::validate_bvh_build_params(params, "build_bvh");
+  if (index_count / 3 > bvh_max_triangles)
+    throw invalid_input("build_bvh: " + std::to_string(index_count / 3) + " triangles (at most 2^30)");
+  return detail::build_bvh_core<T>(
+      index_count / 3, [&](std::size_t t, int k) { return positions[indices[3 * t + std::size_t(k)]]; }, params);
+}
+
+// BVH over a triangle soup: triangle t has the vertices vertices[3t], vertices[3t + 1],
+// vertices[3t + 2]; bvh_triangle::id is t.
+template <class T>
+inline bvh<T> build_bvh_soup(const vec3<T>* vertices, std::size_t triangle_count,
+                             const bvh_build_params& params = bvh_build_params()) {
+  if (triangle_count > 0 && vertices == nullptr) throw invalid_input("build_bvh_soup: null vertices");
+  if (triangle_count > bvh_max_triangles)
+    throw invalid_input("build_bvh_soup: " + std::to_string(triangle_count) + " triangles (at most 2^30)");
+  detail::validate_bvh_build_params(params, "build_bvh_soup");
+  for (std::size_t i = 0; i < 3 * triangle_count; ++i)
+    if (!detail::bvh_vec3_finite(vertices[i]))
+      throw invalid_input("build_bvh_soup: triangle " + std::to_string(i / 3) + " has a non-finite vertex (" +
+                          std::to_string(i % 3) + ")");
+  return detail::build_bvh_core<T>(
+      triangle_count, [&](std::size_t t, int k) { return vertices[3 * t + std::size_t(k)]; }, params);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_build.hpp ----
+// ---- begin vplkit/visibility/bvh_traverse.hpp ----
+// Ray queries against a BVH (bvh_layout.hpp): the closest hit, and any hit (occlusion of a
+// segment). glsl/vplkit/visibility/bvh_traverse.glsl is the same code statement for statement.
+//
+// Ray: origin + t * dir, dir of any length (t in units of |dir|, as Embree's rtcIntersect1),
+// hits accepted for t in (t_min, t_max]. t_min below 0 or NaN is read as 0; t_max < t_min or NaN
+// gives no hit. An invalid ray (non-finite origin or direction, zero direction) or an empty
+// hierarchy gives no hit.
+//
+// Traversal: iterative, with a fixed stack of bvh_max_depth entries (node index + entry
+// distance). At an inner node both children's boxes are tested; the nearer is visited next and
+// the farther pushed (the left child on equal entry distances); a popped node whose entry
+// distance lies beyond the closest hit so far is skipped. Leaves test their triangles in slot
+// order, and a hit replaces the current one only when strictly closer, so among triangles hit at
+// exactly the same t the first one visited wins. The order is fixed by the data, so C++ and GLSL
+// visit the same nodes and, with IEEE arithmetic, report the same triangle.
+// Loop bound (llvmpipe ends any shader loop after 65535 iterations per invocation, silently):
+// every iteration of the node loop consumes one node, each node is reached at most once, so the
+// loop runs at most node_count times; the leaf loop runs count <= bvh_max_leaf_size times per
+// leaf. One query therefore costs (nodes visited + triangles tested) iterations of the budget;
+// the parity test prints the largest count it met.
+// Stack: the builder (and validate_bvh) guarantee depth <= bvh_max_depth, so the stack cannot
+// overflow; the push is guarded anyway, so a corrupt hierarchy loses nodes instead of writing
+// out of bounds.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+template <class T>
+struct bvh_hit {
+  bool hit;
+  T t;                     // ray parameter (0 on a miss)
+  std::uint32_t triangle;  // the input index of the triangle hit (bvh_triangle::id); ~0u on a miss
+  T u, v;                  // barycentric weights of its v1 and v2 (Embree's u, v)
+  vec3<T> position;        // w v0 + u v1 + v v2: on the triangle's plane to rounding
+  vec3<T> normal;          // unit geometric normal, cross(v1 - v0, v2 - v0) normalised (0 if it underflows)
+};
+
+// Work counts of one query (C++ only; the GLSL has no counters).
+struct bvh_traversal_counts {
+  std::uint32_t nodes = 0;      // iterations of the node loop
+  std::uint32_t triangles = 0;  // ray/triangle tests
+};
+
+namespace detail {
+
+// What the node loop found: the slot of the closest (or any) triangle hit and its t.
+template <class T>
+struct bvh_traversal_result {
+  bool hit;
+  std::uint32_t slot;
+  T t;
+};
+
+// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true).
+template <class T>
+inline bvh_traversal_result<T> bvh_traverse(const bvh_view<T>& b, const bvh_ray<T>& r, T t_min, T t_max, bool any_hit,
+                                            bvh_traversal_counts* counts) {
+  bvh_traversal_result<T> res{false, 0u, t_max};
+  if (!r.valid || b.node_count == 0) return res;
+  const T t_lo = t_min > T(0) ? t_min : T(0);
+  if (!(t_max >= t_lo)) return res;
+  T t_root = T(0);
+  if (!bvh_ray_box(r, b.nodes[0].bounds_min, b.nodes[0].bounds_max, t_lo, t_max, t_root)) return res;
+
+  std::uint32_t stack_node[bvh_max_depth];
+  T stack_t[bvh_max_depth];
+  int sp = 0;
+  std::uint32_t node = 0;
+  T node_t = t_root;
+  const auto node_count = std::uint32_t(b.node_count);
+  for (std::uint32_t it = 0; it < node_count; ++it) {
+    if (counts) ++counts->nodes;
+    if (node_t <= res.t) {
+      const bvh_node<T> n = b.nodes[node];
+      if (n.count > 0u) {
+        for (std::uint32_t k = 0; k < n.count && k < std::uint32_t(bvh_max_leaf_size); ++k) {
+          const bvh_triangle<T> tri = b.triangles[n.first + k];
+          if (counts) ++counts->triangles;
+          const bvh_triangle_hit<T> h = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, t_lo, res.t);
+          if (h.hit && (!res.hit || h.t < res.t)) {
+            res.hit = true;
+            res.slot = n.first + k;
+            res.t = h.t;
+            if (any_hit) return res;
+          }
+        }
+      } else {
+        const bvh_node<T> left = b.nodes[n.first];
+        const bvh_node<T> right = b.nodes[n.first + 1u];
+        T t_left = T(0), t_right = T(0);
+        const bool hit_left = bvh_ray_box(r, left.bounds_min, left.bounds_max, t_lo, res.t, t_left);
+        const bool hit_right = bvh_ray_box(r, right.bounds_min, right.bounds_max, t_lo, res.t, t_right);
+        if (hit_left && hit_right) {
+          const bool left_first = t_left <= t_right;
+          if (sp < bvh_max_depth) {
+            stack_node[sp] = left_first ? n.first + 1u : n.first;
+            stack_t[sp] = left_first ? t_right : t_left;
+            ++sp;
+          }
+          node = left_first ? n.first : n.first + 1u;
+          node_t = left_first ? t_left : t_right;
+          continue;
+        }
+        if (hit_left || hit_right) {
+          node = hit_left ? n.first : n.first + 1u;
+          node_t = hit_left ? t_left : t_right;
+          continue;
+        }
+      }
+    }
+    if (sp == 0) break;
+    --sp;
+    node = stack_node[sp];
+    node_t = stack_t[sp];
+  }
+  return res;
+}
+
+}  // namespace detail
+
+// The closest triangle hit by origin + t * dir for t in (t_min, t_max].
+template <class T>
+inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
+                                  T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
+  bvh_hit<T> h{false, T(0), ~0u, T(0), T(0), vec3<T>(T(0)), vec3<T>(T(0))};
+  const bvh_ray<T> r = make_bvh_ray(origin, dir);
+  const detail::bvh_traversal_result<T> res = detail::bvh_traverse(b, r, t_min, t_max, false, counts);
+  if (!res.hit) return h;
+  // The winning triangle again, for its barycentrics: the same call gives the same t.
+  const bvh_triangle<T> tri = b.triangles[res.slot];
+  const bvh_triangle_hit<T> th = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, T(-1), res.t);
+  h.hit = true;
+  h.t = res.t;
+  h.triangle = tri.id;
+  h.u = th.u;
+  h.v = th.v;
+  h.position = th.w * tri.v0 + th.u * tri.v1 + th.v * tri.v2;
+  const vec3<T> e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
+  h.normal = detail::bvh_unit_vector(
+      vec3<T>(e1.y * e2.z - e2.y * e1.z, e1.z * e2.x - e2.z * e1.x, e1.x * e2.y - e2.x * e1.y));  // glm::cross
+  return h;
+}
+
+// Does any triangle meet origin + t * dir for t in (t_min, t_max]? For the segment from p to q,
+// bvh_occluded(b, p, q - p, 0, 1).
+template <class T>
+inline bool bvh_occluded(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
+                         T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
+  return detail::bvh_traverse(b, make_bvh_ray(origin, dir), t_min, t_max, true, counts).hit;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_traverse.hpp ----
+// ---- begin vplkit/visibility/bvh_visibility.hpp ----
+// Exact visibility through a BVH, as the two callables the estimators take (the exact
+// counterparts of voxel_visibility and voxel_tracer in visibility/visibility_callables.hpp):
+//   bvh_visibility<T>{view}(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
+//   bvh_tracer<T>{view}(x, n_x, dir)        -> ray_hit<T>  first surface hit leaving surface x
+// glsl/vplkit/visibility/bvh_visibility.glsl mirrors them.
+//
+// Self-intersection: both ends of a segment, and the origin of a traced ray, are moved off their
+// surface along their normal (as given: the side the point is seen from) by
+//   offset = offset_relative * D + 2^-15 * M,
+// D = the largest extent of the hierarchy's root box (the scene's size), M = its largest
+// |coordinate| (how far the scene lies from the world origin). The segment between the moved
+// ends is then tested whole, (0, 1].
+// Why an offset along the normal and not a shrunk parameter range [eps, 1 - eps]: the points
+// come from rasterised G-buffers and DPRSMs, so they lie off the true surface by interpolation
+// error, possibly below it; a segment leaving such a point at a grazing angle crosses its own
+// surface at a parameter distance of error / sin(angle), which no fixed eps bounds, while an
+// offset larger than the error clears the surface at every angle. The first term covers that
+// error relative to the scene (default 1e-4 of its size: a contact gap of 0.1 mm in a 1 m room);
+// the second is 256 float ulps of the largest coordinate, the rounding of points far from the
+// origin (Waechter and Binder, "A fast and robust method for avoiding self-intersection", Ray
+// Tracing Gems, 2019, use 256 ulps for the same reason). The price: an occluder closer than the
+// offset to an end point is missed (light leaks through gaps thinner than the offset).
+// Which side: the normal's. A G-buffer's and a DPRSM's normals face the camera and the light, and
+// the estimators give no weight to a y behind x's surface (cos clamped at 0), so a pair that
+// matters always leaves x on its normal's side. Flipping the normal towards the other end instead
+// would make nearly coplanar pairs (cos ~ 0) land on opposite sides by the sign of rounding noise.
+// As with voxel_visible_two_sided, y behind x's surface is hidden by x's own surface. Normals need
+// not be unit length; a zero or non-finite normal leaves the point where it is.
+// Non-finite x or y: not visible (no contribution rather than a NaN one); x == y: visible.
+
+#include <cmath>
+
+namespace vplkit {
+
+constexpr double bvh_offset_relative_default = 1e-4;
+constexpr double bvh_offset_coordinate_scale = 1.0 / 32768.0;  // 2^-15 = 256 float ulps of a coordinate
+
+// The distance end points are moved off their surfaces: offset_relative * D + 2^-15 * M (see the
+// header); 0 for an empty hierarchy.
+template <class T>
+inline T bvh_surface_offset(const bvh_view<T>& b, T offset_relative = T(bvh_offset_relative_default)) {
+  if (b.node_count == 0) return T(0);
+  const vec3<T> lo = b.nodes[0].bounds_min, hi = b.nodes[0].bounds_max;
+  const vec3<T> ext = hi - lo;
+  const T d = std::fmax(ext.x, std::fmax(ext.y, ext.z));
+  const vec3<T> m3(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y)),
+                   std::fmax(std::abs(lo.z), std::abs(hi.z)));
+  const T m = std::fmax(m3.x, std::fmax(m3.y, m3.z));
+  return offset_relative * d + T(bvh_offset_coordinate_scale) * m;
+}
+
+// x moved by `offset` along the unit normal.
+template <class T>
+inline vec3<T> bvh_offset_point(vec3<T> x, vec3<T> n, T offset) {
+  return x + offset * detail::bvh_unit_vector(n);
+}
+
+// Are the surface points x (normal n_x) and y (normal n_y) mutually visible?
+template <class T>
+inline bool bvh_visible(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y,
+                        T offset_relative = T(bvh_offset_relative_default)) {
+  if (!detail::bvh_vec3_finite(x) || !detail::bvh_vec3_finite(y)) return false;
+  const T offset = bvh_surface_offset(b, offset_relative);
+  const vec3<T> o = bvh_offset_point(x, n_x, offset);
+  const vec3<T> p = bvh_offset_point(y, n_y, offset);
+  return !bvh_occluded(b, o, p - o, T(0), T(1));
+}
+
+// The first surface hit by the ray leaving surface x (normal n_x) along dir, from x moved off its
+// surface (bvh_offset_point). The hit position is the barycentric point on the triangle hit
+// (bvh_hit::position), exact to float rounding, unlike the voxel tracer's voxel-entry point: a
+// DPRSM depth test on it needs only the texel's own depth spread as tolerance.
+template <class T>
+inline ray_hit<T> bvh_trace(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T> dir,
+                            T offset_relative = T(bvh_offset_relative_default)) {
+  const vec3<T> o = bvh_offset_point(x, n_x, bvh_surface_offset(b, offset_relative));
+  const bvh_hit<T> h = bvh_closest_hit(b, o, dir);
+  ray_hit<T> r;
+  r.hit = h.hit;
+  if (h.hit) r.position = h.position;
+  return r;
+}
+
+template <class T>
+struct bvh_visibility {
+  bvh_view<T> bvh;
+  T offset_relative = T(bvh_offset_relative_default);
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    return bvh_visible(bvh, x, n_x, y, n_y, offset_relative);
+  }
+};
+
+template <class T>
+struct bvh_tracer {
+  bvh_view<T> bvh;
+  T offset_relative = T(bvh_offset_relative_default);
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const { return bvh_trace(bvh, x, n_x, dir, offset_relative); }
+};
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_visibility.hpp ----
 
 // mis: balance / power heuristics, solid-angle pdf conversion
 // ---- begin vplkit/mis/heuristics.hpp ----
