@@ -12,7 +12,7 @@
 #define VPLKIT_GATHER_SUBSET_BINDING_PIXELS 1  // SSBO, writeonly: int pixels[]
 #endif
 #ifndef VPLKIT_GATHER_SUBSET_BINDING_PARAMS
-#define VPLKIT_GATHER_SUBSET_BINDING_PARAMS 0  // uniform block: gather_subset_params
+#define VPLKIT_GATHER_SUBSET_BINDING_PARAMS 2  // uniform block: gather_subset_params
 #endif
 #ifndef VPLKIT_GATHER_SUBSET_LOCAL_SIZE
 #define VPLKIT_GATHER_SUBSET_LOCAL_SIZE 64

@@ -23,7 +23,7 @@
 #define VPLKIT_GBG_BINDING_STATS 4  // SSBO: uint stats[VPLKIT_GBG_STATS_SIZE], zeroed first
 #endif
 #ifndef VPLKIT_GBG_BINDING_PARAMS
-#define VPLKIT_GBG_BINDING_PARAMS 0  // uniform block: gbg_accumulate_params
+#define VPLKIT_GBG_BINDING_PARAMS 5  // uniform block: gbg_accumulate_params
 #endif
 #ifndef VPLKIT_GBG_LOCAL_SIZE
 #define VPLKIT_GBG_LOCAL_SIZE 64

@@ -21,7 +21,7 @@
 #define VPLKIT_GBG_FINISH_BINDING_WEIGHTS 3  // SSBO, writeonly: float weights[2 R^2]
 #endif
 #ifndef VPLKIT_GBG_FINISH_BINDING_PARAMS
-#define VPLKIT_GBG_FINISH_BINDING_PARAMS 0  // uniform block: gbg_finish_params
+#define VPLKIT_GBG_FINISH_BINDING_PARAMS 4  // uniform block: gbg_finish_params
 #endif
 #ifndef VPLKIT_GBG_FINISH_LOCAL_SIZE
 #define VPLKIT_GBG_FINISH_LOCAL_SIZE 8  // work group LOCAL_SIZE x LOCAL_SIZE x 1

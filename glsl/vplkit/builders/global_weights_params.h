@@ -22,7 +22,7 @@
 #define VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS 4  // SSBO, writeonly: float weights[N * 2 R^2]
 #endif
 #ifndef VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS
-#define VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS 0  // uniform block: global_weights_params
+#define VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS 5  // uniform block: global_weights_params
 #endif
 #ifndef VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE
 #define VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE 64

@@ -22,7 +22,7 @@
 #define VPLKIT_CDF_BUILD_BINDING_INFO 4  // SSBO: cdf_build_info info[D]
 #endif
 #ifndef VPLKIT_CDF_BUILD_BINDING_PARAMS
-#define VPLKIT_CDF_BUILD_BINDING_PARAMS 0  // uniform block: cdf_build_params
+#define VPLKIT_CDF_BUILD_BINDING_PARAMS 5  // uniform block: cdf_build_params
 #endif
 #ifndef VPLKIT_CDF_BUILD_LOCAL_SIZE
 #define VPLKIT_CDF_BUILD_LOCAL_SIZE 256  // invocations per work group

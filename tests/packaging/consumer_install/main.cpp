@@ -26,7 +26,7 @@ int main() {
   vplkit::gpu::gbg_accumulate_params params{};
   params.light = vplkit::gpu::make_light_params(vplkit::make_point_light(vplkit::vec3<float>(0.0f),
                                                                          vplkit::vec3<float>(1.0f)));
-  if (sizeof params != 208 || params.light.intensity.x != 1.0f || VPLKIT_GBG_BINDING_PARAMS != 0) {
+  if (sizeof params != 208 || params.light.intensity.x != 1.0f || VPLKIT_GBG_BINDING_PARAMS != 5) {
     std::fprintf(stderr, "unexpected gbg_accumulate_params\n");
     return 1;
   }
