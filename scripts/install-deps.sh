@@ -19,6 +19,8 @@ packages=(
   libcli11-dev                     # command-line parsing of the example renderer
   clang libclang-rt-14-dev         # libFuzzer harnesses (tests/fuzz, scripts/fuzz.sh)
   libembree-dev                    # Embree 3: the reference of the BVH (exact visibility) tests and benchmark
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers  # Vulkan tests: loader, lavapipe, validation layer
+  spirv-cross                      # SPIR-V reflection: the kernels' default bindings as Vulkan sees them
 )
 
 missing=()
