@@ -166,7 +166,11 @@ void context::create_instance() {
   info.ppEnabledLayerNames = &validation_layer;
   info.enabledExtensionCount = std::uint32_t(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
-  check(vkCreateInstance(&info, nullptr, &instance_), "vkCreateInstance");
+  const VkResult created = vkCreateInstance(&info, nullptr, &instance_);
+  if (created == VK_ERROR_INCOMPATIBLE_DRIVER)
+    throw vk_error("vulkan: vkCreateInstance found no Vulkan 1.1 driver (Debian: apt-get install "
+                   "mesa-vulkan-drivers gives lavapipe, a CPU implementation)");
+  check(created, "vkCreateInstance");
   auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
       vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
   if (!create) throw vk_error("vulkan: vkCreateDebugUtilsMessengerEXT not found");
