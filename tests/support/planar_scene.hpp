@@ -20,13 +20,15 @@
 // What the DPRSM estimators' estimand leaves out of it: the directions of the invalid texels' parts
 // inside the unit disk (docs/math.md section 11), all within sqrt(2)/R of the rim in uv, i.e. floor
 // points beyond rho0 = H R / sqrt(2) from the light's foot. excluded_bound() bounds their
-// contribution by rho_x rho_f I H / (pi rho0^3) (L_o <= rho_f I H / (pi rho0^3) there, and the
-// form factor of any part of the floor is <= 1).
+// contribution: there L_o <= rho_f I H / (pi rho0^3), and the floor beyond r = rho0 - |x's foot -
+// the light's foot| from x's foot carries int cos(theta1) cos(theta2) / (pi d2^2) dA <=
+// int hx / (pi d2^3) dA = 2 hx / sqrt(hx^2 + r^2) (cos(theta2) <= 1).
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -176,7 +178,11 @@ inline vec3<double> continuous_integral(const planar_scene<double>& s, const vpl
 inline vec3<double> excluded_bound(const planar_scene<double>& s, const vplkit::gather_point<double>& gp, int R) {
   const double pi = 3.14159265358979323846;
   const double rho0 = s.height * R / std::sqrt(2.0);
-  return gp.albedo * s.floor_albedo * s.light.intensity * (s.height / (pi * rho0 * rho0 * rho0));
+  const double hx = gp.position.y;
+  const double r = std::max(0.0, rho0 - std::hypot(gp.position.x - s.light.position.x,
+                                                   gp.position.z - s.light.position.z));
+  const double form_factor = std::min(1.0, 2.0 * hx / std::sqrt(hx * hx + r * r));
+  return gp.albedo * s.floor_albedo * s.light.intensity * (s.height / (pi * rho0 * rho0 * rho0)) * form_factor;
 }
 
 }  // namespace vplkit_test
