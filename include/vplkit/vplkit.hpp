@@ -49,10 +49,11 @@
 // image: hole-aware median fill
 #include <vplkit/image/median_fill.hpp>
 
-// vpl: VPL flux and contribution, luminance, DPRSM view and lookup, direct light
+// vpl: VPL flux and contribution, luminance, DPRSM view and lookup, patch-sampled VPLs, direct light
 #include <vplkit/vpl/luminance.hpp>
 #include <vplkit/vpl/vpl.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/dprsm_patch.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/direct_light.hpp>

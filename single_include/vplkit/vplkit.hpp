@@ -1218,6 +1218,29 @@ inline vec2<T> texel_center_uv(int x, int y, int R) {
   return vec2<T>((T(x) + T(0.5)) / T(R) * T(2) - T(1), (T(y) + T(0.5)) / T(R) * T(2) - T(1));
 }
 
+// A point of texel (x, y) chosen by xi in [0, 1]^2: uv = ((x + xi.x) / R * 2 - 1, ...), written
+// as texel_center_uv so that xi = (0.5, 0.5) gives the centre bit for bit. xi is clamped into
+// [0, 1] (NaN -> 0), so the point never leaves the texel's closed square; a uniform xi gives a
+// uniform point of the square, density (R/2)^2 per unit uv area. Near the rim part of the square
+// lies outside the unit disk (r2 > 1): callers decide what such a point means (dprsm_patch.hpp
+// rejects it).
+template <class T>
+inline vec2<T> texel_point_uv(int x, int y, int R, vec2<T> xi) {
+  const T sx = !(xi.x >= T(0)) ? T(0) : (xi.x > T(1) ? T(1) : xi.x);
+  const T sy = !(xi.y >= T(0)) ? T(0) : (xi.y > T(1) ? T(1) : xi.y);
+  return vec2<T>((T(x) + sx) / T(R) * T(2) - T(1), (T(y) + sy) / T(R) * T(2) - T(1));
+}
+
+// The pointwise counterpart of texel_solid_angle: the Jacobian at uv times the texel's uv area,
+// J(uv) (2/R)^2. Its mean over a uniform point of the square is the square's exact solid angle,
+// which is what makes a VPL of this flux at a uniformly jittered point unbiased (docs/math.md
+// section 11). No validity test: the caller has chosen uv inside a valid texel.
+template <class T>
+inline T texel_point_solid_angle(vec2<T> uv, int R) {
+  const T h = T(2) / T(R);
+  return paraboloid_jacobian(uv) * h * h;
+}
+
 // uv -> the texel containing it, clamped into [0, R-1]^2 (uv = 1 belongs to the last texel).
 // The clamp happens in floating point before the conversion to int, so uv far outside the map,
 // Inf or NaN (-> texel 0) never reach an out-of-range float-to-int conversion (UB in C++).
@@ -3530,7 +3553,7 @@ inline void median_fill_dprsm(const T* in, T* out, int R) {
 }  // namespace vplkit
 // ---- end vplkit/image/median_fill.hpp ----
 
-// vpl: VPL flux and contribution, luminance, DPRSM view and lookup, direct light
+// vpl: VPL flux and contribution, luminance, DPRSM view and lookup, patch-sampled VPLs, direct light
 // ---- begin vplkit/vpl/luminance.hpp ----
 // Scalar weight of an RGB quantity (paper eq. 6; ITU-R BT.601 luma weights).
 
@@ -3804,6 +3827,83 @@ struct dprsm_view {
 
 }  // namespace vplkit
 // ---- end vplkit/vpl/dprsm_view.hpp ----
+// ---- begin vplkit/vpl/dprsm_patch.hpp ----
+// Patch-sampled VPLs (docs/math.md section 11): instead of a VPL at the texel centre y_t that
+// stands for the whole texel (the midpoint rule, vpl_mode::point), a point y drawn uniformly over
+// the texel's uv square and carried along its light ray onto the texel's plane (through y_t,
+// normal n_t), with the flux of that point's own solid angle, rho_t I_s J(uv) (2/R)^2. Averaged over
+// the jitter this is exactly the integral over the texel's patch, so VPL sampling converges to the
+// same continuous one-bounce integral as gathering, and MIS mixes two strategies of one estimand.
+//
+// A texel's domain is the part of its uv square inside its face's unit disk, and a plane point
+// counts only where the DPRSM's own lit test (dprsm_lookup) would count a surface point there:
+// within depth_tolerance of the texel centre's distance to the light. Everything else is rejected
+// (flux 0): points outside the disk (r2 > 1, the other face's domain), light rays parallel to the
+// plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
+// light, zero normal), non-finite distances. Never NaN or Inf for a validated view.
+// Assumes n_t is the texel's GEOMETRIC normal: the plane then holds the triangle the texel sees,
+// and inside that triangle y is the surface point the light sees in that direction.
+
+#include <cmath>
+#include <limits>
+
+namespace vplkit {
+
+// What a texel's VPL is.
+enum class vpl_mode {
+  point,  // the paper's: at y_t with Phi_t = rho_t I_s Omega_t; its estimand is the midpoint rule
+  patch   // jittered over the texel's patch: unbiased for the continuous integral
+};
+
+// One jittered point of a texel's patch.
+template <class T>
+struct dprsm_patch_sample {
+  vpl<T> point{};           // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
+  vec2<T> uv{T(0)};         // the jittered point in the face's uv square
+  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
+  T distance = T(0);        // d1 = |y - c|
+  T cos_alpha = T(0);       // between n_t and y -> c
+};
+
+// The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
+// depth_tolerance: the depth window |d1(y) - |y_t - c|| <= depth_tolerance of dprsm_lookup; +inf
+// accepts the whole plane patch, NaN or a negative value rejects every point.
+template <class T>
+inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, vec2<T> xi, T depth_tolerance) {
+  dprsm_patch_sample<T> s;
+  const int R = view.resolution;
+  const ivec2 xy = texel_coords(t, R);
+  const vec3<T> c = view.light.position;
+  const vec3<T> y_t = view.position[t];
+  const vec3<T> n_t = view.normal[t];
+  s.uv = texel_point_uv(xy.x, xy.y, R, xi);
+  s.point.position = y_t;
+  s.point.normal = n_t;
+  s.point.flux = vec3<T>(T(0));
+  if (!texel_is_valid(xy.x, xy.y, R)) return s;
+  if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
+  if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
+  const vec3<T> n = unit_or_zero(n_t);
+  const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
+  // Every point of the plane has the same height h = n . (c - y) over it; along w the plane lies
+  // at the distance h / cos(alpha). cos(alpha) <= 0: the ray runs parallel to the plane or away
+  // from it (it would meet it behind the light).
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > T(0))) return s;
+  const T d1 = h / cos_a;
+  const T d_t = glm::length(y_t - c);  // the depth dprsm_lookup compares with
+  if (!(d1 <= std::numeric_limits<T>::max()) || !(std::abs(d1 - d_t) <= depth_tolerance)) return s;
+  s.solid_angle = texel_point_solid_angle(s.uv, R);
+  s.distance = d1;
+  s.cos_alpha = cos_a;
+  s.point.position = c + d1 * w;
+  s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
+  return s;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/vpl/dprsm_patch.hpp ----
 // ---- begin vplkit/vpl/dprsm_raycast.hpp ----
 // Builds a DPRSM on the CPU by casting one ray per valid texel centre from the light: for tests
 // and for hosts without a rasteriser. A rasterised DPRSM samples texel centres the same way.
@@ -4761,8 +4861,12 @@ inline estimator_state<T> make_estimator_state(const counter_rng& rng) {
 // ---- begin vplkit/estimators/vpl_sum.hpp ----
 // The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of
 // every CDF method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
+// Its patch form (docs/math.md section 11) puts m x m stratified jittered points in every texel:
+// an unbiased, seeded Monte Carlo estimate of the continuous integral that patch-sampled VPLs
+// converge to.
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace vplkit {
@@ -4786,6 +4890,21 @@ inline vec3<T> vpl_visible_contribution(const gather_point<T>& gp, const dprsm_v
   const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, dmin);
   if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
   return visibility(gp.position, gp.normal, v.position, v.normal) ? c : vec3<T>(T(0));
+}
+
+// L(y) V(x, y) for the point y of texel t's patch that xi selects (dprsm_patch_vpl): the
+// per-sample term of every patch-sampled VPL estimator. 0 for an index outside the view, a
+// rejected point, or a back-facing pair; visibility is queried only when the unoccluded
+// contribution is non-zero.
+template <class T, class Visibility>
+inline vec3<T> vpl_patch_visible_contribution(const gather_point<T>& gp, const dprsm_view<T>& view, int t,
+                                              vec2<T> xi, const Visibility& visibility, T dmin,
+                                              T depth_tolerance) {
+  if (t < 0 || t >= view.texel_count()) return vec3<T>(T(0));
+  const dprsm_patch_sample<T> s = dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, s.point, dmin);
+  if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
+  return visibility(gp.position, gp.normal, s.point.position, s.point.normal) ? c : vec3<T>(T(0));
 }
 
 // The exhaustive sum's running total, kept in double whatever T is, so the reference does not
@@ -4824,6 +4943,67 @@ inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>
   return exhaustive_vpl_sum_finish<T>(state);
 }
 
+// ---- patch form --------------------------------------------------------------------------------
+//
+// Texel t's stratum (i, j) of m x m (i along u) takes its two numbers from `stream` at the fixed
+// counters stream.counter + 2 (t m^2 + j m + i) and + 1 (u along u, then along v): random access,
+// so any split of the texels into ranges, in any order, gives the same numbers, and a texel
+// without flux draws nothing. The counters wrap once 4 R^2 m^2 exceeds 2^32 (R = 16384 with
+// m >= 2, R = 8192 with m >= 4): numbers then repeat, which correlates strata but stays correct. xi = ((i + u0) / m, (j + u1) / m).
+
+// The jitter of texel t's stratum k = j m + i.
+template <class T>
+inline vec2<T> exhaustive_vpl_patch_jitter(const counter_rng& stream, int t, int strata, int i, int j) {
+  const std::uint32_t m = std::uint32_t(strata);
+  counter_rng r{stream.key,
+                stream.counter + 2u * (std::uint32_t(t) * m * m + std::uint32_t(j) * m + std::uint32_t(i))};
+  const T u0 = rng_next_unit<T>(r);
+  const T u1 = rng_next_unit<T>(r);
+  return vec2<T>((T(i) + u0) / T(strata), (T(j) + u1) / T(strata));
+}
+
+// Adds sum_k L(y_tk) V(x, y_tk) over the m^2 strata of the texels [begin, end) (clipped to the
+// view) to state.sum, texel by texel in order, strata row by row; nothing for an invalid gather
+// point or strata <= 0.
+template <class T, class Visibility>
+inline void exhaustive_vpl_patch_sum_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                           vpl_sum_state& state, int begin, int end, const counter_rng& stream,
+                                           int strata, const Visibility& visibility, T dmin,
+                                           T depth_tolerance) {
+  if (!gather_point_valid(gp) || strata <= 0) return;
+  const int n = view.texel_count();
+  const int first = begin < 0 ? 0 : begin, last = end < n ? end : n;
+  for (int t = first; t < last; ++t) {
+    if (!vpl_has_flux(view.vpl_at(t))) continue;
+    for (int j = 0; j < strata; ++j)
+      for (int i = 0; i < strata; ++i)
+        state.sum += vec3<double>(vpl_patch_visible_contribution(
+            gp, view, t, exhaustive_vpl_patch_jitter<T>(stream, t, strata, i, j), visibility, dmin,
+            depth_tolerance));
+  }
+}
+
+// The sum divided by m^2 (the mean over each texel's strata), rounded once to T; 0 for strata <= 0.
+template <class T>
+inline vec3<T> exhaustive_vpl_patch_sum_finish(const vpl_sum_state& state, int strata) {
+  if (strata <= 0) return vec3<T>(T(0));
+  return vec3<T>(state.sum / (double(strata) * double(strata)));
+}
+
+// sum_t mean_k L(y_tk) V(x, y_tk) over all 2 R^2 texels: an unbiased estimate of the continuous
+// integral with m^2 stratified points per texel (docs/math.md section 11); 0 for an invalid
+// gather point.
+template <class T, class Visibility>
+inline vec3<T> exhaustive_vpl_patch_sum(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                        const counter_rng& stream, int strata, const Visibility& visibility,
+                                        T dmin, T depth_tolerance) {
+  if (!gather_point_valid(gp) || strata <= 0) return vec3<T>(T(0));
+  vpl_sum_state state;
+  exhaustive_vpl_patch_sum_range(gp, view, state, 0, view.texel_count(), stream, strata, visibility, dmin,
+                                 depth_tolerance);
+  return exhaustive_vpl_patch_sum_finish<T>(state, strata);
+}
+
 }  // namespace vplkit
 // ---- end vplkit/estimators/vpl_sum.hpp ----
 // ---- begin vplkit/estimators/vpl_sampling_estimator.hpp ----
@@ -4836,8 +5016,17 @@ inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>
 // (discrete_cdf, alias_table, defensive_mixture, flat_face_roulette, ...) of size texel_count().
 // A draw with pmf 0 (empty distribution) or an index outside the view adds 0 and is never divided.
 // Random numbers, in this order (the GLSL mirror follows it): for k = 0 .. N-1, one u = the next
-// rng_next_unit<T>(rng), passed to sample(u). An invalid gather point returns 0 and consumes none.
-// Visibility(x, n_x, y_t, n_t) -> bool is queried once per sample with a non-zero contribution.
+// rng_next_unit<T>(rng), passed to sample(u); with vpl_mode::patch two more, u0 then u1, the
+// jitter xi = (u0, u1) inside the drawn texel (dprsm_patch_vpl), drawn whatever the draw gave, so
+// every sample takes exactly three. An invalid gather point returns 0 and consumes none.
+// Visibility(x, n_x, y, n_t) -> bool is queried once per sample with a non-zero contribution.
+//
+// vpl_mode::point (default, the paper's) converges to the exhaustive VPL sum (the midpoint rule);
+// vpl_mode::patch to the continuous one-bounce integral (docs/math.md section 11), with
+// depth_tolerance the window of dprsm_patch_vpl (pass the gathering lookup's tolerance to get
+// gathering's estimand exactly; +inf, the default, keeps every plane point).
+
+#include <limits>
 
 namespace vplkit {
 
@@ -4855,14 +5044,37 @@ inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T
   return estimator_finite_or_zero(c / pmf);
 }
 
+// The patch-sampled sample: L(y) V / p(t) at the point y of the drawn texel that xi selects.
+template <class T, class Distribution, class Visibility>
+inline vec3<T> vpl_sampling_patch_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                         const Distribution& distribution, T u, vec2<T> xi,
+                                         const Visibility& visibility, T dmin, T depth_tolerance) {
+  const auto s = distribution.sample(u);
+  const T pmf = T(s.pmf);
+  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
+  const vec3<T> c = vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance);
+  return estimator_finite_or_zero(c / pmf);
+}
+
 // Samples [begin, end) of estimate_vpl_sampling (estimator_state.hpp).
 template <class T, class Distribution, class Visibility>
 inline void estimate_vpl_sampling_range(const gather_point<T>& gp, const dprsm_view<T>& view,
                                         const Distribution& distribution, estimator_state<T>& state,
-                                        int begin, int end, const Visibility& visibility, T dmin) {
+                                        int begin, int end, const Visibility& visibility, T dmin,
+                                        vpl_mode mode = vpl_mode::point,
+                                        T depth_tolerance = std::numeric_limits<T>::infinity()) {
   if (!gather_point_valid(gp)) return;
-  for (int k = begin; k < end; ++k)
-    state.sum += vpl_sampling_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, dmin);
+  for (int k = begin; k < end; ++k) {
+    const T u = rng_next_unit<T>(state.rng);
+    if (mode == vpl_mode::patch) {
+      const T u0 = rng_next_unit<T>(state.rng);
+      const T u1 = rng_next_unit<T>(state.rng);
+      state.sum += vpl_sampling_patch_sample(gp, view, distribution, u, vec2<T>(u0, u1), visibility, dmin,
+                                             depth_tolerance);
+    } else {
+      state.sum += vpl_sampling_sample(gp, view, distribution, u, visibility, dmin);
+    }
+  }
 }
 
 template <class T>
@@ -4873,10 +5085,12 @@ inline vec3<T> estimate_vpl_sampling_finish(const estimator_state<T>& state, int
 template <class T, class Distribution, class Visibility>
 inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view<T>& view,
                                      const Distribution& distribution, counter_rng& rng, int n_samples,
-                                     const Visibility& visibility, T dmin) {
+                                     const Visibility& visibility, T dmin, vpl_mode mode = vpl_mode::point,
+                                     T depth_tolerance = std::numeric_limits<T>::infinity()) {
   if (!gather_point_valid(gp) || n_samples <= 0) return vec3<T>(T(0));
   estimator_state<T> state = make_estimator_state<T>(rng);
-  estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin);
+  estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin, mode,
+                              depth_tolerance);
   rng = state.rng;
   return estimate_vpl_sampling_finish(state, n_samples);
 }
@@ -4886,9 +5100,10 @@ inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view
 template <class T, class Visibility>
 inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view<T>& view,
                                      const face_roulette<T>& roulette, counter_rng& rng, int n_samples,
-                                     const Visibility& visibility, T dmin) {
+                                     const Visibility& visibility, T dmin, vpl_mode mode = vpl_mode::point,
+                                     T depth_tolerance = std::numeric_limits<T>::infinity()) {
   return estimate_vpl_sampling(gp, view, flat_face_roulette<T>(roulette, view.resolution), rng, n_samples,
-                               visibility, dmin);
+                               visibility, dmin, mode, depth_tolerance);
 }
 
 }  // namespace vplkit
@@ -4909,10 +5124,15 @@ inline vec3<T> estimate_vpl_sampling(const gather_point<T>& gp, const dprsm_view
 // `average`; for `balance` it adds 0 to every sum_j p_j, so balance stays unbiased.
 //
 // Random numbers: for round r = 0 .. n_rounds-1, for i = 0 .. N-1: one u = rng_next_unit<T>(rng),
-// passed to distributions[i].sample(u). Cost: `balance` evaluates N pmfs per sample (N^2 per
+// passed to distributions[i].sample(u), and with vpl_mode::patch u0, u1, the jitter inside the
+// drawn texel (three per sample, always). Cost: `balance` evaluates N pmfs per sample (N^2 per
 // round). An invalid gather point returns 0 and consumes none.
+// vpl_mode::patch (docs/math.md section 11): each sample is the jittered point of its texel; the
+// jitter density is the same under every CDF, so the combinations divide by the pmfs as above and
+// the estimand becomes the continuous integral.
 
 #include <cstddef>
+#include <limits>
 
 namespace vplkit {
 
@@ -4931,15 +5151,25 @@ template <class T, class Distribution, class Visibility>
 inline void estimate_local_range(const gather_point<T>& gp, const dprsm_view<T>& view,
                                  const Distribution* distributions, int n_distributions,
                                  estimator_state<T>& state, int begin, int end, const Visibility& visibility,
-                                 T dmin, local_combination combination = local_combination::balance) {
+                                 T dmin, local_combination combination = local_combination::balance,
+                                 vpl_mode mode = vpl_mode::point,
+                                 T depth_tolerance = std::numeric_limits<T>::infinity()) {
   if (!gather_point_valid(gp) || n_distributions <= 0 || distributions == nullptr) return;
   const std::size_t n_texels = std::size_t(view.texel_count());
   for (int r = begin; r < end; ++r)
     for (int i = 0; i < n_distributions; ++i) {
       const auto s = distributions[i].sample(rng_next_unit<T>(state.rng));
+      vec2<T> xi(T(0));
+      if (mode == vpl_mode::patch) {
+        xi.x = rng_next_unit<T>(state.rng);
+        xi.y = rng_next_unit<T>(state.rng);
+      }
       const T pmf_i = T(s.pmf);
       if (!(pmf_i > T(0)) || s.index >= n_texels) continue;
-      const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
+      const vec3<T> c =
+          mode == vpl_mode::patch
+              ? vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance)
+              : vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
       if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) continue;
       // balance: pmf_i(t) > 0 is one of the terms, so the divisor is > 0.
       const T divisor = combination == local_combination::balance
@@ -4958,12 +5188,14 @@ template <class T, class Distribution, class Visibility>
 inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& view,
                               const Distribution* distributions, int n_distributions, counter_rng& rng,
                               int n_rounds, const Visibility& visibility, T dmin,
-                              local_combination combination = local_combination::balance) {
+                              local_combination combination = local_combination::balance,
+                              vpl_mode mode = vpl_mode::point,
+                              T depth_tolerance = std::numeric_limits<T>::infinity()) {
   if (!gather_point_valid(gp) || n_rounds <= 0 || n_distributions <= 0 || distributions == nullptr)
     return vec3<T>(T(0));
   estimator_state<T> state = make_estimator_state<T>(rng);
   estimate_local_range(gp, view, distributions, n_distributions, state, 0, n_rounds, visibility, dmin,
-                       combination);
+                       combination, mode, depth_tolerance);
   rng = state.rng;
   return estimate_local_finish(state, n_rounds);
 }
@@ -5062,13 +5294,17 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 //   mis_mode::solid_angle (default): both strategies as solid-angle densities at x,
 //     p1 = cos(theta2)/pi and p2 = p(t) d2^2 / (A_t cos(theta1)); every sample of either adds
 //     balance_combined(f, n_dirs, p1, n_vpls, p2), f = (rho_x/pi) L_o cos(theta2). No dmin clamp;
-//     holes are covered by gathering. Converges to the one-bounce integral up to the midpoint-rule
-//     error of the VPL term.
+//     holes are covered by gathering. With vpl_mode::point it converges to the one-bounce integral
+//     up to the midpoint-rule error of the VPL term; with vpl_mode::patch (docs/math.md section
+//     11) the VPL samples are jittered points of their texels' patches, p2 is the pointwise
+//     density p(t) d2^2 / (A(uv) cos(theta1)) of the point itself (a gathering hit is projected
+//     into the DPRSM for its texel and uv), and both strategies sample one integral.
 //   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
 //     biased (measured).
-// Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL, then if
-// j < n_dirs u0, u1 for the direction. An invalid gather point gives 0 and draws nothing; never
-// NaN or Inf. The expectation, both modes in detail, the measured bias: docs/api/estimators.md, "MIS".
+// Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL (and with
+// vpl_mode::patch u0, u1 for its jitter), then if j < n_dirs u0, u1 for the direction. An invalid
+// gather point gives 0 and draws nothing; never NaN or Inf. The expectation, both modes in
+// detail, the measured bias: docs/api/estimators.md, "MIS".
 
 #include <cmath>
 #include <cstddef>
@@ -5101,6 +5337,22 @@ inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T>
   return vpl_pdf_solid_angle(pmf, glm::dot(w, w), mis_texel_patch_area(view, t), cos1);
 }
 
+// p2 of docs/math.md section 11 for the point y of texel t's patch seen from x: the texel's pmf
+// times the jitter's density at y converted to solid angle at x, pmf d2^2 / (A(uv) cos(theta1))
+// with A(uv) = Omega(uv) d1^2 / cos(alpha), everything at y itself: uv where the light sees y,
+// d1 = |y - c|, cos(alpha) against n_t. For a gathering hit y (which the lookup placed in t).
+template <class T>
+inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
+  const vec3<T> c = view.light.position;
+  const vec3<T> n_t = view.normal[t];
+  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
+  const T area = vpl_patch_area(texel_point_solid_angle(q.uv, view.resolution), glm::length(y - c),
+                                vpl_cos_alpha(c, y, n_t));
+  const vec3<T> w = x - y;
+  const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));
+  return vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
+}
+
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)).
 template <class T>
 inline T mis_sin_from_cos(T c) {
@@ -5113,7 +5365,7 @@ template <class T, class Distribution, class Tracer>
 inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                     const Distribution& distribution, const orthonormal_basis<T>& frame,
                                     vec3<T> local, const Tracer& tracer, T depth_tolerance, T n1, T n2,
-                                    mis_mode mode) {
+                                    mis_mode mode, vpl_mode vmode = vpl_mode::point) {
   const T cos2 = local.z;
   if (!(cos2 > T(0))) return vec3<T>(T(0));
   const gathering_ray_result<T> r =
@@ -5123,7 +5375,8 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
-    const T p2 = mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
+    const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
+                                          : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
     return mis_balance_value(f, n1, p1, n2, p2);
   }
   const T sin2 = mis_sin_from_cos(cos2);
@@ -5133,26 +5386,23 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   return estimator_finite_or_zero(f * (w.gathering / p1));
 }
 
-// One VPL sample drawn with u.
-template <class T, class Distribution, class Visibility>
-inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
-                              const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
-                              mis_mode mode) {
-  const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
-  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
-  const int t = int(s.index);
+// The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the
+// A of its p2 (the texel's A_t for a point VPL, A(uv) for a patch point). solid_angle: f at v over
+// n1 p1 + n2 p2; as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
+template <class T, class Visibility>
+inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v, T pmf,
+                             T area, const Visibility& visibility, T n1, T n2, mis_mode mode) {
   if (mode == mis_mode::as_published) {
-    const vec3<T> c = vpl_visible_contribution(gp, view, t, visibility, T(0));
+    const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, T(0));
     if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
-    const T cos2 = glm::dot(unit_or_zero(gp.normal), unit_or_zero(view.position[t] - gp.position));
+    if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
+    const T cos2 = glm::dot(unit_or_zero(gp.normal), unit_or_zero(v.position - gp.position));
     const mis_weight_pair<T> w = mis_weights_as_published(cos2, mis_sin_from_cos(cos2), pmf);
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
-  const vpl<T> v = view.vpl_at(t);
   if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
-  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y_t
+  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
   const T cos2 = glm::dot(unit_or_zero(gp.normal), wd);
   const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
   if (!(cos2 > T(0)) || !(cos1 > T(0))) return vec3<T>(T(0));
@@ -5162,8 +5412,38 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
                                        view.albedo[t]) *
                     (cos2 / vpl_pi<T>);
   const T p1 = cosine_pdf_solid_angle(cos2);
-  const T p2 = mis_vpl_pdf(view, t, pmf, gp.position, v.position);
+  const vec3<T> w = gp.position - v.position;
+  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
   return mis_balance_value(f, n1, p1, n2, p2);
+}
+
+// One VPL sample drawn with u (vpl_mode::point: the VPL at the texel centre).
+template <class T, class Distribution, class Visibility>
+inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                              const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
+                              mis_mode mode) {
+  const auto s = distribution.sample(u);
+  const T pmf = T(s.pmf);
+  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
+  const int t = int(s.index);
+  return mis_vpl_value(gp, view, t, view.vpl_at(t), pmf, mis_texel_patch_area(view, t), visibility, n1, n2,
+                       mode);
+}
+
+// One patch-sampled VPL sample drawn with u and jittered by xi: dprsm_patch_vpl with the lookup's
+// depth_tolerance, so that it samples exactly the points the gathering strategy counts as lit,
+// and p2 from the sampled point's own Omega(uv), d1 and cos(alpha).
+template <class T, class Distribution, class Visibility>
+inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                    const Distribution& distribution, T u, vec2<T> xi, const Visibility& visibility,
+                                    T n1, T n2, mis_mode mode, T depth_tolerance) {
+  const auto s = distribution.sample(u);
+  const T pmf = T(s.pmf);
+  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
+  const int t = int(s.index);
+  const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  return mis_vpl_value(gp, view, t, p.point, pmf, vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
+                       visibility, n1, n2, mode);
 }
 
 // Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then
@@ -5172,20 +5452,30 @@ template <class T, class Distribution, class Tracer, class Visibility>
 inline void estimate_mis_range(const gather_point<T>& gp, const dprsm_view<T>& view,
                                const Distribution& distribution, estimator_state<T>& state, int begin, int end,
                                int n_dirs, int n_vpls, const Tracer& tracer, const Visibility& visibility,
-                               T depth_tolerance, mis_mode mode = mis_mode::solid_angle) {
+                               T depth_tolerance, mis_mode mode = mis_mode::solid_angle,
+                               vpl_mode vmode = vpl_mode::point) {
   if (!gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   const T n1 = T(n_dirs), n2 = T(n_vpls);
   const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
   for (int j = begin; j < end; ++j) {
-    if (j < n_vpls)
-      state.sum += mis_vpl_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, n1, n2, mode);
+    if (j < n_vpls) {
+      const T u = rng_next_unit<T>(state.rng);
+      if (vmode == vpl_mode::patch) {
+        const T u0 = rng_next_unit<T>(state.rng);
+        const T u1 = rng_next_unit<T>(state.rng);
+        state.sum += mis_vpl_patch_sample(gp, view, distribution, u, vec2<T>(u0, u1), visibility, n1, n2, mode,
+                                          depth_tolerance);
+      } else {
+        state.sum += mis_vpl_sample(gp, view, distribution, u, visibility, n1, n2, mode);
+      }
+    }
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(state.rng);
       const T u1 = rng_next_unit<T>(state.rng);
       state.sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)),
-                                        tracer, depth_tolerance, n1, n2, mode);
+                                        tracer, depth_tolerance, n1, n2, mode, vmode);
     }
   }
 }
@@ -5205,14 +5495,14 @@ template <class T, class Distribution, class Tracer, class Visibility>
 inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
                             counter_rng& rng, int n_dirs, int n_vpls, const Tracer& tracer,
                             const Visibility& visibility, T depth_tolerance,
-                            mis_mode mode = mis_mode::solid_angle) {
+                            mis_mode mode = mis_mode::solid_angle, vpl_mode vmode = vpl_mode::point) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   if (n_dirs == 0 && n_vpls == 0) return vec3<T>(T(0));
   estimator_state<T> state = make_estimator_state<T>(rng);
   estimate_mis_range(gp, view, distribution, state, 0, n_dirs > n_vpls ? n_dirs : n_vpls, n_dirs, n_vpls,
-                     tracer, visibility, depth_tolerance, mode);
+                     tracer, visibility, depth_tolerance, mode, vmode);
   rng = state.rng;
   return estimate_mis_finish(state, n_dirs, n_vpls, mode);
 }

@@ -8,6 +8,10 @@
 // usually one line each over the distribution pack (docs/glsl/estimators.md, "Distributions: two
 // hooks"). ACCESSORS: the DPRSM's and vplkit_load_voxel_word. Divisions by a pmf go through
 // vplkit_mis_div, so a denormal pmf divides as in C++ where denormals are kept.
+// VPL MODE: the range and one-shot forms come twice, as in C++ with its defaults: without the last
+// two arguments (vplkit_vpl_point, the paper's point VPLs) and with (int vpl_mode, float
+// depth_tolerance); vplkit_vpl_patch draws two more numbers per sample, u0 then u1, the jitter
+// inside the drawn texel (docs/math.md section 11).
 #ifndef VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL
 
@@ -18,6 +22,7 @@
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/sampling/rng.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
+#include "vplkit/vpl/dprsm_patch.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
@@ -40,14 +45,40 @@ vec3 vplkit_vpl_sampling_sample(vplkit_gather_point gp, vplkit_dprsm_view view, 
   return vplkit_estimator_finite_or_zero(vplkit_estimator_div(c, pmf));
 }
 
+// The patch-sampled sample: L(y) V / p(t) at the point y of the drawn texel that xi selects.
+vec3 vplkit_vpl_sampling_patch_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution, float u,
+                                      vec2 xi, vplkit_visibility visibility, float dmin, float depth_tolerance) {
+  vplkit_discrete_sample s = vplkit_estimator_distribution_sample(distribution, u);
+  float pmf = s.pmf;
+  if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
+  vec3 c = vplkit_vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance);
+  return vplkit_estimator_finite_or_zero(vplkit_estimator_div(c, pmf));
+}
+
 // Samples [begin, end) of vplkit_estimate_vpl_sampling (estimator_state.glsl).
 void vplkit_estimate_vpl_sampling_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                         inout vplkit_estimator_state state, int begin, int end,
-                                        vplkit_visibility visibility, float dmin) {
+                                        vplkit_visibility visibility, float dmin, int vpl_mode,
+                                        float depth_tolerance) {
   if (!vplkit_gather_point_valid(gp)) return;
-  for (int k = begin; k < end; ++k)
-    state.sum += vplkit_vpl_sampling_sample(gp, view, distribution, vplkit_rng_next_unit(state.rng), visibility,
-                                            dmin);
+  for (int k = begin; k < end; ++k) {
+    float u = vplkit_rng_next_unit(state.rng);
+    if (vpl_mode == vplkit_vpl_patch) {
+      float u0 = vplkit_rng_next_unit(state.rng);
+      float u1 = vplkit_rng_next_unit(state.rng);
+      state.sum += vplkit_vpl_sampling_patch_sample(gp, view, distribution, u, vec2(u0, u1), visibility, dmin,
+                                                    depth_tolerance);
+    } else {
+      state.sum += vplkit_vpl_sampling_sample(gp, view, distribution, u, visibility, dmin);
+    }
+  }
+}
+
+void vplkit_estimate_vpl_sampling_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                                        inout vplkit_estimator_state state, int begin, int end,
+                                        vplkit_visibility visibility, float dmin) {
+  vplkit_estimate_vpl_sampling_range(gp, view, distribution, state, begin, end, visibility, dmin, vplkit_vpl_point,
+                                     0.0);
 }
 
 vec3 vplkit_estimate_vpl_sampling_finish(vplkit_estimator_state state, int n_samples) {
@@ -56,12 +87,20 @@ vec3 vplkit_estimate_vpl_sampling_finish(vplkit_estimator_state state, int n_sam
 
 vec3 vplkit_estimate_vpl_sampling(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                   inout vplkit_counter_rng rng, int n_samples, vplkit_visibility visibility,
-                                  float dmin) {
+                                  float dmin, int vpl_mode, float depth_tolerance) {
   if (!vplkit_gather_point_valid(gp) || n_samples <= 0) return vec3(0.0);
   vplkit_estimator_state state = vplkit_make_estimator_state(rng);
-  vplkit_estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin);
+  vplkit_estimate_vpl_sampling_range(gp, view, distribution, state, 0, n_samples, visibility, dmin, vpl_mode,
+                                     depth_tolerance);
   rng = state.rng;
   return vplkit_estimate_vpl_sampling_finish(state, n_samples);
+}
+
+vec3 vplkit_estimate_vpl_sampling(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                                  inout vplkit_counter_rng rng, int n_samples, vplkit_visibility visibility,
+                                  float dmin) {
+  return vplkit_estimate_vpl_sampling(gp, view, distribution, rng, n_samples, visibility, dmin, vplkit_vpl_point,
+                                      0.0);
 }
 
 #endif  // VPLKIT_ESTIMATORS_VPL_SAMPLING_ESTIMATOR_GLSL

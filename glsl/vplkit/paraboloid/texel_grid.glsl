@@ -31,6 +31,20 @@ vec2 vplkit_texel_center_uv(int x, int y, int R) {
   return vec2((float(x) + 0.5) / float(R) * 2.0 - 1.0, (float(y) + 0.5) / float(R) * 2.0 - 1.0);
 }
 
+// A point of texel (x, y) chosen by xi in [0, 1]^2, clamped there (NaN -> 0 on the CPU); the
+// centre for xi = (0.5, 0.5), bit for bit vplkit_texel_center_uv.
+vec2 vplkit_texel_point_uv(int x, int y, int R, vec2 xi) {
+  float sx = !(xi.x >= 0.0) ? 0.0 : (xi.x > 1.0 ? 1.0 : xi.x);
+  float sy = !(xi.y >= 0.0) ? 0.0 : (xi.y > 1.0 ? 1.0 : xi.y);
+  return vec2((float(x) + sx) / float(R) * 2.0 - 1.0, (float(y) + sy) / float(R) * 2.0 - 1.0);
+}
+
+// J(uv) (2/R)^2: the pointwise counterpart of vplkit_texel_solid_angle (no validity test).
+float vplkit_texel_point_solid_angle(vec2 uv, int R) {
+  float h = 2.0 / float(R);
+  return vplkit_paraboloid_jacobian(uv) * h * h;
+}
+
 // uv -> the texel containing it, clamped into [0, R-1] (u = 1 belongs to the last texel). The
 // clamp happens in float before int(): int() of an out-of-range or NaN float is undefined in GLSL.
 // Infinite u clamps like the CPU; NaN gives texel 0 on the CPU (GPU compilers may assume no NaN).

@@ -5,13 +5,17 @@
 //   mis_mode::solid_angle (default): both strategies as solid-angle densities at x,
 //     p1 = cos(theta2)/pi and p2 = p(t) d2^2 / (A_t cos(theta1)); every sample of either adds
 //     balance_combined(f, n_dirs, p1, n_vpls, p2), f = (rho_x/pi) L_o cos(theta2). No dmin clamp;
-//     holes are covered by gathering. Converges to the one-bounce integral up to the midpoint-rule
-//     error of the VPL term.
+//     holes are covered by gathering. With vpl_mode::point it converges to the one-bounce integral
+//     up to the midpoint-rule error of the VPL term; with vpl_mode::patch (docs/math.md section
+//     11) the VPL samples are jittered points of their texels' patches, p2 is the pointwise
+//     density p(t) d2^2 / (A(uv) cos(theta1)) of the point itself (a gathering hit is projected
+//     into the DPRSM for its texel and uv), and both strategies sample one integral.
 //   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
 //     biased (measured).
-// Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL, then if
-// j < n_dirs u0, u1 for the direction. An invalid gather point gives 0 and draws nothing; never
-// NaN or Inf. The expectation, both modes in detail, the measured bias: docs/api/estimators.md, "MIS".
+// Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL (and with
+// vpl_mode::patch u0, u1 for its jitter), then if j < n_dirs u0, u1 for the direction. An invalid
+// gather point gives 0 and draws nothing; never NaN or Inf. The expectation, both modes in
+// detail, the measured bias: docs/api/estimators.md, "MIS".
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
@@ -20,9 +24,12 @@
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/mis/heuristics.hpp>
 #include <vplkit/mis/pdf_conversion.hpp>
+#include <vplkit/paraboloid/paraboloid.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
+#include <vplkit/vpl/dprsm_patch.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
@@ -57,6 +64,22 @@ inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T>
   return vpl_pdf_solid_angle(pmf, glm::dot(w, w), mis_texel_patch_area(view, t), cos1);
 }
 
+// p2 of docs/math.md section 11 for the point y of texel t's patch seen from x: the texel's pmf
+// times the jitter's density at y converted to solid angle at x, pmf d2^2 / (A(uv) cos(theta1))
+// with A(uv) = Omega(uv) d1^2 / cos(alpha), everything at y itself: uv where the light sees y,
+// d1 = |y - c|, cos(alpha) against n_t. For a gathering hit y (which the lookup placed in t).
+template <class T>
+inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
+  const vec3<T> c = view.light.position;
+  const vec3<T> n_t = view.normal[t];
+  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
+  const T area = vpl_patch_area(texel_point_solid_angle(q.uv, view.resolution), glm::length(y - c),
+                                vpl_cos_alpha(c, y, n_t));
+  const vec3<T> w = x - y;
+  const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));
+  return vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
+}
+
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)).
 template <class T>
 inline T mis_sin_from_cos(T c) {
@@ -69,7 +92,7 @@ template <class T, class Distribution, class Tracer>
 inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                     const Distribution& distribution, const orthonormal_basis<T>& frame,
                                     vec3<T> local, const Tracer& tracer, T depth_tolerance, T n1, T n2,
-                                    mis_mode mode) {
+                                    mis_mode mode, vpl_mode vmode = vpl_mode::point) {
   const T cos2 = local.z;
   if (!(cos2 > T(0))) return vec3<T>(T(0));
   const gathering_ray_result<T> r =
@@ -79,7 +102,8 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
-    const T p2 = mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
+    const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
+                                          : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
     return mis_balance_value(f, n1, p1, n2, p2);
   }
   const T sin2 = mis_sin_from_cos(cos2);
@@ -89,26 +113,23 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   return estimator_finite_or_zero(f * (w.gathering / p1));
 }
 
-// One VPL sample drawn with u.
-template <class T, class Distribution, class Visibility>
-inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
-                              const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
-                              mis_mode mode) {
-  const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
-  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
-  const int t = int(s.index);
+// The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the
+// A of its p2 (the texel's A_t for a point VPL, A(uv) for a patch point). solid_angle: f at v over
+// n1 p1 + n2 p2; as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
+template <class T, class Visibility>
+inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v, T pmf,
+                             T area, const Visibility& visibility, T n1, T n2, mis_mode mode) {
   if (mode == mis_mode::as_published) {
-    const vec3<T> c = vpl_visible_contribution(gp, view, t, visibility, T(0));
+    const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, T(0));
     if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
-    const T cos2 = glm::dot(unit_or_zero(gp.normal), unit_or_zero(view.position[t] - gp.position));
+    if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
+    const T cos2 = glm::dot(unit_or_zero(gp.normal), unit_or_zero(v.position - gp.position));
     const mis_weight_pair<T> w = mis_weights_as_published(cos2, mis_sin_from_cos(cos2), pmf);
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
-  const vpl<T> v = view.vpl_at(t);
   if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
-  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y_t
+  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
   const T cos2 = glm::dot(unit_or_zero(gp.normal), wd);
   const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
   if (!(cos2 > T(0)) || !(cos1 > T(0))) return vec3<T>(T(0));
@@ -118,8 +139,38 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
                                        view.albedo[t]) *
                     (cos2 / vpl_pi<T>);
   const T p1 = cosine_pdf_solid_angle(cos2);
-  const T p2 = mis_vpl_pdf(view, t, pmf, gp.position, v.position);
+  const vec3<T> w = gp.position - v.position;
+  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
   return mis_balance_value(f, n1, p1, n2, p2);
+}
+
+// One VPL sample drawn with u (vpl_mode::point: the VPL at the texel centre).
+template <class T, class Distribution, class Visibility>
+inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                              const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
+                              mis_mode mode) {
+  const auto s = distribution.sample(u);
+  const T pmf = T(s.pmf);
+  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
+  const int t = int(s.index);
+  return mis_vpl_value(gp, view, t, view.vpl_at(t), pmf, mis_texel_patch_area(view, t), visibility, n1, n2,
+                       mode);
+}
+
+// One patch-sampled VPL sample drawn with u and jittered by xi: dprsm_patch_vpl with the lookup's
+// depth_tolerance, so that it samples exactly the points the gathering strategy counts as lit,
+// and p2 from the sampled point's own Omega(uv), d1 and cos(alpha).
+template <class T, class Distribution, class Visibility>
+inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                    const Distribution& distribution, T u, vec2<T> xi, const Visibility& visibility,
+                                    T n1, T n2, mis_mode mode, T depth_tolerance) {
+  const auto s = distribution.sample(u);
+  const T pmf = T(s.pmf);
+  if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
+  const int t = int(s.index);
+  const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  return mis_vpl_value(gp, view, t, p.point, pmf, vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
+                       visibility, n1, n2, mode);
 }
 
 // Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then
@@ -128,20 +179,30 @@ template <class T, class Distribution, class Tracer, class Visibility>
 inline void estimate_mis_range(const gather_point<T>& gp, const dprsm_view<T>& view,
                                const Distribution& distribution, estimator_state<T>& state, int begin, int end,
                                int n_dirs, int n_vpls, const Tracer& tracer, const Visibility& visibility,
-                               T depth_tolerance, mis_mode mode = mis_mode::solid_angle) {
+                               T depth_tolerance, mis_mode mode = mis_mode::solid_angle,
+                               vpl_mode vmode = vpl_mode::point) {
   if (!gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   const T n1 = T(n_dirs), n2 = T(n_vpls);
   const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
   for (int j = begin; j < end; ++j) {
-    if (j < n_vpls)
-      state.sum += mis_vpl_sample(gp, view, distribution, rng_next_unit<T>(state.rng), visibility, n1, n2, mode);
+    if (j < n_vpls) {
+      const T u = rng_next_unit<T>(state.rng);
+      if (vmode == vpl_mode::patch) {
+        const T u0 = rng_next_unit<T>(state.rng);
+        const T u1 = rng_next_unit<T>(state.rng);
+        state.sum += mis_vpl_patch_sample(gp, view, distribution, u, vec2<T>(u0, u1), visibility, n1, n2, mode,
+                                          depth_tolerance);
+      } else {
+        state.sum += mis_vpl_sample(gp, view, distribution, u, visibility, n1, n2, mode);
+      }
+    }
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(state.rng);
       const T u1 = rng_next_unit<T>(state.rng);
       state.sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)),
-                                        tracer, depth_tolerance, n1, n2, mode);
+                                        tracer, depth_tolerance, n1, n2, mode, vmode);
     }
   }
 }
@@ -161,14 +222,14 @@ template <class T, class Distribution, class Tracer, class Visibility>
 inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
                             counter_rng& rng, int n_dirs, int n_vpls, const Tracer& tracer,
                             const Visibility& visibility, T depth_tolerance,
-                            mis_mode mode = mis_mode::solid_angle) {
+                            mis_mode mode = mis_mode::solid_angle, vpl_mode vmode = vpl_mode::point) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   if (n_dirs == 0 && n_vpls == 0) return vec3<T>(T(0));
   estimator_state<T> state = make_estimator_state<T>(rng);
   estimate_mis_range(gp, view, distribution, state, 0, n_dirs > n_vpls ? n_dirs : n_vpls, n_dirs, n_vpls,
-                     tracer, visibility, depth_tolerance, mode);
+                     tracer, visibility, depth_tolerance, mode, vmode);
   rng = state.rng;
   return estimate_mis_finish(state, n_dirs, n_vpls, mode);
 }

@@ -1,12 +1,18 @@
 #pragma once
 // The exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2): the estimand of
 // every CDF method and their reference (feasible for small DPRSMs; O(2 R^2) visibility queries).
+// Its patch form (docs/math.md section 11) puts m x m stratified jittered points in every texel:
+// an unbiased, seeded Monte Carlo estimate of the continuous integral that patch-sampled VPLs
+// converge to.
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/vpl/dprsm_patch.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace vplkit {
@@ -30,6 +36,21 @@ inline vec3<T> vpl_visible_contribution(const gather_point<T>& gp, const dprsm_v
   const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, dmin);
   if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
   return visibility(gp.position, gp.normal, v.position, v.normal) ? c : vec3<T>(T(0));
+}
+
+// L(y) V(x, y) for the point y of texel t's patch that xi selects (dprsm_patch_vpl): the
+// per-sample term of every patch-sampled VPL estimator. 0 for an index outside the view, a
+// rejected point, or a back-facing pair; visibility is queried only when the unoccluded
+// contribution is non-zero.
+template <class T, class Visibility>
+inline vec3<T> vpl_patch_visible_contribution(const gather_point<T>& gp, const dprsm_view<T>& view, int t,
+                                              vec2<T> xi, const Visibility& visibility, T dmin,
+                                              T depth_tolerance) {
+  if (t < 0 || t >= view.texel_count()) return vec3<T>(T(0));
+  const dprsm_patch_sample<T> s = dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, s.point, dmin);
+  if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
+  return visibility(gp.position, gp.normal, s.point.position, s.point.normal) ? c : vec3<T>(T(0));
 }
 
 // The exhaustive sum's running total, kept in double whatever T is, so the reference does not
@@ -66,6 +87,67 @@ inline vec3<T> exhaustive_vpl_sum(const gather_point<T>& gp, const dprsm_view<T>
   vpl_sum_state state;
   exhaustive_vpl_sum_range(gp, view, state, 0, view.texel_count(), visibility, dmin);
   return exhaustive_vpl_sum_finish<T>(state);
+}
+
+// ---- patch form --------------------------------------------------------------------------------
+//
+// Texel t's stratum (i, j) of m x m (i along u) takes its two numbers from `stream` at the fixed
+// counters stream.counter + 2 (t m^2 + j m + i) and + 1 (u along u, then along v): random access,
+// so any split of the texels into ranges, in any order, gives the same numbers, and a texel
+// without flux draws nothing. The counters wrap once 4 R^2 m^2 exceeds 2^32 (R = 16384 with
+// m >= 2, R = 8192 with m >= 4): numbers then repeat, which correlates strata but stays correct. xi = ((i + u0) / m, (j + u1) / m).
+
+// The jitter of texel t's stratum k = j m + i.
+template <class T>
+inline vec2<T> exhaustive_vpl_patch_jitter(const counter_rng& stream, int t, int strata, int i, int j) {
+  const std::uint32_t m = std::uint32_t(strata);
+  counter_rng r{stream.key,
+                stream.counter + 2u * (std::uint32_t(t) * m * m + std::uint32_t(j) * m + std::uint32_t(i))};
+  const T u0 = rng_next_unit<T>(r);
+  const T u1 = rng_next_unit<T>(r);
+  return vec2<T>((T(i) + u0) / T(strata), (T(j) + u1) / T(strata));
+}
+
+// Adds sum_k L(y_tk) V(x, y_tk) over the m^2 strata of the texels [begin, end) (clipped to the
+// view) to state.sum, texel by texel in order, strata row by row; nothing for an invalid gather
+// point or strata <= 0.
+template <class T, class Visibility>
+inline void exhaustive_vpl_patch_sum_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                           vpl_sum_state& state, int begin, int end, const counter_rng& stream,
+                                           int strata, const Visibility& visibility, T dmin,
+                                           T depth_tolerance) {
+  if (!gather_point_valid(gp) || strata <= 0) return;
+  const int n = view.texel_count();
+  const int first = begin < 0 ? 0 : begin, last = end < n ? end : n;
+  for (int t = first; t < last; ++t) {
+    if (!vpl_has_flux(view.vpl_at(t))) continue;
+    for (int j = 0; j < strata; ++j)
+      for (int i = 0; i < strata; ++i)
+        state.sum += vec3<double>(vpl_patch_visible_contribution(
+            gp, view, t, exhaustive_vpl_patch_jitter<T>(stream, t, strata, i, j), visibility, dmin,
+            depth_tolerance));
+  }
+}
+
+// The sum divided by m^2 (the mean over each texel's strata), rounded once to T; 0 for strata <= 0.
+template <class T>
+inline vec3<T> exhaustive_vpl_patch_sum_finish(const vpl_sum_state& state, int strata) {
+  if (strata <= 0) return vec3<T>(T(0));
+  return vec3<T>(state.sum / (double(strata) * double(strata)));
+}
+
+// sum_t mean_k L(y_tk) V(x, y_tk) over all 2 R^2 texels: an unbiased estimate of the continuous
+// integral with m^2 stratified points per texel (docs/math.md section 11); 0 for an invalid
+// gather point.
+template <class T, class Visibility>
+inline vec3<T> exhaustive_vpl_patch_sum(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                        const counter_rng& stream, int strata, const Visibility& visibility,
+                                        T dmin, T depth_tolerance) {
+  if (!gather_point_valid(gp) || strata <= 0) return vec3<T>(T(0));
+  vpl_sum_state state;
+  exhaustive_vpl_patch_sum_range(gp, view, state, 0, view.texel_count(), stream, strata, visibility, dmin,
+                                 depth_tolerance);
+  return exhaustive_vpl_patch_sum_finish<T>(state, strata);
 }
 
 }  // namespace vplkit

@@ -32,6 +32,29 @@ inline vec2<T> texel_center_uv(int x, int y, int R) {
   return vec2<T>((T(x) + T(0.5)) / T(R) * T(2) - T(1), (T(y) + T(0.5)) / T(R) * T(2) - T(1));
 }
 
+// A point of texel (x, y) chosen by xi in [0, 1]^2: uv = ((x + xi.x) / R * 2 - 1, ...), written
+// as texel_center_uv so that xi = (0.5, 0.5) gives the centre bit for bit. xi is clamped into
+// [0, 1] (NaN -> 0), so the point never leaves the texel's closed square; a uniform xi gives a
+// uniform point of the square, density (R/2)^2 per unit uv area. Near the rim part of the square
+// lies outside the unit disk (r2 > 1): callers decide what such a point means (dprsm_patch.hpp
+// rejects it).
+template <class T>
+inline vec2<T> texel_point_uv(int x, int y, int R, vec2<T> xi) {
+  const T sx = !(xi.x >= T(0)) ? T(0) : (xi.x > T(1) ? T(1) : xi.x);
+  const T sy = !(xi.y >= T(0)) ? T(0) : (xi.y > T(1) ? T(1) : xi.y);
+  return vec2<T>((T(x) + sx) / T(R) * T(2) - T(1), (T(y) + sy) / T(R) * T(2) - T(1));
+}
+
+// The pointwise counterpart of texel_solid_angle: the Jacobian at uv times the texel's uv area,
+// J(uv) (2/R)^2. Its mean over a uniform point of the square is the square's exact solid angle,
+// which is what makes a VPL of this flux at a uniformly jittered point unbiased (docs/math.md
+// section 11). No validity test: the caller has chosen uv inside a valid texel.
+template <class T>
+inline T texel_point_solid_angle(vec2<T> uv, int R) {
+  const T h = T(2) / T(R);
+  return paraboloid_jacobian(uv) * h * h;
+}
+
 // uv -> the texel containing it, clamped into [0, R-1]^2 (uv = 1 belongs to the last texel).
 // The clamp happens in floating point before the conversion to int, so uv far outside the map,
 // Inf or NaN (-> texel 0) never reach an out-of-range float-to-int conversion (UB in C++).

@@ -1,0 +1,66 @@
+// vplkit GLSL pack: patch-sampled VPLs (docs/math.md section 11); mirrors
+// include/vplkit/vpl/dprsm_patch.hpp (T = float) line for line. A point y drawn uniformly over a
+// texel's uv square, carried along its light ray onto the texel's plane (through y_t, normal n_t),
+// with the flux of its own solid angle rho_t I_s J(uv) (2/R)^2: unbiased for the texel's part of
+// the continuous one-bounce integral. Rejected (flux 0): uv outside the face's disk, rays parallel
+// to the plane or meeting it behind the light, texels without flux, points outside the depth
+// window of vplkit_dprsm_lookup. Assumes n_t is the texel's geometric normal.
+//
+// ACCESSORS used (declared in dprsm_view.glsl, defined by the including shader): position, normal
+// and albedo.
+#ifndef VPLKIT_VPL_DPRSM_PATCH_GLSL
+#define VPLKIT_VPL_DPRSM_PATCH_GLSL
+
+#include "vplkit/core/constants.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
+#include "vplkit/paraboloid/paraboloid.glsl"
+#include "vplkit/paraboloid/texel_grid.glsl"
+#include "vplkit/vpl/dprsm_view.glsl"
+#include "vplkit/vpl/vpl.glsl"
+
+// C++ enum class vpl_mode { point, patch }.
+const int vplkit_vpl_point = 0;
+const int vplkit_vpl_patch = 1;
+
+// One jittered point of a texel's patch.
+struct vplkit_dprsm_patch_sample {
+  vplkit_vpl point;    // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
+  vec2 uv;             // the jittered point in the face's uv square
+  float solid_angle;   // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
+  float distance;      // d1 = |y - c|
+  float cos_alpha;     // between n_t and y -> c
+};
+
+// The point of texel t (0 <= t < texel count, not checked) that xi in [0, 1]^2 selects; the depth
+// window |d1(y) - |y_t - c|| <= depth_tolerance of vplkit_dprsm_lookup (+inf: the whole patch).
+vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, vec2 xi, float depth_tolerance) {
+  int R = view.resolution;
+  ivec2 xy = vplkit_texel_coords(t, R);
+  vec3 c = view.light.position;
+  vec3 y_t = vplkit_load_dprsm_position(t);
+  vec3 n_t = vplkit_load_dprsm_normal(t);
+  vplkit_dprsm_patch_sample s =
+      vplkit_dprsm_patch_sample(vplkit_vpl(y_t, n_t, vec3(0.0)), vplkit_texel_point_uv(xy.x, xy.y, R, xi), 0.0, 0.0,
+                                0.0);
+  if (!vplkit_texel_is_valid(xy.x, xy.y, R)) return s;
+  if (!(dot(s.uv, s.uv) <= 1.0)) return s;  // beyond the rim: the other face's directions
+  if (!(vplkit_vpl_cos_alpha(c, y_t, n_t) > 0.0)) return s;  // as vpl_at: the texel's surface is unlit
+  vec3 n = vplkit_unit_or_zero(n_t);
+  vec3 w = vplkit_light_frame_to_world(view.light.frame,
+                                       vplkit_paraboloid_to_direction(vplkit_texel_face(t, R), s.uv));
+  // The plane's height over the light is the same at every point; along w it lies at h / cos(alpha).
+  float h = dot(n, c - y_t);
+  float cos_a = -dot(n, w);
+  if (!(h > 0.0) || !(cos_a > 0.0)) return s;
+  float d1 = h / cos_a;
+  float d_t = length(y_t - c);  // the depth vplkit_dprsm_lookup compares with
+  if (!(d1 <= vplkit_FLT_MAX) || !(abs(d1 - d_t) <= depth_tolerance)) return s;
+  s.solid_angle = vplkit_texel_point_solid_angle(s.uv, R);
+  s.distance = d1;
+  s.cos_alpha = cos_a;
+  s.point.position = c + d1 * w;
+  s.point.flux = vplkit_vpl_flux(vplkit_load_dprsm_albedo(t), view.light.intensity, s.solid_angle);
+  return s;
+}
+
+#endif  // VPLKIT_VPL_DPRSM_PATCH_GLSL

@@ -1,0 +1,82 @@
+#pragma once
+// Patch-sampled VPLs (docs/math.md section 11): instead of a VPL at the texel centre y_t that
+// stands for the whole texel (the midpoint rule, vpl_mode::point), a point y drawn uniformly over
+// the texel's uv square and carried along its light ray onto the texel's plane (through y_t,
+// normal n_t), with the flux of that point's own solid angle, rho_t I_s J(uv) (2/R)^2. Averaged over
+// the jitter this is exactly the integral over the texel's patch, so VPL sampling converges to the
+// same continuous one-bounce integral as gathering, and MIS mixes two strategies of one estimand.
+//
+// A texel's domain is the part of its uv square inside its face's unit disk, and a plane point
+// counts only where the DPRSM's own lit test (dprsm_lookup) would count a surface point there:
+// within depth_tolerance of the texel centre's distance to the light. Everything else is rejected
+// (flux 0): points outside the disk (r2 > 1, the other face's domain), light rays parallel to the
+// plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
+// light, zero normal), non-finite distances. Never NaN or Inf for a validated view.
+// Assumes n_t is the texel's GEOMETRIC normal: the plane then holds the triangle the texel sees,
+// and inside that triangle y is the surface point the light sees in that direction.
+#include <vplkit/core/unit_or_zero.hpp>
+#include <vplkit/core/vector.hpp>
+#include <vplkit/paraboloid/paraboloid.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace vplkit {
+
+// What a texel's VPL is.
+enum class vpl_mode {
+  point,  // the paper's: at y_t with Phi_t = rho_t I_s Omega_t; its estimand is the midpoint rule
+  patch   // jittered over the texel's patch: unbiased for the continuous integral
+};
+
+// One jittered point of a texel's patch.
+template <class T>
+struct dprsm_patch_sample {
+  vpl<T> point{};           // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
+  vec2<T> uv{T(0)};         // the jittered point in the face's uv square
+  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
+  T distance = T(0);        // d1 = |y - c|
+  T cos_alpha = T(0);       // between n_t and y -> c
+};
+
+// The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
+// depth_tolerance: the depth window |d1(y) - |y_t - c|| <= depth_tolerance of dprsm_lookup; +inf
+// accepts the whole plane patch, NaN or a negative value rejects every point.
+template <class T>
+inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, vec2<T> xi, T depth_tolerance) {
+  dprsm_patch_sample<T> s;
+  const int R = view.resolution;
+  const ivec2 xy = texel_coords(t, R);
+  const vec3<T> c = view.light.position;
+  const vec3<T> y_t = view.position[t];
+  const vec3<T> n_t = view.normal[t];
+  s.uv = texel_point_uv(xy.x, xy.y, R, xi);
+  s.point.position = y_t;
+  s.point.normal = n_t;
+  s.point.flux = vec3<T>(T(0));
+  if (!texel_is_valid(xy.x, xy.y, R)) return s;
+  if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
+  if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
+  const vec3<T> n = unit_or_zero(n_t);
+  const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
+  // Every point of the plane has the same height h = n . (c - y) over it; along w the plane lies
+  // at the distance h / cos(alpha). cos(alpha) <= 0: the ray runs parallel to the plane or away
+  // from it (it would meet it behind the light).
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > T(0))) return s;
+  const T d1 = h / cos_a;
+  const T d_t = glm::length(y_t - c);  // the depth dprsm_lookup compares with
+  if (!(d1 <= std::numeric_limits<T>::max()) || !(std::abs(d1 - d_t) <= depth_tolerance)) return s;
+  s.solid_angle = texel_point_solid_angle(s.uv, R);
+  s.distance = d1;
+  s.cos_alpha = cos_a;
+  s.point.position = c + d1 * w;
+  s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
+  return s;
+}
+
+}  // namespace vplkit
