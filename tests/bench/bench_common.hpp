@@ -9,14 +9,18 @@
 //  - Fixed inputs: uniform numbers on the library's 2^-24 grid from a fixed-seed std::mt19937,
 //    unit directions, and the scenes: the synthetic room of tests/support/synthetic_scene.hpp
 //    (24 triangles, exact brute-force ray casting), its DPRSMs, G-buffers and voxel grids, and a
-//    denser mesh (the room tessellated plus spheres, ~5k triangles) for voxelisation.
+//    denser mesh (the room tessellated plus spheres, ~5k triangles) for voxelisation; (gather
+//    point, VPL) pairs of the room and paraboloid-map weights with holes.
 // Everything is T = float: the type a renderer stores and the GPU mirror computes in.
 #include <synthetic_scene.hpp>
 
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -126,6 +130,44 @@ inline std::vector<vplkit::gather_point<float>> room_gather_points(int W) {
   for (int p = 0; p < gb.pixel_count(); ++p)
     if (vplkit::gather_point_valid(gb.at(p))) out.push_back(gb.at(p));
   return out;
+}
+
+// kBatch (gather point, VPL) pairs of the room at W = R = 64, drawn with `seed`: gather points
+// uniformly, VPLs among the texels that carry flux.
+struct vpl_pairs {
+  std::vector<vplkit::gather_point<float>> gp;
+  std::vector<vplkit::vpl<float>> v;
+  explicit vpl_pairs(std::uint32_t seed) {
+    const auto view = room_dprsm(64).view();
+    const auto points = room_gather_points(64);
+    std::vector<vplkit::vpl<float>> vpls;
+    for (int t = 0; t < view.texel_count(); ++t) {
+      const auto x = view.vpl_at(t);
+      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
+    }
+    std::mt19937 g(seed);
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      gp.push_back(points[g() % points.size()]);
+      v.push_back(vpls[g() % vpls.size()]);
+    }
+  }
+};
+
+// Weights of a 2 x R x R paraboloid map (exponential, + 1e-3) with `holes_percent` % of the valid
+// texels left at 0, fixed seed per (R, holes_percent).
+inline std::vector<float> holey_weights(int R, int holes_percent) {
+  std::mt19937 g(std::uint32_t(R * 100 + holes_percent));
+  std::exponential_distribution<float> ex(1.0f);
+  std::uniform_int_distribution<int> pct(0, 99);
+  std::vector<float> w(std::size_t(vplkit::texel_count(R)), 0.0f);
+  for (int face = 0; face < 2; ++face)
+    for (int y = 0; y < R; ++y)
+      for (int x = 0; x < R; ++x) {
+        const float v = ex(g) + 1e-3f;
+        if (!vplkit::texel_is_valid(x, y, R) || pct(g) < holes_percent) continue;
+        w[std::size_t(vplkit::texel_index(face, x, y, R))] = v;
+      }
+  return w;
 }
 
 // ---- a denser mesh for voxelisation ---------------------------------------------------------------

@@ -159,17 +159,7 @@ void BM_gpu_gbg_finish(benchmark::State& state) { run_gpu_gbg(state, gbg_part::f
 // ---- median_fill.comp ---------------------------------------------------------------------------
 void BM_gpu_median_fill(benchmark::State& state) {
   const int R = int(state.range(0)), holes = int(state.range(1));
-  std::mt19937 g(std::uint32_t(R * 100 + holes));
-  std::exponential_distribution<float> ex(1.0f);
-  std::uniform_int_distribution<int> pct(0, 99);
-  std::vector<float> w(std::size_t(vplkit::texel_count(R)), 0.0f);
-  for (int face = 0; face < 2; ++face)
-    for (int y = 0; y < R; ++y)
-      for (int x = 0; x < R; ++x) {
-        const float v = ex(g) + 1e-3f;
-        if (!vplkit::texel_is_valid(x, y, R) || pct(g) < holes) continue;
-        w[std::size_t(vplkit::texel_index(face, x, y, R))] = v;
-      }
+  const std::vector<float> w = holey_weights(R, holes);
   const auto& prog = vplkit_test::pack_kernel("vplkit/image/median_fill.comp");
   auto in = gl::buffer::from_vector(w);
   auto out = gl::buffer::filled(w.size() * 4);

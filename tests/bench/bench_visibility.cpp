@@ -98,28 +98,8 @@ void BM_dda_first_hit(benchmark::State& state) {
   state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
 }
 
-// (gather point, VPL) queries.
-struct queries_t {
-  std::vector<vplkit::gather_point<float>> gp;
-  std::vector<vplkit::vpl<float>> v;
-  queries_t() {
-    const auto view = room_dprsm(64).view();
-    const auto points = room_gather_points(64);
-    std::vector<vplkit::vpl<float>> vpls;
-    for (int t = 0; t < view.texel_count(); ++t) {
-      const auto x = view.vpl_at(t);
-      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
-    }
-    std::mt19937 g(54u);
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      gp.push_back(points[g() % points.size()]);
-      v.push_back(vpls[g() % vpls.size()]);
-    }
-  }
-};
-
-const queries_t& queries() {
-  static const queries_t* q = new queries_t();
+const vpl_pairs& queries() {
+  static const vpl_pairs* q = new vpl_pairs(54u);
   return *q;
 }
 

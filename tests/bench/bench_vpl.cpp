@@ -29,28 +29,8 @@ void BM_vpl_at_all_texels(benchmark::State& state) {
   state.SetItemsProcessed(std::int64_t(state.iterations()) * n);
 }
 
-// Pairs (gather point, VPL carrying flux), precomputed.
-struct pairs_t {
-  std::vector<vplkit::gather_point<float>> gp;
-  std::vector<vplkit::vpl<float>> v;
-  pairs_t() {
-    const auto view = room_dprsm(64).view();
-    const auto points = room_gather_points(64);
-    std::vector<vplkit::vpl<float>> vpls;
-    for (int t = 0; t < view.texel_count(); ++t) {
-      const auto x = view.vpl_at(t);
-      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
-    }
-    std::mt19937 g(41u);
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      gp.push_back(points[g() % points.size()]);
-      v.push_back(vpls[g() % vpls.size()]);
-    }
-  }
-};
-
-const pairs_t& pairs() {
-  static const pairs_t* p = new pairs_t();
+const vpl_pairs& pairs() {
+  static const vpl_pairs* p = new vpl_pairs(41u);
   return *p;
 }
 
