@@ -1,5 +1,6 @@
 #include <vplkit/distribution/alias_table.hpp>
 
+#include <distribution_checks.hpp>
 #include <weight_generators.hpp>
 
 #include <catch2/catch.hpp>
@@ -13,21 +14,8 @@
 namespace {
 
 using vplkit_test::exponential_weights;
+using vplkit_test::realised_alias_pmf;
 using vplkit_test::u01;
-
-// The probability the table really gives each index: bucket j (probability 1/n) keeps itself
-// with probability threshold[j] and hands the rest to alias[j].
-template <class T>
-std::vector<double> realised_pmf(const vplkit::alias_table<T>& a) {
-  const std::size_t n = a.size();
-  std::vector<double> p(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) {
-    const auto& b = a.bins()[j];
-    p[j] += double(b.threshold) / double(n);
-    p[b.alias] += (1.0 - double(b.threshold)) / double(n);
-  }
-  return p;
-}
 
 }  // namespace
 
@@ -54,7 +42,7 @@ TEMPLATE_TEST_CASE("alias_table: Vose's construction realises the pmf", "[distri
     const std::vector<T> w = exponential_weights<T>(n, unsigned(n) + 1u, 0.3);
     const vplkit::alias_table<T> a(w);
     if (a.empty()) continue;
-    const std::vector<double> p = realised_pmf(a);
+    const std::vector<double> p = realised_alias_pmf(a);
     long double total_ld = 0.0L;
     for (T x : w) total_ld += x;
     const double total = double(total_ld);

@@ -1,6 +1,7 @@
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 
+#include <distribution_checks.hpp>
 #include <weight_generators.hpp>
 
 #include <catch2/catch.hpp>
@@ -16,6 +17,7 @@
 namespace {
 
 using vplkit_test::exponential_weights;
+using vplkit_test::require_cdf_invariants;
 using vplkit_test::u01;
 
 // A span-like type that is neither a std container nor a pointer.
@@ -26,18 +28,6 @@ struct view {
   const T* data() const { return p; }
   std::size_t size() const { return n; }
 };
-
-template <class T>
-void require_cdf_invariants(const vplkit::discrete_cdf<T>& d, const std::vector<T>& w) {
-  const auto& c = d.cdf();
-  REQUIRE(c.size() == w.size() + 1);
-  REQUIRE(c.front() == T(0));
-  REQUIRE(c.back() == T(1));
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    REQUIRE(c[i] <= c[i + 1]);
-    if (w[i] == T(0)) REQUIRE(c[i] == c[i + 1]);
-  }
-}
 
 }  // namespace
 
