@@ -30,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace vplkit_bench {
@@ -47,6 +48,26 @@ inline double min_of(const std::vector<double>& v) {
 }
 
 inline void standard(benchmark::internal::Benchmark* b) { b->ComputeStatistics("min", &min_of); }
+
+// The timed loop of a per-value benchmark: `value(i)` for the n precomputed inputs of every
+// iteration, summed into an accumulator the optimiser must keep (DoNotOptimize once per batch, so
+// the barrier costs nothing per value). `value` is a lambda, inlined: the loop is what a hand-
+// written one would be. Items processed = n * iterations. Returns the sum of every value.
+template <class Acc = float, class Value>
+Acc run_items(benchmark::State& state, std::size_t n, Value&& value) {
+  Acc acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) acc += value(i);
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(n));
+  return acc;
+}
+
+template <class Acc = float, class Value>
+Acc run_batch(benchmark::State& state, Value&& value) {
+  return run_items<Acc>(state, kBatch, std::forward<Value>(value));
+}
 
 inline int run_main(int argc, char** argv) {
   static char default_min_time[] = "--benchmark_min_time=0.05";
@@ -101,26 +122,27 @@ inline const scene_t& room() {
   return *s;
 }
 
-inline const vplkit_test::dprsm_data<float>& room_dprsm(int R) {
-  static auto* cache = new std::map<int, std::unique_ptr<vplkit_test::dprsm_data<float>>>();
-  auto& p = (*cache)[R];
-  if (!p) p.reset(new vplkit_test::dprsm_data<float>(room().make_dprsm(R)));
+// What make(key) returns, built on the first call with that key and kept for the program's life.
+// One cache per call site (Make is that site's lambda).
+template <class V, class Make>
+const V& built_once(int key, Make make) {
+  static auto* cache = new std::map<int, std::unique_ptr<V>>();
+  auto& p = (*cache)[key];
+  if (!p) p.reset(new V(make(key)));
   return *p;
+}
+
+inline const vplkit_test::dprsm_data<float>& room_dprsm(int R) {
+  return built_once<vplkit_test::dprsm_data<float>>(R, [](int r) { return room().make_dprsm(r); });
 }
 
 // Square W x W G-buffer of the room's camera (every pixel hits a surface).
 inline const vplkit_test::gbuffer_data<float>& room_gbuffer(int W) {
-  static auto* cache = new std::map<int, std::unique_ptr<vplkit_test::gbuffer_data<float>>>();
-  auto& p = (*cache)[W];
-  if (!p) p.reset(new vplkit_test::gbuffer_data<float>(room().make_gbuffer(W, W)));
-  return *p;
+  return built_once<vplkit_test::gbuffer_data<float>>(W, [](int w) { return room().make_gbuffer(w, w); });
 }
 
 inline const vplkit::voxel_grid<float>& room_grid(int res) {
-  static auto* cache = new std::map<int, std::unique_ptr<vplkit::voxel_grid<float>>>();
-  auto& p = (*cache)[res];
-  if (!p) p.reset(new vplkit::voxel_grid<float>(room().make_voxel_grid(res)));
-  return *p;
+  return built_once<vplkit::voxel_grid<float>>(res, [](int r) { return room().make_voxel_grid(r); });
 }
 
 // The valid gather points of a room G-buffer, in pixel order.

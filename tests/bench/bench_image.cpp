@@ -44,12 +44,7 @@ void BM_median_fill_texel_holes_only(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_median_fill_dprsm)
-    ->Args({512, 10})
-    ->Args({512, 90})
-    ->Args({256, 10})
-    ->Unit(benchmark::kMillisecond)
-    ->Apply(vplkit_bench::standard);
+BENCHMARK(BM_median_fill_dprsm)->Args({512, 10})->Args({512, 90})->Args({256, 10})->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_median_fill_texel_holes_only)->Arg(10)->Arg(90)->Apply(vplkit_bench::standard);
 
 VPLKIT_BENCH_MAIN()

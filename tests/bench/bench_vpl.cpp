@@ -37,25 +37,13 @@ const vpl_pairs& pairs() {
 void BM_vpl_contribution(benchmark::State& state) {
   const auto& p = pairs();
   const float dmin = 0.1f;
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::vpl_contribution(p.gp[i].position, p.gp[i].normal, p.gp[i].albedo, p.v[i], dmin).y;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::vpl_contribution(p.gp[i].position, p.gp[i].normal, p.gp[i].albedo, p.v[i], dmin).y; });
 }
 
 void BM_reflected_radiance(benchmark::State& state) {
   const auto& p = pairs();
   const auto& light = room().light;
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::reflected_radiance(light.position, light.intensity, p.v[i].position, p.v[i].normal, v3f(0.5f)).x;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::reflected_radiance(light.position, light.intensity, p.v[i].position, p.v[i].normal, v3f(0.5f)).x; });
 }
 
 // Surface points of the room (the G-buffer's), projected into the DPRSM at R.
@@ -63,15 +51,10 @@ void BM_dprsm_lookup(benchmark::State& state) {
   const int R = int(state.range(0));
   const auto view = room_dprsm(R).view();
   const auto& p = pairs();
-  int acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const auto r = vplkit::dprsm_lookup(view, p.gp[i].position, 0.05f);
-      acc += r.texel + (r.lit ? 1 : 0);
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch<int>(state, [&](std::size_t i) {
+    const auto r = vplkit::dprsm_lookup(view, p.gp[i].position, 0.05f);
+    return r.texel + (r.lit ? 1 : 0);
+  });
 }
 
 void BM_render_dprsm_raycast(benchmark::State& state) {
