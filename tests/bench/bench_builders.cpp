@@ -148,32 +148,10 @@ void BM_make_local_vpl_distributions_4_eps01(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_stratified_gather_subset)->Arg(256)->Arg(4096)->Apply(vplkit_bench::standard);
-BENCHMARK(BM_build_global_weights)
-    ->ArgNames({"R", "S"})
-    ->Args({64, 256})
-    ->Args({256, 64})
-    ->Unit(benchmark::kMillisecond)
-    ->Apply(vplkit_bench::standard);
-BENCHMARK(BM_build_local_weights_2x2)
-    ->ArgNames({"R", "S"})
-    ->Args({64, 256})
-    ->Args({256, 64})
-    ->Unit(benchmark::kMillisecond)
-    ->Apply(vplkit_bench::standard);
-BENCHMARK(BM_build_gbg_voxel_tracer64)
-    ->ArgNames({"R", "gathering"})
-    ->Args({64, 1})
-    ->Args({64, 0})
-    ->Args({256, 1})
-    ->Args({256, 0})
-    ->Unit(benchmark::kMillisecond)
-    ->Apply(vplkit_bench::standard);
-BENCHMARK(BM_build_gbg_exact_tracer)
-    ->ArgNames({"R", "gathering"})
-    ->Args({64, 1})
-    ->Args({256, 1})
-    ->Unit(benchmark::kMillisecond)
-    ->Apply(vplkit_bench::standard);
+BENCHMARK(BM_build_global_weights)->ArgNames({"R", "S"})->Args({64, 256})->Args({256, 64})->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_build_local_weights_2x2)->ArgNames({"R", "S"})->Args({64, 256})->Args({256, 64})->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_build_gbg_voxel_tracer64)->ArgNames({"R", "gathering"})->Args({64, 1})->Args({64, 0})->Args({256, 1})->Args({256, 0})->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_build_gbg_exact_tracer)->ArgNames({"R", "gathering"})->Args({64, 1})->Args({256, 1})->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_gbg_fill_holes)->ArgName("R")->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_make_vpl_distribution_eps01)->ArgName("R")->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_make_local_vpl_distributions_4_eps01)->ArgName("R")->Arg(256)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);

@@ -137,54 +137,34 @@ void BM_build_embree(benchmark::State& state) {
 void BM_closest_hit_vplkit(benchmark::State& state) {
   const auto view = vplkit_bvh().view();
   const queries& r = rays();
-  std::uint64_t hits = 0;
   vplkit::bvh_traversal_counts counts;
   for (std::size_t i = 0; i < kRays; ++i) vplkit::bvh_closest_hit(view, r.o[i], r.d[i], 0.0f, INFINITY, &counts);
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kRays; ++i) hits += vplkit::bvh_closest_hit(view, r.o[i], r.d[i]).triangle;
-    benchmark::DoNotOptimize(hits);
-  }
+  run_items<std::uint64_t>(state, kRays, [&](std::size_t i) { return vplkit::bvh_closest_hit(view, r.o[i], r.d[i]).triangle; });
   state.counters["nodes_per_ray"] = double(counts.nodes) / double(kRays);
   state.counters["triangles_per_ray"] = double(counts.triangles) / double(kRays);
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kRays));
 }
 
 // Arg: 1 for RTC_SCENE_FLAG_ROBUST (watertight, as vplkit), 0 for Embree's default flags.
 void BM_closest_hit_embree(benchmark::State& state) {
   const auto& e = embree(state.range(0) == 1);
   const queries& r = rays();
-  std::uint64_t hits = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kRays; ++i) hits += e.intersect(r.o[i], r.d[i]).triangle;
-    benchmark::DoNotOptimize(hits);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kRays));
+  run_items<std::uint64_t>(state, kRays, [&](std::size_t i) { return e.intersect(r.o[i], r.d[i]).triangle; });
 }
 
 void BM_occluded_vplkit(benchmark::State& state) {
   const auto view = vplkit_bvh().view();
   const queries& r = rays();
-  std::uint64_t occluded = 0;
   vplkit::bvh_traversal_counts counts;
   for (std::size_t i = 0; i < kRays; ++i) vplkit::bvh_occluded(view, r.o[i], r.q[i] - r.o[i], 0.0f, 1.0f, &counts);
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kRays; ++i) occluded += vplkit::bvh_occluded(view, r.o[i], r.q[i] - r.o[i], 0.0f, 1.0f);
-    benchmark::DoNotOptimize(occluded);
-  }
+  run_items<std::uint64_t>(state, kRays, [&](std::size_t i) { return vplkit::bvh_occluded(view, r.o[i], r.q[i] - r.o[i], 0.0f, 1.0f); });
   state.counters["nodes_per_ray"] = double(counts.nodes) / double(kRays);
   state.counters["triangles_per_ray"] = double(counts.triangles) / double(kRays);
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kRays));
 }
 
 void BM_occluded_embree(benchmark::State& state) {
   const auto& e = embree(state.range(0) == 1);
   const queries& r = rays();
-  std::uint64_t occluded = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kRays; ++i) occluded += e.occluded(r.o[i], r.q[i] - r.o[i], 0.0f, 1.0f);
-    benchmark::DoNotOptimize(occluded);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kRays));
+  run_items<std::uint64_t>(state, kRays, [&](std::size_t i) { return e.occluded(r.o[i], r.q[i] - r.o[i], 0.0f, 1.0f); });
 }
 
 }  // namespace

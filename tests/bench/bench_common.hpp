@@ -9,14 +9,18 @@
 //  - Fixed inputs: uniform numbers on the library's 2^-24 grid from a fixed-seed std::mt19937,
 //    unit directions, and the scenes: the synthetic room of tests/support/synthetic_scene.hpp
 //    (24 triangles, exact brute-force ray casting), its DPRSMs, G-buffers and voxel grids, and a
-//    denser mesh (the room tessellated plus spheres, ~5k triangles) for voxelisation.
+//    denser mesh (the room tessellated plus spheres, ~5k triangles) for voxelisation; (gather
+//    point, VPL) pairs of the room and paraboloid-map weights with holes.
 // Everything is T = float: the type a renderer stores and the GPU mirror computes in.
 #include <synthetic_scene.hpp>
 
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
+#include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -26,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace vplkit_bench {
@@ -43,6 +48,26 @@ inline double min_of(const std::vector<double>& v) {
 }
 
 inline void standard(benchmark::internal::Benchmark* b) { b->ComputeStatistics("min", &min_of); }
+
+// The timed loop of a per-value benchmark: `value(i)` for the n precomputed inputs of every
+// iteration, summed into an accumulator the optimiser must keep (DoNotOptimize once per batch, so
+// the barrier costs nothing per value). `value` is a lambda, inlined: the loop is what a hand-
+// written one would be. Items processed = n * iterations. Returns the sum of every value.
+template <class Acc = float, class Value>
+Acc run_items(benchmark::State& state, std::size_t n, Value&& value) {
+  Acc acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) acc += value(i);
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(n));
+  return acc;
+}
+
+template <class Acc = float, class Value>
+Acc run_batch(benchmark::State& state, Value&& value) {
+  return run_items<Acc>(state, kBatch, std::forward<Value>(value));
+}
 
 inline int run_main(int argc, char** argv) {
   static char default_min_time[] = "--benchmark_min_time=0.05";
@@ -97,26 +122,27 @@ inline const scene_t& room() {
   return *s;
 }
 
-inline const vplkit_test::dprsm_data<float>& room_dprsm(int R) {
-  static auto* cache = new std::map<int, std::unique_ptr<vplkit_test::dprsm_data<float>>>();
-  auto& p = (*cache)[R];
-  if (!p) p.reset(new vplkit_test::dprsm_data<float>(room().make_dprsm(R)));
+// What make(key) returns, built on the first call with that key and kept for the program's life.
+// One cache per call site (Make is that site's lambda).
+template <class V, class Make>
+const V& built_once(int key, Make make) {
+  static auto* cache = new std::map<int, std::unique_ptr<V>>();
+  auto& p = (*cache)[key];
+  if (!p) p.reset(new V(make(key)));
   return *p;
+}
+
+inline const vplkit_test::dprsm_data<float>& room_dprsm(int R) {
+  return built_once<vplkit_test::dprsm_data<float>>(R, [](int r) { return room().make_dprsm(r); });
 }
 
 // Square W x W G-buffer of the room's camera (every pixel hits a surface).
 inline const vplkit_test::gbuffer_data<float>& room_gbuffer(int W) {
-  static auto* cache = new std::map<int, std::unique_ptr<vplkit_test::gbuffer_data<float>>>();
-  auto& p = (*cache)[W];
-  if (!p) p.reset(new vplkit_test::gbuffer_data<float>(room().make_gbuffer(W, W)));
-  return *p;
+  return built_once<vplkit_test::gbuffer_data<float>>(W, [](int w) { return room().make_gbuffer(w, w); });
 }
 
 inline const vplkit::voxel_grid<float>& room_grid(int res) {
-  static auto* cache = new std::map<int, std::unique_ptr<vplkit::voxel_grid<float>>>();
-  auto& p = (*cache)[res];
-  if (!p) p.reset(new vplkit::voxel_grid<float>(room().make_voxel_grid(res)));
-  return *p;
+  return built_once<vplkit::voxel_grid<float>>(res, [](int r) { return room().make_voxel_grid(r); });
 }
 
 // The valid gather points of a room G-buffer, in pixel order.
@@ -126,6 +152,44 @@ inline std::vector<vplkit::gather_point<float>> room_gather_points(int W) {
   for (int p = 0; p < gb.pixel_count(); ++p)
     if (vplkit::gather_point_valid(gb.at(p))) out.push_back(gb.at(p));
   return out;
+}
+
+// kBatch (gather point, VPL) pairs of the room at W = R = 64, drawn with `seed`: gather points
+// uniformly, VPLs among the texels that carry flux.
+struct vpl_pairs {
+  std::vector<vplkit::gather_point<float>> gp;
+  std::vector<vplkit::vpl<float>> v;
+  explicit vpl_pairs(std::uint32_t seed) {
+    const auto view = room_dprsm(64).view();
+    const auto points = room_gather_points(64);
+    std::vector<vplkit::vpl<float>> vpls;
+    for (int t = 0; t < view.texel_count(); ++t) {
+      const auto x = view.vpl_at(t);
+      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
+    }
+    std::mt19937 g(seed);
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      gp.push_back(points[g() % points.size()]);
+      v.push_back(vpls[g() % vpls.size()]);
+    }
+  }
+};
+
+// Weights of a 2 x R x R paraboloid map (exponential, + 1e-3) with `holes_percent` % of the valid
+// texels left at 0, fixed seed per (R, holes_percent).
+inline std::vector<float> holey_weights(int R, int holes_percent) {
+  std::mt19937 g(std::uint32_t(R * 100 + holes_percent));
+  std::exponential_distribution<float> ex(1.0f);
+  std::uniform_int_distribution<int> pct(0, 99);
+  std::vector<float> w(std::size_t(vplkit::texel_count(R)), 0.0f);
+  for (int face = 0; face < 2; ++face)
+    for (int y = 0; y < R; ++y)
+      for (int x = 0; x < R; ++x) {
+        const float v = ex(g) + 1e-3f;
+        if (!vplkit::texel_is_valid(x, y, R) || pct(g) < holes_percent) continue;
+        w[std::size_t(vplkit::texel_index(face, x, y, R))] = v;
+      }
+  return w;
 }
 
 // ---- a denser mesh for voxelisation ---------------------------------------------------------------

@@ -77,14 +77,30 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 // ---- build ----------------------------------------------------------------------------------
 
-void BM_build_discrete_cdf(benchmark::State& state) {
-  const auto& w = weights(std::size_t(state.range(0)));
+// Building from `w` (a new object each time) or rebuilding into one (discrete_cdf::assign: what a
+// renderer does every frame; no allocation, so no page faults on fresh memory).
+void build_discrete_cdf(benchmark::State& state, const std::vector<float>& w) {
   for (auto _ : state) {
     vplkit::discrete_cdf<float> d(w);
     benchmark::DoNotOptimize(d.cdf().data());
   }
-  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.SetItemsProcessed(state.iterations() * int64_t(w.size()));
 }
+
+void rebuild_discrete_cdf(benchmark::State& state, const std::vector<float>& w) {
+  vplkit::discrete_cdf<float> d(w);
+  for (auto _ : state) {
+    d.assign(w);
+    benchmark::DoNotOptimize(d.cdf().data());
+  }
+  state.SetItemsProcessed(state.iterations() * int64_t(w.size()));
+}
+
+void BM_build_discrete_cdf(benchmark::State& state) { build_discrete_cdf(state, weights(std::size_t(state.range(0)))); }
+void BM_rebuild_discrete_cdf(benchmark::State& state) { rebuild_discrete_cdf(state, weights(std::size_t(state.range(0)))); }
+// The target: both paraboloids of a 512 x 512 DPRSM, float weights.
+void BM_build_discrete_cdf_2x512x512(benchmark::State& state) { build_discrete_cdf(state, weights(2 * 512 * 512)); }
+void BM_rebuild_discrete_cdf_2x512x512(benchmark::State& state) { rebuild_discrete_cdf(state, weights(2 * 512 * 512)); }
 
 void BM_build_alias_table(benchmark::State& state) {
   const auto& w = weights(std::size_t(state.range(0)));
@@ -102,38 +118,6 @@ void BM_build_std_discrete_distribution(benchmark::State& state) {
     benchmark::DoNotOptimize(&d);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
-}
-
-// The target: both paraboloids of a 512 x 512 DPRSM, float weights.
-void BM_build_discrete_cdf_2x512x512(benchmark::State& state) {
-  const auto& w = weights(2 * 512 * 512);
-  for (auto _ : state) {
-    vplkit::discrete_cdf<float> d(w);
-    benchmark::DoNotOptimize(d.cdf().data());
-  }
-  state.SetItemsProcessed(state.iterations() * int64_t(w.size()));
-}
-
-// Rebuilding into an existing object (discrete_cdf::assign): what a renderer does every frame;
-// no allocation, so no page faults on fresh memory.
-void BM_rebuild_discrete_cdf(benchmark::State& state) {
-  const auto& w = weights(std::size_t(state.range(0)));
-  vplkit::discrete_cdf<float> d(w);
-  for (auto _ : state) {
-    d.assign(w);
-    benchmark::DoNotOptimize(d.cdf().data());
-  }
-  state.SetItemsProcessed(state.iterations() * state.range(0));
-}
-
-void BM_rebuild_discrete_cdf_2x512x512(benchmark::State& state) {
-  const auto& w = weights(2 * 512 * 512);
-  vplkit::discrete_cdf<float> d(w);
-  for (auto _ : state) {
-    d.assign(w);
-    benchmark::DoNotOptimize(d.cdf().data());
-  }
-  state.SetItemsProcessed(state.iterations() * int64_t(w.size()));
 }
 
 // ---- sampling -------------------------------------------------------------------------------

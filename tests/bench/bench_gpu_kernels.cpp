@@ -14,18 +14,19 @@
 //    (items = triangles).
 #include "bench_common.hpp"
 
+#include <gbg_kernels.hpp>
+#include <gl_kernels.hpp>
+#include <std430_types.hpp>
+
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
 
-#include <vplkit/builders/gbg_accumulate_params.h>
-#include <vplkit/builders/gbg_finish_params.h>
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/image/median_fill_params.h>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/visibility/voxelize_params.h>
-#include <vplkit/vpl/luminance.hpp>
 
 #include <iostream>
 #include <string>
@@ -35,33 +36,12 @@ namespace {
 using namespace vplkit_bench;
 namespace gl = vplkit::gl;
 
-struct float4 {
-  float x, y, z, w;
-};
-float4 f4(v3f v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
+using vplkit_test::float4;
 
 gl::headless_context& context() {
   // Kept until exit on purpose (tearing Mesa down from a static destructor races its atexit).
   static gl::headless_context* const ctx = new gl::headless_context();
   return *ctx;
-}
-
-const gl::program& kernel(const std::string& file, const std::string& defines = "") {
-  context();
-  static auto* cache = new std::map<std::string, gl::program>();
-  const std::string key = file + '\x01' + defines;
-  auto it = cache->find(key);
-  if (it == cache->end())
-    it = cache
-             ->emplace(key, gl::program::compute_with_includes("#version 430\n#include \"" + file + "\"\n", file,
-                                                               {gl::glsl_source_dir()}, defines))
-             .first;
-  return it->second;
-}
-
-void bind_uniform(const gl::buffer& b, GLuint binding) {
-  glBindBufferBase(GL_UNIFORM_BUFFER, binding, b.id());
-  gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
 }
 
 // Times `work` (GL commands only) once per iteration; `prepare` runs untimed before each.
@@ -91,7 +71,7 @@ void BM_gpu_cdf_build(benchmark::State& state) {
   std::exponential_distribution<float> ex(1.0f);
   for (float& x : w) x = ex(g);
   const unsigned local = 256, items = 4;
-  const auto& prog = kernel("vplkit/distribution/cdf_build.comp",
+  const auto& prog = vplkit_test::pack_kernel("vplkit/distribution/cdf_build.comp",
                             "#define VPLKIT_CDF_BUILD_LOCAL_SIZE 256\n#define VPLKIT_CDF_BUILD_ITEMS 4\n");
   const std::uint32_t m = std::uint32_t(vplkit::discrete_guide_size(n));
   const std::size_t block = std::size_t(local) * items;
@@ -104,12 +84,12 @@ void BM_gpu_cdf_build(benchmark::State& state) {
   gl::buffer blk = gl::buffer::filled(std::size_t(blocks) * sizeof(vplkit::gpu::cdf_build_block));
   gl::buffer info = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_info));
   gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params));
-  wb.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
-  cdf.bind(VPLKIT_CDF_BUILD_BINDING_CDF);
-  guide.bind(VPLKIT_CDF_BUILD_BINDING_GUIDE);
-  blk.bind(VPLKIT_CDF_BUILD_BINDING_BLOCKS);
-  info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
-  bind_uniform(params, VPLKIT_CDF_BUILD_BINDING_PARAMS);
+  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_WEIGHTS, wb),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_CDF, cdf),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_GUIDE, guide),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_BLOCKS, blk),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_INFO, info),
+                     vplkit_test::uniform_at(VPLKIT_CDF_BUILD_BINDING_PARAMS, params)});
   timed(
       state, [] {},
       [&] {
@@ -128,95 +108,32 @@ void BM_gpu_cdf_build(benchmark::State& state) {
 }
 
 // ---- gbg_accumulate.comp + gbg_finish.comp ------------------------------------------------------
-std::vector<float4> surfels(const std::vector<v3f>& p, const std::vector<v3f>& n, const std::vector<v3f>& a) {
-  std::vector<float4> out;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    out.push_back(f4(p[i]));
-    out.push_back(f4(n[i]));
-    out.push_back(f4(a[i]));
-  }
-  return out;
-}
-
 enum class gbg_part { both, accumulate, finish };
 
+// The dispatches of the GBG parity test (support/gbg_kernels.hpp), gathering accumulator.
 void run_gpu_gbg(benchmark::State& state, gbg_part part) {
   const int R = int(state.range(0));
-  const int W = 64, n_dirs = 16, res = 64;
+  const int W = 64, res = 64;
   const auto& gbd = room_gbuffer(W);
   const auto& dp = room_dprsm(R);
   const auto& grid = room_grid(res);
   const int n = vplkit::texel_count(R);
-  const float tol = vplkit::voxel_tracer_depth_tolerance(grid.view()) + 0.05f;
   const int G = int(room_gather_points(W).size());
-  // Fixed point as in tests/parity/parity_builders_test.cpp (gathering accumulator).
-  const double H = double(G) * n_dirs;
-  const float max_units = float(std::ldexp(1.0, 63 - int(std::ceil(std::log2(H)))));
-  double d1min = 1e30;
-  for (std::size_t t = 0; t < dp.position.size(); ++t)
-    if (dp.albedo[t] != v3f(0)) d1min = std::min(d1min, double(glm::length(dp.position[t] - dp.light.position)));
-  d1min = std::max(d1min - double(tol), 1e-3);
-  const double v_bound = double(vplkit::luminance(dp.light.intensity)) / (3.141592653589793 * d1min * d1min);
-  const float scale = float(std::ldexp(1.0, int(std::floor(std::log2(double(max_units) / v_bound)))));
-
-  vplkit::gpu::gbg_accumulate_params p{};
-  p.light = vplkit::gpu::make_light_params(dp.light);
-  p.grid_min = glm::vec4(grid.bounds_min(), 0.0f);
-  p.grid_max = glm::vec4(grid.bounds_max(), 0.0f);
-  p.grid_resolution = glm::ivec4(grid.resolution(), 0);
-  p.width = W;
-  p.height = W;
-  p.resolution = R;
-  p.n_dirs = n_dirs;
-  p.accumulator = 1;
-  p.dir_begin = 0;
-  p.dir_end = n_dirs;
-  p.count_gather_points = 1;
-  p.seed = 21u;
-  p.dmin = 0.1f;
-  p.depth_tolerance = tol;
-  p.offset_voxels = 1.75f;
-  p.scale = scale;
-  p.max_units = max_units;
-  vplkit::gpu::gbg_finish_params fp{};
-  fp.light = p.light;
-  fp.resolution = R;
-  fp.n_dirs = n_dirs;
-  fp.fill_holes = 1;
-  fp.inv_scale = 1.0f / scale;
-  const auto& acc_prog = kernel("vplkit/builders/gbg_accumulate.comp");
-  const auto& fin_prog = kernel("vplkit/builders/gbg_finish.comp");
-  auto gb = gl::buffer::from_vector(surfels(gbd.position, gbd.normal, gbd.albedo));
-  auto dpb = gl::buffer::from_vector(surfels(dp.position, dp.normal, dp.albedo));
-  auto vx = gl::buffer::from_vector(grid.words());
-  auto acc = gl::buffer::filled(std::size_t(2 * n) * 4, 0);
-  auto stats = gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
-  auto weights = gl::buffer::filled(std::size_t(n) * 4, 0);
-  auto ub_acc = gl::buffer::from_bytes(&p, sizeof p);
-  auto ub_fin = gl::buffer::from_bytes(&fp, sizeof fp);
+  vplkit_test::gbg_setup st;
+  st.dmin = 0.1f;
+  st.tol = vplkit::voxel_tracer_depth_tolerance(grid.view()) + 0.05f;
+  vplkit_test::choose_gbg_fixed_point(st, G, dp);
+  vplkit_test::gbg_buffers b(gbd, dp, grid, 0);
+  const auto ub_acc =
+      vplkit_test::uniform_buffer(vplkit_test::gbg_accumulate_block(dp, grid, W, W, st, 0, st.n_dirs, true));
+  const auto ub_fin = vplkit_test::uniform_buffer(vplkit_test::gbg_finish_block(dp, st, true));
   const std::vector<std::uint32_t> zeros(std::size_t(2 * n), 0u);
   const std::vector<std::uint32_t> zero_stats(VPLKIT_GBG_STATS_SIZE, 0u);
-  auto accumulate = [&] {
-    gb.bind(VPLKIT_GBG_BINDING_GBUFFER);
-    dpb.bind(VPLKIT_GBG_BINDING_DPRSM);
-    vx.bind(VPLKIT_GBG_BINDING_VOXELS);
-    acc.bind(VPLKIT_GBG_BINDING_ACC);
-    stats.bind(VPLKIT_GBG_BINDING_STATS);
-    bind_uniform(ub_acc, VPLKIT_GBG_BINDING_PARAMS);
-    gl::dispatch(acc_prog, gl::groups_for(std::size_t(W * W), VPLKIT_GBG_LOCAL_SIZE));
-  };
-  auto finish = [&] {
-    acc.bind(VPLKIT_GBG_FINISH_BINDING_ACC);
-    stats.bind(VPLKIT_GBG_FINISH_BINDING_STATS);
-    dpb.bind(VPLKIT_GBG_FINISH_BINDING_DPRSM);
-    weights.bind(VPLKIT_GBG_FINISH_BINDING_WEIGHTS);
-    bind_uniform(ub_fin, VPLKIT_GBG_FINISH_BINDING_PARAMS);
-    const GLuint g = gl::groups_for(std::size_t(R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
-    gl::dispatch(fin_prog, g, g, 2);
-  };
+  auto accumulate = [&] { b.accumulate(ub_acc); };
+  auto finish = [&] { b.finish(ub_fin); };
   auto clear = [&] {
-    acc.write(zeros);
-    stats.write(zero_stats);
+    b.acc.write(zeros);
+    b.stats.write(zero_stats);
   };
   if (part == gbg_part::finish) {
     clear();
@@ -230,9 +147,9 @@ void run_gpu_gbg(benchmark::State& state, gbg_part part) {
       finish();
     });
   }
-  const std::vector<std::uint32_t> s = stats.read<std::uint32_t>();
-  state.counters["lit_hit_fraction"] = double(s[VPLKIT_GBG_STAT_LIT_HITS]) / H;
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(part == gbg_part::finish ? n : G * n_dirs));
+  const std::vector<std::uint32_t> s = b.stats.read<std::uint32_t>();
+  state.counters["lit_hit_fraction"] = double(s[VPLKIT_GBG_STAT_LIT_HITS]) / (double(G) * st.n_dirs);
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(part == gbg_part::finish ? n : G * st.n_dirs));
 }
 
 void BM_gpu_gbg_accumulate_finish(benchmark::State& state) { run_gpu_gbg(state, gbg_part::both); }
@@ -242,26 +159,16 @@ void BM_gpu_gbg_finish(benchmark::State& state) { run_gpu_gbg(state, gbg_part::f
 // ---- median_fill.comp ---------------------------------------------------------------------------
 void BM_gpu_median_fill(benchmark::State& state) {
   const int R = int(state.range(0)), holes = int(state.range(1));
-  std::mt19937 g(std::uint32_t(R * 100 + holes));
-  std::exponential_distribution<float> ex(1.0f);
-  std::uniform_int_distribution<int> pct(0, 99);
-  std::vector<float> w(std::size_t(vplkit::texel_count(R)), 0.0f);
-  for (int face = 0; face < 2; ++face)
-    for (int y = 0; y < R; ++y)
-      for (int x = 0; x < R; ++x) {
-        const float v = ex(g) + 1e-3f;
-        if (!vplkit::texel_is_valid(x, y, R) || pct(g) < holes) continue;
-        w[std::size_t(vplkit::texel_index(face, x, y, R))] = v;
-      }
-  const auto& prog = kernel("vplkit/image/median_fill.comp");
+  const std::vector<float> w = holey_weights(R, holes);
+  const auto& prog = vplkit_test::pack_kernel("vplkit/image/median_fill.comp");
   auto in = gl::buffer::from_vector(w);
   auto out = gl::buffer::filled(w.size() * 4);
   vplkit::gpu::median_fill_params params{};
   params.resolution = R;
-  auto ub = gl::buffer::from_bytes(&params, sizeof params);
-  in.bind(VPLKIT_MEDIAN_FILL_BINDING_IN);
-  out.bind(VPLKIT_MEDIAN_FILL_BINDING_OUT);
-  bind_uniform(ub, VPLKIT_MEDIAN_FILL_BINDING_PARAMS);
+  const auto ub = vplkit_test::uniform_buffer(params);
+  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_MEDIAN_FILL_BINDING_IN, in),
+                     vplkit_test::storage_at(VPLKIT_MEDIAN_FILL_BINDING_OUT, out),
+                     vplkit_test::uniform_at(VPLKIT_MEDIAN_FILL_BINDING_PARAMS, ub)});
   const GLuint gxy = gl::groups_for(std::size_t(R), VPLKIT_MEDIAN_FILL_LOCAL_SIZE);
   timed(state, [] {}, [&] { gl::dispatch(prog, gxy, gxy, 2); });
   state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(w.size()));
@@ -274,7 +181,7 @@ void BM_gpu_voxelize(benchmark::State& state) {
   const auto bounds = vplkit::fit_voxel_bounds(m->positions.data(), m->positions.size());
   const std::size_t words = vplkit::voxel_word_count(vplkit::ivec3(res));
   std::vector<float4> pos;
-  for (const v3f& q : m->positions) pos.push_back(f4(q, 1.0f));
+  for (const v3f& q : m->positions) pos.push_back(vplkit_test::f4(q, 1.0f));
   const std::size_t T = m->triangle_count();
   vplkit::gpu::voxelize_params params{};
   params.bounds_min = glm::vec4(bounds.min, 0.0f);
@@ -282,21 +189,20 @@ void BM_gpu_voxelize(benchmark::State& state) {
   params.resolution = glm::ivec4(res, res, res, 0);
   params.triangle_count = std::uint32_t(T);
   params.margin_voxels = 1e-4f;
-  const auto& prog = kernel("vplkit/visibility/voxelize.comp");
+  const auto& prog = vplkit_test::pack_kernel("vplkit/visibility/voxelize.comp");
   auto pb = gl::buffer::from_vector(pos);
   auto ib = gl::buffer::from_vector(m->indices);
   auto wb = gl::buffer::filled(words * 4, 0);
-  auto ub = gl::buffer::from_bytes(&params, sizeof params);
+  const auto ub = vplkit_test::uniform_buffer(params);
   const std::vector<std::uint32_t> zeros(words, 0u);
-  const GLuint gx = GLuint(std::min<std::size_t>(T, 65535)), gy = GLuint((T + 65534) / 65535);
   timed(
       state, [&] { wb.write(zeros); },
       [&] {
-        pb.bind(VPLKIT_VOXELIZE_BINDING_POSITIONS);
-        ib.bind(VPLKIT_VOXELIZE_BINDING_INDICES);
-        wb.bind(VPLKIT_VOXELIZE_BINDING_WORDS);
-        bind_uniform(ub, VPLKIT_VOXELIZE_BINDING_PARAMS);
-        gl::dispatch(prog, gx, gy);
+        vplkit_test::dispatch(prog, vplkit_test::spread_groups(T),
+                              {vplkit_test::storage_at(VPLKIT_VOXELIZE_BINDING_POSITIONS, pb),
+                               vplkit_test::storage_at(VPLKIT_VOXELIZE_BINDING_INDICES, ib),
+                               vplkit_test::storage_at(VPLKIT_VOXELIZE_BINDING_WORDS, wb),
+                               vplkit_test::uniform_at(VPLKIT_VOXELIZE_BINDING_PARAMS, ub)});
       });
   std::int64_t occupied = 0;
   for (std::uint32_t w : wb.read<std::uint32_t>()) occupied += __builtin_popcount(w);

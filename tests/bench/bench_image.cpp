@@ -12,21 +12,6 @@ namespace {
 
 using namespace vplkit_bench;
 
-std::vector<float> holey_weights(int R, int holes_percent) {
-  std::mt19937 g(std::uint32_t(R * 100 + holes_percent));
-  std::exponential_distribution<float> ex(1.0f);
-  std::uniform_int_distribution<int> pct(0, 99);
-  std::vector<float> w(std::size_t(vplkit::texel_count(R)), 0.0f);
-  for (int face = 0; face < 2; ++face)
-    for (int y = 0; y < R; ++y)
-      for (int x = 0; x < R; ++x) {
-        const float v = ex(g) + 1e-3f;
-        if (!vplkit::texel_is_valid(x, y, R) || pct(g) < holes_percent) continue;
-        w[std::size_t(vplkit::texel_index(face, x, y, R))] = v;
-      }
-  return w;
-}
-
 void BM_median_fill_dprsm(benchmark::State& state) {
   const int R = int(state.range(0));
   const std::vector<float> in = holey_weights(R, int(state.range(1)));
@@ -59,12 +44,7 @@ void BM_median_fill_texel_holes_only(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_median_fill_dprsm)
-    ->Args({512, 10})
-    ->Args({512, 90})
-    ->Args({256, 10})
-    ->Unit(benchmark::kMillisecond)
-    ->Apply(vplkit_bench::standard);
+BENCHMARK(BM_median_fill_dprsm)->Args({512, 10})->Args({512, 90})->Args({256, 10})->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_median_fill_texel_holes_only)->Arg(10)->Arg(90)->Apply(vplkit_bench::standard);
 
 VPLKIT_BENCH_MAIN()

@@ -35,70 +35,39 @@ const pdf_inputs& in() {
 
 void BM_balance_heuristic(benchmark::State& state) {
   const auto& x = in();
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::balance_heuristic(16.0f, x.p1[i], 16.0f, x.p2[i]);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::balance_heuristic(16.0f, x.p1[i], 16.0f, x.p2[i]); });
 }
 
 void BM_power_heuristic(benchmark::State& state) {
   const auto& x = in();
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::power_heuristic(16.0f, x.p1[i], 16.0f, x.p2[i]);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::power_heuristic(16.0f, x.p1[i], 16.0f, x.p2[i]); });
 }
 
 // f / (n1 p1 + n2 p2) with its overflow-safe ordering (the MIS estimator's per-sample value).
 void BM_balance_combined(benchmark::State& state) {
   const auto& x = in();
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::balance_combined(x.f[i], 16.0f, x.p1[i], 16.0f, x.p2[i]);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::balance_combined(x.f[i], 16.0f, x.p1[i], 16.0f, x.p2[i]); });
 }
 
 void BM_cosine_pdf_solid_angle(benchmark::State& state) {
   const auto& x = in();
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::cosine_pdf_solid_angle(x.cos2[i]);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::cosine_pdf_solid_angle(x.cos2[i]); });
 }
 
 // pmf(t) -> solid-angle density at x: pmf d2^2 / (A_t cos theta1).
 void BM_vpl_pdf_solid_angle(benchmark::State& state) {
   const auto& x = in();
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::vpl_pdf_solid_angle(x.p2[i] * 1e-4f, x.d2[i], x.area[i], x.cos1[i]);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::vpl_pdf_solid_angle(x.p2[i] * 1e-4f, x.d2[i], x.area[i], x.cos1[i]); });
 }
 
 // The paper's mixed-measure weights (eq. 8-11), for comparison.
 void BM_mis_weights_as_published(benchmark::State& state) {
   const auto& x = in();
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const float c = x.cos2[i];
-      const auto w = vplkit::mis_weights_as_published(c, std::sqrt(1.0f - c * c), x.p2[i] * 1e-4f);
-      acc += w.vpl + w.gathering;
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) {
+    const float c = x.cos2[i];
+    const auto w = vplkit::mis_weights_as_published(c, std::sqrt(1.0f - c * c), x.p2[i] * 1e-4f);
+    return w.vpl + w.gathering;
+  });
 }
 
 }  // namespace

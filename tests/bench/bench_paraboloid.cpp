@@ -13,15 +13,10 @@ using namespace vplkit_bench;
 
 void BM_paraboloid_from_direction(benchmark::State& state) {
   const std::vector<v3f> d = unit_directions(kBatch, 21u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const auto p = vplkit::paraboloid_from_direction(d[i]);
-      acc += p.uv.x + float(p.face);
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) {
+    const auto p = vplkit::paraboloid_from_direction(d[i]);
+    return p.uv.x + float(p.face);
+  });
 }
 
 // World direction -> light space -> face/uv -> flat texel index (dprsm_view::texel_of_direction).
@@ -29,16 +24,11 @@ void BM_direction_to_texel(benchmark::State& state) {
   const int R = int(state.range(0));
   const std::vector<v3f> d = unit_directions(kBatch, 22u);
   const vplkit::light_frame<float> frame(v3f(0.3f, 2.6f, 0.2f), v3f(0, -1, 0));
-  int acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const auto p = vplkit::paraboloid_from_direction(frame.to_light(d[i]));
-      const vplkit::ivec2 xy = vplkit::texel_from_uv(p.uv, R);
-      acc += vplkit::texel_index(p.face, xy.x, xy.y, R);
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch<int>(state, [&](std::size_t i) {
+    const auto p = vplkit::paraboloid_from_direction(frame.to_light(d[i]));
+    const vplkit::ivec2 xy = vplkit::texel_from_uv(p.uv, R);
+    return vplkit::texel_index(p.face, xy.x, xy.y, R);
+  });
 }
 
 // Flat texel index -> centre uv -> light-space direction -> world (render_dprsm's per-texel ray).
@@ -49,17 +39,12 @@ void BM_texel_to_direction(benchmark::State& state) {
   std::vector<int> idx(kBatch);
   std::mt19937 g(23u);
   for (int& t : idx) t = int(g() % std::uint32_t(n));
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const int t = idx[i];
-      const vplkit::ivec2 xy = vplkit::texel_coords(t, R);
-      const v3f d = vplkit::paraboloid_to_direction(vplkit::texel_face(t, R), vplkit::texel_center_uv<float>(xy.x, xy.y, R));
-      acc += frame.to_world(d).y;
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) {
+    const int t = idx[i];
+    const vplkit::ivec2 xy = vplkit::texel_coords(t, R);
+    const v3f d = vplkit::paraboloid_to_direction(vplkit::texel_face(t, R), vplkit::texel_center_uv<float>(xy.x, xy.y, R));
+    return frame.to_world(d).y;
+  });
 }
 
 // Solid angle of every texel of one face, row by row (the validity test included).

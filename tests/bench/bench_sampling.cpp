@@ -26,73 +26,43 @@ void BM_pcg_hash(benchmark::State& state) {
 // One stream drawing floats in sequence (two hashes per number).
 void BM_rng_next_float_one_stream(benchmark::State& state) {
   vplkit::counter_rng r = vplkit::make_counter_rng(7u, 42u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::rng_next_float(r);
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t) { return vplkit::rng_next_float(r); });
 }
 
 // A new stream per value (make_counter_rng + one draw): the per-pixel setup of a shader.
 void BM_rng_make_stream_and_draw(benchmark::State& state) {
-  float acc = 0;
   std::uint32_t stream = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      vplkit::counter_rng r = vplkit::make_counter_rng(3u, stream++);
-      acc += vplkit::rng_next_float(r);
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t) {
+    vplkit::counter_rng r = vplkit::make_counter_rng(3u, stream++);
+    return vplkit::rng_next_float(r);
+  });
 }
 
 void BM_make_orthonormal_basis(benchmark::State& state) {
   const std::vector<v3f> n = unit_directions(kBatch, 11u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const auto f = vplkit::make_orthonormal_basis(n[i]);
-      acc += f.t.x + f.b.y;
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) {
+    const auto f = vplkit::make_orthonormal_basis(n[i]);
+    return f.t.x + f.b.y;
+  });
 }
 
 void BM_orthonormal_basis_to_world(benchmark::State& state) {
   const std::vector<v3f> n = unit_directions(kBatch, 11u);
   const std::vector<v3f> l = unit_directions(kBatch, 12u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const auto f = vplkit::make_orthonormal_basis(n[i]);
-      acc += vplkit::to_world(f, l[i]).z;
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) {
+    const auto f = vplkit::make_orthonormal_basis(n[i]);
+    return vplkit::to_world(f, l[i]).z;
+  });
 }
 
 void BM_concentric_disk(benchmark::State& state) {
   const std::vector<v2f> u = uniform_pairs(kBatch, 13u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::concentric_disk(u[i]).x;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::concentric_disk(u[i]).x; });
 }
 
 void BM_sample_cosine_hemisphere(benchmark::State& state) {
   const std::vector<v2f> u = uniform_pairs(kBatch, 13u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::sample_cosine_hemisphere(u[i]).z;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::sample_cosine_hemisphere(u[i]).z; });
 }
 
 // What one gathering / GBG direction costs end to end: two RNG draws, the hemisphere map, the
@@ -100,16 +70,11 @@ void BM_sample_cosine_hemisphere(benchmark::State& state) {
 void BM_cosine_direction_full(benchmark::State& state) {
   const std::vector<v3f> n = unit_directions(kBatch, 11u);
   vplkit::counter_rng r = vplkit::make_counter_rng(5u, 9u);
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const float u0 = vplkit::rng_next_float(r), u1 = vplkit::rng_next_float(r);
-      const v3f local = vplkit::sample_cosine_hemisphere(v2f(u0, u1));
-      acc += vplkit::to_world(vplkit::make_orthonormal_basis(n[i]), local).y;
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) {
+    const float u0 = vplkit::rng_next_float(r), u1 = vplkit::rng_next_float(r);
+    const v3f local = vplkit::sample_cosine_hemisphere(v2f(u0, u1));
+    return vplkit::to_world(vplkit::make_orthonormal_basis(n[i]), local).y;
+  });
 }
 
 }  // namespace

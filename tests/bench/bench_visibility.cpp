@@ -29,13 +29,7 @@ void BM_triangle_box_overlap(benchmark::State& state) {
     b[i] = o + v3f(u[9 * i + 3], u[9 * i + 4], u[9 * i + 5]) - 0.5f;
     c[i] = o + v3f(u[9 * i + 6], u[9 * i + 7], u[9 * i + 8]) - 0.5f;
   }
-  int acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::triangle_box_overlap(v3f(0), v3f(0.5f), a[i], b[i], c[i]) ? 1 : 0;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch<int>(state, [&](std::size_t i) { return vplkit::triangle_box_overlap(v3f(0), v3f(0.5f), a[i], b[i], c[i]) ? 1 : 0; });
 }
 
 const mesh& dense() {
@@ -98,68 +92,34 @@ void BM_dda_first_hit(benchmark::State& state) {
   state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
 }
 
-// (gather point, VPL) queries.
-struct queries_t {
-  std::vector<vplkit::gather_point<float>> gp;
-  std::vector<vplkit::vpl<float>> v;
-  queries_t() {
-    const auto view = room_dprsm(64).view();
-    const auto points = room_gather_points(64);
-    std::vector<vplkit::vpl<float>> vpls;
-    for (int t = 0; t < view.texel_count(); ++t) {
-      const auto x = view.vpl_at(t);
-      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
-    }
-    std::mt19937 g(54u);
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      gp.push_back(points[g() % points.size()]);
-      v.push_back(vpls[g() % vpls.size()]);
-    }
-  }
-};
-
-const queries_t& queries() {
-  static const queries_t* q = new queries_t();
+const vpl_pairs& queries() {
+  static const vpl_pairs* q = new vpl_pairs(54u);
   return *q;
 }
 
 void BM_voxel_visible_one_sided(benchmark::State& state) {
   const auto view = room_grid(int(state.range(0))).view();
   const auto& q = queries();
-  int acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::voxel_visible(view, q.gp[i].position, q.gp[i].normal, q.v[i].position) ? 1 : 0;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.counters["visible_fraction"] = double(acc) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  const int visible = run_batch<int>(state, [&](std::size_t i) {
+    return vplkit::voxel_visible(view, q.gp[i].position, q.gp[i].normal, q.v[i].position) ? 1 : 0;
+  });
+  state.counters["visible_fraction"] = double(visible) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
 }
 
 void BM_voxel_visible_two_sided(benchmark::State& state) {
   const auto view = room_grid(int(state.range(0))).view();
   const auto& q = queries();
-  int acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::voxel_visible_two_sided(view, q.gp[i].position, q.gp[i].normal, q.v[i].position, q.v[i].normal) ? 1 : 0;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.counters["visible_fraction"] = double(acc) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  const int visible = run_batch<int>(state, [&](std::size_t i) {
+    return vplkit::voxel_visible_two_sided(view, q.gp[i].position, q.gp[i].normal, q.v[i].position, q.v[i].normal) ? 1 : 0;
+  });
+  state.counters["visible_fraction"] = double(visible) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
 }
 
 }  // namespace
 
 BENCHMARK(BM_triangle_box_overlap)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxelize_dense_mesh)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
-BENCHMARK(BM_dda_first_hit)
-    ->ArgNames({"res", "short"})
-    ->Args({64, 1})
-    ->Args({64, 0})
-    ->Args({128, 1})
-    ->Args({128, 0})
-    ->Apply(vplkit_bench::standard);
+BENCHMARK(BM_dda_first_hit)->ArgNames({"res", "short"})->Args({64, 1})->Args({64, 0})->Args({128, 1})->Args({128, 0})->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxel_visible_one_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxel_visible_two_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
 

@@ -29,53 +29,21 @@ void BM_vpl_at_all_texels(benchmark::State& state) {
   state.SetItemsProcessed(std::int64_t(state.iterations()) * n);
 }
 
-// Pairs (gather point, VPL carrying flux), precomputed.
-struct pairs_t {
-  std::vector<vplkit::gather_point<float>> gp;
-  std::vector<vplkit::vpl<float>> v;
-  pairs_t() {
-    const auto view = room_dprsm(64).view();
-    const auto points = room_gather_points(64);
-    std::vector<vplkit::vpl<float>> vpls;
-    for (int t = 0; t < view.texel_count(); ++t) {
-      const auto x = view.vpl_at(t);
-      if (x.flux.x > 0 || x.flux.y > 0 || x.flux.z > 0) vpls.push_back(x);
-    }
-    std::mt19937 g(41u);
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      gp.push_back(points[g() % points.size()]);
-      v.push_back(vpls[g() % vpls.size()]);
-    }
-  }
-};
-
-const pairs_t& pairs() {
-  static const pairs_t* p = new pairs_t();
+const vpl_pairs& pairs() {
+  static const vpl_pairs* p = new vpl_pairs(41u);
   return *p;
 }
 
 void BM_vpl_contribution(benchmark::State& state) {
   const auto& p = pairs();
   const float dmin = 0.1f;
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::vpl_contribution(p.gp[i].position, p.gp[i].normal, p.gp[i].albedo, p.v[i], dmin).y;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::vpl_contribution(p.gp[i].position, p.gp[i].normal, p.gp[i].albedo, p.v[i], dmin).y; });
 }
 
 void BM_reflected_radiance(benchmark::State& state) {
   const auto& p = pairs();
   const auto& light = room().light;
-  float acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i)
-      acc += vplkit::reflected_radiance(light.position, light.intensity, p.v[i].position, p.v[i].normal, v3f(0.5f)).x;
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch(state, [&](std::size_t i) { return vplkit::reflected_radiance(light.position, light.intensity, p.v[i].position, p.v[i].normal, v3f(0.5f)).x; });
 }
 
 // Surface points of the room (the G-buffer's), projected into the DPRSM at R.
@@ -83,15 +51,10 @@ void BM_dprsm_lookup(benchmark::State& state) {
   const int R = int(state.range(0));
   const auto view = room_dprsm(R).view();
   const auto& p = pairs();
-  int acc = 0;
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kBatch; ++i) {
-      const auto r = vplkit::dprsm_lookup(view, p.gp[i].position, 0.05f);
-      acc += r.texel + (r.lit ? 1 : 0);
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  run_batch<int>(state, [&](std::size_t i) {
+    const auto r = vplkit::dprsm_lookup(view, p.gp[i].position, 0.05f);
+    return r.texel + (r.lit ? 1 : 0);
+  });
 }
 
 void BM_render_dprsm_raycast(benchmark::State& state) {

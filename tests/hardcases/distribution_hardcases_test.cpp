@@ -5,6 +5,8 @@
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
 
+#include <distribution_checks.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -16,6 +18,10 @@
 #include <vector>
 
 namespace {
+
+using vplkit_test::finite_nonneg;
+using vplkit_test::realised_alias_pmf;
+using vplkit_test::require_cdf_invariants;
 
 // The u every sampler must survive: 0, the smallest positive, a tiny one, the middle, the
 // largest below 1, exactly 1, and the out-of-range ones that get clamped.
@@ -36,11 +42,6 @@ std::vector<T> edge_us() {
           std::numeric_limits<T>::quiet_NaN()};
 }
 
-template <class T>
-bool finite_nonneg(T x) {
-  return std::isfinite(x) && x >= T(0);
-}
-
 // Every stored CDF value, its neighbours and the edge u's: the sampled index always has a
 // positive pmf equal to pmf(index), and guided == binary search.
 template <class T>
@@ -58,31 +59,6 @@ void require_cdf_sampling_consistent(const vplkit::discrete_cdf<T>& d) {
     REQUIRE(s.pmf == d.pmf(s.index));
     REQUIRE(d.sample_binary_search(u).index == s.index);
   }
-}
-
-template <class T>
-void require_cdf_invariants(const vplkit::discrete_cdf<T>& d, const std::vector<T>& w) {
-  const auto& c = d.cdf();
-  REQUIRE(c.front() == T(0));
-  REQUIRE(c.back() == T(1));
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    REQUIRE(finite_nonneg(c[i]));
-    REQUIRE(c[i] <= c[i + 1]);
-    if (w[i] == T(0)) REQUIRE(c[i] == c[i + 1]);
-    REQUIRE(finite_nonneg(d.pmf(i)));
-  }
-}
-
-template <class T>
-std::vector<double> realised_alias_pmf(const vplkit::alias_table<T>& a) {
-  const std::size_t n = a.size();
-  std::vector<double> p(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) {
-    const auto& b = a.bins()[j];
-    p[j] += double(b.threshold) / double(n);
-    p[b.alias] += (1.0 - double(b.threshold)) / double(n);
-  }
-  return p;
 }
 
 // A returned index has a positive weight and a positive pmf, the one pmf(index) reports.

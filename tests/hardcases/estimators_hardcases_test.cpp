@@ -61,6 +61,13 @@ std::vector<vec3<T>> all_estimates(const synthetic_scene<T>& s, const dprsm_view
   return r;
 }
 
+// The lit room at resolution R with a CDF over its flux: where most cases here start.
+template <class T>
+struct sampled_room : lit_room<T> {
+  discrete_cdf<T> cdf;
+  explicit sampled_room(int R) : lit_room<T>(R), cdf(flux_weights(this->view)) {}
+};
+
 const char* estimator_name(std::size_t i) {
   static const char* names[] = {"exhaustive sum", "vpl sampling", "local balance", "local average",
                                 "gathering", "mis solid_angle", "mis as_published"};
@@ -71,17 +78,14 @@ const char* estimator_name(std::size_t i) {
 
 TEMPLATE_TEST_CASE("estimators: gather point on a VPL (d2 -> 0)", "[hardcase]", double, float) {
   using T = TestType;
-  const synthetic_scene<T> s;
-  const dprsm_data<T> d = s.make_dprsm(32);
-  const dprsm_view<T> view = d.view();
-  const discrete_cdf<T> cdf(flux_weights(view));
+  const sampled_room<T> f(32);
   // Texels on the floor, on the red wall and on the block top: the gather point sits exactly on
   // the VPL, a hair above it, and a hair away from it along a different surface (corner).
   int tested = 0;
-  for (int t = 0; t < view.texel_count() && tested < 12; t += 97) {
-    if (!(luminance(view.vpl_at(t).flux) > T(0))) continue;
+  for (int t = 0; t < f.view.texel_count() && tested < 12; t += 97) {
+    if (!(luminance(f.view.vpl_at(t).flux) > T(0))) continue;
     ++tested;
-    const vec3<T> y = d.position[std::size_t(t)], n = d.normal[std::size_t(t)];
+    const vec3<T> y = f.d.position[std::size_t(t)], n = f.d.normal[std::size_t(t)];
     const T eps = std::numeric_limits<T>::epsilon();
     const gather_point<T> cases[] = {
         {y, n, vec3<T>(T(0.5))},
@@ -91,12 +95,12 @@ TEMPLATE_TEST_CASE("estimators: gather point on a VPL (d2 -> 0)", "[hardcase]", 
     for (const gather_point<T>& gp : cases) {
       // the VPL's own sample: with dmin = 0 the plain contribution is 0 at d2 = 0 and finite
       // otherwise; the MIS VPL sample stays bounded by f / (n1 p1)
-      const vec3<T> own = vpl_visible_contribution(gp, view, t, always_visible{}, T(0));
+      const vec3<T> own = vpl_visible_contribution(gp, f.view, t, always_visible{}, T(0));
       CHECK(finite_nonneg(own));
       const vec3<T> mis_own =
-          mis_vpl_sample(gp, view, cdf, T(0), always_visible{}, T(1), T(1), mis_mode::solid_angle);
+          mis_vpl_sample(gp, f.view, f.cdf, T(0), always_visible{}, T(1), T(1), mis_mode::solid_angle);
       CHECK(finite_nonneg(mis_own));
-      const auto r = all_estimates(s, view, cdf, gp);
+      const auto r = all_estimates(f.scene, f.view, f.cdf, gp);
       for (std::size_t i = 0; i < r.size(); ++i) {
         INFO(estimator_name(i) << " texel " << t);
         CHECK(finite_nonneg(r[i]));
@@ -106,29 +110,26 @@ TEMPLATE_TEST_CASE("estimators: gather point on a VPL (d2 -> 0)", "[hardcase]", 
   CHECK(tested >= 8);
   // exactly on the VPL: p2 = 0 there, so an MIS VPL sample of that texel adds exactly 0
   const int t0 = [&] {
-    for (int t = 0; t < view.texel_count(); ++t)
-      if (luminance(view.vpl_at(t).flux) > T(0)) return t;
+    for (int t = 0; t < f.view.texel_count(); ++t)
+      if (luminance(f.view.vpl_at(t).flux) > T(0)) return t;
     return -1;
   }();
   REQUIRE(t0 >= 0);
-  const gather_point<T> on{d.position[std::size_t(t0)], d.normal[std::size_t(t0)], vec3<T>(T(0.5))};
-  std::vector<T> only(std::size_t(view.texel_count()), T(0));
+  const gather_point<T> on{f.d.position[std::size_t(t0)], f.d.normal[std::size_t(t0)], vec3<T>(T(0.5))};
+  std::vector<T> only(std::size_t(f.view.texel_count()), T(0));
   only[std::size_t(t0)] = T(1);
   const discrete_cdf<T> single(only);
-  CHECK(mis_vpl_sample(on, view, single, T(0.5), always_visible{}, T(1), T(1), mis_mode::solid_angle) ==
+  CHECK(mis_vpl_sample(on, f.view, single, T(0.5), always_visible{}, T(1), T(1), mis_mode::solid_angle) ==
         vec3<T>(T(0)));
 }
 
 TEMPLATE_TEST_CASE("estimators: back-facing gather points", "[hardcase]", double, float) {
   using T = TestType;
-  const synthetic_scene<T> s;
-  const dprsm_data<T> d = s.make_dprsm(32);
-  const dprsm_view<T> view = d.view();
-  const discrete_cdf<T> cdf(flux_weights(view));
+  const sampled_room<T> f(32);
   // A floor point whose normal points into the floor: nothing lies below it, every estimator
   // must give exactly 0 (rays leave the room; VPLs are all behind its normal).
   const gather_point<T> under{vec3<T>(T(1.2), T(0), T(1.0)), vec3<T>(T(0), T(-1), T(0)), vec3<T>(T(0.7))};
-  const auto r = all_estimates(s, view, cdf, under);
+  const auto r = all_estimates(f.scene, f.view, f.cdf, under);
   for (std::size_t i = 0; i < r.size(); ++i) {
     INFO(estimator_name(i));
     CHECK(r[i] == vec3<T>(T(0)));
@@ -136,7 +137,7 @@ TEMPLATE_TEST_CASE("estimators: back-facing gather points", "[hardcase]", double
   // A block face with its normal flipped into the block: rays hit the block's faces from behind
   // (the one-sided check must reject them), VPLs are occluded by the block itself.
   const gather_point<T> inside{vec3<T>(T(-1.0), T(1.0), T(0.0)), vec3<T>(T(1), T(0), T(0)), vec3<T>(T(0.9))};
-  const auto q = all_estimates(s, view, cdf, inside);
+  const auto q = all_estimates(f.scene, f.view, f.cdf, inside);
   for (std::size_t i = 0; i < q.size(); ++i) {
     INFO(estimator_name(i));
     CHECK(finite_nonneg(q[i]));
@@ -146,24 +147,21 @@ TEMPLATE_TEST_CASE("estimators: back-facing gather points", "[hardcase]", double
 
 TEMPLATE_TEST_CASE("estimators: unnormalised normals", "[hardcase]", double, float) {
   using T = TestType;
-  const synthetic_scene<T> s;
-  const dprsm_data<T> d = s.make_dprsm(32);
-  const dprsm_view<T> view = d.view();
-  const discrete_cdf<T> cdf(flux_weights(view));
+  const sampled_room<T> f(32);
   // The DPRSM's normals scaled by 7 must not matter either.
-  dprsm_data<T> d7 = d;
+  dprsm_data<T> d7 = f.d;
   for (auto& n : d7.normal) n *= T(7);
   const dprsm_view<T> view7 = d7.view();
   const T tiny = std::is_same<T, float>::value ? T(1e-15) : T(1e-150);
   const T huge = std::is_same<T, float>::value ? T(1e15) : T(1e150);
   const T rel = std::is_same<T, float>::value ? T(2e-3) : T(1e-9);
-  for (const auto& g : s.gather_points()) {
-    const auto ref = all_estimates(s, view, cdf, g.gp);
+  for (const auto& g : f.scene.gather_points()) {
+    const auto ref = all_estimates(f.scene, f.view, f.cdf, g.gp);
     for (T scale : {tiny, T(0.01), T(3.7), huge}) {
       gather_point<T> gp = g.gp;
       gp.normal *= scale;
-      const auto r = all_estimates(s, view, cdf, gp);
-      const auto r7 = all_estimates(s, view7, cdf, gp);
+      const auto r = all_estimates(f.scene, f.view, f.cdf, gp);
+      const auto r7 = all_estimates(f.scene, view7, f.cdf, gp);
       for (std::size_t i = 0; i < r.size(); ++i) {
         INFO(g.name << " " << estimator_name(i) << " scale " << scale);
         CHECK(finite_nonneg(r[i]));
@@ -210,35 +208,31 @@ TEMPLATE_TEST_CASE("estimators: zero-flux DPRSM gives 0, not NaN", "[hardcase]",
 
 TEMPLATE_TEST_CASE("estimators: empty distributions", "[hardcase]", double, float) {
   using T = TestType;
-  const synthetic_scene<T> s;
-  const dprsm_data<T> d = s.make_dprsm(32);
-  const dprsm_view<T> view = d.view();
-  const exact_visibility<T> vis{&s};
-  const exact_tracer<T> tracer{&s};
-  const std::vector<T> zeros(std::size_t(view.texel_count()), T(0));
+  const sampled_room<T> f(32);
+  const std::vector<T> zeros(std::size_t(f.view.texel_count()), T(0));
   const discrete_cdf<T> cdf0(zeros), cdf_default;
   const alias_table<T> alias0(zeros), alias_default;
   const defensive_mixture<T> mix_default;
   const face_roulette<T> roulette0(discrete_cdf<T>(zeros.data(), 32 * 32), discrete_cdf<T>(zeros.data(), 32 * 32));
   REQUIRE(roulette0.empty());
-  for (const auto& g : s.gather_points()) {
+  for (const auto& g : f.scene.gather_points()) {
     INFO(g.name);
     counter_rng rng = make_counter_rng(1u, 1u);
-    CHECK(estimate_vpl_sampling(g.gp, view, cdf0, rng, 16, vis, T(0)) == vec3<T>(T(0)));
-    CHECK(estimate_vpl_sampling(g.gp, view, cdf_default, rng, 16, vis, T(0)) == vec3<T>(T(0)));
-    CHECK(estimate_vpl_sampling(g.gp, view, alias0, rng, 16, vis, T(0)) == vec3<T>(T(0)));
-    CHECK(estimate_vpl_sampling(g.gp, view, alias_default, rng, 16, vis, T(0)) == vec3<T>(T(0)));
-    CHECK(estimate_vpl_sampling(g.gp, view, mix_default, rng, 16, vis, T(0)) == vec3<T>(T(0)));
-    CHECK(estimate_vpl_sampling(g.gp, view, roulette0, rng, 16, vis, T(0)) == vec3<T>(T(0)));
+    CHECK(estimate_vpl_sampling(g.gp, f.view, cdf0, rng, 16, f.vis, T(0)) == vec3<T>(T(0)));
+    CHECK(estimate_vpl_sampling(g.gp, f.view, cdf_default, rng, 16, f.vis, T(0)) == vec3<T>(T(0)));
+    CHECK(estimate_vpl_sampling(g.gp, f.view, alias0, rng, 16, f.vis, T(0)) == vec3<T>(T(0)));
+    CHECK(estimate_vpl_sampling(g.gp, f.view, alias_default, rng, 16, f.vis, T(0)) == vec3<T>(T(0)));
+    CHECK(estimate_vpl_sampling(g.gp, f.view, mix_default, rng, 16, f.vis, T(0)) == vec3<T>(T(0)));
+    CHECK(estimate_vpl_sampling(g.gp, f.view, roulette0, rng, 16, f.vis, T(0)) == vec3<T>(T(0)));
     const discrete_cdf<T> two[2] = {cdf0, cdf_default};
-    CHECK(estimate_local(g.gp, view, two, 2, rng, 8, vis, T(0), local_combination::balance) == vec3<T>(T(0)));
-    CHECK(estimate_local(g.gp, view, two, 2, rng, 8, vis, T(0), local_combination::average) == vec3<T>(T(0)));
+    CHECK(estimate_local(g.gp, f.view, two, 2, rng, 8, f.vis, T(0), local_combination::balance) == vec3<T>(T(0)));
+    CHECK(estimate_local(g.gp, f.view, two, 2, rng, 8, f.vis, T(0), local_combination::average) == vec3<T>(T(0)));
     // MIS with an empty distribution is pure gathering: its gathering samples add f / (n1 p1),
     // i.e. (1/n_dirs) rho_x L_o -- compare with the gathering samples drawn in MIS's order
     // (per j: one u for the (empty) VPL draw, then two for the direction).
     for (mis_mode mode : {mis_mode::solid_angle, mis_mode::as_published}) {
       counter_rng r1 = make_counter_rng(2u, 5u), r2 = r1;
-      const vec3<T> m = estimate_mis(g.gp, view, cdf0, r1, 16, 16, tracer, vis, T(0.2), mode);
+      const vec3<T> m = estimate_mis(g.gp, f.view, cdf0, r1, 16, 16, f.tracer, f.vis, T(0.2), mode);
       CHECK(finite_nonneg(m));
       if (mode == mis_mode::solid_angle) {
         const orthonormal_basis<T> frame = make_orthonormal_basis(g.gp.normal);
@@ -247,7 +241,7 @@ TEMPLATE_TEST_CASE("estimators: empty distributions", "[hardcase]", double, floa
           (void)rng_next_unit<T>(r2);
           const T u0 = rng_next_unit<T>(r2);
           const T u1 = rng_next_unit<T>(r2);
-          expect += gathering_sample(g.gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer, T(0.2));
+          expect += gathering_sample(g.gp, f.view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), f.tracer, T(0.2));
         }
         expect /= T(16);
         for (int c = 0; c < 3; ++c) CHECK(m[c] == Approx(expect[c]).epsilon(1e-4).margin(1e-12));
@@ -259,10 +253,7 @@ TEMPLATE_TEST_CASE("estimators: empty distributions", "[hardcase]", double, floa
 
 TEMPLATE_TEST_CASE("estimators: background pixels and degenerate counts", "[hardcase]", double, float) {
   using T = TestType;
-  const synthetic_scene<T> s;
-  const dprsm_data<T> d = s.make_dprsm(16);
-  const dprsm_view<T> view = d.view();
-  const discrete_cdf<T> cdf(flux_weights(view));
+  const sampled_room<T> f(16);
   const T nan = std::numeric_limits<T>::quiet_NaN(), inf = std::numeric_limits<T>::infinity();
   const gather_point<T> bad[] = {
       {vec3<T>(T(0), T(1), T(0)), vec3<T>(T(0)), vec3<T>(T(0.5))},       // background: zero normal
@@ -271,26 +262,26 @@ TEMPLATE_TEST_CASE("estimators: background pixels and degenerate counts", "[hard
       {vec3<T>(T(0), T(1), T(0)), vec3<T>(nan, T(1), T(0)), vec3<T>(T(0.5))},
   };
   for (const gather_point<T>& gp : bad) {
-    const auto r = all_estimates(s, view, cdf, gp);
+    const auto r = all_estimates(f.scene, f.view, f.cdf, gp);
     for (std::size_t i = 0; i < r.size(); ++i) {
       INFO(estimator_name(i));
       CHECK(r[i] == vec3<T>(T(0)));
     }
     // an invalid gather point consumes no random numbers
     counter_rng rng = make_counter_rng(1u, 2u);
-    (void)estimate_mis(gp, view, cdf, rng, 8, 8, exact_tracer<T>{&s}, exact_visibility<T>{&s}, T(0.2));
-    (void)estimate_vpl_sampling(gp, view, cdf, rng, 8, always_visible{}, T(0));
+    (void)estimate_mis(gp, f.view, f.cdf, rng, 8, 8, exact_tracer<T>{&f.scene}, exact_visibility<T>{&f.scene}, T(0.2));
+    (void)estimate_vpl_sampling(gp, f.view, f.cdf, rng, 8, always_visible{}, T(0));
     CHECK(rng.counter == 0u);
   }
   // zero / negative sample counts
-  const gather_point<T> gp = s.gather_points()[0].gp;
+  const gather_point<T> gp = f.scene.gather_points()[0].gp;
   counter_rng rng = make_counter_rng(1u, 3u);
-  CHECK(estimate_vpl_sampling(gp, view, cdf, rng, 0, always_visible{}, T(0)) == vec3<T>(T(0)));
-  CHECK(estimate_vpl_sampling(gp, view, cdf, rng, -3, always_visible{}, T(0)) == vec3<T>(T(0)));
-  CHECK(estimate_gathering(gp, view, rng, 0, exact_tracer<T>{&s}, T(0.2)) == vec3<T>(T(0)));
-  CHECK(estimate_mis(gp, view, cdf, rng, 0, 0, exact_tracer<T>{&s}, always_visible{}, T(0.2)) == vec3<T>(T(0)));
-  CHECK(estimate_local(gp, view, &cdf, 1, rng, 0, always_visible{}, T(0)) == vec3<T>(T(0)));
-  CHECK(estimate_local(gp, view, &cdf, 0, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
+  CHECK(estimate_vpl_sampling(gp, f.view, f.cdf, rng, 0, always_visible{}, T(0)) == vec3<T>(T(0)));
+  CHECK(estimate_vpl_sampling(gp, f.view, f.cdf, rng, -3, always_visible{}, T(0)) == vec3<T>(T(0)));
+  CHECK(estimate_gathering(gp, f.view, rng, 0, exact_tracer<T>{&f.scene}, T(0.2)) == vec3<T>(T(0)));
+  CHECK(estimate_mis(gp, f.view, f.cdf, rng, 0, 0, exact_tracer<T>{&f.scene}, always_visible{}, T(0.2)) == vec3<T>(T(0)));
+  CHECK(estimate_local(gp, f.view, &f.cdf, 1, rng, 0, always_visible{}, T(0)) == vec3<T>(T(0)));
+  CHECK(estimate_local(gp, f.view, &f.cdf, 0, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
   CHECK(rng.counter == 0u);
 }
 
@@ -307,30 +298,28 @@ struct fixed_draw {
 
 TEMPLATE_TEST_CASE("estimators: denormal and out-of-range draws", "[hardcase]", double, float) {
   using T = TestType;
-  const synthetic_scene<T> s;
-  const dprsm_data<T> d = s.make_dprsm(16);
-  const dprsm_view<T> view = d.view();
-  const gather_point<T> gp = s.gather_points()[0].gp;
+  const sampled_room<T> f(16);
+  const gather_point<T> gp = f.scene.gather_points()[0].gp;
   int t = -1;
-  for (int i = 0; i < view.texel_count() && t < 0; ++i)
-    if (luminance(vpl_visible_contribution(gp, view, i, always_visible{}, T(0))) > T(0)) t = i;
+  for (int i = 0; i < f.view.texel_count() && t < 0; ++i)
+    if (luminance(vpl_visible_contribution(gp, f.view, i, always_visible{}, T(0))) > T(0)) t = i;
   REQUIRE(t >= 0);
   const T denorm = std::numeric_limits<T>::denorm_min();
   for (T p : {denorm, T(100) * denorm, std::numeric_limits<T>::min(), T(1e-30)}) {
     const fixed_draw<T> dist{std::size_t(t), p};
     counter_rng rng = make_counter_rng(4u, 4u);
     INFO("pmf " << p);
-    CHECK(finite_nonneg(estimate_vpl_sampling(gp, view, dist, rng, 4, always_visible{}, T(0))));
-    CHECK(finite_nonneg(estimate_local(gp, view, &dist, 1, rng, 4, always_visible{}, T(0))));
+    CHECK(finite_nonneg(estimate_vpl_sampling(gp, f.view, dist, rng, 4, always_visible{}, T(0))));
+    CHECK(finite_nonneg(estimate_local(gp, f.view, &dist, 1, rng, 4, always_visible{}, T(0))));
     const fixed_draw<T> two[2] = {dist, dist};
-    CHECK(finite_nonneg(estimate_local(gp, view, two, 2, rng, 4, always_visible{}, T(0), local_combination::average)));
+    CHECK(finite_nonneg(estimate_local(gp, f.view, two, 2, rng, 4, always_visible{}, T(0), local_combination::average)));
     for (mis_mode mode : {mis_mode::solid_angle, mis_mode::as_published})
-      CHECK(finite_nonneg(estimate_mis(gp, view, dist, rng, 4, 4, exact_tracer<T>{&s}, always_visible{}, T(0.2), mode)));
+      CHECK(finite_nonneg(estimate_mis(gp, f.view, dist, rng, 4, 4, exact_tracer<T>{&f.scene}, always_visible{}, T(0.2), mode)));
   }
   // an index beyond the DPRSM (a distribution of the wrong size) adds 0, it is never read
-  const fixed_draw<T> outside{std::size_t(view.texel_count()) + 5, T(0.5)};
+  const fixed_draw<T> outside{std::size_t(f.view.texel_count()) + 5, T(0.5)};
   counter_rng rng = make_counter_rng(4u, 5u);
-  CHECK(estimate_vpl_sampling(gp, view, outside, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
-  CHECK(estimate_local(gp, view, &outside, 1, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
-  CHECK(finite_nonneg(estimate_mis(gp, view, outside, rng, 4, 4, exact_tracer<T>{&s}, always_visible{}, T(0.2))));
+  CHECK(estimate_vpl_sampling(gp, f.view, outside, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
+  CHECK(estimate_local(gp, f.view, &outside, 1, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
+  CHECK(finite_nonneg(estimate_mis(gp, f.view, outside, rng, 4, 4, exact_tracer<T>{&f.scene}, always_visible{}, T(0.2))));
 }

@@ -11,10 +11,7 @@
 #include <limits>
 #include <random>
 
-using vplkit::paraboloid_back;
-using vplkit::paraboloid_front;
-using vplkit::vec2;
-using vplkit::vec3;
+using namespace vplkit;
 
 namespace {
 template <class T>

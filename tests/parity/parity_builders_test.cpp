@@ -23,6 +23,8 @@
 //         fill, their 3 x 3 neighbourhood) excluded and counted; stats equal the C++ gbg_stats.
 #include "parity_estimators_support.hpp"
 
+#include <gbg_kernels.hpp>
+
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gather_subset_params.h>
 #include <vplkit/builders/gbg_accumulate_params.h>
@@ -44,15 +46,11 @@
 #include <string>
 #include <vector>
 
-namespace {
-
+using namespace vplkit::parity;
 using namespace vplkit::parity::est;
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::input;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_rel;
+using vplkit_test::gbg_setup;
+
+namespace {
 
 struct fixture_t {
   scene_fixture s{32, 32, 24, 24};
@@ -70,41 +68,11 @@ const fixture_t& fx() {
   return *f;
 }
 
-// ---- kernel files, buffers, uniform blocks -----------------------------------------------------
-const vplkit::gl::program& kernel_program(const std::string& file, const std::string& defines = "") {
-  vplkit::parity::context();
-  static auto* cache = new std::map<std::string, vplkit::gl::program>();  // lives with the context
-  const std::string key = file + '\x01' + defines;
-  auto it = cache->find(key);
-  if (it == cache->end())
-    it = cache
-             ->emplace(key, vplkit::gl::program::compute_with_includes(
-                                "#version 430\n#include \"" + file + "\"\n", file,
-                                {vplkit::gl::glsl_source_dir()}, defines))
-             .first;
-  return it->second;
-}
-
-void bind_uniform(const vplkit::gl::buffer& b, GLuint binding) {
-  glBindBufferBase(GL_UNIFORM_BUFFER, binding, b.id());
-  vplkit::gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
-}
-
-std::vector<float4> surfels(const std::vector<v3f>& p, const std::vector<v3f>& n, const std::vector<v3f>& a) {
-  std::vector<float4> out;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    out.push_back(f4(p[i]));
-    out.push_back(f4(n[i]));
-    out.push_back(f4(a[i]));
-  }
-  return out;
-}
-
 std::vector<float4> gbuffer_surfels(const vplkit_test::gbuffer_data<float>& g) {
-  return surfels(g.position, g.normal, g.albedo);
+  return vplkit_test::surfels(g.position, g.normal, g.albedo);
 }
 std::vector<float4> dprsm_surfels(const vplkit_test::dprsm_data<float>& d) {
-  return surfels(d.position, d.normal, d.albedo);
+  return vplkit_test::surfels(d.position, d.normal, d.albedo);
 }
 
 }  // namespace
@@ -114,8 +82,8 @@ std::vector<float4> dprsm_surfels(const vplkit_test::dprsm_data<float>& d) {
 TEST_CASE("gather_subset.comp: the C++ stratified subsets, pixel for pixel") {
   const auto& s = fx().s;
   const auto gb = s.gbuffer.view();
-  const auto& prog = kernel_program("vplkit/builders/gather_subset.comp");
-  auto gbuf = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
+  const auto& prog = pack_kernel("vplkit/builders/gather_subset.comp");
+  const auto gbuf = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
   struct run {
     vplkit::pixel_rect rect;
     int count;
@@ -131,14 +99,13 @@ TEST_CASE("gather_subset.comp: the C++ stratified subsets, pixel for pixel") {
   std::size_t dropped_total = 0;
   for (const run& r : runs) {
     const auto shape = vplkit::gather_subset_grid(r.rect, r.count);
-    const vplkit::gpu::gather_subset_params p =
-        vplkit::gpu::make_gather_subset_params(gb, r.rect, r.count, r.seed, r.offset, r.attempts, 3u);
-    auto ub = vplkit::gl::buffer::from_bytes(&p, sizeof p);
-    auto out = vplkit::gl::buffer::filled(std::size_t(shape.count + 3) * 4, 0xFF);
-    gbuf.bind(VPLKIT_GATHER_SUBSET_BINDING_GBUFFER);
-    out.bind(VPLKIT_GATHER_SUBSET_BINDING_PIXELS);
-    bind_uniform(ub, VPLKIT_GATHER_SUBSET_BINDING_PARAMS);
-    vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(shape.count), VPLKIT_GATHER_SUBSET_LOCAL_SIZE));
+    const auto ub = vplkit_test::uniform_buffer(
+        vplkit::gpu::make_gather_subset_params(gb, r.rect, r.count, r.seed, r.offset, r.attempts, 3u));
+    const auto out = vplkit::gl::buffer::filled(std::size_t(shape.count + 3) * 4, 0xFF);
+    vplkit_test::dispatch(prog, {vplkit::gl::groups_for(std::size_t(shape.count), VPLKIT_GATHER_SUBSET_LOCAL_SIZE), 1, 1},
+                          {vplkit_test::storage_at(VPLKIT_GATHER_SUBSET_BINDING_GBUFFER, gbuf),
+                           vplkit_test::storage_at(VPLKIT_GATHER_SUBSET_BINDING_PIXELS, out),
+                           vplkit_test::uniform_at(VPLKIT_GATHER_SUBSET_BINDING_PARAMS, ub)});
     const auto gpu = out.read<std::int32_t>();
     std::vector<std::int32_t> g(gpu.begin() + 3, gpu.end()), c;
     for (int k = 0; k < shape.count; ++k)
@@ -164,7 +131,7 @@ namespace {
 
 std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subsets, float dmin) {
   const auto& s = fx().s;
-  const auto& prog = kernel_program("vplkit/builders/global_weights.comp");
+  const auto& prog = pack_kernel("vplkit/builders/global_weights.comp");
   std::vector<std::int32_t> flat;
   std::vector<std::uint32_t> offsets = {0u};
   for (const auto& sub : subsets) {
@@ -180,19 +147,19 @@ std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subse
   p.regions = N;
   p.pixel_count = s.gbuffer.width * s.gbuffer.height;
   p.dmin = dmin;
-  auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
-  auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
-  auto sb = vplkit::gl::buffer::from_vector(flat);
-  auto ob = vplkit::gl::buffer::from_vector(offsets);
-  auto wb = vplkit::gl::buffer::filled(std::size_t(N * n) * 4, 0xFF);
-  auto ub = vplkit::gl::buffer::from_bytes(&p, sizeof p);
-  gb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER);
-  dp.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM);
-  sb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET);
-  ob.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
-  wb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS);
-  bind_uniform(ub, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS);
-  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N));
+  const auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
+  const auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
+  const auto sb = vplkit::gl::buffer::from_vector(flat);
+  const auto ob = vplkit::gl::buffer::from_vector(offsets);
+  const auto wb = vplkit::gl::buffer::filled(std::size_t(N * n) * 4, 0xFF);
+  const auto ub = vplkit_test::uniform_buffer(p);
+  vplkit_test::dispatch(prog, {vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N), 1},
+                        {vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER, gb),
+                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM, dp),
+                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET, sb),
+                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS, ob),
+                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS, wb),
+                         vplkit_test::uniform_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, ub)});
   return wb.read<float>();
 }
 
@@ -259,83 +226,26 @@ TEST_CASE("global_weights.comp: global and local weights against the C++ builder
 // ---- GBG ----------------------------------------------------------------------------------------
 namespace {
 
-struct gbg_setup {
-  int n_dirs = 16;
-  float dmin = 0.05f;
-  float tol = 0.0f;
-  std::uint32_t seed = 21u;
-  int accumulator = 1;
-  float scale = 0.0f;
-  float max_units = 0.0f;
-};
-
 struct gbg_gpu_result {
   std::vector<std::uint32_t> acc;    // (lo, hi) per texel
   std::vector<std::uint32_t> stats;  // VPLKIT_GBG_STATS_SIZE counters (VPLKIT_GBG_STAT_*)
   std::vector<float> weights;
 };
 
-// Accumulate over the direction ranges, then finish.
+// Accumulate over the direction ranges (one parameter block each), then finish.
 gbg_gpu_result run_gbg(const vplkit_test::gbuffer_data<float>& gbuf, const gbg_setup& st,
                        const std::vector<std::pair<int, int>>& ranges, bool fill) {
   const auto& s = fx().s;
-  const int n = vplkit::texel_count(s.R);
-  const auto& acc_prog = kernel_program("vplkit/builders/gbg_accumulate.comp");
-  const auto& fin_prog = kernel_program("vplkit/builders/gbg_finish.comp");
-  auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(gbuf));
-  auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
-  std::vector<std::uint32_t> words = s.grid.words();
-  auto vx = vplkit::gl::buffer::from_vector(words);
-  auto acc = vplkit::gl::buffer::filled(std::size_t(2 * n) * 4, 0);
-  auto stats = vplkit::gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
-  auto weights = vplkit::gl::buffer::filled(std::size_t(n) * 4, 0xFF);
+  context();
+  const vplkit_test::gbg_buffers b(gbuf, s.dprsm, s.grid, 0xFF);
   bool first = true;
-  std::vector<vplkit::gl::buffer> keep;
   for (const auto& range : ranges) {
-    vplkit::gpu::gbg_accumulate_params p{};
-    p.light = vplkit::gpu::make_light_params(s.dprsm.light);
-    p.grid_min = glm::vec4(s.grid.bounds_min(), 0.0f);
-    p.grid_max = glm::vec4(s.grid.bounds_max(), 0.0f);
-    p.grid_resolution = glm::ivec4(s.grid.resolution(), 0);
-    p.width = gbuf.width;
-    p.height = gbuf.height;
-    p.resolution = s.R;
-    p.n_dirs = st.n_dirs;
-    p.accumulator = st.accumulator;
-    p.dir_begin = range.first;
-    p.dir_end = range.second;
-    p.count_gather_points = first ? 1 : 0;
-    p.seed = st.seed;
-    p.dmin = st.dmin;
-    p.depth_tolerance = st.tol;
-    p.offset_voxels = 1.75f;
-    p.scale = st.scale;
-    p.max_units = st.max_units;
+    b.accumulate(vplkit_test::uniform_buffer(
+        vplkit_test::gbg_accumulate_block(s.dprsm, s.grid, gbuf.width, gbuf.height, st, range.first, range.second, first)));
     first = false;
-    keep.push_back(vplkit::gl::buffer::from_bytes(&p, sizeof p));
-    gb.bind(VPLKIT_GBG_BINDING_GBUFFER);
-    dp.bind(VPLKIT_GBG_BINDING_DPRSM);
-    vx.bind(VPLKIT_GBG_BINDING_VOXELS);
-    acc.bind(VPLKIT_GBG_BINDING_ACC);
-    stats.bind(VPLKIT_GBG_BINDING_STATS);
-    bind_uniform(keep.back(), VPLKIT_GBG_BINDING_PARAMS);
-    vplkit::gl::dispatch(acc_prog, vplkit::gl::groups_for(std::size_t(gbuf.width * gbuf.height), VPLKIT_GBG_LOCAL_SIZE));
   }
-  vplkit::gpu::gbg_finish_params fp{};
-  fp.light = vplkit::gpu::make_light_params(s.dprsm.light);
-  fp.resolution = s.R;
-  fp.n_dirs = st.n_dirs;
-  fp.fill_holes = fill ? 1 : 0;
-  fp.inv_scale = 1.0f / st.scale;
-  auto ub = vplkit::gl::buffer::from_bytes(&fp, sizeof fp);
-  acc.bind(VPLKIT_GBG_FINISH_BINDING_ACC);
-  stats.bind(VPLKIT_GBG_FINISH_BINDING_STATS);
-  dp.bind(VPLKIT_GBG_FINISH_BINDING_DPRSM);
-  weights.bind(VPLKIT_GBG_FINISH_BINDING_WEIGHTS);
-  bind_uniform(ub, VPLKIT_GBG_FINISH_BINDING_PARAMS);
-  const GLuint g = vplkit::gl::groups_for(std::size_t(s.R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
-  vplkit::gl::dispatch(fin_prog, g, g, 2);
-  return {acc.read<std::uint32_t>(), stats.read<std::uint32_t>(), weights.read<float>()};
+  b.finish(vplkit_test::uniform_buffer(vplkit_test::gbg_finish_block(s.dprsm, st, fill)));
+  return {b.acc.read<std::uint32_t>(), b.stats.read<std::uint32_t>(), b.weights.read<float>()};
 }
 
 // One ray of the GBG loop: pixel, direction j.
@@ -447,28 +357,6 @@ std::uint64_t host_units(float v, float scale, float max_units) {
   return std::uint64_t(double(q));
 }
 
-// Fixed-point parameters as gbg_weights.glsl recommends: max_units = 2^(63 - ceil(log2 H)), H = |G| n_dirs,
-// scale = 2^floor(log2(max_units / v_bound)).
-void choose_fixed_point(gbg_setup& st, int gather_points) {
-  const auto& s = fx().s;
-  const double H = double(gather_points) * st.n_dirs;
-  st.max_units = float(std::ldexp(1.0, 63 - int(std::ceil(std::log2(H)))));
-  const double lum_i = double(vplkit::luminance(s.dprsm.light.intensity));
-  double v_bound;
-  if (st.accumulator == 1) {
-    double d1min = 1e30;
-    for (std::size_t t = 0; t < s.dprsm.position.size(); ++t)
-      if (s.dprsm.albedo[t] != v3f(0)) d1min = std::min(d1min, double(glm::length(s.dprsm.position[t] - s.dprsm.light.position)));
-    d1min = std::max(d1min - double(st.tol), 1e-3);
-    v_bound = lum_i / (3.141592653589793 * d1min * d1min);
-  } else {
-    const double omega_max = 4.0 * (2.0 / s.R) * (2.0 / s.R);
-    const double dm = std::max(double(st.dmin), 1e-3);
-    v_bound = lum_i * omega_max / (3.141592653589793 * 3.141592653589793 * dm * dm);
-  }
-  st.scale = float(std::ldexp(1.0, int(std::floor(std::log2(double(st.max_units) / v_bound)))));
-}
-
 int valid_points(const vplkit_test::gbuffer_data<float>& gbuf) {
   int n = 0;
   const auto gb = gbuf.view();
@@ -489,7 +377,7 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
     gbg_setup st;
     st.accumulator = accumulator;
     st.tol = tol;
-    choose_fixed_point(st, G);
+    vplkit_test::choose_gbg_fixed_point(st, G, s.dprsm);
     const std::string acc_name = accumulator == 1 ? "gathering" : "paper";
     std::cout << "GBG " << acc_name << ": |G| = " << G << ", " << st.n_dirs << " directions, scale 2^"
               << std::log2(st.scale) << ", max_units 2^" << std::log2(st.max_units) << "\n";

@@ -36,34 +36,15 @@
 #include <string>
 #include <vector>
 
-namespace {
-
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::input;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_ulps;
+using namespace vplkit::parity;
+using vplkit_test::flt_inf;
+using vplkit_test::flt_nan;
 using vplkit_test::random_source;
 using vplkit_test::tri_mesh;
 using vplkit_test::v3d;
 using vplkit_test::v3f;
 
-constexpr float flt_inf = std::numeric_limits<float>::infinity();
-constexpr float flt_nan = std::numeric_limits<float>::quiet_NaN();
-
-struct float4 {
-  float x, y, z, w;
-};
-float4 f4(v3f v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
-v3f xyz(const float4& v) { return v3f(v.x, v.y, v.z); }
-std::string show3(v3f v) { return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")"; }
-
-bool software_renderer() {
-  vplkit::parity::context();
-  static const bool sw = vplkit::gl::is_software_renderer();
-  return sw;
-}
+namespace {
 
 // The GPU side of a hierarchy: its two arrays (a one-element dummy when empty: Mesa wants the
 // accessors defined, and a buffer bound) and the node count.
@@ -76,7 +57,7 @@ struct gpu_bvh {
     if (nodes.empty()) nodes.push_back({v3f(0.0f), 0u, v3f(0.0f), 0u});
     if (triangles.empty()) triangles.push_back({v3f(0.0f), 0u, v3f(0.0f), 0u, v3f(0.0f), 0u});
   }
-  std::vector<vplkit::parity::ssbo> bindings() const { return {input(2, nodes), input(3, triangles), input(4, params)}; }
+  std::vector<ssbo> bindings() const { return {input(2, nodes), input(3, triangles), input(4, params)}; }
 };
 
 const char* bvh_block = R"(
@@ -105,16 +86,13 @@ struct hit_result {  // std430 { uvec4 hit_triangle_occluded; vec4 t_u_v; vec4 p
   float4 position, normal;
 };
 
-const std::string hit_kernel = std::string(R"(
+const std::string hit_source = std::string(R"(
 #include "vplkit/visibility/bvh_traverse.glsl"
 struct ray_case { vec4 o_tmin; vec4 d_tmax; };
 struct hit_result { uvec4 hit_triangle_occluded; vec4 t_u_v; vec4 position; vec4 normal; };
-layout(std430, binding = 0) readonly buffer Rays { ray_case rays[]; };
-layout(std430, binding = 1) writeonly buffer Out { hit_result result[]; };
-)") + bvh_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)") + bvh_block;
+
+const std::string hit_body = R"(
   ray_case r = rays[i];
   vplkit_bvh_hit h;
   bool occ;
@@ -126,9 +104,7 @@ void main() {
     occ = vplkit_bvh_occluded(scene_bvh(), r.o_tmin.xyz, r.d_tmax.xyz, r.o_tmin.w, r.d_tmax.w);
   }
   result[i] = hit_result(uvec4(h.hit ? 1u : 0u, h.triangle, occ ? 1u : 0u, 0u), vec4(h.t, h.u, h.v, 0.0),
-                         vec4(h.position, 0.0), vec4(h.normal, 0.0));
-}
-)";
+                         vec4(h.position, 0.0), vec4(h.normal, 0.0));)";
 
 hit_result cpu_hit(const vplkit::bvh<float>& b, const ray_case& r, vplkit::bvh_traversal_counts* counts) {
   const v3f o = xyz(r.o_tmin), d = xyz(r.d_tmax);
@@ -209,8 +185,8 @@ void check_hits(const tri_mesh& m, const vplkit::bvh<float>& b, const std::vecto
                 parity_counts& pc) {
   const gpu_bvh g(b);
   auto inputs = g.bindings();
-  inputs.push_back(input(0, rays));
-  const auto gpu = vplkit::parity::run_compute<hit_result>(hit_kernel, {64, 1, 1}, inputs, 1, rays.size());
+  inputs.push_back(input(0, rays, "ray_case rays"));
+  const auto gpu = run_compute<hit_result>(per_item(hit_source, inputs, "hit_result result", hit_body), rays.size());
   std::vector<hit_result> cpu;
   for (const ray_case& r : rays) {
     vplkit::bvh_traversal_counts c;
@@ -222,8 +198,8 @@ void check_hits(const tri_mesh& m, const vplkit::bvh<float>& b, const std::vecto
     return "o " + show3(xyz(rays[i].o_tmin)) + " d " + show3(xyz(rays[i].d_tmax)) + " t_min " + show(rays[i].o_tmin.w) +
            " t_max " + show(rays[i].d_tmax.w);
   };
-  std::vector<std::uint32_t> gi, ci;
-  std::vector<float> gf, cf;
+  series<std::uint32_t> answers;
+  series<float> floats;
   std::vector<std::size_t> float_ray;
   const double scale = m.triangle_count() ? vplkit_test::mesh_scale(m) : 1.0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -240,19 +216,23 @@ void check_hits(const tri_mesh& m, const vplkit::bvh<float>& b, const std::vecto
         continue;
       }
     }
-    gi.insert(gi.end(), {a.hit, a.triangle, a.occluded});
-    ci.insert(ci.end(), {c.hit, c.triangle, c.occluded});
+    answers.add(a.hit, c.hit);
+    answers.add(a.triangle, c.triangle);
+    answers.add(a.occluded, c.occluded);
     if (a.hit != c.hit || a.triangle != c.triangle) continue;
-    for (float v : {a.t, a.u, a.v, a.position.x, a.position.y, a.position.z, a.normal.x, a.normal.y, a.normal.z}) gf.push_back(v);
-    for (float v : {c.t, c.u, c.v, c.position.x, c.position.y, c.position.z, c.normal.x, c.normal.y, c.normal.z}) cf.push_back(v);
+    floats.add(a.t, c.t);
+    floats.add(a.u, c.u);
+    floats.add(a.v, c.v);
+    for (int k = 0; k < 3; ++k) floats.add(a.position[k], c.position[k]);
+    for (int k = 0; k < 3; ++k) floats.add(a.normal[k], c.normal[k]);
     for (int k = 0; k < 9; ++k) float_ray.push_back(i);
   }
-  VPLKIT_CHECK_PARITY(compare_exact(gi, ci, [&](std::size_t k) { return describe(k / 3); },
+  VPLKIT_CHECK_PARITY(compare_exact(answers, [&](std::size_t k) { return describe(k / 3); },
                                     std::string(what) + ": hit, triangle, occluded"));
   // Software renderers: bit for bit. Elsewhere: 8 ulp, or 1e-6 of the scene size (t in units of
   // |d|: the bound is applied to all nine floats alike, which is loose for u, v and the normal).
   const auto bound = software_renderer() ? within_ulps(0) : within_ulps(8) | within_abs(1e-6 * scale);
-  VPLKIT_CHECK_PARITY(compare_floats(gf, cf, bound, [&](std::size_t k) { return describe(float_ray[k]); },
+  VPLKIT_CHECK_PARITY(compare_floats(floats, bound, [&](std::size_t k) { return describe(float_ray[k]); },
                                      std::string(what) + ": t, u, v, position, normal"));
 }
 
@@ -263,13 +243,10 @@ TEST_CASE("bvh layout: the GPU reads every field of every node and triangle as t
   const tri_mesh m = vplkit_test::random_soup(rnd, 3000, 1e-3, 0.3);
   const auto b = build(m);
   const gpu_bvh g(b);
-  const std::string kernel = std::string(R"(
-#include "vplkit/visibility/bvh_layout.glsl"
-layout(std430, binding = 1) writeonly buffer Out { uvec4 result[]; };
-)") + bvh_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  const std::size_t count = std::max(b.node_count(), b.triangle_count());
+  // Five uvec4 per item: the main output holds count elements of 5 * 16 bytes.
+  const auto gpu = run_kernel(per_item(std::string(R"(#include "vplkit/visibility/bvh_layout.glsl")") + bvh_block,
+                                       g.bindings(), "uvec4 result", R"(
   // Node i (if any): 2 uvec4; triangle i (if any): 3 uvec4; 5 per invocation.
   if (i < bvh_node_count) {
     vplkit_bvh_node n = vplkit_load_bvh_node(i);
@@ -282,17 +259,10 @@ void main() {
   vplkit_bvh_triangle t = vplkit_load_bvh_triangle(min(i, uint(bvh_triangles.length()) - 1u));
   result[5u * i + 2u] = uvec4(floatBitsToUint(t.v0), t.id);
   result[5u * i + 3u] = uvec4(floatBitsToUint(t.v1), t.unused1);
-  result[5u * i + 4u] = uvec4(floatBitsToUint(t.v2), t.unused2);
-}
-)";
-  const std::size_t count = std::max(b.node_count(), b.triangle_count());
-  vplkit::parity::kernel_call call;
-  call.source = kernel;
-  call.inputs = g.bindings();
-  call.output_binding = 1;
-  const auto bytes = vplkit::parity::run_compute_bytes(call, count, count * 5 * 16);
-  std::vector<std::uint32_t> gpu(count * 20), cpu(count * 20, 0u);
-  std::memcpy(gpu.data(), bytes.data(), bytes.size());
+  result[5u * i + 4u] = uvec4(floatBitsToUint(t.v2), t.unused2);)"),
+                              count, 5 * 16)
+                       .get<std::uint32_t>(1);
+  std::vector<std::uint32_t> cpu(count * 20, 0u);
   for (std::size_t i = 0; i < count; ++i) {
     if (i < b.node_count()) std::memcpy(&cpu[20 * i], &b.nodes()[i], 32);
     std::memcpy(&cpu[20 * i + 8], &b.triangles()[std::min(i, b.triangle_count() - 1)], 48);
@@ -366,16 +336,14 @@ TEST_CASE("bvh visibility callables: visible, trace, offsets, the callable struc
     cases.push_back({f4(v3f(flt_nan, 0, 0), fm), f4(up, 1e-4f), f4(v3f(0.5f)), f4(up)});
     cases.push_back({f4(p0, fm), f4(up, 1e-4f), f4(v3f(0, flt_inf, 0)), f4(up)});
   }
-  const std::string kernel = std::string(R"(
+  auto inputs = g.bindings();
+  inputs.push_back(input(0, cases, "callable_case cases"));
+  const auto gpu = run_compute<callable_result>(per_item(std::string(R"(
 #include "vplkit/visibility/bvh_visibility.glsl"
 struct callable_case { vec4 x_mode; vec4 nx_offset; vec4 y; vec4 ny; };
 struct callable_result { uvec4 answer; vec4 position; vec4 offset_point; };
-layout(std430, binding = 0) readonly buffer Cases { callable_case cases[]; };
-layout(std430, binding = 1) writeonly buffer Out { callable_result result[]; };
-)") + bvh_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)") + bvh_block,
+                                                         inputs, "callable_result result", R"(
   callable_case c = cases[i];
   int mode = int(c.x_mode.w);
   vec3 x = c.x_mode.xyz, n_x = c.nx_offset.xyz, y = c.y.xyz, n_y = c.ny.xyz;
@@ -401,14 +369,10 @@ void main() {
     position = h.position;
   }
   vec3 o = vplkit_bvh_offset_point(x, n_x, vplkit_bvh_surface_offset(scene_bvh(), rel));
-  result[i] = callable_result(uvec4(answer ? 1u : 0u, 0u, 0u, 0u), vec4(position, 0.0), vec4(o, vplkit_bvh_surface_offset(scene_bvh())));
-}
-)";
-  auto inputs = g.bindings();
-  inputs.push_back(input(0, cases));
-  const auto gpu = vplkit::parity::run_compute<callable_result>(kernel, {64, 1, 1}, inputs, 1, cases.size());
-  std::vector<std::uint32_t> ga, ca;
-  std::vector<float> gf, cf;
+  result[i] = callable_result(uvec4(answer ? 1u : 0u, 0u, 0u, 0u), vec4(position, 0.0), vec4(o, vplkit_bvh_surface_offset(scene_bvh())));)"),
+                                                cases.size());
+  series<std::uint32_t> answers;
+  series<float> floats;
   std::size_t visible = 0, hits = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const callable_case& c = cases[i];
@@ -431,12 +395,10 @@ void main() {
     }
     if (mode < 3) visible += answer;
     const v3f o = vplkit::bvh_offset_point(x, nx, vplkit::bvh_surface_offset(b.view(), rel));
-    ga.push_back(gpu[i].answer);
-    ca.push_back(answer ? 1u : 0u);
-    for (float v : {gpu[i].position.x, gpu[i].position.y, gpu[i].position.z, gpu[i].offset_point.x, gpu[i].offset_point.y,
-                    gpu[i].offset_point.z, gpu[i].offset_point.w})
-      gf.push_back(v);
-    for (float v : {position.x, position.y, position.z, o.x, o.y, o.z, vplkit::bvh_surface_offset(b.view())}) cf.push_back(v);
+    answers.add(gpu[i].answer, answer ? 1u : 0u);
+    for (int k = 0; k < 3; ++k) floats.add(gpu[i].position[k], position[k]);
+    for (int k = 0; k < 3; ++k) floats.add(gpu[i].offset_point[k], o[k]);
+    floats.add(gpu[i].offset_point.w, vplkit::bvh_surface_offset(b.view()));
   }
   auto describe = [&](std::size_t i) {
     const auto& c = cases[i];
@@ -446,9 +408,9 @@ void main() {
   std::cout << "  callables: " << cases.size() << " cases, " << visible << " visible pairs, " << hits << " traced hits\n";
   // Software renderers: exact. Elsewhere a pair can flip only where the segment passes within
   // rounding of an edge; this test has no exemption for that and is written for the exact case.
-  VPLKIT_CHECK_PARITY(compare_exact(ga, ca, describe, "bvh_visible / bvh_trace / the callable structs: answers"));
+  VPLKIT_CHECK_PARITY(compare_exact(answers, describe, "bvh_visible / bvh_trace / the callable structs: answers"));
   const auto bound = software_renderer() ? within_ulps(0) : within_ulps(8) | within_abs(1e-6 * 2.0);
-  VPLKIT_CHECK_PARITY(compare_floats(gf, cf, bound, [&](std::size_t k) { return describe(k / 7); },
+  VPLKIT_CHECK_PARITY(compare_floats(floats, bound, [&](std::size_t k) { return describe(k / 7); },
                                      "traced position, offset point, surface offset"));
   CHECK(visible > cases.size() / 20);
   CHECK(hits > cases.size() / 3);
@@ -468,32 +430,27 @@ TEST_CASE("bvh callables as the estimators' user visibility and tracer (visibili
       in.push_back(f4(glm::cross(m.vertex(t, 1) - m.vertex(t, 0), m.vertex(t, 2) - m.vertex(t, 0))));
     }
   }
-  const std::string kernel = std::string(R"(
+  auto inputs = g.bindings();
+  inputs.push_back(input(0, in, "vec4 v"));
+  const auto gpu = run_compute<float4>(per_item(std::string(R"(
 #define VPLKIT_USER_VISIBILITY
 #define VPLKIT_USER_TRACER
 #include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 v[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
 )") + bvh_block + R"(
 uint vplkit_load_voxel_word(uint word_index) { return 0u; }  // no voxel grid in this shader
 bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) { return vplkit_bvh_visible(scene_bvh(), x, n_x, y, n_y); }
 vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) { return vplkit_bvh_trace(scene_bvh(), x, n_x, dir); }
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                                                inputs, "vec4 result", R"(
   vec3 x = v[4u * i].xyz, n_x = v[4u * i + 1u].xyz, y = v[4u * i + 2u].xyz, n_y = v[4u * i + 3u].xyz;
   vplkit_visibility vis = vplkit_make_always_visible();
   vis.kind = vplkit_visibility_user;
   vplkit_voxel_tracer tr = vplkit_make_voxel_tracer(vplkit_voxel_grid(vec3(0.0), vec3(1.0), ivec3(1)));
   tr.user = true;
   vplkit_ray_hit h = vplkit_voxel_tracer_trace(tr, x, n_x, y - x);
-  result[i] = vec4(h.position, (vplkit_visibility_test(vis, x, n_x, y, n_y) ? 1.0 : 0.0) + (h.hit ? 2.0 : 0.0));
-}
-)";
-  auto inputs = g.bindings();
-  inputs.push_back(input(0, in));
-  const auto gpu = vplkit::parity::run_compute<float4>(kernel, {64, 1, 1}, inputs, 1, in.size() / 4);
+  result[i] = vec4(h.position, (vplkit_visibility_test(vis, x, n_x, y, n_y) ? 1.0 : 0.0) + (h.hit ? 2.0 : 0.0));)"),
+                                       in.size() / 4);
   std::vector<float> gf, cf;
   for (std::size_t i = 0; i < gpu.size(); ++i) {
     const v3f x = xyz(in[4 * i]), nx = xyz(in[4 * i + 1]), y = xyz(in[4 * i + 2]), ny = xyz(in[4 * i + 3]);

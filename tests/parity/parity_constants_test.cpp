@@ -1,18 +1,17 @@
 // Parity of glsl/vplkit/core/constants.glsl with the C++ values, bit for bit, and a self-check of
-// the harness (sentinel detection, float and integer comparison reports).
+// the harness (sentinel detection, float and integer comparison reports, declared buffers, several
+// outputs, uniform blocks, pack kernels driven through their parameter headers).
 #include <parity_harness.hpp>
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
 
 namespace {
 
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
+using namespace vplkit::parity;
 
 struct named_constant {
   const char* glsl;
@@ -35,12 +34,6 @@ const std::vector<named_constant>& constants() {
   return list;
 }
 
-std::uint32_t bits_of(float f) {
-  std::uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-
 }  // namespace
 
 TEST_CASE("constants.glsl holds the C++ constants bit for bit") {
@@ -53,13 +46,13 @@ TEST_CASE("constants.glsl holds the C++ constants bit for bit") {
   }
   body += "}\n";
   const auto& list = constants();
-  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(body, {1, 1, 1}, {}, 0, list.size());
+  const auto gpu = run_compute<std::uint32_t>(body, {1, 1, 1}, {}, 0, list.size());
   std::vector<std::uint32_t> cpu;
   for (const auto& c : list) cpu.push_back(bits_of(static_cast<float>(c.value)));
   VPLKIT_CHECK_PARITY(compare_exact(
       gpu, cpu,
       [&](std::size_t i) {
-        return std::string(list[i].glsl) + " = " + vplkit::parity::show(list[i].value);
+        return std::string(list[i].glsl) + " = " + show(list[i].value);
       },
       "constants.glsl (float bits)"));
 }
@@ -78,16 +71,16 @@ void main() {
   result[i] = u[i] * vplkit_PI;
 }
 )";
-  const auto gpu = vplkit::parity::run_compute<float>(
-      kernel, {64, 1, 1}, {vplkit::parity::input(3, u)}, 1, u.size());
+  const auto gpu = run_compute<float>(
+      kernel, {64, 1, 1}, {input(3, u)}, 1, u.size());
   std::vector<double> cpu(u.size());
   for (std::size_t i = 0; i < u.size(); ++i) {
     cpu[i] = static_cast<double>(u[i]) * 3.14159265358979323846;
   }
   // One float multiply against the exact product: within 1 ulp of float(exact).
   VPLKIT_CHECK_PARITY(compare_floats(
-      gpu, cpu, vplkit::parity::within_ulps(1),
-      [&](std::size_t i) { return "u = " + vplkit::parity::show(u[i]); }, "u * vplkit_PI"));
+      gpu, cpu, within_ulps(1),
+      [&](std::size_t i) { return "u = " + show(u[i]); }, "u * vplkit_PI"));
 }
 
 TEST_CASE("harness: an element the kernel does not write fails the comparison") {
@@ -100,9 +93,9 @@ void main() {
   result[i] = 1.0;
 }
 )";
-  const auto gpu = vplkit::parity::run_compute<float>(kernel, {32, 1, 1}, {}, 0, 100);
+  const auto gpu = run_compute<float>(kernel, {32, 1, 1}, {}, 0, 100);
   const std::vector<float> cpu(100, 1.0f);
-  const auto c = compare_floats(gpu, cpu, vplkit::parity::within_rel(1e-3));
+  const auto c = compare_floats(gpu, cpu, within_rel(1e-3));
   CHECK_FALSE(c.ok);
   CHECK(c.failures == 1);
   CHECK(c.worst_index == 99);
@@ -114,23 +107,73 @@ TEST_CASE("harness: comparison reports name the worst element and its input") {
   std::vector<float> gpu = cpu;
   gpu[2] = std::nextafter(std::nextafter(3.0f, 4.0f), 4.0f);  // 2 ulps off
   auto describe = [](std::size_t i) { return "x = " + std::to_string(i * 10); };
-  const auto loose = compare_floats(gpu, cpu, vplkit::parity::within_ulps(2), describe);
+  const auto loose = compare_floats(gpu, cpu, within_ulps(2), describe);
   CHECK(loose.ok);
   CHECK(loose.worst_index == 2);
   CHECK(loose.worst_ulps == 2.0);
   CHECK(loose.report.find("x = 20") != std::string::npos);
-  const auto tight = compare_floats(gpu, cpu, vplkit::parity::within_ulps(1), describe);
+  const auto tight = compare_floats(gpu, cpu, within_ulps(1), describe);
   CHECK_FALSE(tight.ok);
   CHECK(tight.report.find("FAIL: 1 of 4") != std::string::npos);
   // A relative bound alone cannot pass a wrong value next to a zero reference; abs can.
   gpu = cpu;
   gpu[3] = 1e-9f;
-  CHECK_FALSE(compare_floats(gpu, cpu, vplkit::parity::within_rel(1e-3)).ok);
-  CHECK(compare_floats(gpu, cpu, vplkit::parity::within_rel(1e-3) | vplkit::parity::within_abs(1e-8)).ok);
+  CHECK_FALSE(compare_floats(gpu, cpu, within_rel(1e-3)).ok);
+  CHECK(compare_floats(gpu, cpu, within_rel(1e-3) | within_abs(1e-8)).ok);
   // Integers: exact, with the input printed.
   const std::vector<std::uint32_t> want = {1, 2, 3};
   const std::vector<std::uint32_t> got = {1, 5, 3};
   const auto ints = compare_exact(got, want, describe, "indices");
   CHECK_FALSE(ints.ok);
   CHECK(ints.report.find("[1] gpu=5 cpu=2  input: x = 10") != std::string::npos);
+}
+
+TEST_CASE("harness: declared buffers, a per-item body, several outputs and a uniform block") {
+  struct params {  // std140 { vec4 scale; uint shift; } padded to 32 bytes
+    float4 scale;
+    std::uint32_t shift, pad[3];
+  };
+  const params p{{2.0f, 3.0f, 0.0f, 0.0f}, 7u, {0u, 0u, 0u}};
+  std::vector<float> u(300);
+  for (std::size_t i = 0; i < u.size(); ++i) u[i] = static_cast<float>(i) * 0.25f;
+  kernel_call k;
+  k.inputs = {input(4, u, "float u")};
+  k.uniforms = {uniform(2, p, "Params { vec4 scale; uint shift; }")};
+  k.output_glsl = "float twice";
+  k.more_outputs = {output_of<std::uint32_t>(5, "uint shifted"), output_of<float>(6, "float once", 2)};
+  k.body = "twice[i] = u[i] * scale.x;\n"
+           "  shifted[i] = i + shift;\n"
+           "  if (i < 2u) once[i] = scale.y;";
+  const kernel_outputs out = run_kernel(k, u.size(), sizeof(float));
+  const auto twice = out.get<float>(1);
+  const auto shifted = out.get<std::uint32_t>(5);
+  const auto once = out.get<float>(6);
+  std::vector<float> cpu_twice;
+  std::vector<std::uint32_t> cpu_shifted;
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    cpu_twice.push_back(u[i] * 2.0f);
+    cpu_shifted.push_back(std::uint32_t(i) + 7u);
+  }
+  VPLKIT_CHECK_PARITY(compare_floats(twice, cpu_twice, within_ulps(0), {}, "harness: main output"));
+  VPLKIT_CHECK_PARITY(compare_exact(shifted, cpu_shifted, {}, "harness: second output"));
+  VPLKIT_CHECK_PARITY(compare_floats(once, std::vector<float>{3.0f, 3.0f}, within_ulps(0), {},
+                                     "harness: third output, its own count"));
+  // Two buffers at one binding are refused before anything runs.
+  k.more_outputs.push_back(output_of<float>(4));
+  CHECK_THROWS_WITH(run_kernel(k, u.size(), sizeof(float)), Catch::Contains("binding 4"));
+}
+
+TEST_CASE("harness: a pack kernel through its parameter header and the group spread") {
+  // spread_groups: 65535 groups at most along x, the rest folded into y.
+  CHECK(vplkit_test::spread_groups(65535) == std::array<GLuint, 3>{65535u, 1u, 1u});
+  CHECK(vplkit_test::spread_groups(65536) == std::array<GLuint, 3>{65535u, 2u, 1u});
+  CHECK(vplkit_test::spread_groups(1000, 64) == std::array<GLuint, 3>{16u, 1u, 1u});
+  CHECK(vplkit_test::spread_groups(0) == std::array<GLuint, 3>{0u, 0u, 1u});
+  // pack_kernel compiles a kernel file once per (file, defines).
+  const auto& a = pack_kernel("vplkit/image/median_fill.comp");
+  const auto& b = pack_kernel("vplkit/image/median_fill.comp");
+  const auto& c = pack_kernel("vplkit/image/median_fill.comp", "#define VPLKIT_MEDIAN_FILL_LOCAL_SIZE 4\n");
+  CHECK(&a == &b);
+  CHECK(&a != &c);
+  CHECK(c.local_size()[0] == 4);
 }

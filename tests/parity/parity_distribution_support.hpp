@@ -1,12 +1,15 @@
 #pragma once
-// Helpers shared by parity_distribution_test.cpp and parity_distribution_build_slow.cpp (not a
-// test program: only parity_*.cpp files become programs): weight generators, the packing of
-// several distributions into the buffers the test kernels read, and a host driver for the GPU
-// CDF build kernel glsl/vplkit/distribution/cdf_build.comp with the comparisons that measure it.
+// Helpers shared by the distribution parity tests (not a test program: only parity_*.cpp files
+// become programs): the packing of several distributions into the buffers the test kernels read,
+// and a host driver for the GPU CDF build kernel glsl/vplkit/distribution/cdf_build.comp with the
+// comparisons that measure it. Weights: weight_generators.hpp (portable streams).
 #include <parity_harness.hpp>
+#include <weight_generators.hpp>
 
 #include <vplkit/distribution/cdf_build_params.h>
+#include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/face_roulette.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -27,80 +30,8 @@ namespace vplkit::parity::dist {
 
 using u32 = std::uint32_t;
 
-inline u32 bits_of(float f) {
-  u32 u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-inline float float_of(u32 u) {
-  float f = 0;
-  std::memcpy(&f, &u, sizeof f);
-  return f;
-}
-
-// splitmix64: fixed seeds, independent of the library's own RNG.
-struct test_rng {
-  std::uint64_t s;
-  explicit test_rng(std::uint64_t seed) : s(seed * 0x9E3779B97F4A7C15ull + 1) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  u32 next_u32() { return u32(next() >> 32); }
-  // The library's convention: (h >> 8) * 2^-24, on the 2^-24 grid.
-  float grid_float() { return float(next_u32() >> 8) * 0x1p-24f; }
-  double uniform() { return double(next() >> 11) * 0x1p-53; }
-  // A float in [0, 1) with uniformly random bits below 0x3F800000: every exponent equally often,
-  // so tiny values (and denormals) are well represented.
-  float any_unit_float() { return float_of(u32(next() % 0x3F800000ull)); }
-};
-
-// ---- weight generators --------------------------------------------------------------------------
-inline std::vector<float> random_weights(std::size_t n, std::uint64_t seed) {
-  test_rng g(seed);
-  std::vector<float> w(n);
-  for (float& x : w) x = float(g.uniform());
-  return w;
-}
-
-inline std::vector<float> exponential_weights(std::size_t n, std::uint64_t seed) {
-  test_rng g(seed);
-  std::vector<float> w(n);
-  for (float& x : w) x = float(-std::log(1.0 - g.uniform()));
-  return w;
-}
-
-// Log-uniform in [10^lo, 10^hi].
-inline std::vector<float> log_uniform_weights(std::size_t n, double lo, double hi,
-                                              std::uint64_t seed) {
-  test_rng g(seed);
-  std::vector<float> w(n);
-  for (float& x : w) x = float(std::pow(10.0, lo + (hi - lo) * g.uniform()));
-  return w;
-}
-
-// Random weights with zero runs at both ends (each `edge` long), zero runs of 1 to 3000 inside
-// (crossing block boundaries) and isolated zeros: about 40 % zeros between the edges.
-inline std::vector<float> zero_run_weights(std::size_t n, std::size_t edge, std::uint64_t seed) {
-  test_rng g(seed);
-  std::vector<float> w(n);
-  for (float& x : w) x = float(g.uniform()) + 0.01f;
-  for (std::size_t i = 0; i < edge && i < n; ++i) w[i] = 0.0f;
-  for (std::size_t i = n > edge ? n - edge : 0; i < n; ++i) w[i] = 0.0f;
-  for (std::size_t i = edge; i + edge < n; ++i) {
-    const u32 r = g.next_u32() % 2000u;
-    if (r < 1) {
-      const std::size_t len = 1 + g.next_u32() % 3000u;
-      for (std::size_t k = i; k < i + len && k < n; ++k) w[k] = 0.0f;
-      i += len;
-    } else if (r < 120) {
-      w[i] = 0.0f;
-    }
-  }
-  return w;
-}
+using vplkit_test::splitmix_rng;
+using namespace vplkit_test::portable;  // the weight generators
 
 // ---- several distributions in the buffers the test kernels read --------------------------------
 // std430 of vplkit_discrete_cdf { uint id; uint size; uint guide_size; float total; }.
@@ -110,17 +41,17 @@ struct gpu_desc {
 };
 static_assert(sizeof(gpu_desc) == 16, "std430 vplkit_discrete_cdf");
 
-// The accessors every test kernel uses (after #include "vplkit/distribution/discrete_cdf.glsl").
-inline const char* cdf_accessors() {
-  return R"(
-layout(std430, binding = 2) readonly buffer Cdfs { float cdfs[]; };
-layout(std430, binding = 3) readonly buffer Guides { uint guides[]; };
-layout(std430, binding = 4) readonly buffer Offsets { uvec2 offsets[]; };
-layout(std430, binding = 5) readonly buffer Descs { vplkit_discrete_cdf descs[]; };
-float vplkit_load_cdf(uint d, uint i) { return cdfs[offsets[d].x + i]; }
-uint vplkit_load_guide(uint d, uint j) { return guides[offsets[d].y + j]; }
-)";
-}
+// std430 of vplkit_defensive_mixture / vplkit_face_roulette (all members 4-byte scalars).
+struct gpu_mixture {
+  gpu_desc learned, fallback;
+  float effective_eps, fallback_scale, learned_scale;
+};
+static_assert(sizeof(gpu_mixture) == 44, "std430 vplkit_defensive_mixture");
+struct gpu_roulette {
+  gpu_desc front, back;
+  float b_front, b_back, front_scale, back_scale;
+};
+static_assert(sizeof(gpu_roulette) == 48, "std430 vplkit_face_roulette");
 
 struct packed_cdfs {
   std::vector<float> cdf;
@@ -140,10 +71,61 @@ struct packed_cdfs {
   u32 add(const discrete_cdf<float>& d) {
     return add_arrays(d.cdf(), d.guide(), u32(d.size()), u32(d.guide_size()), d.total());
   }
+  gpu_mixture add(const defensive_mixture<float>& m) {
+    const u32 l = add(m.learned());
+    const u32 f = add(m.fallback());
+    return {descs[l], descs[f], m.effective_eps(), m.fallback_scale(), m.learned_scale()};
+  }
+  gpu_roulette add(const face_roulette<float>& r) {
+    const u32 f = add(r.front());
+    const u32 b = add(r.back());
+    return {descs[f], descs[b], r.front_probability(), r.back_probability(), r.front_scale(), r.back_scale()};
+  }
   std::vector<ssbo> inputs() const {
     return {input(2, cdf), input(3, guide), input(4, offsets), input(5, descs)};
   }
 };
+
+// A kernel over packed CDFs: `include` (a pack file), the accessors over the packed buffers
+// (bindings 2 to 5), then `types`; the caller's buffers (bindings 0, 1 and 6 up), its output and
+// its per-item body (kernel_call).
+inline kernel_call cdf_kernel(const packed_cdfs& packed, const std::string& include, const std::string& types,
+                              std::vector<ssbo> buffers, const std::string& output_glsl, const std::string& body) {
+  std::vector<ssbo> inputs = packed.inputs();
+  for (ssbo& b : buffers) inputs.push_back(std::move(b));
+  return per_item("#include \"" + include + "\"\n" + R"(
+layout(std430, binding = 2) readonly buffer Cdfs { float cdfs[]; };
+layout(std430, binding = 3) readonly buffer Guides { uint guides[]; };
+layout(std430, binding = 4) readonly buffer Offsets { uvec2 offsets[]; };
+layout(std430, binding = 5) readonly buffer Descs { vplkit_discrete_cdf descs[]; };
+float vplkit_load_cdf(uint d, uint i) { return cdfs[offsets[d].x + i]; }
+uint vplkit_load_guide(uint d, uint j) { return guides[offsets[d].y + j]; }
+)" + types,
+                  std::move(inputs), output_glsl, body);
+}
+
+// The mixtures of the defensive-mixture tests: learned weights with holes (median-filled CDFs
+// leave zeros) and zero runs, a uniform fallback over "valid" entries (0/1 weights, 78 % valid,
+// drawn from g), as in docs/math.md section 3, defensive mixing; one mixture per eps, then an empty
+// learned part, a default fallback, and both empty.
+struct named_mixture {
+  std::string name;
+  defensive_mixture<float> m;
+};
+inline std::vector<named_mixture> test_mixtures(u32 n, std::uint64_t learned_seed, splitmix_rng& g,
+                                                const std::vector<float>& eps_list) {
+  std::vector<float> valid(n);
+  const discrete_cdf<float> learned(zero_run_weights(n, 2000, learned_seed));
+  for (float& v : valid) v = (g.next_u32() % 100u) < 78u ? 1.0f : 0.0f;
+  const discrete_cdf<float> fallback(valid), none;
+  const discrete_cdf<float> zeros(std::vector<float>(n, 0.0f));
+  std::vector<named_mixture> mixtures;
+  for (float eps : eps_list) mixtures.push_back({"eps = " + show(eps), defensive_mixture<float>(learned, fallback, eps)});
+  mixtures.push_back({"learned empty, eps = 0.1", defensive_mixture<float>(zeros, fallback, 0.1f)});
+  mixtures.push_back({"fallback default, eps = 0.1", defensive_mixture<float>(learned, none, 0.1f)});
+  mixtures.push_back({"both empty", defensive_mixture<float>(zeros, none, 0.3f)});
+  return mixtures;
+}
 
 // ---- the GPU build ------------------------------------------------------------------------------
 struct build_options {
@@ -173,22 +155,12 @@ struct build_result {
 };
 
 inline const gl::program& build_program(const build_options& o, int pass) {
-  static auto* cache = new std::map<std::string, gl::program>();
   std::ostringstream pre;
   pre << "#define VPLKIT_CDF_BUILD_LOCAL_SIZE " << o.local_size << "\n"
       << "#define VPLKIT_CDF_BUILD_ITEMS " << o.items << "\n";
   if (o.float_float) pre << "#define VPLKIT_CDF_BUILD_FLOAT_FLOAT\n";
   if (pass > 0) pre << "#define VPLKIT_CDF_BUILD_PASS " << pass << "\n";
-  const std::string key = pre.str();
-  auto it = cache->find(key);
-  if (it == cache->end()) {
-    it = cache
-             ->emplace(key, gl::program::compute_with_includes(
-                                "#version 430\n#include \"vplkit/distribution/cdf_build.comp\"\n",
-                                "cdf_build.comp", {gl::glsl_source_dir()}, key))
-             .first;
-  }
-  return it->second;
+  return pack_kernel("vplkit/distribution/cdf_build.comp", pre.str());
 }
 
 // Builds `count` distributions of n weights each (weights.size() == count * n).
@@ -207,13 +179,12 @@ inline build_result gpu_build(const std::vector<float>& weights, u32 n, u32 coun
   gl::buffer blk = gl::buffer::filled(std::size_t(count) * blocks * sizeof(vplkit::gpu::cdf_build_block), 0xFF);
   gl::buffer info = gl::buffer::filled(std::size_t(count) * sizeof(build_info), 0xFF);
   gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
-  w.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
-  cdf.bind(VPLKIT_CDF_BUILD_BINDING_CDF);
-  guide.bind(VPLKIT_CDF_BUILD_BINDING_GUIDE);
-  blk.bind(VPLKIT_CDF_BUILD_BINDING_BLOCKS);
-  info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
-  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_CDF_BUILD_BINDING_PARAMS, params.id());
-  gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
+  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_WEIGHTS, w),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_CDF, cdf),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_GUIDE, guide),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_BLOCKS, blk),
+                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_INFO, info),
+                     vplkit_test::uniform_at(VPLKIT_CDF_BUILD_BINDING_PARAMS, params)});
   for (int pass = 1; pass <= 6; ++pass) build_program(o, o.program_per_pass ? pass : 0);
   glFinish();
   const auto t0 = std::chrono::steady_clock::now();
@@ -313,6 +284,27 @@ inline std::string describe(const cdf_difference& d) {
     << " (" << d.max_ulps << " ulps, at cdf[" << d.worst << "]), u mapped differently "
     << d.disagreement << ", TV " << d.tv;
   return s.str();
+}
+
+// The bounds of the build tests (parity_distribution_build_test.cpp explains them): every value
+// within 1 ulp of the C++ build, at most 64 values differing, at most 64 * 2^-24 of [0, 1) sampled
+// differently; the kernel's promises (check_invariants), total within 1 ulp, and where the cdfs
+// agree the guides too. Returns the measured difference.
+constexpr std::size_t build_max_differing = 64;
+constexpr double build_max_disagreement = 64 * 0x1p-24;
+
+inline cdf_difference check_build_bounds(const build_result& g, const std::vector<float>& w,
+                                         const discrete_cdf<float>& c) {
+  const u32 n = u32(w.size());
+  CHECK(check_invariants(g.cdf.data(), g.guide.data(), w.data(), n, c.empty()) == "");
+  CHECK(ulp_distance(g.info[0].total, c.total()) <= 1.0);
+  const cdf_difference d = compare_cdfs(g.cdf.data(), c.cdf().data(), n);
+  CHECK(d.max_ulps <= 1.0);
+  CHECK(d.differing <= build_max_differing);
+  CHECK(d.disagreement <= build_max_disagreement);
+  // Where the cdfs are the same, so must the guides be (both are functions of the cdf).
+  if (d.differing == 0) CHECK(g.guide == c.guide());
+  return d;
 }
 
 // float(P_i / total) from the weights summed in double with Neumaier compensation (the C++

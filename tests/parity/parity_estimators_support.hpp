@@ -30,24 +30,6 @@ namespace vplkit::parity::est {
 
 using v3f = vplkit::vec3<float>;
 
-struct float4 {
-  float x, y, z, w;
-};
-struct int4 {
-  std::int32_t x, y, z, w;
-};
-inline float4 f4(v3f v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
-
-inline std::string show3(v3f v) {
-  return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
-}
-
-inline std::uint32_t bits_of(float f) {
-  std::uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-
 // std430 parameter block, mirrored in the prelude.
 struct scene_params {
   float4 light_position, light_intensity, axis_x, axis_y, axis_z;
@@ -104,23 +86,19 @@ struct scene_fixture {
     }
     std::vector<std::uint32_t> words = grid.words();
     if (words.empty()) words.push_back(0);
-    std::vector<float4> gb;
-    for (std::size_t i = 0; i < gbuffer.position.size(); ++i) {
-      gb.push_back(f4(gbuffer.position[i]));
-      gb.push_back(f4(gbuffer.normal[i]));
-      gb.push_back(f4(gbuffer.albedo[i]));
-    }
-    return {input(2, pos), input(3, nor), input(4, alb), input(6, words), input(8, gb)};
+    return {input(2, pos), input(3, nor), input(4, alb), input(6, words),
+            input(8, vplkit_test::surfels(gbuffer.position, gbuffer.normal, gbuffer.albedo))};
   }
 };
 
 inline std::vector<float4> pack_points(const std::vector<named_point>& pts) {
-  std::vector<float4> out;
+  std::vector<v3f> position, normal, albedo;
   for (const auto& p : pts) {
-    out.push_back(f4(p.gp.position));
-    out.push_back(f4(p.gp.normal));
-    out.push_back(f4(p.gp.albedo));
+    position.push_back(p.gp.position);
+    normal.push_back(p.gp.normal);
+    albedo.push_back(p.gp.albedo);
   }
+  std::vector<float4> out = vplkit_test::surfels(position, normal, albedo);
   if (out.empty()) out.push_back({0, 0, 0, 0});
   return out;
 }
@@ -156,5 +134,18 @@ vplkit_gather_point load_point(uint i) {
   return vplkit_gather_point(points[3u * i].xyz, points[3u * i + 1u].xyz, points[3u * i + 2u].xyz);
 }
 )";
+
+// A kernel over the fixture's scene: the prelude, then `source`; the parameter block `p`
+// (binding 5), the gather points (7) and `extra` inputs (9 and up); the output (binding 1) and the
+// per-item body as per_item() takes them.
+inline kernel_call scene_kernel(const scene_fixture& f, const std::string& source, const scene_params& p,
+                                const std::vector<named_point>& pts, std::vector<ssbo> extra,
+                                const std::string& output_glsl, const std::string& body) {
+  std::vector<ssbo> inputs = f.inputs();
+  inputs.push_back(input(5, std::vector<scene_params>{p}));
+  inputs.push_back(input(7, pack_points(pts)));
+  for (auto& e : extra) inputs.push_back(std::move(e));
+  return per_item(std::string(scene_prelude) + source, std::move(inputs), output_glsl, body);
+}
 
 }  // namespace vplkit::parity::est

@@ -51,16 +51,10 @@
 #include <string>
 #include <vector>
 
-namespace {
-
+using namespace vplkit::parity;
 using namespace vplkit::parity::est;
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::input;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_rel;
-using vplkit::parity::within_ulps;
+
+namespace {
 
 constexpr std::uint32_t seed = 0x5eed1234u;
 
@@ -226,9 +220,9 @@ struct est_out {
   std::uint32_t counter, key, pad0, pad1;
 };
 
-const char* out_block = R"(
+// Every kernel's result type and visibility by kind (0 always, 1 voxel, 2 voxel one-sided).
+const char* est_types = R"(
 struct est_out { vec4 value; uvec4 aux; };
-layout(std430, binding = 1) writeonly buffer Out { est_out result[]; };
 vplkit_visibility make_visibility(int kind) {
   if (kind == 1) return vplkit_make_voxel_visibility(load_grid());
   if (kind == 2) return vplkit_make_voxel_visibility_one_sided(load_grid());
@@ -236,22 +230,20 @@ vplkit_visibility make_visibility(int kind) {
 }
 )";
 
+// A kernel of this test: `source` (includes, helpers) and the statements for gather point `i`.
+struct est_kernel {
+  std::string source, body;
+};
+est_kernel with_distributions(const est_kernel& k) { return {std::string(distribution_block) + k.source, k.body}; }
+
 template <class Out>
-std::vector<Out> run_kernel(const std::string& body, std::size_t count, const scene_params& p,
-                            const std::vector<named_point>& pts, std::vector<vplkit::parity::ssbo> extra,
-                            const std::string& name, const std::string& head = out_block,
-                            const std::string& defines = "") {
-  const scene_fixture& f = fixture();
-  vplkit::parity::kernel_call call;
+std::vector<Out> run_kernel(const est_kernel& k, std::size_t count, const scene_params& p,
+                            const std::vector<named_point>& pts, std::vector<ssbo> extra, const std::string& name,
+                            const std::string& output_glsl = "est_out result", const std::string& defines = "") {
+  kernel_call call = scene_kernel(fixture(), est_types + k.source, p, pts, std::move(extra), output_glsl, k.body);
   call.name = name;
-  call.source = std::string(scene_prelude) + head + body;
-  call.inputs = f.inputs();
-  call.inputs.push_back(input(5, std::vector<scene_params>{p}));
-  call.inputs.push_back(input(7, pack_points(pts)));
-  for (auto& e : extra) call.inputs.push_back(std::move(e));
-  call.output_binding = 1;
   call.defines = defines;
-  return vplkit::parity::run_compute<Out>(call, count);
+  return run_compute<Out>(call, count);
 }
 
 // ---- flip detection: replayed samples evaluated on both sides ---------------------------------
@@ -288,15 +280,12 @@ std::set<std::size_t> flipped_points(const replay& r, const std::vector<named_po
   p.fp.y = tol;
   p.ip.y = vis_kind;
   if (!r.rays.empty()) {
-    const std::string body = R"(
+    const est_kernel k = {R"(
 #include "vplkit/estimators/gathering_estimator.glsl"
 struct ray_check { uint point; float u0; float u1; uint pad; };
-layout(std430, binding = 9) readonly buffer Rays { ray_check rays[]; };
 struct check_out { ivec4 t; vec4 value; };
-layout(std430, binding = 1) writeonly buffer Out { check_out result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                          R"(
   vplkit_gather_point gp = load_point(rays[i].point);
   vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
   vec3 local = vplkit_sample_cosine_hemisphere(vec2(rays[i].u0, rays[i].u1));
@@ -304,10 +293,9 @@ void main() {
   if (local.z > 0.0)
     g = vplkit_trace_gathering_ray(load_view(), gp.position, gp.normal, vplkit_to_world(frame, local),
                                    vplkit_make_voxel_tracer(load_grid()), fp.y);
-  result[i] = check_out(ivec4(g.texel, g.lit ? 1 : 0, 0, 0), vec4(g.radiance, 0.0));
-}
-)";
-    const auto gpu = run_kernel<check_out>(body, r.rays.size(), p, pts, {input(9, r.rays)}, "ray_check.comp", "");
+  result[i] = check_out(ivec4(g.texel, g.lit ? 1 : 0, 0, 0), vec4(g.radiance, 0.0));)"};
+    const auto gpu = run_kernel<check_out>(k, r.rays.size(), p, pts, {input(9, r.rays, "ray_check rays")},
+                                           "ray_check.comp", "check_out result");
     const vplkit::voxel_tracer<float> tracer{f.grid.view()};
     for (std::size_t i = 0; i < r.rays.size(); ++i) {
       const auto& gp = pts[r.rays[i].point].gp;
@@ -323,23 +311,19 @@ void main() {
     }
   }
   if (!r.pairs.empty()) {
-    const std::string body = R"(
+    const est_kernel k = {R"(
 struct pair_check { uint point; int texel; uint pad0; uint pad1; };
-layout(std430, binding = 9) readonly buffer Pairs { pair_check pairs[]; };
 struct check_out { ivec4 t; vec4 value; };
-layout(std430, binding = 1) writeonly buffer Out { check_out result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                          R"(
   vplkit_gather_point gp = load_point(pairs[i].point);
   vplkit_vpl v = vplkit_dprsm_view_vpl_at(load_view(), pairs[i].texel);
   bool vis = vplkit_visibility_test(ip.y == 2 ? vplkit_make_voxel_visibility_one_sided(load_grid())
                                                 : vplkit_make_voxel_visibility(load_grid()),
                                     gp.position, gp.normal, v.position, v.normal);
-  result[i] = check_out(ivec4(pairs[i].texel, vis ? 1 : 0, 0, 0), vec4(0.0));
-}
-)";
-    const auto gpu = run_kernel<check_out>(body, r.pairs.size(), p, pts, {input(9, r.pairs)}, "pair_check.comp", "");
+  result[i] = check_out(ivec4(pairs[i].texel, vis ? 1 : 0, 0, 0), vec4(0.0));)"};
+    const auto gpu = run_kernel<check_out>(k, r.pairs.size(), p, pts, {input(9, r.pairs, "pair_check pairs")},
+                                           "pair_check.comp", "check_out result");
     const vplkit::voxel_visibility<float> vis{f.grid.view()};
     const vplkit::voxel_visibility_one_sided<float> vis1{f.grid.view()};
     for (std::size_t i = 0; i < r.pairs.size(); ++i) {
@@ -479,20 +463,14 @@ TEST_CASE("exhaustive_vpl_sum: GPU (compensated float) vs C++ (double sum)") {
   // Whole sums, V = 1: 2 R^2 loop iterations per invocation (within llvmpipe's loop budget).
   {
     const auto pts = gather_points(1);
-    const std::string body = R"(
-#include "vplkit/estimators/vpl_sum.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+    const est_kernel k = {R"(#include "vplkit/estimators/vpl_sum.glsl")", R"(
   vec3 s = vplkit_exhaustive_vpl_sum(load_point(i), load_view(), make_visibility(ip.y), fp.x);
-  result[i] = est_out(vec4(s, 0.0), uvec4(0u));
-}
-)";
+  result[i] = est_out(vec4(s, 0.0), uvec4(0u));)"};
     for (float dmin : {0.05f, 0.0f}) {
       scene_params p = f.params();
       p.ip.y = 0;
       p.fp.x = dmin;
-      const auto gpu = run_kernel<est_out>(body, pts.size(), p, pts, {}, "exhaustive_vpl_sum.comp");
+      const auto gpu = run_kernel<est_out>(k, pts.size(), p, pts, {}, "exhaustive_vpl_sum.comp");
       estimate_pair e;
       e.gpu = values_of(gpu);
       for (const auto& pt : pts) e.cpu.push_back(vplkit::exhaustive_vpl_sum(pt.gp, view, vplkit::always_visible{}, dmin));
@@ -507,19 +485,13 @@ void main() {
   {
     const auto pts = gather_points(3);
     const int chunk = 128, chunks = (view.texel_count() + chunk - 1) / chunk;
-    const std::string body = R"(
-#include "vplkit/estimators/vpl_sum.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+    const est_kernel k = {R"(#include "vplkit/estimators/vpl_sum.glsl")", R"(
   uint p = i / uint(ip.z), c = i % uint(ip.z);
   vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
   vplkit_exhaustive_vpl_sum_range(load_point(p), load_view(), st, int(c) * ip.w, int(c + 1u) * ip.w,
                                   make_visibility(ip.y), fp.x);
   vec3 s = vplkit_exhaustive_vpl_sum_finish(st);
-  result[i] = est_out(vec4(s, 0.0), uvec4(0u));
-}
-)";
+  result[i] = est_out(vec4(s, 0.0), uvec4(0u));)"};
     for (int kind : {1, 2}) {
       for (float dmin : {0.05f, 0.0f}) {
         scene_params p = f.params();
@@ -527,7 +499,7 @@ void main() {
         p.ip.z = chunks;
         p.ip.w = chunk;
         p.fp.x = dmin;
-        const auto gpu = run_kernel<est_out>(body, pts.size() * std::size_t(chunks), p, pts, {},
+        const auto gpu = run_kernel<est_out>(k, pts.size() * std::size_t(chunks), p, pts, {},
                                              "exhaustive_vpl_sum_range.comp");
         estimate_pair e;
         for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -562,55 +534,30 @@ void main() {
 namespace {
 
 // The estimator kernels (also run with zero intensity by the hard-case test).
-const char* const k_vpl_sampling = R"(
-#include "vplkit/estimators/vpl_sampling_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+const est_kernel k_vpl_sampling = {R"(#include "vplkit/estimators/vpl_sampling_estimator.glsl")", R"(
   vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
   vec3 s = vplkit_estimate_vpl_sampling(load_point(i), load_view(), uint(ip.y), rng, ip.w,
                                         vplkit_make_voxel_visibility(load_grid()), fp.x);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));
-}
-)";
+  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));)"};
 
-const char* const k_local = R"(
-#include "vplkit/estimators/local_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+const est_kernel k_local = {R"(#include "vplkit/estimators/local_estimator.glsl")", R"(
   vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
   vec3 s = vplkit_estimate_local(load_point(i), load_view(), uint(ip2.x), ip2.y, rng, ip.w,
                                  vplkit_make_voxel_visibility(load_grid()), fp.x, ip.y);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));
-}
-)";
+  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));)"};
 
-const char* const k_gathering = R"(
-#include "vplkit/estimators/gathering_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+const est_kernel k_gathering = {R"(#include "vplkit/estimators/gathering_estimator.glsl")", R"(
   vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
   vec3 s = vplkit_estimate_gathering(load_point(i), load_view(), rng, ip.w,
                                      vplkit_make_voxel_tracer(load_grid()), fp.y);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));
-}
-)";
+  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));)"};
 
-const char* const k_mis = R"(
-#include "vplkit/estimators/mis_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+const est_kernel k_mis = {R"(#include "vplkit/estimators/mis_estimator.glsl")", R"(
   vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
   vec3 s = vplkit_estimate_mis(load_point(i), load_view(), uint(ip.y), rng, ip2.x, ip2.y,
                                vplkit_make_voxel_tracer(load_grid()), vplkit_make_voxel_visibility(load_grid()),
                                fp.y, ip.w);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));
-}
-)";
-
+  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, rng.key, 0u, 0u));)"};
 
 // A C++ distribution behind std::function, so one loop runs every kind through the templates.
 struct dist_case {
@@ -656,7 +603,7 @@ std::vector<dist_case> vpl_distribution_cases(distribution_pool& pool) {
   return cases;
 }
 
-std::vector<vplkit::parity::ssbo> pool_inputs(const distribution_pool& pool, const std::vector<dist_record>& recs) {
+std::vector<ssbo> pool_inputs(const distribution_pool& pool, const std::vector<dist_record>& recs) {
   return {input(9, pool.data()), input(10, recs)};
 }
 
@@ -685,7 +632,7 @@ TEST_CASE("estimate_vpl_sampling: every distribution kind, voxel visibility, sam
         p.ip.z = int(seed);
         p.ip.w = n;
         p.fp.x = dmin;
-        const auto gpu = run_kernel<est_out>(std::string(distribution_block) + k_vpl_sampling, pts.size(), p, pts,
+        const auto gpu = run_kernel<est_out>(with_distributions(k_vpl_sampling), pts.size(), p, pts,
                                              pool_inputs(pool, recs), "estimate_vpl_sampling.comp");
         estimate_pair e;
         e.gpu = values_of(gpu);
@@ -763,7 +710,7 @@ TEST_CASE("estimate_local: 2 x 2 region CDFs (one empty), balance and average") 
       p.ip2.x = ru.first;
       p.ip2.y = ru.count;
       p.fp.x = 0.05f;
-      const auto gpu = run_kernel<est_out>(std::string(distribution_block) + k_local, pts.size(), p, pts,
+      const auto gpu = run_kernel<est_out>(with_distributions(k_local), pts.size(), p, pts,
                                            pool_inputs(pool, recs), "estimate_local.comp");
       estimate_pair e;
       e.gpu = values_of(gpu);
@@ -875,7 +822,7 @@ TEST_CASE("estimate_mis: solid_angle and as_published, voxel tracer and visibili
         p.ip2.x = c.dirs;
         p.ip2.y = c.vpls;
         p.fp.y = tol;
-        const auto gpu = run_kernel<est_out>(std::string(distribution_block) + k_mis, pts.size(), p, pts,
+        const auto gpu = run_kernel<est_out>(with_distributions(k_mis), pts.size(), p, pts,
                                              pool_inputs(pool, recs), "estimate_mis.comp");
         estimate_pair e;
         e.gpu = values_of(gpu);
@@ -963,22 +910,22 @@ TEST_CASE("estimators: zero intensity gives exactly +0, user visibility and trac
     const vplkit::voxel_tracer<float> tracer{f.grid.view()};
     struct run {
       const char* name;
-      const char* kernel;
+      const est_kernel* kernel;
       bool dists;
       int mode;
     };
-    for (const run& r : {run{"vpl_sampling", k_vpl_sampling, true, 0}, run{"local", k_local, true, 0},
-                         run{"gathering", k_gathering, false, 0}, run{"mis solid_angle", k_mis, true, 0},
-                         run{"mis as_published", k_mis, true, 1}}) {
+    for (const run& r : {run{"vpl_sampling", &k_vpl_sampling, true, 0}, run{"local", &k_local, true, 0},
+                         run{"gathering", &k_gathering, false, 0}, run{"mis solid_angle", &k_mis, true, 0},
+                         run{"mis as_published", &k_mis, true, 1}}) {
       scene_params q = p;
       if (std::string(r.name).rfind("mis", 0) == 0) {
         q.ip.w = r.mode;  // MIS: mode, n_dirs 8, n_vpls 8
         q.ip2.x = 8;
         q.ip2.y = 8;
       }
-      const auto gpu = r.dists ? run_kernel<est_out>(std::string(distribution_block) + r.kernel, pts.size(), q, pts,
+      const auto gpu = r.dists ? run_kernel<est_out>(with_distributions(*r.kernel), pts.size(), q, pts,
                                                      pool_inputs(pool, recs), std::string(r.name) + ".comp")
-                               : run_kernel<est_out>(r.kernel, pts.size(), q, pts, {}, std::string(r.name) + ".comp");
+                               : run_kernel<est_out>(*r.kernel, pts.size(), q, pts, {}, std::string(r.name) + ".comp");
       std::vector<std::uint32_t> g, c;
       for (std::size_t i = 0; i < pts.size(); ++i) {
         vplkit::counter_rng rng = vplkit::make_counter_rng(seed, std::uint32_t(i));
@@ -1007,7 +954,7 @@ TEST_CASE("estimators: zero intensity gives exactly +0, user visibility and trac
   {
     // The macros must precede the first include of visibility_callables.glsl (the prelude's).
     const std::string defines = "#define VPLKIT_USER_VISIBILITY\n#define VPLKIT_USER_TRACER\n";
-    const std::string body = R"(
+    const est_kernel hooks = {R"(
 #include "vplkit/estimators/gathering_estimator.glsl"
 bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
   return vplkit_voxel_visible_two_sided(load_grid(), x, n_x, y, n_y);
@@ -1016,9 +963,8 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {  // what the voxe
   vplkit_dda_trace_result r = vplkit_dda_trace_hit_point(load_grid(), vplkit_surface_ray_origin(load_grid(), x, n_x), dir);
   return vplkit_ray_hit(r.hit, r.hit ? r.point : vec3(0.0));
 }
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                              R"(
   vplkit_gather_point gp = load_point(i);
   vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
   vplkit_voxel_tracer tu = vplkit_make_voxel_tracer(load_grid());
@@ -1029,26 +975,18 @@ void main() {
   vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
   vplkit_exhaustive_vpl_sum_range(gp, load_view(), st, 0, 128, vu, 0.05);
   vec3 b = vplkit_exhaustive_vpl_sum_finish(st);
-  result[i] = est_out(vec4(a.x, a.y, a.z, b.x), uvec4(rng.counter, floatBitsToUint(b.y), floatBitsToUint(b.z), 0u));
-}
-)";
-    const std::string builtin = R"(
-#include "vplkit/estimators/vpl_sum.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  result[i] = est_out(vec4(a.x, a.y, a.z, b.x), uvec4(rng.counter, floatBitsToUint(b.y), floatBitsToUint(b.z), 0u));)"};
+    const est_kernel builtin = {R"(#include "vplkit/estimators/vpl_sum.glsl")", R"(
   vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
   vplkit_exhaustive_vpl_sum_range(load_point(i), load_view(), st, 0, 128, make_visibility(ip.y), 0.05);
   vec3 b = vplkit_exhaustive_vpl_sum_finish(st);
-  result[i] = est_out(vec4(b, 0.0), uvec4(0u));
-}
-)";
+  result[i] = est_out(vec4(b, 0.0), uvec4(0u));)"};
     scene_params p = f.params();
     p.ip.y = 1;
     p.ip.z = int(seed);
     p.ip.w = 16;
     p.fp.y = gathering_tolerance();
-    const auto user = run_kernel<est_out>(body, pts.size(), p, pts, {}, "user_hooks.comp", out_block, defines);
+    const auto user = run_kernel<est_out>(hooks, pts.size(), p, pts, {}, "user_hooks.comp", "est_out result", defines);
     const auto gath = run_kernel<est_out>(k_gathering, pts.size(), p, pts, {}, "estimate_gathering.comp");
     const auto sum = run_kernel<est_out>(builtin, pts.size(), p, pts, {}, "exhaustive_range.comp");
     std::vector<std::uint32_t> g, c;
@@ -1074,16 +1012,14 @@ TEST_CASE("range forms: each GLSL estimate split into ranges equals its one-shot
   const auto cases = vpl_distribution_cases(pool);
   std::vector<dist_record> recs;
   for (const auto& c : cases) recs.push_back(c.record);
-  const std::string body = R"(
+  const est_kernel ranges = {R"(
 #include "vplkit/estimators/gathering_estimator.glsl"
 #include "vplkit/estimators/local_estimator.glsl"
 #include "vplkit/estimators/mis_estimator.glsl"
 #include "vplkit/estimators/vpl_sampling_estimator.glsl"
 struct range_out { vec4 one[5]; vec4 split[5]; };
-layout(std430, binding = 1) writeonly buffer Out { range_out result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                             R"(
   vplkit_gather_point gp = load_point(i);
   vplkit_dprsm_view view = load_view();
   vplkit_visibility vis = vplkit_make_voxel_visibility(load_grid());
@@ -1137,9 +1073,7 @@ void main() {
   result[i].one[4] = vec4(vplkit_exhaustive_vpl_sum_finish(whole), 0.0);
   vplkit_vpl_sum_state parts = vplkit_make_vpl_sum_state();
   for (int t = 0; t < 120; t += 40) vplkit_exhaustive_vpl_sum_range(gp, view, parts, t, t + 40, vis, dmin);
-  result[i].split[4] = vec4(vplkit_exhaustive_vpl_sum_finish(parts), 0.0);
-}
-)";
+  result[i].split[4] = vec4(vplkit_exhaustive_vpl_sum_finish(parts), 0.0);)"};
   struct range_out {
     float4 one[5], split[5];
   };
@@ -1152,8 +1086,8 @@ void main() {
       p.ip2 = {6, 11, cut[0], cut[1]};
       p.fp.x = 0.05f;
       p.fp.y = gathering_tolerance();
-      const auto gpu = run_kernel<range_out>(std::string(distribution_block) + body, pts.size(), p, pts,
-                                             pool_inputs(pool, recs), "estimator_ranges.comp", "");
+      const auto gpu = run_kernel<range_out>(with_distributions(ranges), pts.size(), p, pts, pool_inputs(pool, recs),
+                                             "estimator_ranges.comp", "range_out result");
       std::vector<std::uint32_t> one, split;
       std::size_t nonzero = 0;  // the comparison must not be one of zeros
       for (const auto& r : gpu)

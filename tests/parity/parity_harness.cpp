@@ -19,6 +19,17 @@ gl::headless_context& context() {
   return *ctx;
 }
 
+bool software_renderer() {
+  context();
+  static const bool sw = gl::is_software_renderer();
+  return sw;
+}
+
+const gl::program& pack_kernel(const std::string& file, const std::string& defines) {
+  context();
+  return vplkit_test::pack_kernel(file, defines);
+}
+
 namespace {
 
 std::map<std::string, gl::program>& program_cache() {
@@ -26,46 +37,67 @@ std::map<std::string, gl::program>& program_cache() {
   return *cache;
 }
 
-}  // namespace
-
-std::vector<unsigned char> run_compute_bytes(const kernel_call& call, std::size_t count,
-                                             std::size_t out_bytes) {
-  context();
+void check_call(const kernel_call& call) {
   for (unsigned l : call.local_size) {
     if (l == 0) throw std::invalid_argument("run_compute: local_size components must be >= 1");
   }
-  {
-    std::istringstream lines(call.source);
-    std::string line;
-    while (std::getline(lines, line)) {
-      const auto first = line.find_first_not_of(" \t");
-      if (first != std::string::npos && line.compare(first, 8, "#version") == 0) {
-        throw std::invalid_argument("run_compute: " + call.name +
-                                    " has a #version line; the harness writes it (kernel_call::version)");
+  std::istringstream lines(call.source);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const auto first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line.compare(first, 8, "#version") == 0) {
+      throw std::invalid_argument("run_compute: " + call.name +
+                                  " has a #version line; the harness writes it (kernel_call::version)");
+    }
+  }
+  std::vector<unsigned> bindings = {call.output_binding};
+  for (const auto& o : call.more_outputs) bindings.push_back(o.binding);
+  for (const auto& in : call.inputs) bindings.push_back(in.binding);
+  for (std::size_t a = 0; a < bindings.size(); ++a) {
+    for (std::size_t b = a + 1; b < bindings.size(); ++b) {
+      if (bindings[a] == bindings[b]) {
+        throw std::invalid_argument("run_compute: two buffers of " + call.name + " at binding " +
+                                    std::to_string(bindings[a]));
       }
     }
   }
-  for (std::size_t a = 0; a < call.inputs.size(); ++a) {
-    if (call.inputs[a].binding == call.output_binding) {
-      throw std::invalid_argument("run_compute: input binding " +
-                                  std::to_string(call.inputs[a].binding) +
-                                  " is also the output binding");
-    }
-    for (std::size_t b = a + 1; b < call.inputs.size(); ++b) {
-      if (call.inputs[a].binding == call.inputs[b].binding) {
-        throw std::invalid_argument("run_compute: two inputs at binding " +
-                                    std::to_string(call.inputs[a].binding));
-      }
-    }
-  }
+}
 
+std::string buffer_declaration(const std::string& access, unsigned binding, const std::string& glsl) {
+  if (glsl.empty()) return {};
+  const std::string b = std::to_string(binding);
+  return "layout(std430, binding = " + b + ") " + access + " buffer parity_buffer_" + b + " { " + glsl +
+         "[]; };\n";
+}
+
+// The kernel text after the harness's preamble: the source, the declared buffers, main().
+std::string kernel_text(const kernel_call& call) {
+  std::string text = call.version + "\n" + call.source + "\n";
+  for (const auto& in : call.inputs) text += buffer_declaration("readonly", in.binding, in.glsl);
+  text += buffer_declaration("writeonly", call.output_binding, call.output_glsl);
+  for (const auto& o : call.more_outputs) text += buffer_declaration("writeonly", o.binding, o.glsl);
+  for (const auto& u : call.uniforms) {
+    if (!u.glsl.empty()) text += "layout(std140, binding = " + std::to_string(u.binding) + ") uniform " + u.glsl + ";\n";
+  }
+  if (!call.body.empty()) {
+    text += "void main() {\n  uint i = gl_GlobalInvocationID.x;\n  if (i >= VPLKIT_PARITY_COUNT) return;\n" +
+            call.body + "\n}\n";
+  }
+  return text;
+}
+
+}  // namespace
+
+kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_t out_element_size) {
+  context();
+  check_call(call);
   const std::string preamble =
       "#define VPLKIT_PARITY_COUNT " + std::to_string(count) + "u\n" + call.defines +
       (call.defines.empty() || call.defines.back() == '\n' ? "" : "\n") +
       "layout(local_size_x = " + std::to_string(call.local_size[0]) +
       ", local_size_y = " + std::to_string(call.local_size[1]) +
       ", local_size_z = " + std::to_string(call.local_size[2]) + ") in;\n";
-  const std::string source = call.version + "\n" + call.source;
+  const std::string source = kernel_text(call);
   const std::string key = preamble + '\x01' + source;
   auto& cache = program_cache();
   auto it = cache.find(key);
@@ -75,46 +107,41 @@ std::vector<unsigned char> run_compute_bytes(const kernel_call& call, std::size_
                                                               {gl::glsl_source_dir()}, preamble))
              .first;
   }
-  const gl::program& prog = it->second;
 
-  std::vector<gl::buffer> inputs;
-  inputs.reserve(call.inputs.size());
+  // Inputs, outputs (0xFF-filled) and uniform blocks, each at its binding.
+  std::vector<gl::buffer> buffers;
+  std::vector<std::pair<unsigned, std::size_t>> outputs = {{call.output_binding, count * out_element_size}};
+  for (const auto& o : call.more_outputs) outputs.push_back({o.binding, (o.count ? o.count : count) * o.element_size});
+  buffers.reserve(call.inputs.size() + outputs.size() + call.uniforms.size());
   for (const auto& in : call.inputs) {
-    inputs.push_back(gl::buffer::from_bytes(in.bytes.data(), in.bytes.size()));
-    inputs.back().bind(in.binding);
+    buffers.push_back(gl::buffer::from_bytes(in.bytes.data(), in.bytes.size()));
+    vplkit_test::bind({vplkit_test::storage_at(in.binding, buffers.back())});
   }
-  gl::buffer out = gl::buffer::filled(out_bytes, 0xFF);
-  out.bind(call.output_binding);
+  const std::size_t first_output = buffers.size();
+  for (const auto& o : outputs) {
+    buffers.push_back(gl::buffer::filled(o.second, 0xFF));
+    vplkit_test::bind({vplkit_test::storage_at(o.first, buffers.back())});
+  }
+  for (const auto& u : call.uniforms) {
+    buffers.push_back(gl::buffer::from_bytes(u.bytes.data(), u.bytes.size()));
+    vplkit_test::bind({vplkit_test::uniform_at(u.binding, buffers.back())});
+  }
 
   std::array<unsigned, 3> groups = call.groups;
   if (groups[0] == 0 && groups[1] == 0 && groups[2] == 0) {
     groups = {gl::groups_for(count, static_cast<GLint>(call.local_size[0])), 1, 1};
   }
-  gl::dispatch(prog, groups[0], groups[1], groups[2]);
-  std::vector<unsigned char> bytes(out_bytes);
-  out.read_bytes(bytes.data(), 0, out_bytes);
-  return bytes;
+  gl::dispatch(it->second, groups[0], groups[1], groups[2]);
+  kernel_outputs result;
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    std::vector<unsigned char>& bytes = result.bytes[outputs[k].first];
+    bytes.resize(outputs[k].second);
+    buffers[first_output + k].read_bytes(bytes.data(), 0, bytes.size());
+  }
+  return result;
 }
 
 // ---- formatting ---------------------------------------------------------------------------------
-std::string show(float v) {
-  std::uint32_t bits = 0;
-  std::memcpy(&bits, &v, sizeof bits);
-  std::ostringstream s;
-  s << std::setprecision(9) << v << " (0x" << std::hex << std::setw(8) << std::setfill('0') << bits
-    << ")";
-  return s.str();
-}
-
-std::string show(double v) {
-  std::ostringstream s;
-  s << std::setprecision(17) << v;
-  return s.str();
-}
-
-std::string show(std::int64_t v) { return std::to_string(v); }
-std::string show(std::uint64_t v) { return std::to_string(v); }
-
 std::string float_bound::text() const {
   std::ostringstream s;
   s << std::setprecision(3);
@@ -124,24 +151,6 @@ std::string float_bound::text() const {
   if (abs >= 0) { s << sep << "abs <= " << abs; sep = " or "; }
   if (sep.empty()) s << "exact";
   return s.str();
-}
-
-double ulp_distance(float a, float b) {
-  if (std::isnan(a) || std::isnan(b)) {
-    return std::isnan(a) && std::isnan(b) ? 0.0 : std::numeric_limits<double>::infinity();
-  }
-  if (std::isinf(a) || std::isinf(b)) {
-    return a == b ? 0.0 : std::numeric_limits<double>::infinity();
-  }
-  // Map the sign-magnitude bit patterns onto one line of integers: adjacent floats are 1 apart
-  // and +0 / -0 coincide.
-  auto ordered = [](float f) {
-    std::uint32_t u = 0;
-    std::memcpy(&u, &f, sizeof u);
-    const std::int64_t magnitude = static_cast<std::int64_t>(u & 0x7fffffffu);
-    return (u >> 31) != 0 ? -magnitude : magnitude;
-  };
-  return std::fabs(static_cast<double>(ordered(a) - ordered(b)));
 }
 
 namespace {
@@ -232,6 +241,53 @@ comparison compare_floats(const std::vector<float>& gpu, const std::vector<doubl
                           const float_bound& bound, const describe_fn& describe,
                           const std::string& what) {
   return compare_floats_impl(gpu, cpu, bound, describe, what);
+}
+
+namespace {
+
+template <class R>
+comparison with_worst_abs(comparison c, const std::vector<float>& gpu, const std::vector<R>& cpu) {
+  double worst = 0;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < gpu.size() && i < cpu.size(); ++i) {
+    const double d = std::fabs(double(gpu[i]) - double(cpu[i]));
+    if (d > worst) {
+      worst = d;
+      at = i;
+    }
+  }
+  if (!gpu.empty() && gpu.size() == cpu.size()) {
+    c.report += "  worst abs:  " + show(worst) + " at [" + std::to_string(at) + "] gpu=" + show(gpu[at]) +
+                " cpu=" + show(cpu[at]) + "\n";
+  }
+  return c;
+}
+
+}  // namespace
+
+comparison compare_floats_abs(const std::vector<float>& gpu, const std::vector<float>& cpu,
+                              const float_bound& bound, const describe_fn& describe, const std::string& what) {
+  return with_worst_abs(compare_floats(gpu, cpu, bound, describe, what), gpu, cpu);
+}
+
+comparison compare_floats_abs(const std::vector<float>& gpu, const std::vector<double>& cpu,
+                              const float_bound& bound, const describe_fn& describe, const std::string& what) {
+  return with_worst_abs(compare_floats(gpu, cpu, bound, describe, what), gpu, cpu);
+}
+
+comparison compare_constants(const std::string& source, const std::vector<glsl_constant>& constants,
+                             const std::string& what) {
+  kernel_call call;
+  call.source = source;
+  call.local_size = {1, 1, 1};
+  call.output_glsl = "uint result";
+  std::vector<std::uint32_t> cpu;
+  for (std::size_t k = 0; k < constants.size(); ++k) {
+    call.body += "  if (i == 0u) result[" + std::to_string(k) + "] = " + constants[k].glsl + ";\n";
+    cpu.push_back(constants[k].cpu);
+  }
+  const auto gpu = run_compute<std::uint32_t>(call, constants.size());
+  return compare_exact(gpu, cpu, [&](std::size_t k) { return constants[k].glsl; }, what);
 }
 
 namespace detail {

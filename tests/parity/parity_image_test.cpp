@@ -24,50 +24,12 @@
 #include <string>
 #include <vector>
 
+using namespace vplkit::parity;
+using vplkit_test::flt_max;
+using vplkit_test::flt_min;
+using vplkit_test::random_source;
+
 namespace {
-
-using vplkit::parity::compare_exact;
-using vplkit::parity::input;
-using vplkit::parity::show;
-
-constexpr float flt_max = std::numeric_limits<float>::max();
-constexpr float flt_min = std::numeric_limits<float>::min();
-
-std::uint32_t bits_of(float f) {
-  std::uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
-std::vector<std::uint32_t> bits_of(const std::vector<float>& v) {
-  std::vector<std::uint32_t> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) out[i] = bits_of(v[i]);
-  return out;
-}
-
-// mt19937's output is fixed by the standard; the mapping to floats is ours.
-struct random_source {
-  std::mt19937 g;
-  explicit random_source(std::uint32_t seed) : g(seed) {}
-  double unit() { return double(g() >> 5) * (1.0 / 134217728.0); }  // [0, 1), 27 bits
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-  int integer(int lo, int hi) { return lo + int(g() % std::uint32_t(hi - lo + 1)); }  // [lo, hi]
-};
-
-// ---- the kernel median_fill.comp: bindings by #define, R in a uniform block --------------------
-
-const vplkit::gl::program& kernel_program(const std::string& defines) {
-  vplkit::parity::context();
-  static auto* cache = new std::map<std::string, vplkit::gl::program>();  // lives with the context
-  auto it = cache->find(defines);
-  if (it == cache->end()) {
-    it = cache
-             ->emplace(defines, vplkit::gl::program::compute_with_includes(
-                                    "#version 430\n#include \"vplkit/image/median_fill.comp\"\n",
-                                    "median_fill.comp", {vplkit::gl::glsl_source_dir()}, defines))
-             .first;
-  }
-  return it->second;
-}
 
 // Runs median_fill.comp on a 2 R R weight array (non-default bindings and local size, as a host
 // would choose them). The output buffer starts as NaN bits: a texel the kernel skips fails.
@@ -75,18 +37,15 @@ std::vector<float> gpu_fill_dprsm(const std::vector<float>& in, int R, unsigned 
   const std::string defines = "#define VPLKIT_MEDIAN_FILL_BINDING_IN 3\n#define VPLKIT_MEDIAN_FILL_BINDING_OUT 5\n"
                               "#define VPLKIT_MEDIAN_FILL_BINDING_PARAMS 1\n#define VPLKIT_MEDIAN_FILL_LOCAL_SIZE " +
                               std::to_string(local_size) + "\n";
-  const auto& prog = kernel_program(defines);
+  const auto& prog = pack_kernel("vplkit/image/median_fill.comp", defines);
   vplkit::gpu::median_fill_params params{};
   params.resolution = R;
-  auto ib = vplkit::gl::buffer::from_vector(in);
-  auto ob = vplkit::gl::buffer::filled(in.size() * sizeof(float), 0xFF);
-  auto ub = vplkit::gl::buffer::from_bytes(&params, sizeof params);
-  ib.bind(3);
-  ob.bind(5);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 1, ub.id());
-  vplkit::gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
+  const auto ib = vplkit::gl::buffer::from_vector(in);
+  const auto ob = vplkit::gl::buffer::filled(in.size() * sizeof(float), 0xFF);
+  const auto ub = vplkit_test::uniform_buffer(params);
   const GLuint groups = GLuint((R + int(local_size) - 1) / int(local_size));
-  vplkit::gl::dispatch(prog, groups, groups, 2);
+  vplkit_test::dispatch(prog, {groups, groups, 2},
+                        {vplkit_test::storage_at(3, ib), vplkit_test::storage_at(5, ob), vplkit_test::uniform_at(1, ub)});
   return ob.read<float>();
 }
 
@@ -219,12 +178,11 @@ TEST_CASE("median_fill.comp: extreme magnitudes and -0; denormals where the impl
 
   // Does the implementation keep denormal inputs? (llvmpipe: yes; most GPUs flush them to zero.)
   const std::vector<float> probe_in{1e-40f};
-  const auto kept = vplkit::parity::run_compute<std::uint32_t>(R"(
-layout(std430, binding = 0) readonly buffer In { float v[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint r[]; };
-void main() { if (gl_GlobalInvocationID.x == 0u) r[0] = v[0] != 0.0 ? 1u : 0u; }
-)",
-                                                               {1, 1, 1}, {input(0, probe_in)}, 1, 1);
+  kernel_call probe;
+  probe.inputs = {input(0, std::vector<float>{1e-40f}, "float v")};
+  probe.output_glsl = "uint r";
+  probe.body = "r[0] = v[0] != 0.0 ? 1u : 0u;";
+  const auto kept = run_compute<std::uint32_t>(probe, 1);
   std::vector<float> denormal(std::size_t(2 * R * R), 0.0f);
   for (std::size_t i = 0; i < denormal.size(); ++i)
     if (rnd.unit() < 0.5) denormal[i] = rnd.unit() < 0.5 ? 1e-40f * float(rnd.integer(1, 9)) : 1.0f;
@@ -239,22 +197,19 @@ void main() { if (gl_GlobalInvocationID.x == 0u) r[0] = v[0] != 0.0 ? 1u : 0u; }
 TEST_CASE("vplkit_median_fill_texel through the accessor: rectangular images, 1xN, Nx1, 1x1, masks") {
   // Several images stacked in one buffer (the accessor's `face` picks the image), any fillable
   // mask, against the C++ median_fill with the same mask.
-  const std::string kernel = R"(
+  kernel_call call;
+  call.source = R"(
 #include "vplkit/image/median_fill.glsl"
 layout(std430, binding = 0) readonly buffer In { float img[]; };
-layout(std430, binding = 2) readonly buffer Mask { uint mask[]; };
 layout(std430, binding = 3) readonly buffer Dims { int width; int height; };
-layout(std430, binding = 1) writeonly buffer Out { float result[]; };
 float vplkit_load_weight(int face, int x, int y) { return img[(face * height + y) * width + x]; }
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)";
+  call.output_glsl = "float result";
+  call.body = R"(
   int per = width * height;
   int face = int(i) / per;
   int r = int(i) % per;
-  result[i] = vplkit_median_fill_texel(face, width, height, r % width, r / width, mask[i] != 0u);
-}
-)";
+  result[i] = vplkit_median_fill_texel(face, width, height, r % width, r / width, mask[i] != 0u);)";
   random_source rnd(13);
   const int sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 2}, {3, 7}, {40, 23}, {97, 3}, {128, 128}};
   for (const auto& wh : sizes) {
@@ -267,8 +222,8 @@ void main() {
       mask[i] = rnd.unit() < 0.8 ? 1u : 0u;
     }
     const std::vector<std::int32_t> dims{width, height};
-    const auto gpu = vplkit::parity::run_compute<float>(
-        kernel, {64, 1, 1}, {input(0, img), input(2, mask), input(3, dims)}, 1, img.size());
+    call.inputs = {input(0, img), input(2, mask, "uint mask"), input(3, dims)};
+    const auto gpu = run_compute<float>(call, img.size());
     std::vector<float> cpu(img.size());
     for (int k = 0; k < images; ++k) {
       const std::uint32_t* m = mask.data() + per * std::size_t(k);

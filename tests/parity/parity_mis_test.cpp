@@ -32,24 +32,17 @@
 #include <string>
 #include <vector>
 
+using namespace vplkit::parity;
+using namespace vplkit::parity::sampmis;
+
 namespace {
 
-using vplkit::parity::compare_floats;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_rel;
-using vplkit::parity::within_ulps;
-using vplkit::parity::sampmis::cpu_denormals_like_device;
-using vplkit::parity::sampmis::device_flushes_denormals;
-using vplkit::parity::sampmis::f4;
-using vplkit::parity::sampmis::input_rng;
-
-const float eps = std::numeric_limits<float>::epsilon();
-const float flt_min = std::numeric_limits<float>::min();
-const float denorm_min = std::numeric_limits<float>::denorm_min();
-const float flt_max = std::numeric_limits<float>::max();
-const float inf = std::numeric_limits<float>::infinity();
-const float qnan = std::numeric_limits<float>::quiet_NaN();
+const float eps = vplkit_test::flt_eps;
+const float flt_min = vplkit_test::flt_min;
+const float denorm_min = vplkit_test::flt_denorm_min;
+const float flt_max = vplkit_test::flt_max;
+const float inf = vplkit_test::flt_inf;
+const float qnan = vplkit_test::flt_nan;
 
 // See the file comment.
 const auto value_bound = within_rel(2e-6) | within_abs(flt_min);
@@ -96,16 +89,16 @@ float random_value(input_rng& g) {  // f of balance_combined: any sign, many dec
 bool is_weight(float w) { return w >= 0.0f && w <= 1.0f; }  // false for NaN
 
 struct heuristics_out {
-  f4 weights;  // balance, balance swapped, power, power swapped
-  f4 combined;  // balance_combined, terms.a, terms.b, balance_combined swapped
-  f4 clean;     // clean_count(n1), clean_pdf(p1), clean_count(n2), clean_pdf(p2)
+  float4 weights;  // balance, balance swapped, power, power swapped
+  float4 combined;  // balance_combined, terms.a, terms.b, balance_combined swapped
+  float4 clean;     // clean_count(n1), clean_pdf(p1), clean_count(n2), clean_pdf(p2)
 };
 
 }  // namespace
 
 TEST_CASE("heuristics.glsl: weights, scaled terms and balance_combined over many decades") {
   const bool ftz = device_flushes_denormals();
-  std::vector<f4> in;  // n1, p1, n2, p2
+  std::vector<float4> in;  // n1, p1, n2, p2
   std::vector<float> fs;
   input_rng g(11);
   for (int i = 0; i < 200000; ++i) {
@@ -127,15 +120,12 @@ TEST_CASE("heuristics.glsl: weights, scaled terms and balance_combined over many
             fs.push_back(f);
           }
   const std::size_t n = in.size();
-  const std::string kernel = R"(
+  const auto gpu = run_compute<heuristics_out>(
+      per_item(R"(
 #include "vplkit/mis/heuristics.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 nps[]; };
-layout(std430, binding = 1) readonly buffer F { float fs[]; };
 struct R { vec4 weights; vec4 combined; vec4 clean; };
-layout(std430, binding = 2) writeonly buffer Out { R result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+               {input(0, in, "vec4 nps"), input(2, fs, "float fs")}, "R result", R"(
   float n1 = nps[i].x, p1 = nps[i].y, n2 = nps[i].z, p2 = nps[i].w, f = fs[i];
   vplkit_mis_terms t = vplkit_mis_scaled_terms(n1, p1, n2, p2);
   result[i].weights = vec4(vplkit_balance_heuristic(n1, p1, n2, p2),
@@ -145,11 +135,8 @@ void main() {
   result[i].combined = vec4(vplkit_balance_combined(f, n1, p1, n2, p2), t.a, t.b,
                             vplkit_balance_combined(f, n2, p2, n1, p1));
   result[i].clean = vec4(vplkit_mis_clean_count(n1), vplkit_mis_clean_pdf(p1),
-                         vplkit_mis_clean_count(n2), vplkit_mis_clean_pdf(p2));
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<heuristics_out>(
-      kernel, {64, 1, 1}, {vplkit::parity::input(0, in), vplkit::parity::input(1, fs)}, 2, n);
+                         vplkit_mis_clean_count(n2), vplkit_mis_clean_pdf(p2));)"),
+      n);
 
   std::vector<heuristics_out> cpu(n);
   {
@@ -172,11 +159,6 @@ void main() {
            ", p2 = " + show(in[k].w) + ", f = " + show(fs[k]) +
            (k < n_random ? " [random]" : " [special sweep]");
   };
-  auto column = [&](const std::vector<heuristics_out>& v, auto get) {
-    std::vector<float> c(v.size());
-    for (std::size_t i = 0; i < v.size(); ++i) c[i] = get(v[i]);
-    return c;
-  };
   struct named {
     const char* what;
     float (*get)(const heuristics_out&);
@@ -197,7 +179,7 @@ void main() {
       {"vplkit_mis_clean_pdf(p2)", [](const heuristics_out& o) { return o.clean.w; }, true},
   };
   for (const auto& c : columns) {
-    const auto gv = column(gpu, c.get), cv = column(cpu, c.get);
+    const auto gv = component(gpu, c.get), cv = component(cpu, c.get);
     VPLKIT_CHECK_PARITY(compare_floats(gv, cv, c.exact ? within_ulps(0) : value_bound, input_text, c.what));
     std::size_t nans = 0;
     for (float v : gv) nans += std::isnan(v) ? 1 : 0;
@@ -208,7 +190,7 @@ void main() {
   std::size_t bad = 0;
   double worst_balance = 0, worst_power = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const f4& w = gpu[i].weights;
+    const float4& w = gpu[i].weights;
     const bool live = cpu[i].weights.x + cpu[i].weights.y > 0.0f;
     bool ok = is_weight(w.x) && is_weight(w.y) && is_weight(w.z) && is_weight(w.w);
     if (live) {
@@ -236,7 +218,7 @@ TEST_CASE("heuristics.glsl: the MIS hard cases (both pdfs 0, one infinite, denor
   const bool ftz = device_flushes_denormals();
   const float d = denorm_min, m = flt_min, h = 1e38f, big = flt_max;
   struct row {
-    f4 nps;
+    float4 nps;
     float f;
     float balance, power, combined;  // NaN: not pinned
     const char* what;
@@ -269,27 +251,18 @@ TEST_CASE("heuristics.glsl: the MIS hard cases (both pdfs 0, one infinite, denor
       {{1, 1, 1, 1}, x, 0.5f, 0.5f, 0, "NaN f"},
       {{1, 1, 1, 1}, inf, 0.5f, 0.5f, 0, "infinite f"},
   };
-  std::vector<f4> in;
+  std::vector<float4> in;
   std::vector<float> fs;
   for (const auto& r : rows) {
     in.push_back(r.nps);
     fs.push_back(r.f);
   }
-  const std::string kernel = R"(
-#include "vplkit/mis/heuristics.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 nps[]; };
-layout(std430, binding = 1) readonly buffer F { float fs[]; };
-layout(std430, binding = 2) writeonly buffer Out { vec4 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  const auto gpu = run_compute<float4>(per_item(R"(#include "vplkit/mis/heuristics.glsl")",
+                                            {input(0, in, "vec4 nps"), input(2, fs, "float fs")}, "vec4 result", R"(
   float n1 = nps[i].x, p1 = nps[i].y, n2 = nps[i].z, p2 = nps[i].w;
   result[i] = vec4(vplkit_balance_heuristic(n1, p1, n2, p2), vplkit_power_heuristic(n1, p1, n2, p2),
-                   vplkit_balance_combined(fs[i], n1, p1, n2, p2), 0.0);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<f4>(
-      kernel, {64, 1, 1}, {vplkit::parity::input(0, in), vplkit::parity::input(1, fs)}, 2, in.size());
+                   vplkit_balance_combined(fs[i], n1, p1, n2, p2), 0.0);)"),
+                                   in.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const row& r = rows[i];
     const bool has_denormal = r.nps.y == d || r.nps.w == d || r.nps.y == 3 * d || r.f == d;
@@ -306,13 +279,13 @@ void main() {
 namespace {
 
 struct conversion_in {
-  f4 geometry;  // pmf, d2_squared, patch_area, cos_theta1
-  f4 angle;     // cos_theta, sin_theta, alpha, unused
+  float4 geometry;  // pmf, d2_squared, patch_area, cos_theta1
+  float4 angle;     // cos_theta, sin_theta, alpha, unused
 };
 
 struct conversion_out {
-  f4 a;  // vpl_pdf_solid_angle, cosine_pdf_solid_angle(cos), cosine_pdf_as_published, w.gathering
-  f4 b;  // w.vpl, -, -, -
+  float4 a;  // vpl_pdf_solid_angle, cosine_pdf_solid_angle(cos), cosine_pdf_as_published, w.gathering
+  float4 b;  // w.vpl, -, -, -
 };
 
 }  // namespace
@@ -345,30 +318,24 @@ TEST_CASE("pdf_conversion.glsl: solid-angle densities and the as-published weigh
           in.push_back({{a, b, c, d}, {d, b, a, 0.0f}});
         }
   const std::size_t n = in.size();
-  const std::string kernel = R"(
+  const auto gpu = run_compute<conversion_out>(per_item(R"(
 #include "vplkit/mis/pdf_conversion.glsl"
 struct I { vec4 geometry; vec4 angle; };
-layout(std430, binding = 0) readonly buffer In { I data[]; };
 struct R { vec4 a; vec4 b; };
-layout(std430, binding = 1) writeonly buffer Out { R result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                                                        {input(0, in, "I data")}, "R result", R"(
   vec4 g = data[i].geometry, a = data[i].angle;
   vplkit_mis_weight_pair w = vplkit_mis_weights_as_published(a.x, a.y, a.z);
   result[i].a = vec4(vplkit_vpl_pdf_solid_angle(g.x, g.y, g.z, g.w),
                      vplkit_cosine_pdf_solid_angle(a.x),
                      vplkit_cosine_pdf_as_published(a.x, a.y), w.gathering);
-  result[i].b = vec4(w.vpl, 0.0, 0.0, 0.0);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<conversion_out>(kernel, {64, 1, 1},
-                                                               {vplkit::parity::input(0, in)}, 1, n);
+  result[i].b = vec4(w.vpl, 0.0, 0.0, 0.0);)"),
+                                               n);
   std::vector<conversion_out> cpu(n);
   {
     cpu_denormals_like_device mode(ftz);
     for (std::size_t i = 0; i < n; ++i) {
-      const f4 &ge = in[i].geometry, &an = in[i].angle;
+      const float4 &ge = in[i].geometry, &an = in[i].angle;
       const auto w = vplkit::mis_weights_as_published(an.x, an.y, an.z);
       cpu[i].a = {vplkit::vpl_pdf_solid_angle(ge.x, ge.y, ge.z, ge.w),
                   vplkit::cosine_pdf_solid_angle(an.x),
@@ -377,23 +344,17 @@ void main() {
     }
   }
   auto geometry_text = [&](std::size_t k) {
-    const f4& ge = in[k].geometry;
+    const float4& ge = in[k].geometry;
     return "pmf = " + show(ge.x) + ", d2^2 = " + show(ge.y) + ", A = " + show(ge.z) +
            ", cos1 = " + show(ge.w) + (k < n_random ? " [random]" : " [special sweep]");
   };
   auto angle_text = [&](std::size_t k) {
-    const f4& an = in[k].angle;
+    const float4& an = in[k].angle;
     return "cos = " + show(an.x) + ", sin = " + show(an.y) + ", alpha = " + show(an.z) +
            (k < n_random ? " [random]" : " [special sweep]");
   };
   auto col = [&](const std::vector<conversion_out>& v, int which) {
-    std::vector<float> c(v.size());
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const f4& o = which < 4 ? v[i].a : v[i].b;
-      const float vals[4] = {o.x, o.y, o.z, o.w};
-      c[i] = vals[which % 4];
-    }
-    return c;
+    return component(v, [which](const conversion_out& o) { return (which < 4 ? o.a : o.b)[which % 4]; });
   };
   // vpl_pdf: a division, a division by cos (<= 1) and a multiply: the value bound.
   VPLKIT_CHECK_PARITY(compare_floats(col(gpu, 0), col(cpu, 0), value_bound, geometry_text,
@@ -411,7 +372,7 @@ void main() {
   // Never NaN on the GPU; pdfs >= 0; the paper's two weights add up to 1 or are both 0.
   std::size_t bad = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const f4 &a = gpu[i].a, &b = gpu[i].b;
+    const float4 &a = gpu[i].a, &b = gpu[i].b;
     const bool live = cpu[i].a.w + cpu[i].b.x > 0.0f;
     bool ok = a.x >= 0.0f && a.y >= 0.0f && a.z >= 0.0f && is_weight(a.w) && is_weight(b.x);
     ok = ok && (live ? std::abs(static_cast<double>(a.w) + b.x - 1.0) <= partition_tolerance
@@ -427,7 +388,7 @@ void main() {
 TEST_CASE("pdf_conversion.glsl: the special cases of vpl_pdf_solid_angle") {
   const bool ftz = device_flushes_denormals();
   struct row {
-    f4 g;
+    float4 g;
     float want;
     const char* what;
   };
@@ -453,20 +414,11 @@ TEST_CASE("pdf_conversion.glsl: the special cases of vpl_pdf_solid_angle") {
       {{0.5f, 3e38f, 1e-30f, inf}, 0.0f, "infinite cos (C++ gave inf / inf = NaN before the fix)"},
       {{0.5f, 4.0f, 2.0f, inf}, 0.0f, "infinite cos"},
   };
-  std::vector<f4> in;
+  std::vector<float4> in;
   for (const auto& r : rows) in.push_back(r.g);
-  const std::string kernel = R"(
-#include "vplkit/mis/pdf_conversion.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 g[]; };
-layout(std430, binding = 1) writeonly buffer Out { float p[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  p[i] = vplkit_vpl_pdf_solid_angle(g[i].x, g[i].y, g[i].z, g[i].w);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<float>(kernel, {64, 1, 1},
-                                                      {vplkit::parity::input(0, in)}, 1, in.size());
+  const auto gpu = run_compute<float>(per_item(R"(#include "vplkit/mis/pdf_conversion.glsl")", {input(0, in, "vec4 g")},
+                                              "float p", "p[i] = vplkit_vpl_pdf_solid_angle(g[i].x, g[i].y, g[i].z, g[i].w);"),
+                                     in.size());
   (void)ftz;  // no denormals here
   for (std::size_t i = 0; i < rows.size(); ++i) {
     INFO(rows[i].what);
@@ -495,27 +447,17 @@ TEST_CASE("heuristics.glsl: the GLSL-only helpers mis_div and mis_is_nan") {
   // NaN payloads and signs: every one must read as NaN; infinities must not.
   for (std::uint32_t bits : {0x7FC00000u, 0xFFC00000u, 0x7F800001u, 0xFF800001u, 0x7FFFFFFFu,
                              0x7F800000u, 0xFF800000u, 0x7F7FFFFFu}) {
-    float v = 0;
-    std::memcpy(&v, &bits, sizeof v);
-    xy.push_back(v);
+    xy.push_back(float_of(bits));
     xy.push_back(1.0f);
   }
   const std::size_t n = xy.size() / 2;
-  const std::string kernel = R"(
-#include "vplkit/mis/heuristics.glsl"
-layout(std430, binding = 0) readonly buffer In { vec2 xy[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec2 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  result[i] = vec2(vplkit_mis_div(xy[i].x, xy[i].y), vplkit_mis_is_nan(xy[i].x) ? 1.0 : 0.0);
-}
-)";
   struct f2 {
     float q, nan;
   };
-  const auto gpu = vplkit::parity::run_compute<f2>(kernel, {64, 1, 1},
-                                                   {vplkit::parity::input(0, xy)}, 1, n);
+  const auto gpu = run_compute<f2>(
+      per_item(R"(#include "vplkit/mis/heuristics.glsl")", {input(0, xy, "vec2 xy")}, "vec2 result",
+               "result[i] = vec2(vplkit_mis_div(xy[i].x, xy[i].y), vplkit_mis_is_nan(xy[i].x) ? 1.0 : 0.0);"),
+      n);
   std::vector<float> gq(n), cq(n), gn(n), cn(n);
   {
     cpu_denormals_like_device mode(ftz);

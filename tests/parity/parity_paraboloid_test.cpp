@@ -26,105 +26,18 @@
 #include <string>
 #include <vector>
 
-namespace {
-
+using namespace vplkit::parity;
 using vplkit::ivec2;
 using vplkit::vec2;
 using vplkit::vec3;
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::input;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_rel;
-using vplkit::parity::within_ulps;
+using vplkit_test::flt_eps;
+using vplkit_test::flt_inf;
+using vplkit_test::flt_max;
+using vplkit_test::flt_min;
+using vplkit_test::pi;
+using vplkit_test::random_source;
 
-constexpr float flt_eps = std::numeric_limits<float>::epsilon();
-constexpr float flt_min = std::numeric_limits<float>::min();
-constexpr float flt_max = std::numeric_limits<float>::max();
-constexpr float flt_inf = std::numeric_limits<float>::infinity();
-constexpr double pi = 3.14159265358979323846;
-
-struct float4 {
-  float x, y, z, w;
-};
-struct int4 {
-  std::int32_t x, y, z, w;
-};
-float4 f4(vec3<float> v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
-
-std::string show3(vec3<float> v) {
-  return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
-}
-std::string show2(vec2<float> v) { return "(" + show(v.x) + ", " + show(v.y) + ")"; }
-
-// Deterministic random numbers: mt19937 output is fixed by the standard; the mapping to floats is
-// ours, so the inputs are the same with every standard library.
-struct random_source {
-  std::mt19937 g;
-  explicit random_source(std::uint32_t seed) : g(seed) {}
-  double unit() { return double(g() >> 5) * (1.0 / 134217728.0); }  // [0, 1), 27 bits
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-  int integer(int lo, int hi) { return lo + int(g() % std::uint32_t(hi - lo + 1)); }  // [lo, hi]
-  vec3<float> direction() {  // uniform on the sphere
-    const double z = uniform(-1.0, 1.0);
-    const double phi = uniform(0.0, 2.0 * pi);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return vec3<float>(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
-  }
-};
-
-// Splits a vector of vec-like outputs into per-component float vectors.
-template <class S, class F>
-std::vector<float> component(const std::vector<S>& v, F f) {
-  std::vector<float> out;
-  out.reserve(v.size());
-  for (const S& s : v) out.push_back(f(s));
-  return out;
-}
-template <class S, class F>
-std::vector<std::int32_t> icomponent(const std::vector<S>& v, F f) {
-  std::vector<std::int32_t> out;
-  out.reserve(v.size());
-  for (const S& s : v) out.push_back(f(s));
-  return out;
-}
-
-// compare_floats plus the largest absolute difference (the harness reports the worst ulp and
-// relative differences; for quantities that cancel toward 0 the absolute one is the telling one).
-template <class R>
-vplkit::parity::comparison cmp(const std::vector<float>& gpu, const std::vector<R>& cpu,
-                               const vplkit::parity::float_bound& bound,
-                               const vplkit::parity::describe_fn& describe, const std::string& what) {
-  vplkit::parity::comparison c = compare_floats(gpu, cpu, bound, describe, what);
-  double worst = 0;
-  std::size_t at = 0;
-  for (std::size_t i = 0; i < gpu.size() && i < cpu.size(); ++i) {
-    const double d = std::fabs(double(gpu[i]) - double(cpu[i]));
-    if (d > worst) {
-      worst = d;
-      at = i;
-    }
-  }
-  if (!gpu.empty() && gpu.size() == cpu.size()) {
-    c.report += "  worst abs:  " + show(worst) + " at [" + std::to_string(at) + "] gpu=" +
-                show(gpu[at]) + " cpu=" + show(cpu[at]) + "\n";
-  }
-  return c;
-}
-
-// ---- unit_or_zero ----------------------------------------------------------------------------
-
-const std::string unit_or_zero_kernel = R"(
-#include "vplkit/core/unit_or_zero.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 v[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  result[i] = vec4(vplkit_unit_or_zero(v[i].xyz), vplkit_max_abs_component(v[i].xyz));
-}
-)";
+namespace {
 
 // ---- mapping ---------------------------------------------------------------------------------
 
@@ -133,24 +46,17 @@ struct point_out {  // std430 { vec2 uv; int face; int pad; }
   std::int32_t face, pad;
 };
 
-const std::string from_direction_kernel = R"(
-#include "vplkit/paraboloid/paraboloid.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 d[]; };
-struct point_out { vec2 uv; int face; int pad; };
-layout(std430, binding = 1) writeonly buffer Out { point_out result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_paraboloid_point p = vplkit_paraboloid_from_direction(d[i].xyz);
-  result[i] = point_out(p.uv, p.face, 0);
-}
-)";
-
 std::vector<point_out> gpu_from_direction(const std::vector<vec3<float>>& dirs) {
   std::vector<float4> in;
   for (const auto& d : dirs) in.push_back(f4(d));
-  return vplkit::parity::run_compute<point_out>(from_direction_kernel, {64, 1, 1},
-                                                {input(0, in)}, 1, dirs.size());
+  return run_compute<point_out>(per_item(R"(
+#include "vplkit/paraboloid/paraboloid.glsl"
+struct point_out { vec2 uv; int face; int pad; };
+)",
+                                         {input(0, in, "vec4 d")}, "point_out result", R"(
+  vplkit_paraboloid_point p = vplkit_paraboloid_from_direction(d[i].xyz);
+  result[i] = point_out(p.uv, p.face, 0);)"),
+                                dirs.size());
 }
 
 // uv: both sides normalise with a division and a sqrt and divide by 1 + |z| (plus the rim
@@ -173,15 +79,12 @@ void check_from_direction(const std::vector<vec3<float>>& dirs, const std::strin
     const auto p = vplkit::paraboloid_from_direction(dirs[i]);
     return "d = " + show3(dirs[i]) + " cpu uv = " + show2(p.uv) + " face " + show(p.face);
   };
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto p) { return p.face; }),
-                                    icomponent(cpu, [](auto p) { return p.face; }), describe,
-                                    what + ": face"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto p) { return p.u; }),
-                                     component(cpu, [](auto p) { return p.u; }),
-                                     within_ulps(uv_ulps), describe, what + ": u"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto p) { return p.v; }),
-                                     component(cpu, [](auto p) { return p.v; }),
-                                     within_ulps(uv_ulps), describe, what + ": v"));
+  VPLKIT_CHECK_PARITY(compare_field_exact(gpu, cpu, [](const point_out& p) { return p.face; }, describe,
+                                          what + ": face"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const point_out& p) { return p.u; }, within_ulps(uv_ulps),
+                                        describe, what + ": u"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const point_out& p) { return p.v; }, within_ulps(uv_ulps),
+                                        describe, what + ": v"));
   std::size_t outside = 0, above_one_ulp = 0;
   for (std::size_t i = 0; i < gpu.size(); ++i) {
     const float r2 = gpu[i].u * gpu[i].u + gpu[i].v * gpu[i].v;
@@ -205,7 +108,7 @@ TEST_CASE("unit_or_zero and max_abs_component: random vectors of any scale and d
   std::vector<vec3<float>> vs;
   for (int i = 0; i < 100000; ++i) {
     // a direction times 10^[-30, 30]; a third of them with components of mixed magnitudes
-    vec3<float> d = rnd.direction();
+    vec3<float> d = rnd.sphere_direction();
     if (i % 3 == 0) d.y *= float(std::pow(10.0, rnd.uniform(-20, 0)));
     vs.push_back(d * float(std::pow(10.0, rnd.uniform(-30, 30))));
   }
@@ -219,33 +122,29 @@ TEST_CASE("unit_or_zero and max_abs_component: random vectors of any scale and d
     vs.push_back(d);
   std::vector<float4> in;
   for (const auto& v : vs) in.push_back(f4(v));
-  const auto gpu = vplkit::parity::run_compute<float4>(unit_or_zero_kernel, {64, 1, 1},
-                                                       {input(0, in)}, 1, vs.size());
+  const auto gpu = run_compute<float4>(
+      per_item(R"(#include "vplkit/core/unit_or_zero.glsl")", {input(0, in, "vec4 v")}, "vec4 result",
+               "result[i] = vec4(vplkit_unit_or_zero(v[i].xyz), vplkit_max_abs_component(v[i].xyz));"),
+      vs.size());
   std::vector<float4> cpu;
   for (const auto& v : vs) cpu.push_back(f4(vplkit::unit_or_zero(v), vplkit::max_abs_component(v)));
   auto describe = [&](std::size_t i) { return "v = " + show3(vs[i]); };
   // max_abs_component: abs and comparisons only -> exact.
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.w; }),
-                                     component(cpu, [](auto v) { return v.w; }), within_ulps(0),
-                                     describe, "max_abs_component"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const float4& v) { return v.w; }, within_ulps(0), describe,
+                                        "max_abs_component"));
   // v / m, dot, sqrt, division: a few ulp on a GPU within the GLSL limits; no cancellation, so
   // ulps stay meaningful for small components. Bound 8 ulps.
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.x; }),
-                                     component(cpu, [](auto v) { return v.x; }), within_ulps(8),
-                                     describe, "unit_or_zero x"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.y; }),
-                                     component(cpu, [](auto v) { return v.y; }), within_ulps(8),
-                                     describe, "unit_or_zero y"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.z; }),
-                                     component(cpu, [](auto v) { return v.z; }), within_ulps(8),
-                                     describe, "unit_or_zero z"));
+  for (int c = 0; c < 3; ++c) {
+    VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [c](const float4& v) { return v[c]; }, within_ulps(8), describe,
+                                          std::string("unit_or_zero ") + "xyz"[c]));
+  }
 }
 
 TEST_CASE("paraboloid_from_direction: 10^5 random directions, face exact, uv within 8 ulps") {
   random_source rnd(202);
   std::vector<vec3<float>> dirs;
   for (int i = 0; i < 100000; ++i) {
-    dirs.push_back(rnd.direction() * float(std::pow(10.0, rnd.uniform(-30, 30))));
+    dirs.push_back(rnd.sphere_direction() * float(std::pow(10.0, rnd.uniform(-30, 30))));
   }
   check_from_direction(dirs, "from_direction (random)");
 
@@ -254,8 +153,8 @@ TEST_CASE("paraboloid_from_direction: 10^5 random directions, face exact, uv wit
   const auto gpu = gpu_from_direction(dirs);
   std::vector<double> ref_u;
   for (const auto& d : dirs) ref_u.push_back(vplkit::paraboloid_from_direction(vec3<double>(d)).uv.x);
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto p) { return p.u; }), ref_u,
-                                     within_ulps(8), {}, "from_direction u, gpu vs T = double"));
+  VPLKIT_CHECK_PARITY(compare_floats_abs(component(gpu, [](const point_out& p) { return p.u; }), ref_u,
+                                         within_ulps(8), {}, "from_direction u, gpu vs T = double"));
 }
 
 TEST_CASE("paraboloid_from_direction: hard cases (poles, rim z = 0 and +-1 ulp, r2 above 1)") {
@@ -312,22 +211,20 @@ TEST_CASE("paraboloid_from_direction: denormal rim z (GPUs may flush: face may d
   }
   const auto gpu = gpu_from_direction(dirs);
   std::size_t flips = 0;
-  std::vector<float> gu, cu, gv, cv;
+  series<float> u, v;
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     const auto p = vplkit::paraboloid_from_direction(dirs[i]);
     if (gpu[i].face != p.face) {
       ++flips;
       REQUIRE(std::abs(dirs[i].z) < flt_min);
     }
-    gu.push_back(gpu[i].u);
-    gv.push_back(gpu[i].v);
-    cu.push_back(p.uv.x);
-    cv.push_back(p.uv.y);
+    u.add(gpu[i].u, p.uv.x);
+    v.add(gpu[i].v, p.uv.y);
   }
   std::cout << "  denormal rim z: " << flips << " face flips of " << dirs.size()
             << " (0 where denormals are kept, e.g. llvmpipe)\n";
-  VPLKIT_CHECK_PARITY(cmp(gu, cu, within_ulps(uv_ulps), {}, "denormal rim: u"));
-  VPLKIT_CHECK_PARITY(cmp(gv, cv, within_ulps(uv_ulps), {}, "denormal rim: v"));
+  VPLKIT_CHECK_PARITY(compare_floats_abs(u, within_ulps(uv_ulps), {}, "denormal rim: u"));
+  VPLKIT_CHECK_PARITY(compare_floats_abs(v, within_ulps(uv_ulps), {}, "denormal rim: v"));
 }
 
 TEST_CASE("paraboloid_to_direction, paraboloid_jacobian and the round trip") {
@@ -357,26 +254,21 @@ TEST_CASE("paraboloid_to_direction, paraboloid_jacobian and the round trip") {
   }
   std::vector<float4> in;
   for (std::size_t i = 0; i < uvs.size(); ++i) in.push_back({uvs[i].x, uvs[i].y, float(faces[i]), 0});
-  const std::string kernel = R"(
-#include "vplkit/paraboloid/paraboloid.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 q[]; };
-struct out_t { vec4 dir_jac; vec2 round_uv; int round_face; int pad; };
-layout(std430, binding = 1) writeonly buffer Out { out_t result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  int face = int(q[i].z);
-  vec3 d = vplkit_paraboloid_to_direction(face, q[i].xy);
-  vplkit_paraboloid_point p = vplkit_paraboloid_from_direction(d);
-  result[i] = out_t(vec4(d, vplkit_paraboloid_jacobian(q[i].xy)), p.uv, p.face, 0);
-}
-)";
   struct out_t {
     float4 dir_jac;
     float u, v;
     std::int32_t face, pad;
   };
-  const auto gpu = vplkit::parity::run_compute<out_t>(kernel, {64, 1, 1}, {input(0, in)}, 1, uvs.size());
+  const auto gpu = run_compute<out_t>(per_item(R"(
+#include "vplkit/paraboloid/paraboloid.glsl"
+struct out_t { vec4 dir_jac; vec2 round_uv; int round_face; int pad; };
+)",
+                                               {input(0, in, "vec4 q")}, "out_t result", R"(
+  int face = int(q[i].z);
+  vec3 d = vplkit_paraboloid_to_direction(face, q[i].xy);
+  vplkit_paraboloid_point p = vplkit_paraboloid_from_direction(d);
+  result[i] = out_t(vec4(d, vplkit_paraboloid_jacobian(q[i].xy)), p.uv, p.face, 0);)"),
+                                      uvs.size());
   std::vector<out_t> cpu;
   for (std::size_t i = 0; i < uvs.size(); ++i) {
     const vec3<float> d = vplkit::paraboloid_to_direction(faces[i], uvs[i]);
@@ -388,22 +280,16 @@ void main() {
   // rim, where an ulp of r2 (FMA in dot, or not) is 6e-8 absolute: bound 8 ulps or 2.4e-7 abs
   // (4 ulp of 1: components of a unit vector).
   const auto dir_bound = within_ulps(8) | within_abs(2.4e-7);
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.dir_jac.x; }),
-                                     component(cpu, [](auto o) { return o.dir_jac.x; }), dir_bound,
-                                     describe, "to_direction x"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.dir_jac.y; }),
-                                     component(cpu, [](auto o) { return o.dir_jac.y; }), dir_bound,
-                                     describe, "to_direction y"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.dir_jac.z; }),
-                                     component(cpu, [](auto o) { return o.dir_jac.z; }), dir_bound,
-                                     describe, "to_direction z"));
+  for (int c = 0; c < 3; ++c) {
+    VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [c](const out_t& o) { return o.dir_jac[c]; }, dir_bound,
+                                          describe, std::string("to_direction ") + "xyz"[c]));
+  }
   // 4 / q^2, q = 1 + dot(uv, uv). llvmpipe contracts the dot into an FMA in this context, so q
   // can differ by 1 ulp (relative <= eps); squaring doubles that and the result's binade ([1, 4])
   // shows it as up to ~6 ulps (measured: rel 3.9e-7 = 3.3 eps). A GPU at the GLSL limit (division
   // 2.5 ulp) adds ~2 eps more: bound rel 1e-6 (8.4 eps).
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.dir_jac.w; }),
-                                     component(cpu, [](auto o) { return o.dir_jac.w; }),
-                                     within_rel(1e-6), describe, "paraboloid_jacobian"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const out_t& o) { return o.dir_jac.w; }, within_rel(1e-6),
+                                        describe, "paraboloid_jacobian"));
   // Round trip uv -> d -> uv on each side. Where d.z is +-tiny the face of the round trip follows
   // its sign, which a GPU may compute differently at the rim (r2 = 1 +- 1 ulp): then both faces
   // are legitimate and, by the seam convention, the uv is the same. Required: equal faces, or a
@@ -417,26 +303,13 @@ void main() {
   }
   std::cout << "  round trip: " << seam_flips << " seam face flips (|d.z| <= 2.4e-7) of "
             << uvs.size() << "\n";
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.u; }),
-                                     component(cpu, [](auto o) { return o.u; }), dir_bound,
-                                     describe, "round trip u"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.v; }),
-                                     component(cpu, [](auto o) { return o.v; }), dir_bound,
-                                     describe, "round trip v"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const out_t& o) { return o.u; }, dir_bound, describe,
+                                        "round trip u"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const out_t& o) { return o.v; }, dir_bound, describe,
+                                        "round trip v"));
 }
 
 namespace {
-
-const std::string texel_from_uv_kernel = R"(
-#include "vplkit/paraboloid/texel_grid.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 q[]; };   // (u, v, R, -)
-layout(std430, binding = 1) writeonly buffer Out { ivec2 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  result[i] = vplkit_texel_from_uv(q[i].xy, int(q[i].z));
-}
-)";
 
 struct int2 {
   std::int32_t x, y;
@@ -446,19 +319,19 @@ void check_texel_from_uv(const std::vector<vec2<float>>& uvs, const std::vector<
                          const std::string& what) {
   std::vector<float4> in;
   for (std::size_t i = 0; i < uvs.size(); ++i) in.push_back({uvs[i].x, uvs[i].y, float(Rs[i]), 0});
-  const auto gpu = vplkit::parity::run_compute<int2>(texel_from_uv_kernel, {64, 1, 1},
-                                                     {input(0, in)}, 1, uvs.size());
-  std::vector<std::int32_t> gx, gy, cx, cy;
+  const auto gpu = run_compute<int2>(per_item(R"(#include "vplkit/paraboloid/texel_grid.glsl")",
+                                              {input(0, in, "vec4 q")},  // (u, v, R, -)
+                                              "ivec2 result", "result[i] = vplkit_texel_from_uv(q[i].xy, int(q[i].z));"),
+                                     uvs.size());
+  series<std::int32_t> x, y;
   for (std::size_t i = 0; i < uvs.size(); ++i) {
     const ivec2 t = vplkit::texel_from_uv(uvs[i], Rs[i]);
-    cx.push_back(t.x);
-    cy.push_back(t.y);
-    gx.push_back(gpu[i].x);
-    gy.push_back(gpu[i].y);
+    x.add(gpu[i].x, t.x);
+    y.add(gpu[i].y, t.y);
   }
   auto describe = [&](std::size_t i) { return "uv = " + show2(uvs[i]) + " R = " + show(Rs[i]); };
-  VPLKIT_CHECK_PARITY(compare_exact(gx, cx, describe, what + ": x"));
-  VPLKIT_CHECK_PARITY(compare_exact(gy, cy, describe, what + ": y"));
+  VPLKIT_CHECK_PARITY(compare_exact(x, describe, what + ": x"));
+  VPLKIT_CHECK_PARITY(compare_exact(y, describe, what + ": y"));
 }
 
 const std::vector<int> grid_resolutions = {1, 2, 3, 4, 5, 7, 8, 10, 16, 31, 63, 64, 100,
@@ -523,30 +396,6 @@ struct texel_out {  // std430: vec2 (8-aligned) first
   std::int32_t pad;
 };
 
-const std::string texel_kernel = R"(
-#include "vplkit/paraboloid/texel_grid.glsl"
-layout(std430, binding = 0) readonly buffer In { ivec4 q[]; };   // (x, y, R, face)
-struct texel_out { vec2 c; float omega; int valid; int index; int face; ivec2 xy; ivec2 f;
-                   int count; int pad; };
-layout(std430, binding = 1) writeonly buffer Out { texel_out result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  int x = q[i].x, y = q[i].y, R = q[i].z, face = q[i].w;
-  texel_out o;
-  o.c = vplkit_texel_center_uv(x, y, R);
-  o.omega = vplkit_texel_solid_angle(x, y, R);
-  o.valid = vplkit_texel_is_valid(x, y, R) ? 1 : 0;
-  bool in_range = x >= 0 && y >= 0 && x < R && y < R;
-  o.index = in_range ? vplkit_texel_index(face, x, y, R) : -1;
-  o.face = in_range ? vplkit_texel_face(o.index, R) : -1;
-  o.xy = in_range ? vplkit_texel_coords(o.index, R) : ivec2(-1);
-  o.f = vplkit_texel_from_uv(o.c, R);
-  o.count = vplkit_texel_count(R);
-  o.pad = 0;
-  result[i] = o;
-}
-)";
 
 texel_out cpu_texel(int x, int y, int R, int face) {
   texel_out o{};
@@ -569,8 +418,27 @@ texel_out cpu_texel(int x, int y, int R, int face) {
 }
 
 void check_texels(const std::vector<int4>& q, const std::string& what) {
-  const auto gpu = vplkit::parity::run_compute<texel_out>(texel_kernel, {64, 1, 1}, {input(0, q)},
-                                                          1, q.size());
+  const auto gpu = run_compute<texel_out>(per_item(R"(
+#include "vplkit/paraboloid/texel_grid.glsl"
+struct texel_out { vec2 c; float omega; int valid; int index; int face; ivec2 xy; ivec2 f;
+                   int count; int pad; };
+)",
+                                                   {input(0, q, "ivec4 q")},  // (x, y, R, face)
+                                                   "texel_out result", R"(
+  int x = q[i].x, y = q[i].y, R = q[i].z, face = q[i].w;
+  texel_out o;
+  o.c = vplkit_texel_center_uv(x, y, R);
+  o.omega = vplkit_texel_solid_angle(x, y, R);
+  o.valid = vplkit_texel_is_valid(x, y, R) ? 1 : 0;
+  bool in_range = x >= 0 && y >= 0 && x < R && y < R;
+  o.index = in_range ? vplkit_texel_index(face, x, y, R) : -1;
+  o.face = in_range ? vplkit_texel_face(o.index, R) : -1;
+  o.xy = in_range ? vplkit_texel_coords(o.index, R) : ivec2(-1);
+  o.f = vplkit_texel_from_uv(o.c, R);
+  o.count = vplkit_texel_count(R);
+  o.pad = 0;
+  result[i] = o;)"),
+                                          q.size());
   std::vector<texel_out> cpu;
   for (const auto& t : q) cpu.push_back(cpu_texel(t.x, t.y, t.z, t.w));
   auto describe = [&](std::size_t i) {
@@ -579,39 +447,27 @@ void check_texels(const std::vector<int4>& q, const std::string& what) {
   };
   // Integers: exact. valid is integer arithmetic; index/face/coords are integer; texel_from_uv of
   // the centre depends on the centre's float bits (compared just below), which are far from edges.
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.valid; }),
-                                    icomponent(cpu, [](auto o) { return o.valid; }), describe,
-                                    what + ": texel_is_valid"));
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.index; }),
-                                    icomponent(cpu, [](auto o) { return o.index; }), describe,
-                                    what + ": texel_index"));
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.face; }),
-                                    icomponent(cpu, [](auto o) { return o.face; }), describe,
-                                    what + ": texel_face"));
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.x * 65536 + o.y; }),
-                                    icomponent(cpu, [](auto o) { return o.x * 65536 + o.y; }),
-                                    describe, what + ": texel_coords (x * 65536 + y)"));
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.fx * 65536 + o.fy; }),
-                                    icomponent(cpu, [](auto o) { return o.fx * 65536 + o.fy; }),
-                                    describe, what + ": texel_from_uv(centre) (x * 65536 + y)"));
-  VPLKIT_CHECK_PARITY(compare_exact(icomponent(gpu, [](auto o) { return o.count; }),
-                                    icomponent(cpu, [](auto o) { return o.count; }), describe,
-                                    what + ": texel_count"));
+  const std::pair<const char*, int (*)(const texel_out&)> integers[] = {
+      {": texel_is_valid", [](const texel_out& o) { return o.valid; }},
+      {": texel_index", [](const texel_out& o) { return o.index; }},
+      {": texel_face", [](const texel_out& o) { return o.face; }},
+      {": texel_coords (x * 65536 + y)", [](const texel_out& o) { return o.x * 65536 + o.y; }},
+      {": texel_from_uv(centre) (x * 65536 + y)", [](const texel_out& o) { return o.fx * 65536 + o.fy; }},
+      {": texel_count", [](const texel_out& o) { return o.count; }}};
+  for (const auto& field : integers)
+    VPLKIT_CHECK_PARITY(compare_field_exact(gpu, cpu, field.second, describe, what + field.first));
   // Centre: (x + 0.5) / R * 2 - 1, one division: a GPU may be 2.5 ulp off in the quotient; the
   // final - 1 can cancel (centres near u = 0 are small), so 4 ulps or 4 ulp of 1 (4.8e-7) abs.
   const auto centre_bound = within_ulps(4) | within_abs(4.8e-7);
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.cu; }),
-                                     component(cpu, [](auto o) { return o.cu; }), centre_bound,
-                                     describe, what + ": texel_center_uv u"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.cv; }),
-                                     component(cpu, [](auto o) { return o.cv; }), centre_bound,
-                                     describe, what + ": texel_center_uv v"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const texel_out& o) { return o.cu; }, centre_bound, describe,
+                                        what + ": texel_center_uv u"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const texel_out& o) { return o.cv; }, centre_bound, describe,
+                                        what + ": texel_center_uv v"));
   // Solid angle: the Jacobian at the centre (see the Jacobian bound: an FMA-contracted dot moves
   // q by an ulp, ~3.3 eps in the result) times (2/R)^2 (two more roundings). Measured rel 5.5e-7
   // (4.6 eps); bound rel 1.5e-6 (12.6 eps), which also covers a division at the GLSL limit.
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto o) { return o.omega; }),
-                                     component(cpu, [](auto o) { return o.omega; }),
-                                     within_rel(1.5e-6), describe, what + ": texel_solid_angle"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const texel_out& o) { return o.omega; }, within_rel(1.5e-6),
+                                        describe, what + ": texel_solid_angle"));
 }
 
 }  // namespace
@@ -665,27 +521,13 @@ struct frame_out {
   float4 ax, ay, az;
 };
 
-const std::string make_frame_kernel = R"(
-#include "vplkit/paraboloid/light_frame.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 axis[]; };
-struct frame_out { vec4 ax; vec4 ay; vec4 az; };
-layout(std430, binding = 1) writeonly buffer Out { frame_out result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_light_frame f = vplkit_make_light_frame(vec3(1.0, 2.0, 3.0), axis[i].xyz);
-  result[i] = frame_out(vec4(f.axis_x, f.position.x), vec4(f.axis_y, f.position.y),
-                        vec4(f.axis_z, f.position.z));
-}
-)";
-
 }  // namespace
 
 TEST_CASE("light_frame: construction from random and special front axes") {
   random_source rnd(606);
   std::vector<vec3<float>> axes;
   for (int i = 0; i < 20000; ++i)
-    axes.push_back(rnd.direction() * float(std::pow(10.0, rnd.uniform(-30, 30))));
+    axes.push_back(rnd.sphere_direction() * float(std::pow(10.0, rnd.uniform(-30, 30))));
   for (vec3<float> a : {vec3<float>(1, 0, 0), vec3<float>(-1, 0, 0), vec3<float>(0, 1, 0),
                         vec3<float>(0, -1, 0), vec3<float>(0, 0, 1), vec3<float>(0, 0, -1),
                         vec3<float>(1, 0, -0.0f), vec3<float>(0, 1, -0.0f), vec3<float>(flt_min, 0, -1),
@@ -694,8 +536,15 @@ TEST_CASE("light_frame: construction from random and special front axes") {
     axes.push_back(a);
   std::vector<float4> in;
   for (const auto& a : axes) in.push_back(f4(a));
-  const auto gpu = vplkit::parity::run_compute<frame_out>(make_frame_kernel, {64, 1, 1},
-                                                          {input(0, in)}, 1, axes.size());
+  const auto gpu = run_compute<frame_out>(per_item(R"(
+#include "vplkit/paraboloid/light_frame.glsl"
+struct frame_out { vec4 ax; vec4 ay; vec4 az; };
+)",
+                                                   {input(0, in, "vec4 axis")}, "frame_out result", R"(
+  vplkit_light_frame f = vplkit_make_light_frame(vec3(1.0, 2.0, 3.0), axis[i].xyz);
+  result[i] = frame_out(vec4(f.axis_x, f.position.x), vec4(f.axis_y, f.position.y),
+                        vec4(f.axis_z, f.position.z));)"),
+                                          axes.size());
   std::vector<frame_out> cpu;
   for (const auto& a : axes) {
     const vplkit::light_frame<float> f(vec3<float>(1, 2, 3), a);
@@ -712,12 +561,9 @@ TEST_CASE("light_frame: construction from random and special front axes") {
                              {"axis_z.x", "axis_z.y", "axis_z.z", "position.z"}};
   for (int a = 0; a < 3; ++a) {
     for (int c = 0; c < 4; ++c) {
-      auto pick = [a, c](const frame_out& o) {
-        const float4& v = a == 0 ? o.ax : a == 1 ? o.ay : o.az;
-        return c == 0 ? v.x : c == 1 ? v.y : c == 2 ? v.z : v.w;
-      };
-      VPLKIT_CHECK_PARITY(cmp(component(gpu, pick), component(cpu, pick), bound,
-                                         describe, std::string("make_light_frame ") + names[a][c]));
+      auto pick = [a, c](const frame_out& o) { return (a == 0 ? o.ax : a == 1 ? o.ay : o.az)[c]; };
+      VPLKIT_CHECK_PARITY(
+          compare_field_abs(gpu, cpu, pick, bound, describe, std::string("make_light_frame ") + names[a][c]));
     }
   }
 }
@@ -732,7 +578,7 @@ TEST_CASE("light_frame: to_light, to_world, to_light_point, to_world_point") {
   for (int i = 0; i < frames; ++i) {
     const vec3<float> c(float(rnd.uniform(-10, 10)), float(rnd.uniform(-10, 10)),
                         float(rnd.uniform(-10, 10)));
-    fs.emplace_back(c, i == 0 ? vec3<float>(0, 0, -1) : i == 1 ? vec3<float>(0, 0, 1) : rnd.direction());
+    fs.emplace_back(c, i == 0 ? vec3<float>(0, 0, -1) : i == 1 ? vec3<float>(0, 0, 1) : rnd.sphere_direction());
   }
   const int n = 100000;
   std::vector<float4> in;   // per case: frame (4 vec4), dir, point
@@ -741,7 +587,7 @@ TEST_CASE("light_frame: to_light, to_world, to_light_point, to_world_point") {
   for (int i = 0; i < n; ++i) {
     const int f = i % frames;
     which.push_back(f);
-    dirs.push_back(rnd.direction() * float(rnd.uniform(0.1, 1.0)));
+    dirs.push_back(rnd.sphere_direction() * float(rnd.uniform(0.1, 1.0)));
     points.push_back(fs[std::size_t(f)].position +
                      vec3<float>(float(rnd.uniform(-10, 10)), float(rnd.uniform(-10, 10)),
                                  float(rnd.uniform(-10, 10))));
@@ -757,37 +603,30 @@ TEST_CASE("light_frame: to_light, to_world, to_light_point, to_world_point") {
     cases.push_back(f4(dirs[std::size_t(i)], float(which[std::size_t(i)])));
     cases.push_back(f4(points[std::size_t(i)]));
   }
-  const std::string kernel = R"(
-#include "vplkit/paraboloid/light_frame.glsl"
-layout(std430, binding = 0) readonly buffer Frames { vec4 fr[]; };
-layout(std430, binding = 2) readonly buffer Cases { vec4 cs[]; };
-struct out_t { vec4 to_light; vec4 to_world; vec4 to_light_point; vec4 to_world_point; };
-layout(std430, binding = 1) writeonly buffer Out { out_t result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  // Four outputs, one per transform.
+  kernel_call call = per_item(R"(#include "vplkit/paraboloid/light_frame.glsl")",
+                              {input(0, in, "vec4 fr"), input(2, cases, "vec4 cs")}, "vec4 to_light", R"(
   int k = int(cs[2u * i].w);
   vplkit_light_frame f = vplkit_light_frame(fr[4 * k].xyz, fr[4 * k + 1].xyz, fr[4 * k + 2].xyz,
                                             fr[4 * k + 3].xyz);
   vec3 d = cs[2u * i].xyz;
   vec3 p = cs[2u * i + 1u].xyz;
-  result[i] = out_t(vec4(vplkit_light_frame_to_light(f, d), 0.0),
-                    vec4(vplkit_light_frame_to_world(f, d), 0.0),
-                    vec4(vplkit_light_frame_to_light_point(f, p), 0.0),
-                    vec4(vplkit_light_frame_to_world_point(f, p - f.position), 0.0));
-}
-)";
-  struct out_t {
-    float4 tl, tw, tlp, twp;
-  };
-  const auto gpu = vplkit::parity::run_compute<out_t>(kernel, {64, 1, 1},
-                                                      {input(0, in), input(2, cases)}, 1, std::size_t(n));
-  std::vector<out_t> cpu;
+  to_light[i] = vec4(vplkit_light_frame_to_light(f, d), 0.0);
+  to_world[i] = vec4(vplkit_light_frame_to_world(f, d), 0.0);
+  to_light_point[i] = vec4(vplkit_light_frame_to_light_point(f, p), 0.0);
+  to_world_point[i] = vec4(vplkit_light_frame_to_world_point(f, p - f.position), 0.0);)");
+  call.more_outputs = {output_of<float4>(3, "vec4 to_world"), output_of<float4>(4, "vec4 to_light_point"),
+                       output_of<float4>(5, "vec4 to_world_point")};
+  const kernel_outputs out = run_kernel(call, std::size_t(n), sizeof(float4));
+  const std::vector<float4> gpu[4] = {out.get<float4>(1), out.get<float4>(3), out.get<float4>(4), out.get<float4>(5)};
+  std::vector<float4> cpu[4];
   for (int i = 0; i < n; ++i) {
     const auto& f = fs[std::size_t(which[std::size_t(i)])];
     const vec3<float> d = dirs[std::size_t(i)], p = points[std::size_t(i)];
-    cpu.push_back({f4(f.to_light(d)), f4(f.to_world(d)), f4(f.to_light_point(p)),
-                   f4(f.to_world_point(p - f.position))});
+    cpu[0].push_back(f4(f.to_light(d)));
+    cpu[1].push_back(f4(f.to_world(d)));
+    cpu[2].push_back(f4(f.to_light_point(p)));
+    cpu[3].push_back(f4(f.to_world_point(p - f.position)));
   }
   auto describe = [&](std::size_t i) {
     return "frame " + show(which[i]) + " dir " + show3(dirs[i]) + " point " + show3(points[i]);
@@ -799,42 +638,22 @@ void main() {
   // is also the measured worst): bound 8 ulps or 7.6e-6 abs (4 ulp of 16).
   const auto dir_bound = within_ulps(8) | within_abs(4.8e-7);
   const auto point_bound = within_ulps(8) | within_abs(7.6e-6);
+  const char* names[4] = {"to_light ", "to_world ", "to_light_point ", "to_world_point "};
   for (int c = 0; c < 3; ++c) {
-    auto sel = [c](const float4& v) { return c == 0 ? v.x : c == 1 ? v.y : v.z; };
-    const std::string axis = c == 0 ? "x" : c == 1 ? "y" : "z";
-    VPLKIT_CHECK_PARITY(cmp(component(gpu, [&](auto o) { return sel(o.tl); }),
-                                       component(cpu, [&](auto o) { return sel(o.tl); }), dir_bound,
-                                       describe, "to_light " + axis));
-    VPLKIT_CHECK_PARITY(cmp(component(gpu, [&](auto o) { return sel(o.tw); }),
-                                       component(cpu, [&](auto o) { return sel(o.tw); }), dir_bound,
-                                       describe, "to_world " + axis));
-    VPLKIT_CHECK_PARITY(cmp(component(gpu, [&](auto o) { return sel(o.tlp); }),
-                                       component(cpu, [&](auto o) { return sel(o.tlp); }),
-                                       point_bound, describe, "to_light_point " + axis));
-    VPLKIT_CHECK_PARITY(cmp(component(gpu, [&](auto o) { return sel(o.twp); }),
-                                       component(cpu, [&](auto o) { return sel(o.twp); }),
-                                       point_bound, describe, "to_world_point " + axis));
+    for (int t = 0; t < 4; ++t) {
+      VPLKIT_CHECK_PARITY(compare_field_abs(gpu[t], cpu[t], [c](const float4& v) { return v[c]; },
+                                            t < 2 ? dir_bound : point_bound, describe, names[t] + std::string(1, "xyz"[c])));
+    }
   }
 }
 
 TEST_CASE("paraboloid constants: the GLSL values are the C++ values, bit for bit") {
-  const std::string kernel = R"(
-#include "vplkit/paraboloid/texel_grid.glsl"
-layout(std430, binding = 0) writeonly buffer Out { uint result[]; };
-void main() {
-  if (gl_GlobalInvocationID.x != 0u) return;
-  result[0] = floatBitsToUint(vplkit_paraboloid_clamp_scale);
-  result[1] = uint(vplkit_paraboloid_front);
-  result[2] = uint(vplkit_paraboloid_back);
-  result[3] = uint(vplkit_paraboloid_max_resolution);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(kernel, {1, 1, 1}, {}, 0, 4);
   const float scale = 1.0f - 2.0f * flt_eps;  // the factor inside paraboloid_clamp_to_disk<float>
-  std::uint32_t bits = 0;
-  std::memcpy(&bits, &scale, sizeof bits);
-  const std::vector<std::uint32_t> cpu = {bits, std::uint32_t(vplkit::paraboloid_front),
-                                          std::uint32_t(vplkit::paraboloid_back),
-                                          std::uint32_t(vplkit::paraboloid_max_resolution)};
-  VPLKIT_CHECK_PARITY(compare_exact(gpu, cpu, {}, "clamp scale bits, face constants, max resolution"));
+  VPLKIT_CHECK_PARITY(compare_constants(
+      R"(#include "vplkit/paraboloid/texel_grid.glsl")",
+      {{"floatBitsToUint(vplkit_paraboloid_clamp_scale)", bits_of(scale)},
+       {"uint(vplkit_paraboloid_front)", std::uint32_t(vplkit::paraboloid_front)},
+       {"uint(vplkit_paraboloid_back)", std::uint32_t(vplkit::paraboloid_back)},
+       {"uint(vplkit_paraboloid_max_resolution)", std::uint32_t(vplkit::paraboloid_max_resolution)}},
+      "clamp scale bits, face constants, max resolution"));
 }

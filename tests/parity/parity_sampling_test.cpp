@@ -26,30 +26,18 @@
 #include <string>
 #include <vector>
 
+using namespace vplkit::parity;
+using namespace vplkit::parity::sampmis;
+
 namespace {
 
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_ulps;
-using vplkit::parity::sampmis::bits_of;
-using vplkit::parity::sampmis::cpu_denormals_like_device;
-using vplkit::parity::sampmis::device_flushes_denormals;
-using vplkit::parity::sampmis::f4;
-using vplkit::parity::sampmis::input_rng;
-
 using u32 = std::uint32_t;
-const float eps = std::numeric_limits<float>::epsilon();  // 2^-23
-const float flt_min = std::numeric_limits<float>::min();
-const float denorm_min = std::numeric_limits<float>::denorm_min();
-const float flt_max = std::numeric_limits<float>::max();
-const float inf = std::numeric_limits<float>::infinity();
-const float qnan = std::numeric_limits<float>::quiet_NaN();
-
-std::string show3(float x, float y, float z) {
-  return "(" + show(x) + ", " + show(y) + ", " + show(z) + ")";
-}
+const float eps = vplkit_test::flt_eps;  // 2^-23
+const float flt_min = vplkit_test::flt_min;
+const float denorm_min = vplkit_test::flt_denorm_min;
+const float flt_max = vplkit_test::flt_max;
+const float inf = vplkit_test::flt_inf;
+const float qnan = vplkit_test::flt_nan;
 
 // Uniform direction on the sphere, computed in double and rounded.
 vplkit::vec3<double> sphere_direction(input_rng& g) {
@@ -78,17 +66,9 @@ TEST_CASE("rng.glsl: pcg_hash bit for bit over 1.2 million inputs") {
   }
   input_rng g(1);
   while (in.size() < 1200000u) in.push_back(g.next_u32());
-  const std::string kernel = R"(
-#include "vplkit/sampling/rng.glsl"
-layout(std430, binding = 0) readonly buffer In { uint v[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint h[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  h[i] = vplkit_pcg_hash(v[i]);
-})";
-  const auto gpu = vplkit::parity::run_compute<u32>(kernel, {64, 1, 1},
-                                                    {vplkit::parity::input(0, in)}, 1, in.size());
+  const auto gpu = run_compute<u32>(
+      per_item(R"(#include "vplkit/sampling/rng.glsl")", {input(0, in, "uint v")}, "uint h", "h[i] = vplkit_pcg_hash(v[i]);"),
+      in.size());
   std::vector<u32> cpu(in.size());
   for (std::size_t i = 0; i < in.size(); ++i) cpu[i] = vplkit::pcg_hash(in[i]);
   VPLKIT_CHECK_PARITY(compare_exact(
@@ -117,22 +97,15 @@ TEST_CASE("rng.glsl: rng_key bit for bit over seed x stream grids") {
     pairs.push_back(g.next_u32());
   }
   const std::size_t n = pairs.size() / 2;
-  const std::string kernel = R"(
-#include "vplkit/sampling/rng.glsl"
-layout(std430, binding = 0) readonly buffer In { uvec2 seed_stream[]; };
-layout(std430, binding = 1) writeonly buffer Out { uvec2 key_counter[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  uint key = vplkit_rng_key(seed_stream[i].x, seed_stream[i].y);
-  vplkit_counter_rng r = vplkit_make_counter_rng(seed_stream[i].x, seed_stream[i].y);
-  key_counter[i] = (r.key == key) ? uvec2(key, r.counter) : uvec2(0xDEADu, 0xDEADu);
-})";
   struct u2 {
     u32 x, y;
   };
-  const auto gpu2 = vplkit::parity::run_compute<u2>(kernel, {64, 1, 1},
-                                                    {vplkit::parity::input(0, pairs)}, 1, n);
+  const auto gpu2 = run_compute<u2>(per_item(R"(#include "vplkit/sampling/rng.glsl")",
+                                             {input(0, pairs, "uvec2 seed_stream")}, "uvec2 key_counter", R"(
+  uint key = vplkit_rng_key(seed_stream[i].x, seed_stream[i].y);
+  vplkit_counter_rng r = vplkit_make_counter_rng(seed_stream[i].x, seed_stream[i].y);
+  key_counter[i] = (r.key == key) ? uvec2(key, r.counter) : uvec2(0xDEADu, 0xDEADu);)"),
+                                    n);
   std::vector<u32> gpu;
   for (const u2& v : gpu2) gpu.insert(gpu.end(), {v.x, v.y});
   std::vector<u32> cpu(2 * n);
@@ -161,13 +134,8 @@ namespace {
 constexpr u32 draws = 48;
 
 std::vector<u32> gpu_sequences(const std::vector<u32>& states, bool from_seed_stream) {
-  const std::string kernel = R"(
-#include "vplkit/sampling/rng.glsl"
-layout(std430, binding = 0) readonly buffer In { uvec2 start[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  kernel_call call = per_item(R"(#include "vplkit/sampling/rng.glsl")", {input(0, states, "uvec2 start")},
+                              "uint result", R"(
 #if FROM_SEED_STREAM
   vplkit_counter_rng a = vplkit_make_counter_rng(start[i].x, start[i].y);
 #else
@@ -182,23 +150,14 @@ void main() {
   }
   result[base + 2u * DRAWS] = a.key;
   result[base + 2u * DRAWS + 1u] = a.counter;
-  result[base + 2u * DRAWS + 2u] = b.counter;
-})";
-  vplkit::parity::kernel_call call;
+  result[base + 2u * DRAWS + 2u] = b.counter;)");
   call.name = "rng_sequences.comp";
-  call.source = kernel;
-  call.local_size = {64, 1, 1};
-  call.inputs = {vplkit::parity::input(0, states)};
-  call.output_binding = 1;
   call.defines = "#define DRAWS " + std::to_string(draws) + "u\n#define FROM_SEED_STREAM " +
                  (from_seed_stream ? "1" : "0") + "\n";
   const std::size_t n = states.size() / 2;
   const std::size_t per = 2 * draws + 3;
   // count = number of invocations; the output holds `per` uints for each.
-  const auto bytes = vplkit::parity::run_compute_bytes(call, n, n * per * sizeof(u32));
-  std::vector<u32> out(n * per);
-  std::memcpy(out.data(), bytes.data(), bytes.size());
-  return out;
+  return run_kernel(call, n, per * sizeof(u32)).get<u32>(1);
 }
 
 std::vector<u32> cpu_sequences(const std::vector<u32>& states, bool from_seed_stream) {
@@ -306,15 +265,11 @@ TEST_CASE("rng.glsl: the known-answer vectors of docs/api/sampling.md") {
   in.insert(in.end(), key_in.begin(), key_in.end());
   in.insert(in.end(), seq_in.begin(), seq_in.end());
   // one invocation does everything: 8 hashes, 5 keys, 5 x 8 draws, 8 floats, make_counter_rng(42,7)
-  const std::string kernel = R"(
-#include "vplkit/sampling/rng.glsl"
-layout(std430, binding = 0) readonly buffer In { uint v[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint o[]; };
-void main() {
-  if (gl_GlobalInvocationID.x != 0u) return;
+  kernel_call call = per_item(R"(#include "vplkit/sampling/rng.glsl")", {input(0, in, "uint v")}, "uint o", R"(
+  if (i != 0u) return;
   uint k = 0u;
-  for (uint i = 0u; i < 8u; ++i) o[k++] = vplkit_pcg_hash(v[i]);
-  for (uint i = 0u; i < 5u; ++i) o[k++] = vplkit_rng_key(v[8u + 2u * i], v[9u + 2u * i]);
+  for (uint j = 0u; j < 8u; ++j) o[k++] = vplkit_pcg_hash(v[j]);
+  for (uint j = 0u; j < 5u; ++j) o[k++] = vplkit_rng_key(v[8u + 2u * j], v[9u + 2u * j]);
   for (uint s = 0u; s < 5u; ++s) {
     vplkit_counter_rng r = vplkit_counter_rng(v[18u + 2u * s], v[19u + 2u * s]);
     for (uint d = 0u; d < 8u; ++d) o[k++] = vplkit_rng_next_u32(r);
@@ -323,11 +278,10 @@ void main() {
   for (uint d = 0u; d < 8u; ++d) o[k++] = floatBitsToUint(vplkit_rng_next_float(r0));
   vplkit_counter_rng m = vplkit_make_counter_rng(42u, 7u);
   o[k++] = m.key;
-  o[k++] = m.counter;
-})";
+  o[k++] = m.counter;)");
+  call.local_size = {1, 1, 1};
   const std::size_t count = 8 + 5 + 40 + 8 + 2;
-  const auto gpu = vplkit::parity::run_compute<u32>(kernel, {1, 1, 1},
-                                                    {vplkit::parity::input(0, in)}, 1, count);
+  const auto gpu = run_compute<u32>(call, count);
   std::vector<u32> want = hash_out;
   want.insert(want.end(), key_out.begin(), key_out.end());
   want.insert(want.end(), seq_out.begin(), seq_out.end());
@@ -355,17 +309,9 @@ TEST_CASE("rng.glsl: uint_to_unit_float bit for bit, never 1") {
   for (int k = 0; k < 32; ++k) in.push_back(1u << k);
   input_rng g(5);
   while (in.size() < 1000000u) in.push_back(g.next_u32());
-  const std::string kernel = R"(
-#include "vplkit/sampling/rng.glsl"
-layout(std430, binding = 0) readonly buffer In { uint h[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint bits[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  bits[i] = floatBitsToUint(vplkit_uint_to_unit_float(h[i]));
-})";
-  const auto gpu = vplkit::parity::run_compute<u32>(kernel, {64, 1, 1},
-                                                    {vplkit::parity::input(0, in)}, 1, in.size());
+  const auto gpu = run_compute<u32>(per_item(R"(#include "vplkit/sampling/rng.glsl")", {input(0, in, "uint h")},
+                                             "uint bits", "bits[i] = floatBitsToUint(vplkit_uint_to_unit_float(h[i]));"),
+                                    in.size());
   std::vector<u32> cpu(in.size());
   for (std::size_t i = 0; i < in.size(); ++i) cpu[i] = bits_of(vplkit::uint_to_unit_float(in[i]));
   VPLKIT_CHECK_PARITY(compare_exact(
@@ -381,7 +327,7 @@ void main() {
 namespace {
 
 struct onb_out {
-  f4 t, b, n, world, local;
+  float4 t, b, n, world, local;
 };
 
 struct onb_case {
@@ -473,33 +419,26 @@ TEST_CASE("orthonormal_basis.glsl: random normals and the hard cases") {
   cases.insert(cases.end(), hard.begin(), hard.end());
   const std::size_t n = cases.size();
 
-  std::vector<f4> normals(n), locals(n);
+  std::vector<float4> normals(n), locals(n);
   for (std::size_t i = 0; i < n; ++i) {
     normals[i] = {cases[i].x, cases[i].y, cases[i].z, 0.0f};
     const auto l = sphere_direction(g) * (0.25 + g.uniform());
     locals[i] = {static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z), 0.0f};
   }
-  const std::string kernel = R"(
+  const auto gpu = run_compute<onb_out>(per_item(R"(
 #include "vplkit/sampling/orthonormal_basis.glsl"
-layout(std430, binding = 0) readonly buffer Normals { vec4 normal[]; };
-layout(std430, binding = 1) readonly buffer Locals { vec4 local_dir[]; };
 struct R { vec4 t; vec4 b; vec4 n; vec4 world; vec4 local; };
-layout(std430, binding = 2) writeonly buffer Out { R result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                                                 {input(0, normals, "vec4 normal"), input(2, locals, "vec4 local_dir")},
+                                                 "R result", R"(
   vplkit_orthonormal_basis f = vplkit_make_orthonormal_basis(normal[i].xyz);
   result[i].t = vec4(f.t, 0.0);
   result[i].b = vec4(f.b, 0.0);
   result[i].n = vec4(f.n, 0.0);
   result[i].world = vec4(vplkit_to_world(f, local_dir[i].xyz), 0.0);
   // the same random vector read as a world direction
-  result[i].local = vec4(vplkit_to_local(f, local_dir[i].xyz), 0.0);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<onb_out>(
-      kernel, {64, 1, 1}, {vplkit::parity::input(0, normals), vplkit::parity::input(1, locals)}, 2,
-      n);
+  result[i].local = vec4(vplkit_to_local(f, local_dir[i].xyz), 0.0);)"),
+                                        n);
 
   std::vector<vplkit::orthonormal_basis<float>> cpu(n);
   std::vector<vplkit::vec3<float>> cpu_world(n), cpu_local(n);
@@ -536,7 +475,7 @@ void main() {
   std::vector<float> gpu_frame, cpu_frame;
   std::vector<double> exact_frame;
   for (std::size_t i = 0; i < n; ++i) {
-    const f4* g4[3] = {&gpu[i].t, &gpu[i].b, &gpu[i].n};
+    const float4* g4[3] = {&gpu[i].t, &gpu[i].b, &gpu[i].n};
     const vplkit::vec3<float>* c3[3] = {&cpu[i].t, &cpu[i].b, &cpu[i].n};
     const vplkit::vec3<double>* e3[3] = {&exact[i].t, &exact[i].b, &exact[i].n};
     for (int k = 0; k < 3; ++k) {
@@ -615,7 +554,7 @@ void main() {
                               c.label == "inf and NaN";
     if (!no_direction) continue;
     INFO("n = " << show3(c.x, c.y, c.z));
-    const f4* got[3] = {&gpu[i].t, &gpu[i].b, &gpu[i].n};
+    const float4* got[3] = {&gpu[i].t, &gpu[i].b, &gpu[i].n};
     for (int k = 0; k < 3; ++k) {  // (1,0,0), (0,1,0), (0,0,1); zeros may carry a sign
       CHECK(got[k]->x == (k == 0 ? 1.0f : 0.0f));
       CHECK(got[k]->y == (k == 1 ? 1.0f : 0.0f));
@@ -631,8 +570,8 @@ void main() {
 namespace {
 
 struct hemi_out {
-  f4 dir;    // direction, w = vplkit_cosine_hemisphere_pdf(direction.z)
-  f4 polar;  // disk.xy, polar r, polar phi
+  float4 dir;    // direction, w = vplkit_cosine_hemisphere_pdf(direction.z)
+  float4 polar;  // disk.xy, polar r, polar phi
 };
 
 }  // namespace
@@ -666,22 +605,16 @@ TEST_CASE("cosine_hemisphere.glsl: random u and the hard cases") {
     }
   }
   const std::size_t n = label.size();
-  const std::string kernel = R"(
+  const auto gpu = run_compute<hemi_out>(per_item(R"(
 #include "vplkit/sampling/cosine_hemisphere.glsl"
-layout(std430, binding = 0) readonly buffer In { vec2 u[]; };
 struct R { vec4 dir; vec4 polar; };
-layout(std430, binding = 1) writeonly buffer Out { R result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                                                  {input(0, u, "vec2 u")}, "R result", R"(
   vec3 d = vplkit_sample_cosine_hemisphere(u[i]);
   vplkit_concentric_polar p = vplkit_concentric_disk_polar(u[i]);
   result[i].dir = vec4(d, vplkit_cosine_hemisphere_pdf(d.z));
-  result[i].polar = vec4(vplkit_concentric_disk(u[i]), p.r, p.phi);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<hemi_out>(kernel, {64, 1, 1},
-                                                         {vplkit::parity::input(0, u)}, 1, n);
+  result[i].polar = vec4(vplkit_concentric_disk(u[i]), p.r, p.phi);)"),
+                                         n);
   std::vector<float> g_r, c_r, g_phi, c_phi, g_xy, c_xy, g_z, c_z, g_pdf, c_pdf;
   std::vector<double> e_xy, e_z;
   {
@@ -761,17 +694,10 @@ TEST_CASE("cosine_hemisphere.glsl: cosine_hemisphere_pdf over random and special
                           1.0f - 1.0f / 16777216.0f, -1.0f, 2.0f, flt_max, inf, -inf, qnan};
   input_rng g(8);
   while (c.size() < 100000u) c.push_back(static_cast<float>(2.4 * g.uniform() - 1.2));
-  const std::string kernel = R"(
-#include "vplkit/sampling/cosine_hemisphere.glsl"
-layout(std430, binding = 0) readonly buffer In { float c[]; };
-layout(std430, binding = 1) writeonly buffer Out { float pdf[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  pdf[i] = vplkit_cosine_hemisphere_pdf(c[i]);
-})";
-  const auto gpu = vplkit::parity::run_compute<float>(kernel, {64, 1, 1},
-                                                      {vplkit::parity::input(0, c)}, 1, c.size());
+  const auto gpu = run_compute<float>(per_item(R"(#include "vplkit/sampling/cosine_hemisphere.glsl")",
+                                               {input(0, c, "float c")}, "float pdf",
+                                               "pdf[i] = vplkit_cosine_hemisphere_pdf(c[i]);"),
+                                      c.size());
   std::vector<float> cpu(c.size());
   {
     cpu_denormals_like_device mode(ftz);

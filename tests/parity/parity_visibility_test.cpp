@@ -19,6 +19,7 @@
 //   margin (1e-4 voxel). The test measures the differing voxels, requires each to lie within
 //   delta = 2e-5 voxel of the margin shell (flip margin found by bisection in double), and bounds
 //   their number.
+#include <bvh_test_scenes.hpp>
 #include <parity_harness.hpp>
 
 #include <vplkit/visibility/dda.hpp>
@@ -41,86 +42,23 @@
 #include <string>
 #include <vector>
 
-namespace {
-
+using namespace vplkit::parity;
 using vplkit::ivec3;
 using vplkit::vec3;
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::input;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_ulps;
-using v3f = vec3<float>;
-using v3d = vec3<double>;
+using vplkit_test::flt_inf;
+using vplkit_test::flt_max;
+using vplkit_test::flt_min;
+using vplkit_test::flt_nan;
+using vplkit_test::random_source;
+using vplkit_test::rotation;
+using vplkit_test::v3d;
+using vplkit_test::v3f;
 using dmat3 = glm::mat<3, 3, double>;
 
-constexpr float flt_max = std::numeric_limits<float>::max();
-constexpr float flt_min = std::numeric_limits<float>::min();
-constexpr float flt_inf = std::numeric_limits<float>::infinity();
-constexpr float flt_nan = std::numeric_limits<float>::quiet_NaN();
-
-struct float4 {
-  float x, y, z, w;
-};
-struct int4 {
-  std::int32_t x, y, z, w;
-};
-float4 f4(v3f v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
-
-std::string show3(v3f v) { return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")"; }
-std::string showi3(ivec3 v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
-
-// mt19937's output is fixed by the standard; the mapping to floats is ours, so the inputs are the
-// same with every standard library.
-struct random_source {
-  std::mt19937 g;
-  explicit random_source(std::uint32_t seed) : g(seed) {}
-  double unit() { return double(g() >> 5) * (1.0 / 134217728.0); }  // [0, 1), 27 bits
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-  int integer(int lo, int hi) { return lo + int(g() % std::uint32_t(hi - lo + 1)); }  // [lo, hi]
-  double normal() {  // Box-Muller, enough for directions
-    const double u1 = 1.0 - unit(), u2 = unit();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-  }
-  v3f direction() {
-    v3d d(0.0);
-    do d = v3d(normal(), normal(), normal());
-    while (glm::dot(d, d) < 1e-6);
-    return v3f(d / std::sqrt(glm::dot(d, d)));
-  }
-};
+namespace {
 
 // Software renderers (llvmpipe, softpipe) divide and take square roots correctly rounded.
-bool ieee_div_sqrt() {
-  vplkit::parity::context();
-  static const bool sw = vplkit::gl::is_software_renderer();
-  return sw;
-}
-
-// ---- kernels from files: bindings by #define, parameters in a uniform block --------------------
-
-const vplkit::gl::program& kernel_program(const std::string& file, const std::string& defines) {
-  vplkit::parity::context();
-  static auto* cache = new std::map<std::string, vplkit::gl::program>();  // lives with the context
-  const std::string key = file + '\x01' + defines;
-  auto it = cache->find(key);
-  if (it == cache->end()) {
-    it = cache
-             ->emplace(key, vplkit::gl::program::compute_with_includes(
-                                "#version 430\n#include \"" + file + "\"\n", file,
-                                {vplkit::gl::glsl_source_dir()}, defines))
-             .first;
-  }
-  return it->second;
-}
-
-void bind_uniform_block(const vplkit::gl::buffer& b, GLuint binding) {
-  glBindBufferBase(GL_UNIFORM_BUFFER, binding, b.id());
-  vplkit::gl::check_gl("glBindBufferBase(GL_UNIFORM_BUFFER)");
-}
+bool ieee_div_sqrt() { return software_renderer(); }
 
 // ---- the grids the C++ side builds, uploaded as they are ---------------------------------------
 
@@ -133,12 +71,19 @@ grid_params params_of(const vplkit::voxel_grid<float>& g) {
   return {f4(g.bounds_min()), f4(g.bounds_max()), {r.x, r.y, r.z, 0}};
 }
 
-const char* grid_block = R"(
+// A kernel over grid g (words at binding 2, bounds and resolution at 3): `source` (includes,
+// types), then the grid accessors, the caller's queries (binding 0), its output and body.
+kernel_call grid_kernel(const vplkit::voxel_grid<float>& g, const std::string& source, std::vector<ssbo> queries,
+                        const std::string& output_glsl, const std::string& body) {
+  queries.insert(queries.end(), {input(2, g.words()), input(3, std::vector<grid_params>{params_of(g)})});
+  return per_item(source + R"(
 layout(std430, binding = 2) readonly buffer Words { uint words[]; };
 layout(std430, binding = 3) readonly buffer Grid { vec4 gmin; vec4 gmax; ivec4 gres; };
 uint vplkit_load_voxel_word(uint i) { return words[i]; }
 vplkit_voxel_grid grid() { return vplkit_voxel_grid(gmin.xyz, gmax.xyz, gres.xyz); }
-)";
+)",
+                  std::move(queries), output_glsl, body);
+}
 
 // Brute-force first hit of o + t d (d unit), t in [0, t_max], over every occupied voxel with its
 // closed box grown by `grow` voxels (negative: shrunk), in double.
@@ -210,17 +155,14 @@ struct dda_out {  // 13 scalars, std430 stride 52
 };
 static_assert(sizeof(dda_out) == 52, "std430 layout of dda_out");
 
-const std::string dda_kernel = std::string(R"(
+std::vector<dda_out> gpu_dda(const vplkit::voxel_grid<float>& g, const std::vector<dda_ray>& rays) {
+  return run_compute<dda_out>(grid_kernel(g, R"(
 #include "vplkit/visibility/dda.glsl"
 struct dda_ray { vec4 origin_tmax; vec4 dir; };
-layout(std430, binding = 0) readonly buffer Rays { dda_ray rays[]; };
 struct dda_out { uint hit; float t; int x, y, z; uint trace_hit; float trace_t; int tx, ty, tz;
                  float px, py, pz; };
-layout(std430, binding = 1) writeonly buffer Out { dda_out result[]; };
-)") + grid_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                                          {input(0, rays, "dda_ray rays")}, "dda_out result", R"(
   vec3 o = rays[i].origin_tmax.xyz;
   float t_max = rays[i].origin_tmax.w;
   vec3 d = rays[i].dir.xyz;
@@ -230,14 +172,8 @@ void main() {
   vplkit_dda_trace_result r = no_limit ? vplkit_dda_trace_hit_point(grid(), o, d)
                                        : vplkit_dda_trace_hit_point(grid(), o, d, t_max);
   result[i] = dda_out(h.hit ? 1u : 0u, h.t, h.voxel.x, h.voxel.y, h.voxel.z, r.hit ? 1u : 0u, r.t,
-                      r.voxel.x, r.voxel.y, r.voxel.z, r.point.x, r.point.y, r.point.z);
-}
-)";
-
-std::vector<dda_out> gpu_dda(const vplkit::voxel_grid<float>& g, const std::vector<dda_ray>& rays) {
-  const std::vector<grid_params> p{params_of(g)};
-  return vplkit::parity::run_compute<dda_out>(dda_kernel, {64, 1, 1},
-                                              {input(0, rays), input(2, g.words()), input(3, p)}, 1, rays.size());
+                      r.voxel.x, r.voxel.y, r.voxel.z, r.point.x, r.point.y, r.point.z);)"),
+                              rays.size());
 }
 
 dda_out cpu_dda(const vplkit::voxel_grid<float>& g, const dda_ray& r) {
@@ -363,7 +299,7 @@ std::vector<dda_ray> random_rays(random_source& rnd, const vplkit::voxel_grid<fl
       const double lo = bmin[a], ext = double(bmax[a]) - lo;
       o[a] = float(lo - pad * ext + rnd.unit() * (1.0 + 2.0 * pad) * ext);
     }
-    v3f d = rnd.direction() * float(std::pow(10.0, rnd.uniform(-3.0, 3.0)));  // any length
+    v3f d = v3f(rnd.direction()) * float(std::pow(10.0, rnd.uniform(-3.0, 3.0)));  // any length
     if (i % 17 == 0) d[rnd.integer(0, 2)] = 0.0f;  // rays in an axis plane
     if (i % 23 == 0) {                             // rays along an axis
       const int a = rnd.integer(0, 2);
@@ -385,15 +321,11 @@ struct visible_case {  // std430 { vec4 x_offset; vec4 nx_mode; vec4 y_tolerance
   float4 ny;
 };
 
-const std::string visible_kernel = std::string(R"(
+const std::string visible_source = R"(
 #include "vplkit/visibility/voxel_visible.glsl"
 struct visible_case { vec4 x_offset; vec4 nx_mode; vec4 y_tolerance; vec4 ny; };
-layout(std430, binding = 0) readonly buffer Cases { visible_case cases[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint result[]; };
-)") + grid_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)";
+const std::string visible_body = R"(
   visible_case c = cases[i];
   int mode = int(c.nx_mode.w);
   bool v;
@@ -403,9 +335,7 @@ void main() {
                                                          c.y_tolerance.xyz, c.ny.xyz, c.x_offset.w, c.y_tolerance.w);
   else if (mode == 2) v = vplkit_voxel_visible(grid(), c.x_offset.xyz, c.nx_mode.xyz, c.y_tolerance.xyz);
   else v = vplkit_voxel_visible_two_sided(grid(), c.x_offset.xyz, c.nx_mode.xyz, c.y_tolerance.xyz, c.ny.xyz);
-  result[i] = v ? 1u : 0u;
-}
-)";
+  result[i] = v ? 1u : 0u;)";
 
 bool cpu_visible(const vplkit::voxel_grid<float>& g, const visible_case& c) {
   const v3f x(c.x_offset.x, c.x_offset.y, c.x_offset.z), nx(c.nx_mode.x, c.nx_mode.y, c.nx_mode.z);
@@ -442,52 +372,17 @@ bool visible_near_boundary(const vplkit::voxel_grid<float>& g, const visible_cas
 
 // ---- meshes -------------------------------------------------------------------------------------
 
-struct mesh {
-  std::vector<v3f> positions;
-  std::vector<std::uint32_t> indices;
-  void tri(v3f a, v3f b, v3f c) {
-    const auto base = std::uint32_t(positions.size());
-    positions.insert(positions.end(), {a, b, c});
-    indices.insert(indices.end(), {base, base + 1, base + 2});
-  }
-  void quad(v3f a, v3f b, v3f c, v3f d) {  // a b c d counter-clockwise, shared vertices
-    const auto base = std::uint32_t(positions.size());
-    positions.insert(positions.end(), {a, b, c, d});
-    indices.insert(indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-  }
-  // An oriented box: centre, half extents, rotation (columns), 12 triangles, 8 shared vertices.
-  void box(v3d centre, v3d half, const dmat3& rot, bool inward = false) {
-    const auto base = std::uint32_t(positions.size());
-    for (int k = 0; k < 8; ++k) {
-      const v3d l((k & 1) ? half.x : -half.x, (k & 2) ? half.y : -half.y, (k & 4) ? half.z : -half.z);
-      positions.push_back(v3f(centre + rot * l));
-    }
-    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    for (const auto& f : faces) {
-      std::uint32_t q[4];
-      for (int k = 0; k < 4; ++k) q[k] = base + std::uint32_t(f[inward ? 3 - k : k]);
-      indices.insert(indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-    }
-  }
-};
-
-dmat3 rotation(double ax, double ay, double az) {
-  const double cx = std::cos(ax), sx = std::sin(ax), cy = std::cos(ay), sy = std::sin(ay), cz = std::cos(az),
-               sz = std::sin(az);
-  const dmat3 rx(1, 0, 0, 0, cx, sx, 0, -sx, cx), ry(cy, 0, -sy, 0, 1, 0, sy, 0, cy),
-      rz(cz, sz, 0, -sz, cz, 0, 0, 0, 1);
-  return rz * ry * rx;
-}
+using mesh = vplkit_test::tri_mesh;
 
 // ---- voxelize.comp ------------------------------------------------------------------------------
 
 std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, const mesh& m, float margin) {
-  const auto& prog = kernel_program("vplkit/visibility/voxelize.comp",
-                                    "#define VPLKIT_VOXELIZE_BINDING_POSITIONS 4\n"
-                                    "#define VPLKIT_VOXELIZE_BINDING_INDICES 5\n"
-                                    "#define VPLKIT_VOXELIZE_BINDING_WORDS 6\n"
-                                    "#define VPLKIT_VOXELIZE_BINDING_PARAMS 1\n"
-                                    "#define VPLKIT_VOXELIZE_LOCAL_SIZE 64\n");
+  const auto& prog = pack_kernel("vplkit/visibility/voxelize.comp",
+                                 "#define VPLKIT_VOXELIZE_BINDING_POSITIONS 4\n"
+                                 "#define VPLKIT_VOXELIZE_BINDING_INDICES 5\n"
+                                 "#define VPLKIT_VOXELIZE_BINDING_WORDS 6\n"
+                                 "#define VPLKIT_VOXELIZE_BINDING_PARAMS 1\n"
+                                 "#define VPLKIT_VOXELIZE_LOCAL_SIZE 64\n");
   std::vector<float4> pos;
   for (const v3f& p : m.positions) pos.push_back(f4(p, 1.0f));
   vplkit::gpu::voxelize_params params{};
@@ -496,19 +391,14 @@ std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, c
   params.resolution = glm::ivec4(like.resolution(), 0);
   params.triangle_count = std::uint32_t(m.indices.size() / 3);
   params.margin_voxels = margin;
-  auto pb = vplkit::gl::buffer::from_vector(pos);
-  auto ib = vplkit::gl::buffer::from_vector(m.indices);
-  auto wb = vplkit::gl::buffer::filled(like.word_count() * 4, 0);
-  auto ub = vplkit::gl::buffer::from_bytes(&params, sizeof params);
-  pb.bind(4);
-  ib.bind(5);
-  wb.bind(6);
-  bind_uniform_block(ub, 1);
+  const auto pb = vplkit::gl::buffer::from_vector(pos);
+  const auto ib = vplkit::gl::buffer::from_vector(m.indices);
+  const auto wb = vplkit::gl::buffer::filled(like.word_count() * 4, 0);
+  const auto ub = vplkit_test::uniform_buffer(params);
   // One work group per triangle, spread over y past 65535.
-  const std::size_t triangles = m.indices.size() / 3;
-  const GLuint gx = GLuint(std::min<std::size_t>(triangles, 65535));
-  const GLuint gy = GLuint((triangles + 65534) / 65535);
-  vplkit::gl::dispatch(prog, gx, gy);
+  vplkit_test::dispatch(prog, vplkit_test::spread_groups(m.indices.size() / 3),
+                        {vplkit_test::storage_at(4, pb), vplkit_test::storage_at(5, ib), vplkit_test::storage_at(6, wb),
+                         vplkit_test::uniform_at(1, ub)});
   return wb.read<std::uint32_t>();
 }
 
@@ -581,26 +471,19 @@ struct tb_case {  // std430 { vec4 center; vec4 half_size; vec4 a; vec4 b; vec4 
   float4 center, half_size, a, b, c;
 };
 
-const std::string triangle_box_kernel = R"(
-#include "vplkit/visibility/triangle_box_overlap.glsl"
-struct tb_case { vec4 center; vec4 half_size; vec4 a; vec4 b; vec4 c; };
-layout(std430, binding = 0) readonly buffer In { tb_case cases[]; };
-layout(std430, binding = 1) writeonly buffer Out { uint result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  tb_case k = cases[i];
-  result[i] = vplkit_triangle_box_overlap(k.center.xyz, k.half_size.xyz, k.a.xyz, k.b.xyz, k.c.xyz) ? 1u : 0u;
-}
-)";
-
-v3f xyz(const float4& v) { return v3f(v.x, v.y, v.z); }
 
 // Runs the cases on both sides; exact. Also reports how many are near-tangent: the float answer
 // differs from the same test in double on the same (float) inputs, i.e. rounding decided them.
 void check_triangle_box(const std::vector<tb_case>& cases, const std::string& what) {
-  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(triangle_box_kernel, {64, 1, 1},
-                                                              {input(0, cases)}, 1, cases.size());
+  const auto gpu = run_compute<std::uint32_t>(
+      per_item(R"(
+#include "vplkit/visibility/triangle_box_overlap.glsl"
+struct tb_case { vec4 center; vec4 half_size; vec4 a; vec4 b; vec4 c; };
+)",
+               {input(0, cases, "tb_case cases")}, "uint result", R"(
+  tb_case k = cases[i];
+  result[i] = vplkit_triangle_box_overlap(k.center.xyz, k.half_size.xyz, k.a.xyz, k.b.xyz, k.c.xyz) ? 1u : 0u;)"),
+      cases.size());
   std::vector<std::uint32_t> cpu;
   std::size_t overlaps = 0, near_tangent = 0;
   for (const auto& k : cases) {
@@ -636,9 +519,9 @@ TEST_CASE("triangle_box_overlap: 2 x 10^5 random and degenerate triangles, exact
     if (i % 50 == 0) half[rnd.integer(0, 2)] = 0.0f;
     if (i % 97 == 0) half = v3f(0.0f);
     const double scale = std::pow(10.0, rnd.uniform(-2.0, 1.0));
-    const v3f base = centre + v3f(rnd.direction() * float(rnd.uniform(0.0, 2.0)));
+    const v3f base = centre + v3f(rnd.direction()) * float(rnd.uniform(0.0, 2.0));
     v3f p[3];
-    for (v3f& q : p) q = base + v3f(rnd.direction() * float(scale * rnd.uniform(0.0, 1.5)));
+    for (v3f& q : p) q = base + v3f(rnd.direction()) * float(scale * rnd.uniform(0.0, 1.5));
     switch (i % 20) {
       case 0: p[2] = p[1]; break;                                                   // segment
       case 1: p[1] = p[2] = p[0]; break;                                            // point
@@ -697,7 +580,7 @@ TEST_CASE("triangle_box_overlap: exact touching cases and near-tangent cases (+-
   // normal (in double), then rounded to float.
   random_source rnd(11);
   for (int i = 0; i < 20000; ++i) {
-    const v3d n = v3d(rnd.direction());
+    const v3d n = v3d(v3f(rnd.direction()));
     const v3d h(rnd.uniform(0.1, 1), rnd.uniform(0.1, 1), rnd.uniform(0.1, 1));
     const double r = h.x * std::abs(n.x) + h.y * std::abs(n.y) + h.z * std::abs(n.z);
     const v3d p0 = n * r;  // on the supporting plane of the box along n
@@ -745,15 +628,15 @@ TEST_CASE("voxelize.comp: closed rotated boxes and an inward room, shared vertic
   {
     const vplkit::voxel_grid<float> shape(v3f(-1.0f), v3f(1.0f), ivec3(96));
     mesh m;
-    m.box(v3d(0.03, -0.02, 0.05), v3d(0.71, 0.53, 0.62), rotation(0.4, 0.7, 1.1));
-    m.box(v3d(0.0, 0.0, 0.0), v3d(0.2, 0.3, 0.1), rotation(-0.3, 0.2, 2.5));
-    m.box(v3d(0.1, 0.6, -0.5), v3d(0.9, 0.02, 0.04), rotation(0.0, 0.0, 0.0));
+    m.solid_box(v3d(0.03, -0.02, 0.05), v3d(0.71, 0.53, 0.62), rotation(0.4, 0.7, 1.1));
+    m.solid_box(v3d(0.0, 0.0, 0.0), v3d(0.2, 0.3, 0.1), rotation(-0.3, 0.2, 2.5));
+    m.solid_box(v3d(0.1, 0.6, -0.5), v3d(0.9, 0.02, 0.04), rotation(0.0, 0.0, 0.0));
     check_voxelize(shape, m, "rotated boxes, 96^3", 8);
   }
   {
     mesh m;
-    m.box(v3d(0.5, 0.5, 0.5), v3d(0.5), dmat3(1.0), true);
-    m.box(v3d(0.4, 0.2, 0.6), v3d(0.15, 0.2, 0.1), rotation(0.0, 0.5, 0.0));
+    m.solid_box(v3d(0.5, 0.5, 0.5), v3d(0.5), dmat3(1.0), true);
+    m.solid_box(v3d(0.4, 0.2, 0.6), v3d(0.15, 0.2, 0.1), rotation(0.0, 0.5, 0.0));
     const auto b = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
     const vplkit::voxel_grid<float> shape(b.min, b.max, ivec3(64));
     check_voxelize(shape, m, "room + occluder, fitted bounds, 64^3", 8);
@@ -789,7 +672,7 @@ TEST_CASE("voxelize.comp: axis-aligned triangles on voxel faces and edges (exact
     m.tri(p[0], p[1], p[2]);
   }
   // A box whose faces lie on voxel planes, and a single quad on the grid's max face.
-  m.box(v3d(0.0, 2.0, 12.0), v3d(1.5, 1.0, 2.25), dmat3(1.0));
+  m.solid_box(v3d(0.0, 2.0, 12.0), v3d(1.5, 1.0, 2.25), dmat3(1.0));
   m.quad(v3f(-4, 4, 8), v3f(4, 4, 8), v3f(4, 4, 16), v3f(-4, 4, 16));
   check_voxelize(shape, m, "axis-aligned triangles on voxel planes", 0);
 }
@@ -951,29 +834,18 @@ TEST_CASE("voxel grid helpers: world_to_voxel (far, NaN), voxel_test, voxel_cent
   }
   for (v3f p : {v3f(1e30f, -1e30f, 0.0f), v3f(flt_nan, 0.0f, flt_inf), v3f(-flt_inf, 3e9f, -3e9f)})
     pts.push_back(f4(p));
-  const std::string kernel = std::string(R"(
-#include "vplkit/visibility/voxel_grid.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 p[]; };
-layout(std430, binding = 1) writeonly buffer Out { ivec4 result[]; };
-)") + grid_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  const auto gpu = run_compute<int4>(grid_kernel(g, R"(#include "vplkit/visibility/voxel_grid.glsl")",
+                                                 {input(0, pts, "vec4 p")}, "ivec4 result", R"(
   ivec3 v = vplkit_world_to_voxel(grid(), p[i].xyz);
-  result[i] = ivec4(v, vplkit_voxel_test(grid(), v) ? 1 : 0);
-}
-)";
-  const std::vector<grid_params> params{params_of(g)};
-  const auto gpu = vplkit::parity::run_compute<int4>(kernel, {64, 1, 1},
-                                                     {input(0, pts), input(2, g.words()), input(3, params)}, 1,
-                                                     pts.size());
-  std::vector<std::int32_t> gv, cv;
+  result[i] = ivec4(v, vplkit_voxel_test(grid(), v) ? 1 : 0);)"),
+                                     pts.size());
+  series<std::int32_t> voxels;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const ivec3 v = g.world_to_voxel(xyz(pts[i]));
-    cv.insert(cv.end(), {v.x, v.y, v.z, g.test(v) ? 1 : 0});
-    gv.insert(gv.end(), {gpu[i].x, gpu[i].y, gpu[i].z, gpu[i].w});
+    for (int k = 0; k < 3; ++k) voxels.add(gpu[i][k], v[k]);
+    voxels.add(gpu[i].w, g.test(v) ? 1 : 0);
   }
-  VPLKIT_CHECK_PARITY(compare_exact(gv, cv, [&](std::size_t k) { return "p = " + show3(xyz(pts[k / 4])); },
+  VPLKIT_CHECK_PARITY(compare_exact(voxels, [&](std::size_t k) { return "p = " + show3(xyz(pts[k / 4])); },
                                     "world_to_voxel and voxel_test"));
 
   // Float helpers on a grid with non-dyadic, non-cubic voxels: continuous coordinate, voxel
@@ -981,46 +853,37 @@ void main() {
   // operations per component (sub, div; add, mul): exact on IEEE implementations. Bound: 2 ulps
   // of the result, or 1e-6 of the coordinate scale (GLSL division may be off by 2.5 ulp).
   const vplkit::voxel_grid<float> h(v3f(-3.1f, 0.7f, 10.2f), v3f(4.3f, 5.9f, 19.9f), ivec3(23, 17, 31));
-  const std::string float_kernel = std::string(R"(
-#include "vplkit/visibility/voxel_grid.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 p[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-)") + grid_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  // Three outputs: the coordinate and voxel length; the centre and word count; back to world and
+  // the flat index (the integers as float bits).
+  std::vector<float4> hp(pts.begin(), pts.begin() + 20000);
+  kernel_call call = grid_kernel(h, R"(#include "vplkit/visibility/voxel_grid.glsl")", {input(0, hp, "vec4 p")},
+                                 "vec4 coord_length", R"(
   vec3 c = vplkit_world_to_voxel_coord(grid(), p[i].xyz);
   ivec3 v = clamp(vplkit_world_to_voxel(grid(), p[i].xyz), ivec3(-2), grid().resolution + 2);
-  result[3u * i] = vec4(c, vplkit_voxel_length(grid()));
-  result[3u * i + 1u] = vec4(vplkit_voxel_center(grid(), v), uintBitsToFloat(vplkit_voxel_word_count(gres.xyz)));
-  result[3u * i + 2u] = vec4(vplkit_voxel_to_world(grid(), c), uintBitsToFloat(vplkit_voxel_flat_index(gres.xyz, v)));
-}
-)";
-  std::vector<float4> hp(pts.begin(), pts.begin() + 20000);
-  const std::vector<grid_params> hparams{params_of(h)};
-  std::vector<std::uint32_t> hwords(h.word_count(), 0u);
-  const auto hg = vplkit::parity::run_compute<float4>(
-      float_kernel, {64, 1, 1}, {input(0, hp), input(2, hwords), input(3, hparams)}, 1, 3 * hp.size());
-  std::vector<float> gf, cf;
-  std::vector<std::uint32_t> gi, ci;
+  coord_length[i] = vec4(c, vplkit_voxel_length(grid()));
+  centre_words[i] = vec4(vplkit_voxel_center(grid(), v), uintBitsToFloat(vplkit_voxel_word_count(gres.xyz)));
+  world_index[i] = vec4(vplkit_voxel_to_world(grid(), c), uintBitsToFloat(vplkit_voxel_flat_index(gres.xyz, v)));)");
+  call.more_outputs = {output_of<float4>(4, "vec4 centre_words"), output_of<float4>(5, "vec4 world_index")};
+  const kernel_outputs out = run_kernel(call, hp.size(), sizeof(float4));
+  const std::vector<float4> hg[3] = {out.get<float4>(1), out.get<float4>(4), out.get<float4>(5)};
+  series<float> floats;
+  series<std::uint32_t> integers;
   for (std::size_t i = 0; i < hp.size(); ++i) {
     const v3f p = xyz(hp[i]);
     const v3f c = h.world_to_voxel_coord(p);
     const ivec3 v = glm::clamp(h.world_to_voxel(p), ivec3(-2), h.resolution() + 2);
     const v3f centre = h.voxel_center(v), back = h.voxel_to_world(c);
-    gf.insert(gf.end(), {hg[3 * i].x, hg[3 * i].y, hg[3 * i].z, hg[3 * i].w, hg[3 * i + 1].x, hg[3 * i + 1].y,
-                         hg[3 * i + 1].z, hg[3 * i + 2].x, hg[3 * i + 2].y, hg[3 * i + 2].z});
-    cf.insert(cf.end(), {c.x, c.y, c.z, h.voxel_length(), centre.x, centre.y, centre.z, back.x, back.y, back.z});
-    std::uint32_t wc = 0, fi = 0;
-    std::memcpy(&wc, &hg[3 * i + 1].w, 4);
-    std::memcpy(&fi, &hg[3 * i + 2].w, 4);
-    gi.insert(gi.end(), {wc, fi});
-    ci.insert(ci.end(), {std::uint32_t(h.word_count()), std::uint32_t(vplkit::voxel_flat_index(h.resolution(), v))});
+    for (int k = 0; k < 3; ++k) floats.add(hg[0][i][k], c[k]);
+    floats.add(hg[0][i].w, h.voxel_length());
+    for (int k = 0; k < 3; ++k) floats.add(hg[1][i][k], centre[k]);
+    for (int k = 0; k < 3; ++k) floats.add(hg[2][i][k], back[k]);
+    integers.add(bits_of(hg[1][i].w), h.word_count());
+    integers.add(bits_of(hg[2][i].w), vplkit::voxel_flat_index(h.resolution(), v));
   }
-  VPLKIT_CHECK_PARITY(compare_floats(gf, cf, within_ulps(2) | within_abs(1e-6 * 20.0),
+  VPLKIT_CHECK_PARITY(compare_floats(floats, within_ulps(2) | within_abs(1e-6 * 20.0),
                                      [&](std::size_t k) { return "p = " + show3(xyz(hp[k / 10])); },
                                      "world_to_voxel_coord, voxel_length, voxel_center, voxel_to_world"));
-  VPLKIT_CHECK_PARITY(compare_exact(gi, ci, [&](std::size_t k) { return "p = " + show3(xyz(hp[k / 2])); },
+  VPLKIT_CHECK_PARITY(compare_exact(integers, [&](std::size_t k) { return "p = " + show3(xyz(hp[k / 2])); },
                                     "voxel_word_count, voxel_flat_index"));
 }
 
@@ -1028,9 +891,9 @@ TEST_CASE("voxel_visible and voxel_visible_two_sided: 1.2 x 10^5 point pairs in 
   // A room (inward box) with two occluders, voxelised by the C++ at 48^3; points on the surfaces
   // with their normals, so the offsets and the tolerance matter.
   mesh m;
-  m.box(v3d(0.5, 0.5, 0.5), v3d(0.5), dmat3(1.0), true);
-  m.box(v3d(0.35, 0.3, 0.5), v3d(0.12, 0.3, 0.2), rotation(0.0, 0.6, 0.0));
-  m.box(v3d(0.7, 0.55, 0.3), v3d(0.05, 0.25, 0.15), rotation(0.3, 0.1, 0.2));
+  m.solid_box(v3d(0.5, 0.5, 0.5), v3d(0.5), dmat3(1.0), true);
+  m.solid_box(v3d(0.35, 0.3, 0.5), v3d(0.12, 0.3, 0.2), rotation(0.0, 0.6, 0.0));
+  m.solid_box(v3d(0.7, 0.55, 0.3), v3d(0.05, 0.25, 0.15), rotation(0.3, 0.1, 0.2));
   const auto b = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
   vplkit::voxel_grid<float> g(b.min, b.max, ivec3(48));
   vplkit::voxelize(g, m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
@@ -1072,9 +935,8 @@ TEST_CASE("voxel_visible and voxel_visible_two_sided: 1.2 x 10^5 point pairs in 
     cases.push_back({f4(p0, 0.0f), f4(up, fm), f4(v3f(0.2f, 1.0f, 0.3f), 0.0f), f4(-up)});  // floor to ceiling
   }
 
-  const std::vector<grid_params> params{params_of(g)};
-  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(
-      visible_kernel, {64, 1, 1}, {input(0, cases), input(2, g.words()), input(3, params)}, 1, cases.size());
+  const auto gpu = run_compute<std::uint32_t>(
+      grid_kernel(g, visible_source, {input(0, cases, "visible_case cases")}, "uint result", visible_body), cases.size());
   const double band = 1e-3 * double(g.voxel_length());
   std::vector<std::uint32_t> cpu, gpu_away, cpu_away;
   std::size_t visible = 0, near = 0, near_diff = 0;
@@ -1112,32 +974,22 @@ TEST_CASE("voxel_visible and voxel_visible_two_sided: 1.2 x 10^5 point pairs in 
   // surface_ray_origin on its own: x + offset * L * unit(n), floats.
   std::vector<float4> in;
   for (std::size_t i = 0; i < 20000; ++i) in.push_back(cases[i].x_offset), in.push_back(cases[i].nx_mode);
-  const std::string kernel = std::string(R"(
-#include "vplkit/visibility/voxel_visible.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 v[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-)") + grid_block + R"(
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  const auto go = run_compute<float4>(grid_kernel(g, R"(#include "vplkit/visibility/voxel_visible.glsl")",
+                                                 {input(0, in, "vec4 v")}, "vec4 result", R"(
   vec4 x = v[2u * i];
   vec4 n = v[2u * i + 1u];
   result[i] = vec4((i % 2u) == 0u ? vplkit_surface_ray_origin(grid(), x.xyz, n.xyz, x.w)
-                                  : vplkit_surface_ray_origin(grid(), x.xyz, n.xyz), 0.0);
-}
-)";
-  const auto go = vplkit::parity::run_compute<float4>(
-      kernel, {64, 1, 1}, {input(0, in), input(2, g.words()), input(3, params)}, 1, in.size() / 2);
-  std::vector<float> gf, cf;
+                                  : vplkit_surface_ray_origin(grid(), x.xyz, n.xyz), 0.0);)"),
+                                      in.size() / 2);
+  series<float> origin;
   for (std::size_t i = 0; i < go.size(); ++i) {
     const v3f x = xyz(in[2 * i]), n = xyz(in[2 * i + 1]);
     const v3f o = i % 2 == 0 ? vplkit::surface_ray_origin(g.view(), x, n, in[2 * i].w)
                              : vplkit::surface_ray_origin(g.view(), x, n);
-    gf.insert(gf.end(), {go[i].x, go[i].y, go[i].z});
-    cf.insert(cf.end(), {o.x, o.y, o.z});
+    for (int k = 0; k < 3; ++k) origin.add(go[i][k], o[k]);
   }
   // The unit normal has sqrt and division: a few ulp on GLSL-minimum GPUs; 4 ulps of the point or
   // 1e-6 of the room size. Measured on llvmpipe: 0.
-  VPLKIT_CHECK_PARITY(compare_floats(gf, cf, within_ulps(4) | within_abs(1e-6),
+  VPLKIT_CHECK_PARITY(compare_floats(origin, within_ulps(4) | within_abs(1e-6),
                                      [&](std::size_t k) { return describe(k / 3); }, "surface_ray_origin"));
 }

@@ -33,96 +33,28 @@
 #include <string>
 #include <vector>
 
-namespace {
-
+using namespace vplkit::parity;
 using vplkit::ivec2;
 using vplkit::vec2;
 using vplkit::vec3;
-using vplkit::parity::compare_exact;
-using vplkit::parity::compare_floats;
-using vplkit::parity::input;
-using vplkit::parity::show;
-using vplkit::parity::within_abs;
-using vplkit::parity::within_rel;
-using vplkit::parity::within_ulps;
+using vplkit_test::flt_eps;
+using vplkit_test::flt_min;
+using vplkit_test::pi;
+using vplkit_test::random_source;
 
-constexpr float flt_eps = std::numeric_limits<float>::epsilon();
-constexpr float flt_min = std::numeric_limits<float>::min();
-constexpr double pi = 3.14159265358979323846;
+namespace {
 
-struct float4 {
-  float x, y, z, w;
-};
-float4 f4(vec3<float> v, float w = 0.0f) { return {v.x, v.y, v.z, w}; }
-
-std::string show3(vec3<float> v) {
-  return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
-}
-
-struct random_source {
-  std::mt19937 g;
-  explicit random_source(std::uint32_t seed) : g(seed) {}
-  double unit() { return double(g() >> 5) * (1.0 / 134217728.0); }
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-  int integer(int lo, int hi) { return lo + int(g() % std::uint32_t(hi - lo + 1)); }
-  vec3<float> direction() {
-    const double z = uniform(-1.0, 1.0);
-    const double phi = uniform(0.0, 2.0 * pi);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return vec3<float>(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
-  }
-  vec3<float> in_box(double h) {
-    return vec3<float>(float(uniform(-h, h)), float(uniform(-h, h)), float(uniform(-h, h)));
-  }
-  vec3<float> colour(double lo, double hi) {
-    return vec3<float>(float(uniform(lo, hi)), float(uniform(lo, hi)), float(uniform(lo, hi)));
-  }
-};
-
-template <class S, class F>
-std::vector<float> component(const std::vector<S>& v, F f) {
-  std::vector<float> out;
-  out.reserve(v.size());
-  for (const S& s : v) out.push_back(f(s));
-  return out;
-}
-
-// compare_floats plus the largest absolute difference.
-template <class R>
-vplkit::parity::comparison cmp(const std::vector<float>& gpu, const std::vector<R>& cpu,
-                               const vplkit::parity::float_bound& bound,
-                               const vplkit::parity::describe_fn& describe, const std::string& what) {
-  vplkit::parity::comparison c = compare_floats(gpu, cpu, bound, describe, what);
-  double worst = 0;
-  std::size_t at = 0;
-  for (std::size_t i = 0; i < gpu.size() && i < cpu.size(); ++i) {
-    const double d = std::fabs(double(gpu[i]) - double(cpu[i]));
-    if (d > worst) {
-      worst = d;
-      at = i;
-    }
-  }
-  if (!gpu.empty() && gpu.size() == cpu.size()) {
-    c.report += "  worst abs:  " + show(worst) + " at [" + std::to_string(at) + "] gpu=" +
-                show(gpu[at]) + " cpu=" + show(cpu[at]) + "\n";
-  }
-  return c;
-}
-
-// Values divided by a per-element scale (computed in double), for quantities whose error is an
-// absolute error of a cosine times that scale. scale 0 leaves the value as it is (then both sides
-// must give 0 for the comparison to pass).
-std::vector<float> scaled_gpu(const std::vector<float>& v, const std::vector<double>& scale) {
-  std::vector<float> out;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out.push_back(scale[i] > 0 ? float(double(v[i]) / scale[i]) : v[i]);
-  return out;
-}
-std::vector<double> scaled_cpu(const std::vector<float>& v, const std::vector<double>& scale) {
-  std::vector<double> out;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out.push_back(scale[i] > 0 ? double(v[i]) / scale[i] : double(v[i]));
-  return out;
+// compare_floats_abs on values divided by a per-element scale (computed in double), for
+// quantities whose error is an absolute error of a cosine times that scale. scale 0 leaves the
+// value as it is (then both sides must give 0 for the comparison to pass).
+comparison compare_scaled(const std::vector<float>& gpu, const std::vector<float>& cpu,
+                          const std::vector<double>& scale, const float_bound& bound, const describe_fn& describe,
+                          const std::string& what) {
+  std::vector<float> g;
+  std::vector<double> c;
+  for (std::size_t i = 0; i < gpu.size(); ++i) g.push_back(scale[i] > 0 ? float(double(gpu[i]) / scale[i]) : gpu[i]);
+  for (std::size_t i = 0; i < cpu.size(); ++i) c.push_back(scale[i] > 0 ? double(cpu[i]) / scale[i] : double(cpu[i]));
+  return compare_floats_abs(g, c, bound, describe, what);
 }
 
 // Cosines are dot products of vectors normalised by unit_or_zero on each side (division, sqrt,
@@ -164,19 +96,14 @@ TEST_CASE("luminance and vpl_flux: 10^5 random inputs") {
     in.push_back(f4(albedo[i]));
     in.push_back(f4(intensity[i]));
   }
-  const std::string kernel = R"(
+  const auto gpu = run_compute<float4>(per_item(R"(
 #include "vplkit/vpl/luminance.glsl"
 #include "vplkit/vpl/vpl.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 q[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+)",
+                                                {input(0, in, "vec4 q")}, "vec4 result", R"(
   result[i] = vec4(vplkit_vpl_flux(q[3u * i + 1u].xyz, q[3u * i + 2u].xyz, q[3u * i].w),
-                   vplkit_luminance(q[3u * i].xyz));
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<float4>(kernel, {64, 1, 1}, {input(0, in)}, 1, rgb.size());
+                   vplkit_luminance(q[3u * i].xyz));)"),
+                                       rgb.size());
   std::vector<float4> cpu;
   for (std::size_t i = 0; i < rgb.size(); ++i)
     cpu.push_back(f4(vplkit::vpl_flux(albedo[i], intensity[i], omega[i]), vplkit::luminance(rgb[i])));
@@ -186,20 +113,14 @@ void main() {
   };
   // luminance: three products and two sums of non-negative terms (no cancellation); FMA
   // contraction changes it by an ulp or so. Bound 4 ulps.
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.w; }),
-                          component(cpu, [](auto v) { return v.w; }), within_ulps(4), describe,
-                          "luminance"));
+  VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [](const float4& v) { return v.w; }, within_ulps(4), describe,
+                                        "luminance"));
   // flux: two correctly rounded products per channel: bit-identical unless a compiler
   // reassociates; bound 2 ulps.
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.x; }),
-                          component(cpu, [](auto v) { return v.x; }), within_ulps(2), describe,
-                          "vpl_flux r"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.y; }),
-                          component(cpu, [](auto v) { return v.y; }), within_ulps(2), describe,
-                          "vpl_flux g"));
-  VPLKIT_CHECK_PARITY(cmp(component(gpu, [](auto v) { return v.z; }),
-                          component(cpu, [](auto v) { return v.z; }), within_ulps(2), describe,
-                          "vpl_flux b"));
+  for (int ch = 0; ch < 3; ++ch) {
+    VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [ch](const float4& v) { return v[ch]; }, within_ulps(2),
+                                          describe, std::string("vpl_flux ") + channel_name(ch)));
+  }
 }
 
 namespace {
@@ -222,34 +143,26 @@ void check_geometry(const std::vector<geometry_case>& cases, const std::string& 
     in.push_back(f4(c.n_y));
     in.push_back(f4(c.flux));
   }
-  const std::string kernel = R"(
-#include "vplkit/vpl/vpl.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 q[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  const auto gpu = run_compute<float4>(per_item(R"(#include "vplkit/vpl/vpl.glsl")", {input(0, in, "vec4 q")},
+                                                "vec4 result", R"(
   uint k = 6u * i;
   vec3 x = q[k].xyz;
   float dmin = q[k].w;
   vplkit_vpl v = vplkit_vpl(q[k + 3u].xyz, q[k + 4u].xyz, q[k + 5u].xyz);
   float g = vplkit_vpl_geometry_term(x, q[k + 1u].xyz, v.position, v.normal, dmin);
-  result[i] = vec4(vplkit_vpl_contribution(x, q[k + 1u].xyz, q[k + 2u].xyz, v, dmin), g);
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<float4>(kernel, {64, 1, 1}, {input(0, in)}, 1, cases.size());
-  std::vector<float> gg, cg, gl[3], cl[3];
-  std::vector<double> sg, sl[3];
+  result[i] = vec4(vplkit_vpl_contribution(x, q[k + 1u].xyz, q[k + 2u].xyz, v, dmin), g);)"),
+                                       cases.size());
+  series<float> g_term;
+  std::vector<double> sg;
+  channels<float> gl, cl;
+  channels<double> sl;
   std::size_t zero_mismatch = 0, positive = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto& c = cases[i];
     const float g = vplkit::vpl_geometry_term(c.x, c.n_x, c.y, c.n_y, c.dmin);
     const vec3<float> L =
         vplkit::vpl_contribution(c.x, c.n_x, c.rho_x, vplkit::vpl<float>{c.y, c.n_y, c.flux}, c.dmin);
-    REQUIRE(std::isfinite(gpu[i].x));
-    REQUIRE(std::isfinite(gpu[i].y));
-    REQUIRE(std::isfinite(gpu[i].z));
-    REQUIRE(std::isfinite(gpu[i].w));
+    for (int k = 0; k < 4; ++k) REQUIRE(std::isfinite(gpu[i][k]));
     REQUIRE(gpu[i].w >= 0.0f);
     if ((g > 0) != (gpu[i].w > 0)) ++zero_mismatch;
     if (g > 0) ++positive;
@@ -257,15 +170,11 @@ void main() {
     const double d2sq = std::max({glm::dot(w, w), double(c.dmin) * double(c.dmin),
                                   double(vplkit::vpl_distance_sq_floor<float>())});
     const double scale_g = 1.0 / (pi * d2sq);
-    gg.push_back(gpu[i].w);
-    cg.push_back(g);
+    g_term.add(gpu[i].w, g);
     sg.push_back(scale_g);
-    const float gv[3] = {gpu[i].x, gpu[i].y, gpu[i].z};
-    for (int ch = 0; ch < 3; ++ch) {
-      gl[ch].push_back(gv[ch]);
-      cl[ch].push_back(L[ch]);
-      sl[ch].push_back(double(c.rho_x[ch]) * double(c.flux[ch]) / pi * scale_g);
-    }
+    gl.push(gpu[i]);
+    cl.push(L);
+    sl.push(vec3<double>(c.rho_x) * vec3<double>(c.flux) / pi * scale_g);
   }
   auto describe = [&](std::size_t i) {
     const auto& c = cases[i];
@@ -276,13 +185,11 @@ void main() {
   std::cout << "  " << what << ": " << positive << " of " << cases.size()
             << " with G > 0 on the CPU; zero/non-zero decisions that differ: " << zero_mismatch
             << " (allowed only within the cosine bound)\n";
-  VPLKIT_CHECK_PARITY(cmp(scaled_gpu(gg, sg), scaled_cpu(cg, sg), cosine_bound, describe,
-                          what + ": G * pi max(d2^2, dmin^2, floor)"));
-  const char* ch_name[3] = {"r", "g", "b"};
+  VPLKIT_CHECK_PARITY(compare_scaled(g_term.gpu, g_term.cpu, sg, cosine_bound, describe,
+                                     what + ": G * pi max(d2^2, dmin^2, floor)"));
   for (int ch = 0; ch < 3; ++ch) {
-    VPLKIT_CHECK_PARITY(cmp(scaled_gpu(gl[ch], sl[ch]), scaled_cpu(cl[ch], sl[ch]), cosine_bound,
-                            describe,
-                            what + ": contribution " + ch_name[ch] + " / (rho flux / pi^2 d2^2)"));
+    VPLKIT_CHECK_PARITY(compare_scaled(gl.c[ch], cl.c[ch], sl.c[ch], cosine_bound, describe,
+                                       what + ": contribution " + channel_name(ch) + " / (rho flux / pi^2 d2^2)"));
   }
 }
 
@@ -298,11 +205,11 @@ TEST_CASE("vpl_geometry_term and vpl_contribution: 10^5 random configurations") 
     const vec3<float> to_y = glm::normalize(c.y - c.x);
     // half of the cases face each other (most give G > 0), half random (mostly back-facing)
     if (i % 2 == 0) {
-      c.n_x = glm::normalize(to_y + rnd.direction() * 0.9f);
-      c.n_y = glm::normalize(-to_y + rnd.direction() * 0.9f);
+      c.n_x = glm::normalize(to_y + rnd.sphere_direction() * 0.9f);
+      c.n_y = glm::normalize(-to_y + rnd.sphere_direction() * 0.9f);
     } else {
-      c.n_x = rnd.direction();
-      c.n_y = rnd.direction();
+      c.n_x = rnd.sphere_direction();
+      c.n_y = rnd.sphere_direction();
     }
     // unnormalised normals of any scale, some zero
     c.n_x *= float(std::pow(10.0, rnd.uniform(-20, 20)));
@@ -392,46 +299,32 @@ void check_light_cases(const std::vector<light_case>& cases, const std::string& 
     in.push_back(f4(c.intensity));
     in.push_back(f4(c.rho_y));
   }
-  const std::string kernel = R"(
-#include "vplkit/vpl/vpl.glsl"
-layout(std430, binding = 0) readonly buffer In { vec4 q[]; };
-struct out_t { vec4 radiance_cos; vec4 area; };
-layout(std430, binding = 1) writeonly buffer Out { out_t result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  // Two outputs: radiance and cos(alpha), patch area.
+  kernel_call call = per_item(R"(#include "vplkit/vpl/vpl.glsl")", {input(0, in, "vec4 q")}, "vec4 radiance_cos", R"(
   uint k = 5u * i;
   vec3 c = q[k].xyz, y = q[k + 1u].xyz, n = q[k + 2u].xyz;
-  result[i].radiance_cos = vec4(vplkit_reflected_radiance(c, q[k + 3u].xyz, y, n, q[k + 4u].xyz),
-                                vplkit_vpl_cos_alpha(c, y, n));
-  result[i].area = vec4(vplkit_vpl_patch_area(q[k].w, q[k + 1u].w, q[k + 2u].w), 0.0, 0.0, 0.0);
-}
-)";
-  struct out_t {
-    float4 radiance_cos, area;
-  };
-  const auto gpu = vplkit::parity::run_compute<out_t>(kernel, {64, 1, 1}, {input(0, in)}, 1, cases.size());
-  std::vector<float> gcos, ccos, garea, carea, gl[3], cl[3];
-  std::vector<double> sl[3];
+  radiance_cos[i] = vec4(vplkit_reflected_radiance(c, q[k + 3u].xyz, y, n, q[k + 4u].xyz),
+                         vplkit_vpl_cos_alpha(c, y, n));
+  area[i] = vplkit_vpl_patch_area(q[k].w, q[k + 1u].w, q[k + 2u].w);)");
+  call.more_outputs = {output_of<float>(2, "float area")};
+  const kernel_outputs out = run_kernel(call, cases.size(), sizeof(float4));
+  const auto gpu = out.get<float4>(1);
+  const auto gpu_area = out.get<float>(2);
+  series<float> cos_alpha, area;
+  channels<float> gl, cl;
+  channels<double> sl;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto& c = cases[i];
     const vec3<float> L = vplkit::reflected_radiance(c.c, c.intensity, c.y, c.n_y, c.rho_y);
-    gcos.push_back(gpu[i].radiance_cos.w);
-    ccos.push_back(vplkit::vpl_cos_alpha(c.c, c.y, c.n_y));
-    garea.push_back(gpu[i].area.x);
-    carea.push_back(vplkit::vpl_patch_area(c.omega, c.d1, c.cos_in));
-    REQUIRE(std::isfinite(gpu[i].radiance_cos.x));
-    REQUIRE(std::isfinite(gpu[i].radiance_cos.y));
-    REQUIRE(std::isfinite(gpu[i].radiance_cos.z));
-    REQUIRE(std::isfinite(gpu[i].area.x));
+    cos_alpha.add(gpu[i].w, vplkit::vpl_cos_alpha(c.c, c.y, c.n_y));
+    area.add(gpu_area[i], vplkit::vpl_patch_area(c.omega, c.d1, c.cos_in));
+    for (int k = 0; k < 3; ++k) REQUIRE(std::isfinite(gpu[i][k]));
+    REQUIRE(std::isfinite(gpu_area[i]));
     const vec3<double> w = vec3<double>(c.c) - vec3<double>(c.y);
     const double d1sq = std::max(glm::dot(w, w), double(vplkit::vpl_distance_sq_floor<float>()));
-    const float gv[3] = {gpu[i].radiance_cos.x, gpu[i].radiance_cos.y, gpu[i].radiance_cos.z};
-    for (int ch = 0; ch < 3; ++ch) {
-      gl[ch].push_back(gv[ch]);
-      cl[ch].push_back(L[ch]);
-      sl[ch].push_back(double(c.rho_y[ch]) * double(c.intensity[ch]) / (pi * d1sq));
-    }
+    gl.push(gpu[i]);
+    cl.push(L);
+    sl.push(vec3<double>(c.rho_y) * vec3<double>(c.intensity) / (pi * d1sq));
   }
   auto describe = [&](std::size_t i) {
     const auto& c = cases[i];
@@ -440,18 +333,16 @@ void main() {
   };
   // cos(alpha): a dot product of two unit_or_zero vectors, clamped at 0: a few ulp of 1 in
   // absolute terms (measured 3.0e-7). Bound 8 ulps or 1e-6 abs (8.4 ulp of 1).
-  VPLKIT_CHECK_PARITY(cmp(gcos, ccos, within_ulps(8) | within_abs(1e-6), describe,
-                          what + ": vpl_cos_alpha"));
+  VPLKIT_CHECK_PARITY(compare_floats_abs(cos_alpha, within_ulps(8) | within_abs(1e-6), describe,
+                                         what + ": vpl_cos_alpha"));
   // patch area: omega d1 d1 / c with the same c on both sides (the floor decision compares the
   // same float): three correctly rounded operations, bit-identical on llvmpipe; a GPU division at
   // the GLSL limit (2.5 ulp) stays inside the bound of 4 ulps.
-  VPLKIT_CHECK_PARITY(cmp(garea, carea, within_ulps(4), describe, what + ": vpl_patch_area"));
+  VPLKIT_CHECK_PARITY(compare_floats_abs(area, within_ulps(4), describe, what + ": vpl_patch_area"));
   // reflected radiance scaled by rho I / (pi d1^2): the cosine's absolute error (cosine_bound).
-  const char* ch_name[3] = {"r", "g", "b"};
   for (int ch = 0; ch < 3; ++ch) {
-    VPLKIT_CHECK_PARITY(cmp(scaled_gpu(gl[ch], sl[ch]), scaled_cpu(cl[ch], sl[ch]), cosine_bound,
-                            describe,
-                            what + ": reflected_radiance " + ch_name[ch] + " / (rho I / pi d1^2)"));
+    VPLKIT_CHECK_PARITY(compare_scaled(gl.c[ch], cl.c[ch], sl.c[ch], cosine_bound, describe,
+                                       what + ": reflected_radiance " + channel_name(ch) + " / (rho I / pi d1^2)"));
   }
 }
 
@@ -465,7 +356,7 @@ TEST_CASE("vpl_cos_alpha, vpl_patch_area, reflected_radiance: random and hard ca
     c.c = rnd.in_box(3);
     c.y = rnd.in_box(5);
     const vec3<float> to_c = glm::normalize(c.c - c.y);
-    c.n_y = (i % 2 == 0 ? glm::normalize(to_c + rnd.direction() * 0.9f) : rnd.direction()) *
+    c.n_y = (i % 2 == 0 ? glm::normalize(to_c + rnd.sphere_direction() * 0.9f) : rnd.sphere_direction()) *
             float(std::pow(10.0, rnd.uniform(-20, 20)));
     if (i % 50 == 3) c.n_y = vec3<float>(0);
     c.intensity = rnd.colour(0, 100);
@@ -608,7 +499,10 @@ vplkit_dprsm_view load_view() {
 }
 )";
 
-std::vector<vplkit::parity::ssbo> dprsm_inputs(const dprsm_data& d) {
+// A kernel over d's DPRSM (bindings 2 to 5, the prelude above), `source` after the prelude, the
+// caller's query buffer (binding 0), its output (binding 1) and per-item body.
+kernel_call dprsm_kernel(const dprsm_data& d, const std::string& source, std::vector<ssbo> queries,
+                         const std::string& output_glsl, const std::string& body) {
   std::vector<float4> p, n, a;
   for (std::size_t i = 0; i < d.P.size(); ++i) {
     p.push_back(f4(d.P[i]));
@@ -618,7 +512,8 @@ std::vector<vplkit::parity::ssbo> dprsm_inputs(const dprsm_data& d) {
   const auto& f = d.light.frame;
   const std::vector<float4> light = {f4(d.light.position), f4(d.light.intensity), f4(f.axis_x),
                                      f4(f.axis_y), f4(f.axis_z), {float(d.R), 0, 0, 0}};
-  return {input(2, p), input(3, n), input(4, a), input(5, light)};
+  queries.insert(queries.end(), {input(2, p), input(3, n), input(4, a), input(5, light)});
+  return per_item(dprsm_prelude + source, std::move(queries), output_glsl, body);
 }
 
 }  // namespace
@@ -627,56 +522,34 @@ TEST_CASE("dprsm_view: vpl_at, texel_valid, solid_angle, texel_count over a synt
   for (int which = 0; which < 2; ++which) {
     const dprsm_data d = make_dprsm(which);
     const int n = d.view.texel_count();
-    vplkit::parity::kernel_call call;
-    call.source = dprsm_prelude + R"(
-struct out_t { vec4 position; vec4 normal; vec4 flux; };
-layout(std430, binding = 1) writeonly buffer Out { out_t result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+    struct out_t {
+      float4 position, normal, flux;
+    };
+    const auto gpu = run_compute<out_t>(dprsm_kernel(d, "struct out_t { vec4 position; vec4 normal; vec4 flux; };", {},
+                                                     "out_t result", R"(
   vplkit_dprsm_view view = load_view();
   int t = int(i);
   vplkit_vpl v = vplkit_dprsm_view_vpl_at(view, t);
   result[i] = out_t(vec4(v.position, vplkit_dprsm_view_texel_valid(view, t) ? 1.0 : 0.0),
                     vec4(v.normal, vplkit_dprsm_view_solid_angle(view, t)),
-                    vec4(v.flux, float(vplkit_dprsm_view_texel_count(view))));
-}
-)";
-    call.inputs = dprsm_inputs(d);
-    call.output_binding = 1;
-    struct out_t {
-      float4 position, normal, flux;
-    };
-    const auto gpu = vplkit::parity::run_compute<out_t>(call, std::size_t(n));
-    std::vector<std::int32_t> g_valid, c_valid, g_count, c_count, g_zero, c_zero;
-    std::vector<std::uint32_t> g_bits, c_bits;
-    std::vector<float> g_omega, c_omega, g_flux[3], c_flux[3];
+                    vec4(v.flux, float(vplkit_dprsm_view_texel_count(view))));)"),
+                                        std::size_t(n));
+    series<std::int32_t> valid, count, nonzero;
+    series<std::uint32_t> bits;
+    series<float> omega;
+    channels<float> g_flux, c_flux;
     std::size_t lit = 0, zero_by_facing = 0, zero_band = 0;
     for (int i = 0; i < n; ++i) {
       const auto& g = gpu[std::size_t(i)];
       const vplkit::vpl<float> v = d.view.vpl_at(i);
-      g_valid.push_back(g.position.w != 0.0f);
-      c_valid.push_back(d.view.texel_valid(i));
-      g_count.push_back(std::int32_t(g.flux.w));
-      c_count.push_back(d.view.texel_count());
+      valid.add(g.position.w != 0.0f, d.view.texel_valid(i));
+      count.add(std::int32_t(g.flux.w), d.view.texel_count());
       // position and normal are copies: bit-identical
-      for (float f : {g.position.x, g.position.y, g.position.z, g.normal.x, g.normal.y, g.normal.z}) {
-        std::uint32_t u;
-        std::memcpy(&u, &f, 4);
-        g_bits.push_back(u);
-      }
-      for (float f : {v.position.x, v.position.y, v.position.z, v.normal.x, v.normal.y, v.normal.z}) {
-        std::uint32_t u;
-        std::memcpy(&u, &f, 4);
-        c_bits.push_back(u);
-      }
-      g_omega.push_back(g.normal.w);
-      c_omega.push_back(d.view.solid_angle(i));
-      const float gf[3] = {g.flux.x, g.flux.y, g.flux.z};
-      for (int ch = 0; ch < 3; ++ch) {
-        g_flux[ch].push_back(gf[ch]);
-        c_flux[ch].push_back(v.flux[ch]);
-      }
+      for (int k = 0; k < 3; ++k) bits.add(bits_of(g.position[k]), bits_of(v.position[k]));
+      for (int k = 0; k < 3; ++k) bits.add(bits_of(g.normal[k]), bits_of(v.normal[k]));
+      omega.add(g.normal.w, d.view.solid_angle(i));
+      g_flux.push(g.flux);
+      c_flux.push(v.flux);
       const bool g_nonzero = g.flux.x != 0 || g.flux.y != 0 || g.flux.z != 0;
       const bool c_nonzero = v.flux != vec3<float>(0);
       // The back-facing test (cos alpha > 0) is the one zero/non-zero decision made on a rounded
@@ -691,8 +564,7 @@ void main() {
       const bool in_band = std::abs(raw_cos) < 1e-6 && d.view.texel_valid(i) &&
                            d.A[std::size_t(i)] != vec3<float>(0);
       if (in_band) ++zero_band;
-      g_zero.push_back(g_nonzero || (in_band && c_nonzero) ? 1 : 0);
-      c_zero.push_back(c_nonzero || (in_band && g_nonzero) ? 1 : 0);
+      nonzero.add(g_nonzero || (in_band && c_nonzero) ? 1 : 0, c_nonzero || (in_band && g_nonzero) ? 1 : 0);
       if (c_nonzero) ++lit;
       if (!c_nonzero && d.view.texel_valid(i) && d.A[std::size_t(i)] != vec3<float>(0))
         ++zero_by_facing;
@@ -708,18 +580,17 @@ void main() {
               << " valid and non-empty but zeroed (back-facing, coincident, zero normal), "
               << zero_band << " with |unclamped cos alpha| < 1e-6\n";
     CHECK(zero_by_facing >= 3);
-    VPLKIT_CHECK_PARITY(compare_exact(g_valid, c_valid, describe, what + ": texel_valid"));
-    VPLKIT_CHECK_PARITY(compare_exact(g_count, c_count, describe, what + ": texel_count"));
-    VPLKIT_CHECK_PARITY(compare_exact(g_bits, c_bits, {}, what + ": position, normal (bits)"));
-    VPLKIT_CHECK_PARITY(compare_exact(g_zero, c_zero, describe,
+    VPLKIT_CHECK_PARITY(compare_exact(valid, describe, what + ": texel_valid"));
+    VPLKIT_CHECK_PARITY(compare_exact(count, describe, what + ": texel_count"));
+    VPLKIT_CHECK_PARITY(compare_exact(bits, {}, what + ": position, normal (bits)"));
+    VPLKIT_CHECK_PARITY(compare_exact(nonzero, describe,
                                       what + ": flux zero / non-zero (exact outside |cos alpha| < 1e-6)"));
     // solid angle: as texel_solid_angle in parity_paraboloid_test (rel 1.5e-6); flux adds two
     // correctly rounded products: rel 2e-6.
-    VPLKIT_CHECK_PARITY(cmp(g_omega, c_omega, within_rel(1.5e-6), describe, what + ": solid_angle"));
-    const char* ch_name[3] = {"r", "g", "b"};
+    VPLKIT_CHECK_PARITY(compare_floats_abs(omega, within_rel(1.5e-6), describe, what + ": solid_angle"));
     for (int ch = 0; ch < 3; ++ch)
-      VPLKIT_CHECK_PARITY(cmp(g_flux[ch], c_flux[ch], within_rel(2e-6), describe,
-                              what + ": flux " + ch_name[ch]));
+      VPLKIT_CHECK_PARITY(compare_floats_abs(g_flux.c[ch], c_flux.c[ch], within_rel(2e-6), describe,
+                                             what + ": flux " + channel_name(ch)));
   }
 }
 
@@ -741,45 +612,29 @@ TEST_CASE("dprsm_view: exhaustive VPL sum at gather points (vpl_at + vpl_contrib
     xs.push_back(f4(gx.back()));
     xs.push_back(f4(gn.back()));
   }
-  auto inputs = dprsm_inputs(d);
-  inputs.push_back(input(0, xs));
-  vplkit::parity::kernel_call call;
-  call.source = dprsm_prelude + R"(
-layout(std430, binding = 0) readonly buffer Gather { vec4 gather[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+  kernel_call call = dprsm_kernel(d, "", {input(0, xs, "vec4 gather")}, "vec4 result", R"(
   vplkit_dprsm_view view = load_view();
   vec3 x = gather[2u * i].xyz, n = gather[2u * i + 1u].xyz;
   vec3 sum = vec3(0.0);
   for (int t = 0; t < vplkit_dprsm_view_texel_count(view); ++t)
     sum += vplkit_vpl_contribution(x, n, vec3(0.5, 0.6, 0.7), vplkit_dprsm_view_vpl_at(view, t), 0.05);
-  result[i] = vec4(sum, 0.0);
-}
-)";
+  result[i] = vec4(sum, 0.0);)");
   call.local_size = {16, 1, 1};
-  call.inputs = inputs;
-  call.output_binding = 1;
-  const auto gpu = vplkit::parity::run_compute<float4>(call, gx.size());
-  std::vector<float> g[3], c[3];
+  const auto gpu = run_compute<float4>(call, gx.size());
+  channels<float> g, c;
   for (std::size_t i = 0; i < gx.size(); ++i) {
     vec3<float> sum(0);
     for (int t = 0; t < d.view.texel_count(); ++t)
       sum += vplkit::vpl_contribution(gx[i], gn[i], vec3<float>(0.5f, 0.6f, 0.7f), d.view.vpl_at(t), 0.05f);
-    const float gv[3] = {gpu[i].x, gpu[i].y, gpu[i].z};
-    for (int ch = 0; ch < 3; ++ch) {
-      g[ch].push_back(gv[ch]);
-      c[ch].push_back(sum[ch]);
-    }
+    g.push(gpu[i]);
+    c.push(sum);
   }
   auto describe = [&](std::size_t i) { return "x " + show3(gx[i]) + " n " + show3(gn[i]); };
   // ~1600 positive terms summed in the same order on both sides: per-term differences of a few
   // 1e-7 relative (cosines, solid angle) average out; the sum agrees to rel 1e-5 (measured ~1e-6).
-  const char* ch_name[3] = {"r", "g", "b"};
   for (int ch = 0; ch < 3; ++ch)
-    VPLKIT_CHECK_PARITY(cmp(g[ch], c[ch], within_rel(1e-5), describe,
-                            std::string("VPL sum ") + ch_name[ch]));
+    VPLKIT_CHECK_PARITY(compare_floats_abs(g.c[ch], c.c[ch], within_rel(1e-5), describe,
+                                           std::string("VPL sum ") + channel_name(ch)));
 }
 
 namespace {
@@ -821,7 +676,7 @@ TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + cent
     std::vector<vec3<float>> dirs, points;
     std::vector<std::string> kind;
     for (int i = 0; i < 100000; ++i) {
-      dirs.push_back(rnd.direction() * float(std::pow(10.0, rnd.uniform(-10, 10))));
+      dirs.push_back(rnd.sphere_direction() * float(std::pow(10.0, rnd.uniform(-10, 10))));
       points.push_back(d.light.position + rnd.in_box(8));
       kind.push_back("random");
     }
@@ -856,26 +711,14 @@ TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + cent
       in.push_back(f4(dirs[i]));
       in.push_back(f4(points[i]));
     }
-    auto inputs = dprsm_inputs(d);
-    inputs.push_back(input(0, in));
-    vplkit::parity::kernel_call call;
-    call.source = dprsm_prelude + R"(
-layout(std430, binding = 0) readonly buffer Q { vec4 q[]; };
-layout(std430, binding = 1) writeonly buffer Out { ivec2 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_dprsm_view view = load_view();
-  result[i] = ivec2(vplkit_dprsm_view_texel_of_direction(view, q[2u * i].xyz),
-                    vplkit_dprsm_view_texel_of_point(view, q[2u * i + 1u].xyz));
-}
-)";
-    call.inputs = inputs;
-    call.output_binding = 1;
     struct int2 {
       std::int32_t dir, point;
     };
-    const auto gpu = vplkit::parity::run_compute<int2>(call, dirs.size());
+    const auto gpu = run_compute<int2>(dprsm_kernel(d, "", {input(0, in, "vec4 q")}, "ivec2 result", R"(
+  vplkit_dprsm_view view = load_view();
+  result[i] = ivec2(vplkit_dprsm_view_texel_of_direction(view, q[2u * i].xyz),
+                    vplkit_dprsm_view_texel_of_point(view, q[2u * i + 1u].xyz));)"),
+                                       dirs.size());
     std::size_t differ[2] = {0, 0}, seam[2] = {0, 0}, unexplained = 0, centre_differ = 0;
     for (std::size_t i = 0; i < dirs.size(); ++i) {
       for (int which_q = 0; which_q < 2; ++which_q) {
@@ -939,27 +782,15 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
     kind.push_back("the light position");
     std::vector<float4> in;
     for (const auto& y : ys) in.push_back(f4(y));
-    auto inputs = dprsm_inputs(d);
-    inputs.push_back(input(0, in));
-    vplkit::parity::kernel_call call;
-    call.source = dprsm_prelude + R"(
-layout(std430, binding = 0) readonly buffer Q { vec4 q[]; };
-layout(std430, binding = 1) writeonly buffer Out { ivec2 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+    kernel_call call = dprsm_kernel(d, "", {input(0, in, "vec4 q")}, "ivec2 result", R"(
   vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(load_view(), q[i].xyz, TOLERANCE);
-  result[i] = ivec2(r.texel, r.lit ? 1 : 0);
-}
-)";
+  result[i] = ivec2(r.texel, r.lit ? 1 : 0);)");
     call.defines = "#define TOLERANCE " + show(double(tolerance)) + "\n";
-    call.inputs = inputs;
-    call.output_binding = 1;
     struct int2 {
       std::int32_t texel, lit;
     };
-    const auto gpu = vplkit::parity::run_compute<int2>(call, ys.size());
-    std::vector<std::int32_t> g_texel, c_texel, g_lit, c_lit;
+    const auto gpu = run_compute<int2>(call, ys.size());
+    series<std::int32_t> texel, lit;
     std::size_t texel_edges = 0, band = 0, lit_count = 0, unexplained = 0;
     for (std::size_t i = 0; i < ys.size(); ++i) {
       const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(d.view, ys[i], tolerance);
@@ -989,10 +820,8 @@ void main() {
           glit = r.lit;
         }
       }
-      g_texel.push_back(gt);
-      c_texel.push_back(r.texel);
-      g_lit.push_back(glit);
-      c_lit.push_back(r.lit);
+      texel.add(gt, r.texel);
+      lit.add(glit, r.lit);
     }
     const std::string what = "dprsm_lookup (light " + std::to_string(which) + ", R " + std::to_string(d.R) + ")";
     std::cout << "  " << what << ": " << ys.size() << " points, " << lit_count
@@ -1001,9 +830,9 @@ void main() {
     CHECK(unexplained == 0);
     CHECK(texel_edges <= 100);
     auto describe = [&](std::size_t i) { return kind[i] + ": y " + show3(ys[i]); };
-    VPLKIT_CHECK_PARITY(compare_exact(g_texel, c_texel, describe,
+    VPLKIT_CHECK_PARITY(compare_exact(texel, describe,
                                       what + ": texel (edge/seam differences explained above)"));
-    VPLKIT_CHECK_PARITY(compare_exact(g_lit, c_lit, describe,
+    VPLKIT_CHECK_PARITY(compare_exact(lit, describe,
                                       what + ": lit (exact outside the band)"));
   }
 }
@@ -1038,25 +867,13 @@ TEST_CASE("direct_light: lit decision and value, exact decisions except near a d
       in.push_back(f4(g.normal));
       in.push_back(f4(g.albedo));
     }
-    auto inputs = dprsm_inputs(d);
-    inputs.push_back(input(0, in));
-    vplkit::parity::kernel_call call;
-    call.source = dprsm_prelude + R"(
-#include "vplkit/vpl/direct_light.glsl"
-layout(std430, binding = 0) readonly buffer Q { vec4 q[]; };
-layout(std430, binding = 1) writeonly buffer Out { vec4 result[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
+    const auto gpu = run_compute<float4>(
+        dprsm_kernel(d, R"(#include "vplkit/vpl/direct_light.glsl")", {input(0, in, "vec4 q")}, "vec4 result", R"(
   vplkit_gather_point gp = vplkit_gather_point(q[3u * i].xyz, q[3u * i + 1u].xyz, q[3u * i + 2u].xyz);
-  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);
-}
-)";
-    call.inputs = inputs;
-    call.output_binding = 1;
-    const auto gpu = vplkit::parity::run_compute<float4>(call, gps.size());
+  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);)"),
+        gps.size());
     std::size_t lit = 0, edge = 0;
-    std::vector<std::int32_t> g_lit, c_lit;
+    series<std::int32_t> lit_decision;
     std::vector<float> gv[3];
     std::vector<double> cv[3];
     for (std::size_t i = 0; i < gps.size(); ++i) {
@@ -1073,8 +890,7 @@ void main() {
         ++edge;
         gl = cl;
       }
-      g_lit.push_back(gl);
-      c_lit.push_back(cl);
+      lit_decision.add(gl, cl);
       // Values where both are lit, scaled by rho I / (pi d^2): what is compared is cos(alpha).
       const vec3<double> w = vec3<double>(d.light.position) - vec3<double>(g.position);
       for (int ch = 0; ch < 3; ++ch) {
@@ -1091,40 +907,24 @@ void main() {
     CHECK(lit < gps.size() - 1000);  // the walls' shadows are there
     CHECK(edge <= gps.size() / 1000);
     auto describe = [&](std::size_t i) { return kind[i] + ": x " + show3(gps[i].position); };
-    VPLKIT_CHECK_PARITY(compare_exact(g_lit, c_lit, describe, what + ": lit (flips at edges counted above)"));
-    const char* ch_name[3] = {"r", "g", "b"};
+    VPLKIT_CHECK_PARITY(compare_exact(lit_decision, describe, what + ": lit (flips at edges counted above)"));
     for (int ch = 0; ch < 3; ++ch)
-      VPLKIT_CHECK_PARITY(cmp(gv[ch], cv[ch], cosine_bound, describe,
-                              what + ": " + ch_name[ch] + " / (rho I / pi d^2)"));
+      VPLKIT_CHECK_PARITY(compare_floats_abs(gv[ch], cv[ch], cosine_bound, describe,
+                                             what + ": " + channel_name(ch) + " / (rho I / pi d^2)"));
   }
 }
 
 TEST_CASE("vpl constants: the GLSL values are the C++ values, bit for bit") {
-  const std::string kernel = R"(
-#include "vplkit/vpl/vpl.glsl"
-layout(std430, binding = 0) writeonly buffer Out { uint result[]; };
-void main() {
-  if (gl_GlobalInvocationID.x != 0u) return;
-  result[0] = floatBitsToUint(vplkit_vpl_pi);
-  result[1] = floatBitsToUint(vplkit_vpl_distance_sq_floor());
-  result[2] = floatBitsToUint(vplkit_vpl_min_cos_alpha);
-  result[3] = floatBitsToUint(vplkit_vpl_coincidence_factor);
-  // the tolerance itself for a point of size 1 and 3: 16 eps s
-  result[4] = floatBitsToUint(vplkit_vpl_coincidence_tolerance(vec3(1.0, 0.0, 0.0), vec3(0.0)));
-  result[5] = floatBitsToUint(vplkit_vpl_coincidence_tolerance(vec3(0.0), vec3(0.0, -3.0, 2.0)));
-}
-)";
-  const auto gpu = vplkit::parity::run_compute<std::uint32_t>(kernel, {1, 1, 1}, {}, 0, 6);
-  auto bits = [](float f) {
-    std::uint32_t u = 0;
-    std::memcpy(&u, &f, sizeof u);
-    return u;
-  };
-  const std::vector<std::uint32_t> cpu = {
-      bits(vplkit::vpl_pi<float>), bits(vplkit::vpl_distance_sq_floor<float>()),
-      bits(vplkit::vpl_min_cos_alpha<float>), bits(16.0f * flt_eps),
-      bits(vplkit::vpl_coincidence_tolerance(vec3<float>(1, 0, 0), vec3<float>(0))),
-      bits(vplkit::vpl_coincidence_tolerance(vec3<float>(0), vec3<float>(0, -3, 2)))};
-  VPLKIT_CHECK_PARITY(compare_exact(gpu, cpu, {},
-                                    "pi, distance floor, min cos alpha, 16 eps, tolerances (bits)"));
+  VPLKIT_CHECK_PARITY(compare_constants(
+      R"(#include "vplkit/vpl/vpl.glsl")",
+      {{"floatBitsToUint(vplkit_vpl_pi)", bits_of(vplkit::vpl_pi<float>)},
+       {"floatBitsToUint(vplkit_vpl_distance_sq_floor())", bits_of(vplkit::vpl_distance_sq_floor<float>())},
+       {"floatBitsToUint(vplkit_vpl_min_cos_alpha)", bits_of(vplkit::vpl_min_cos_alpha<float>)},
+       {"floatBitsToUint(vplkit_vpl_coincidence_factor)", bits_of(16.0f * flt_eps)},
+       // the tolerance itself for a point of size 1 and 3: 16 eps s
+       {"floatBitsToUint(vplkit_vpl_coincidence_tolerance(vec3(1.0, 0.0, 0.0), vec3(0.0)))",
+        bits_of(vplkit::vpl_coincidence_tolerance(vec3<float>(1, 0, 0), vec3<float>(0)))},
+       {"floatBitsToUint(vplkit_vpl_coincidence_tolerance(vec3(0.0), vec3(0.0, -3.0, 2.0)))",
+        bits_of(vplkit::vpl_coincidence_tolerance(vec3<float>(0), vec3<float>(0, -3, 2)))}},
+      "pi, distance floor, min cos alpha, 16 eps, tolerances (bits)"));
 }

@@ -7,6 +7,7 @@
 #include <vplkit/distribution/face_roulette.hpp>
 
 #include <vplkit_test_support.hpp>
+#include <weight_generators.hpp>
 
 #include <cstdint>
 #include <random>
@@ -14,24 +15,10 @@
 
 namespace {
 
+using vplkit_test::exponential_weights;
+using vplkit_test::u01;
+
 constexpr std::uint64_t kSamples = 2000000;
-
-template <class T>
-std::vector<T> exponential_weights(std::size_t n, unsigned seed, double zero_fraction) {
-  std::mt19937 rng(seed);
-  std::exponential_distribution<double> ex(1.0);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  std::vector<T> w(n);
-  for (auto& x : w) x = uni(rng) < zero_fraction ? T(0) : T(ex(rng));
-  return w;
-}
-
-// The RNG convention of docs/math.md section 6: 24 random bits on the 2^-24 grid (for double too,
-// so the double samplers are tested with the u a GPU would feed them).
-template <class T>
-T u01(std::mt19937& rng) {
-  return T(rng() >> 8) * T(0x1p-24);
-}
 
 template <class T>
 std::vector<double> normalised(const std::vector<T>& w) {

@@ -2,6 +2,7 @@
 // independence of neighbouring streams and seeds, avalanche of the hash. Fixed keys throughout;
 // thresholds at ~1e-4 significance (chi_square_critical) or >= 4 sigma.
 #include <vplkit/sampling/rng.hpp>
+#include <correlation.hpp>
 #include <vplkit_test_support.hpp>
 
 #include <catch2/catch.hpp>
@@ -35,22 +36,6 @@ void check_uniform_1000_bins(const std::vector<float>& xs) {
   INFO("chi2 = " << stat << ", dof = " << dof);
   CHECK(dof == bins - 1);
   CHECK(stat < vplkit_test::chi_square_critical(dof));
-}
-
-// Pearson correlation of two equally long sequences.
-double correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const double n = double(a.size());
-  double ma = 0, mb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i], mb += b[i];
-  ma /= n;
-  mb /= n;
-  double sab = 0, saa = 0, sbb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return sab / std::sqrt(saa * sbb);
 }
 
 }  // namespace
@@ -99,7 +84,7 @@ TEST_CASE("neighbouring streams and seeds are uncorrelated") {
     // stream s vs s+1 under one seed
     counter_rng ra = make_counter_rng(11u, s * 1000u), rb = make_counter_rng(11u, s * 1000u + 1u);
     for (int i = 0; i < n; ++i) a[i] = rng_next_double(ra), b[i] = rng_next_double(rb);
-    const double r = correlation(a, b);
+    const double r = vplkit_test::pearson_correlation(a, b);
     INFO("streams " << s * 1000u << ", +1: r = " << r);
     CHECK(std::abs(r) < bound);
     sum_r2 += r * r;
@@ -109,7 +94,7 @@ TEST_CASE("neighbouring streams and seeds are uncorrelated") {
     // seed vs seed+1 for one stream (consecutive frames of one pixel)
     counter_rng ra = make_counter_rng(seed, 4242u), rb = make_counter_rng(seed + 1u, 4242u);
     for (int i = 0; i < n; ++i) a[i] = rng_next_double(ra), b[i] = rng_next_double(rb);
-    const double r = correlation(a, b);
+    const double r = vplkit_test::pearson_correlation(a, b);
     INFO("seeds " << seed << ", +1: r = " << r);
     CHECK(std::abs(r) < bound);
     sum_r2 += r * r;
@@ -127,7 +112,7 @@ TEST_CASE("neighbouring streams and seeds are uncorrelated") {
     first[t] = rng_next_double(r);
   }
   const std::vector<double> x(first.begin(), first.end() - 1), y(first.begin() + 1, first.end());
-  const double r_lag = correlation(x, y);
+  const double r_lag = vplkit_test::pearson_correlation(x, y);
   INFO("lag-1 correlation across streams: " << r_lag);
   CHECK(std::abs(r_lag) < 4.0 / std::sqrt(double(n)));
 }

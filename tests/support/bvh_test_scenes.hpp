@@ -9,6 +9,8 @@
 //    reported instead of it.
 // It works in double with Pluecker side products and the plane equation, which have nothing in
 // common with the Woop test under test.
+#include <random_streams.hpp>
+
 #include <vplkit/core/vector.hpp>
 
 #include <glm/mat3x3.hpp>
@@ -22,9 +24,6 @@
 
 namespace vplkit_test {
 
-using v3f = vplkit::vec3<float>;
-using v3d = vplkit::vec3<double>;
-
 struct tri_mesh {
   std::vector<v3f> positions;
   std::vector<std::uint32_t> indices;
@@ -36,6 +35,26 @@ struct tri_mesh {
     const auto base = std::uint32_t(positions.size());
     positions.insert(positions.end(), {a, b, c});
     indices.insert(indices.end(), {base, base + 1, base + 2});
+  }
+  void quad(v3f a, v3f b, v3f c, v3f d) {  // a b c d counter-clockwise, shared vertices
+    const auto base = std::uint32_t(positions.size());
+    positions.insert(positions.end(), {a, b, c, d});
+    indices.insert(indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
+  // An oriented box of 12 triangles over 8 shared vertices: centre, half extents, rotation
+  // (columns); faces outward, or inward (a room).
+  void solid_box(v3d centre, v3d half, const glm::dmat3& rot, bool inward = false) {
+    const auto base = std::uint32_t(positions.size());
+    for (int k = 0; k < 8; ++k) {
+      const v3d l((k & 1) ? half.x : -half.x, (k & 2) ? half.y : -half.y, (k & 4) ? half.z : -half.z);
+      positions.push_back(v3f(centre + rot * l));
+    }
+    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : faces) {
+      std::uint32_t q[4];
+      for (int k = 0; k < 4; ++k) q[k] = base + std::uint32_t(f[inward ? 3 - k : k]);
+      indices.insert(indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    }
   }
   // An n x n grid of quads (2 triangles each) over the parallelogram corner + [0,1] u + [0,1] v,
   // with shared vertices, so every interior edge is shared by two triangles; each vertex is
@@ -85,27 +104,6 @@ inline glm::dmat3 rotation(double ax, double ay, double az) {
       rz(cz, sz, 0, -sz, cz, 0, 0, 0, 1);
   return rz * ry * rx;
 }
-
-// mt19937's output is fixed by the standard; the mapping to floats is ours, so the inputs are
-// the same with every standard library.
-struct random_source {
-  std::mt19937 g;
-  explicit random_source(std::uint32_t seed) : g(seed) {}
-  double unit() { return double(g() >> 5) * (1.0 / 134217728.0); }  // [0, 1), 27 bits
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-  int integer(int lo, int hi) { return lo + int(g() % std::uint32_t(hi - lo + 1)); }
-  double normal() {
-    const double u1 = 1.0 - unit(), u2 = unit();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-  }
-  v3d direction() {
-    v3d d(0.0);
-    do d = v3d(normal(), normal(), normal());
-    while (glm::dot(d, d) < 1e-6);
-    return d / std::sqrt(glm::dot(d, d));
-  }
-  v3f point_in(v3d lo, v3d hi) { return v3f(uniform(lo.x, hi.x), uniform(lo.y, hi.y), uniform(lo.z, hi.z)); }
-};
 
 // A random point of a random triangle of m (barycentric, rounded to float, so slightly off the
 // plane like a rasterised point), and as its normal the triangle's cross(v1 - v0, v2 - v0) times a

@@ -330,4 +330,19 @@ struct exact_tracer {
   }
 };
 
+// The room lit by its DPRSM of resolution R, with the gather points and the exact callables: what
+// an estimator test starts from. Not copyable: `view` points into `d`.
+template <class T>
+struct lit_room {
+  synthetic_scene<T> scene;
+  dprsm_data<T> d;
+  vplkit::dprsm_view<T> view;
+  std::vector<named_gather_point<T>> gps = scene.gather_points();
+  exact_visibility<T> vis{&scene};
+  exact_tracer<T> tracer{&scene};
+  explicit lit_room(int R) : d(scene.make_dprsm(R)), view(d.view()) {}
+  lit_room(const lit_room&) = delete;
+  lit_room& operator=(const lit_room&) = delete;
+};
+
 }  // namespace vplkit_test

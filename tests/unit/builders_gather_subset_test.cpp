@@ -1,5 +1,7 @@
 // Stratified gather-pixel subsets: the stratum grid tiles the rectangle, picks stay inside their
 // stratum, are distinct, valid and deterministic, and background strata resample or drop.
+#include <synthetic_scene.hpp>
+
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/gather_point.hpp>
@@ -14,28 +16,19 @@ using vplkit::vec3;
 namespace {
 
 // A w x h G-buffer whose pixels are all valid except where bg(x, y) says background.
-struct test_gbuffer {
-  int w, h;
-  std::vector<vec3<double>> P, N, A;
-  template <class Bg>
-  test_gbuffer(int w_, int h_, Bg bg) : w(w_), h(h_) {
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        P.emplace_back(double(x), double(y), 0.0);
-        N.push_back(bg(x, y) ? vec3<double>(0.0) : vec3<double>(0, 0, 1));
-        A.emplace_back(0.5);
-      }
-  }
-  vplkit::gbuffer_view<double> view() const {
-    vplkit::gbuffer_view<double> v;
-    v.width = w;
-    v.height = h;
-    v.position = P.data();
-    v.normal = N.data();
-    v.albedo = A.data();
-    return v;
-  }
-};
+template <class Bg>
+vplkit_test::gbuffer_data<double> test_gbuffer(int w, int h, Bg bg) {
+  vplkit_test::gbuffer_data<double> g;
+  g.width = w;
+  g.height = h;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      g.position.emplace_back(double(x), double(y), 0.0);
+      g.normal.push_back(bg(x, y) ? vec3<double>(0.0) : vec3<double>(0, 0, 1));
+      g.albedo.emplace_back(0.5);
+    }
+  return g;
+}
 
 }  // namespace
 
@@ -110,7 +103,7 @@ TEST_CASE("builders: strata are about square", "[builders]") {
 }
 
 TEST_CASE("builders: one pick per stratum, inside it, distinct and deterministic", "[builders]") {
-  const test_gbuffer gb(37, 23, [](int, int) { return false; });
+  const auto gb = test_gbuffer(37, 23, [](int, int) { return false; });
   const auto view = gb.view();
   const vplkit::pixel_rect rect{5, 3, 29, 17};
   const int count = 50;
@@ -134,7 +127,7 @@ TEST_CASE("builders: one pick per stratum, inside it, distinct and deterministic
 }
 
 TEST_CASE("builders: count above the pixel count takes every pixel once", "[builders]") {
-  const test_gbuffer gb(5, 3, [](int, int) { return false; });
+  const auto gb = test_gbuffer(5, 3, [](int, int) { return false; });
   const std::vector<int> s = vplkit::stratified_gather_subset(gb.view(), {1, 1, 3, 2}, 100, 1u);
   REQUIRE(s.size() == 6);
   const std::set<int> got(s.begin(), s.end());
@@ -144,7 +137,7 @@ TEST_CASE("builders: count above the pixel count takes every pixel once", "[buil
 
 TEST_CASE("builders: the jitter covers the stratum uniformly", "[builders]") {
   // one 4 x 4 stratum, many seeds: every pixel is chosen, about equally often
-  const test_gbuffer gb(4, 4, [](int, int) { return false; });
+  const auto gb = test_gbuffer(4, 4, [](int, int) { return false; });
   std::vector<int> hist(16, 0);
   for (std::uint32_t seed = 0; seed < 16000; ++seed) {
     const std::vector<int> s = vplkit::stratified_gather_subset(gb.view(), {0, 0, 4, 4}, 1, seed);
@@ -159,7 +152,7 @@ TEST_CASE("builders: the jitter covers the stratum uniformly", "[builders]") {
 
 TEST_CASE("builders: background strata resample, then drop", "[builders]") {
   // left half background
-  const test_gbuffer gb(20, 10, [](int x, int) { return x < 10; });
+  const auto gb = test_gbuffer(20, 10, [](int x, int) { return x < 10; });
   const auto view = gb.view();
   const vplkit::pixel_rect rect{0, 0, 20, 10};
   const vplkit::gather_subset_grid_shape g = vplkit::gather_subset_grid(rect, 8);
@@ -178,7 +171,7 @@ TEST_CASE("builders: background strata resample, then drop", "[builders]") {
 
   // A stratum straddling the boundary: with one attempt it drops about half the time, with many
   // attempts almost never; every accepted pick is valid.
-  const test_gbuffer half(2, 1, [](int x, int) { return x == 0; });
+  const auto half = test_gbuffer(2, 1, [](int x, int) { return x == 0; });
   int kept1 = 0, kept8 = 0;
   for (std::uint32_t seed = 0; seed < 2000; ++seed) {
     const auto s1 = vplkit::stratified_gather_subset(half.view(), {0, 0, 2, 1}, 1, seed, 0u, 1);
@@ -194,7 +187,7 @@ TEST_CASE("builders: background strata resample, then drop", "[builders]") {
 }
 
 TEST_CASE("builders: gather subset rejects bad arguments", "[builders]") {
-  const test_gbuffer gb(8, 8, [](int, int) { return false; });
+  const auto gb = test_gbuffer(8, 8, [](int, int) { return false; });
   const auto v = gb.view();
   CHECK_THROWS_AS(vplkit::stratified_gather_subset(v, {0, 0, 9, 8}, 4, 0u), vplkit::invalid_input);
   CHECK_THROWS_AS(vplkit::stratified_gather_subset(v, {-1, 0, 4, 4}, 4, 0u), vplkit::invalid_input);

@@ -6,6 +6,7 @@
 #include <vplkit/core/error.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 
+#include <correlation.hpp>
 #include <synthetic_scene.hpp>
 
 #include <catch2/catch.hpp>
@@ -30,23 +31,6 @@ vplkit::gbg_params<T> params(int n_dirs, vplkit::gbg_accumulator acc, bool fill,
   p.accumulator = acc;
   p.fill_holes = fill;
   return p;
-}
-
-double pearson(const std::vector<double>& a, const std::vector<double>& b) {
-  double ma = 0, mb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    ma += a[i];
-    mb += b[i];
-  }
-  ma /= double(a.size());
-  mb /= double(b.size());
-  double sab = 0, saa = 0, sbb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return sab / std::sqrt(saa * sbb);
 }
 
 }  // namespace
@@ -271,14 +255,14 @@ TEST_CASE("builders: GBG gathering weights correlate with the exhaustive contrib
       gb.view(), view, tr, params<double>(256, vplkit::gbg_accumulator::gathering, true)));
   const auto paper = normalised(vplkit::build_gbg_weights(
       gb.view(), view, tr, params<double>(256, vplkit::gbg_accumulator::paper, true)));
-  const double r_gath = pearson(gath, ex), r_paper = pearson(paper, ex);
+  const double r_gath = vplkit_test::pearson_correlation(gath, ex), r_paper = vplkit_test::pearson_correlation(paper, ex);
   // face totals (what the face roulette uses) agree too
   double front_ex = 0, front_g = 0;
   for (int t = 0; t < R * R; ++t) {
     front_ex += ex[std::size_t(t)];
     front_g += gath[std::size_t(t)];
   }
-  INFO("pearson(gathering, exhaustive) = " << r_gath << ", pearson(paper, exhaustive) = "
+  INFO("vplkit_test::pearson_correlation(gathering, exhaustive) = " << r_gath << ", vplkit_test::pearson_correlation(paper, exhaustive) = "
                                            << r_paper << ", front share " << front_g << " vs "
                                            << front_ex);
   // Measured: 0.92 at 256 rays per pixel (0.96 at 1024, the rest is discretisation, the depth

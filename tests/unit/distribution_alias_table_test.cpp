@@ -1,5 +1,8 @@
 #include <vplkit/distribution/alias_table.hpp>
 
+#include <distribution_checks.hpp>
+#include <weight_generators.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -10,34 +13,9 @@
 
 namespace {
 
-template <class T>
-std::vector<T> exponential_weights(std::size_t n, unsigned seed, double zero_fraction = 0.0) {
-  std::mt19937 rng(seed);
-  std::exponential_distribution<double> ex(1.0);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  std::vector<T> w(n);
-  for (auto& x : w) x = uni(rng) < zero_fraction ? T(0) : T(ex(rng));
-  return w;
-}
-
-template <class T>
-T u01(std::mt19937& rng) {
-  return T(rng() >> 8) * T(0x1p-24);
-}
-
-// The probability the table really gives each index: bucket j (probability 1/n) keeps itself
-// with probability threshold[j] and hands the rest to alias[j].
-template <class T>
-std::vector<double> realised_pmf(const vplkit::alias_table<T>& a) {
-  const std::size_t n = a.size();
-  std::vector<double> p(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) {
-    const auto& b = a.bins()[j];
-    p[j] += double(b.threshold) / double(n);
-    p[b.alias] += (1.0 - double(b.threshold)) / double(n);
-  }
-  return p;
-}
+using vplkit_test::exponential_weights;
+using vplkit_test::realised_alias_pmf;
+using vplkit_test::u01;
 
 }  // namespace
 
@@ -64,7 +42,7 @@ TEMPLATE_TEST_CASE("alias_table: Vose's construction realises the pmf", "[distri
     const std::vector<T> w = exponential_weights<T>(n, unsigned(n) + 1u, 0.3);
     const vplkit::alias_table<T> a(w);
     if (a.empty()) continue;
-    const std::vector<double> p = realised_pmf(a);
+    const std::vector<double> p = realised_alias_pmf(a);
     long double total_ld = 0.0L;
     for (T x : w) total_ld += x;
     const double total = double(total_ld);

@@ -1,5 +1,7 @@
 #include <vplkit/distribution/defensive_mixture.hpp>
 
+#include <weight_generators.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -9,10 +11,7 @@
 
 namespace {
 
-template <class T>
-T u01(std::mt19937& rng) {
-  return T(rng() >> 8) * T(0x1p-24);
-}
+using vplkit_test::u01;
 
 // A learned CDF with holes (zeros) and a 0/1 fallback over "valid" entries.
 template <class T>

@@ -1,6 +1,9 @@
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 
+#include <distribution_checks.hpp>
+#include <weight_generators.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -13,20 +16,9 @@
 
 namespace {
 
-template <class T>
-std::vector<T> exponential_weights(std::size_t n, unsigned seed, double zero_fraction = 0.0) {
-  std::mt19937 rng(seed);
-  std::exponential_distribution<double> ex(1.0);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  std::vector<T> w(n);
-  for (auto& x : w) x = uni(rng) < zero_fraction ? T(0) : T(ex(rng));
-  return w;
-}
-
-template <class T>
-T u01(std::mt19937& rng) {
-  return T(rng() >> 8) * T(0x1p-24);
-}
+using vplkit_test::exponential_weights;
+using vplkit_test::require_cdf_invariants;
+using vplkit_test::u01;
 
 // A span-like type that is neither a std container nor a pointer.
 template <class T>
@@ -36,18 +28,6 @@ struct view {
   const T* data() const { return p; }
   std::size_t size() const { return n; }
 };
-
-template <class T>
-void require_cdf_invariants(const vplkit::discrete_cdf<T>& d, const std::vector<T>& w) {
-  const auto& c = d.cdf();
-  REQUIRE(c.size() == w.size() + 1);
-  REQUIRE(c.front() == T(0));
-  REQUIRE(c.back() == T(1));
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    REQUIRE(c[i] <= c[i + 1]);
-    if (w[i] == T(0)) REQUIRE(c[i] == c[i + 1]);
-  }
-}
 
 }  // namespace
 

@@ -1,5 +1,7 @@
 #include <vplkit/distribution/face_roulette.hpp>
 
+#include <weight_generators.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -9,20 +11,8 @@
 
 namespace {
 
-template <class T>
-std::vector<T> exponential_weights(std::size_t n, unsigned seed, double zero_fraction) {
-  std::mt19937 rng(seed);
-  std::exponential_distribution<double> ex(1.0);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  std::vector<T> w(n);
-  for (auto& x : w) x = uni(rng) < zero_fraction ? T(0) : T(ex(rng));
-  return w;
-}
-
-template <class T>
-T u01(std::mt19937& rng) {
-  return T(rng() >> 8) * T(0x1p-24);
-}
+using vplkit_test::exponential_weights;
+using vplkit_test::u01;
 
 template <class T>
 std::vector<T> concat(const std::vector<T>& a, const std::vector<T>& b) {

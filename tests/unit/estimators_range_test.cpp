@@ -26,15 +26,10 @@ using namespace vplkit_test;
 namespace {
 
 template <class T>
-struct fixture {
-  synthetic_scene<T> scene;
-  dprsm_data<T> d = scene.make_dprsm(16);
-  dprsm_view<T> view = d.view();
-  std::vector<named_gather_point<T>> gps = scene.gather_points();
-  exact_visibility<T> vis{&scene};
-  exact_tracer<T> tracer{&scene};
+struct fixture : lit_room<T> {
   std::vector<defensive_mixture<T>> dists;
-  fixture() {
+  fixture() : lit_room<T>(16) {
+    const dprsm_view<T>& view = this->view;
     const std::size_t n = std::size_t(view.texel_count());
     std::vector<T> flat(2 * n);
     for (std::size_t t = 0; t < n; ++t) {

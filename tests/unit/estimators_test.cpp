@@ -23,15 +23,9 @@ using namespace vplkit_test;
 
 namespace {
 
-struct fixture {
-  synthetic_scene<double> scene;
-  dprsm_data<double> d = scene.make_dprsm(32);
-  dprsm_view<double> view = d.view();
-  std::vector<named_gather_point<double>> gps = scene.gather_points();
-  exact_visibility<double> vis{&scene};
-  exact_tracer<double> tracer{&scene};
+struct fixture : lit_room<double> {
   std::vector<double> w;
-  fixture() {
+  fixture() : lit_room<double>(32) {
     w.resize(std::size_t(view.texel_count()));
     for (int t = 0; t < view.texel_count(); ++t)
       w[std::size_t(t)] = luminance(view.vpl_at(t).flux) * (1.0 + 0.5 * std::sin(0.1 * t));

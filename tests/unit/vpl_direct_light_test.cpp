@@ -15,25 +15,23 @@ using namespace vplkit_test;
 TEMPLATE_TEST_CASE("direct_light: lit where an exact shadow ray is, with the reflected radiance", "[vpl]",
                    float, double) {
   using T = TestType;
-  const synthetic_scene<T> scene;
-  const dprsm_data<T> d = scene.make_dprsm(64);
-  const dprsm_view<T> view = d.view();
+  const lit_room<T> room(64);
   int lit = 0;
-  for (const auto& g : scene.gather_points()) {
+  for (const auto& g : room.scene.gather_points()) {
     INFO(g.name);
-    const vec3<T> e = direct_light(g.gp, view);
+    const vec3<T> e = direct_light(g.gp, room.view);
     if (g.in_shadow) {
       CHECK(e == vec3<T>(T(0)));
     } else {
       ++lit;
-      CHECK(e == reflected_radiance(view.light.position, view.light.intensity, g.gp.position, g.gp.normal,
+      CHECK(e == reflected_radiance(room.view.light.position, room.view.light.intensity, g.gp.position, g.gp.normal,
                                     g.gp.albedo));
       CHECK(e.x > T(0));
     }
     // The same point with a longer normal: the same answer.
     gather_point<T> scaled = g.gp;
     scaled.normal *= T(7);
-    CHECK(direct_light(scaled, view) == e);
+    CHECK(direct_light(scaled, room.view) == e);
   }
   CHECK(lit >= 3);
 }
@@ -41,22 +39,20 @@ TEMPLATE_TEST_CASE("direct_light: lit where an exact shadow ray is, with the ref
 TEMPLATE_TEST_CASE("direct_light: 0 for background, back-facing points and the light's own position", "[vpl]",
                    float, double) {
   using T = TestType;
-  const synthetic_scene<T> scene;
-  const dprsm_data<T> d = scene.make_dprsm(32);
-  const dprsm_view<T> view = d.view();
-  const gather_point<T> lit = scene.gather_points().front().gp;  // floor_open
-  REQUIRE(direct_light(lit, view).x > T(0));
+  const lit_room<T> room(32);
+  const gather_point<T> lit = room.scene.gather_points().front().gp;  // floor_open
+  REQUIRE(direct_light(lit, room.view).x > T(0));
   gather_point<T> g = lit;
   g.normal = vec3<T>(T(0));
-  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
   g.normal = -lit.normal;
-  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
   g = lit;
-  g.position = view.light.position;
-  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  g.position = room.view.light.position;
+  CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
   g = lit;
   g.position.x = std::numeric_limits<T>::quiet_NaN();
-  CHECK(direct_light(g, view) == vec3<T>(T(0)));
+  CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
 }
 
 TEST_CASE("direct_light_depth_tolerance: a footprint of 4 d / R, times 1/2 + tan(alpha) capped at 20") {
