@@ -38,6 +38,8 @@ namespace {
 
 using namespace vplkit::parity::est;
 using vplkit::parity::compare_exact;
+using vplkit_test::f4;
+using vplkit_test::float4;
 using vplkit::parity::compare_floats;
 using vplkit::parity::input;
 using vplkit::parity::show;
