@@ -28,12 +28,17 @@
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 
-// visibility: voxel grid, conservative voxelisation, DDA ray marching
+// visibility: voxel grid, conservative voxelisation, DDA ray marching; the triangle voxel grid
+// (occupied voxels list their triangles) and its junction-free queries
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/triangle_box_overlap.hpp>
 #include <vplkit/visibility/voxelize.hpp>
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
+#include <vplkit/visibility/voxel_rank.hpp>
+#include <vplkit/visibility/triangle_voxel_grid.hpp>
+#include <vplkit/visibility/voxelize_triangles.hpp>
+#include <vplkit/visibility/triangle_voxel_query.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 // exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
 #include <vplkit/visibility/bvh_layout.hpp>

@@ -1539,7 +1539,8 @@ template <class T> inline T cosine_hemisphere_pdf(T cos_theta) {
 }  // namespace vplkit
 // ---- end vplkit/sampling/cosine_hemisphere.hpp ----
 
-// visibility: voxel grid, conservative voxelisation, DDA ray marching
+// visibility: voxel grid, conservative voxelisation, DDA ray marching; the triangle voxel grid
+// (occupied voxels list their triangles) and its junction-free queries
 // ---- begin vplkit/visibility/voxel_grid.hpp ----
 // Binary occupancy grid over an axis-aligned box (docs/math.md section 7).
 //
@@ -1881,42 +1882,65 @@ inline void validate_triangle_mesh(const vec3<T>* positions, std::size_t vertex_
   }
 }
 
+namespace detail {
+
+// Calls visit(voxel) for every voxel of a `res` grid whose closed box, inflated by margin_voxels,
+// overlaps the triangle v[0..2] given in continuous voxel coordinates (double). skip(voxel) ==
+// true spares a voxel the SAT (voxelize: already marked). The one loop both CPU voxelisers share.
+template <class Skip, class Visit>
+inline void for_each_voxel_overlapping(ivec3 res, const vec3<double> v[3], double margin_voxels, Skip&& skip,
+                                       Visit&& visit) {
+  const vec3<double> half(0.5 + margin_voxels);
+  // Voxel i (closed [i, i+1], inflated by the margin) can touch [lo, hi] only if
+  // i - margin <= hi and i + 1 + margin >= lo.
+  ivec3 first, last;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = std::fmin(v[0][a], std::fmin(v[1][a], v[2][a]));
+    const double hi = std::fmax(v[0][a], std::fmax(v[1][a], v[2][a]));
+    const int f = voxel_floor_to_int(std::ceil(lo - margin_voxels) - 1.0);
+    const int l = voxel_floor_to_int(hi + margin_voxels);
+    first[a] = f < 0 ? 0 : f;
+    last[a] = l > res[a] - 1 ? res[a] - 1 : l;
+    if (first[a] > last[a]) return;
+  }
+  for (int z = first.z; z <= last.z; ++z)
+    for (int y = first.y; y <= last.y; ++y)
+      for (int x = first.x; x <= last.x; ++x) {
+        const ivec3 c(x, y, z);
+        if (skip(c)) continue;
+        if (triangle_box_overlap(vec3<double>(c) + vec3<double>(0.5), half, v[0], v[1], v[2])) visit(c);
+      }
+}
+
+// Triangle t's vertices in continuous voxel coordinates of the grid (bmin, size), in double.
+template <class T>
+inline void triangle_voxel_coords(const vec3<T>* positions, const std::uint32_t* indices, std::size_t t,
+                                  vec3<double> bmin, vec3<double> size, vec3<double> v[3]) {
+  for (int k = 0; k < 3; ++k) v[k] = (vec3<double>(positions[indices[3 * t + std::size_t(k)]]) - bmin) / size;
+}
+
+inline void check_voxelize_margin(double margin_voxels, const char* who) {
+  if (!(margin_voxels >= 0.0) || !(margin_voxels < 0.5))
+    throw invalid_input(std::string(who) + ": margin_voxels must be in [0, 0.5), got " + std::to_string(margin_voxels));
+}
+
+}  // namespace detail
+
 // Marks (ORs into `grid`) every voxel overlapping one of the index_count / 3 triangles.
 template <class T>
 inline void voxelize(voxel_grid<T>& grid, const vec3<T>* positions, std::size_t vertex_count,
                      const std::uint32_t* indices, std::size_t index_count,
                      double margin_voxels = voxelize_default_margin) {
   validate_triangle_mesh(positions, vertex_count, indices, index_count, "voxelize");
-  if (!(margin_voxels >= 0.0) || !(margin_voxels < 0.5))
-    throw invalid_input("voxelize: margin_voxels must be in [0, 0.5), got " + std::to_string(margin_voxels));
+  detail::check_voxelize_margin(margin_voxels, "voxelize");
   const vec3<double> bmin(grid.bounds_min());
   const ivec3 res = grid.resolution();
   const vec3<double> size = (vec3<double>(grid.bounds_max()) - bmin) / vec3<double>(res);
-  const vec3<double> half(0.5 + margin_voxels);
   for (std::size_t t = 0; t < index_count / 3; ++t) {
     vec3<double> v[3];
-    for (int k = 0; k < 3; ++k) v[k] = (vec3<double>(positions[indices[3 * t + std::size_t(k)]]) - bmin) / size;
-    // Voxel i (closed [i, i+1], inflated by the margin) can touch [lo, hi] only if
-    // i - margin <= hi and i + 1 + margin >= lo.
-    ivec3 first, last;
-    bool outside = false;
-    for (int a = 0; a < 3; ++a) {
-      const double lo = std::fmin(v[0][a], std::fmin(v[1][a], v[2][a]));
-      const double hi = std::fmax(v[0][a], std::fmax(v[1][a], v[2][a]));
-      const int f = voxel_floor_to_int(std::ceil(lo - margin_voxels) - 1.0);
-      const int l = voxel_floor_to_int(hi + margin_voxels);
-      first[a] = f < 0 ? 0 : f;
-      last[a] = l > res[a] - 1 ? res[a] - 1 : l;
-      if (first[a] > last[a]) outside = true;
-    }
-    if (outside) continue;
-    for (int z = first.z; z <= last.z; ++z)
-      for (int y = first.y; y <= last.y; ++y)
-        for (int x = first.x; x <= last.x; ++x) {
-          const ivec3 c(x, y, z);
-          if (grid.test(c)) continue;
-          if (triangle_box_overlap(vec3<double>(c) + vec3<double>(0.5), half, v[0], v[1], v[2])) grid.set(c);
-        }
+    detail::triangle_voxel_coords(positions, indices, t, bmin, size, v);
+    detail::for_each_voxel_overlapping(
+        res, v, margin_voxels, [&](ivec3 c) { return grid.test(c); }, [&](ivec3 c) { grid.set(c); });
   }
 }
 
@@ -2041,14 +2065,41 @@ inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
   return true;
 }
 
+// ---- The march, one voxel at a time ---------------------------------------------------------
+// dda_walk_begin / dda_walk_next expose the march that dda_first_hit runs, for callers that must
+// look at every voxel the ray meets (the triangle voxel queries, triangle_voxel_query.hpp), not only at
+// the first occupied one. dda_first_hit is exactly: begin; then up to nx + ny + nz times, test the
+// current voxel and advance.
 template <class T>
-inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
-                                T t_max = std::numeric_limits<T>::infinity()) {
-  const dda_hit<T> miss{false, T(0), ivec3(-1)};
+struct dda_walk {
+  bool running;    // false: the ray misses the grid (after begin) or has left it / passed t_max
+  vec3<T> origin;  // as given
+  vec3<T> d;       // unit direction (dda_unit_direction)
+  T t_max;
+  T t;             // entry distance of the current voxel (non-decreasing)
+  ivec3 voxel;     // the current voxel
+  ivec3 step;      // -1, 0, +1 per axis
+  vec3<T> t_next;  // distance to the next plane crossing per axis (largest finite T when step 0)
+  vec3<T> size;    // voxel_size(g)
+};
+
+// Distance at which the walk leaves its current voxel: the smallest t_next, at most t_max.
+template <class T>
+inline T dda_walk_exit(const dda_walk<T>& w) {
+  const T m = w.t_next.x < w.t_next.y ? (w.t_next.x < w.t_next.z ? w.t_next.x : w.t_next.z)
+                                      : (w.t_next.y < w.t_next.z ? w.t_next.y : w.t_next.z);
+  return m < w.t_max ? m : w.t_max;
+}
+
+// Steps 1-4 of the header: direction, clipping, entry voxel, first crossings.
+template <class T>
+inline dda_walk<T> dda_walk_begin(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                  T t_max = std::numeric_limits<T>::infinity()) {
+  dda_walk<T> w{false, origin, vec3<T>(T(0)), t_max, T(0), ivec3(-1), ivec3(0), vec3<T>(T(0)), vec3<T>(T(0))};
   vec3<T> d(T(0));
-  if (!dda_unit_direction(dir, d)) return miss;
+  if (!dda_unit_direction(dir, d)) return w;
   if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z) || !(t_max >= T(0)))
-    return miss;
+    return w;
   const vec3<T> size = voxel_size(g);
 
   // Clip [0, t_max] to the closed grid box; remember which face the ray enters through.
@@ -2056,7 +2107,7 @@ inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec
   int enter_axis = -1;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == T(0)) {
-      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return miss;
+      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return w;
     } else {
       T ta = (g.bounds_min[a] - origin[a]) / d[a];
       T tb = (g.bounds_max[a] - origin[a]) / d[a];
@@ -2072,7 +2123,7 @@ inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec
       t_exit = tb < t_exit ? tb : t_exit;
     }
   }
-  if (!(t_enter <= t_exit) || !std::isfinite(t_enter)) return miss;
+  if (!(t_enter <= t_exit) || !std::isfinite(t_enter)) return w;
 
   // Entry voxel and the distance to the next plane crossing on each axis.
   const vec3<T> p = origin + t_enter * d;
@@ -2094,19 +2145,48 @@ inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec
       t_next[a] = std::numeric_limits<T>::max();
     }
   }
+  w.running = true;
+  w.d = d;
+  w.t = t_enter;
+  w.voxel = v;
+  w.step = step;
+  w.t_next = t_next;
+  w.size = size;
+  return w;
+}
 
-  T t = t_enter;
-  const int max_iterations = g.resolution.x + g.resolution.y + g.resolution.z;
-  for (int it = 0; it < max_iterations; ++it) {
-    if (voxel_test(g, v)) return dda_hit<T>{true, t, v};
-    const int a = (t_next.x <= t_next.y && t_next.x <= t_next.z) ? 0 : (t_next.y <= t_next.z ? 1 : 2);
-    if (step[a] == 0 || t_next[a] > t_max) break;
-    v[a] += step[a];
-    if (v[a] < 0 || v[a] >= g.resolution[a]) break;
-    t = t_next[a] > t ? t_next[a] : t;
-    t_next[a] = (g.bounds_min[a] + T(step[a] > 0 ? v[a] + 1 : v[a]) * size[a] - origin[a]) / d[a];
+// Step 5 of the header, after the voxel test: moves to the next voxel. Returns false (and clears
+// `running`) when the walk ends: a step of 0, the next crossing beyond t_max, or leaving the grid.
+template <class T>
+inline bool dda_walk_next(const voxel_grid_view<T>& g, dda_walk<T>& w) {
+  const int a = (w.t_next.x <= w.t_next.y && w.t_next.x <= w.t_next.z) ? 0 : (w.t_next.y <= w.t_next.z ? 1 : 2);
+  if (w.step[a] == 0 || w.t_next[a] > w.t_max) {
+    w.running = false;
+    return false;
   }
-  return miss;
+  w.voxel[a] += w.step[a];
+  if (w.voxel[a] < 0 || w.voxel[a] >= g.resolution[a]) {
+    w.running = false;
+    return false;
+  }
+  w.t = w.t_next[a] > w.t ? w.t_next[a] : w.t;
+  w.t_next[a] = (g.bounds_min[a] + T(w.step[a] > 0 ? w.voxel[a] + 1 : w.voxel[a]) * w.size[a] - w.origin[a]) / w.d[a];
+  return true;
+}
+
+// Iteration bound of a walk: a ray visits at most nx + ny + nz - 2 voxels.
+inline int dda_max_iterations(ivec3 resolution) { return resolution.x + resolution.y + resolution.z; }
+
+template <class T>
+inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                T t_max = std::numeric_limits<T>::infinity()) {
+  dda_walk<T> w = dda_walk_begin(g, origin, dir, t_max);
+  const int max_iterations = dda_max_iterations(g.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (voxel_test(g, w.voxel)) return dda_hit<T>{true, w.t, w.voxel};
+    dda_walk_next(g, w);
+  }
+  return dda_hit<T>{false, T(0), ivec3(-1)};
 }
 
 template <class T>
@@ -2211,12 +2291,386 @@ inline bool voxel_visible_two_sided(const voxel_grid_view<T>& g, vec3<T> x, vec3
 
 }  // namespace vplkit
 // ---- end vplkit/visibility/voxel_visible.hpp ----
+// ---- begin vplkit/visibility/voxel_rank.hpp ----
+// Dense indices of the occupied voxels of a voxel_grid: rank[w] = the number of occupied voxels in
+// words 0 .. w-1 (one uint32 per occupancy word), so an occupied voxel with flat index i is the
+// r-th occupied voxel in flat-index order, r = rank[i >> 5] + bitCount(words[i >> 5] & ((1u <<
+// (i & 31)) - 1u)). Per-occupied-voxel data (the triangle voxel grid's lists) is indexed by r.
+// The GPU computes rank with glsl/vplkit/visibility/prefix_sum.comp (bit-count mode).
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace vplkit {
+
+// Number of set bits (bitCount in GLSL): the branch-free SWAR count (C++17 has no std::popcount),
+// on the hot path of every triangle voxel query.
+inline int voxel_bit_count(std::uint32_t w) {
+  w = w - ((w >> 1) & 0x55555555u);
+  w = (w & 0x33333333u) + ((w >> 2) & 0x33333333u);
+  return int((((w + (w >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24);
+}
+
+// rank[w] = occupied voxels in words 0 .. w-1 (the exclusive prefix sum of the words' bit counts).
+inline std::vector<std::uint32_t> voxel_occupancy_rank(const std::uint32_t* words, std::size_t word_count) {
+  std::vector<std::uint32_t> rank(word_count);
+  std::uint32_t sum = 0;
+  for (std::size_t i = 0; i < word_count; ++i) {
+    rank[i] = sum;
+    sum += std::uint32_t(voxel_bit_count(words[i]));
+  }
+  return rank;
+}
+
+// Dense index of voxel v among the occupied voxels, or -1 when v is free or outside the grid.
+template <class T>
+inline std::int64_t voxel_occupied_index(const voxel_grid_view<T>& g, const std::uint32_t* rank, ivec3 v) {
+  if (!voxel_in_grid(g.resolution, v)) return -1;
+  const std::int64_t i = voxel_flat_index(g.resolution, v);
+  const std::uint32_t word = g.words[std::size_t(i >> 5)];
+  const std::uint32_t bit = std::uint32_t(i & 31);
+  if (((word >> bit) & 1u) == 0u) return -1;
+  return std::int64_t(rank[std::size_t(i >> 5)]) + voxel_bit_count(word & ((std::uint32_t(1) << bit) - 1u));
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/voxel_rank.hpp ----
+// ---- begin vplkit/visibility/triangle_voxel_grid.hpp ----
+// A voxel grid whose occupied voxels list the triangles that overlap them, so that visibility is
+// decided by the triangles themselves, not by their voxels (docs/math.md section 7.2). Queries:
+// triangle_voxel_query.hpp; CPU construction: voxelize_triangles.hpp; GPU construction:
+// glsl/vplkit/visibility/voxelize.comp (occupancy, count and fill modes) and prefix_sum.comp.
+//
+// Layout (shared with the GPU, which fills and reads the same arrays):
+// - occupancy: the conservative binary voxel_grid of voxelize.hpp, unchanged (same margin);
+// - rank[w]: the number of occupied voxels in words 0 .. w-1 (one uint32 per occupancy word). An
+//   occupied voxel with flat index i has the dense index
+//     r = rank[i >> 5] + bitCount(words[i >> 5] & ((1u << (i & 31)) - 1u));
+// - offsets[r], r = 0 .. occupied: voxel r's list is entries[offsets[r] .. offsets[r + 1]);
+// - entries: triangle indices (into triangles). A voxel lists every triangle whose overlap test
+//   (voxelize's, with its margin) marked it, in ascending order when built on the CPU, in any
+//   order when built on the GPU (no query depends on the order);
+// - triangles[t]: voxel_triangle, four planes (normal, offset) in world coordinates: the
+//   triangle's plane, then its three edges' inward planes (within the triangle's plane, through
+//   the edge, normal pointing into the triangle). A degenerate triangle has all four zero and
+//   never blocks. 64 bytes for T = float (four std430 vec4 on the GPU).
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vplkit {
+
+template <class T>
+struct voxel_plane {
+  vec3<T> normal;  // unit (zero for a degenerate triangle)
+  T offset;        // normal . p = offset on the plane
+};
+
+template <class T>
+struct voxel_triangle {
+  voxel_plane<T> plane;    // the triangle's plane
+  voxel_plane<T> edge[3];  // p is inside iff edge[i].normal . p - edge[i].offset >= 0 for i = 0, 1, 2
+};
+static_assert(sizeof(voxel_triangle<float>) == 64, "voxel_triangle<float> is four std430 vec4");
+
+template <class T>
+struct triangle_voxel_view {
+  voxel_grid_view<T> grid;              // the occupancy
+  const std::uint32_t* rank;            // voxel_word_count(grid.resolution) entries
+  const std::uint32_t* offsets;         // occupied + 1 entries
+  const std::uint32_t* entries;         // offsets[occupied] entries
+  const voxel_triangle<T>* triangles;   // triangle_count entries
+  std::size_t occupied;                 // occupied voxels
+  std::size_t triangle_count;
+
+  std::size_t entry_count() const { return offsets[occupied]; }
+  // The longest list (a bound for loop budgets: a ray tests at most this many triangles per voxel).
+  std::uint32_t max_entries_per_voxel() const {
+    std::uint32_t m = 0;
+    for (std::size_t r = 0; r < occupied; ++r) m = std::max(m, offsets[r + 1] - offsets[r]);
+    return m;
+  }
+};
+
+template <class T>
+class triangle_voxel_grid {
+public:
+  // Adopts the arrays of the layout above (from voxelize_triangles, or read back from the GPU)
+  // after checking them: rank equal to the occupancy's prefix sums, offsets non-decreasing from 0
+  // to entries.size(), one more than the occupied voxels, every entry a triangle index.
+  triangle_voxel_grid(voxel_grid<T> occupancy, std::vector<std::uint32_t> rank, std::vector<std::uint32_t> offsets,
+                      std::vector<std::uint32_t> entries, std::vector<voxel_triangle<T>> triangles)
+      : occ_(std::move(occupancy)), rank_(std::move(rank)), offsets_(std::move(offsets)), entries_(std::move(entries)),
+        tris_(std::move(triangles)) {
+    if (rank_ != voxel_occupancy_rank(occ_.data(), occ_.word_count()))
+      throw invalid_input("triangle_voxel_grid: rank does not match the occupancy's prefix sums");
+    const std::size_t occupied = std::size_t(occ_.count());
+    if (offsets_.size() != occupied + 1)
+      throw invalid_input("triangle_voxel_grid: " + std::to_string(offsets_.size()) + " offsets given, " +
+                          std::to_string(occupied + 1) + " needed (occupied voxels + 1)");
+    if (offsets_.front() != 0u || offsets_.back() != entries_.size())
+      throw invalid_input("triangle_voxel_grid: offsets must run from 0 to the entry count " +
+                          std::to_string(entries_.size()));
+    for (std::size_t r = 0; r < occupied; ++r)
+      if (offsets_[r] > offsets_[r + 1])
+        throw invalid_input("triangle_voxel_grid: offsets decrease at occupied voxel " + std::to_string(r));
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+      if (entries_[i] >= tris_.size())
+        throw invalid_input("triangle_voxel_grid: entry " + std::to_string(i) + " is triangle " +
+                            std::to_string(entries_[i]) + " of " + std::to_string(tris_.size()));
+  }
+
+  const voxel_grid<T>& occupancy() const { return occ_; }
+  const std::vector<std::uint32_t>& rank() const { return rank_; }
+  const std::vector<std::uint32_t>& offsets() const { return offsets_; }
+  const std::vector<std::uint32_t>& entries() const { return entries_; }
+  const std::vector<voxel_triangle<T>>& triangles() const { return tris_; }
+  std::int64_t occupied_count() const { return std::int64_t(offsets_.size()) - 1; }
+  triangle_voxel_view<T> view() const {
+    return triangle_voxel_view<T>{occ_.view(),   rank_.data(),       offsets_.data(), entries_.data(),
+                                  tris_.data(),  offsets_.size() - 1, tris_.size()};
+  }
+  std::uint32_t max_entries_per_voxel() const { return view().max_entries_per_voxel(); }
+
+  // Bytes of the five arrays (occupancy words, rank, offsets, entries, triangles).
+  std::size_t memory_bytes() const {
+    return 4 * (occ_.word_count() + rank_.size() + offsets_.size() + entries_.size()) +
+           sizeof(voxel_triangle<T>) * tris_.size();
+  }
+
+private:
+  voxel_grid<T> occ_;
+  std::vector<std::uint32_t> rank_;
+  std::vector<std::uint32_t> offsets_;
+  std::vector<std::uint32_t> entries_;
+  std::vector<voxel_triangle<T>> tris_;
+};
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/triangle_voxel_grid.hpp ----
+// ---- begin vplkit/visibility/voxelize_triangles.hpp ----
+// CPU construction of a triangle_voxel_grid (triangle_voxel_grid.hpp): the conservative occupancy
+// of voxelize.hpp, its rank, and in every occupied voxel the list of the triangles whose overlap
+// test (the same test, the same margin) marked it. A voxel therefore lists a triangle exactly when
+// the triangle marked it, and every point of a triangle lies in a voxel that lists it.
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace vplkit {
+
+// The query record of triangle (a, b, c), computed in double and rounded once to T: the plane
+// n . p = n . centroid with n = normalize((b - a) x (c - a)), and for each edge (a, b), (b, c),
+// (c, a) the plane through it perpendicular to the triangle, normal n x edge normalised (it points
+// into the triangle). A triangle whose cross product or an edge is zero or not finite is
+// degenerate: all zero (it never blocks).
+template <class T>
+inline voxel_triangle<T> make_voxel_triangle(vec3<T> a, vec3<T> b, vec3<T> c) {
+  const vec3<double> v[3] = {vec3<double>(a), vec3<double>(b), vec3<double>(c)};
+  voxel_triangle<T> out{};
+  vec3<double> n = glm::cross(v[1] - v[0], v[2] - v[0]);
+  const double len = std::sqrt(glm::dot(n, n));
+  if (!(len > 0.0) || !std::isfinite(len)) return out;
+  n /= len;
+  voxel_plane<double> edge[3];
+  for (int i = 0; i < 3; ++i) {
+    vec3<double> m = glm::cross(n, v[(i + 1) % 3] - v[i]);
+    const double ml = std::sqrt(glm::dot(m, m));
+    if (!(ml > 0.0) || !std::isfinite(ml)) return out;
+    m /= ml;
+    edge[i] = voxel_plane<double>{m, glm::dot(m, v[i])};
+  }
+  out.plane = voxel_plane<T>{vec3<T>(n), T(glm::dot(n, (v[0] + v[1] + v[2]) / 3.0))};
+  for (int i = 0; i < 3; ++i) out.edge[i] = voxel_plane<T>{vec3<T>(edge[i].normal), T(edge[i].offset)};
+  return out;
+}
+
+// The records of the index_count / 3 triangles, in order (validated like voxelize). The GPU
+// builder takes these from the host, so both sides query the same numbers.
+template <class T>
+inline std::vector<voxel_triangle<T>> make_voxel_triangles(const vec3<T>* positions, std::size_t vertex_count,
+                                                           const std::uint32_t* indices, std::size_t index_count) {
+  validate_triangle_mesh(positions, vertex_count, indices, index_count, "make_voxel_triangles");
+  std::vector<voxel_triangle<T>> out(index_count / 3);
+  for (std::size_t t = 0; t < out.size(); ++t)
+    out[t] = make_voxel_triangle(positions[indices[3 * t]], positions[indices[3 * t + 1]], positions[indices[3 * t + 2]]);
+  return out;
+}
+
+// Builds the grid over [bounds_min, bounds_max] at `resolution` from the index_count / 3
+// triangles (validated like voxelize, which builds the occupancy). Lists are in ascending triangle
+// order. Memory: triangle_voxel_grid::memory_bytes().
+template <class T>
+inline triangle_voxel_grid<T> voxelize_triangles(vec3<T> bounds_min, vec3<T> bounds_max, ivec3 resolution,
+                                                 const vec3<T>* positions, std::size_t vertex_count,
+                                                 const std::uint32_t* indices, std::size_t index_count,
+                                                 double margin_voxels = voxelize_default_margin) {
+  // One overlap pass: the (voxel, triangle) pairs in triangle order, which also mark the occupancy
+  // (exactly voxelize's: the same test on the same voxels, only without its skip of marked ones).
+  voxel_grid<T> occ(bounds_min, bounds_max, resolution);
+  validate_triangle_mesh(positions, vertex_count, indices, index_count, "voxelize_triangles");
+  detail::check_voxelize_margin(margin_voxels, "voxelize_triangles");
+  std::vector<voxel_triangle<T>> tris = make_voxel_triangles(positions, vertex_count, indices, index_count);
+  const vec3<double> bmin(bounds_min);
+  const vec3<double> size = (vec3<double>(bounds_max) - bmin) / vec3<double>(resolution);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (flat voxel index, triangle)
+  for (std::size_t t = 0; t < index_count / 3; ++t) {
+    vec3<double> v[3];
+    detail::triangle_voxel_coords(positions, indices, t, bmin, size, v);
+    detail::for_each_voxel_overlapping(
+        resolution, v, margin_voxels, [](ivec3) { return false; },
+        [&](ivec3 c) {
+          occ.set(c);
+          pairs.emplace_back(std::uint32_t(voxel_flat_index(resolution, c)), std::uint32_t(t));
+        });
+  }
+  if (pairs.size() > std::size_t(0xFFFFFFFFu))
+    throw invalid_input("voxelize_triangles: more than 2^32 (voxel, triangle) pairs");
+  std::vector<std::uint32_t> rank = voxel_occupancy_rank(occ.data(), occ.word_count());
+  // Flat index -> dense index, then a stable counting sort by voxel.
+  const voxel_grid_view<T> g = occ.view();
+  for (auto& p : pairs) {
+    const std::uint32_t word = g.words[p.first >> 5], bit = p.first & 31u;
+    p.first = rank[p.first >> 5] + std::uint32_t(voxel_bit_count(word & ((std::uint32_t(1) << bit) - 1u)));
+  }
+  const std::size_t occupied = std::size_t(occ.count());
+  std::vector<std::uint32_t> offsets(occupied + 1, 0u);
+  for (const auto& p : pairs) ++offsets[p.first + 1];
+  for (std::size_t r = 0; r < occupied; ++r) offsets[r + 1] += offsets[r];
+  std::vector<std::uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+  std::vector<std::uint32_t> entries(pairs.size());
+  for (const auto& p : pairs) entries[cursor[p.first]++] = p.second;
+  return triangle_voxel_grid<T>(std::move(occ), std::move(rank), std::move(offsets), std::move(entries),
+                                std::move(tris));
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/voxelize_triangles.hpp ----
+// ---- begin vplkit/visibility/triangle_voxel_query.hpp ----
+// Visibility and first hits decided by the triangles a triangle_voxel_grid lists (docs/math.md
+// section 7.2; docs/api/visibility.md, "Triangle voxels"). L = voxel_length.
+//
+// The segment x -> y is marched with the DDA (dda_walk) and blocked by a listed triangle it crosses
+// strictly inside (grown by 1e-3 L within its plane, so that no segment leaks between the triangles
+// of a mesh). The END RULE ignores a triangle whose plane passes within end_tolerance (default
+// 0.01 L) of x or of y: that removes self-occlusion at the ends and at concave junctions and loses
+// no occluder but those in a 0.01-voxel band. Why, and why 0.01: docs/math.md section 7.2 and
+// docs/api/visibility.md. A wall of any thickness blocks: every point of a triangle lies in a
+// voxel that lists it, and the march visits a voxel containing every point of the segment.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+constexpr double triangle_voxel_default_end_tolerance = 0.01;  // voxels
+constexpr double triangle_voxel_edge_slack = 1e-3;              // voxels
+
+// Is p (on the triangle's plane) inside the triangle grown by `slack` (world units)?
+template <class T>
+inline bool voxel_triangle_contains(const voxel_triangle<T>& tri, vec3<T> p, T slack) {
+  const T s0 = glm::dot(tri.edge[0].normal, p) - tri.edge[0].offset;
+  const T s1 = glm::dot(tri.edge[1].normal, p) - tri.edge[1].offset;
+  const T s2 = glm::dot(tri.edge[2].normal, p) - tri.edge[2].offset;
+  return s0 >= -slack && s1 >= -slack && s2 >= -slack;
+}
+
+// Is the segment x -> y free of the grid's triangles (the rules of the header)? x == y is
+// visible; a non-finite x or y is not.
+template <class T>
+inline bool triangle_voxel_visible(const triangle_voxel_view<T>& g, vec3<T> x, vec3<T> y,
+                                   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance)) {
+  if (!detail::voxel_vec3_finite(x) || !detail::voxel_vec3_finite(y)) return false;
+  const vec3<T> dir = y - x;
+  const T len = std::sqrt(glm::dot(dir, dir));
+  if (!(len > T(0))) return true;
+  const T L = voxel_length(g.grid);
+  const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
+  dda_walk<T> w = dda_walk_begin(g.grid, x, dir, len);
+  const int max_iterations = dda_max_iterations(g.grid.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
+    if (r >= 0) {
+      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
+        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
+        const T d0 = glm::dot(tri.plane.normal, x) - tri.plane.offset;
+        const T d1 = glm::dot(tri.plane.normal, y) - tri.plane.offset;
+        if (!(std::abs(d0) > eps) || !(std::abs(d1) > eps) || (d0 > T(0)) == (d1 > T(0))) continue;
+        if (voxel_triangle_contains(tri, x + (d0 / (d0 - d1)) * dir, slack)) return false;
+      }
+    }
+    dda_walk_next(g.grid, w);
+  }
+  return true;
+}
+
+template <class T>
+struct triangle_voxel_hit {
+  bool hit;
+  T t;                    // distance along the unit direction (0 on a miss)
+  vec3<T> point;          // origin + t * unit direction, on the triangle (origin on a miss)
+  std::uint32_t triangle; // its index (0xFFFFFFFF on a miss)
+};
+
+// The first triangle met by origin + t * normalize(dir), 0 < t <= t_max (triangles whose plane
+// passes within end_tolerance of the origin ignored: the origin's own surface). In each occupied
+// voxel the nearest crossing no farther than the voxel's exit (+ the slack) wins; a crossing
+// beyond it lies in a later voxel, which lists the same triangle.
+template <class T>
+inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                                      T t_max = std::numeric_limits<T>::infinity(),
+                                                      T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance)) {
+  const triangle_voxel_hit<T> miss{false, T(0), origin, 0xFFFFFFFFu};
+  dda_walk<T> w = dda_walk_begin(g.grid, origin, dir, t_max);
+  if (!w.running) return miss;
+  const T L = voxel_length(g.grid);
+  const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
+  const int max_iterations = dda_max_iterations(g.grid.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
+    if (r >= 0) {
+      const T t_out = dda_walk_exit(w) + slack;
+      T best = std::numeric_limits<T>::infinity();
+      std::uint32_t best_tri = 0xFFFFFFFFu;
+      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
+        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
+        const T d0 = glm::dot(tri.plane.normal, origin) - tri.plane.offset;
+        const T den = glm::dot(tri.plane.normal, w.d);
+        if (!(std::abs(d0) > eps) || den == T(0)) continue;
+        const T tc = -d0 / den;
+        if (!(tc > T(0)) || tc > t_max || tc > t_out || !(tc < best)) continue;
+        if (voxel_triangle_contains(tri, origin + tc * w.d, slack)) {
+          best = tc;
+          best_tri = g.entries[e];
+        }
+      }
+      if (best_tri != 0xFFFFFFFFu) return triangle_voxel_hit<T>{true, best, origin + best * w.d, best_tri};
+    }
+    dda_walk_next(g.grid, w);
+  }
+  return miss;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/triangle_voxel_query.hpp ----
 // ---- begin vplkit/visibility/visibility_callables.hpp ----
 // Adaptors that turn a voxel grid (or nothing) into the callables the estimators take, so a host
 // with only a voxel grid needs one line. The estimators accept any callable of these shapes:
 //   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
 //   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
 // Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
+
+#include <limits>
 
 namespace vplkit {
 
@@ -2274,6 +2728,37 @@ template <class T>
 inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
   return T(1.7320508075688772) * voxel_length(g);
 }
+
+// ---- Triangle voxels (triangle_voxel_query.hpp): no self-occlusion at the ends or at junctions ----
+
+// Mutual visibility decided by the triangles a triangle_voxel_grid lists: the ends are not
+// lifted; triangles whose planes pass within end_tolerance_voxels of an end are ignored. Normals
+// are not needed.
+template <class T>
+struct triangle_voxel_visibility {
+  triangle_voxel_view<T> grid;
+  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  bool operator()(vec3<T> x, vec3<T>, vec3<T> y, vec3<T>) const {
+    return triangle_voxel_visible(grid, x, y, end_tolerance_voxels);
+  }
+};
+
+// First triangle met by the ray leaving x along dir (triangle_voxel_first_hit from x itself). The
+// hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the texel's own
+// depth spread.
+template <class T>
+struct triangle_voxel_tracer {
+  triangle_voxel_view<T> grid;
+  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  ray_hit<T> operator()(vec3<T> x, vec3<T>, vec3<T> dir) const {
+    const triangle_voxel_hit<T> r =
+        triangle_voxel_first_hit(grid, x, dir, std::numeric_limits<T>::infinity(), end_tolerance_voxels);
+    ray_hit<T> h;
+    h.hit = r.hit;
+    if (r.hit) h.position = r.point;
+    return h;
+  }
+};
 
 }  // namespace vplkit
 // ---- end vplkit/visibility/visibility_callables.hpp ----

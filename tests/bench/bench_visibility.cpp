@@ -5,14 +5,19 @@
 //  - dda_first_hit per ray in the synthetic room's grid (24 triangles voxelised, mostly empty):
 //    "short" rays stop after 4 voxel lengths, "long" rays run until they hit a wall;
 //  - voxel_visible (one-sided, the paper's) and voxel_visible_two_sided per query between a gather
-//    point of a 64 x 64 G-buffer and a VPL of the R = 64 DPRSM.
+//    point of a 64 x 64 G-buffer and a VPL of the R = 64 DPRSM;
+//  - the triangle voxel grid: voxelize_triangles of the dense mesh (counters: entries, bytes of
+//    the whole grid and of the occupancy alone), triangle_voxel_visible on the same queries as the
+//    two-sided test, triangle_voxel_first_hit on the same rays as dda_first_hit ("long").
 #include "bench_common.hpp"
 
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/triangle_box_overlap.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
+#include <vplkit/visibility/triangle_voxel_query.hpp>
 #include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/visibility/voxelize_triangles.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
 namespace {
@@ -115,6 +120,72 @@ void BM_voxel_visible_two_sided(benchmark::State& state) {
   state.counters["visible_fraction"] = double(visible) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
 }
 
+void BM_voxelize_triangles_dense_mesh(benchmark::State& state) {
+  const int res = int(state.range(0));
+  const mesh& m = dense();
+  const auto bounds = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
+  std::size_t entries = 0, bytes = 0, occupancy_bytes = 0;
+  for (auto _ : state) {
+    const auto g = vplkit::voxelize_triangles(bounds.min, bounds.max, vplkit::ivec3(res), m.positions.data(),
+                                              m.positions.size(), m.indices.data(), m.indices.size());
+    entries = g.entries().size();
+    bytes = g.memory_bytes();
+    occupancy_bytes = 4 * g.occupancy().word_count();
+    benchmark::DoNotOptimize(g.entries().data());
+  }
+  state.counters["triangles"] = double(m.triangle_count());
+  state.counters["entries"] = double(entries);
+  state.counters["bytes"] = double(bytes);
+  state.counters["occupancy_bytes"] = double(occupancy_bytes);
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(m.triangle_count()));
+}
+
+// The synthetic room's triangle voxel grid, over the bounds of room_grid (the same occupancy).
+const vplkit::triangle_voxel_grid<float>& room_triangle_grid(int res) {
+  static auto* cache = new std::map<int, std::unique_ptr<vplkit::triangle_voxel_grid<float>>>();
+  auto& p = (*cache)[res];
+  if (!p) {
+    const auto& s = room();
+    const auto& occ = room_grid(res);
+    p.reset(new vplkit::triangle_voxel_grid<float>(vplkit::voxelize_triangles(
+        occ.bounds_min(), occ.bounds_max(), occ.resolution(), s.positions.data(), s.positions.size(),
+        s.indices.data(), s.indices.size())));
+  }
+  return *p;
+}
+
+void BM_triangle_voxel_visible(benchmark::State& state) {
+  const auto& grid = room_triangle_grid(int(state.range(0)));
+  const auto view = grid.view();
+  const auto& q = queries();
+  int acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) acc += vplkit::triangle_voxel_visible(view, q.gp[i].position, q.v[i].position) ? 1 : 0;
+    benchmark::DoNotOptimize(acc);
+  }
+  state.counters["visible_fraction"] = double(acc) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  state.counters["bytes"] = double(grid.memory_bytes());
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
+void BM_triangle_voxel_first_hit(benchmark::State& state) {
+  const int res = int(state.range(0));
+  const auto view = room_triangle_grid(res).view();
+  const rays_t rays(room_grid(res));
+  int hits = 0;
+  float acc = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) {
+      const auto h = vplkit::triangle_voxel_first_hit(view, rays.o[i], rays.d[i]);
+      hits += h.hit ? 1 : 0;
+      acc += h.t;
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.counters["hit_fraction"] = double(hits) / double(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kBatch));
+}
+
 }  // namespace
 
 BENCHMARK(BM_triangle_box_overlap)->Apply(vplkit_bench::standard);
@@ -122,5 +193,8 @@ BENCHMARK(BM_voxelize_dense_mesh)->Arg(64)->Arg(128)->Unit(benchmark::kMilliseco
 BENCHMARK(BM_dda_first_hit)->ArgNames({"res", "short"})->Args({64, 1})->Args({64, 0})->Args({128, 1})->Args({128, 0})->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxel_visible_one_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxel_visible_two_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_voxelize_triangles_dense_mesh)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_triangle_voxel_visible)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_triangle_voxel_first_hit)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
 
 VPLKIT_BENCH_MAIN()

@@ -11,6 +11,7 @@
 #include <vplkit/builders/global_weights_params.h>
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/image/median_fill_params.h>
+#include <vplkit/visibility/prefix_sum_params.h>
 #include <vplkit/visibility/voxelize_params.h>
 #include <vplkit/vpl/light_params.h>
 
@@ -40,13 +41,13 @@ std::vector<member> light_members(const std::string& prefix, std::size_t base) {
           {prefix + "axis_z", base + offsetof(gpu::light_params, axis_z)}};
 }
 
-const gl::program& kernel(const std::string& file) {
+// `defines` (#define lines) select a kernel's variant.
+const gl::program& kernel(const std::string& file, const std::string& defines = {}) {
   vplkit::parity::context();
   static auto* cache = new std::map<std::string, gl::program>();  // lives with the context
-  auto it = cache->find(file);
-  if (it == cache->end())
-    it = cache->emplace(file, gl::program::compute_with_includes("#version 430\n#include \"" + file + "\"\n", file))
-             .first;
+  const std::string source = "#version 430\n" + defines + "#include \"" + file + "\"\n";
+  auto it = cache->find(source);
+  if (it == cache->end()) it = cache->emplace(source, gl::program::compute_with_includes(source, file)).first;
   return it->second;
 }
 
@@ -62,9 +63,9 @@ GLint resource_value(GLuint prog, GLenum interface, const std::string& name, GLe
 
 // Every listed member at its C++ offset, and the block's size equal to the struct's.
 void check_block(const std::string& file, const std::string& block, const std::string& variable,
-                 std::size_t cpp_size, const std::vector<member>& members) {
-  const GLuint prog = kernel(file).id();
-  INFO(file << ": uniform block " << block);
+                 std::size_t cpp_size, const std::vector<member>& members, const std::string& defines = {}) {
+  const GLuint prog = kernel(file, defines).id();
+  INFO(file << " " << defines << ": uniform block " << block);
   CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, block, GL_BUFFER_DATA_SIZE)) == cpp_size);
   GLint active = 0;
   const GLenum count_property = GL_NUM_ACTIVE_VARIABLES;
@@ -113,11 +114,13 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
         VPLKIT_MEMBER(acc, n_dirs), VPLKIT_MEMBER(acc, accumulator), VPLKIT_MEMBER(acc, dir_begin),
         VPLKIT_MEMBER(acc, dir_end), VPLKIT_MEMBER(acc, count_gather_points), VPLKIT_MEMBER(acc, seed),
         VPLKIT_MEMBER(acc, pad0), VPLKIT_MEMBER(acc, pad1), VPLKIT_MEMBER(acc, pad2), VPLKIT_MEMBER(acc, dmin),
-        VPLKIT_MEMBER(acc, depth_tolerance), VPLKIT_MEMBER(acc, offset_voxels), VPLKIT_MEMBER(acc, pad3),
+        VPLKIT_MEMBER(acc, depth_tolerance), VPLKIT_MEMBER(acc, offset_voxels), VPLKIT_MEMBER(acc, end_tolerance_voxels),
         VPLKIT_MEMBER(acc, scale), VPLKIT_MEMBER(acc, max_units), VPLKIT_MEMBER(acc, pad4), VPLKIT_MEMBER(acc, pad5)})
     ga.push_back(m);
   check_block("vplkit/builders/gbg_accumulate.comp", "vplkit_gbg_accumulate_uniforms", "vplkit_gbg_accumulate",
               sizeof(acc), ga);
+  check_block("vplkit/builders/gbg_accumulate.comp", "vplkit_gbg_accumulate_uniforms", "vplkit_gbg_accumulate",
+              sizeof(acc), ga, "#define VPLKIT_GBG_TRIANGLE_VOXELS\n");
 
   using fin = gpu::gbg_finish_params;
   std::vector<member> gf = light_members("light.", offsetof(fin, light));
@@ -137,12 +140,20 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
               {VPLKIT_MEMBER(gpu::median_fill_params, resolution), VPLKIT_MEMBER(gpu::median_fill_params, pad0),
                VPLKIT_MEMBER(gpu::median_fill_params, pad1), VPLKIT_MEMBER(gpu::median_fill_params, pad2)});
 
-  check_block("vplkit/visibility/voxelize.comp", "vplkit_voxelize_uniforms", "vplkit_voxelize",
-              sizeof(gpu::voxelize_params),
-              {VPLKIT_MEMBER(gpu::voxelize_params, bounds_min), VPLKIT_MEMBER(gpu::voxelize_params, bounds_max),
-               VPLKIT_MEMBER(gpu::voxelize_params, resolution), VPLKIT_MEMBER(gpu::voxelize_params, triangle_count),
-               VPLKIT_MEMBER(gpu::voxelize_params, margin_voxels), VPLKIT_MEMBER(gpu::voxelize_params, pad0),
-               VPLKIT_MEMBER(gpu::voxelize_params, pad1)});
+  const std::vector<member> vx = {
+      VPLKIT_MEMBER(gpu::voxelize_params, bounds_min),     VPLKIT_MEMBER(gpu::voxelize_params, bounds_max),
+      VPLKIT_MEMBER(gpu::voxelize_params, resolution),     VPLKIT_MEMBER(gpu::voxelize_params, triangle_count),
+      VPLKIT_MEMBER(gpu::voxelize_params, margin_voxels), VPLKIT_MEMBER(gpu::voxelize_params, pad0),
+      VPLKIT_MEMBER(gpu::voxelize_params, pad1)};
+  // Mode 0 the occupancy; 1 and 2 the triangle voxel grid's count and fill.
+  for (int mode = 0; mode <= 2; ++mode)
+    check_block("vplkit/visibility/voxelize.comp", "vplkit_voxelize_uniforms", "vplkit_voxelize",
+                sizeof(gpu::voxelize_params), vx, "#define VPLKIT_VOXELIZE_MODE " + std::to_string(mode) + "\n");
+
+  check_block("vplkit/visibility/prefix_sum.comp", "vplkit_prefix_sum_uniforms", "vplkit_prefix_sum",
+              sizeof(gpu::prefix_sum_params),
+              {VPLKIT_MEMBER(gpu::prefix_sum_params, count), VPLKIT_MEMBER(gpu::prefix_sum_params, begin),
+               VPLKIT_MEMBER(gpu::prefix_sum_params, bit_count), VPLKIT_MEMBER(gpu::prefix_sum_params, write_total)});
 }
 
 TEST_CASE("kernel parameters: cdf_build.comp's std430 records have the C++ layout") {

@@ -14,13 +14,17 @@ TEST_CASE("docs/api.md renderer loop compiles and gives finite, positive light",
   const auto dprsm_data = scene.make_dprsm(32);
   const gbuffer_view<float> gb = gbuffer.view();
   const dprsm_view<float> dprsm = dprsm_data.view();
-  const voxel_grid<float> grid = scene.make_voxel_grid(32);
-
-  voxel_visibility<float> visible{grid.view()};
-  voxel_tracer<float> trace{grid.view()};
+  const voxel_bounds<float> b = fit_voxel_bounds(scene.positions.data(), scene.positions.size());
+  const triangle_voxel_grid<float> grid = voxelize_triangles(b.min, b.max, ivec3(32), scene.positions.data(),
+                                                             scene.positions.size(), scene.indices.data(),
+                                                             scene.indices.size());
+  triangle_voxel_visibility<float> visible{grid.view()};
+  triangle_voxel_tracer<float> trace{grid.view()};
 
   gbg_params<float> params;
-  params.depth_tolerance = voxel_tracer_depth_tolerance(grid.view());
+  const float scene_diagonal = glm::length(b.max - b.min);
+  const int R = dprsm.resolution;
+  params.depth_tolerance = 3.0f * scene_diagonal / float(R);
   const std::vector<float> w = build_gbg_weights(gb, dprsm, trace, params);
   const defensive_mixture<float> dist = make_vpl_distribution(w, dprsm, 0.05f);
 

@@ -9,6 +9,14 @@
 // ranges that cover [0, n_dirs) once give exactly one dispatch's result (keep each range under
 // llvmpipe's loop budget: docs/glsl.md). Buffers, dispatch, the fixed-point format and the choice
 // of scale and max_units: docs/glsl/builders.md, "GBG".
+// TRIANGLE VOXELS (#define VPLKIT_GBG_TRIANGLE_VOXELS): the rays are traced with the triangle
+// voxel tracer (the first triangle met, on the triangle; docs/math.md section 7.2) instead of the
+// voxel DDA, over the triangle voxel grid of the same occupancy words, with four more read-only
+// SSBOs (VPLKIT_GBG_BINDING_VOXEL_*); end_tolerance_voxels is then the tracer's end tolerance and
+// offset_voxels is unused.
+#ifdef VPLKIT_GBG_TRIANGLE_VOXELS
+#define VPLKIT_TRIANGLE_VOXELS
+#endif
 #include "vplkit/builders/gbg_accumulate_params.h"
 #include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/core/gather_point.glsl"
@@ -44,6 +52,25 @@ vec3 vplkit_load_dprsm_normal(int texel) { return vplkit_gbg_dprsm[3 * texel + 1
 vec3 vplkit_load_dprsm_albedo(int texel) { return vplkit_gbg_dprsm[3 * texel + 2].xyz; }
 uint vplkit_load_voxel_word(uint word_index) { return vplkit_gbg_voxels[word_index]; }
 
+#ifdef VPLKIT_GBG_TRIANGLE_VOXELS
+layout(std430, binding = VPLKIT_GBG_BINDING_VOXEL_RANK) readonly buffer vplkit_gbg_voxel_rank_buffer {
+  uint vplkit_gbg_voxel_rank[];
+};
+layout(std430, binding = VPLKIT_GBG_BINDING_VOXEL_OFFSETS) readonly buffer vplkit_gbg_voxel_offsets_buffer {
+  uint vplkit_gbg_voxel_offsets[];
+};
+layout(std430, binding = VPLKIT_GBG_BINDING_VOXEL_ENTRIES) readonly buffer vplkit_gbg_voxel_entries_buffer {
+  uint vplkit_gbg_voxel_entries[];
+};
+layout(std430, binding = VPLKIT_GBG_BINDING_VOXEL_TRIANGLES) readonly buffer vplkit_gbg_voxel_triangles_buffer {
+  vec4 vplkit_gbg_voxel_triangles[];
+};
+uint vplkit_load_voxel_rank(uint word_index) { return vplkit_gbg_voxel_rank[word_index]; }
+uint vplkit_load_voxel_offset(uint index) { return vplkit_gbg_voxel_offsets[index]; }
+uint vplkit_load_voxel_entry(uint index) { return vplkit_gbg_voxel_entries[index]; }
+vec4 vplkit_load_voxel_triangle(uint index) { return vplkit_gbg_voxel_triangles[index]; }
+#endif
+
 // 64-bit add as two 32-bit atomics: the low word's carry is detected from the value it had just
 // before this add (atomicAdd returns it), so every wrap of the low word adds 1 to the high word
 // exactly once, whatever the order of the adds.
@@ -67,9 +94,14 @@ void main() {
   if (p.count_gather_points != 0) atomicAdd(vplkit_gbg_stats[VPLKIT_GBG_STAT_GATHER_POINTS], 1u);
 
   vplkit_dprsm_view view = vplkit_dprsm_view(p.resolution, vplkit_light_params_point_light(p.light));
-  vplkit_voxel_tracer tracer =
-      vplkit_make_voxel_tracer(vplkit_voxel_grid(p.grid_min.xyz, p.grid_max.xyz, p.grid_resolution.xyz));
+  vplkit_voxel_grid grid = vplkit_voxel_grid(p.grid_min.xyz, p.grid_max.xyz, p.grid_resolution.xyz);
+#ifdef VPLKIT_GBG_TRIANGLE_VOXELS
+  vplkit_voxel_tracer tracer = vplkit_make_triangle_voxel_tracer(grid);
+  tracer.end_tolerance_voxels = p.end_tolerance_voxels;
+#else
+  vplkit_voxel_tracer tracer = vplkit_make_voxel_tracer(grid);
   tracer.offset_voxels = p.offset_voxels;
+#endif
   vplkit_gbg_params params = vplkit_gbg_params(p.n_dirs, p.dmin, p.depth_tolerance, p.seed, p.accumulator, false);
   int dir_begin = max(p.dir_begin, 0);
   int dir_end = min(p.dir_end, params.n_dirs);

@@ -25,6 +25,20 @@
 #ifndef VPLKIT_GBG_BINDING_PARAMS
 #define VPLKIT_GBG_BINDING_PARAMS 5  // uniform block: gbg_accumulate_params
 #endif
+// With VPLKIT_GBG_TRIANGLE_VOXELS: the triangle voxel grid's arrays (visibility/triangle_voxel_grid.glsl
+// layout, as the C++ triangle_voxel_grid's), all readonly SSBOs.
+#ifndef VPLKIT_GBG_BINDING_VOXEL_RANK
+#define VPLKIT_GBG_BINDING_VOXEL_RANK 5  // uint rank[]
+#endif
+#ifndef VPLKIT_GBG_BINDING_VOXEL_OFFSETS
+#define VPLKIT_GBG_BINDING_VOXEL_OFFSETS 6  // uint offsets[]
+#endif
+#ifndef VPLKIT_GBG_BINDING_VOXEL_ENTRIES
+#define VPLKIT_GBG_BINDING_VOXEL_ENTRIES 7  // uint entries[]
+#endif
+#ifndef VPLKIT_GBG_BINDING_VOXEL_TRIANGLES
+#define VPLKIT_GBG_BINDING_VOXEL_TRIANGLES 8  // vec4 triangles[] (4 per triangle)
+#endif
 #ifndef VPLKIT_GBG_LOCAL_SIZE
 #define VPLKIT_GBG_LOCAL_SIZE 64
 #endif
@@ -64,8 +78,8 @@ struct vplkit_gbg_accumulate_params {
   uint pad2;
   float dmin;
   float depth_tolerance;
-  float offset_voxels;  // the tracer's lift off the surface (the C++ default 1.75)
-  float pad3;
+  float offset_voxels;         // the voxel tracer's lift off the surface (the C++ default 1.75)
+  float end_tolerance_voxels;  // VPLKIT_GBG_TRIANGLE_VOXELS: the tracer's end tolerance (0.01)
   float scale;      // fixed point: units per unit of value (a power of two)
   float max_units;  // <= 2^63
   float pad4;

@@ -66,11 +66,32 @@ bool vplkit_dda_unit_direction(vec3 dir, out vec3 unit) {
   return true;
 }
 
-vplkit_dda_hit vplkit_dda_first_hit(vplkit_voxel_grid g, vec3 origin, vec3 dir, float t_max) {
-  const vplkit_dda_hit miss = vplkit_dda_hit(false, 0.0, ivec3(-1));
+// The march one voxel at a time (mirrors dda_walk, dda_walk_begin, dda_walk_next, dda_walk_exit):
+// vplkit_dda_first_hit is begin, then up to nx + ny + nz times: test the voxel, advance.
+struct vplkit_dda_walk {
+  bool running;    // false: the ray misses the grid (after begin) or has left it / passed t_max
+  vec3 origin;
+  vec3 d;          // unit direction
+  float t_max;
+  float t;         // entry distance of the current voxel
+  ivec3 voxel;
+  ivec3 step_dir;  // the C++ `step` (a GLSL built-in's name)
+  vec3 t_next;
+  vec3 size;       // vplkit_voxel_size(g)
+};
+
+float vplkit_dda_walk_exit(vplkit_dda_walk w) {
+  float m = w.t_next.x < w.t_next.y ? (w.t_next.x < w.t_next.z ? w.t_next.x : w.t_next.z)
+                                    : (w.t_next.y < w.t_next.z ? w.t_next.y : w.t_next.z);
+  return m < w.t_max ? m : w.t_max;
+}
+
+vplkit_dda_walk vplkit_dda_walk_begin(vplkit_voxel_grid g, vec3 origin, vec3 dir, float t_max) {
+  vplkit_dda_walk w = vplkit_dda_walk(false, origin, vec3(0.0), t_max, 0.0, ivec3(-1), ivec3(0), vec3(0.0),
+                                      vec3(0.0));
   vec3 d = vec3(0.0);
-  if (!vplkit_dda_unit_direction(dir, d)) return miss;
-  if (!vplkit_voxel_vec3_finite(origin) || !(t_max >= 0.0)) return miss;
+  if (!vplkit_dda_unit_direction(dir, d)) return w;
+  if (!vplkit_voxel_vec3_finite(origin) || !(t_max >= 0.0)) return w;
   vec3 size = vplkit_voxel_size(g);
 
   // Clip [0, t_max] to the closed grid box; remember which face the ray enters through.
@@ -79,7 +100,7 @@ vplkit_dda_hit vplkit_dda_first_hit(vplkit_voxel_grid g, vec3 origin, vec3 dir, 
   int enter_axis = -1;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) {
-      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return miss;
+      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return w;
     } else {
       precise float ta = (g.bounds_min[a] - origin[a]) / d[a];
       precise float tb = (g.bounds_max[a] - origin[a]) / d[a];
@@ -95,12 +116,12 @@ vplkit_dda_hit vplkit_dda_first_hit(vplkit_voxel_grid g, vec3 origin, vec3 dir, 
       t_exit = tb < t_exit ? tb : t_exit;
     }
   }
-  if (!(t_enter <= t_exit) || !vplkit_voxel_isfinite(t_enter)) return miss;
+  if (!(t_enter <= t_exit) || !vplkit_voxel_isfinite(t_enter)) return w;
 
   // Entry voxel and the distance to the next plane crossing on each axis.
   precise vec3 p = origin + t_enter * d;
   ivec3 v = ivec3(0);
-  ivec3 step_dir = ivec3(0);  // the C++ `step` (a GLSL built-in's name)
+  ivec3 step_dir = ivec3(0);
   vec3 t_next = vec3(0.0);
   for (int a = 0; a < 3; ++a) {
     precise float c = (p[a] - g.bounds_min[a]) / size[a];
@@ -120,20 +141,46 @@ vplkit_dda_hit vplkit_dda_first_hit(vplkit_voxel_grid g, vec3 origin, vec3 dir, 
       t_next[a] = vplkit_FLT_MAX;
     }
   }
+  w.running = true;
+  w.d = d;
+  w.t = t_enter;
+  w.voxel = v;
+  w.step_dir = step_dir;
+  w.t_next = t_next;
+  w.size = size;
+  return w;
+}
 
-  float t = t_enter;
-  int max_iterations = g.resolution.x + g.resolution.y + g.resolution.z;
-  for (int it = 0; it < max_iterations; ++it) {
-    if (vplkit_voxel_test(g, v)) return vplkit_dda_hit(true, t, v);
-    int a = (t_next.x <= t_next.y && t_next.x <= t_next.z) ? 0 : (t_next.y <= t_next.z ? 1 : 2);
-    if (step_dir[a] == 0 || t_next[a] > t_max) break;
-    v[a] += step_dir[a];
-    if (v[a] < 0 || v[a] >= g.resolution[a]) break;
-    t = t_next[a] > t ? t_next[a] : t;
-    precise float tn = (g.bounds_min[a] + float(step_dir[a] > 0 ? v[a] + 1 : v[a]) * size[a] - origin[a]) / d[a];
-    t_next[a] = tn;
+bool vplkit_dda_walk_next(vplkit_voxel_grid g, inout vplkit_dda_walk w) {
+  int a = (w.t_next.x <= w.t_next.y && w.t_next.x <= w.t_next.z) ? 0 : (w.t_next.y <= w.t_next.z ? 1 : 2);
+  if (w.step_dir[a] == 0 || w.t_next[a] > w.t_max) {
+    w.running = false;
+    return false;
   }
-  return miss;
+  w.voxel[a] += w.step_dir[a];
+  if (w.voxel[a] < 0 || w.voxel[a] >= g.resolution[a]) {
+    w.running = false;
+    return false;
+  }
+  w.t = w.t_next[a] > w.t ? w.t_next[a] : w.t;
+  precise float tn =
+      (g.bounds_min[a] + float(w.step_dir[a] > 0 ? w.voxel[a] + 1 : w.voxel[a]) * w.size[a] - w.origin[a]) / w.d[a];
+  w.t_next[a] = tn;
+  return true;
+}
+
+int vplkit_dda_max_iterations(ivec3 resolution) {
+  return resolution.x + resolution.y + resolution.z;
+}
+
+vplkit_dda_hit vplkit_dda_first_hit(vplkit_voxel_grid g, vec3 origin, vec3 dir, float t_max) {
+  vplkit_dda_walk w = vplkit_dda_walk_begin(g, origin, dir, t_max);
+  int max_iterations = vplkit_dda_max_iterations(g.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (vplkit_voxel_test(g, w.voxel)) return vplkit_dda_hit(true, w.t, w.voxel);
+    vplkit_dda_walk_next(g, w);
+  }
+  return vplkit_dda_hit(false, 0.0, ivec3(-1));
 }
 
 // t_max = +infinity (the C++ default argument).

@@ -4,7 +4,10 @@
 // pack's voxel grid (the C++ adaptors' defaults: offset 1.75 voxels; tolerance 0 voxels two-sided,
 // 2 one-sided), or route to the shader's own geometry: #define VPLKIT_USER_VISIBILITY /
 // VPLKIT_USER_TRACER before the first include and define vplkit_user_visible / vplkit_user_trace
-// (without the macros those kinds are not compiled in). The C++ <-> GLSL table:
+// (without the macros those kinds are not compiled in). The triangle voxel kinds (no
+// self-occlusion at the ends or at junctions, docs/math.md section 7.2) are compiled in with
+// #define VPLKIT_TRIANGLE_VOXELS; the shader then defines the accessors of
+// visibility/triangle_voxel_grid.glsl. The C++ <-> GLSL table:
 // docs/glsl/visibility.md, "Visibility and tracing for builders and estimators". ACCESSOR:
 // vplkit_load_voxel_word (define it always; it may return 0u when no voxel kind is used).
 #ifndef VPLKIT_VISIBILITY_VISIBILITY_CALLABLES_GLSL
@@ -14,17 +17,22 @@
 #include "vplkit/visibility/dda.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
 #include "vplkit/visibility/voxel_visible.glsl"
+#ifdef VPLKIT_TRIANGLE_VOXELS
+#include "vplkit/visibility/triangle_voxel_query.glsl"
+#endif
 
 const int vplkit_visibility_always = 0;             // always_visible: V = 1
 const int vplkit_visibility_voxel_two_sided = 1;    // voxel_visibility<T> (recommended)
 const int vplkit_visibility_voxel_one_sided = 2;    // voxel_visibility_one_sided<T> (the paper's)
 const int vplkit_visibility_user = 3;               // vplkit_user_visible (VPLKIT_USER_VISIBILITY)
+const int vplkit_visibility_triangle_voxels = 4;    // triangle_voxel_visibility<T> (VPLKIT_TRIANGLE_VOXELS)
 
 struct vplkit_visibility {
-  int kind;                 // one of the constants above
-  vplkit_voxel_grid grid;   // unused by kind always / user
-  float offset_voxels;
-  float tolerance_voxels;
+  int kind;                    // one of the constants above
+  vplkit_voxel_grid grid;      // unused by kind always / user
+  float offset_voxels;         // voxel kinds
+  float tolerance_voxels;      // voxel kinds
+  float end_tolerance_voxels;  // triangle voxel kind
 };
 
 #ifdef VPLKIT_USER_VISIBILITY
@@ -36,20 +44,27 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir);
 
 vplkit_visibility vplkit_make_always_visible() {
   return vplkit_visibility(vplkit_visibility_always,
-                           vplkit_voxel_grid(vec3(0.0), vec3(0.0), ivec3(0)), 0.0, 0.0);
+                           vplkit_voxel_grid(vec3(0.0), vec3(0.0), ivec3(0)), 0.0, 0.0, 0.0);
 }
 
 vplkit_visibility vplkit_make_voxel_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_voxel_two_sided, grid,
                            vplkit_voxel_surface_offset_default,
-                           vplkit_voxel_visible_two_sided_default_tolerance);
+                           vplkit_voxel_visible_two_sided_default_tolerance, 0.0);
 }
 
 vplkit_visibility vplkit_make_voxel_visibility_one_sided(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_voxel_one_sided, grid,
                            vplkit_voxel_surface_offset_default,
-                           vplkit_voxel_visible_default_tolerance);
+                           vplkit_voxel_visible_default_tolerance, 0.0);
 }
+
+#ifdef VPLKIT_TRIANGLE_VOXELS
+vplkit_visibility vplkit_make_triangle_voxel_visibility(vplkit_voxel_grid grid) {
+  return vplkit_visibility(vplkit_visibility_triangle_voxels, grid, 0.0, 0.0,
+                           vplkit_triangle_voxel_default_end_tolerance);
+}
+#endif
 
 // Mutual visibility of the surface points x (normal n_x) and y (normal n_y); normals any length.
 bool vplkit_visibility_test(vplkit_visibility v, vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
@@ -57,6 +72,10 @@ bool vplkit_visibility_test(vplkit_visibility v, vec3 x, vec3 n_x, vec3 y, vec3 
     return vplkit_voxel_visible_two_sided(v.grid, x, n_x, y, n_y, v.offset_voxels, v.tolerance_voxels);
   if (v.kind == vplkit_visibility_voxel_one_sided)
     return vplkit_voxel_visible(v.grid, x, n_x, y, v.offset_voxels, v.tolerance_voxels);
+#ifdef VPLKIT_TRIANGLE_VOXELS
+  if (v.kind == vplkit_visibility_triangle_voxels)
+    return vplkit_triangle_voxel_visible(v.grid, x, y, v.end_tolerance_voxels);
+#endif
 #ifdef VPLKIT_USER_VISIBILITY
   if (v.kind == vplkit_visibility_user) return vplkit_user_visible(x, n_x, y, n_y);
 #endif
@@ -66,18 +85,36 @@ bool vplkit_visibility_test(vplkit_visibility v, vec3 x, vec3 n_x, vec3 y, vec3 
 struct vplkit_voxel_tracer {
   vplkit_voxel_grid grid;
   float offset_voxels;
-  bool user;  // true: vplkit_user_trace (needs VPLKIT_USER_TRACER); false: the voxel DDA
+  bool user;                   // true: vplkit_user_trace (needs VPLKIT_USER_TRACER); false: the voxel DDA
+  bool triangles;              // true: the triangle voxel first hit (needs VPLKIT_TRIANGLE_VOXELS)
+  float end_tolerance_voxels;  // of the triangle voxel first hit
 };
 
 vplkit_voxel_tracer vplkit_make_voxel_tracer(vplkit_voxel_grid grid) {
-  return vplkit_voxel_tracer(grid, vplkit_voxel_surface_offset_default, false);
+  return vplkit_voxel_tracer(grid, vplkit_voxel_surface_offset_default, false, false, 0.0);
 }
+
+#ifdef VPLKIT_TRIANGLE_VOXELS
+// triangle_voxel_tracer<float>: the first triangle met from x itself (no lift), on the triangle.
+vplkit_voxel_tracer vplkit_make_triangle_voxel_tracer(vplkit_voxel_grid grid) {
+  return vplkit_voxel_tracer(grid, 0.0, false, true, vplkit_triangle_voxel_default_end_tolerance);
+}
+#endif
 
 // First occupied voxel along the ray from x lifted offset_voxels along n_x, reported at the point
 // where the ray enters that voxel (up to a voxel diagonal from the true surface).
 vplkit_ray_hit vplkit_voxel_tracer_trace(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, vec3 dir) {
 #ifdef VPLKIT_USER_TRACER
   if (tr.user) return vplkit_user_trace(x, n_x, dir);
+#endif
+#ifdef VPLKIT_TRIANGLE_VOXELS
+  if (tr.triangles) {
+    vplkit_triangle_voxel_hit t = vplkit_triangle_voxel_first_hit(tr.grid, x, dir, vplkit_dda_infinity(),
+                                                                  tr.end_tolerance_voxels);
+    vplkit_ray_hit th = vplkit_ray_hit(t.hit, vec3(0.0));
+    if (t.hit) th.position = t.point;
+    return th;
+  }
 #endif
   vplkit_dda_trace_result r =
       vplkit_dda_trace_hit_point(tr.grid, vplkit_surface_ray_origin(tr.grid, x, n_x, tr.offset_voxels), dir);

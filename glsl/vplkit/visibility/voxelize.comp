@@ -8,6 +8,14 @@
 // validates; a triangle with an index past the positions or a non-finite vertex is skipped (the
 // C++ throws). A voxel differs from the C++ (double) only within ~1e-5 voxel of the margin. Cost,
 // the work-group layout and why: docs/glsl/visibility.md, "voxelize.comp".
+//
+// MODES (VPLKIT_VOXELIZE_MODE, voxelize_params.h): the same sweep and overlap test also build the
+// triangle voxel grid's lists (C++ voxelize_triangles), after the occupancy and its rank
+// (prefix_sum.comp, bit-count mode): 0 occupancy (atomicOr, the default); 1 count (atomicAdd 1 to
+// counts[r] of every overlapping voxel, r its occupied index; offsets are then the exclusive prefix
+// sum of counts); 2 fill (entries[offsets[r] + atomicAdd(cursor[r], 1)] = t). Modes 1 and 2 visit
+// every overlapping voxel and only read the words: every voxel a triangle overlaps is occupied, so
+// r is always valid. A voxel's entries come in the atomics' order; no query depends on it.
 #include "vplkit/visibility/triangle_box_overlap.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
 #include "vplkit/visibility/voxelize_params.h"
@@ -31,10 +39,44 @@ uint vplkit_load_voxel_word(uint word_index) {
   return vplkit_voxelize_words[word_index];
 }
 
+#if VPLKIT_VOXELIZE_MODE == 0
 void vplkit_voxelize_set(ivec3 resolution, ivec3 c) {
   uint i = vplkit_voxel_flat_index(resolution, c);
   atomicOr(vplkit_voxelize_words[i >> 5u], 1u << (i & 31u));
 }
+#else
+#include "vplkit/visibility/voxel_rank.glsl"
+
+layout(std430, binding = VPLKIT_VOXELIZE_BINDING_RANK) readonly buffer vplkit_voxelize_rank_buffer {
+  uint vplkit_voxelize_rank[];
+};
+layout(std430, binding = VPLKIT_VOXELIZE_BINDING_COUNTS) buffer vplkit_voxelize_counts_buffer {
+  uint vplkit_voxelize_counts[];
+};
+uint vplkit_load_voxel_rank(uint word_index) {
+  return vplkit_voxelize_rank[word_index];
+}
+#if VPLKIT_VOXELIZE_MODE == 2
+layout(std430, binding = VPLKIT_VOXELIZE_BINDING_OFFSETS) readonly buffer vplkit_voxelize_offsets_buffer {
+  uint vplkit_voxelize_offsets[];
+};
+layout(std430, binding = VPLKIT_VOXELIZE_BINDING_ENTRIES) writeonly buffer vplkit_voxelize_entries_buffer {
+  uint vplkit_voxelize_entries[];
+};
+#endif
+
+// Mode 1 counts triangle t in voxel c's list; mode 2 writes it there.
+void vplkit_voxelize_list(vplkit_voxel_grid g, ivec3 c, uint t) {
+  int r = vplkit_voxel_occupied_index(g, c);
+  if (r < 0) return;  // cannot happen: mode 0 marked every voxel this test passes
+#if VPLKIT_VOXELIZE_MODE == 1
+  atomicAdd(vplkit_voxelize_counts[r], 1u);
+#else
+  uint slot = atomicAdd(vplkit_voxelize_counts[r], 1u);
+  vplkit_voxelize_entries[vplkit_voxelize_offsets[r] + slot] = t;
+#endif
+}
+#endif
 
 void main() {
   uint t = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
@@ -122,9 +164,14 @@ void main() {
       c[u] = iu;
       c[vv] = iv;
       c[w] = iw;
+#if VPLKIT_VOXELIZE_MODE == 0
       if (vplkit_voxel_test(g, c)) continue;
       if (vplkit_triangle_box_overlap(vec3(c) + vec3(0.5), half_size, v[0], v[1], v[2]))
         vplkit_voxelize_set(res, c);
+#else
+      if (vplkit_triangle_box_overlap(vec3(c) + vec3(0.5), half_size, v[0], v[1], v[2]))
+        vplkit_voxelize_list(g, c, t);
+#endif
     }
   }
 }

@@ -22,6 +22,24 @@
 #define VPLKIT_VOXELIZE_LOCAL_SIZE 64
 #endif
 
+// Modes: 0 occupancy (the binary grid), 1 count, 2 fill (the triangle voxel grid's lists; see
+// voxelize.comp). Modes 1 and 2 use the extra buffers below.
+#ifndef VPLKIT_VOXELIZE_MODE
+#define VPLKIT_VOXELIZE_MODE 0
+#endif
+#ifndef VPLKIT_VOXELIZE_BINDING_RANK
+#define VPLKIT_VOXELIZE_BINDING_RANK 4  // SSBO, readonly: uint rank[word count]
+#endif
+#ifndef VPLKIT_VOXELIZE_BINDING_COUNTS
+#define VPLKIT_VOXELIZE_BINDING_COUNTS 5  // SSBO: uint counts[occupied] (mode 2: cursors), zeroed first
+#endif
+#ifndef VPLKIT_VOXELIZE_BINDING_OFFSETS
+#define VPLKIT_VOXELIZE_BINDING_OFFSETS 6  // SSBO, readonly: uint offsets[occupied + 1] (mode 2)
+#endif
+#ifndef VPLKIT_VOXELIZE_BINDING_ENTRIES
+#define VPLKIT_VOXELIZE_BINDING_ENTRIES 7  // SSBO, writeonly: uint entries[offsets[occupied]] (mode 2)
+#endif
+
 #ifdef __cplusplus
 namespace vplkit::gpu {
 struct voxelize_params {

@@ -71,14 +71,41 @@ inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
   return true;
 }
 
+// ---- The march, one voxel at a time ---------------------------------------------------------
+// dda_walk_begin / dda_walk_next expose the march that dda_first_hit runs, for callers that must
+// look at every voxel the ray meets (the triangle voxel queries, triangle_voxel_query.hpp), not only at
+// the first occupied one. dda_first_hit is exactly: begin; then up to nx + ny + nz times, test the
+// current voxel and advance.
 template <class T>
-inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
-                                T t_max = std::numeric_limits<T>::infinity()) {
-  const dda_hit<T> miss{false, T(0), ivec3(-1)};
+struct dda_walk {
+  bool running;    // false: the ray misses the grid (after begin) or has left it / passed t_max
+  vec3<T> origin;  // as given
+  vec3<T> d;       // unit direction (dda_unit_direction)
+  T t_max;
+  T t;             // entry distance of the current voxel (non-decreasing)
+  ivec3 voxel;     // the current voxel
+  ivec3 step;      // -1, 0, +1 per axis
+  vec3<T> t_next;  // distance to the next plane crossing per axis (largest finite T when step 0)
+  vec3<T> size;    // voxel_size(g)
+};
+
+// Distance at which the walk leaves its current voxel: the smallest t_next, at most t_max.
+template <class T>
+inline T dda_walk_exit(const dda_walk<T>& w) {
+  const T m = w.t_next.x < w.t_next.y ? (w.t_next.x < w.t_next.z ? w.t_next.x : w.t_next.z)
+                                      : (w.t_next.y < w.t_next.z ? w.t_next.y : w.t_next.z);
+  return m < w.t_max ? m : w.t_max;
+}
+
+// Steps 1-4 of the header: direction, clipping, entry voxel, first crossings.
+template <class T>
+inline dda_walk<T> dda_walk_begin(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                  T t_max = std::numeric_limits<T>::infinity()) {
+  dda_walk<T> w{false, origin, vec3<T>(T(0)), t_max, T(0), ivec3(-1), ivec3(0), vec3<T>(T(0)), vec3<T>(T(0))};
   vec3<T> d(T(0));
-  if (!dda_unit_direction(dir, d)) return miss;
+  if (!dda_unit_direction(dir, d)) return w;
   if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z) || !(t_max >= T(0)))
-    return miss;
+    return w;
   const vec3<T> size = voxel_size(g);
 
   // Clip [0, t_max] to the closed grid box; remember which face the ray enters through.
@@ -86,7 +113,7 @@ inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec
   int enter_axis = -1;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == T(0)) {
-      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return miss;
+      if (origin[a] < g.bounds_min[a] || origin[a] > g.bounds_max[a]) return w;
     } else {
       T ta = (g.bounds_min[a] - origin[a]) / d[a];
       T tb = (g.bounds_max[a] - origin[a]) / d[a];
@@ -102,7 +129,7 @@ inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec
       t_exit = tb < t_exit ? tb : t_exit;
     }
   }
-  if (!(t_enter <= t_exit) || !std::isfinite(t_enter)) return miss;
+  if (!(t_enter <= t_exit) || !std::isfinite(t_enter)) return w;
 
   // Entry voxel and the distance to the next plane crossing on each axis.
   const vec3<T> p = origin + t_enter * d;
@@ -124,19 +151,48 @@ inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec
       t_next[a] = std::numeric_limits<T>::max();
     }
   }
+  w.running = true;
+  w.d = d;
+  w.t = t_enter;
+  w.voxel = v;
+  w.step = step;
+  w.t_next = t_next;
+  w.size = size;
+  return w;
+}
 
-  T t = t_enter;
-  const int max_iterations = g.resolution.x + g.resolution.y + g.resolution.z;
-  for (int it = 0; it < max_iterations; ++it) {
-    if (voxel_test(g, v)) return dda_hit<T>{true, t, v};
-    const int a = (t_next.x <= t_next.y && t_next.x <= t_next.z) ? 0 : (t_next.y <= t_next.z ? 1 : 2);
-    if (step[a] == 0 || t_next[a] > t_max) break;
-    v[a] += step[a];
-    if (v[a] < 0 || v[a] >= g.resolution[a]) break;
-    t = t_next[a] > t ? t_next[a] : t;
-    t_next[a] = (g.bounds_min[a] + T(step[a] > 0 ? v[a] + 1 : v[a]) * size[a] - origin[a]) / d[a];
+// Step 5 of the header, after the voxel test: moves to the next voxel. Returns false (and clears
+// `running`) when the walk ends: a step of 0, the next crossing beyond t_max, or leaving the grid.
+template <class T>
+inline bool dda_walk_next(const voxel_grid_view<T>& g, dda_walk<T>& w) {
+  const int a = (w.t_next.x <= w.t_next.y && w.t_next.x <= w.t_next.z) ? 0 : (w.t_next.y <= w.t_next.z ? 1 : 2);
+  if (w.step[a] == 0 || w.t_next[a] > w.t_max) {
+    w.running = false;
+    return false;
   }
-  return miss;
+  w.voxel[a] += w.step[a];
+  if (w.voxel[a] < 0 || w.voxel[a] >= g.resolution[a]) {
+    w.running = false;
+    return false;
+  }
+  w.t = w.t_next[a] > w.t ? w.t_next[a] : w.t;
+  w.t_next[a] = (g.bounds_min[a] + T(w.step[a] > 0 ? w.voxel[a] + 1 : w.voxel[a]) * w.size[a] - w.origin[a]) / w.d[a];
+  return true;
+}
+
+// Iteration bound of a walk: a ray visits at most nx + ny + nz - 2 voxels.
+inline int dda_max_iterations(ivec3 resolution) { return resolution.x + resolution.y + resolution.z; }
+
+template <class T>
+inline dda_hit<T> dda_first_hit(const voxel_grid_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                T t_max = std::numeric_limits<T>::infinity()) {
+  dda_walk<T> w = dda_walk_begin(g, origin, dir, t_max);
+  const int max_iterations = dda_max_iterations(g.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (voxel_test(g, w.voxel)) return dda_hit<T>{true, w.t, w.voxel};
+    dda_walk_next(g, w);
+  }
+  return dda_hit<T>{false, T(0), ivec3(-1)};
 }
 
 template <class T>

@@ -7,8 +7,12 @@
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/dda.hpp>
+#include <vplkit/visibility/triangle_voxel_grid.hpp>
+#include <vplkit/visibility/triangle_voxel_query.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
+
+#include <limits>
 
 namespace vplkit {
 
@@ -66,5 +70,36 @@ template <class T>
 inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
   return T(1.7320508075688772) * voxel_length(g);
 }
+
+// ---- Triangle voxels (triangle_voxel_query.hpp): no self-occlusion at the ends or at junctions ----
+
+// Mutual visibility decided by the triangles a triangle_voxel_grid lists: the ends are not
+// lifted; triangles whose planes pass within end_tolerance_voxels of an end are ignored. Normals
+// are not needed.
+template <class T>
+struct triangle_voxel_visibility {
+  triangle_voxel_view<T> grid;
+  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  bool operator()(vec3<T> x, vec3<T>, vec3<T> y, vec3<T>) const {
+    return triangle_voxel_visible(grid, x, y, end_tolerance_voxels);
+  }
+};
+
+// First triangle met by the ray leaving x along dir (triangle_voxel_first_hit from x itself). The
+// hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the texel's own
+// depth spread.
+template <class T>
+struct triangle_voxel_tracer {
+  triangle_voxel_view<T> grid;
+  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  ray_hit<T> operator()(vec3<T> x, vec3<T>, vec3<T> dir) const {
+    const triangle_voxel_hit<T> r =
+        triangle_voxel_first_hit(grid, x, dir, std::numeric_limits<T>::infinity(), end_tolerance_voxels);
+    ray_hit<T> h;
+    h.hit = r.hit;
+    if (r.hit) h.position = r.point;
+    return h;
+  }
+};
 
 }  // namespace vplkit

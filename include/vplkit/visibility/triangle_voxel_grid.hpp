@@ -1,0 +1,121 @@
+#pragma once
+// A voxel grid whose occupied voxels list the triangles that overlap them, so that visibility is
+// decided by the triangles themselves, not by their voxels (docs/math.md section 7.2). Queries:
+// triangle_voxel_query.hpp; CPU construction: voxelize_triangles.hpp; GPU construction:
+// glsl/vplkit/visibility/voxelize.comp (occupancy, count and fill modes) and prefix_sum.comp.
+//
+// Layout (shared with the GPU, which fills and reads the same arrays):
+// - occupancy: the conservative binary voxel_grid of voxelize.hpp, unchanged (same margin);
+// - rank[w]: the number of occupied voxels in words 0 .. w-1 (one uint32 per occupancy word). An
+//   occupied voxel with flat index i has the dense index
+//     r = rank[i >> 5] + bitCount(words[i >> 5] & ((1u << (i & 31)) - 1u));
+// - offsets[r], r = 0 .. occupied: voxel r's list is entries[offsets[r] .. offsets[r + 1]);
+// - entries: triangle indices (into triangles). A voxel lists every triangle whose overlap test
+//   (voxelize's, with its margin) marked it, in ascending order when built on the CPU, in any
+//   order when built on the GPU (no query depends on the order);
+// - triangles[t]: voxel_triangle, four planes (normal, offset) in world coordinates: the
+//   triangle's plane, then its three edges' inward planes (within the triangle's plane, through
+//   the edge, normal pointing into the triangle). A degenerate triangle has all four zero and
+//   never blocks. 64 bytes for T = float (four std430 vec4 on the GPU).
+#include <vplkit/core/error.hpp>
+#include <vplkit/core/vector.hpp>
+#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/visibility/voxel_rank.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vplkit {
+
+template <class T>
+struct voxel_plane {
+  vec3<T> normal;  // unit (zero for a degenerate triangle)
+  T offset;        // normal . p = offset on the plane
+};
+
+template <class T>
+struct voxel_triangle {
+  voxel_plane<T> plane;    // the triangle's plane
+  voxel_plane<T> edge[3];  // p is inside iff edge[i].normal . p - edge[i].offset >= 0 for i = 0, 1, 2
+};
+static_assert(sizeof(voxel_triangle<float>) == 64, "voxel_triangle<float> is four std430 vec4");
+
+template <class T>
+struct triangle_voxel_view {
+  voxel_grid_view<T> grid;              // the occupancy
+  const std::uint32_t* rank;            // voxel_word_count(grid.resolution) entries
+  const std::uint32_t* offsets;         // occupied + 1 entries
+  const std::uint32_t* entries;         // offsets[occupied] entries
+  const voxel_triangle<T>* triangles;   // triangle_count entries
+  std::size_t occupied;                 // occupied voxels
+  std::size_t triangle_count;
+
+  std::size_t entry_count() const { return offsets[occupied]; }
+  // The longest list (a bound for loop budgets: a ray tests at most this many triangles per voxel).
+  std::uint32_t max_entries_per_voxel() const {
+    std::uint32_t m = 0;
+    for (std::size_t r = 0; r < occupied; ++r) m = std::max(m, offsets[r + 1] - offsets[r]);
+    return m;
+  }
+};
+
+template <class T>
+class triangle_voxel_grid {
+public:
+  // Adopts the arrays of the layout above (from voxelize_triangles, or read back from the GPU)
+  // after checking them: rank equal to the occupancy's prefix sums, offsets non-decreasing from 0
+  // to entries.size(), one more than the occupied voxels, every entry a triangle index.
+  triangle_voxel_grid(voxel_grid<T> occupancy, std::vector<std::uint32_t> rank, std::vector<std::uint32_t> offsets,
+                      std::vector<std::uint32_t> entries, std::vector<voxel_triangle<T>> triangles)
+      : occ_(std::move(occupancy)), rank_(std::move(rank)), offsets_(std::move(offsets)), entries_(std::move(entries)),
+        tris_(std::move(triangles)) {
+    if (rank_ != voxel_occupancy_rank(occ_.data(), occ_.word_count()))
+      throw invalid_input("triangle_voxel_grid: rank does not match the occupancy's prefix sums");
+    const std::size_t occupied = std::size_t(occ_.count());
+    if (offsets_.size() != occupied + 1)
+      throw invalid_input("triangle_voxel_grid: " + std::to_string(offsets_.size()) + " offsets given, " +
+                          std::to_string(occupied + 1) + " needed (occupied voxels + 1)");
+    if (offsets_.front() != 0u || offsets_.back() != entries_.size())
+      throw invalid_input("triangle_voxel_grid: offsets must run from 0 to the entry count " +
+                          std::to_string(entries_.size()));
+    for (std::size_t r = 0; r < occupied; ++r)
+      if (offsets_[r] > offsets_[r + 1])
+        throw invalid_input("triangle_voxel_grid: offsets decrease at occupied voxel " + std::to_string(r));
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+      if (entries_[i] >= tris_.size())
+        throw invalid_input("triangle_voxel_grid: entry " + std::to_string(i) + " is triangle " +
+                            std::to_string(entries_[i]) + " of " + std::to_string(tris_.size()));
+  }
+
+  const voxel_grid<T>& occupancy() const { return occ_; }
+  const std::vector<std::uint32_t>& rank() const { return rank_; }
+  const std::vector<std::uint32_t>& offsets() const { return offsets_; }
+  const std::vector<std::uint32_t>& entries() const { return entries_; }
+  const std::vector<voxel_triangle<T>>& triangles() const { return tris_; }
+  std::int64_t occupied_count() const { return std::int64_t(offsets_.size()) - 1; }
+  triangle_voxel_view<T> view() const {
+    return triangle_voxel_view<T>{occ_.view(),   rank_.data(),       offsets_.data(), entries_.data(),
+                                  tris_.data(),  offsets_.size() - 1, tris_.size()};
+  }
+  std::uint32_t max_entries_per_voxel() const { return view().max_entries_per_voxel(); }
+
+  // Bytes of the five arrays (occupancy words, rank, offsets, entries, triangles).
+  std::size_t memory_bytes() const {
+    return 4 * (occ_.word_count() + rank_.size() + offsets_.size() + entries_.size()) +
+           sizeof(voxel_triangle<T>) * tris_.size();
+  }
+
+private:
+  voxel_grid<T> occ_;
+  std::vector<std::uint32_t> rank_;
+  std::vector<std::uint32_t> offsets_;
+  std::vector<std::uint32_t> entries_;
+  std::vector<voxel_triangle<T>> tris_;
+};
+
+}  // namespace vplkit
