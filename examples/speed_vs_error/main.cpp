@@ -7,12 +7,12 @@
 #include "pareto.hpp"
 #include "svg_plot.hpp"
 
-#include "errors.hpp"
-#include "exr_io.hpp"
-#include "options.hpp"
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
-#include "stage_timer.hpp"
+#include "app/options.hpp"
+#include "app/scene_setup.hpp"
+#include "io/errors.hpp"
+#include "io/exr_io.hpp"
+#include "render/pipeline.hpp"
+#include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
 

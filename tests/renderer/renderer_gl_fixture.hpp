@@ -3,13 +3,13 @@
 // prepared from `o`, its G-buffer and its DPRSM (tessellated for o.dprsm) rasterised on the
 // pipeline's GL context, and the CPU voxel grid. The tests then run builders or estimators on them
 // with both backends.
-#include "gl_raster.hpp"
-#include "options.hpp"
-#include "pipeline.hpp"
-#include "render_data.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/options.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/render_data.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/pipeline.hpp"
 
 #include <vplkit/visibility/voxel_grid.hpp>
 

@@ -2,8 +2,8 @@
 // the `buffer` class and what the rasteriser allocates; run_estimator reports what a method's
 // builders, CDFs and estimator held at their peak, per texel and per pixel, and nothing on the CPU
 // backend.
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
+#include "app/scene_setup.hpp"
+#include "render/pipeline.hpp"
 
 #include <headless_gl/compute.hpp>
 

@@ -1,16 +1,16 @@
 // The rendering pipeline end to end on headless GL (llvmpipe here): G-buffer, DPRSM against a CPU
 // ray cast, the voxel grid, and every method on both built-in scenes at tiny sizes.
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "dprsm_check.hpp"
-#include "gl_raster.hpp"
-#include "gpu_backend.hpp"
-#include "pipeline.hpp"
-#include "raycast.hpp"
-#include "camera.hpp"
-#include "scene_setup.hpp"
-#include "voxels.hpp"
-#include "voxels_gpu.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/dprsm_check.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/voxels.hpp"
+#include "raster/voxels_gpu.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/gpu/gpu_backend.hpp"
+#include "render/pipeline.hpp"
+#include "scene/builtin_scenes.hpp"
+#include "scene/camera.hpp"
+#include "scene/raycast.hpp"
 
 #include <headless_gl/context.hpp>
 

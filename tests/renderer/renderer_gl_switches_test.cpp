@@ -5,14 +5,14 @@
 // other GBG weights (different image). Small images, DPRSM 2x16x16, 32^3 voxels.
 #include "renderer_gl_fixture.hpp"
 
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "gl_raster.hpp"
-#include "pipeline.hpp"
-#include "report.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/report.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/pipeline.hpp"
+#include "scene/builtin_scenes.hpp"
 
 #include <catch2/catch.hpp>
 

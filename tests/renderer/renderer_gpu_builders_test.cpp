@@ -7,16 +7,16 @@
 //    against vplkit::make_vpl_distribution's.
 #include "renderer_gl_fixture.hpp"
 
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "gl_raster.hpp"
-#include "gpu_backend.hpp"
-#include "gpu_builders.hpp"
-#include "gpu_cdf.hpp"
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/gpu/gpu_backend.hpp"
+#include "render/gpu/gpu_builders.hpp"
+#include "render/gpu/gpu_cdf.hpp"
+#include "render/pipeline.hpp"
+#include "scene/builtin_scenes.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_weights.hpp>

@@ -15,14 +15,14 @@
 // pixel finite and non-negative on both sides.
 #include "renderer_gl_fixture.hpp"
 
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "gl_raster.hpp"
-#include "gpu_backend.hpp"
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/gpu/gpu_backend.hpp"
+#include "render/pipeline.hpp"
+#include "scene/builtin_scenes.hpp"
 
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>

@@ -2,8 +2,8 @@
 // anything.
 #include <catch2/catch.hpp>
 
-#include "errors.hpp"
-#include "options.hpp"
+#include "app/options.hpp"
+#include "io/errors.hpp"
 
 #include <string>
 #include <vector>
