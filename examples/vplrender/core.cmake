@@ -57,12 +57,15 @@ add_library(vplrender_core STATIC
   ${_vr}/io/atomic_file.cpp
   ${_vr}/io/exr_io.cpp
   ${_vr}/io/image.cpp
+  ${_vr}/io/json_file.cpp
   ${_vr}/io/png_preview.cpp
   ${_vr}/io/text_file.cpp
   ${_vr}/raster/dprsm_check.cpp
   ${_vr}/raster/tessellate.cpp
   ${_vr}/raster/voxels.cpp
   ${_vr}/render/cpu/cpu_backend.cpp
+  ${_vr}/render/cpu/cpu_builders.cpp
+  ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp
   ${_vr}/scene/camera.cpp
   ${_vr}/scene/framing.cpp
@@ -83,11 +86,14 @@ find_package(Threads REQUIRED)
 target_link_libraries(vplrender_core PUBLIC Threads::Threads)
 set(VPLRENDER_CORE_AVAILABLE ON)
 
-# vplrender_pipeline: the GPU rasterisation stages and the pipeline that drives them; needs the
-# headless GL support library (support/, built when examples or GL tests are on).
+# vplrender_pipeline: the GL stages (rasterisation, GPU voxelisation and scene buffers, the GPU
+# backend) and the pipeline that drives both backends; needs the headless GL support library
+# (support/, built when examples or GL tests are on).
 if(TARGET vplkit_headless_gl)
   add_library(vplrender_pipeline STATIC
+    ${_vr}/app/render_options.cpp
     ${_vr}/raster/gl_raster.cpp
+    ${_vr}/raster/gpu_scene_buffers.cpp
     ${_vr}/raster/voxels_gpu.cpp
     ${_vr}/render/gpu/gpu_backend.cpp
     ${_vr}/render/gpu/gpu_builders.cpp

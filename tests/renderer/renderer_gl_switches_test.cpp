@@ -5,13 +5,13 @@
 // other GBG weights (different image). Small images, DPRSM 2x16x16, 32^3 voxels.
 #include "renderer_gl_fixture.hpp"
 
+#include "app/render_options.hpp"
 #include "app/report.hpp"
 #include "app/scene_setup.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"
 #include "render/cpu/cpu_backend.hpp"
-#include "render/pipeline.hpp"
 #include "scene/builtin_scenes.hpp"
 
 #include <catch2/catch.hpp>
@@ -28,10 +28,10 @@ using fixture = vplrender_test::gl_fixture;
 fixture make_fixture() { return vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell")); }
 
 image_rgb render(const fixture& f, const options& o) {
-  estimator_settings es = make_estimator_settings(o, f.p.s);
+  render_settings es = make_render_settings(o, f.p.s);
   es.threads = 2;
   stage_timer t;
-  return render_cpu(f.g, f.d, f.grid.view(), es, t).image;
+  return render_cpu(f.b, es, t).image;
 }
 
 bool bit_identical(const image_rgb& a, const image_rgb& b) {
@@ -113,7 +113,7 @@ TEST_CASE("the JSON report records the chosen switches") {
   CHECK(options_to_json(f.o)["cdf_search"] == "guide");
   stage_timer t;
   nlohmann::json det;
-  pipeline_buffers b = prepare_buffers(o, f.p, t, det);
+  frame_buffers b = prepare_buffers(o, f.p, t, det);
   run_estimator(o, f.p, b, t, {}, det);
   CHECK(det["estimator"]["local_combination"] == "average");
   CHECK(det["estimator"]["cdf_search"] == "binary");

@@ -8,6 +8,7 @@
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"
 #include "io/image.hpp"
+#include "io/json_file.hpp"
 #include "io/png_preview.hpp"
 #include "io/text_file.hpp"
 #include "renderer_test_util.hpp"

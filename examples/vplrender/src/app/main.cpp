@@ -1,16 +1,16 @@
 // vplrender: the example renderer's command line. Parses the options, builds or loads the scene,
-// frames and lights it, checks the output location, runs the pipeline (pipeline.hpp) and writes
+// frames and lights it, checks the output location, runs the pipeline (render/pipeline.hpp) and writes
 // the EXR, the PNG preview and the JSON report.
 #include "app/options.hpp"
 #include "app/progress.hpp"
+#include "app/render_options.hpp"
 #include "app/report.hpp"
 #include "app/scene_setup.hpp"
 #include "app/window.hpp"
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"
+#include "io/json_file.hpp"
 #include "io/png_preview.hpp"
-#include "render/gpu/gpu_backend.hpp"
-#include "render/pipeline.hpp"
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -70,19 +70,14 @@ int main(int argc, char** argv) {
     for (const std::string& w : p.s.warnings) std::cerr << "vplrender: warning: " << w << "\n";
     check_output_location(o);
     std::cout << describe(p, o);
-    if (o.back == backend::gpu) {
-      if (gpu_estimator_available(o.meth) && gpu_builder_available(o.meth))
-        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; builder weights, CDFs and direct "
-                     "light on the GPU)\nbuilders backend: gpu\n";
-      else if (gpu_estimator_available(o.meth))
-        std::cout << "estimator backend: gpu (compute shader from the GLSL pack; no builders; direct light on the "
-                     "GPU)\n";
-      else
-        std::cout << "estimator backend: cpu (no GPU kernel for --method " << to_string(o.meth)
-                  << " in this build; falling back to the C++ templates)\n";
-    } else {
+    if (o.back == backend::cpu)
       std::cout << "estimator backend: cpu (C++ templates)\n";
-    }
+    else if (has_distribution(o.meth))
+      std::cout << "estimator backend: gpu (compute shader from the GLSL pack; builder weights, CDFs and direct "
+                   "light on the GPU)\nbuilders backend: gpu\n";
+    else
+      std::cout << "estimator backend: gpu (compute shader from the GLSL pack; no builders; direct light on the "
+                   "GPU)\n";
     std::cout << std::flush;
     // The window opens before the render so that a missing display fails fast.
     std::unique_ptr<window_session> win;

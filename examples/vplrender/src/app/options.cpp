@@ -14,30 +14,9 @@
 
 namespace vplrender {
 
-const char* to_string(method m) {
-  switch (m) {
-    case method::reference: return "reference";
-    case method::global: return "global";
-    case method::local: return "local";
-    case method::gbg: return "gbg";
-    case method::gather: return "gather";
-    case method::mis: return "mis";
-    case method::mis_as_published: return "mis-as-published";
-  }
-  return "?";
-}
-
-const char* to_string(backend b) { return b == backend::gpu ? "gpu" : "cpu"; }
-
 const char* to_string(progress_mode p) {
   return p == progress_mode::always ? "always" : p == progress_mode::never ? "never" : "auto";
 }
-
-const char* to_string(local_combination_choice c) {
-  return c == local_combination_choice::average ? "average" : "balance";
-}
-const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_choice::paper ? "paper" : "gathering"; }
-const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
 
 namespace {
 

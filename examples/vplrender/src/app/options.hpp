@@ -1,6 +1,8 @@
 #pragma once
 // The command line contract of vplrender: names, defaults, limits. Parsing produces a
 // plain struct and touches nothing else, so it is tested without running anything.
+#include "render/settings.hpp"
+
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -10,21 +12,9 @@
 
 namespace vplrender {
 
-enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
-enum class backend { gpu, cpu };
 enum class progress_mode { automatic, always, never };
-// Departures from the paper that can be switched back: the local CDFs' combination,
-// the GBG accumulator and the CDF search.
-enum class local_combination_choice { balance, average };
-enum class gbg_accumulator_choice { gathering, paper };
-enum class cdf_search_choice { guide, binary };
 
-const char* to_string(method m);
-const char* to_string(backend b);
 const char* to_string(progress_mode p);
-const char* to_string(local_combination_choice c);
-const char* to_string(gbg_accumulator_choice a);
-const char* to_string(cdf_search_choice s);
 
 // Limits: anything outside is "absurd" and refused with a message naming the flag.
 struct limits {

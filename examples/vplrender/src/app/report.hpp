@@ -26,7 +26,4 @@ nlohmann::json make_report(const options& o, const prepared_scene& p, const run_
 // The process's peak resident set (getrusage ru_maxrss) in bytes; -1 where the OS gives none.
 long long host_peak_rss_bytes();
 
-// Pretty-printed, atomically (temporary file + rename). Throws output_error.
-void write_json(const std::string& path, const nlohmann::json& j);
-
 }  // namespace vplrender

@@ -125,7 +125,7 @@ struct window_session::impl {
   const prepared_scene& p;
   GLFWwindow* win = nullptr;
   GLuint program = 0, vao = 0, tex = 0;
-  std::unique_ptr<pipeline_buffers> buffers;  // voxel_grid has no default constructor
+  std::unique_ptr<frame_buffers> buffers;  // voxel_grid has no default constructor
   std::unique_ptr<gl_worker> worker;
   std::deque<std::string> pending;  // key actions from the keyboard
   double last_ms = 0.0;
@@ -258,7 +258,7 @@ struct window_session::impl {
   }
 
   void rerender() {
-    cpu_render_result r;
+    render_result r;
     const auto t0 = std::chrono::steady_clock::now();
     on_worker([&] {
       stage_timer timer;
@@ -299,7 +299,7 @@ pipeline_result window_session::first_render(stage_timer& timer, const progress_
   pipeline_result r;
   const auto t0 = std::chrono::steady_clock::now();
   d.on_worker([&] {
-    d.buffers = std::make_unique<pipeline_buffers>(prepare_buffers(d.o, d.p, timer, r.details));
+    d.buffers = std::make_unique<frame_buffers>(prepare_buffers(d.o, d.p, timer, r.details));
     r.gl_renderer = d.buffers->gl_renderer;
     r.image = std::move(run_estimator(d.o, d.p, *d.buffers, timer, progress, r.details).image);
   });

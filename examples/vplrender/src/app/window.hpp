@@ -6,7 +6,7 @@
 #include "app/options.hpp"
 #include "app/progress.hpp"
 #include "app/scene_setup.hpp"
-#include "render/pipeline.hpp"
+#include "app/render_options.hpp"
 #include "render/stage_timer.hpp"
 
 #include <memory>

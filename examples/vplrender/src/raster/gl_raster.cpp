@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -30,6 +31,10 @@ namespace {
 
 using vplkit::gl::check_gl;
 using vplkit::gl::gl_error;
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
 
 GLuint compile_stage(GLenum kind, const std::string& source, const std::string& name) {
   const vplkit::glsl::resolved_source src =
@@ -447,6 +452,7 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
   tq.end();
   check_gl("vplrender: G-buffer pass");
 
+  const auto read_start = std::chrono::steady_clock::now();
   gbuffer_data g;
   g.width = width;
   g.height = height;
@@ -464,11 +470,13 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
         if (px[src + 3] > 0.0f) (*outs[a])[dst] = vec3(px[src], px[src + 1], px[src + 2]);
       }
   }
+  const double read_ms = ms_since(read_start);
   rt.release();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (timing) {
     timing->ms = tq.milliseconds();
     timing->clock = "gpu";
+    timing->readback_ms = read_ms;
   }
   return g;
 }
@@ -487,7 +495,7 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
   d.position.assign(2 * face, vec3(0.0f));
   d.normal.assign(2 * face, vec3(0.0f));
   d.albedo.assign(2 * face, vec3(0.0f));
-  double ms = 0.0;
+  double ms = 0.0, read_ms = 0.0;
   for (int f = 0; f < 2; ++f) {
     vplkit::gl::timer_query tq;
     tq.begin();
@@ -511,12 +519,14 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
     tq.end();
     check_gl("vplrender: DPRSM pass");
     ms += tq.milliseconds();
+    const auto read_start = std::chrono::steady_clock::now();
     std::vector<vec3>* outs[3] = {&d.position, &d.normal, &d.albedo};
     for (int a = 0; a < 3; ++a) {
       const std::vector<float> px = rt.read(a);
       for (std::size_t i = 0; i < face; ++i)
         if (px[i * 4 + 3] > 0.0f) (*outs[a])[static_cast<std::size_t>(f) * face + i] = vec3(px[i * 4], px[i * 4 + 1], px[i * 4 + 2]);
     }
+    read_ms += ms_since(read_start);
   }
   rt.release();
   m.release();
@@ -531,6 +541,7 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
   if (timing) {
     timing->ms = ms;
     timing->clock = "gpu";
+    timing->readback_ms = read_ms;
   }
   return d;
 }

@@ -13,8 +13,9 @@
 namespace vplrender {
 
 struct raster_timing {
-  double ms = 0.0;          // GPU time of the draws (timer query; glFinish + wall on llvmpipe)
+  double ms = 0.0;           // GPU time of the draws (timer query; glFinish + wall on llvmpipe)
   std::string clock = "gpu";
+  double readback_ms = 0.0;  // wall time of reading the targets back into the CPU arrays
 };
 
 class gl_rasterizer {

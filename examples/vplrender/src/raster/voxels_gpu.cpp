@@ -2,34 +2,21 @@
 
 #include "raster/voxels.hpp"
 
-#include <headless_gl/compute.hpp>
-
 #include <vplkit/visibility/voxelize.hpp>
 #include <vplkit/visibility/voxelize_params.h>
 
 #include <glm/vec4.hpp>
 
-#include <cstring>
-#include <fstream>
-#include <sstream>
+#include <chrono>
 
 namespace vplrender {
 
-vplkit::voxel_grid<float> voxelize_gpu(const scene& s, int resolution, double* ms) {
+gpu_voxelization voxelize_gpu(const scene& s, int resolution) {
   const voxel_mesh m = make_voxel_mesh(s);
   const vplkit::voxel_bounds<float> b = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
   const glm::ivec3 res(resolution);
   const std::size_t words = vplkit::voxel_word_count(res);
-  const std::string path = vplkit::gl::glsl_source_dir() + "/vplkit/visibility/voxelize.comp";
-  static vplkit::gl::program prog;  // compiled once per process
-  if (prog.id() == 0) {
-    // Kernels are #version-free: the host prepends the version line.
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw vplkit::gl::gl_error("cannot read " + path);
-    std::ostringstream text;
-    text << "#version 430\n" << f.rdbuf();
-    prog = vplkit::gl::program::compute_with_includes(text.str(), path);
-  }
+  const vplkit::gl::program& prog = vplkit::gl::cached_kernel("vplkit/visibility/voxelize.comp");
   std::vector<glm::vec4> pos;
   pos.reserve(m.positions.size());
   for (const vec3& p : m.positions) pos.emplace_back(p, 1.0f);
@@ -43,11 +30,8 @@ vplkit::voxel_grid<float> voxelize_gpu(const scene& s, int resolution, double* m
   const std::uint32_t tris = static_cast<std::uint32_t>(m.indices.size() / 3);
   pr.triangle_count = tris;
   pr.margin_voxels = static_cast<float>(vplkit::voxelize_default_margin);
-  GLuint ubo = 0;
-  glGenBuffers(1, &ubo);
-  glBindBuffer(GL_UNIFORM_BUFFER, ubo);
-  glBufferData(GL_UNIFORM_BUFFER, sizeof(pr), &pr, GL_STATIC_DRAW);
-  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_VOXELIZE_BINDING_PARAMS, ubo);
+  const vplkit::gl::buffer params = vplkit::gl::buffer::from_bytes(&pr, sizeof pr);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_VOXELIZE_BINDING_PARAMS, params.id());
   positions.bind(VPLKIT_VOXELIZE_BINDING_POSITIONS);
   indices.bind(VPLKIT_VOXELIZE_BINDING_INDICES);
   grid.bind(VPLKIT_VOXELIZE_BINDING_WORDS);
@@ -59,10 +43,12 @@ vplkit::voxel_grid<float> voxelize_gpu(const scene& s, int resolution, double* m
   const GLuint gy = (groups + gx - 1) / gx;
   vplkit::gl::dispatch(prog, gx, gy);
   tq.end();
+  const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> w = grid.read<std::uint32_t>(words);
-  glDeleteBuffers(1, &ubo);
-  if (ms) *ms = tq.milliseconds();
-  return vplkit::voxel_grid<float>(b.min, b.max, res, std::move(w));
+  const double readback_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  gpu_voxelization out{vplkit::voxel_grid<float>(b.min, b.max, res, std::move(w)), std::move(grid), tq.milliseconds(),
+                       readback_ms};
+  return out;
 }
 
 }  // namespace vplrender

@@ -2,18 +2,20 @@
 
 #include "io/errors.hpp"
 #include "raster/gl_raster.hpp"
+#include "raster/gpu_scene_buffers.hpp"
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"
 #include "raster/voxels_gpu.hpp"
+#include "render/cpu/cpu_backend.hpp"
 #include "render/gpu/gpu_backend.hpp"
 
 #include <headless_gl/compute.hpp>
-#include <headless_gl/context.hpp>
 
 #include <vplkit/core/error.hpp>
 
 #include <memory>
 #include <stdexcept>
+#include <utility>
 
 namespace vplrender {
 
@@ -32,9 +34,7 @@ vplkit::gl::headless_context& pipeline_gl_context() {
   return *ctx;
 }
 
-pipeline_buffers prepare_buffers(const options& o, const prepared_scene& p, stage_timer& timer, nlohmann::json& det) {
-  const scene& s = p.s;
-
+frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_timer& timer, nlohmann::json& det) {
   vplkit::gl::headless_context* gl = nullptr;
   {
     auto t = timer.scoped("gl context");
@@ -47,16 +47,18 @@ pipeline_buffers prepare_buffers(const options& o, const prepared_scene& p, stag
   {
     gl_rasterizer raster(s);
     raster_timing tg;
-    gbuf = raster.render_gbuffer(s.cam, o.width, o.height, &tg);
+    gbuf = raster.render_gbuffer(s.cam, f.width, f.height, &tg);
     timer.add("gbuffer (gpu)", tg.ms, tg.clock);
+    timer.add("gbuffer read-back (cpu)", tg.readback_ms, "cpu-wall");
     tessellation_params tp;
-    tp.max_angle = tessellation_angle_for_resolution(o.dprsm);
+    tp.max_angle = tessellation_angle_for_resolution(f.dprsm);
     tessellation_stats ts;
     raster_timing td;
-    dprsm = raster.render_dprsm(dprsm_light(s), o.dprsm, tp, &td, &ts);
+    dprsm = raster.render_dprsm(dprsm_light(s), f.dprsm, tp, &td, &ts);
     timer.add("dprsm (gpu)", td.ms, td.clock);
+    timer.add("dprsm read-back (cpu)", td.readback_ms, "cpu-wall");
     det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}};
-    det["dprsm"] = {{"resolution", o.dprsm},
+    det["dprsm"] = {{"resolution", f.dprsm},
                     {"front_axis", {0, -1, 0}},
                     {"tessellation_max_angle_deg", tp.max_angle * 180.0 / 3.14159265358979323846},
                     {"triangles_in", ts.input},
@@ -65,58 +67,70 @@ pipeline_buffers prepare_buffers(const options& o, const prepared_scene& p, stag
   }
 
   // --backend gpu: the pack's voxelize.comp (equal to the CPU grid on the built-in scenes, see
-  // renderer_gl_pipeline_test); --backend cpu: vplkit::voxelize.
-  const bool gpu_voxels = o.back == backend::gpu;
+  // renderer_gl_pipeline_test), its words kept on the GPU; --backend cpu: vplkit::voxelize.
+  const bool gpu = f.back == backend::gpu;
+  auto scene_gpu = gpu ? std::make_shared<gpu_scene_buffers>() : nullptr;
   vplkit::voxel_grid<float> grid = [&] {
-    if (gpu_voxels) {
-      double ms = 0.0;
-      vplkit::voxel_grid<float> g = voxelize_gpu(s, o.voxels, &ms);
-      timer.add("voxelize (gpu)", ms, "gpu");
-      return g;
+    if (gpu) {
+      gpu_voxelization v = voxelize_gpu(s, f.voxels);
+      timer.add("voxelize (gpu)", v.ms, "gpu");
+      timer.add("voxels read-back (cpu)", v.readback_ms, "cpu-wall");
+      scene_gpu->voxels = std::move(v.words);
+      return std::move(v.grid);
     }
     auto t = timer.scoped("voxelize (cpu)");
-    return voxelize_cpu(s, o.voxels);
+    return voxelize_cpu(s, f.voxels);
   }();
-  det["voxels"] = {{"resolution", o.voxels},
+  det["voxels"] = {{"resolution", f.voxels},
                    {"occupied", grid.count()},
                    {"bounds_min", {grid.bounds_min().x, grid.bounds_min().y, grid.bounds_min().z}},
                    {"bounds_max", {grid.bounds_max().x, grid.bounds_max().y, grid.bounds_max().z}},
-                   {"builder", gpu_voxels ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
-  return pipeline_buffers{std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid)};
+                   {"builder", gpu ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
+  // The GPU backend's scene buffers, once for every estimator run on this frame: the G-buffer and
+  // the DPRSM packed as surfels and uploaded, the voxel words as voxelize.comp left them.
+  if (gpu) {
+    auto t = timer.scoped("scene upload (cpu)");
+    scene_gpu->gbuffer = upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
+    scene_gpu->dprsm = upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
+  }
+  det["scene_buffers"] = {
+      {"on_gpu", gpu},
+      {"gpu_bytes", gpu ? scene_gpu->gbuffer.size_bytes() + scene_gpu->dprsm.size_bytes() + scene_gpu->voxels.size_bytes()
+                        : std::size_t(0)}};
+  frame_buffers b{f.back, std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid), nullptr};
+  b.gpu = std::move(scene_gpu);
+  return b;
 }
 
-cpu_render_result run_estimator(const options& o, const prepared_scene& p, const pipeline_buffers& b,
-                                stage_timer& timer, const progress_fn& progress, nlohmann::json& det) {
-  const estimator_settings es = make_estimator_settings(o, p.s);
-  // --backend gpu: the estimator as a compute shader (gpu_backend.cpp) where this build has one;
-  // --backend cpu, or a method without a kernel: the C++ templates (cpu_backend.cpp).
-  const bool gpu_estimator = o.back == backend::gpu && gpu_estimator_available(es.meth);
-  // GPU memory of this estimator alone: the peak restarts from what is live now (the prepare
-  // stages' GL objects are gone by then; their peak is kept as gpu_peak_bytes_prepare).
+render_result run_estimator(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                            const progress_fn& progress, nlohmann::json& det) {
+  const bool gpu = b.back == backend::gpu;
+  // GPU memory of this estimator alone: the peak restarts from what is live now (the frame's scene
+  // buffers; the prepare stages' peak is kept as gpu_peak_bytes_prepare).
   const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();
   vplkit::gl::reset_gpu_memory_peak();
-  cpu_render_result cr;
+  render_result r;
   try {
-    cr = gpu_estimator ? render_gpu(b.gbuf, b.dprsm, b.grid.view(), es, timer, progress)
-                       : render_cpu(b.gbuf, b.dprsm, b.grid.view(), es, timer, progress);
+    r = gpu ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
   } catch (const vplkit::invalid_input& e) {
     throw input_error(e.what());
   }
-  det["estimator"] = cr.details;
-  det["estimator_backend"] = gpu_estimator ? "gpu" : "cpu";
+  det["estimator"] = r.details;
+  det["estimator_backend"] = to_string(b.back);
   const vplkit::gl::gpu_memory after = vplkit::gl::gpu_memory_usage();
   det["memory"] = {{"gpu_peak_bytes_prepare", before.peak_bytes},
                    {"gpu_live_bytes_before_estimator", before.live_bytes},
                    {"gpu_peak_bytes_estimator", after.peak_bytes - before.live_bytes}};
-  det["builders_backend"] = gpu_estimator && gpu_builder_available(es.meth) ? "gpu" : "cpu";
-  return cr;
+  det["builders_backend"] = gpu && has_distribution(s.meth) ? "gpu" : "cpu";
+  return r;
 }
 
-pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_timer& timer, const progress_fn& progress) {
+pipeline_result run_pipeline(const scene& sc, const frame_settings& f, const render_settings& s, stage_timer& timer,
+                             const progress_fn& progress) {
   pipeline_result r;
-  const pipeline_buffers b = prepare_buffers(o, p, timer, r.details);
+  const frame_buffers b = prepare_buffers(sc, f, timer, r.details);
   r.gl_renderer = b.gl_renderer;
-  r.image = std::move(run_estimator(o, p, b, timer, progress, r.details).image);
+  r.image = std::move(run_estimator(b, s, timer, progress, r.details).image);
   return r;
 }
 

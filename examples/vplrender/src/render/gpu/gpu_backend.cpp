@@ -1,26 +1,20 @@
 #include "render/gpu/gpu_backend.hpp"
 
+#include "raster/gpu_scene_buffers.hpp"
 #include "render/gpu/gpu_builders.hpp"
+#include "render/gpu/loop_budget.hpp"
 
 #include <headless_gl/compute.hpp>
 
-#include <vplkit/builders/gbg_accumulate_params.h>
-#include <vplkit/builders/gbg_finish_params.h>
-#include <vplkit/builders/gbg_weights.hpp>
-#include <vplkit/builders/vpl_distribution.hpp>
-#include <vplkit/core/error.hpp>
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
-#include <vplkit/visibility/voxel_visible.hpp>
-#include <vplkit/vpl/luminance.hpp>
 
+#include <glm/common.hpp>
 #include <glm/vec4.hpp>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
-#include <fstream>
-#include <map>
-#include <sstream>
+#include <string>
 #include <vector>
 
 #ifndef VPLRENDER_SHADER_DIR
@@ -47,18 +41,10 @@ kernel_kind kernel_of(method m) {
   return k_reference;
 }
 
+// estimate.comp compiled once per kind (the process's program cache).
 const vplkit::gl::program& kernel(kernel_kind k) {
-  static std::map<int, vplkit::gl::program> cache;  // compiled once per process and kind
-  auto it = cache.find(k);
-  if (it != cache.end()) return it->second;
-  const std::string path = std::string(VPLRENDER_SHADER_DIR) + "/estimate.comp";
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw vplkit::gl::gl_error("cannot read " + path);
-  std::ostringstream text;
-  text << "#version 430\n" << f.rdbuf();
-  vplkit::gl::program prog = vplkit::gl::program::compute_with_includes(
-      text.str(), path, {}, "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n");
-  return cache.emplace(k, std::move(prog)).first->second;
+  return vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/estimate.comp",
+                                   "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n");
 }
 
 // Worst-case loop iterations of one unit of work (a texel, sample, round, direction or MIS step)
@@ -68,7 +54,7 @@ struct work_shape {
   long long units = 0;
 };
 
-work_shape shape_of(const estimator_settings& es, int R, const vplkit::ivec3& vr, int regions, int rounds) {
+work_shape shape_of(const render_settings& es, int R, const vplkit::ivec3& vr, int regions, int rounds) {
   // One voxel march crosses at most rx + ry + rz voxels; doubled for the two-sided test's loops.
   const long long dda = 2LL * (vr.x + vr.y + vr.z) + 32;
   const long long texels = 2LL * R * R;
@@ -86,173 +72,9 @@ work_shape shape_of(const estimator_settings& es, int R, const vplkit::ivec3& vr
   return s;
 }
 
-const vplkit::gl::program& pack_kernel(const std::string& rel) {
-  static std::map<std::string, vplkit::gl::program> cache;
-  auto it = cache.find(rel);
-  if (it != cache.end()) return it->second;
-  // The pack's own include root (headless_gl's default) resolves both the kernel and its includes.
-  vplkit::gl::program prog = vplkit::gl::program::compute_with_includes(
-      "#version 430\n#include \"" + rel + "\"\n", rel);
-  return cache.emplace(rel, std::move(prog)).first->second;
-}
-
 }  // namespace
 
-bool gpu_estimator_available(method) { return true; }
-
-bool gpu_builder_available(method m) {
-  return m == method::global || m == method::local || m == method::gbg || m == method::mis ||
-         m == method::mis_as_published;
-}
-
-gbg_gpu_weights build_gbg_weights_gpu(const gbuffer_data& gb, const dprsm_data& dd,
-                                      const vplkit::voxel_grid_view<float>& grid, const estimator_settings& es,
-                                      stage_timer& timer, nlohmann::json& det, bool read_back) {
-  namespace gl = vplkit::gl;
-  const vplkit::gbuffer_view<float> g = gb.view();
-  const vplkit::dprsm_view<float> view = dd.view();
-  g.validate();
-  view.validate();
-  if (es.dirs < 1) throw vplkit::invalid_input("build_gbg_weights_gpu: --dirs must be >= 1");
-  const int W = g.width, H = g.height, R = view.resolution;
-  const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
-  const std::size_t n = static_cast<std::size_t>(view.texel_count());
-  const float depth_tol = gathering_depth_tolerance(grid);
-  int gather_points = 0;
-  for (std::size_t p = 0; p < n_pixels; ++p)
-    if (vplkit::gather_point_valid(g.at(static_cast<int>(p)))) ++gather_points;
-
-  // Fixed point as gbg_weights.glsl recommends: max_units = 2^(63 - ceil(log2(|G| n_dirs))) keeps any
-  // texel's sum below 2^63; scale = 2^floor(log2(max_units / v_bound)) with v_bound the gathering
-  // accumulator's largest per-hit value, I / (pi d1min^2) in luminance, d1min the nearest lit
-  // texel's distance to the light less the depth tolerance. A power of two, so 1 / scale is exact.
-  const double hits_max = std::max(1.0, double(std::max(gather_points, 1)) * es.dirs);
-  const double max_units = std::ldexp(1.0, 63 - static_cast<int>(std::ceil(std::log2(hits_max))));
-  double d1min = 1e30;
-  for (std::size_t t = 0; t < n; ++t)
-    if (dd.albedo[t] != glm::vec3(0.0f))
-      d1min = std::min(d1min, double(glm::length(dd.position[t] - view.light.position)));
-  d1min = std::max(d1min - double(depth_tol), 1e-3);
-  // The paper accumulator (luminance of eq. 5 clamped at dmin) is bounded instead by
-  // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_weights.glsl); dmin > 0 here.
-  const bool paper_acc = es.gbg_accumulator == gbg_accumulator_choice::paper;
-  const double lum_i = std::max(double(vplkit::luminance(view.light.intensity)), 1e-30);
-  const double dmin_b = std::max(double(es.dmin), 1e-6);
-  const double v_bound = paper_acc ? lum_i * (16.0 / (double(R) * R)) / (9.869604401089358 * dmin_b * dmin_b)
-                                   : lum_i / (3.141592653589793 * d1min * d1min);
-  const double scale = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(max_units / v_bound))));
-
-  std::vector<glm::vec4> gbuf(3 * std::max<std::size_t>(n_pixels, 1), glm::vec4(0.0f));
-  for (std::size_t i = 0; i < n_pixels; ++i) {
-    gbuf[3 * i] = glm::vec4(gb.position[i], 0.0f);
-    gbuf[3 * i + 1] = glm::vec4(gb.normal[i], 0.0f);
-    gbuf[3 * i + 2] = glm::vec4(gb.albedo[i], 0.0f);
-  }
-  std::vector<glm::vec4> dprsm(3 * n, glm::vec4(0.0f));
-  for (std::size_t i = 0; i < n; ++i) {
-    dprsm[3 * i] = glm::vec4(dd.position[i], 0.0f);
-    dprsm[3 * i + 1] = glm::vec4(dd.normal[i], 0.0f);
-    dprsm[3 * i + 2] = glm::vec4(dd.albedo[i], 0.0f);
-  }
-  std::vector<std::uint32_t> words(grid.words, grid.words + vplkit::voxel_word_count(grid.resolution));
-  if (words.empty()) words.push_back(0u);
-
-  const gl::program& acc_prog = pack_kernel("vplkit/builders/gbg_accumulate.comp");
-  const gl::program& fin_prog = pack_kernel("vplkit/builders/gbg_finish.comp");
-  gl::buffer b_gbuf = gl::buffer::from_vector(gbuf);
-  gl::buffer b_dprsm = gl::buffer::from_vector(dprsm);
-  gl::buffer b_words = gl::buffer::from_vector(words);
-  gl::buffer b_acc = gl::buffer::filled(2 * n * 4, 0);
-  gl::buffer b_stats = gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
-  gl::buffer b_weights = gl::buffer::filled(n * 4, 0);
-
-  // llvmpipe leaves every loop after 65535 iterations per invocation: one ray marches at most
-  // nx + ny + nz voxels (+ 8 for the rest of its body), so split the directions over dispatches
-  // (the fixed-point sums do not depend on the split).
-  const long long per_dir = static_cast<long long>(grid.resolution.x) + grid.resolution.y + grid.resolution.z + 8;
-  const int dirs_per = static_cast<int>(std::max(1LL, gpu_loop_budget / per_dir));
-  const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), VPLKIT_GBG_LOCAL_SIZE);
-  const GLuint gx = std::min<GLuint>(groups, 65535u);
-  const GLuint gy = (groups + gx - 1) / gx;
-  const vplkit::gpu::light_params light = vplkit::gpu::make_light_params(view.light);
-  std::vector<gl::buffer> blocks;
-  int dispatches = 0;
-  {
-    gl::timer_query tq;
-    tq.begin();
-    for (int begin = 0; begin < es.dirs; begin += dirs_per) {
-      const int end = std::min(es.dirs, begin + dirs_per);
-      vplkit::gpu::gbg_accumulate_params p{};
-      p.light = light;
-      p.grid_min = glm::vec4(grid.bounds_min, 0.0f);
-      p.grid_max = glm::vec4(grid.bounds_max, 0.0f);
-      p.grid_resolution = glm::ivec4(grid.resolution, 0);
-      p.width = W;
-      p.height = H;
-      p.resolution = R;
-      p.n_dirs = es.dirs;
-      p.accumulator = paper_acc ? 0 : 1;
-      p.dir_begin = begin;
-      p.dir_end = end;
-      p.count_gather_points = begin == 0 ? 1 : 0;
-      p.seed = builder_seed(es.seed, 2);
-      p.dmin = es.dmin;
-      p.depth_tolerance = depth_tol;
-      p.offset_voxels = float(vplkit::voxel_surface_offset_default);
-      p.scale = float(scale);
-      p.max_units = float(max_units);
-      blocks.push_back(gl::buffer::from_bytes(&p, sizeof p));
-      b_gbuf.bind(VPLKIT_GBG_BINDING_GBUFFER);
-      b_dprsm.bind(VPLKIT_GBG_BINDING_DPRSM);
-      b_words.bind(VPLKIT_GBG_BINDING_VOXELS);
-      b_acc.bind(VPLKIT_GBG_BINDING_ACC);
-      b_stats.bind(VPLKIT_GBG_BINDING_STATS);
-      glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GBG_BINDING_PARAMS, blocks.back().id());
-      gl::dispatch(acc_prog, gx, gy);
-      ++dispatches;
-    }
-    vplkit::gpu::gbg_finish_params fp{};
-    fp.light = light;
-    fp.resolution = R;
-    fp.n_dirs = es.dirs;
-    fp.fill_holes = 1;
-    fp.inv_scale = float(1.0 / scale);
-    blocks.push_back(gl::buffer::from_bytes(&fp, sizeof fp));
-    b_acc.bind(VPLKIT_GBG_FINISH_BINDING_ACC);
-    b_stats.bind(VPLKIT_GBG_FINISH_BINDING_STATS);
-    b_dprsm.bind(VPLKIT_GBG_FINISH_BINDING_DPRSM);
-    b_weights.bind(VPLKIT_GBG_FINISH_BINDING_WEIGHTS);
-    glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GBG_FINISH_BINDING_PARAMS, blocks.back().id());
-    const GLuint fg = gl::groups_for(static_cast<std::size_t>(R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
-    gl::dispatch(fin_prog, fg, fg, 2);
-    tq.end();
-    timer.add("gbg weights + hole fill (gpu)", tq.milliseconds(), "gpu");
-  }
-  gbg_gpu_weights out;
-  if (read_back) out.weights = b_weights.read<float>(n);
-  const std::vector<std::uint32_t> st = b_stats.read<std::uint32_t>(VPLKIT_GBG_STATS_SIZE);
-  const std::uint32_t g_points = st[VPLKIT_GBG_STAT_GATHER_POINTS];
-  out.scale = scale;
-  out.lit_hits = static_cast<long long>(st[VPLKIT_GBG_STAT_LIT_HITS]);
-  out.gather_points = static_cast<int>(g_points);
-  out.buffer = std::move(b_weights);
-  det["gbg"] = {{"gather_points", g_points},
-                {"rays", static_cast<long long>(g_points) * es.dirs},
-                {"hits", st[VPLKIT_GBG_STAT_HITS]},
-                {"lit_hits", st[VPLKIT_GBG_STAT_LIT_HITS]},
-                {"reached_texels", st[VPLKIT_GBG_STAT_REACHED_TEXELS]},
-                {"holes", st[VPLKIT_GBG_STAT_HOLES]},
-                {"filled", st[VPLKIT_GBG_STAT_FILLED]},
-                {"accumulator", to_string(es.gbg_accumulator)},
-                {"backend", "gpu"},
-                {"fixed_point_scale", scale},
-                {"fixed_point_max_units", max_units},
-                {"saturated_hits", st[VPLKIT_GBG_STAT_SATURATED_HITS]},
-                {"dispatches", dispatches}};
-  return out;
-}
-
-int gpu_pass_count(const estimator_settings& es, int dprsm_resolution, const vplkit::ivec3& voxel_resolution,
+int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit::ivec3& voxel_resolution,
                    int regions) {
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
   const work_shape s = shape_of(es, dprsm_resolution, voxel_resolution, regions, rounds);
@@ -260,58 +82,37 @@ int gpu_pass_count(const estimator_settings& es, int dprsm_resolution, const vpl
   return static_cast<int>((s.units + chunk - 1) / chunk);
 }
 
-cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const vplkit::voxel_grid_view<float>& grid,
-                             const estimator_settings& es, stage_timer& timer, const progress_fn& progress) {
+render_result render_gpu(const frame_buffers& b, const render_settings& es, stage_timer& timer,
+                         const progress_fn& progress) {
   namespace gl = vplkit::gl;
-  const vplkit::gbuffer_view<float> g = gb.view();
-  const vplkit::dprsm_view<float> view = dd.view();
+  const vplkit::gbuffer_view<float> g = b.gbuf.view();
+  const vplkit::dprsm_view<float> view = b.dprsm.view();
   g.validate();
   view.validate();
+  const gpu_scene_buffers& scene = scene_on_gpu(b, "render_gpu");
+  const vplkit::voxel_grid_view<float> grid = b.grid.view();
   const int W = g.width, H = g.height;
   const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
-  cpu_render_result result;
+  render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
-  det["threads"] = estimator_threads(es.threads);  // CPU builders
   det["dmin"] = es.dmin;
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(es.cdf_search);
   // Builders and CDFs on the GPU (gpu_builders.cpp, gpu_cdf.cpp): the mixtures stay there. The
   // methods without a builder (reference, gather) sample no distribution at all.
-  const bool gpu_dists = gpu_builder_available(es.meth);
+  const bool with_dists = has_distribution(es.meth);
   gpu_mixtures gm;
-  if (gpu_dists) gm = build_distributions_gpu(gb, dd, grid, es, timer, det);
-  const int local_rounds = gpu_dists ? gm.local_rounds : 0;
+  if (with_dists) gm = build_distributions_gpu(b, es, timer, det);
+  const int local_rounds = with_dists ? gm.local_rounds : 0;
   const kernel_kind kind = kernel_of(es.meth);
+  const std::uint32_t slot_base = with_dists ? gm.slot_base : 0u;
+  const int n_dists = with_dists ? gm.count : 0;
 
-  std::vector<glm::vec4> gbuf(3 * std::max<std::size_t>(n_pixels, 1), glm::vec4(0.0f));
-  std::vector<glm::vec4> dprsm(3 * static_cast<std::size_t>(view.texel_count()), glm::vec4(0.0f));
-  std::vector<std::uint32_t> words;
-  {
-    auto t = timer.scoped("upload (cpu)");
-    for (std::size_t i = 0; i < n_pixels; ++i) {
-      gbuf[3 * i] = glm::vec4(gb.position[i], 0.0f);
-      gbuf[3 * i + 1] = glm::vec4(gb.normal[i], 0.0f);
-      gbuf[3 * i + 2] = glm::vec4(gb.albedo[i], 0.0f);
-    }
-    for (std::size_t i = 0; i < dprsm.size() / 3; ++i) {
-      dprsm[3 * i] = glm::vec4(dd.position[i], 0.0f);
-      dprsm[3 * i + 1] = glm::vec4(dd.normal[i], 0.0f);
-      dprsm[3 * i + 2] = glm::vec4(dd.albedo[i], 0.0f);
-    }
-    words.assign(grid.words, grid.words + vplkit::voxel_word_count(grid.resolution));
-    if (words.empty()) words.push_back(0u);
-  }
-  const std::uint32_t slot_base = gpu_dists ? gm.slot_base : 0u;
-  const int n_dists = gpu_dists ? gm.count : 0;
-
-  gl::buffer b_gbuf = gl::buffer::from_vector(gbuf);
-  gl::buffer b_dprsm = gl::buffer::from_vector(dprsm);
-  gl::buffer b_words = gl::buffer::from_vector(words);
   // Without distributions the kernel still binds both buffers: one zero word each.
-  gl::buffer b_data = gpu_dists ? std::move(gm.data) : gl::buffer::filled(4, 0);
-  gl::buffer b_meta = gpu_dists ? std::move(gm.meta) : gl::buffer::filled(4, 0);
+  gl::buffer b_data = with_dists ? std::move(gm.data) : gl::buffer::filled(4, 0);
+  gl::buffer b_meta = with_dists ? std::move(gm.meta) : gl::buffer::filled(4, 0);
   gl::buffer b_state = gl::buffer::filled(48 * std::max<std::size_t>(n_pixels, 1), 0);
   gl::buffer b_out = gl::buffer::filled(16 * std::max<std::size_t>(n_pixels, 1), 0xFF);
 
@@ -345,9 +146,9 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
   set_i("u_local_combination", es.local_combination == local_combination_choice::average ? 1 : 0);
   glUniform1ui(prog.uniform_location("u_slot_base"), slot_base);
   gl::check_gl("estimate.comp uniforms");
-  b_gbuf.bind(0);
-  b_dprsm.bind(1);
-  b_words.bind(2);
+  scene.gbuffer.bind(0);
+  scene.dprsm.bind(1);
+  scene.voxels.bind(2);
   b_data.bind(3);
   b_meta.bind(4);
   b_state.bind(5);
@@ -365,9 +166,8 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
                 {"passes", passes},
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
-                {"builders", gpu_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)"
-                                                            : "none"},
-                {"cdf", gpu_dists ? "gpu (cdf_build.comp)" : "none"},
+                {"builders", with_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)" : "none"},
+                {"cdf", with_dists ? "gpu (cdf_build.comp)" : "none"},
                 {"direct_light", es.direct ? "gpu (estimate.comp)" : "off"}};
   {
     gl::timer_query tq;
@@ -387,9 +187,9 @@ cpu_render_result render_gpu(const gbuffer_data& gb, const dprsm_data& dd, const
     tq.end();
     timer.add("estimate (gpu)", tq.milliseconds(), "gpu");
   }
-  const std::vector<glm::vec4> out = b_out.read<glm::vec4>(n_pixels);
   {
     auto t = timer.scoped("read-back (cpu)");
+    const std::vector<glm::vec4> out = b_out.read<glm::vec4>(n_pixels);
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         const int p = y * W + x;

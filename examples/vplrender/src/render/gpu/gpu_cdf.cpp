@@ -7,9 +7,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <map>
-#include <sstream>
 #include <string>
 
 #ifndef VPLRENDER_SHADER_DIR
@@ -21,24 +18,6 @@ namespace vplrender {
 namespace {
 
 namespace gl = vplkit::gl;
-
-const gl::program& cdf_build_program() {
-  static gl::program prog = gl::program::compute_with_includes(
-      "#version 430\n#include \"vplkit/distribution/cdf_build.comp\"\n", "vplkit/distribution/cdf_build.comp");
-  return prog;
-}
-
-const gl::program& fallback_program() {
-  static const gl::program prog = [] {
-    const std::string path = std::string(VPLRENDER_SHADER_DIR) + "/vpl_fallback_weights.comp";
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw gl::gl_error("cannot read " + path);
-    std::ostringstream text;
-    text << "#version 430\n" << f.rdbuf();
-    return gl::program::compute_with_includes(text.str(), path);
-  }();
-  return prog;
-}
 
 std::uint32_t float_bits(float x) {
   std::uint32_t u;
@@ -85,7 +64,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   gl::buffer b_info = gl::buffer::filled(dists * sizeof(vplkit::gpu::cdf_build_info), 0);
   gl::buffer b_params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
   if (with_fallback) {
-    const gl::program& fp = fallback_program();
+    const gl::program& fp = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/vpl_fallback_weights.comp");
     fp.use();
     const auto& L = view.light;
     glUniform1i(fp.uniform_location("u_dprsm_res"), view.resolution);
@@ -101,7 +80,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
     weights.bind(1);
     gl::dispatch(fp, gl::groups_for(n, 64));
   }
-  const gl::program& cp = cdf_build_program();
+  const gl::program& cp = gl::cached_kernel("vplkit/distribution/cdf_build.comp");
   weights.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
   glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VPLKIT_CDF_BUILD_BINDING_CDF, out.data.id(), 0,
                     static_cast<GLsizeiptr>(cdf_words * 4));

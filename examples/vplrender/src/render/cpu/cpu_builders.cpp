@@ -1,0 +1,166 @@
+#include "render/cpu/cpu_builders.hpp"
+
+#include "render/cpu/parallel.hpp"
+
+#include <vplkit/builders/gather_subset.hpp>
+#include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/global_weights.hpp>
+#include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
+
+#include <algorithm>
+#include <vector>
+
+namespace vplrender {
+
+namespace {
+
+using vplkit::gather_point;
+
+// Per-texel global weights from a list of gather points, parallel over texel blocks.
+void global_weights(const vplkit::dprsm_view<float>& view, const std::vector<gather_point<float>>& points, float dmin,
+                    float* out, int threads) {
+  const int n = view.texel_count();
+  const int block = 4096;
+  const int blocks = (n + block - 1) / block;
+  parallel_items(blocks, threads, "", {}, [&](int b, int) {
+    const int end = std::min(n, (b + 1) * block);
+    for (int t = b * block; t < end; ++t)
+      out[t] = vplkit::global_weight_texel(view, t, points.data(), static_cast<int>(points.size()), dmin);
+  });
+}
+
+std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>& g, const std::vector<int>& pixels) {
+  std::vector<gather_point<float>> pts;
+  for (int p : pixels) {
+    const gather_point<float> gp = g.at(p);
+    if (vplkit::gather_point_valid(gp)) pts.push_back(gp);
+  }
+  return pts;
+}
+
+}  // namespace
+
+cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                                          const progress_fn& progress, nlohmann::json& det) {
+  const vplkit::gbuffer_view<float> g = b.gbuf.view();
+  const vplkit::dprsm_view<float> view = b.dprsm.view();
+  g.validate();
+  view.validate();
+  const int threads = thread_count(s.threads);
+  const int W = g.width, H = g.height;
+  const vplkit::voxel_grid_view<float> grid = b.grid.view();
+  const vplkit::voxel_tracer<float> tracer{grid};
+  const float depth_tol = gathering_depth_tolerance(grid);
+  const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
+  cpu_distributions out;
+  // GBG weights -> defensive distribution (used by gbg, mis, mis-as-published).
+  auto build_gbg = [&]() {
+    std::vector<float> raw(n_texels, 0.0f), weights(n_texels, 0.0f);
+    vplkit::gbg_stats stats;
+    {
+      auto t = timer.scoped("gbg weights (cpu)");
+      vplkit::gbg_params<float> params;
+      params.n_dirs = s.dirs;
+      params.dmin = s.dmin;
+      params.depth_tolerance = depth_tol;
+      params.seed = builder_seed(s.seed, 2);
+      params.accumulator = s.gbg_accumulator == gbg_accumulator_choice::paper ? vplkit::gbg_accumulator::paper
+                                                                              : vplkit::gbg_accumulator::gathering;
+      std::vector<std::vector<double>> acc(static_cast<std::size_t>(threads));
+      std::vector<vplkit::gbg_stats> per(static_cast<std::size_t>(threads));
+      std::vector<int> counts(static_cast<std::size_t>(threads), 0);
+      parallel_items(H, threads, "gbg weights", progress, [&](int y, int k) {
+        std::vector<double>& a = acc[static_cast<std::size_t>(k)];
+        if (a.empty()) a.assign(n_texels, 0.0);
+        for (int x = 0; x < W; ++x) {
+          const int p = y * W + x;
+          const gather_point<float> gp = g.at(p);
+          if (!vplkit::gather_point_valid(gp)) continue;
+          ++counts[static_cast<std::size_t>(k)];
+          vplkit::gbg_accumulate_gather_point(gp, p, view, tracer, params, a.data(), &per[static_cast<std::size_t>(k)]);
+        }
+      });
+      std::vector<double> total(n_texels, 0.0);
+      for (std::size_t k = 0; k < acc.size(); ++k) {
+        if (!acc[k].empty())
+          for (std::size_t i = 0; i < n_texels; ++i) total[i] += acc[k][i];
+        stats.gather_points += counts[k];
+        stats.rays += per[k].rays;
+        stats.hits += per[k].hits;
+        stats.lit_hits += per[k].lit_hits;
+      }
+      vplkit::gbg_finish(total.data(), n_texels, stats.gather_points, s.dirs, raw.data());
+    }
+    {
+      auto t = timer.scoped("gbg hole fill (cpu)");
+      for (std::size_t i = 0; i < n_texels; ++i) {
+        if (raw[i] != 0.0f) ++stats.reached_texels;
+        else if (vplkit::vpl_has_flux(view.vpl_at(static_cast<int>(i)))) ++stats.holes;
+      }
+      stats.filled = vplkit::gbg_fill_holes(raw.data(), weights.data(), view);
+    }
+    det["gbg"] = {{"gather_points", stats.gather_points}, {"rays", stats.rays},         {"hits", stats.hits},
+                  {"lit_hits", stats.lit_hits},           {"reached_texels", stats.reached_texels},
+                  {"holes", stats.holes},                 {"filled", stats.filled},     {"accumulator", to_string(s.gbg_accumulator)}};
+    auto t = timer.scoped("cdf (cpu)");
+    return vplkit::make_vpl_distribution(weights, view, s.eps);
+  };
+
+  switch (s.meth) {
+    case method::reference:
+    case method::gather:
+      break;
+    case method::global: {
+      std::vector<float> weights(n_texels, 0.0f);
+      int used = 0;
+      {
+        auto t = timer.scoped("global weights (cpu)");
+        const std::vector<int> subset = vplkit::stratified_gather_subset(g, vplkit::full_image_rect(g), s.global_subset,
+                                                                         builder_seed(s.seed, 0));
+        const std::vector<gather_point<float>> pts = valid_points(g, subset);
+        used = static_cast<int>(pts.size());
+        global_weights(view, pts, s.dmin, weights.data(), threads);
+      }
+      det["global_subset"] = used;
+      auto t = timer.scoped("cdf (cpu)");
+      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      break;
+    }
+    case method::local: {
+      const vplkit::image_regions regions(W, H, s.regions_x, s.regions_y);
+      const int N = regions.count();
+      std::vector<float> flat(static_cast<std::size_t>(N) * n_texels, 0.0f);
+      std::vector<int> used(static_cast<std::size_t>(N), 0);
+      {
+        auto t = timer.scoped("local weights (cpu)");
+        const auto subsets = vplkit::local_gather_subsets(g, regions, s.local_subset, builder_seed(s.seed, 1));
+        for (int i = 0; i < N; ++i) {
+          const std::vector<gather_point<float>> pts = valid_points(g, subsets[static_cast<std::size_t>(i)]);
+          used[static_cast<std::size_t>(i)] = static_cast<int>(pts.size());
+          global_weights(view, pts, s.dmin, flat.data() + static_cast<std::size_t>(i) * n_texels, threads);
+        }
+      }
+      det["local_subsets"] = used;
+      {
+        auto t = timer.scoped("cdf (cpu)");
+        out.dists = vplkit::make_local_vpl_distributions(flat, N, view, s.eps);
+      }
+      // N_NG rounds of one VPL per region's CDF: vpls / N rounds (at least one), so a pixel gets
+      // about --vpls samples whatever N is.
+      out.local_rounds = std::max(1, s.vpls / N);
+      det["local_rounds"] = out.local_rounds;
+      det["local_combination"] = to_string(s.local_combination);
+      break;
+    }
+    case method::gbg:
+    case method::mis:
+    case method::mis_as_published:
+      out.dists.push_back(build_gbg());
+      break;
+  }
+  return out;
+}
+
+}  // namespace vplrender

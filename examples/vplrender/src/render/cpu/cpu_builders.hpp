@@ -1,0 +1,31 @@
+#pragma once
+// The CPU backend's builders and CDFs (vplkit's builders, T = float, parallel over rows or texel
+// blocks): the distributions the estimators of render_cpu sample. The GPU backend's counterpart is
+// render/gpu/gpu_builders.hpp.
+#include "render/frame_buffers.hpp"
+#include "render/settings.hpp"
+#include "render/stage_timer.hpp"
+
+#include <vplkit/distribution/defensive_mixture.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+namespace vplrender {
+
+// One defensive mixture for global, gbg, mis and mis-as-published, one per region for local
+// (region-major), none for reference and gather. local_rounds: max(1, vpls / regions) for local,
+// else 0.
+struct cpu_distributions {
+  std::vector<vplkit::defensive_mixture<float>> dists;
+  int local_rounds = 0;
+};
+
+// Stages go to `timer` (cpu-wall), builder facts to `det` (the report's pipeline.estimator
+// object: global_subset; local_subsets, local_rounds, local_combination; gbg). Throws
+// vplkit::invalid_input for bad views.
+cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                                          const progress_fn& progress, nlohmann::json& det);
+
+}  // namespace vplrender
