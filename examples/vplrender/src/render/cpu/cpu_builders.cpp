@@ -42,8 +42,8 @@ std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>&
 
 }  // namespace
 
-cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
-                                          const progress_fn& progress, nlohmann::json& det) {
+std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                                         const progress_fn& progress, nlohmann::json& det) {
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   const vplkit::dprsm_view<float> view = b.dprsm.view();
   g.validate();
@@ -52,62 +52,49 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
   const int W = g.width, H = g.height;
   const vplkit::voxel_grid_view<float> grid = b.grid.view();
   const vplkit::voxel_tracer<float> tracer{grid};
-  const float depth_tol = gathering_depth_tolerance(grid);
+  const std::size_t n = static_cast<std::size_t>(view.texel_count());
+  vplkit::gbg_params<float> params;
+  params.n_dirs = s.dirs;
+  params.dmin = s.dmin;
+  params.depth_tolerance = gathering_depth_tolerance(grid);
+  params.seed = builder_seed(s.seed, 2);
+  params.accumulator = s.gbg_accumulator == gbg_accumulator_choice::paper ? vplkit::gbg_accumulator::paper
+                                                                          : vplkit::gbg_accumulator::gathering;
+  std::vector<float> raw(n, 0.0f), weights(n, 0.0f);
+  vplkit::gbg_stats stats;
+  {
+    auto t = timer.scoped("gbg weights (cpu)");
+    // Rows to workers one at a time, each worker accumulating into its own partial.
+    std::vector<vplkit::gbg_partial> parts(static_cast<std::size_t>(threads));
+    parallel_items(H, threads, "gbg weights", progress, [&](int y, int k) {
+      vplkit::gbg_partial& part = parts[static_cast<std::size_t>(k)];
+      if (part.acc.empty()) part.acc.assign(n, 0.0);
+      vplkit::gbg_accumulate_pixels(g, y * W, (y + 1) * W, view, tracer, params, part.acc.data(), &part.stats);
+    });
+    std::vector<double> acc(n);
+    vplkit::gbg_merge(parts, n, acc.data(), stats);
+    vplkit::gbg_finish(acc.data(), n, stats.gather_points, s.dirs, raw.data());
+  }
+  {
+    auto t = timer.scoped("gbg hole fill (cpu)");
+    vplkit::gbg_count_and_fill(raw.data(), n, view, params.fill_holes, weights.data(), stats);
+  }
+  det["gbg"] = {{"gather_points", stats.gather_points}, {"rays", stats.rays},         {"hits", stats.hits},
+                {"lit_hits", stats.lit_hits},           {"reached_texels", stats.reached_texels},
+                {"holes", stats.holes},                 {"filled", stats.filled},     {"accumulator", to_string(s.gbg_accumulator)}};
+  return weights;
+}
+
+cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                                          const progress_fn& progress, nlohmann::json& det) {
+  const vplkit::gbuffer_view<float> g = b.gbuf.view();
+  const vplkit::dprsm_view<float> view = b.dprsm.view();
+  g.validate();
+  view.validate();
+  const int threads = thread_count(s.threads);
+  const int W = g.width, H = g.height;
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
   cpu_distributions out;
-  // GBG weights -> defensive distribution (used by gbg, mis, mis-as-published).
-  auto build_gbg = [&]() {
-    std::vector<float> raw(n_texels, 0.0f), weights(n_texels, 0.0f);
-    vplkit::gbg_stats stats;
-    {
-      auto t = timer.scoped("gbg weights (cpu)");
-      vplkit::gbg_params<float> params;
-      params.n_dirs = s.dirs;
-      params.dmin = s.dmin;
-      params.depth_tolerance = depth_tol;
-      params.seed = builder_seed(s.seed, 2);
-      params.accumulator = s.gbg_accumulator == gbg_accumulator_choice::paper ? vplkit::gbg_accumulator::paper
-                                                                              : vplkit::gbg_accumulator::gathering;
-      std::vector<std::vector<double>> acc(static_cast<std::size_t>(threads));
-      std::vector<vplkit::gbg_stats> per(static_cast<std::size_t>(threads));
-      std::vector<int> counts(static_cast<std::size_t>(threads), 0);
-      parallel_items(H, threads, "gbg weights", progress, [&](int y, int k) {
-        std::vector<double>& a = acc[static_cast<std::size_t>(k)];
-        if (a.empty()) a.assign(n_texels, 0.0);
-        for (int x = 0; x < W; ++x) {
-          const int p = y * W + x;
-          const gather_point<float> gp = g.at(p);
-          if (!vplkit::gather_point_valid(gp)) continue;
-          ++counts[static_cast<std::size_t>(k)];
-          vplkit::gbg_accumulate_gather_point(gp, p, view, tracer, params, a.data(), &per[static_cast<std::size_t>(k)]);
-        }
-      });
-      std::vector<double> total(n_texels, 0.0);
-      for (std::size_t k = 0; k < acc.size(); ++k) {
-        if (!acc[k].empty())
-          for (std::size_t i = 0; i < n_texels; ++i) total[i] += acc[k][i];
-        stats.gather_points += counts[k];
-        stats.rays += per[k].rays;
-        stats.hits += per[k].hits;
-        stats.lit_hits += per[k].lit_hits;
-      }
-      vplkit::gbg_finish(total.data(), n_texels, stats.gather_points, s.dirs, raw.data());
-    }
-    {
-      auto t = timer.scoped("gbg hole fill (cpu)");
-      for (std::size_t i = 0; i < n_texels; ++i) {
-        if (raw[i] != 0.0f) ++stats.reached_texels;
-        else if (vplkit::vpl_has_flux(view.vpl_at(static_cast<int>(i)))) ++stats.holes;
-      }
-      stats.filled = vplkit::gbg_fill_holes(raw.data(), weights.data(), view);
-    }
-    det["gbg"] = {{"gather_points", stats.gather_points}, {"rays", stats.rays},         {"hits", stats.hits},
-                  {"lit_hits", stats.lit_hits},           {"reached_texels", stats.reached_texels},
-                  {"holes", stats.holes},                 {"filled", stats.filled},     {"accumulator", to_string(s.gbg_accumulator)}};
-    auto t = timer.scoped("cdf (cpu)");
-    return vplkit::make_vpl_distribution(weights, view, s.eps);
-  };
-
   switch (s.meth) {
     case method::reference:
     case method::gather:
@@ -156,9 +143,12 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
     }
     case method::gbg:
     case method::mis:
-    case method::mis_as_published:
-      out.dists.push_back(build_gbg());
+    case method::mis_as_published: {
+      const std::vector<float> weights = build_gbg_weights_cpu(b, s, timer, progress, det);
+      auto t = timer.scoped("cdf (cpu)");
+      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
       break;
+    }
   }
   return out;
 }

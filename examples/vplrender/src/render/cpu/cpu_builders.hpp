@@ -22,6 +22,14 @@ struct cpu_distributions {
   int local_rounds = 0;
 };
 
+// The GBG weights (gbg, mis, mis-as-published): vplkit's GBG builder over the image rows, each
+// worker accumulating into its own gbg_partial (gbg_accumulate_pixels), merged in worker order
+// (gbg_merge), normalised, counted and hole-filled (gbg_finish, gbg_count_and_fill). Stages "gbg
+// weights (cpu)" and "gbg hole fill (cpu)", facts under det["gbg"]. The GPU backend's counterpart
+// is build_gbg_weights_gpu.
+std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                                         const progress_fn& progress, nlohmann::json& det);
+
 // Stages go to `timer` (cpu-wall), builder facts to `det` (the report's pipeline.estimator
 // object: global_subset; local_subsets, local_rounds, local_combination; gbg). Throws
 // vplkit::invalid_input for bad views.
