@@ -117,6 +117,31 @@ void run_scene(const std::string& scene_name) {
                     << r.worst_any);
     CHECK(r.within >= required_fraction);
   }
+  // --sampler alias and --face-selection roulette: both sides build the components on the host with
+  // the same C++ code (render/mixture_components.hpp) from their own weights, and sample them with
+  // the same float operations (the roulette's b_F and reciprocals are uploaded, not recomputed), so
+  // the bound is the builders' one; a u at an alias threshold or a face/bin edge may flip a pixel.
+  for (method m : {method::global, method::local, method::gbg, method::mis}) {
+    for (int k = 0; k < 2; ++k) {
+      o.meth = m;
+      render_settings es = make_render_settings(o, p.s);
+      es.threads = 2;
+      if (k == 0) es.sampler = sampler_choice::alias;
+      else es.face_selection = face_selection_choice::roulette;
+      stage_timer tc, tg;
+      const image_rgb c = render_cpu(f.b, es, tc).image;
+      const render_result gr = render_gpu(f.b, es, tg);
+      CHECK(gr.details["sampler"] == to_string(es.sampler));
+      CHECK(gr.details["face_selection"] == to_string(es.face_selection));
+      const parity r = compare(c, gr.image, rel_bound_gpu_builders);
+      const char* sw = k == 0 ? "--sampler alias" : "--face-selection roulette";
+      std::cout << scene_name << " " << to_string(m) << " " << sw << ": " << 100.0 * r.within
+                << "% of pixels within " << rel_bound_gpu_builders << " relative; worst overall " << r.worst_any << "\n";
+      INFO(scene_name << " " << to_string(m) << " " << sw << ": worst pixel (" << r.worst_x << ", " << r.worst_y
+                      << ") rel " << r.worst_any);
+      CHECK(r.within >= required_fraction);
+    }
+  }
   // --direct: the direct light is added inside estimate.comp (vplkit_direct_light, the C++
   // vplkit::direct_light statement for statement): the same float arithmetic on the same inputs, so it
   // adds only the few-ulp differences of length/normalize/sqrt/division (~1e-6 relative) to each

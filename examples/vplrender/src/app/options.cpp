@@ -24,7 +24,8 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
-      window_script, local_combination, gbg_accumulator, cdf_search;
+      window_script, local_combination, gbg_accumulator, cdf_search,
+      face_selection, sampler;
   bool paper = false, direct = false, window = false;
 };
 
@@ -100,6 +101,16 @@ void build_app(CLI::App& app, raw_values& v) {
                    "at most a short binary search; binary = plain binary search over the whole CDF. Both return "
                    "the same index for every u, so the image is identical: this measures the search's cost."))
       ->type_name("guide|binary");
+  app.add_option("--face-selection", v.face_selection,
+                 d("How a VPL distribution chooses between the two paraboloids (default joint): joint = one CDF "
+                   "over both faces' texels; roulette = the paper's Alg. 1, the face by its share of the weight, "
+                   "then the texel within it. Same pmf; a sample may land on another texel for the same u."))
+      ->type_name("joint|roulette");
+  app.add_option("--sampler", v.sampler,
+                 d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
+                   "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
+                   "keep u's stratification). alias needs --face-selection joint and --cdf-search guide."))
+      ->type_name("cdf|alias");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -279,6 +290,19 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.cdf_search = parse_choice<cdf_search_choice>("--cdf-search", v.cdf_search,
                                                    {{"guide", cdf_search_choice::guide},
                                                     {"binary", cdf_search_choice::binary}});
+  if (given("--face-selection"))
+    o.face_selection = parse_choice<face_selection_choice>(
+        "--face-selection", v.face_selection,
+        {{"joint", face_selection_choice::joint}, {"roulette", face_selection_choice::roulette}});
+  if (given("--sampler"))
+    o.sampler = parse_choice<sampler_choice>("--sampler", v.sampler,
+                                             {{"cdf", sampler_choice::cdf}, {"alias", sampler_choice::alias}});
+  // The library's face roulette samples discrete CDFs, and --cdf-search only concerns the joint CDF.
+  if (o.sampler == sampler_choice::alias && o.face_selection == face_selection_choice::roulette)
+    throw usage_error("--sampler alias: needs --face-selection joint (the face roulette samples discrete CDFs)");
+  if (o.cdf_search == cdf_search_choice::binary &&
+      (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))
+    throw usage_error("--cdf-search binary: needs --sampler cdf and --face-selection joint");
   o.paper = v.paper;
   if (o.paper) {
     o.width = o.height = 512;

@@ -53,6 +53,8 @@ struct options {
   local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
   gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
   cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
+  face_selection_choice face_selection = face_selection_choice::joint;  // paper: roulette
+  sampler_choice sampler = sampler_choice::cdf;
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

@@ -23,6 +23,8 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.local_combination = o.local_combination;
   e.gbg_accumulator = o.gbg_accumulator;
   e.cdf_search = o.cdf_search;
+  e.face_selection = o.face_selection;
+  e.sampler = o.sampler;
   e.seed = o.seed;
   e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;

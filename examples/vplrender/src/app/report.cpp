@@ -29,6 +29,8 @@ nlohmann::json options_to_json(const options& o) {
   j["local_combination"] = to_string(o.local_combination);
   j["gbg_accumulator"] = to_string(o.gbg_accumulator);
   j["cdf_search"] = to_string(o.cdf_search);
+  j["face_selection"] = to_string(o.face_selection);
+  j["sampler"] = to_string(o.sampler);
   j["voxels"] = o.voxels;
   j["dprsm"] = o.dprsm;
   j["paper"] = o.paper;

@@ -24,6 +24,8 @@ const char* to_string(local_combination_choice c) {
 }
 const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_choice::paper ? "paper" : "gathering"; }
 const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
+const char* to_string(face_selection_choice f) { return f == face_selection_choice::roulette ? "roulette" : "joint"; }
+const char* to_string(sampler_choice s) { return s == sampler_choice::alias ? "alias" : "cdf"; }
 
 bool has_distribution(method m) { return m != method::reference && m != method::gather; }
 

@@ -13,16 +13,24 @@ namespace vplrender {
 enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
-// accumulator and the CDF search.
+// accumulator and the CDF search; and how a distribution is sampled (face selection, sampler).
 enum class local_combination_choice { balance, average };
 enum class gbg_accumulator_choice { gathering, paper };
 enum class cdf_search_choice { guide, binary };
+// joint: one CDF over both paraboloids' texels; roulette: the paper's Alg. 1 (choose the face by
+// its share of the weight, then sample within it: vplkit::flat_face_roulette). Same pmf.
+enum class face_selection_choice { joint, roulette };
+// cdf: discrete CDF (inversion, keeps u's stratification); alias: Walker's alias table
+// (vplkit::alias_table; O(1), same pmf, does not keep u's stratification).
+enum class sampler_choice { cdf, alias };
 
 const char* to_string(method m);
 const char* to_string(backend b);
 const char* to_string(local_combination_choice c);
 const char* to_string(gbg_accumulator_choice a);
 const char* to_string(cdf_search_choice s);
+const char* to_string(face_selection_choice f);
+const char* to_string(sampler_choice s);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
 // mis-as-published): they have builders and CDFs; reference and gather have neither.
@@ -38,6 +46,8 @@ struct render_settings {
   local_combination_choice local_combination = local_combination_choice::balance;
   gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;
   cdf_search_choice cdf_search = cdf_search_choice::guide;
+  face_selection_choice face_selection = face_selection_choice::joint;
+  sampler_choice sampler = sampler_choice::cdf;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF

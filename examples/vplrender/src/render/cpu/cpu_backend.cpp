@@ -2,6 +2,7 @@
 
 #include "render/cpu/cpu_builders.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/mixture_components.hpp"
 
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
@@ -31,11 +32,29 @@ struct binary_searched_mixture {
   float pmf(std::size_t i) const noexcept { return m->pmf(i); }
 };
 
-// Calls body(dists) with the distributions the estimators sample: the mixtures themselves or,
-// for --cdf-search binary, adaptors that search them by plain binary search.
+// The mixtures with their components replaced (mixture_components.hpp), one per mixture.
+template <class Component>
+std::vector<resampled_mixture<Component>> resampled(const cpu_distributions& built, const std::vector<Component>& c) {
+  std::vector<resampled_mixture<Component>> out;
+  for (std::size_t d = 0; d < built.dists.size(); ++d) out.push_back({&built.dists[d], &c[2 * d], &c[2 * d + 1]});
+  return out;
+}
+
+// Calls body(dists) with the distributions the estimators sample: the mixtures themselves; for
+// --cdf-search binary, adaptors that search them by plain binary search; for --sampler alias or
+// --face-selection roulette, the mixtures sampled through those components.
 template <class Body>
-void with_distributions(const cpu_distributions& built, cdf_search_choice search, Body&& body) {
-  if (search == cdf_search_choice::binary) {
+void with_distributions(const cpu_distributions& built, const frame_buffers& b, const render_settings& s,
+                        stage_timer& timer, Body&& body) {
+  if (mixture_components::wanted(s) && !built.dists.empty()) {
+    mixture_components c;
+    {
+      auto t = timer.scoped("sampler tables (cpu)");
+      c = build_mixture_components(built.weights.data(), static_cast<int>(built.dists.size()), b.dprsm.view(), s);
+    }
+    if (s.sampler == sampler_choice::alias) body(resampled(built, c.alias).data());
+    else body(resampled(built, c.flat).data());
+  } else if (s.cdf_search == cdf_search_choice::binary) {
     std::vector<binary_searched_mixture> binary;
     for (const auto& m : built.dists) binary.push_back({&m});
     body(binary.data());
@@ -90,7 +109,9 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
     });
   };
 
-  with_distributions(built, s.cdf_search, [&](const auto* dists) {
+  det["face_selection"] = to_string(s.face_selection);
+  det["sampler"] = to_string(s.sampler);
+  with_distributions(built, b, s, timer, [&](const auto* dists) {
     switch (s.meth) {
       case method::reference:
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng&) {

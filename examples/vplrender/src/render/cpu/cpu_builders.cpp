@@ -113,6 +113,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       det["global_subset"] = used;
       auto t = timer.scoped("cdf (cpu)");
       out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.weights = std::move(weights);
       break;
     }
     case method::local: {
@@ -134,6 +135,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
         auto t = timer.scoped("cdf (cpu)");
         out.dists = vplkit::make_local_vpl_distributions(flat, N, view, s.eps);
       }
+      out.weights = std::move(flat);
       // N_NG rounds of one VPL per region's CDF: vpls / N rounds (at least one), so a pixel gets
       // about --vpls samples whatever N is.
       out.local_rounds = std::max(1, s.vpls / N);
@@ -144,9 +146,10 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
     case method::gbg:
     case method::mis:
     case method::mis_as_published: {
-      const std::vector<float> weights = build_gbg_weights_cpu(b, s, timer, progress, det);
+      std::vector<float> weights = build_gbg_weights_cpu(b, s, timer, progress, det);
       auto t = timer.scoped("cdf (cpu)");
       out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.weights = std::move(weights);
       break;
     }
   }

@@ -19,6 +19,7 @@ namespace vplrender {
 // else 0.
 struct cpu_distributions {
   std::vector<vplkit::defensive_mixture<float>> dists;
+  std::vector<float> weights;  // the builders' weights behind `dists` (region-major, 2 R^2 each)
   int local_rounds = 0;
 };
 

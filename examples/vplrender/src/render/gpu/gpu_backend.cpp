@@ -3,6 +3,7 @@
 #include "raster/gpu_scene_buffers.hpp"
 #include "render/gpu/gpu_builders.hpp"
 #include "render/gpu/loop_budget.hpp"
+#include "render/mixture_components.hpp"
 
 #include <headless_gl/compute.hpp>
 
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,53 @@
 namespace vplrender {
 
 namespace {
+
+// mixture_components in the layout of estimate.comp's binding 7 (VrComponents): 12 uints per
+// component k = 2 d + c, then the arrays they point into. Roulette: the front face's CDF and
+// guide offsets and total, the back face's, b_front, b_back, front_scale, back_scale (the C++
+// roulette's own values, so the GPU picks its face bit for bit), the face size and guide size
+// (both faces have R^2 entries). Alias: the bins' offset (3 uints per bin), 0, total, 0 ..., the
+// table size.
+std::vector<std::uint32_t> pack_components(const mixture_components& c) {
+  const std::size_t k_count = std::max(c.alias.size(), c.roulette.size());
+  std::vector<std::uint32_t> out(12 * std::max<std::size_t>(k_count, 1), 0u);
+  auto bits = [](float f) {
+    std::uint32_t u;
+    std::memcpy(&u, &f, 4);
+    return u;
+  };
+  auto append = [&](const auto& v) {
+    const std::size_t at = out.size();
+    out.resize(at + v.size() * sizeof(v[0]) / 4);
+    std::memcpy(out.data() + at, v.data(), v.size() * sizeof(v[0]));
+    return static_cast<std::uint32_t>(at);
+  };
+  for (std::size_t k = 0; k < c.alias.size(); ++k) {
+    const std::uint32_t bins = append(c.alias[k].bins());
+    out[12 * k] = bins;
+    out[12 * k + 2] = bits(c.alias[k].total());
+    out[12 * k + 10] = static_cast<std::uint32_t>(c.alias[k].size());
+  }
+  for (std::size_t k = 0; k < c.roulette.size(); ++k) {
+    const vplkit::face_roulette<float>& f = c.roulette[k];
+    const std::uint32_t front_cdf = append(f.front().cdf()), front_guide = append(f.front().guide());
+    const std::uint32_t back_cdf = append(f.back().cdf()), back_guide = append(f.back().guide());
+    const std::uint32_t rec[12] = {front_cdf,
+                                   front_guide,
+                                   bits(f.front().total()),
+                                   back_cdf,
+                                   back_guide,
+                                   bits(f.back().total()),
+                                   bits(f.front_probability()),
+                                   bits(f.back_probability()),
+                                   bits(f.front_scale()),
+                                   bits(f.back_scale()),
+                                   static_cast<std::uint32_t>(f.front().size()),
+                                   static_cast<std::uint32_t>(f.front().guide_size())};
+    std::memcpy(&out[12 * k], rec, sizeof(rec));
+  }
+  return out;
+}
 
 // VR_METHOD values of estimate.comp.
 enum kernel_kind { k_reference = 0, k_vpl_sampling = 1, k_local = 2, k_gather = 3, k_mis = 4 };
@@ -115,6 +164,17 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   gl::buffer b_meta = with_dists ? std::move(gm.meta) : gl::buffer::filled(4, 0);
   gl::buffer b_state = gl::buffer::filled(48 * std::max<std::size_t>(n_pixels, 1), 0);
   gl::buffer b_out = gl::buffer::filled(16 * std::max<std::size_t>(n_pixels, 1), 0xFF);
+  // --sampler alias / --face-selection roulette: the components built on the host from the
+  // weights read back (mixture_components.hpp), uploaded; else one zero word.
+  const bool components = with_dists && mixture_components::wanted(es);
+  gl::buffer b_components = gl::buffer::filled(4, 0);
+  if (components) {
+    auto t = timer.scoped("sampler tables (cpu)");
+    b_components = gl::buffer::from_vector(
+        pack_components(build_mixture_components(gm.weights.data(), gm.count, view, es)));
+  }
+  det["face_selection"] = to_string(es.face_selection);
+  det["sampler"] = to_string(es.sampler);
 
   const gl::program& prog = kernel(kind);
   prog.use();
@@ -143,6 +203,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   set_i("u_direct", es.direct ? 1 : 0);
   set_i("u_mis_mode", es.meth == method::mis_as_published ? 1 : 0);
   set_i("u_cdf_search", es.cdf_search == cdf_search_choice::binary ? 1 : 0);
+  set_i("u_sampler", !components ? 0 : es.sampler == sampler_choice::alias ? 1 : 2);
   set_i("u_local_combination", es.local_combination == local_combination_choice::average ? 1 : 0);
   glUniform1ui(prog.uniform_location("u_slot_base"), slot_base);
   gl::check_gl("estimate.comp uniforms");
@@ -153,6 +214,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   b_meta.bind(4);
   b_state.bind(5);
   b_out.bind(6);
+  b_components.bind(7);
 
   const int regions = std::max(1, n_dists);
   const work_shape shape = shape_of(es, view.resolution, grid.resolution, regions, local_rounds);

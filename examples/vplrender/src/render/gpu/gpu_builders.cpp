@@ -1,6 +1,7 @@
 #include "render/gpu/gpu_builders.hpp"
 
 #include "render/gpu/loop_budget.hpp"
+#include "render/mixture_components.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gather_subset_params.h>
@@ -271,6 +272,10 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
       throw vplkit::invalid_input("build_distributions_gpu: the method has no builder");
   }
   gpu_mixtures mix = build_mixtures_gpu(weights, D, scene.dprsm, view, s.eps, timer, det);
+  if (mixture_components::wanted(s)) {
+    auto t = timer.scoped("weights read-back (cpu)");
+    mix.weights = weights.read<float>(static_cast<std::size_t>(D) * n);
+  }
   if (s.meth == method::local) {
     // N_NG rounds of one VPL per region's CDF, as build_distributions_cpu.
     mix.local_rounds = std::max(1, s.vpls / D);

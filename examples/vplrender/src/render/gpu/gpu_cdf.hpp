@@ -34,6 +34,9 @@ struct gpu_mixtures {
   std::vector<std::size_t> cdf_offset, guide_offset;
   std::vector<float> totals;  // learned totals (read back), then the fallback's when eps > 0
   std::vector<float> effective_eps, fallback_scale, learned_scale;  // per mixture
+  // The D learned weight arrays, read back only for --sampler alias / --face-selection roulette
+  // (mixture_components.hpp builds their components on the host).
+  std::vector<float> weights;
 };
 
 // `weights` holds at least (D + 1) n floats, n = view.texel_count(): arrays 0 .. D-1 the builder's
