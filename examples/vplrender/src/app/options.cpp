@@ -109,7 +109,8 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--sampler", v.sampler,
                  d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
                    "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
-                   "keep u's stratification). alias needs --face-selection joint and --cdf-search guide."))
+                   "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
+                   "docs/results.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
       ->type_name("cdf|alias");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
