@@ -7,12 +7,12 @@
 #include "pareto.hpp"
 #include "svg_plot.hpp"
 
-#include "errors.hpp"
-#include "exr_io.hpp"
-#include "options.hpp"
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
-#include "stage_timer.hpp"
+#include "app/options.hpp"
+#include "app/render_options.hpp"
+#include "app/scene_setup.hpp"
+#include "io/errors.hpp"
+#include "io/exr_io.hpp"
+#include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
 
@@ -231,7 +231,7 @@ struct reference_image {
   double ms = 0.0;  // time to compute it (0 on a cache hit)
 };
 
-reference_image get_reference(const options& base, const prepared_scene& p, const pipeline_buffers& b,
+reference_image get_reference(const options& base, const prepared_scene& p, const frame_buffers& b,
                               const std::string& cache_dir, const std::string& kind, int dirs, std::uint32_t seed) {
   const std::string key = reference_key(base, p, kind, dirs, seed);
   char hex[17];
@@ -490,7 +490,7 @@ int main(int argc, char** argv) {
 
     stage_timer prep_timer;
     nlohmann::json prep_det;
-    const pipeline_buffers b = prepare_buffers(base, p, prep_timer, prep_det);
+    const frame_buffers b = prepare_buffers(base, p, prep_timer, prep_det);
     double prepare_ms = 0.0;
     for (const stage_time& st : prep_timer.stages()) prepare_ms += st.ms;
     std::cout << "scene " << p.s.name << ", " << base.width << "x" << base.height << ", DPRSM 2x" << base.dprsm << "^2, "

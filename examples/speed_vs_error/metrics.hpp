@@ -3,7 +3,7 @@
 //   RMSE   = sqrt( mean over pixels p and channels c of (x_pc - r_pc)^2 )
 //   relMSE = mean over pixels p and channels c of (x_pc - r_pc)^2 / (r_pc^2 + eps), eps = 1e-2
 // Sums in double: 3 * W * H float terms would otherwise lose the small ones.
-#include "image.hpp"
+#include "io/image.hpp"
 
 #include <cmath>
 #include <cstddef>

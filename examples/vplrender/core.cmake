@@ -50,29 +50,32 @@ endforeach()
 
 set(_vr ${CMAKE_CURRENT_LIST_DIR}/src)
 add_library(vplrender_core STATIC
-  ${_vr}/atomic_file.cpp
-  ${_vr}/builtin_scenes.cpp
-  ${_vr}/camera.cpp
-  ${_vr}/cpu_backend.cpp
-  ${_vr}/dprsm_check.cpp
-  ${_vr}/exr_io.cpp
-  ${_vr}/framing.cpp
-  ${_vr}/image.cpp
-  ${_vr}/mtl_scan.cpp
-  ${_vr}/obj_loader.cpp
-  ${_vr}/obj_scan.cpp
-  ${_vr}/options.cpp
-  ${_vr}/png_preview.cpp
-  ${_vr}/progress.cpp
-  ${_vr}/raycast.cpp
-  ${_vr}/report.cpp
-  ${_vr}/scene.cpp
-  ${_vr}/scene_setup.cpp
-  ${_vr}/tessellate.cpp
-  ${_vr}/text_file.cpp
-  ${_vr}/texture.cpp
-  ${_vr}/triangulate.cpp
-  ${_vr}/voxels.cpp)
+  ${_vr}/app/options.cpp
+  ${_vr}/app/progress.cpp
+  ${_vr}/app/report.cpp
+  ${_vr}/app/scene_setup.cpp
+  ${_vr}/io/atomic_file.cpp
+  ${_vr}/io/exr_io.cpp
+  ${_vr}/io/image.cpp
+  ${_vr}/io/json_file.cpp
+  ${_vr}/io/png_preview.cpp
+  ${_vr}/io/text_file.cpp
+  ${_vr}/raster/dprsm_check.cpp
+  ${_vr}/raster/tessellate.cpp
+  ${_vr}/raster/voxels.cpp
+  ${_vr}/render/cpu/cpu_backend.cpp
+  ${_vr}/render/cpu/cpu_builders.cpp
+  ${_vr}/render/settings.cpp
+  ${_vr}/scene/builtin_scenes.cpp
+  ${_vr}/scene/camera.cpp
+  ${_vr}/scene/framing.cpp
+  ${_vr}/scene/mtl_scan.cpp
+  ${_vr}/scene/obj_loader.cpp
+  ${_vr}/scene/obj_scan.cpp
+  ${_vr}/scene/raycast.cpp
+  ${_vr}/scene/scene.cpp
+  ${_vr}/scene/texture.cpp
+  ${_vr}/scene/triangulate.cpp)
 target_compile_features(vplrender_core PUBLIC cxx_std_17)
 target_include_directories(vplrender_core PUBLIC ${_vr})
 target_include_directories(vplrender_core SYSTEM PRIVATE ${VPLRENDER_STB_INCLUDE_DIR})
@@ -83,11 +86,19 @@ find_package(Threads REQUIRED)
 target_link_libraries(vplrender_core PUBLIC Threads::Threads)
 set(VPLRENDER_CORE_AVAILABLE ON)
 
-# vplrender_pipeline: the GPU rasterisation stages and the pipeline that drives them; needs the
-# headless GL support library (support/, built when examples or GL tests are on).
+# vplrender_pipeline: the GL stages (rasterisation, GPU voxelisation and scene buffers, the GPU
+# backend) and the pipeline that drives both backends; needs the headless GL support library
+# (support/, built when examples or GL tests are on).
 if(TARGET vplkit_headless_gl)
-  add_library(vplrender_pipeline STATIC ${_vr}/gl_raster.cpp ${_vr}/gpu_backend.cpp ${_vr}/gpu_builders.cpp
-              ${_vr}/gpu_cdf.cpp ${_vr}/pipeline.cpp ${_vr}/voxels_gpu.cpp)
+  add_library(vplrender_pipeline STATIC
+    ${_vr}/app/render_options.cpp
+    ${_vr}/raster/gl_raster.cpp
+    ${_vr}/raster/gpu_scene_buffers.cpp
+    ${_vr}/raster/voxels_gpu.cpp
+    ${_vr}/render/gpu/gpu_backend.cpp
+    ${_vr}/render/gpu/gpu_builders.cpp
+    ${_vr}/render/gpu/gpu_cdf.cpp
+    ${_vr}/render/pipeline.cpp)
   target_link_libraries(vplrender_pipeline PUBLIC vplrender_core vplkit::headless_gl PRIVATE vplkit_project_options)
   # The estimator kernel is read at run time from the source tree (like the pack's kernels).
   target_compile_definitions(vplrender_pipeline PRIVATE

@@ -5048,7 +5048,7 @@ inline vec3<T> gbg_direction(vec3<T> n_x, int pixel, int j, std::uint32_t seed) 
 
 // Accumulates the n_dirs rays of one gather point into acc[0 .. 2 R^2) (double), adding to
 // *stats when given. g must be valid (gather_point_valid). Never throws by itself (the tracer
-// may). Hosts that parallelise over gather points give each thread its own acc and sum them.
+// may). Hosts that parallelise use gbg_accumulate_pixels and gbg_merge below.
 template <class T, class Tracer>
 inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
                                         const dprsm_view<T>& view, Tracer&& trace,
@@ -5077,6 +5077,49 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     stats->rays += params.n_dirs;
     stats->hits += hits;
     stats->lit_hits += lit;
+  }
+}
+
+// The valid gather points among pixels [begin, end) of `gbuffer`, in pixel order, accumulated into
+// acc[0 .. 2 R^2) (gbg_accumulate_gather_point), each counted in stats->gather_points when stats is
+// given. The unit of work of a build: a serial build is one call over every pixel; a host that
+// parallelises gives each worker its own gbg_partial, accumulates ranges of pixels into it, then
+// calls gbg_merge. No validation (build_gbg_weights validates); never throws by itself. The GLSL
+// pack has no counterpart of this and gbg_merge: gbg_accumulate.comp runs one invocation per
+// gather point and merges by atomics.
+template <class T, class Tracer>
+inline void gbg_accumulate_pixels(const gbuffer_view<T>& gbuffer, int begin, int end,
+                                  const dprsm_view<T>& view, Tracer&& trace,
+                                  const gbg_params<T>& params, double* acc,
+                                  gbg_stats* stats = nullptr) {
+  for (int p = begin; p < end; ++p) {
+    const gather_point<T> g = gbuffer.at(p);
+    if (!gather_point_valid(g)) continue;
+    if (stats != nullptr) ++stats->gather_points;
+    gbg_accumulate_gather_point(g, p, view, trace, params, acc, stats);
+  }
+}
+
+// One worker's share of a parallel build: its accumulator (empty until the worker gets pixels; then
+// 2 R^2 doubles) and its counts.
+struct gbg_partial {
+  std::vector<double> acc;
+  gbg_stats stats;
+};
+
+// acc[t] = the sum of the partials' acc[t] in index order, starting from +0 (a partial with an
+// empty acc is skipped); their gather points, rays, hits and lit hits added to `stats`. The sum
+// of doubles depends on which pixels went to which worker, not on anything else.
+inline void gbg_merge(const std::vector<gbg_partial>& parts, std::size_t n, double* acc,
+                      gbg_stats& stats) {
+  for (std::size_t t = 0; t < n; ++t) acc[t] = 0.0;
+  for (const gbg_partial& part : parts) {
+    if (!part.acc.empty())
+      for (std::size_t t = 0; t < n; ++t) acc[t] += part.acc[t];
+    stats.gather_points += part.stats.gather_points;
+    stats.rays += part.stats.rays;
+    stats.hits += part.stats.hits;
+    stats.lit_hits += part.stats.lit_hits;
   }
 }
 
@@ -5130,6 +5173,26 @@ inline std::vector<T> gbg_fill_holes(const std::vector<T>& in, const dprsm_view<
   return out;
 }
 
+// The last step of a build, on the finished weights raw[0 .. n) (gbg_finish): counts the texels the
+// rays reached and the holes into `stats`, then writes the hole-filled weights (gbg_fill_holes) to
+// `weights` when fill_holes is set, else a copy of raw. Throws as gbg_fill_holes.
+template <class T>
+inline void gbg_count_and_fill(const T* raw, std::size_t n, const dprsm_view<T>& view,
+                               bool fill_holes, T* weights, gbg_stats& stats) {
+  for (std::size_t t = 0; t < n; ++t) {
+    if (raw[t] != T(0)) {
+      ++stats.reached_texels;
+    } else if (vpl_has_flux(view.vpl_at(int(t)))) {
+      ++stats.holes;
+    }
+  }
+  if (fill_holes) {
+    stats.filled = gbg_fill_holes(raw, weights, view);
+  } else {
+    for (std::size_t t = 0; t < n; ++t) weights[t] = raw[t];
+  }
+}
+
 // GBG weights for all 2 R^2 texels into weights[0 .. 2 R^2). trace(vec3<T> x, vec3<T> n_x,
 // vec3<T> dir) -> ray_hit<T> is the host's first-hit query. Throws invalid_input for a bad
 // G-buffer / DPRSM view, n_dirs < 1, dmin or depth_tolerance negative or not finite, or a weights
@@ -5152,27 +5215,10 @@ inline gbg_stats build_gbg_weights(const gbuffer_view<T>& gbuffer, const dprsm_v
   const std::size_t n = weights_size;
   std::vector<double> acc(n, 0.0);
   gbg_stats stats;
-  const int pixels = gbuffer.pixel_count();
-  for (int p = 0; p < pixels; ++p) {
-    const gather_point<T> g = gbuffer.at(p);
-    if (!gather_point_valid(g)) continue;
-    ++stats.gather_points;
-    gbg_accumulate_gather_point(g, p, view, trace, params, acc.data(), &stats);
-  }
+  gbg_accumulate_pixels(gbuffer, 0, gbuffer.pixel_count(), view, trace, params, acc.data(), &stats);
   std::vector<T> raw(n, T(0));
   gbg_finish(acc.data(), n, stats.gather_points, params.n_dirs, raw.data());
-  for (std::size_t t = 0; t < n; ++t) {
-    if (raw[t] != T(0)) {
-      ++stats.reached_texels;
-    } else if (vpl_has_flux(view.vpl_at(int(t)))) {
-      ++stats.holes;
-    }
-  }
-  if (params.fill_holes) {
-    stats.filled = gbg_fill_holes(raw.data(), weights, view);
-  } else {
-    for (std::size_t t = 0; t < n; ++t) weights[t] = raw[t];
-  }
+  gbg_count_and_fill(raw.data(), n, view, params.fill_holes, weights, stats);
   return stats;
 }
 

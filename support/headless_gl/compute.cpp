@@ -1,7 +1,12 @@
 #include "compute.hpp"
 
 #include <chrono>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
 #include <string>
+#include <utility>
 
 namespace vplkit::gl {
 
@@ -138,6 +143,23 @@ std::array<GLint, 3> program::local_size() const {
 
 GLint program::uniform_location(const char* name) const {
   return glGetUniformLocation(id_, name);
+}
+
+// ---- program cache ----------------------------------------------------------------------------
+const program& cached_kernel(const std::string& path, const std::string& preamble) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, std::string>, program> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(path, preamble);
+  const auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
+  const std::string file = !path.empty() && path.front() == '/' ? path : glsl_source_dir() + "/" + path;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw gl_error("cannot read " + file);
+  std::ostringstream text;
+  text << "#version 430\n" << in.rdbuf();
+  program p = program::compute_with_includes(text.str(), file, {}, preamble);
+  return cache.emplace(key, std::move(p)).first->second;
 }
 
 // ---- GPU memory accounting --------------------------------------------------------------------

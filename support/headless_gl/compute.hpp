@@ -64,6 +64,16 @@ private:
   GLuint id_ = 0;
 };
 
+// ---- program cache ----------------------------------------------------------------------------
+// A compute kernel compiled once and kept for the life of the process: the one cache of every
+// host that dispatches kernels repeatedly (the renderer's builders, CDFs and estimator). The key
+// is the kernel file and the preamble (defines, placed after #version). Kernel files are
+// #version-free (docs/glsl.md): "#version 430" is put first. A relative `path` is looked up under
+// the pack root (glsl_source_dir()), an absolute one is used as it is. The programs belong to the
+// context current at their first use: vplkit's tools keep one context per process. Thread-safe.
+// Throws gl_error when the file cannot be read or the kernel does not compile.
+const program& cached_kernel(const std::string& path, const std::string& preamble = {});
+
 // ---- GPU memory accounting --------------------------------------------------------------------
 // GL has no portable query for what a context holds, so the allocations are counted where they are
 // made: every `buffer` below, plus what other code reports with track_gpu_bytes (render targets,

@@ -7,9 +7,9 @@
 // range, one-line warnings, and passes validate_geometry.
 #include "fuzz_check.hpp"
 
-#include "errors.hpp"
-#include "obj_loader.hpp"
-#include "scene.hpp"
+#include "io/errors.hpp"
+#include "scene/obj_loader.hpp"
+#include "scene/scene.hpp"
 
 #include <glm/geometric.hpp>
 

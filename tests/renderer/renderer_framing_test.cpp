@@ -2,13 +2,13 @@
 // position checks of prepare_scene.
 #include <catch2/catch.hpp>
 
-#include "builtin_scenes.hpp"
-#include "camera.hpp"
-#include "errors.hpp"
-#include "framing.hpp"
-#include "raycast.hpp"
+#include "app/scene_setup.hpp"
+#include "io/errors.hpp"
 #include "renderer_test_util.hpp"
-#include "scene_setup.hpp"
+#include "scene/builtin_scenes.hpp"
+#include "scene/camera.hpp"
+#include "scene/framing.hpp"
+#include "scene/raycast.hpp"
 
 #include <glm/geometric.hpp>
 

@@ -4,8 +4,8 @@
 // estimate the continuous one-bounce integral seen through the DPRSM (docs/math.md section 8):
 // their estimand is approximated by a 2048-direction gathering image (its own noise is ~1/11 of the
 // 16-direction image's and is included in the bound's margin).
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
+#include "app/render_options.hpp"
+#include "app/scene_setup.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,18 +1,19 @@
 #pragma once
 // The inputs most GL renderer tests start from, made the way the pipeline makes them: a scene
 // prepared from `o`, its G-buffer and its DPRSM (tessellated for o.dprsm) rasterised on the
-// pipeline's GL context, and the CPU voxel grid. The tests then run builders or estimators on them
-// with both backends.
-#include "gl_raster.hpp"
-#include "options.hpp"
-#include "pipeline.hpp"
-#include "render_data.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+// pipeline's GL context, the CPU voxel grid, and the same buffers uploaded to the GPU: a frame that
+// both backends take. The tests then run builders or estimators on it with both backends.
+#include "app/options.hpp"
+#include "app/render_options.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/gpu_scene_buffers.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/frame_buffers.hpp"
+#include "render/pipeline.hpp"
 
-#include <vplkit/visibility/voxel_grid.hpp>
-
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -21,9 +22,7 @@ namespace vplrender_test {
 struct gl_fixture {
   vplrender::options o;
   vplrender::prepared_scene p;
-  vplrender::gbuffer_data g;
-  vplrender::dprsm_data d;
-  vplkit::voxel_grid<float> grid;
+  vplrender::frame_buffers b;  // CPU arrays and their GPU copies (b.gpu)
 };
 
 // Small test sizes: WxH pixels, DPRSM 2 x dprsm^2, voxels^3, 8 VPLs and 8 directions, no progress.
@@ -50,7 +49,9 @@ inline gl_fixture make_gl_fixture(const vplrender::options& o) {
   tp.max_angle = vplrender::tessellation_angle_for_resolution(o.dprsm);
   vplrender::dprsm_data d = raster.render_dprsm(vplrender::dprsm_light(p.s), o.dprsm, tp);
   vplkit::voxel_grid<float> grid = vplrender::voxelize_cpu(p.s, o.voxels);
-  return {o, std::move(p), std::move(g), std::move(d), std::move(grid)};
+  auto gpu = std::make_shared<vplrender::gpu_scene_buffers>(vplrender::upload_scene_buffers(g, d, grid.view()));
+  vplrender::frame_buffers b{vplrender::backend::gpu, "", std::move(g), std::move(d), std::move(grid), std::move(gpu)};
+  return {o, std::move(p), std::move(b)};
 }
 
 }  // namespace vplrender_test

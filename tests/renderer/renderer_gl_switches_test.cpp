@@ -5,17 +5,20 @@
 // other GBG weights (different image). Small images, DPRSM 2x16x16, 32^3 voxels.
 #include "renderer_gl_fixture.hpp"
 
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "gl_raster.hpp"
-#include "pipeline.hpp"
-#include "report.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/render_options.hpp"
+#include "app/report.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/cpu/cpu_builders.hpp"
+#include "render/mixture_components.hpp"
+#include "scene/builtin_scenes.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -28,10 +31,10 @@ using fixture = vplrender_test::gl_fixture;
 fixture make_fixture() { return vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell")); }
 
 image_rgb render(const fixture& f, const options& o) {
-  estimator_settings es = make_estimator_settings(o, f.p.s);
+  render_settings es = make_render_settings(o, f.p.s);
   es.threads = 2;
   stage_timer t;
-  return render_cpu(f.g, f.d, f.grid.view(), es, t).image;
+  return render_cpu(f.b, es, t).image;
 }
 
 bool bit_identical(const image_rgb& a, const image_rgb& b) {
@@ -64,6 +67,53 @@ TEST_CASE("cdf-search binary gives the bit-identical image of the guide table on
     INFO(to_string(m));
     CHECK(mean_of(guide) > 0.0);
     CHECK(bit_identical(guide, binary));
+  }
+}
+
+TEST_CASE("sampler alias and face-selection roulette: the joint CDF's pmf, other draws, finite images") {
+  const fixture f = make_fixture();
+  for (method m : {method::global, method::local, method::gbg}) {
+    options o = f.o;
+    o.meth = m;
+    o.eps = 0.1;
+    const image_rgb joint = render(f, o);
+    render_settings s = make_render_settings(o, f.p.s);
+    stage_timer t;
+    nlohmann::json det;
+    const cpu_distributions built = build_distributions_cpu(f.b, s, t, {}, det);
+    for (int k = 0; k < 2; ++k) {
+      INFO(to_string(m) << (k == 0 ? " alias" : " roulette"));
+      options ok = o;
+      if (k == 0) ok.sampler = sampler_choice::alias;
+      else ok.face_selection = face_selection_choice::roulette;
+      s = make_render_settings(ok, f.p.s);
+      const mixture_components c =
+          build_mixture_components(built.weights.data(), static_cast<int>(built.dists.size()), f.b.dprsm.view(), s);
+      // Every texel's pmf equals the joint mixture's up to float rounding (w_t / sum w either way):
+      // the joint pmf is a difference of float prefix sums <= 1, each within half an ulp of 1
+      // (2^-25), so it is off by up to 2^-24 absolute; the roulette's face pmf likewise, times b_F.
+      double worst = -1.0;  // largest excess over the bound
+      int positive = 0;
+      for (std::size_t d = 0; d < built.dists.size(); ++d) {
+        const auto& joint_d = built.dists[d];
+        for (std::size_t i = 0; i < joint_d.size(); ++i) {
+          const float pj = joint_d.pmf(i);
+          const float pk = k == 0 ? resampled_mixture<vplkit::alias_table<float>>{&joint_d, &c.alias[2 * d], &c.alias[2 * d + 1]}.pmf(i)
+                                  : resampled_mixture<vplkit::flat_face_roulette<float>>{&joint_d, &c.flat[2 * d], &c.flat[2 * d + 1]}.pmf(i);
+          REQUIRE((pj == 0.0f) == (pk == 0.0f));
+          if (pj > 0.0f) {
+            ++positive;
+            worst = std::max(worst, std::abs(double(pk) - pj) - (4e-7 * pj + 0x1p-23));
+          }
+        }
+      }
+      CHECK(positive > 100);
+      CHECK(worst <= 0.0);
+      const image_rgb other = render(f, ok);
+      CHECK(finite_non_negative(other));
+      CHECK(mean_of(other) > 0.0);
+      CHECK_FALSE(bit_identical(joint, other));  // another texel for some u
+    }
   }
 }
 
@@ -113,7 +163,7 @@ TEST_CASE("the JSON report records the chosen switches") {
   CHECK(options_to_json(f.o)["cdf_search"] == "guide");
   stage_timer t;
   nlohmann::json det;
-  pipeline_buffers b = prepare_buffers(o, f.p, t, det);
+  frame_buffers b = prepare_buffers(o, f.p, t, det);
   run_estimator(o, f.p, b, t, {}, det);
   CHECK(det["estimator"]["local_combination"] == "average");
   CHECK(det["estimator"]["cdf_search"] == "binary");

@@ -2,11 +2,11 @@
 // albedo buffer shows the map_Kd picture decoded to linear, the right way up, and agrees with the
 // CPU lookup sample_texture at every pixel's texcoord; a missing texture falls back to Kd.
 // Fixtures (OBJ, MTL, PNG) are written by the test into a temporary directory.
-#include "gl_raster.hpp"
-#include "obj_loader.hpp"
-#include "pipeline.hpp"
+#include "raster/gl_raster.hpp"
+#include "render/pipeline.hpp"
 #include "renderer_test_util.hpp"
-#include "texture.hpp"
+#include "scene/obj_loader.hpp"
+#include "scene/texture.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -7,16 +7,17 @@
 //    against vplkit::make_vpl_distribution's.
 #include "renderer_gl_fixture.hpp"
 
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "gl_raster.hpp"
-#include "gpu_backend.hpp"
-#include "gpu_builders.hpp"
-#include "gpu_cdf.hpp"
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/render_options.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/cpu/cpu_builders.hpp"
+#include "render/gpu/gpu_backend.hpp"
+#include "render/gpu/gpu_builders.hpp"
+#include "render/gpu/gpu_cdf.hpp"
+#include "scene/builtin_scenes.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_weights.hpp>
@@ -132,9 +133,9 @@ void compare_cdf(const gpu_mixtures& gm, const std::vector<std::uint32_t>& data,
 TEST_CASE("GPU global and local weights equal the CPU builders' within the float-sum bound") {
   for (const char* scene_name : {"cornell", "open"}) {
     fixture f = make_fixture(scene_name);
-    estimator_settings es = make_estimator_settings(f.o, f.p.s);
-    const auto g = f.g.view();
-    const auto view = f.d.view();
+    render_settings es = make_render_settings(f.o, f.p.s);
+    const auto g = f.b.gbuf.view();
+    const auto view = f.b.dprsm.view();
     const std::size_t n = static_cast<std::size_t>(view.texel_count());
     stage_timer timer;
     // Global.
@@ -142,7 +143,7 @@ TEST_CASE("GPU global and local weights equal the CPU builders' within the float
       const std::vector<int> subset =
           vplkit::stratified_gather_subset(g, vplkit::full_image_rect(g), es.global_subset, builder_seed(es.seed, 0));
       const std::vector<float> cpu = vplkit::build_global_weights(g, subset, view, es.dmin);
-      const gpu_weights gw = build_brsm_weights_gpu(f.g, f.d, es, false, timer);
+      const gpu_weights gw = build_brsm_weights_gpu(f.b, es, false, timer);
       REQUIRE(gw.regions == 1);
       REQUIRE(gw.weights.size_bytes() == 2 * n * 4);
       CHECK(gw.used.front() == static_cast<int>(subset.size()));  // every stratum's pick is valid
@@ -164,7 +165,7 @@ TEST_CASE("GPU global and local weights equal the CPU builders' within the float
       std::vector<float> cpu(static_cast<std::size_t>(N) * n);
       std::vector<int> used(static_cast<std::size_t>(N));
       vplkit::build_local_weights(g, regions, subsets, view, es.dmin, cpu.data(), cpu.size(), used.data());
-      const gpu_weights gw = build_brsm_weights_gpu(f.g, f.d, es, true, timer);
+      const gpu_weights gw = build_brsm_weights_gpu(f.b, es, true, timer);
       REQUIRE(gw.regions == N);
       CHECK(gw.used == used);
       const std::vector<float> gpu = gw.weights.read<float>(static_cast<std::size_t>(N) * n);
@@ -190,14 +191,14 @@ TEST_CASE("GPU-built CDFs equal vplkit::discrete_cdf of the same weights within 
   // 8192 weights, 8 blocks of cdf_build.comp (the cross-block scan and prefix max run).
   for (const char* scene_name : {"cornell", "open"}) {
     fixture f = make_fixture(scene_name, 64);
-    estimator_settings es = make_estimator_settings(f.o, f.p.s);
-    const auto view = f.d.view();
+    render_settings es = make_render_settings(f.o, f.p.s);
+    const auto view = f.b.dprsm.view();
     const std::size_t n = static_cast<std::size_t>(view.texel_count());
-    const vplkit::gl::buffer dprsm = dprsm_surfel_buffer(f.d);
+    const vplkit::gl::buffer& dprsm = f.b.gpu->dprsm;
     for (bool local : {false, true}) {
       stage_timer timer;
       nlohmann::json det;
-      const gpu_weights gw = build_brsm_weights_gpu(f.g, f.d, es, local, timer);
+      const gpu_weights gw = build_brsm_weights_gpu(f.b, es, local, timer);
       const int D = gw.regions;
       const std::vector<float> w = gw.weights.read<float>(static_cast<std::size_t>(D) * n);
       for (float eps : {es.eps, 0.0f}) {
@@ -245,15 +246,14 @@ TEST_CASE("GPU-built CDFs equal vplkit::discrete_cdf of the same weights within 
 
 TEST_CASE("GPU distributions: builder facts use the CPU builder's keys") {
   fixture f = make_fixture("cornell");
-  const vplkit::voxel_grid<float>& grid = f.grid;
   for (method m : {method::global, method::local, method::gbg}) {
     f.o.meth = m;
-    estimator_settings es = make_estimator_settings(f.o, f.p.s);
+    render_settings es = make_render_settings(f.o, f.p.s);
     es.threads = 2;
     stage_timer tc, tg;
     nlohmann::json dc, dg;
-    const cpu_distributions c = build_distributions_cpu(f.g, f.d, grid.view(), es, tc, {}, dc);
-    const gpu_mixtures gm = build_distributions_gpu(f.g, f.d, grid.view(), es, tg, dg);
+    const cpu_distributions c = build_distributions_cpu(f.b, es, tc, {}, dc);
+    const gpu_mixtures gm = build_distributions_gpu(f.b, es, tg, dg);
     CHECK(gm.count == static_cast<int>(c.dists.size()));
     CHECK(gm.local_rounds == c.local_rounds);
     for (auto it = dc.begin(); it != dc.end(); ++it) {

@@ -15,14 +15,15 @@
 // pixel finite and non-negative on both sides.
 #include "renderer_gl_fixture.hpp"
 
-#include "builtin_scenes.hpp"
-#include "cpu_backend.hpp"
-#include "gl_raster.hpp"
-#include "gpu_backend.hpp"
-#include "pipeline.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
-#include "voxels.hpp"
+#include "app/render_options.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/gpu/gpu_backend.hpp"
+#include "render/gpu/gpu_builders.hpp"
+#include "scene/builtin_scenes.hpp"
 
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
@@ -41,7 +42,7 @@ namespace {
 // image's mean (values at the level of float noise around zero count as equal).
 constexpr double rel_bound = 1e-5;  // measured worst 7.9e-7 (open, mis-as-published): ~13x margin
 constexpr double required_fraction = 0.99;
-// Every method with builders (global, local, gbg, mis, mis-as-published; gpu_builder_available)
+// Every method with builders (global, local, gbg, mis, mis-as-published; has_distribution)
 // builds its weights AND its CDFs on the GPU: GBG weights by gbg_accumulate.comp + gbg_finish.comp
 // (within ~3e-7 relative of the CPU's, test below), global/local weights by global_weights.comp
 // (float sums in the same order, within 2e-6 relative: renderer_gpu_builders_test), and the CDFs by
@@ -99,19 +100,15 @@ void run_scene(const std::string& scene_name) {
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene_name));
   options o = f.o;
   const prepared_scene& p = f.p;
-  const gbuffer_data& g = f.g;
-  const dprsm_data& d = f.d;
-  const vplkit::voxel_grid<float>& grid = f.grid;
   for (method m : {method::reference, method::global, method::local, method::gbg, method::gather, method::mis,
                    method::mis_as_published}) {
-    if (!gpu_estimator_available(m)) continue;
     o.meth = m;
-    estimator_settings es = make_estimator_settings(o, p.s);
+    render_settings es = make_render_settings(o, p.s);
     es.threads = 2;
     stage_timer tc, tg;
-    const image_rgb c = render_cpu(g, d, grid.view(), es, tc).image;
-    const image_rgb gi = render_gpu(g, d, grid.view(), es, tg).image;
-    const double bound = gpu_builder_available(m) ? rel_bound_gpu_builders : rel_bound;
+    const image_rgb c = render_cpu(f.b, es, tc).image;
+    const image_rgb gi = render_gpu(f.b, es, tg).image;
+    const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
     const parity r = compare(c, gi, bound);
     std::cout << scene_name << " " << to_string(m) << ": " << 100.0 * r.within << "% of pixels within "
               << bound << " relative; worst inside " << r.worst_rel << ", worst overall " << r.worst_any
@@ -119,6 +116,31 @@ void run_scene(const std::string& scene_name) {
     INFO(scene_name << " " << to_string(m) << ": worst pixel (" << r.worst_x << ", " << r.worst_y << ") rel "
                     << r.worst_any);
     CHECK(r.within >= required_fraction);
+  }
+  // --sampler alias and --face-selection roulette: both sides build the components on the host with
+  // the same C++ code (render/mixture_components.hpp) from their own weights, and sample them with
+  // the same float operations (the roulette's b_F and reciprocals are uploaded, not recomputed), so
+  // the bound is the builders' one; a u at an alias threshold or a face/bin edge may flip a pixel.
+  for (method m : {method::global, method::local, method::gbg, method::mis}) {
+    for (int k = 0; k < 2; ++k) {
+      o.meth = m;
+      render_settings es = make_render_settings(o, p.s);
+      es.threads = 2;
+      if (k == 0) es.sampler = sampler_choice::alias;
+      else es.face_selection = face_selection_choice::roulette;
+      stage_timer tc, tg;
+      const image_rgb c = render_cpu(f.b, es, tc).image;
+      const render_result gr = render_gpu(f.b, es, tg);
+      CHECK(gr.details["sampler"] == to_string(es.sampler));
+      CHECK(gr.details["face_selection"] == to_string(es.face_selection));
+      const parity r = compare(c, gr.image, rel_bound_gpu_builders);
+      const char* sw = k == 0 ? "--sampler alias" : "--face-selection roulette";
+      std::cout << scene_name << " " << to_string(m) << " " << sw << ": " << 100.0 * r.within
+                << "% of pixels within " << rel_bound_gpu_builders << " relative; worst overall " << r.worst_any << "\n";
+      INFO(scene_name << " " << to_string(m) << " " << sw << ": worst pixel (" << r.worst_x << ", " << r.worst_y
+                      << ") rel " << r.worst_any);
+      CHECK(r.within >= required_fraction);
+    }
   }
   // --direct: the direct light is added inside estimate.comp (vplkit_direct_light, the C++
   // vplkit::direct_light statement for statement): the same float arithmetic on the same inputs, so it
@@ -128,15 +150,15 @@ void run_scene(const std::string& scene_name) {
   for (method m : {method::reference, method::global, method::local, method::gbg, method::mis}) {
     o.meth = m;
     o.direct = true;
-    estimator_settings es = make_estimator_settings(o, p.s);
+    render_settings es = make_render_settings(o, p.s);
     es.threads = 2;
     REQUIRE(es.direct);
     stage_timer tc, tg, tn;
-    const image_rgb c = render_cpu(g, d, grid.view(), es, tc).image;
-    const cpu_render_result gr = render_gpu(g, d, grid.view(), es, tg);
+    const image_rgb c = render_cpu(f.b, es, tc).image;
+    const render_result gr = render_gpu(f.b, es, tg);
     es.direct = false;
-    const image_rgb indirect = render_gpu(g, d, grid.view(), es, tn).image;
-    const double bound = gpu_builder_available(m) ? rel_bound_gpu_builders : rel_bound;
+    const image_rgb indirect = render_gpu(f.b, es, tn).image;
+    const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
     const parity r = compare(c, gr.image, bound);
     double with = 0.0, without = 0.0;
     for (float v : gr.image.rgb) with += v;
@@ -171,10 +193,10 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(small);
     const options& o = f.o;
     const prepared_scene& p = f.p;
-    const gbuffer_data& g = f.g;
-    const dprsm_data& d = f.d;
-    const vplkit::voxel_grid<float>& grid = f.grid;
-    const estimator_settings es = make_estimator_settings(o, p.s);
+    const gbuffer_data& g = f.b.gbuf;
+    const dprsm_data& d = f.b.dprsm;
+    const vplkit::voxel_grid<float>& grid = f.b.grid;
+    const render_settings es = make_render_settings(o, p.s);
     vplkit::gbg_params<float> params;
     params.n_dirs = es.dirs;
     params.dmin = es.dmin;
@@ -186,7 +208,7 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
         vplkit::build_gbg_weights(g.view(), d.view(), vplkit::voxel_tracer<float>{grid.view()}, params, &cs);
     stage_timer timer;
     nlohmann::json det;
-    const gbg_gpu_weights gw = build_gbg_weights_gpu(g, d, grid.view(), es, timer, det);
+    const gbg_gpu_weights gw = build_gbg_weights_gpu(f.b, es, timer, det);
     REQUIRE(gw.weights.size() == cpu.size());
     CHECK(det["gbg"]["dispatches"].get<int>() > 1);
     CHECK(gw.gather_points == cs.gather_points);
@@ -225,7 +247,7 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
 TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {
   // The cornell/open cases above already run the reference in two passes (512 texels at 32^3
   // voxels), so the per-pixel state carried between passes is covered by the parity itself.
-  estimator_settings es;
+  render_settings es;
   es.meth = method::gbg;
   es.vpls = 64;
   CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) == 1);
@@ -246,9 +268,6 @@ TEST_CASE("GPU estimators match the CPU backend with the non-default estimator s
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell"));
   options o = f.o;
   const prepared_scene& p = f.p;
-  const gbuffer_data& g = f.g;
-  const dprsm_data& d = f.d;
-  const vplkit::voxel_grid<float>& grid = f.grid;
   struct switch_case {
     const char* name;
     method m;
@@ -271,15 +290,15 @@ TEST_CASE("GPU estimators match the CPU backend with the non-default estimator s
     o.local_combination = sc.comb;
     o.gbg_accumulator = sc.acc;
     o.cdf_search = sc.search;
-    estimator_settings es = make_estimator_settings(o, p.s);
+    render_settings es = make_render_settings(o, p.s);
     es.threads = 2;
     REQUIRE(es.local_combination == sc.comb);
     REQUIRE(es.gbg_accumulator == sc.acc);
     REQUIRE(es.cdf_search == sc.search);
     stage_timer tc, tg;
-    const cpu_render_result cr = render_cpu(g, d, grid.view(), es, tc);
-    const cpu_render_result gr = render_gpu(g, d, grid.view(), es, tg);
-    const double bound = gpu_builder_available(sc.m) ? rel_bound_gpu_builders : rel_bound;
+    const render_result cr = render_cpu(f.b, es, tc);
+    const render_result gr = render_gpu(f.b, es, tg);
+    const double bound = has_distribution(sc.m) ? rel_bound_gpu_builders : rel_bound;
     const parity r = compare(cr.image, gr.image, bound);
     std::cout << "cornell " << sc.name << ": " << 100.0 * r.within << "% of pixels within " << bound
               << " relative; worst inside " << r.worst_rel << ", worst overall " << r.worst_any << "\n";

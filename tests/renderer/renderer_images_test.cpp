@@ -2,15 +2,16 @@
 // rename discipline (a failed write leaves nothing behind and never clobbers an older file).
 #include <catch2/catch.hpp>
 
-#include "atomic_file.hpp"
-#include "errors.hpp"
-#include "exr_io.hpp"
-#include "image.hpp"
-#include "png_preview.hpp"
+#include "app/report.hpp"
+#include "app/scene_setup.hpp"
+#include "io/atomic_file.hpp"
+#include "io/errors.hpp"
+#include "io/exr_io.hpp"
+#include "io/image.hpp"
+#include "io/json_file.hpp"
+#include "io/png_preview.hpp"
+#include "io/text_file.hpp"
 #include "renderer_test_util.hpp"
-#include "report.hpp"
-#include "scene_setup.hpp"
-#include "text_file.hpp"
 
 #include <stb_image.h>
 

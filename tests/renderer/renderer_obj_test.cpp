@@ -3,11 +3,11 @@
 // line, never a crash). Every fixture is written by the test into its own temporary directory.
 #include <catch2/catch.hpp>
 
-#include "errors.hpp"
-#include "obj_loader.hpp"
-#include "obj_scan.hpp"
+#include "io/errors.hpp"
 #include "renderer_test_util.hpp"
-#include "texture.hpp"
+#include "scene/obj_loader.hpp"
+#include "scene/obj_scan.hpp"
+#include "scene/texture.hpp"
 
 #include <stb_image_write.h>
 

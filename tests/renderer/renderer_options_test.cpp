@@ -2,8 +2,8 @@
 // anything.
 #include <catch2/catch.hpp>
 
-#include "errors.hpp"
-#include "options.hpp"
+#include "app/options.hpp"
+#include "io/errors.hpp"
 
 #include <string>
 #include <vector>
@@ -293,6 +293,21 @@ TEST_CASE("the estimator switches (local combination, GBG accumulator, CDF searc
   CHECK(parse({"--gbg-accumulator", "gathering"}).gbg_accumulator == gbg_accumulator_choice::gathering);
   CHECK(parse({"--cdf-search", "binary"}).cdf_search == cdf_search_choice::binary);
   CHECK(parse({"--cdf-search", "guide"}).cdf_search == cdf_search_choice::guide);
+  CHECK(d.face_selection == face_selection_choice::joint);
+  CHECK(d.sampler == sampler_choice::cdf);
+  CHECK(parse({"--face-selection", "roulette"}).face_selection == face_selection_choice::roulette);
+  CHECK(parse({"--face-selection", "joint"}).face_selection == face_selection_choice::joint);
+  CHECK(parse({"--sampler", "alias"}).sampler == sampler_choice::alias);
+  CHECK(parse({"--sampler", "cdf"}).sampler == sampler_choice::cdf);
+  CHECK(std::string(to_string(face_selection_choice::roulette)) == "roulette");
+  CHECK(std::string(to_string(sampler_choice::alias)) == "alias");
+  CHECK(starts_with(error_of({"--face-selection", "front"}), "--face-selection: unknown value 'front'"));
+  CHECK(starts_with(error_of({"--sampler", "walker"}), "--sampler: unknown value 'walker'"));
+  CHECK(starts_with(error_of({"--sampler", ""}), "--sampler: "));
+  // The combinations that have no meaning are refused, naming the flag.
+  CHECK(starts_with(error_of({"--sampler", "alias", "--face-selection", "roulette"}), "--sampler alias: needs"));
+  CHECK(starts_with(error_of({"--cdf-search", "binary", "--sampler", "alias"}), "--cdf-search binary: needs"));
+  CHECK(starts_with(error_of({"--cdf-search", "binary", "--face-selection", "roulette"}), "--cdf-search binary: needs"));
   // Independent of each other and of --paper (which sets sizes and counts only).
   const options all = parse({"--paper", "--cdf-search", "binary", "--gbg-accumulator", "paper", "--local-combination",
                              "average"});

@@ -2,7 +2,7 @@
 // (No timing is measured: the delays used are 0 and "never".)
 #include <catch2/catch.hpp>
 
-#include "progress.hpp"
+#include "app/progress.hpp"
 
 #include <chrono>
 #include <sstream>

@@ -2,11 +2,11 @@
 // ray casting and camera geometry they are checked with.
 #include <catch2/catch.hpp>
 
-#include "builtin_scenes.hpp"
-#include "camera.hpp"
-#include "errors.hpp"
-#include "raycast.hpp"
-#include "scene_setup.hpp"
+#include "app/scene_setup.hpp"
+#include "io/errors.hpp"
+#include "scene/builtin_scenes.hpp"
+#include "scene/camera.hpp"
+#include "scene/raycast.hpp"
 
 #include <glm/geometric.hpp>
 

@@ -1,10 +1,10 @@
 // The DPRSM tessellation (tessellate.cpp): every output edge within theta_max at the light, even
 // next to the light (the sub-triangle that wrapped over the DPRSM's front face at R = 8, see
 // tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike.
-#include "options.hpp"
-#include "render_data.hpp"
-#include "scene_setup.hpp"
-#include "tessellate.hpp"
+#include "app/options.hpp"
+#include "app/scene_setup.hpp"
+#include "raster/render_data.hpp"
+#include "raster/tessellate.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -2,7 +2,7 @@
 // inputs handled, no hang on large or self-intersecting polygons.
 #include <catch2/catch.hpp>
 
-#include "triangulate.hpp"
+#include "scene/triangulate.hpp"
 
 #include <glm/geometric.hpp>
 

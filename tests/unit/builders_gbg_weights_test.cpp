@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -119,6 +120,63 @@ TEST_CASE("builders: GBG is deterministic and changes with the seed", "[builders
                                            params<float>(8, vplkit::gbg_accumulator::gathering, true, 2u));
   REQUIRE(a == b);
   REQUIRE(a != c);
+}
+
+TEST_CASE("builders: GBG built from partials over pixel ranges equals the serial build",
+          "[builders]") {
+  // The host-parallel form: pixel ranges accumulated into per-worker partials (some left empty),
+  // merged, finished, counted and filled. With the ranges in one partial it is the serial build
+  // bit for bit; split over partials only the double partial sums regroup.
+  const vplkit_test::synthetic_scene<float> s;
+  const auto d = s.make_dprsm(12);
+  const auto view = d.view();
+  const auto gb = s.make_gbuffer(8, 6);
+  const vplkit_test::exact_tracer<float> tr{&s};
+  const auto p = params<float>(8, vplkit::gbg_accumulator::gathering, true);
+  vplkit::gbg_stats serial_stats;
+  const std::vector<float> serial = vplkit::build_gbg_weights(gb.view(), view, tr, p, &serial_stats);
+  REQUIRE(serial_stats.lit_hits > 0);
+  REQUIRE(serial_stats.filled > 0);
+  const std::size_t n = serial.size();
+  const int pixels = gb.view().pixel_count();
+  for (int workers : {1, 3}) {
+    INFO(workers << " partial(s)");
+    std::vector<vplkit::gbg_partial> parts(std::size_t(workers + 1));  // the last stays empty
+    for (int begin = 0, k = 0; begin < pixels; begin += 5, k = (k + 1) % workers) {
+      vplkit::gbg_partial& part = parts[std::size_t(k)];
+      if (part.acc.empty()) part.acc.assign(n, 0.0);
+      vplkit::gbg_accumulate_pixels(gb.view(), begin, std::min(begin + 5, pixels), view, tr, p,
+                                    part.acc.data(), &part.stats);
+    }
+    vplkit::gbg_stats stats;
+    std::vector<double> acc(n, -1.0);
+    vplkit::gbg_merge(parts, n, acc.data(), stats);
+    std::vector<float> raw(n), weights(n);
+    vplkit::gbg_finish(acc.data(), n, stats.gather_points, p.n_dirs, raw.data());
+    vplkit::gbg_count_and_fill(raw.data(), n, view, p.fill_holes, weights.data(), stats);
+    CHECK(stats.gather_points == serial_stats.gather_points);
+    CHECK(stats.rays == serial_stats.rays);
+    CHECK(stats.hits == serial_stats.hits);
+    CHECK(stats.lit_hits == serial_stats.lit_hits);
+    CHECK(stats.reached_texels == serial_stats.reached_texels);
+    CHECK(stats.holes == serial_stats.holes);
+    CHECK(stats.filled == serial_stats.filled);
+    if (workers == 1) {
+      REQUIRE(weights == serial);
+    } else {
+      for (std::size_t t = 0; t < n; ++t) {
+        REQUIRE((weights[t] == 0.0f) == (serial[t] == 0.0f));
+        REQUIRE(weights[t] == Approx(serial[t]).epsilon(1e-6));
+      }
+    }
+    // without the fill, the finished weights are copied through
+    std::vector<float> unfilled(n, -1.0f);
+    vplkit::gbg_stats unfilled_stats;
+    vplkit::gbg_count_and_fill(raw.data(), n, view, false, unfilled.data(), unfilled_stats);
+    REQUIRE(unfilled == raw);
+    CHECK(unfilled_stats.filled == 0);
+    CHECK(unfilled_stats.holes == serial_stats.holes);
+  }
 }
 
 TEMPLATE_TEST_CASE("builders: GBG hole filling fills only texels that carry a VPL", "[builders]",

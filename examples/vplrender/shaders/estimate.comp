@@ -26,7 +26,9 @@
 layout(local_size_x = 64) in;
 
 #include "vplkit/core/gather_point.glsl"
+#include "vplkit/distribution/alias_table.glsl"
 #include "vplkit/distribution/defensive_mixture.glsl"
+#include "vplkit/distribution/flat_face_roulette.glsl"
 #include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/gathering_estimator.glsl"
 #include "vplkit/estimators/local_estimator.glsl"
@@ -62,6 +64,10 @@ layout(std430, binding = 3) readonly buffer VrDistData { uint vr_dist_data[]; };
 layout(std430, binding = 4) readonly buffer VrDistMeta { uint vr_dist_meta[]; };
 layout(std430, binding = 5) buffer VrState { vr_state vr_states[]; };
 layout(std430, binding = 6) writeonly buffer VrOut { vec4 vr_out[]; };
+// --sampler alias / --face-selection roulette: each mixture's components (k = 2 d + c, c = 0 the
+// learned part, 1 the fallback), built on the host (render/mixture_components.hpp) and packed by
+// gpu_backend.cpp's pack_components: 12 uints per component, then the arrays they point into.
+layout(std430, binding = 7) readonly buffer VrComponents { uint vr_components[]; };
 
 uniform int u_width;
 uniform int u_height;
@@ -90,6 +96,7 @@ uniform int u_mis_mode;
 uniform uint u_slot_base;
 uniform int u_direct;  // 1: add the direct light (--direct) in the last pass
 uniform int u_cdf_search;          // 0: guide table (vplkit_defensive_mixture_sample), 1: plain binary search
+uniform int u_sampler;             // 0: the mixtures' CDFs, 1: alias tables, 2: face roulettes (binding 7)
 uniform int u_local_combination;   // vplkit_local_balance or vplkit_local_average (--local-combination)
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
@@ -100,10 +107,23 @@ vec3 vplkit_load_dprsm_position(int texel) { return vr_dprsm[texel].position.xyz
 vec3 vplkit_load_dprsm_normal(int texel) { return vr_dprsm[texel].normal.xyz; }
 vec3 vplkit_load_dprsm_albedo(int texel) { return vr_dprsm[texel].albedo.xyz; }
 uint vplkit_load_voxel_word(uint word_index) { return vr_voxels[word_index]; }
+// Slots from VR_COMPONENT_SLOT on are the roulettes' face CDFs in vr_components: slot
+// VR_COMPONENT_SLOT + 2 k + face, its offsets at 12 k + 3 face.
+const uint VR_COMPONENT_SLOT = 0x80000000u;
+uint vr_face_record(uint slot) { return 12u * ((slot - VR_COMPONENT_SLOT) >> 1u) + 3u * (slot & 1u); }
 float vplkit_load_cdf(uint slot, uint i) {
+  if (slot >= VR_COMPONENT_SLOT) return uintBitsToFloat(vr_components[vr_components[vr_face_record(slot)] + i]);
   return uintBitsToFloat(vr_dist_data[vr_dist_meta[u_slot_base + 2u * slot] + i]);
 }
-uint vplkit_load_guide(uint slot, uint j) { return vr_dist_data[vr_dist_meta[u_slot_base + 2u * slot + 1u] + j]; }
+uint vplkit_load_guide(uint slot, uint j) {
+  if (slot >= VR_COMPONENT_SLOT) return vr_components[vr_components[vr_face_record(slot) + 1u] + j];
+  return vr_dist_data[vr_dist_meta[u_slot_base + 2u * slot + 1u] + j];
+}
+vplkit_alias_bin vplkit_load_alias_bin(uint table, uint j) {
+  uint b = vr_components[12u * table] + 3u * j;
+  return vplkit_alias_bin(uintBitsToFloat(vr_components[b]), uintBitsToFloat(vr_components[b + 1u]),
+                          vr_components[b + 2u]);
+}
 
 vplkit_defensive_mixture vr_mixture(uint d) {
   uint b = 12u * d;
@@ -114,12 +134,52 @@ vplkit_defensive_mixture vr_mixture(uint d) {
   return vplkit_defensive_mixture(learned, fallback, uintBitsToFloat(vr_dist_meta[b + 8u]),
                                   uintBitsToFloat(vr_dist_meta[b + 9u]), uintBitsToFloat(vr_dist_meta[b + 10u]));
 }
+// Component k as the C++ alias_table / flat_face_roulette (the roulette's scalars as uploaded).
+vplkit_alias_table vr_alias(uint k) {
+  return vplkit_alias_table(k, vr_components[12u * k + 10u], uintBitsToFloat(vr_components[12u * k + 2u]));
+}
+vplkit_flat_face_roulette vr_roulette(uint k) {
+  uint r = 12u * k;
+  uint n = vr_components[r + 10u], m = vr_components[r + 11u];
+  vplkit_discrete_cdf front = vplkit_discrete_cdf(VR_COMPONENT_SLOT + 2u * k, n, m, uintBitsToFloat(vr_components[r + 2u]));
+  vplkit_discrete_cdf back = vplkit_discrete_cdf(VR_COMPONENT_SLOT + 2u * k + 1u, n, m,
+                                                 uintBitsToFloat(vr_components[r + 5u]));
+  vplkit_face_roulette f = vplkit_face_roulette(front, back, uintBitsToFloat(vr_components[r + 6u]),
+                                                uintBitsToFloat(vr_components[r + 7u]),
+                                                uintBitsToFloat(vr_components[r + 8u]),
+                                                uintBitsToFloat(vr_components[r + 9u]));
+  return vplkit_make_flat_face_roulette(f, u_dprsm_res);
+}
+vplkit_discrete_sample vr_component_sample(uint k, float u) {
+  if (u_sampler == 1) return vplkit_alias_table_sample(vr_alias(k), u);
+  return vplkit_flat_face_roulette_sample(vr_roulette(k), u);
+}
+float vr_component_pmf(uint k, uint i) {
+  if (u_sampler == 1) return vplkit_alias_table_pmf(vr_alias(k), i);
+  return vplkit_flat_face_roulette_pmf(vr_roulette(k), i);
+}
+// render/mixture_components.hpp's resampled_mixture: the mixture's split, its components replaced.
+float vr_resampled_pmf(vplkit_defensive_mixture m, uint d, uint i) {
+  return vplkit_defensive_mixture_pmf(m.effective_eps, vr_component_pmf(2u * d, i), vr_component_pmf(2u * d + 1u, i));
+}
+vplkit_discrete_sample vr_resampled_sample(uint d, float u) {
+  vplkit_defensive_mixture m = vr_mixture(d);
+  if (vplkit_defensive_mixture_empty(m)) return vplkit_discrete_sample(0u, 0.0);
+  float e = m.effective_eps;
+  u = vplkit_discrete_clamp_u(u);
+  uint i = u < e ? vr_component_sample(2u * d + 1u, vplkit_discrete_clamp_u(u * m.fallback_scale)).index
+                 : vr_component_sample(2u * d, vplkit_discrete_clamp_u((u - e) * m.learned_scale)).index;
+  return vplkit_discrete_sample(i, vr_resampled_pmf(m, d, i));
+}
+
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u) {
-  // --cdf-search: both searches return the same index and pmf (uniform branch, no divergence).
+  // Uniform branches (no divergence). --cdf-search: both searches return the same index and pmf.
+  if (u_sampler != 0) return vr_resampled_sample(distribution, u);
   if (u_cdf_search != 0) return vplkit_defensive_mixture_sample_binary_search(vr_mixture(distribution), u);
   return vplkit_defensive_mixture_sample(vr_mixture(distribution), u);
 }
 float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
+  if (u_sampler != 0) return vr_resampled_pmf(vr_mixture(distribution), distribution, index);
   return vplkit_defensive_mixture_pmf(vr_mixture(distribution), index);
 }
 

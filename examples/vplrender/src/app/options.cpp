@@ -1,0 +1,400 @@
+#include "app/options.hpp"
+
+#include "io/errors.hpp"
+#include "scene/scene.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace vplrender {
+
+const char* to_string(progress_mode p) {
+  return p == progress_mode::always ? "always" : p == progress_mode::never ? "never" : "auto";
+}
+
+namespace {
+
+std::string replace_extension(const std::string& out, const char* ext) { return out.substr(0, out.size() - 4) + ext; }
+
+struct raw_values {
+  std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
+      window_script, local_combination, gbg_accumulator, cdf_search,
+      face_selection, sampler;
+  bool paper = false, direct = false, window = false;
+};
+
+// Word-wraps at `width` columns; CLI11 indents continuation lines to the description column.
+std::string wrap(const std::string& text, std::size_t width = 62) {
+  std::string out, line;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const std::size_t j = std::min(text.find(' ', i), text.size());
+    const std::string word = text.substr(i, j - i);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    i = j + 1;
+  }
+  return out + line;
+}
+
+constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published";
+
+void build_app(CLI::App& app, raw_values& v) {
+  app.description(wrap(
+      "vplrender: one-bounce diffuse global illumination with virtual point lights stored in a dual "
+      "paraboloid reflective shadow map, selected by inverse transform sampling (vplkit example).", 96));
+  app.get_formatter()->column_width(34);
+  const auto d = [](const char* text) { return wrap(text); };
+  app.add_option("--scene", v.scene, d("Scene: the built-in 'cornell' (closed box, default) or 'open', or an OBJ file "
+                                     "(with its MTL and textures). Use ./cornell for a file of that name."))
+      ->type_name("cornell|open|FILE.obj");
+  app.add_option("--method", v.meth,
+                 d("Estimator (default mis): reference = exhaustive VPL sum with visibility; global = BRSM global "
+                 "CDF; local = per-region CDFs (balance heuristic); gbg = gathering-based global CDF; gather = "
+                 "cosine gathering only; mis = gathering + GBG CDF with solid-angle balance heuristic; "
+                 "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison)."))
+      ->type_name(kMethods);
+  app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
+                                      "(headless). gpu: voxelisation and the estimator of every method run as compute "
+                                      "shaders from the GLSL pack, and so do the GBG weights and hole fill (gbg, mis, "
+                                      "mis-as-published); the global/local weights, CDFs and direct light still run on "
+                                      "the CPU. cpu: the C++ templates, all cores."))
+      ->type_name("gpu|cpu");
+  app.add_option("--size", v.size, d("Image size (default 512x512; each side 1..16384, at most 2^26 pixels)."))
+      ->type_name("WxH");
+  app.add_option("--vpls", v.vpls, d("VPL samples per gather point (default 64; 1..1048576)."))->type_name("N");
+  app.add_option("--seed", v.seed, d("Random seed (default 1; 0..4294967295)."))->type_name("N");
+  app.add_option("--out", v.out, d("Output OpenEXR file (default vplrender.exr); the PNG preview and the JSON "
+                                 "report are written beside it with .png and .json."))
+      ->type_name("FILE.exr");
+  app.add_option("--regions", v.regions, d("Image regions of the local CDF method (default 4 = 2x2; 1..1024; "
+                                         "laid out as the most nearly square grid)."))
+      ->type_name("N");
+  app.add_option("--dirs", v.dirs, d("Cosine-distributed gathering directions per gather point for gbg, gather "
+                                   "and mis (default 16; 1..65536)."))
+      ->type_name("N");
+  app.add_option("--eps", v.eps, d("Defensive mixing weight: p = (1-eps) p_cdf + eps p_uniform (default 0.05; "
+                                 "0..1; 0 reproduces the paper)."))
+      ->type_name("X");
+  app.add_option("--local-combination", v.local_combination,
+                 d("How --method local combines its N region CDFs (default balance): balance = each sample "
+                   "divided by the sum of the N pmfs (the mixture; unbiased wherever any CDF covers the VPL); "
+                   "average = each sample divided by N times the pmf of the CDF that drew it (the paper's; "
+                   "unbiased only where every CDF covers the VPL, more noise at region borders)."))
+      ->type_name("balance|average");
+  app.add_option("--gbg-accumulator", v.gbg_accumulator,
+                 d("Value each lit GBG ray adds to its texel's weight, for gbg, mis and mis-as-published (default "
+                   "gathering): gathering = luminance of the gathering estimator's value rho_x L_o(y); paper = "
+                   "luminance of the VPL's contribution to the gather point (eq. 5, clamped at dmin)."))
+      ->type_name("gathering|paper");
+  app.add_option("--cdf-search", v.cdf_search,
+                 d("How every CDF sample is searched (default guide): guide = guide table (cutpoint method) then "
+                   "at most a short binary search; binary = plain binary search over the whole CDF. Both return "
+                   "the same index for every u, so the image is identical: this measures the search's cost."))
+      ->type_name("guide|binary");
+  app.add_option("--face-selection", v.face_selection,
+                 d("How a VPL distribution chooses between the two paraboloids (default joint): joint = one CDF "
+                   "over both faces' texels; roulette = the paper's Alg. 1, the face by its share of the weight, "
+                   "then the texel within it. Same pmf; a sample may land on another texel for the same u."))
+      ->type_name("joint|roulette");
+  app.add_option("--sampler", v.sampler,
+                 d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
+                   "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
+                   "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
+                   "docs/results.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
+      ->type_name("cdf|alias");
+  app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
+      ->type_name("N");
+  app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
+      ->type_name("N");
+  app.add_option("--camera", v.cam, d("Camera: eye, target, up vector and vertical field of view in degrees (0..180), "
+                                    "10 comma-separated numbers. Default: the built-in scene's camera, or for an "
+                                    "OBJ one that frames its bounding box from +Z."))
+      ->type_name("EX,EY,EZ,TX,TY,TZ,UX,UY,UZ,FOV");
+  app.add_option("--light", v.light, d("Point light position, optionally followed by its RGB intensity in W/sr (3 or "
+                                     "6 comma-separated numbers). Default: the built-in scene's light, or for an OBJ "
+                                     "one placed automatically (see docs/renderer.md)."))
+      ->type_name("X,Y,Z[,R,G,B]");
+  app.add_flag("--paper", v.paper, d("The paper's parameters: --size 512x512 --dprsm 512 --voxels 128 --vpls 800 "
+                                   "--regions 4 --dirs 800. Flags given explicitly win."));
+  app.add_flag("--direct", v.direct, d("Add direct lighting (default: one-bounce indirect only, as in the paper)."));
+  app.add_flag("--window", v.window, d("Also show the result in an interactive window (GPU backend; needs a display). "
+                                     "Keys: 1-7 reference/global/local/gbg/gather/mis/mis-as-published, M next "
+                                     "method, + / - double / halve --vpls (and --dirs for gbg, gather, mis), "
+                                     "Esc or Q close. Each change re-renders; the title shows method, samples and "
+                                     "the last render time."));
+  app.add_option("--frames", v.frames, d("With --window: close after N frames (default 0: when closed by the user)."))
+      ->type_name("N");
+  app.add_option("--window-script", v.window_script,
+                 d("With --window: key actions injected one per frame from the second frame on, comma-separated "
+                   "(1-7, m, +, -, q); for tests."))
+      ->type_name("K1,K2,...");
+  app.add_option("--exposure", v.exposure, d("Exposure multiplier for the PNG preview only (default 1; > 0)."))
+      ->type_name("X");
+  app.add_option("--progress", v.progress, d("Progress bar on stderr for runs longer than a second: auto (only when "
+                                           "stderr is a terminal, default), always, never."))
+      ->type_name("auto|always|never");
+  app.footer(wrap(
+      "Outputs: FILE.exr (linear HDR, float RGB), FILE.png (Reinhard on luminance, sRGB), FILE.json (parameters, GL "
+      "renderer, per-stage times). Each is written to a temporary file and renamed.", 96) + "\n" +
+             wrap("Exit status: 0 success, 1 bad input or failed output, 2 bad command line, 3 not implemented in this "
+                  "build.", 96));
+}
+
+[[noreturn]] void bad(const std::string& flag, const std::string& msg) { throw usage_error(flag + ": " + msg); }
+
+long long parse_integer(const std::string& flag, const std::string& text, long long lo, long long hi) {
+  const bool digits = !text.empty() && text.size() <= 19 &&
+                      std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits)
+    bad(flag, "expected a whole number in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got '" + text + "'");
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || v < lo || v > hi)
+    bad(flag, "value " + text + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+  return v;
+}
+
+double parse_real(const std::string& flag, const std::string& text) {
+  // strtod, but not "nan"/"inf"/hex: only plain decimal numbers.
+  const bool charset = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' || c == 'E';
+  });
+  char* end = nullptr;
+  const double v = charset ? std::strtod(text.c_str(), &end) : 0.0;
+  if (!charset || end != text.c_str() + text.size()) bad(flag, "'" + text + "' is not a number");
+  if (!std::isfinite(v) || std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+    bad(flag, "'" + text + "' is out of range");
+  return v;
+}
+
+std::vector<double> parse_list(const std::string& flag, const std::string& text) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    out.push_back(parse_real(flag, item));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+template <class E>
+E parse_choice(const std::string& flag, const std::string& text, std::initializer_list<std::pair<const char*, E>> choices) {
+  std::string list;
+  for (const auto& [name, value] : choices) {
+    if (text == name) return value;
+    list += list.empty() ? name : std::string("|") + name;
+  }
+  bad(flag, "unknown value '" + text + "' (expected " + list + ")");
+}
+
+void parse_size(const std::string& text, int& w, int& h) {
+  const std::size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) bad("--size", "expected WxH, e.g. 512x512, got '" + text + "'");
+  w = static_cast<int>(parse_integer("--size", text.substr(0, x), 1, limits::max_side));
+  h = static_cast<int>(parse_integer("--size", text.substr(x + 1), 1, limits::max_side));
+  if (static_cast<long long>(w) * h > limits::max_pixels)
+    bad("--size", text + " has more than 2^26 pixels");
+}
+
+// CLI11's messages, made to lead with the flag and to say plainly what went wrong.
+std::string explain(const CLI::ParseError& e) {
+  std::string m = e.what();
+  const std::string at_most = ": At Most 1 required but received ";
+  if (const std::size_t p = m.find(at_most); p != std::string::npos) return m.substr(0, p) + ": given more than once";
+  const std::string not_expected = "not expected: ";
+  if (const std::size_t p = m.find(not_expected); p != std::string::npos) {
+    const std::string what = m.substr(p + not_expected.size());
+    return (what.rfind("-", 0) == 0 ? "unknown option: " : "unexpected argument: ") + what + " (see --help)";
+  }
+  return m;
+}
+
+}  // namespace
+
+std::string options::png_path() const { return replace_extension(out, ".png"); }
+std::string options::json_path() const { return replace_extension(out, ".json"); }
+
+void region_grid(int n, int& x, int& y) {
+  y = 1;
+  for (int d = 1; static_cast<long long>(d) * d <= n; ++d)
+    if (n % d == 0) y = d;
+  x = n / y;
+}
+
+std::string help_text(const std::string& program) {
+  CLI::App app;
+  raw_values v;
+  build_app(app, v);
+  app.name(program);
+  return app.help();
+}
+
+parse_result parse_command_line(const std::vector<std::string>& args) {
+  CLI::App app;
+  raw_values v;
+  build_app(app, v);
+  parse_result r;
+  app.name(args.empty() ? std::string("vplrender") : args[0]);
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  if (argv.empty()) argv.push_back("vplrender");
+  try {
+    app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const CLI::CallForHelp&) {
+    r.what = parse_result::action::help;
+    r.help = app.help();
+    return r;
+  } catch (const CLI::ParseError& e) {
+    throw usage_error(explain(e));
+  }
+  const auto given = [&](const char* flag) { return app.count(flag) > 0; };
+
+  options& o = r.opts;
+  if (given("--scene")) {
+    if (v.scene.empty()) bad("--scene", "empty scene name");
+    o.scene = v.scene;
+  }
+  if (given("--method"))
+    o.meth = parse_choice<method>("--method", v.meth,
+                                  {{"reference", method::reference}, {"global", method::global}, {"local", method::local},
+                                   {"gbg", method::gbg}, {"gather", method::gather}, {"mis", method::mis},
+                                   {"mis-as-published", method::mis_as_published}});
+  if (given("--backend")) o.back = parse_choice<backend>("--backend", v.back, {{"gpu", backend::gpu}, {"cpu", backend::cpu}});
+  if (given("--progress"))
+    o.progress = parse_choice<progress_mode>("--progress", v.progress,
+                                             {{"auto", progress_mode::automatic}, {"always", progress_mode::always},
+                                              {"never", progress_mode::never}});
+  if (given("--local-combination"))
+    o.local_combination = parse_choice<local_combination_choice>(
+        "--local-combination", v.local_combination,
+        {{"balance", local_combination_choice::balance}, {"average", local_combination_choice::average}});
+  if (given("--gbg-accumulator"))
+    o.gbg_accumulator = parse_choice<gbg_accumulator_choice>(
+        "--gbg-accumulator", v.gbg_accumulator,
+        {{"gathering", gbg_accumulator_choice::gathering}, {"paper", gbg_accumulator_choice::paper}});
+  if (given("--cdf-search"))
+    o.cdf_search = parse_choice<cdf_search_choice>("--cdf-search", v.cdf_search,
+                                                   {{"guide", cdf_search_choice::guide},
+                                                    {"binary", cdf_search_choice::binary}});
+  if (given("--face-selection"))
+    o.face_selection = parse_choice<face_selection_choice>(
+        "--face-selection", v.face_selection,
+        {{"joint", face_selection_choice::joint}, {"roulette", face_selection_choice::roulette}});
+  if (given("--sampler"))
+    o.sampler = parse_choice<sampler_choice>("--sampler", v.sampler,
+                                             {{"cdf", sampler_choice::cdf}, {"alias", sampler_choice::alias}});
+  // The library's face roulette samples discrete CDFs, and --cdf-search only concerns the joint CDF.
+  if (o.sampler == sampler_choice::alias && o.face_selection == face_selection_choice::roulette)
+    throw usage_error("--sampler alias: needs --face-selection joint (the face roulette samples discrete CDFs)");
+  if (o.cdf_search == cdf_search_choice::binary &&
+      (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))
+    throw usage_error("--cdf-search binary: needs --sampler cdf and --face-selection joint");
+  o.paper = v.paper;
+  if (o.paper) {
+    o.width = o.height = 512;
+    o.dprsm = 512;
+    o.voxels = 128;
+    o.vpls = 800;
+    o.regions = 4;
+    o.dirs = 800;
+  }
+  if (given("--size")) parse_size(v.size, o.width, o.height);
+  if (given("--vpls")) o.vpls = static_cast<int>(parse_integer("--vpls", v.vpls, 1, limits::max_vpls));
+  if (given("--seed")) o.seed = static_cast<std::uint32_t>(parse_integer("--seed", v.seed, 0, 4294967295LL));
+  if (given("--regions")) o.regions = static_cast<int>(parse_integer("--regions", v.regions, 1, limits::max_regions));
+  if (given("--dirs")) o.dirs = static_cast<int>(parse_integer("--dirs", v.dirs, 1, limits::max_dirs));
+  if (given("--voxels"))
+    o.voxels = static_cast<int>(parse_integer("--voxels", v.voxels, limits::min_voxels, limits::max_voxels));
+  if (given("--dprsm"))
+    o.dprsm = static_cast<int>(parse_integer("--dprsm", v.dprsm, limits::min_dprsm, limits::max_dprsm));
+  if (given("--eps")) {
+    o.eps = parse_real("--eps", v.eps);
+    if (!(o.eps >= 0.0 && o.eps <= 1.0)) bad("--eps", "value " + v.eps + " is outside 0..1");
+  }
+  if (given("--exposure")) {
+    const double e = parse_real("--exposure", v.exposure);
+    if (!(e > 0.0 && e <= limits::max_exposure)) bad("--exposure", "value " + v.exposure + " must be in (0, 1e6]");
+    o.exposure = static_cast<float>(e);
+  }
+  if (given("--out")) {
+    o.out = v.out;
+    std::string lower = o.out;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::size_t slash = o.out.find_last_of('/');
+    const std::string base = slash == std::string::npos ? o.out : o.out.substr(slash + 1);
+    if (lower.size() < 4 || lower.compare(lower.size() - 4, 4, ".exr") != 0 || base.size() <= 4)
+      bad("--out", "'" + o.out + "' must be a file name ending in .exr");
+  }
+  if (given("--camera")) {
+    const std::vector<double> c = parse_list("--camera", v.cam);
+    if (c.size() != 10) bad("--camera", "expected 10 comma-separated numbers (eye, target, up, fov), got " + std::to_string(c.size()));
+    camera cam;
+    cam.eye = glm::vec3(glm::dvec3(c[0], c[1], c[2]));
+    cam.target = glm::vec3(glm::dvec3(c[3], c[4], c[5]));
+    cam.up = glm::vec3(glm::dvec3(c[6], c[7], c[8]));
+    cam.vfov_deg = static_cast<float>(c[9]);
+    try {
+      validate_camera(cam, "--camera");
+    } catch (const input_error& e) {
+      throw usage_error(e.what());
+    }
+    o.cam = camera_option{cam.eye, cam.target, cam.up, cam.vfov_deg};
+  }
+  if (given("--light")) {
+    const std::vector<double> l = parse_list("--light", v.light);
+    if (l.size() != 3 && l.size() != 6)
+      bad("--light", "expected 3 (position) or 6 (position, intensity) comma-separated numbers, got " + std::to_string(l.size()));
+    light_option lo;
+    lo.position = glm::vec3(glm::dvec3(l[0], l[1], l[2]));
+    if (l.size() == 6) {
+      if (l[3] < 0.0 || l[4] < 0.0 || l[5] < 0.0) bad("--light", "intensity must be >= 0 in every channel");
+      lo.intensity = glm::vec3(glm::dvec3(l[3], l[4], l[5]));
+    }
+    o.light = lo;
+  }
+  o.direct = v.direct;
+  o.window = v.window;
+  if (given("--frames")) {
+    if (!o.window) bad("--frames", "needs --window");
+    o.frames = static_cast<int>(parse_integer("--frames", v.frames, 1, 1000000));
+  }
+  if (given("--window-script")) {
+    if (!o.window) bad("--window-script", "needs --window");
+    std::size_t i = 0;
+    while (i <= v.window_script.size()) {
+      const std::size_t j = std::min(v.window_script.find(',', i), v.window_script.size());
+      std::string k = v.window_script.substr(i, j - i);
+      if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') k[0] = static_cast<char>(k[0] - 'A' + 'a');
+      static const char* const allowed[] = {"1", "2", "3", "4", "5", "6", "7", "m", "+", "-", "q"};
+      if (std::find(std::begin(allowed), std::end(allowed), k) == std::end(allowed))
+        bad("--window-script", "unknown key action '" + k + "' (expected 1-7, m, +, -, q)");
+      o.window_script.push_back(k);
+      i = j + 1;
+    }
+  }
+
+  region_grid(o.regions, o.regions_x, o.regions_y);
+  if (o.regions_x > o.width || o.regions_y > o.height)
+    bad("--regions", std::to_string(o.regions) + " regions (" + std::to_string(o.regions_x) + "x" +
+                         std::to_string(o.regions_y) + ") do not fit a " + std::to_string(o.width) + "x" +
+                         std::to_string(o.height) + " image");
+  if (o.window && o.back != backend::gpu) bad("--window", "needs --backend gpu");
+  return r;
+}
+
+}  // namespace vplrender

@@ -1,0 +1,91 @@
+#pragma once
+// The command line contract of vplrender: names, defaults, limits. Parsing produces a
+// plain struct and touches nothing else, so it is tested without running anything.
+#include "render/settings.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vplrender {
+
+enum class progress_mode { automatic, always, never };
+
+const char* to_string(progress_mode p);
+
+// Limits: anything outside is "absurd" and refused with a message naming the flag.
+struct limits {
+  static constexpr int max_side = 16384;                 // --size, each side
+  static constexpr long long max_pixels = 1LL << 26;     // --size, W * H (64 Mpixel)
+  static constexpr int max_vpls = 1 << 20;               // --vpls
+  static constexpr int max_dirs = 1 << 16;               // --dirs
+  static constexpr int max_regions = 1024;               // --regions
+  static constexpr int min_voxels = 4, max_voxels = 1024;  // --voxels (per axis)
+  static constexpr int min_dprsm = 8, max_dprsm = 4096;  // --dprsm (per face, per side)
+  static constexpr double max_exposure = 1e6;
+};
+
+struct camera_option {
+  glm::vec3 eye, target, up;
+  float vfov_deg;
+};
+
+struct light_option {
+  glm::vec3 position;
+  std::optional<glm::vec3> intensity;  // W/sr; absent: keep the scene's (or the automatic) one
+};
+
+struct options {
+  std::string scene = "cornell";  // "cornell", "open" or an OBJ path
+  method meth = method::mis;
+  backend back = backend::gpu;
+  int width = 512, height = 512;
+  int vpls = 64;                  // VPL samples per gather point
+  std::uint32_t seed = 1;
+  std::string out = "vplrender.exr";
+  int regions = 4;                // local CDF: number of image regions ...
+  int regions_x = 2, regions_y = 2;  // ... as a grid (the most nearly square factorisation)
+  int dirs = 16;                  // gathering directions per gather point (GBG NBDIR, MIS, gather)
+  double eps = 0.05;              // defensive mixing weight (0 = the paper)
+  local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
+  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
+  cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
+  face_selection_choice face_selection = face_selection_choice::joint;  // paper: roulette
+  sampler_choice sampler = sampler_choice::cdf;
+  int voxels = 128;               // voxel grid resolution per axis
+  int dprsm = 512;                // paraboloid map resolution per face (2 faces)
+  std::optional<camera_option> cam;
+  std::optional<light_option> light;
+  bool paper = false;
+  bool direct = false;            // add direct lighting (default: one-bounce indirect only)
+  bool window = false;            // show the result in a GLFW window (GPU backend)
+  int frames = 0;                 // --window: close after this many frames (0 = when the user closes it)
+  std::vector<std::string> window_script;  // --window: key actions injected one per frame (1-7, m, +, -, q)
+  float exposure = 1.0f;          // PNG preview only
+  progress_mode progress = progress_mode::automatic;
+
+  std::string png_path() const;   // out with .exr replaced by .png
+  std::string json_path() const;  // out with .exr replaced by .json
+};
+
+struct parse_result {
+  enum class action { run, help };
+  action what = action::run;
+  options opts;
+  std::string help;  // filled when what == help
+};
+
+// args[0] is the program name. Throws usage_error with a one-line message that names the flag.
+// Explicit flags win over --paper whatever their order.
+parse_result parse_command_line(const std::vector<std::string>& args);
+
+// The --help text (every flag, its default and its limits).
+std::string help_text(const std::string& program = "vplrender");
+
+// Grid for n regions: the factorisation x * y = n with x >= y and x - y smallest.
+void region_grid(int n, int& x, int& y);
+
+}  // namespace vplrender

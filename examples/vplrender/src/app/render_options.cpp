@@ -1,0 +1,50 @@
+#include "app/render_options.hpp"
+
+namespace vplrender {
+
+frame_settings make_frame_settings(const options& o) {
+  frame_settings f;
+  f.width = o.width;
+  f.height = o.height;
+  f.dprsm = o.dprsm;
+  f.voxels = o.voxels;
+  f.back = o.back;
+  return f;
+}
+
+render_settings make_render_settings(const options& o, const scene& s) {
+  render_settings e;
+  e.meth = o.meth;
+  e.vpls = o.vpls;
+  e.dirs = o.dirs;
+  e.regions_x = o.regions_x;
+  e.regions_y = o.regions_y;
+  e.eps = static_cast<float>(o.eps);
+  e.local_combination = o.local_combination;
+  e.gbg_accumulator = o.gbg_accumulator;
+  e.cdf_search = o.cdf_search;
+  e.face_selection = o.face_selection;
+  e.sampler = o.sampler;
+  e.seed = o.seed;
+  e.direct = o.direct;
+  // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;
+  // the reference uses the same value, so the CDF methods converge to it exactly).
+  e.dmin = 0.01f * bounds(s).diagonal();
+  return e;
+}
+
+frame_buffers prepare_buffers(const options& o, const prepared_scene& p, stage_timer& timer, nlohmann::json& det) {
+  return prepare_buffers(p.s, make_frame_settings(o), timer, det);
+}
+
+render_result run_estimator(const options& o, const prepared_scene& p, const frame_buffers& b, stage_timer& timer,
+                            const progress_fn& progress, nlohmann::json& det) {
+  return run_estimator(b, make_render_settings(o, p.s), timer, progress, det);
+}
+
+pipeline_result run_pipeline(const options& o, const prepared_scene& p, stage_timer& timer,
+                             const progress_fn& progress) {
+  return run_pipeline(p.s, make_frame_settings(o), make_render_settings(o, p.s), timer, progress);
+}
+
+}  // namespace vplrender

@@ -1,0 +1,353 @@
+#include "app/window.hpp"
+
+#include "io/errors.hpp"
+#include "io/png_preview.hpp"
+
+#if VPLRENDER_HAVE_GLFW
+// epoxy before GLFW: it replaces GL/gl.h, and GLFW_INCLUDE_NONE keeps GLFW from including it.
+#include <epoxy/gl.h>
+#include <headless_gl/compute.hpp>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <functional>
+#include <future>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+
+namespace vplrender {
+
+#if VPLRENDER_HAVE_GLFW
+
+namespace {
+
+// One thread that owns the pipeline's headless context: every pipeline call runs on it, so that
+// context stays current there and the window's context stays current on the main thread.
+class gl_worker {
+public:
+  gl_worker() : thread_([this] { loop(); }) {}
+  ~gl_worker() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      quit_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  std::future<void> submit(std::function<void()> f) {
+    auto task = std::make_shared<std::packaged_task<void()>>(std::move(f));
+    std::future<void> result = task->get_future();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      jobs_.push_back([task] { (*task)(); });
+    }
+    cv_.notify_all();
+    return result;
+  }
+
+private:
+  void loop() {
+    for (;;) {
+      std::function<void()> job;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        cv_.wait(lock, [this] { return quit_ || !jobs_.empty(); });
+        if (jobs_.empty()) return;
+        job = std::move(jobs_.front());
+        jobs_.pop_front();
+      }
+      job();
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<std::function<void()>> jobs_;
+  bool quit_ = false;
+  std::thread thread_;
+};
+
+constexpr method kMethodOrder[] = {method::reference, method::global, method::local, method::gbg,
+                                   method::gather, method::mis, method::mis_as_published};
+
+bool uses_dirs(method m) {
+  return m == method::gbg || m == method::gather || m == method::mis || m == method::mis_as_published;
+}
+
+const char* kVertex = R"(#version 430 core
+out vec2 uv;
+void main() {
+  // One triangle covering the viewport: (0,0), (2,0), (0,2) in uv.
+  uv = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+// The texture holds the PNG preview's bytes (already tone-mapped and sRGB-encoded), row 0 = top.
+const char* kFragment = R"(#version 430 core
+in vec2 uv;
+out vec4 color;
+uniform sampler2D image;
+void main() { color = vec4(texture(image, vec2(uv.x, 1.0 - uv.y)).rgb, 1.0); }
+)";
+
+GLuint compile(GLenum kind, const char* src) {
+  const GLuint sh = glCreateShader(kind);
+  glShaderSource(sh, 1, &src, nullptr);
+  glCompileShader(sh);
+  GLint ok = 0;
+  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
+    throw vplkit::gl::gl_error(std::string("--window: display shader: ") + log);
+  }
+  return sh;
+}
+
+std::string glfw_error_text() {
+  const char* d = nullptr;
+  const int code = glfwGetError(&d);
+  return code == GLFW_NO_ERROR ? std::string("unknown error") : std::string(d ? d : "no description");
+}
+
+}  // namespace
+
+struct window_session::impl {
+  options o;
+  const prepared_scene& p;
+  GLFWwindow* win = nullptr;
+  GLuint program = 0, vao = 0, tex = 0;
+  std::unique_ptr<frame_buffers> buffers;  // voxel_grid has no default constructor
+  std::unique_ptr<gl_worker> worker;
+  std::deque<std::string> pending;  // key actions from the keyboard
+  double last_ms = 0.0;
+
+  impl(const options& opts, const prepared_scene& ps) : o(opts), p(ps) {}
+
+  ~impl() {
+    worker.reset();  // the headless context's thread ends before the window goes
+    if (win) {
+      glfwMakeContextCurrent(win);
+      if (tex) glDeleteTextures(1, &tex);
+      if (vao) glDeleteVertexArrays(1, &vao);
+      if (program) glDeleteProgram(program);
+      glfwDestroyWindow(win);
+    }
+    glfwTerminate();
+  }
+
+  void open() {
+    if (!glfwInit()) throw input_error("--window: cannot open a window (GLFW: " + glfw_error_text() + ")");
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    // Small images are shown enlarged by an integer factor (nearest texels), up to ~512 pixels.
+    const int scale = std::max(1, 512 / std::max(o.width, o.height));
+    win = glfwCreateWindow(o.width * scale, o.height * scale, "vplrender", nullptr, nullptr);
+    if (!win) throw input_error("--window: cannot open a window (GLFW: " + glfw_error_text() + ")");
+    glfwSetWindowUserPointer(win, this);
+    glfwSetKeyCallback(win, [](GLFWwindow* w, int key, int, int action, int) {
+      if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
+      auto* self = static_cast<impl*>(glfwGetWindowUserPointer(w));
+      std::string a;
+      if (key >= GLFW_KEY_1 && key <= GLFW_KEY_7) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_1));
+      else if (key >= GLFW_KEY_KP_1 && key <= GLFW_KEY_KP_7) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_KP_1));
+      else if (key == GLFW_KEY_M) a = "m";
+      else if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) a = "+";
+      else if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) a = "-";
+      else if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) a = "q";
+      if (!a.empty()) self->pending.push_back(a);
+    });
+    glfwMakeContextCurrent(win);
+    glfwSwapInterval(1);
+    const GLuint vs = compile(GL_VERTEX_SHADER, kVertex), fs = compile(GL_FRAGMENT_SHADER, kFragment);
+    program = glCreateProgram();
+    glAttachShader(program, vs);
+    glAttachShader(program, fs);
+    glLinkProgram(program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) throw vplkit::gl::gl_error("--window: display program does not link");
+    glGenVertexArrays(1, &vao);  // core profile: a draw needs a bound VAO, even without attributes
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB8, o.width, o.height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glfwSwapBuffers(win);
+    worker = std::make_unique<gl_worker>();
+  }
+
+  // Runs f on the worker, keeping the window's event queue drained while it works (keys pressed
+  // meanwhile are queued and applied afterwards). Rethrows what f threw.
+  void on_worker(std::function<void()> f) {
+    std::future<void> done = worker->submit(std::move(f));
+    while (done.wait_for(std::chrono::milliseconds(30)) != std::future_status::ready) glfwPollEvents();
+    done.get();
+  }
+
+  void upload(const image_rgb& img) {
+    const std::vector<std::uint8_t> bytes = tonemap_reinhard(img, o.exposure);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, o.width, o.height, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
+  }
+
+  std::string samples_text() const {
+    std::string s = "vpls " + std::to_string(o.vpls);
+    if (uses_dirs(o.meth)) s += ", dirs " + std::to_string(o.dirs);
+    return s;
+  }
+
+  void set_title() {
+    char ms[32];
+    std::snprintf(ms, sizeof ms, "%.0f ms", last_ms);
+    const std::string t = std::string("vplrender - ") + to_string(o.meth) + " - " + samples_text() + " - " + ms;
+    glfwSetWindowTitle(win, t.c_str());
+  }
+
+  // Returns true when the image must be re-rendered; sets the close flag for "q".
+  bool apply(const std::string& a) {
+    if (a == "q") {
+      glfwSetWindowShouldClose(win, GLFW_TRUE);
+      return false;
+    }
+    if (a.size() == 1 && a[0] >= '1' && a[0] <= '7') {
+      const method m = kMethodOrder[a[0] - '1'];
+      if (m == o.meth) return false;
+      o.meth = m;
+      return true;
+    }
+    if (a == "m") {
+      int i = 0;
+      while (kMethodOrder[i] != o.meth) ++i;
+      o.meth = kMethodOrder[(i + 1) % 7];
+      return true;
+    }
+    const bool dirs = uses_dirs(o.meth);
+    if (a == "+") {
+      const int v = std::min(o.vpls * 2, limits::max_vpls), d = dirs ? std::min(o.dirs * 2, limits::max_dirs) : o.dirs;
+      const bool changed = v != o.vpls || d != o.dirs;
+      o.vpls = v;
+      o.dirs = d;
+      return changed;
+    }
+    if (a == "-") {
+      const int v = std::max(o.vpls / 2, 1), d = dirs ? std::max(o.dirs / 2, 1) : o.dirs;
+      const bool changed = v != o.vpls || d != o.dirs;
+      o.vpls = v;
+      o.dirs = d;
+      return changed;
+    }
+    return false;
+  }
+
+  void rerender() {
+    render_result r;
+    const auto t0 = std::chrono::steady_clock::now();
+    on_worker([&] {
+      stage_timer timer;
+      nlohmann::json det;
+      r = run_estimator(o, p, *buffers, timer, {}, det);
+    });
+    last_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    upload(r.image);
+  }
+
+  void draw() {
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(win, &fw, &fh);
+    glViewport(0, 0, fw, fh);
+    glClear(GL_COLOR_BUFFER_BIT);
+    // Letterbox: keep the image's aspect ratio inside whatever size the window has now.
+    const double s = std::min(static_cast<double>(fw) / o.width, static_cast<double>(fh) / o.height);
+    const int w = std::max(1, static_cast<int>(o.width * s)), h = std::max(1, static_cast<int>(o.height * s));
+    glViewport((fw - w) / 2, (fh - h) / 2, w, h);
+    glUseProgram(program);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glUniform1i(glGetUniformLocation(program, "image"), 0);
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glfwSwapBuffers(win);
+  }
+};
+
+window_session::window_session(const options& o, const prepared_scene& p) : impl_(std::make_unique<impl>(o, p)) {
+  impl_->open();
+}
+
+window_session::~window_session() = default;
+
+pipeline_result window_session::first_render(stage_timer& timer, const progress_fn& progress) {
+  impl& d = *impl_;
+  pipeline_result r;
+  const auto t0 = std::chrono::steady_clock::now();
+  d.on_worker([&] {
+    d.buffers = std::make_unique<frame_buffers>(prepare_buffers(d.o, d.p, timer, r.details));
+    r.gl_renderer = d.buffers->gl_renderer;
+    r.image = std::move(run_estimator(d.o, d.p, *d.buffers, timer, progress, r.details).image);
+  });
+  d.last_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  d.upload(r.image);
+  d.set_title();
+  return r;
+}
+
+void window_session::run() {
+  impl& d = *impl_;
+  std::size_t next_script = 0;
+  for (int frame = 1;; ++frame) {
+    // One injected action per frame from the second frame on, then what the keyboard queued.
+    if (frame > 1 && next_script < d.o.window_script.size()) d.pending.push_back(d.o.window_script[next_script++]);
+    bool changed = false;
+    while (!d.pending.empty() && !glfwWindowShouldClose(d.win)) {
+      const std::string a = d.pending.front();
+      d.pending.pop_front();
+      changed = d.apply(a) || changed;
+    }
+    if (glfwWindowShouldClose(d.win)) break;
+    if (changed) {
+      d.rerender();
+      d.set_title();
+    }
+    d.draw();
+    std::cout << "window frame " << frame << ": " << to_string(d.o.meth) << ", " << d.samples_text()
+              << ", last render " << static_cast<long long>(d.last_ms + 0.5) << " ms" << (changed ? " (re-rendered)" : "")
+              << std::endl;
+    if (d.o.frames > 0 && frame >= d.o.frames) break;
+    // Idle until a key arrives unless something is scheduled (script actions, a frame limit).
+    if (d.o.frames > 0 || next_script < d.o.window_script.size()) glfwPollEvents();
+    else glfwWaitEvents();
+  }
+}
+
+#else  // no GLFW in this build
+
+struct window_session::impl {};
+
+window_session::window_session(const options&, const prepared_scene&) {
+  throw not_implemented_error("--window: this build has no GLFW (install libglfw3-dev and reconfigure)");
+}
+window_session::~window_session() = default;
+pipeline_result window_session::first_render(stage_timer&, const progress_fn&) { return {}; }
+void window_session::run() {}
+
+#endif
+
+}  // namespace vplrender

@@ -1,0 +1,41 @@
+#pragma once
+// The GPU rasterisation stages on a headless OpenGL 4.3+ context (vplkit::gl::headless_context
+// must be current): the camera G-buffer and the two paraboloid maps of the DPRSM, rendered into
+// float render targets and read back. See docs/renderer.md for the projection, the clipping at
+// the paraboloid rim and the tessellation rule.
+#include "raster/render_data.hpp"
+#include "raster/tessellate.hpp"
+#include "scene/scene.hpp"
+
+#include <memory>
+#include <string>
+
+namespace vplrender {
+
+struct raster_timing {
+  double ms = 0.0;           // GPU time of the draws (timer query; glFinish + wall on llvmpipe)
+  std::string clock = "gpu";
+  double readback_ms = 0.0;  // wall time of reading the targets back into the CPU arrays
+};
+
+class gl_rasterizer {
+public:
+  // Uploads the scene's textures. Throws vplkit::gl::gl_error when a shader does not compile.
+  explicit gl_rasterizer(const scene& s);
+  ~gl_rasterizer();
+  gl_rasterizer(const gl_rasterizer&) = delete;
+  gl_rasterizer& operator=(const gl_rasterizer&) = delete;
+
+  gbuffer_data render_gbuffer(const camera& cam, int width, int height, raster_timing* t = nullptr);
+
+  // tess.max_angle <= 0: the triangles as they are (for the error measurement).
+  dprsm_data render_dprsm(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
+                          raster_timing* t = nullptr, tessellation_stats* ts = nullptr);
+
+  struct impl;
+
+private:
+  std::unique_ptr<impl> impl_;
+};
+
+}  // namespace vplrender

@@ -1,0 +1,26 @@
+#include "raster/voxels.hpp"
+
+#include <vplkit/visibility/voxelize.hpp>
+
+namespace vplrender {
+
+voxel_mesh make_voxel_mesh(const scene& s) {
+  voxel_mesh m;
+  m.positions.reserve(s.triangles.size() * 3);
+  for (const triangle& t : s.triangles)
+    for (const vec3& p : t.p) {
+      m.indices.push_back(static_cast<std::uint32_t>(m.positions.size()));
+      m.positions.push_back(p);
+    }
+  return m;
+}
+
+vplkit::voxel_grid<float> voxelize_cpu(const scene& s, int resolution) {
+  const voxel_mesh m = make_voxel_mesh(s);
+  const vplkit::voxel_bounds<float> b = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
+  vplkit::voxel_grid<float> g(b.min, b.max, glm::ivec3(resolution));
+  vplkit::voxelize(g, m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
+  return g;
+}
+
+}  // namespace vplrender

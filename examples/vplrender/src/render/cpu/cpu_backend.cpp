@@ -1,0 +1,156 @@
+#include "render/cpu/cpu_backend.hpp"
+
+#include "render/cpu/cpu_builders.hpp"
+#include "render/cpu/parallel.hpp"
+#include "render/mixture_components.hpp"
+
+#include <vplkit/estimators/gathering_estimator.hpp>
+#include <vplkit/estimators/local_estimator.hpp>
+#include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/vpl_sampling_estimator.hpp>
+#include <vplkit/estimators/vpl_sum.hpp>
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
+#include <vplkit/vpl/direct_light.hpp>
+
+#include <glm/common.hpp>
+
+#include <vector>
+
+namespace vplrender {
+
+namespace {
+
+using vplkit::gather_point;
+using vec3f = glm::vec3;
+
+// --cdf-search binary: the estimators' Distribution interface over a defensive mixture, drawing by
+// plain binary search (the same index and pmf as the guided sample(), at another cost).
+struct binary_searched_mixture {
+  const vplkit::defensive_mixture<float>* m = nullptr;
+  vplkit::discrete_sample<float> sample(float u) const noexcept { return m->sample_binary_search(u); }
+  float pmf(std::size_t i) const noexcept { return m->pmf(i); }
+};
+
+// The mixtures with their components replaced (mixture_components.hpp), one per mixture.
+template <class Component>
+std::vector<resampled_mixture<Component>> resampled(const cpu_distributions& built, const std::vector<Component>& c) {
+  std::vector<resampled_mixture<Component>> out;
+  for (std::size_t d = 0; d < built.dists.size(); ++d) out.push_back({&built.dists[d], &c[2 * d], &c[2 * d + 1]});
+  return out;
+}
+
+// Calls body(dists) with the distributions the estimators sample: the mixtures themselves; for
+// --cdf-search binary, adaptors that search them by plain binary search; for --sampler alias or
+// --face-selection roulette, the mixtures sampled through those components.
+template <class Body>
+void with_distributions(const cpu_distributions& built, const frame_buffers& b, const render_settings& s,
+                        stage_timer& timer, Body&& body) {
+  if (mixture_components::wanted(s) && !built.dists.empty()) {
+    mixture_components c;
+    {
+      auto t = timer.scoped("sampler tables (cpu)");
+      c = build_mixture_components(built.weights.data(), static_cast<int>(built.dists.size()), b.dprsm.view(), s);
+    }
+    if (s.sampler == sampler_choice::alias) body(resampled(built, c.alias).data());
+    else body(resampled(built, c.flat).data());
+  } else if (s.cdf_search == cdf_search_choice::binary) {
+    std::vector<binary_searched_mixture> binary;
+    for (const auto& m : built.dists) binary.push_back({&m});
+    body(binary.data());
+  } else {
+    body(built.dists.data());
+  }
+}
+
+}  // namespace
+
+render_result render_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                         const progress_fn& progress) {
+  const vplkit::gbuffer_view<float> g = b.gbuf.view();
+  const vplkit::dprsm_view<float> view = b.dprsm.view();
+  g.validate();
+  view.validate();
+  const int threads = thread_count(s.threads);
+  const int W = g.width, H = g.height;
+  render_result result;
+  result.image = image_rgb(W, H);
+  nlohmann::json& det = result.details;
+  det["threads"] = threads;
+  det["dmin"] = s.dmin;
+
+  const vplkit::voxel_grid_view<float> grid = b.grid.view();
+  const vplkit::voxel_visibility<float> visibility{grid};
+  const vplkit::voxel_tracer<float> tracer{grid};
+  const float depth_tol = gathering_depth_tolerance(grid);
+  det["depth_tolerance"] = depth_tol;
+  det["cdf_search"] = to_string(s.cdf_search);
+  const cpu_distributions built = build_distributions_cpu(b, s, timer, progress, det);
+
+  // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
+  auto render_pixels = [&](auto&& est) {
+    auto t = timer.scoped("estimate (cpu)");
+    parallel_items(H, threads, "render", progress, [&](int y, int) {
+      for (int x = 0; x < W; ++x) {
+        const int p = y * W + x;
+        const gather_point<float> gp = g.at(p);
+        vec3f c(0.0f);
+        if (vplkit::gather_point_valid(gp)) {
+          vplkit::counter_rng rng = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
+          c = est(gp, rng);
+          if (s.direct) c += vplkit::direct_light(gp, view);
+          c = vplkit::estimator_finite_or_zero(glm::max(c, vec3f(0.0f)));
+        }
+        float* o = result.image.at(x, y);
+        o[0] = c.x;
+        o[1] = c.y;
+        o[2] = c.z;
+      }
+    });
+  };
+
+  det["face_selection"] = to_string(s.face_selection);
+  det["sampler"] = to_string(s.sampler);
+  with_distributions(built, b, s, timer, [&](const auto* dists) {
+    switch (s.meth) {
+      case method::reference:
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng&) {
+          return vplkit::exhaustive_vpl_sum(gp, view, visibility, s.dmin);
+        });
+        break;
+      case method::global:
+      case method::gbg:
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_vpl_sampling(gp, view, dists[0], rng, s.vpls, visibility, s.dmin);
+        });
+        break;
+      case method::local: {
+        const int N = static_cast<int>(built.dists.size());
+        const vplkit::local_combination comb = s.local_combination == local_combination_choice::average
+                                                   ? vplkit::local_combination::average
+                                                   : vplkit::local_combination::balance;
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_local(gp, view, dists, N, rng, built.local_rounds, visibility, s.dmin, comb);
+        });
+        break;
+      }
+      case method::gather:
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_gathering(gp, view, rng, s.dirs, tracer, depth_tol);
+        });
+        break;
+      case method::mis:
+      case method::mis_as_published: {
+        const vplkit::mis_mode mode =
+            s.meth == method::mis ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published;
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return vplkit::estimate_mis(gp, view, dists[0], rng, s.dirs, s.vpls, tracer, visibility, depth_tol, mode);
+        });
+        break;
+      }
+    }
+  });
+  return result;
+}
+
+}  // namespace vplrender

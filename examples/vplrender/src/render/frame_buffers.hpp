@@ -1,0 +1,28 @@
+#pragma once
+// What the method-independent stages (render/pipeline.hpp, prepare_buffers) hand to every estimator
+// run: the G-buffer, the DPRSM and the voxel grid of one frame as CPU arrays (the CPU backend, the
+// report, the tests) and, when prepared for the GPU backend, the same buffers on the GPU, made once
+// (raster/gpu_scene_buffers.hpp). Both backends take this one type.
+#include "raster/render_data.hpp"
+#include "render/settings.hpp"
+
+#include <vplkit/visibility/voxel_grid.hpp>
+
+#include <memory>
+#include <string>
+
+namespace vplrender {
+
+struct gpu_scene_buffers;  // raster/gpu_scene_buffers.hpp (GL types; this header stays GL-free)
+
+struct frame_buffers {
+  backend back = backend::gpu;  // the backend whose estimators these buffers serve
+  std::string gl_renderer;      // the headless context's description
+  gbuffer_data gbuf;
+  dprsm_data dprsm;
+  vplkit::voxel_grid<float> grid;
+  // The same G-buffer, DPRSM and voxel words on the GPU; null for the CPU backend.
+  std::shared_ptr<const gpu_scene_buffers> gpu;
+};
+
+}  // namespace vplrender

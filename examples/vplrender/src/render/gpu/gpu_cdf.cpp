@@ -1,0 +1,164 @@
+#include "render/gpu/gpu_cdf.hpp"
+
+#include <vplkit/core/error.hpp>
+#include <vplkit/distribution/cdf_build_params.h>
+#include <vplkit/distribution/defensive_mixture.hpp>
+#include <vplkit/distribution/discrete_cdf.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#ifndef VPLRENDER_SHADER_DIR
+#error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
+#endif
+
+namespace vplrender {
+
+namespace {
+
+namespace gl = vplkit::gl;
+
+std::uint32_t float_bits(float x) {
+  std::uint32_t u;
+  std::memcpy(&u, &x, sizeof u);
+  return u;
+}
+
+constexpr std::size_t cdf_block = VPLKIT_CDF_BUILD_BLOCK;  // weights per block (the kernel's defaults)
+
+}  // namespace
+
+gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buffer& dprsm,
+                                const vplkit::dprsm_view<float>& view, float eps, stage_timer& timer,
+                                nlohmann::json& det) {
+  if (!(eps >= 0.0f && eps <= 1.0f))
+    throw vplkit::invalid_input("build_mixtures_gpu: eps = " + std::to_string(eps) + " is outside [0, 1]");
+  if (D < 1) throw vplkit::invalid_input("build_mixtures_gpu: no weight arrays");
+  const std::size_t n = static_cast<std::size_t>(view.texel_count());
+  const std::size_t m = vplkit::discrete_guide_size(n);
+  const bool with_fallback = eps > 0.0f;
+  const std::size_t dists = static_cast<std::size_t>(D) + (with_fallback ? 1u : 0u);
+  if (weights.size_bytes() < (static_cast<std::size_t>(D) + 1) * n * sizeof(float))
+    throw vplkit::invalid_input("build_mixtures_gpu: weight buffer holds fewer than (D + 1) 2 R^2 floats");
+
+  // One buffer for estimate.comp: all cdfs, then (at an offset the SSBO binding rules allow) all
+  // guides; cdf_build.comp writes both through range bindings, so nothing is copied.
+  GLint align = 1;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+  const std::size_t align_u = std::max<std::size_t>(1, static_cast<std::size_t>(std::max(align, 4)) / 4);
+  const std::size_t cdf_words = dists * (n + 1);
+  const std::size_t guide_base = (cdf_words + align_u - 1) / align_u * align_u;
+  const std::size_t guide_words = dists * (m + 1);
+  const std::size_t blocks = (n + cdf_block - 1) / cdf_block;
+
+  gpu_mixtures out;
+  out.count = D;
+  out.n = n;
+  out.m = m;
+  gl::timer_query tq;
+  tq.begin();
+  out.data = gl::buffer::filled((guide_base + guide_words) * 4, 0);
+  gl::buffer b_blocks =
+      gl::buffer::filled(std::max<std::size_t>(1, dists * blocks) * sizeof(vplkit::gpu::cdf_build_block), 0);
+  gl::buffer b_info = gl::buffer::filled(dists * sizeof(vplkit::gpu::cdf_build_info), 0);
+  gl::buffer b_params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
+  if (with_fallback) {
+    const gl::program& fp = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/vpl_fallback_weights.comp");
+    fp.use();
+    const auto& L = view.light;
+    glUniform1i(fp.uniform_location("u_dprsm_res"), view.resolution);
+    glUniform3f(fp.uniform_location("u_light_pos"), L.position.x, L.position.y, L.position.z);
+    glUniform3f(fp.uniform_location("u_light_int"), L.intensity.x, L.intensity.y, L.intensity.z);
+    glUniform3f(fp.uniform_location("u_frame_pos"), L.frame.position.x, L.frame.position.y, L.frame.position.z);
+    glUniform3f(fp.uniform_location("u_axis_x"), L.frame.axis_x.x, L.frame.axis_x.y, L.frame.axis_x.z);
+    glUniform3f(fp.uniform_location("u_axis_y"), L.frame.axis_y.x, L.frame.axis_y.y, L.frame.axis_y.z);
+    glUniform3f(fp.uniform_location("u_axis_z"), L.frame.axis_z.x, L.frame.axis_z.y, L.frame.axis_z.z);
+    glUniform1ui(fp.uniform_location("u_offset"), static_cast<GLuint>(static_cast<std::size_t>(D) * n));
+    gl::check_gl("vpl_fallback_weights.comp uniforms");
+    dprsm.bind(0);
+    weights.bind(1);
+    gl::dispatch(fp, gl::groups_for(n, 64));
+  }
+  const gl::program& cp = gl::cached_kernel("vplkit/distribution/cdf_build.comp");
+  weights.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VPLKIT_CDF_BUILD_BINDING_CDF, out.data.id(), 0,
+                    static_cast<GLsizeiptr>(cdf_words * 4));
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VPLKIT_CDF_BUILD_BINDING_GUIDE, out.data.id(),
+                    static_cast<GLintptr>(guide_base * 4), static_cast<GLsizeiptr>(guide_words * 4));
+  b_blocks.bind(VPLKIT_CDF_BUILD_BINDING_BLOCKS);
+  b_info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_CDF_BUILD_BINDING_PARAMS, b_params.id());
+  gl::check_gl("cdf_build.comp bindings");
+  const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), 65535));
+  const GLuint guide_groups =
+      static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, 65535));
+  for (std::uint32_t pass = 1; pass <= 6; ++pass) {
+    vplkit::gpu::cdf_build_params p{};
+    p.n = static_cast<std::uint32_t>(n);
+    p.pass = pass;
+    b_params.write_bytes(&p, 0, sizeof p);
+    gl::dispatch(cp, pass == 2 || pass == 4 ? 1 : pass == 6 ? guide_groups : groups, 1, static_cast<GLuint>(dists));
+  }
+  // The only read-back: the totals (16 bytes per distribution).
+  std::vector<vplkit::gpu::cdf_build_info> info(dists);
+  b_info.read_bytes(info.data(), 0, dists * sizeof(vplkit::gpu::cdf_build_info));
+
+  // Mixture d: slot 2d (learned d) and 2d + 1 (the shared fallback); every slot stores the uint
+  // offsets of its cdf and guide in `data`.
+  for (std::size_t k = 0; k < dists; ++k) {
+    out.cdf_offset.push_back(k * (n + 1));
+    out.guide_offset.push_back(guide_base + k * (m + 1));
+    out.totals.push_back(info[k].total);
+  }
+  const vplkit::discrete_cdf<float> no_fallback;  // eps = 0: size 0 (make_vpl_distribution)
+  const float fb_total = with_fallback ? info[static_cast<std::size_t>(D)].total : 0.0f;
+  const std::uint32_t fb_size = with_fallback ? static_cast<std::uint32_t>(n) : 0u;
+  const std::uint32_t fb_m = with_fallback ? static_cast<std::uint32_t>(m)
+                                           : static_cast<std::uint32_t>(no_fallback.guide_size());
+  std::vector<std::uint32_t> meta, slots;
+  long long zeroed = 0;
+  for (int d = 0; d < D; ++d) {
+    const float total = info[static_cast<std::size_t>(d)].total;
+    zeroed += info[static_cast<std::size_t>(d)].zeroed;
+    // The defensive_mixture constructor's choice, on the totals (empty() is total == 0).
+    const bool learned_empty = total == 0.0f, fallback_empty = fb_total == 0.0f;
+    const float e = learned_empty ? (fallback_empty ? 0.0f : 1.0f) : (fallback_empty ? 0.0f : eps);
+    const float fs = vplkit::detail::reciprocal_or_zero(e);
+    const float ls = vplkit::detail::reciprocal_or_zero(1.0f - e);
+    out.effective_eps.push_back(e);
+    out.fallback_scale.push_back(fs);
+    out.learned_scale.push_back(ls);
+    const std::uint32_t rec[12] = {static_cast<std::uint32_t>(2 * d),
+                                   static_cast<std::uint32_t>(n),
+                                   static_cast<std::uint32_t>(m),
+                                   float_bits(total),
+                                   static_cast<std::uint32_t>(2 * d + 1),
+                                   fb_size,
+                                   fb_m,
+                                   float_bits(fb_total),
+                                   float_bits(e),
+                                   float_bits(fs),
+                                   float_bits(ls),
+                                   0u};
+    meta.insert(meta.end(), rec, rec + 12);
+    const std::size_t fb = with_fallback ? static_cast<std::size_t>(D) : 0u;  // eps = 0: never read
+    slots.push_back(static_cast<std::uint32_t>(out.cdf_offset[static_cast<std::size_t>(d)]));
+    slots.push_back(static_cast<std::uint32_t>(out.guide_offset[static_cast<std::size_t>(d)]));
+    slots.push_back(static_cast<std::uint32_t>(out.cdf_offset[fb]));
+    slots.push_back(static_cast<std::uint32_t>(out.guide_offset[fb]));
+  }
+  out.slot_base = static_cast<std::uint32_t>(meta.size());
+  meta.insert(meta.end(), slots.begin(), slots.end());
+  out.meta = gl::buffer::from_vector(meta);
+  tq.end();
+  timer.add("cdf (gpu)", tq.milliseconds(), "gpu");
+  det["cdf"] = {{"backend", "gpu"},
+                {"kernel", "vplkit/distribution/cdf_build.comp (double accumulation)"},
+                {"distributions", dists},
+                {"fallback", with_fallback ? "gpu (vpl_fallback_weights.comp + cdf_build.comp)" : "none (eps = 0)"},
+                {"zeroed_weights", zeroed}};
+  return out;
+}
+
+}  // namespace vplrender

@@ -1,0 +1,51 @@
+#pragma once
+// The defensive mixtures of the GPU backend built on the GPU (vplkit::make_vpl_distribution /
+// make_local_vpl_distributions in the layout estimate.comp samples), from weights that already
+// live in a GPU buffer (gpu_builders.cpp, build_gbg_weights_gpu).
+//
+// The learned CDFs (one per weight array) and the shared fallback (the uniform distribution over
+// the texels that carry a VPL; vpl_fallback_weights.comp writes its 0/1 weights) are built in one
+// set of dispatches of the pack's distribution/cdf_build.comp (double accumulation): every value
+// is the C++ discrete_cdf<float> value or a float neighbour (docs/glsl/distribution.md). Only the
+// totals come back to the host (16 bytes per distribution): the mixture scalars (effective eps, the
+// two reciprocals) are then computed by the C++ defensive_mixture constructor's own code, and the
+// 12-uint records + slot table (vr_dist_meta) are uploaded.
+#include "render/stage_timer.hpp"
+
+#include <headless_gl/compute.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace vplrender {
+
+struct gpu_mixtures {
+  vplkit::gl::buffer data;  // estimate.comp binding 3 (vr_dist_data): cdf floats (bits) and guides
+  vplkit::gl::buffer meta;  // binding 4 (vr_dist_meta): 12 uints per mixture, then the slot table
+  std::uint32_t slot_base = 0;
+  int count = 0;            // D mixtures
+  int local_rounds = 0;     // set by the local builder (max(1, vpls / D)), else 0
+  // Where distribution k (0..D-1 learned, D the fallback when eps > 0) lives in `data` (uints).
+  std::size_t n = 0, m = 0;  // entries (2 R^2) and guide size of every distribution
+  std::vector<std::size_t> cdf_offset, guide_offset;
+  std::vector<float> totals;  // learned totals (read back), then the fallback's when eps > 0
+  std::vector<float> effective_eps, fallback_scale, learned_scale;  // per mixture
+  // The D learned weight arrays, read back only for --sampler alias / --face-selection roulette
+  // (mixture_components.hpp builds their components on the host).
+  std::vector<float> weights;
+};
+
+// `weights` holds at least (D + 1) n floats, n = view.texel_count(): arrays 0 .. D-1 the builder's
+// weights (region-major), array D scratch (the fallback's weights go there). `dprsm` is the DPRSM
+// as 3 vec4 per texel (position, normal, albedo). eps in [0, 1] (else vplkit::invalid_input); eps
+// = 0 builds no fallback (as make_vpl_distribution). Stage "cdf (gpu)" goes to `timer`, facts to
+// det["cdf"].
+gpu_mixtures build_mixtures_gpu(const vplkit::gl::buffer& weights, int D, const vplkit::gl::buffer& dprsm,
+                                const vplkit::dprsm_view<float>& view, float eps, stage_timer& timer,
+                                nlohmann::json& det);
+
+}  // namespace vplrender

@@ -1,0 +1,90 @@
+#pragma once
+// --face-selection roulette and --sampler alias: the defensive mixtures of both backends, sampled
+// through other components than their discrete CDFs. A mixture keeps its split (docs/math.md
+// section 3, defensive mixing: u < eps picks the fallback, the rest goes to the learned part, one
+// u, the effective eps and reciprocals of vplkit::defensive_mixture); each part is sampled by
+//   roulette: vplkit::face_roulette over the two paraboloids' halves of its weights, seen through
+//             vplkit::flat_face_roulette (the paper's Alg. 1);
+//   alias:    vplkit::alias_table over its weights.
+// Both have the joint CDF's pmf up to its rounding: w_t / sum w. The components are built on the
+// host from the builders' weights, by both backends (the GPU reads its weights back, then uploads
+// the components in the layout of estimate.comp's binding 7).
+#include "render/settings.hpp"
+
+#include <vplkit/distribution/alias_table.hpp>
+#include <vplkit/distribution/defensive_mixture.hpp>
+#include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/face_roulette.hpp>
+#include <vplkit/distribution/flat_face_roulette.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace vplrender {
+
+// The two components (learned, fallback) of each of D mixtures: component 2d + c, c = 0 the
+// learned part, 1 the fallback. Only the vector of s.sampler / s.face_selection is filled.
+struct mixture_components {
+  int resolution = 0;                                       // R: a face has R^2 texels
+  std::vector<vplkit::alias_table<float>> alias;            // --sampler alias
+  std::vector<vplkit::face_roulette<float>> roulette;       // --face-selection roulette
+  std::vector<vplkit::flat_face_roulette<float>> flat;      // views of `roulette`, same order
+
+  // True when s asks for something other than the joint discrete CDF.
+  static bool wanted(const render_settings& s) {
+    return s.sampler != sampler_choice::cdf || s.face_selection != face_selection_choice::joint;
+  }
+};
+
+// weights: D arrays of 2 R^2 (region-major), the builders' weights. The fallback's weights are
+// make_vpl_fallback's (1 on the texels that carry a VPL) when eps > 0, else all 0 (eps = 0 builds
+// no fallback: its component then has pmf 0 everywhere, as the missing fallback). Throws
+// vplkit::invalid_input as the library's builders for bad weights.
+inline mixture_components build_mixture_components(const float* weights, int D, const vplkit::dprsm_view<float>& view,
+                                                   const render_settings& s) {
+  mixture_components out;
+  out.resolution = view.resolution;
+  const std::size_t n = static_cast<std::size_t>(view.texel_count());
+  const std::size_t face = n / 2;
+  std::vector<float> fallback(n, 0.0f);
+  if (s.eps > 0.0f)
+    for (std::size_t t = 0; t < n; ++t) fallback[t] = vplkit::vpl_has_flux(view.vpl_at(static_cast<int>(t))) ? 1.0f : 0.0f;
+  for (int d = 0; d < D; ++d) {
+    for (const float* w : {weights + static_cast<std::size_t>(d) * n, static_cast<const float*>(fallback.data())}) {
+      if (s.sampler == sampler_choice::alias) {
+        out.alias.emplace_back(w, n);
+      } else {
+        out.roulette.emplace_back(vplkit::discrete_cdf<float>(w, face), vplkit::discrete_cdf<float>(w + face, face));
+      }
+    }
+  }
+  out.flat.reserve(out.roulette.size());
+  for (const auto& r : out.roulette) out.flat.emplace_back(r, view.resolution);
+  return out;
+}
+
+// A defensive mixture's split over two components with sample(u) / pmf(i) (alias_table,
+// flat_face_roulette): the index and pmf of vplkit::defensive_mixture::sample, with its
+// components replaced. The estimators' Distribution interface.
+template <class Component>
+struct resampled_mixture {
+  const vplkit::defensive_mixture<float>* mixture = nullptr;  // its effective eps and reciprocals
+  const Component* learned = nullptr;
+  const Component* fallback = nullptr;
+
+  float pmf(std::size_t i) const noexcept {
+    return vplkit::defensive_mixture_pmf(mixture->effective_eps(), learned->pmf(i), fallback->pmf(i));
+  }
+  vplkit::discrete_sample<float> sample(float u) const noexcept {
+    if (mixture->empty()) return {0, 0.0f};
+    const float e = mixture->effective_eps();
+    u = vplkit::discrete_clamp_u(u);
+    const std::size_t i = u < e ? fallback->sample(vplkit::discrete_clamp_u(u * mixture->fallback_scale())).index
+                                : learned->sample(vplkit::discrete_clamp_u((u - e) * mixture->learned_scale())).index;
+    return {i, pmf(i)};
+  }
+};
+
+}  // namespace vplrender

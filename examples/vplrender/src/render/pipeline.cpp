@@ -1,0 +1,137 @@
+#include "render/pipeline.hpp"
+
+#include "io/errors.hpp"
+#include "raster/gl_raster.hpp"
+#include "raster/gpu_scene_buffers.hpp"
+#include "raster/tessellate.hpp"
+#include "raster/voxels.hpp"
+#include "raster/voxels_gpu.hpp"
+#include "render/cpu/cpu_backend.hpp"
+#include "render/gpu/gpu_backend.hpp"
+
+#include <headless_gl/compute.hpp>
+
+#include <vplkit/core/error.hpp>
+
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+namespace vplrender {
+
+vplkit::gl::headless_context& pipeline_gl_context() {
+  // Created on first use, kept for the life of the process (one context per process).
+  static std::unique_ptr<vplkit::gl::headless_context> ctx;
+  if (!ctx) {
+    try {
+      ctx = std::make_unique<vplkit::gl::headless_context>();
+    } catch (const vplkit::gl::gl_error&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      throw vplkit::gl::gl_error(e.what());
+    }
+  }
+  return *ctx;
+}
+
+frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_timer& timer, nlohmann::json& det) {
+  vplkit::gl::headless_context* gl = nullptr;
+  {
+    auto t = timer.scoped("gl context");
+    gl = &pipeline_gl_context();
+  }
+  std::string gl_renderer = gl->describe();
+
+  gbuffer_data gbuf;
+  dprsm_data dprsm;
+  {
+    gl_rasterizer raster(s);
+    raster_timing tg;
+    gbuf = raster.render_gbuffer(s.cam, f.width, f.height, &tg);
+    timer.add("gbuffer (gpu)", tg.ms, tg.clock);
+    timer.add("gbuffer read-back (cpu)", tg.readback_ms, "cpu-wall");
+    tessellation_params tp;
+    tp.max_angle = tessellation_angle_for_resolution(f.dprsm);
+    tessellation_stats ts;
+    raster_timing td;
+    dprsm = raster.render_dprsm(dprsm_light(s), f.dprsm, tp, &td, &ts);
+    timer.add("dprsm (gpu)", td.ms, td.clock);
+    timer.add("dprsm read-back (cpu)", td.readback_ms, "cpu-wall");
+    det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}};
+    det["dprsm"] = {{"resolution", f.dprsm},
+                    {"front_axis", {0, -1, 0}},
+                    {"tessellation_max_angle_deg", tp.max_angle * 180.0 / 3.14159265358979323846},
+                    {"triangles_in", ts.input},
+                    {"triangles_out", ts.output},
+                    {"triangles_capped", ts.capped}};
+  }
+
+  // --backend gpu: the pack's voxelize.comp (equal to the CPU grid on the built-in scenes, see
+  // renderer_gl_pipeline_test), its words kept on the GPU; --backend cpu: vplkit::voxelize.
+  const bool gpu = f.back == backend::gpu;
+  auto scene_gpu = gpu ? std::make_shared<gpu_scene_buffers>() : nullptr;
+  vplkit::voxel_grid<float> grid = [&] {
+    if (gpu) {
+      gpu_voxelization v = voxelize_gpu(s, f.voxels);
+      timer.add("voxelize (gpu)", v.ms, "gpu");
+      timer.add("voxels read-back (cpu)", v.readback_ms, "cpu-wall");
+      scene_gpu->voxels = std::move(v.words);
+      return std::move(v.grid);
+    }
+    auto t = timer.scoped("voxelize (cpu)");
+    return voxelize_cpu(s, f.voxels);
+  }();
+  det["voxels"] = {{"resolution", f.voxels},
+                   {"occupied", grid.count()},
+                   {"bounds_min", {grid.bounds_min().x, grid.bounds_min().y, grid.bounds_min().z}},
+                   {"bounds_max", {grid.bounds_max().x, grid.bounds_max().y, grid.bounds_max().z}},
+                   {"builder", gpu ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
+  // The GPU backend's scene buffers, once for every estimator run on this frame: the G-buffer and
+  // the DPRSM packed as surfels and uploaded, the voxel words as voxelize.comp left them.
+  if (gpu) {
+    auto t = timer.scoped("scene upload (cpu)");
+    scene_gpu->gbuffer = upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
+    scene_gpu->dprsm = upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
+  }
+  det["scene_buffers"] = {
+      {"on_gpu", gpu},
+      {"gpu_bytes", gpu ? scene_gpu->gbuffer.size_bytes() + scene_gpu->dprsm.size_bytes() + scene_gpu->voxels.size_bytes()
+                        : std::size_t(0)}};
+  frame_buffers b{f.back, std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid), nullptr};
+  b.gpu = std::move(scene_gpu);
+  return b;
+}
+
+render_result run_estimator(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+                            const progress_fn& progress, nlohmann::json& det) {
+  const bool gpu = b.back == backend::gpu;
+  // GPU memory of this estimator alone: the peak restarts from what is live now (the frame's scene
+  // buffers; the prepare stages' peak is kept as gpu_peak_bytes_prepare).
+  const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();
+  vplkit::gl::reset_gpu_memory_peak();
+  render_result r;
+  try {
+    r = gpu ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
+  } catch (const vplkit::invalid_input& e) {
+    throw input_error(e.what());
+  }
+  det["estimator"] = r.details;
+  det["estimator_backend"] = to_string(b.back);
+  const vplkit::gl::gpu_memory after = vplkit::gl::gpu_memory_usage();
+  det["memory"] = {{"gpu_peak_bytes_prepare", before.peak_bytes},
+                   {"gpu_live_bytes_before_estimator", before.live_bytes},
+                   {"gpu_peak_bytes_estimator", after.peak_bytes - before.live_bytes}};
+  det["builders_backend"] = gpu && has_distribution(s.meth) ? "gpu" : "cpu";
+  return r;
+}
+
+pipeline_result run_pipeline(const scene& sc, const frame_settings& f, const render_settings& s, stage_timer& timer,
+                             const progress_fn& progress) {
+  pipeline_result r;
+  const frame_buffers b = prepare_buffers(sc, f, timer, r.details);
+  r.gl_renderer = b.gl_renderer;
+  r.image = std::move(run_estimator(b, s, timer, progress, r.details).image);
+  return r;
+}
+
+}  // namespace vplrender

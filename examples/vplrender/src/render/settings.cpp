@@ -1,0 +1,42 @@
+#include "render/settings.hpp"
+
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
+
+namespace vplrender {
+
+const char* to_string(method m) {
+  switch (m) {
+    case method::reference: return "reference";
+    case method::global: return "global";
+    case method::local: return "local";
+    case method::gbg: return "gbg";
+    case method::gather: return "gather";
+    case method::mis: return "mis";
+    case method::mis_as_published: return "mis-as-published";
+  }
+  return "?";
+}
+
+const char* to_string(backend b) { return b == backend::gpu ? "gpu" : "cpu"; }
+const char* to_string(local_combination_choice c) {
+  return c == local_combination_choice::average ? "average" : "balance";
+}
+const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_choice::paper ? "paper" : "gathering"; }
+const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
+const char* to_string(face_selection_choice f) { return f == face_selection_choice::roulette ? "roulette" : "joint"; }
+const char* to_string(sampler_choice s) { return s == sampler_choice::alias ? "alias" : "cdf"; }
+
+bool has_distribution(method m) { return m != method::reference && m != method::gather; }
+
+std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
+  return vplkit::rng_key(seed, 0xB0000000u + stage);
+}
+
+float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid) {
+  // The tracer's own error (one voxel diagonal, voxel_tracer_depth_tolerance) doubled for the
+  // texel's depth spread on tilted surfaces.
+  return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
+}
+
+}  // namespace vplrender

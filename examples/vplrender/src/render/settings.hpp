@@ -1,0 +1,69 @@
+#pragma once
+// The render vocabulary that both backends and the pipeline share: the method and its switches,
+// the numbers derived from the scene (dmin), the builders' seeds and the progress callback. The
+// command line fills it (app/render_options.hpp); nothing here knows about flags.
+#include <vplkit/visibility/voxel_grid.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace vplrender {
+
+enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
+enum class backend { gpu, cpu };
+// Departures from the paper that can be switched back: the local CDFs' combination, the GBG
+// accumulator and the CDF search; and how a distribution is sampled (face selection, sampler).
+enum class local_combination_choice { balance, average };
+enum class gbg_accumulator_choice { gathering, paper };
+enum class cdf_search_choice { guide, binary };
+// joint: one CDF over both paraboloids' texels; roulette: the paper's Alg. 1 (choose the face by
+// its share of the weight, then sample within it: vplkit::flat_face_roulette). Same pmf.
+enum class face_selection_choice { joint, roulette };
+// cdf: discrete CDF (inversion, keeps u's stratification); alias: Walker's alias table
+// (vplkit::alias_table; O(1), same pmf, does not keep u's stratification).
+enum class sampler_choice { cdf, alias };
+
+const char* to_string(method m);
+const char* to_string(backend b);
+const char* to_string(local_combination_choice c);
+const char* to_string(gbg_accumulator_choice a);
+const char* to_string(cdf_search_choice s);
+const char* to_string(face_selection_choice f);
+const char* to_string(sampler_choice s);
+
+// The methods that sample a distribution over the VPLs (global, local, gbg, mis,
+// mis-as-published): they have builders and CDFs; reference and gather have neither.
+bool has_distribution(method m);
+
+// Everything an estimator run needs besides the buffers (docs/renderer.md).
+struct render_settings {
+  method meth = method::mis;
+  int vpls = 64;              // VPL samples per gather point
+  int dirs = 16;              // gathering directions (gbg NBDIR, gather, mis)
+  int regions_x = 2, regions_y = 2;
+  float eps = 0.05f;
+  local_combination_choice local_combination = local_combination_choice::balance;
+  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;
+  cdf_search_choice cdf_search = cdf_search_choice::guide;
+  face_selection_choice face_selection = face_selection_choice::joint;
+  sampler_choice sampler = sampler_choice::cdf;
+  float dmin = 0.0f;          // VPL distance clamp (world units)
+  std::uint32_t seed = 1;
+  int global_subset = 256;    // |S| of the global CDF
+  int local_subset = 256;     // |S_i| per region of the local CDFs
+  bool direct = false;
+  int threads = 0;            // CPU backend: 0 = std::thread::hardware_concurrency()
+};
+
+// Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed
+// that differs from the per-pixel estimator streams (make_counter_rng(seed, pixel)).
+std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
+
+// Depth tolerance of the gathering look-ups (gather, mis; GBG rays): 2 voxel diagonals.
+float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid);
+
+// Progress callback: (label, done, total); called from the calling thread only.
+using progress_fn = std::function<void(const std::string& label, std::uint64_t done, std::uint64_t total)>;
+
+}  // namespace vplrender
