@@ -9,9 +9,16 @@
 // ranges that cover [0, n_dirs) once give exactly one dispatch's result (keep each range under
 // llvmpipe's loop budget: docs/glsl.md). Buffers, dispatch, the fixed-point format and the choice
 // of scale and max_units: docs/glsl/builders.md, "GBG".
+// Tracer: the voxel grid's by default; with VPLKIT_GBG_TRACER_BVH defined (host preamble) the
+// pack's BVH (visibility/bvh_visibility.glsl: exact first hits against the triangles), its nodes and
+// triangles bound at VPLKIT_GBG_BINDING_BVH_NODES / _TRIANGLES and params.bvh_node_count set.
+#ifdef VPLKIT_GBG_TRACER_BVH
+#define VPLKIT_USER_TRACER
+#endif
 #include "vplkit/builders/gbg_accumulate_params.h"
 #include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/core/gather_point.glsl"
+#include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
 
 layout(local_size_x = VPLKIT_GBG_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
@@ -44,6 +51,28 @@ vec3 vplkit_load_dprsm_normal(int texel) { return vplkit_gbg_dprsm[3 * texel + 1
 vec3 vplkit_load_dprsm_albedo(int texel) { return vplkit_gbg_dprsm[3 * texel + 2].xyz; }
 uint vplkit_load_voxel_word(uint word_index) { return vplkit_gbg_voxels[word_index]; }
 
+// (bvh_visibility.glsl is included above, outside the #ifdef: the include resolver inlines a file
+// once where it first appears and does not evaluate #if.)
+#ifdef VPLKIT_GBG_TRACER_BVH
+layout(std430, binding = VPLKIT_GBG_BINDING_BVH_NODES) readonly buffer vplkit_gbg_bvh_node_buffer {
+  vplkit_bvh_node vplkit_gbg_bvh_nodes[];
+};
+layout(std430, binding = VPLKIT_GBG_BINDING_BVH_TRIANGLES) readonly buffer vplkit_gbg_bvh_triangle_buffer {
+  vplkit_bvh_triangle vplkit_gbg_bvh_triangles[];
+};
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_gbg_bvh_nodes[index]; }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) { return vplkit_gbg_bvh_triangles[slot]; }
+vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
+  return vplkit_bvh_trace(vplkit_bvh(vplkit_gbg_accumulate.bvh_node_count), x, n_x, dir);
+}
+#else
+// No BVH buffers: the BVH functions are compiled but never called.
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) {
+  return vplkit_bvh_triangle(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u);
+}
+#endif
+
 // 64-bit add as two 32-bit atomics: the low word's carry is detected from the value it had just
 // before this add (atomicAdd returns it), so every wrap of the low word adds 1 to the high word
 // exactly once, whatever the order of the adds.
@@ -70,6 +99,9 @@ void main() {
   vplkit_voxel_tracer tracer =
       vplkit_make_voxel_tracer(vplkit_voxel_grid(p.grid_min.xyz, p.grid_max.xyz, p.grid_resolution.xyz));
   tracer.offset_voxels = p.offset_voxels;
+#ifdef VPLKIT_GBG_TRACER_BVH
+  tracer.user = true;
+#endif
   vplkit_gbg_params params = vplkit_gbg_params(p.n_dirs, p.dmin, p.depth_tolerance, p.seed, p.accumulator, false);
   int dir_begin = max(p.dir_begin, 0);
   int dir_end = min(p.dir_end, params.n_dirs);

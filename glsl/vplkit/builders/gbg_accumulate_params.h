@@ -22,6 +22,12 @@
 #ifndef VPLKIT_GBG_BINDING_STATS
 #define VPLKIT_GBG_BINDING_STATS 4  // SSBO: uint stats[VPLKIT_GBG_STATS_SIZE], zeroed first
 #endif
+#ifndef VPLKIT_GBG_BINDING_BVH_NODES
+#define VPLKIT_GBG_BINDING_BVH_NODES 5  // SSBO, readonly, VPLKIT_GBG_TRACER_BVH only: vplkit_bvh_node[]
+#endif
+#ifndef VPLKIT_GBG_BINDING_BVH_TRIANGLES
+#define VPLKIT_GBG_BINDING_BVH_TRIANGLES 6  // SSBO, readonly, VPLKIT_GBG_TRACER_BVH only: vplkit_bvh_triangle[]
+#endif
 #ifndef VPLKIT_GBG_BINDING_PARAMS
 #define VPLKIT_GBG_BINDING_PARAMS 0  // uniform block: gbg_accumulate_params
 #endif
@@ -59,7 +65,7 @@ struct vplkit_gbg_accumulate_params {
   int dir_end;
   int count_gather_points;  // 1 in exactly one dispatch of a build
   uint seed;                // streams are pixel indices
-  uint pad0;
+  uint bvh_node_count;      // VPLKIT_GBG_TRACER_BVH: the hierarchy's node count (0: empty)
   uint pad1;
   uint pad2;
   float dmin;

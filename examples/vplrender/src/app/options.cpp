@@ -24,7 +24,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
-      window_script, local_combination, gbg_accumulator, cdf_search;
+      window_script, local_combination, gbg_accumulator, cdf_search, visibility;
   bool paper = false, direct = false, window = false;
 };
 
@@ -45,7 +45,7 @@ std::string wrap(const std::string& text, std::size_t width = 62) {
   return out + line;
 }
 
-constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published";
+constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published|exact";
 
 void build_app(CLI::App& app, raw_values& v) {
   app.description(wrap(
@@ -60,7 +60,10 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("Estimator (default mis): reference = exhaustive VPL sum with visibility; global = BRSM global "
                  "CDF; local = per-region CDFs (balance heuristic); gbg = gathering-based global CDF; gather = "
                  "cosine gathering only; mis = gathering + GBG CDF with solid-angle balance heuristic; "
-                 "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison)."))
+                 "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison); exact = ground truth: "
+                 "--dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
+                 "light at each hit with an exact shadow ray, no VPLs (runs on the CPU with Embree on either "
+                 "backend; no GPU kernel)."))
       ->type_name(kMethods);
   app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
                                       "(headless). gpu: voxelisation and the estimator of every method run as compute "
@@ -100,6 +103,12 @@ void build_app(CLI::App& app, raw_values& v) {
                    "at most a short binary search; binary = plain binary search over the whole CDF. Both return "
                    "the same index for every u, so the image is identical: this measures the search's cost."))
       ->type_name("guide|binary");
+  app.add_option("--visibility", v.visibility,
+                 d("What visibility and the gathering rays are decided against, for every method (default "
+                   "voxels): voxels = the voxel grid (--voxels); exact = the scene's triangles, through Embree on "
+                   "the CPU backend and the GLSL pack's BVH (built on the host, uploaded once per frame) on the GPU "
+                   "backend. --method exact always uses exact rays."))
+      ->type_name("voxels|exact");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -261,7 +270,7 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.meth = parse_choice<method>("--method", v.meth,
                                   {{"reference", method::reference}, {"global", method::global}, {"local", method::local},
                                    {"gbg", method::gbg}, {"gather", method::gather}, {"mis", method::mis},
-                                   {"mis-as-published", method::mis_as_published}});
+                                   {"mis-as-published", method::mis_as_published}, {"exact", method::exact}});
   if (given("--backend")) o.back = parse_choice<backend>("--backend", v.back, {{"gpu", backend::gpu}, {"cpu", backend::cpu}});
   if (given("--progress"))
     o.progress = parse_choice<progress_mode>("--progress", v.progress,
@@ -279,6 +288,10 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.cdf_search = parse_choice<cdf_search_choice>("--cdf-search", v.cdf_search,
                                                    {{"guide", cdf_search_choice::guide},
                                                     {"binary", cdf_search_choice::binary}});
+  if (given("--visibility"))
+    o.visibility = parse_choice<visibility_choice>("--visibility", v.visibility,
+                                                   {{"voxels", visibility_choice::voxels},
+                                                    {"exact", visibility_choice::exact}});
   o.paper = v.paper;
   if (o.paper) {
     o.width = o.height = 512;
@@ -369,6 +382,7 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                          std::to_string(o.regions_y) + ") do not fit a " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
   if (o.window && o.back != backend::gpu) bad("--window", "needs --backend gpu");
+  if (o.window && o.meth == method::exact) bad("--window", "does not offer --method exact (it has no GPU kernel)");
   return r;
 }
 

@@ -53,6 +53,7 @@ struct options {
   local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
   gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
   cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
+  visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

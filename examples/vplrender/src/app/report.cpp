@@ -29,6 +29,7 @@ nlohmann::json options_to_json(const options& o) {
   j["local_combination"] = to_string(o.local_combination);
   j["gbg_accumulator"] = to_string(o.gbg_accumulator);
   j["cdf_search"] = to_string(o.cdf_search);
+  j["visibility"] = to_string(o.visibility);
   j["voxels"] = o.voxels;
   j["dprsm"] = o.dprsm;
   j["paper"] = o.paper;

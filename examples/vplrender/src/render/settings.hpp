@@ -10,22 +10,28 @@
 
 namespace vplrender {
 
-enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
+// exact: one-bounce indirect light by cosine gathering against the scene's triangles with exact
+// visibility and no VPLs (render/cpu/exact_estimator.hpp), the ground truth of the others.
+enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
 // accumulator and the CDF search.
 enum class local_combination_choice { balance, average };
 enum class gbg_accumulator_choice { gathering, paper };
 enum class cdf_search_choice { guide, binary };
+// What V(x, y) and the gathering rays are decided against: the voxel grid (docs/math.md section 7)
+// or the scene's triangles (exact: Embree on the CPU backend, the pack's BVH on the GPU backend).
+enum class visibility_choice { voxels, exact };
 
 const char* to_string(method m);
 const char* to_string(backend b);
 const char* to_string(local_combination_choice c);
 const char* to_string(gbg_accumulator_choice a);
 const char* to_string(cdf_search_choice s);
+const char* to_string(visibility_choice v);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
-// mis-as-published): they have builders and CDFs; reference and gather have neither.
+// mis-as-published): they have builders and CDFs; reference, gather and exact have none.
 bool has_distribution(method m);
 
 // Everything an estimator run needs besides the buffers (docs/renderer.md).
@@ -38,6 +44,7 @@ struct render_settings {
   local_combination_choice local_combination = local_combination_choice::balance;
   gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;
   cdf_search_choice cdf_search = cdf_search_choice::guide;
+  visibility_choice visibility = visibility_choice::voxels;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF
