@@ -1,8 +1,9 @@
 // speed_vs_error: for one scene, every requested method over a sweep of sample counts in one
 // process. The scene, G-buffer, DPRSM and voxel grid are prepared once (prepare_buffers) and every
-// run reuses them (run_estimator); each run is timed per stage and compared with two references
-// (docs/math.md section 8): (a) the exhaustive VPL sum (method reference) and (b) converged
-// gathering (method gather at --ref-dirs directions). Writes PREFIX.csv, PREFIX.md and PREFIX.svg.
+// run reuses them (run_estimator); each run is timed per stage and compared with three references
+// (docs/math.md section 8): (a) the exhaustive VPL sum (method reference), (b) converged
+// gathering (method gather at --ref-dirs directions) and (c) the ground truth (method exact at
+// --ref-exact-dirs directions: exact visibility, no VPLs). Writes PREFIX.csv, PREFIX.md and PREFIX.svg.
 #include "metrics.hpp"
 #include "pareto.hpp"
 #include "svg_plot.hpp"
@@ -40,6 +41,8 @@ namespace fs = std::filesystem;
 // The gathering reference's seed: fixed and far from the usual sweep seeds, so the reference's
 // random streams are independent of the runs it judges.
 constexpr std::uint32_t k_gather_reference_seed = 0x5EED0F1Eu;
+// The exact reference's seed, for the same reason.
+constexpr std::uint32_t k_exact_reference_seed = 0x5EED0E4Au;
 
 const char* k_help = R"(speed_vs_error: error against time for each method on one scene, in one process.
 
@@ -47,29 +50,32 @@ Usage: speed_vs_error [options] [vplrender scene options]
 
 Sweep options:
   --methods LIST     comma-separated methods (default global,local,gbg,gather,mis);
-                     any of global local gbg gather mis mis-as-published
+                     any of global local gbg gather mis mis-as-published exact
   --samples LIST     comma-separated sample counts (default 1,4,16,64). A count n means:
-                     global/local/gbg: --vpls n; gather: --dirs n; mis and
+                     global/local/gbg: --vpls n; gather, exact: --dirs n; mis and
                      mis-as-published: --vpls n and --dirs n
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
   --ref-dirs N       directions of the converged-gathering reference (default 4096)
-  --references LIST  which references to compute: vplsum, gather, both (default) or none.
-                     The exhaustive VPL sum costs 2 R^2 VPLs per pixel: skip it at large
-                     DPRSM sizes; errors against a skipped reference are left empty
+  --ref-exact-dirs N directions of the exact reference (default 4096)
+  --references LIST  which references to compute: any of vplsum, gather, exact; all
+                     (default), both (= vplsum,gather) or none. The exhaustive VPL sum costs
+                     2 R^2 VPLs per pixel: skip it at large DPRSM sizes; errors against a
+                     skipped reference are left empty
   --replot CSV       render nothing: redraw PREFIX.svg, PREFIX_samples.svg and PREFIX_pareto.md
                      from a CSV this tool wrote (after changing the plots, or to merge sweeps)
   --repeats K        time every run K times (default 1): the CSV's times are the median run's,
                      total_ms_min the fastest; the image and its error are from the first run
   --cache-dir DIR    reference cache (default speed_vs_error_cache); references are EXR files
                      named by a hash of scene, size, DPRSM, voxels, backend, light, camera,
-                     --direct, and for the gathering reference its directions and seed
+                     --direct, --visibility exact, and for the gathering and exact references
+                     their directions and seed
   --out PREFIX       writes PREFIX.csv, PREFIX.md, PREFIX.svg (default speed_vs_error), and
                      with 2 or more seeds PREFIX_bias_variance.csv
   --help             this text
 
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps
-  --local-combination --gbg-accumulator --cdf-search --camera --light --paper --direct.
+  --local-combination --gbg-accumulator --cdf-search --visibility --camera --light --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
@@ -78,7 +84,10 @@ Error metrics, on linear HDR values, over all pixels p and channels c (x = run, 
   relMSE = mean_{p,c} (x_pc - r_pc)^2 / (r_pc^2 + 1e-2)
 Reported against (a) the exhaustive VPL sum (method reference: the estimand of global, local,
 gbg) and (b) converged gathering (gather at --ref-dirs, seed 0x5EED0F1E: the estimand of gather
-and mis; it differs from (a) by the VPL discretisation and the distance clamp).
+and mis; it differs from (a) by the VPL discretisation and the distance clamp), both with the
+chosen --visibility, and (c) the ground truth (exact at --ref-exact-dirs, seed 0x5EED0E4A: cosine
+gathering against the triangles with exact visibility and no VPLs; the distance from (a) and (b)
+to (c) is what the VPLs, the DPRSM and the voxel grid cost in accuracy).
 
 Bias/variance (2 or more seeds S, per method and sample count; m = mean image over the seeds):
   variance = mean_{p,c} sum_s (x_s,pc - m_pc)^2 / (S - 1)   (per-run variance, unbiased)
@@ -112,7 +121,8 @@ long long to_int(const std::string& flag, const std::string& t, long long lo, lo
 }
 
 method parse_method(const std::string& t) {
-  for (method m : {method::global, method::local, method::gbg, method::gather, method::mis, method::mis_as_published})
+  for (method m : {method::global, method::local, method::gbg, method::gather, method::mis, method::mis_as_published,
+                   method::exact})
     if (t == to_string(m)) return m;
   if (t == "reference") bad("--methods: 'reference' is the reference (always computed), not a swept method");
   bad("--methods: unknown method '" + t + "'");
@@ -123,7 +133,8 @@ struct sweep_options {
   std::vector<int> samples{1, 4, 16, 64};
   std::vector<std::uint32_t> seeds{1};
   int ref_dirs = 4096;
-  bool ref_vplsum = true, ref_gather = true;
+  int ref_exact_dirs = 4096;
+  bool ref_vplsum = true, ref_gather = true, ref_exact = true;
   int repeats = 1;
   std::string replot;  // --replot CSV
   std::string cache_dir = "speed_vs_error_cache";
@@ -152,15 +163,19 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
       for (const std::string& t : split(value())) so.seeds.push_back(static_cast<std::uint32_t>(to_int(a, t, 0, 4294967295LL)));
     } else if (a == "--ref-dirs") {
       so.ref_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
+    } else if (a == "--ref-exact-dirs") {
+      so.ref_exact_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
     } else if (a == "--references") {
       const std::string v = value();
-      so.ref_vplsum = so.ref_gather = false;
-      if (v == "both") so.ref_vplsum = so.ref_gather = true;
+      so.ref_vplsum = so.ref_gather = so.ref_exact = false;
+      if (v == "all") so.ref_vplsum = so.ref_gather = so.ref_exact = true;
+      else if (v == "both") so.ref_vplsum = so.ref_gather = true;
       else if (v != "none")
         for (const std::string& t : split(v)) {
           if (t == "vplsum") so.ref_vplsum = true;
           else if (t == "gather") so.ref_gather = true;
-          else bad("--references: unknown reference '" + t + "' (vplsum, gather, both or none)");
+          else if (t == "exact") so.ref_exact = true;
+          else bad("--references: unknown reference '" + t + "' (vplsum, gather, exact, all, both or none)");
         }
     } else if (a == "--replot") {
       so.replot = value();
@@ -194,6 +209,12 @@ std::string num(double v) {
   return b;
 }
 
+double image_mean(const image_rgb& img) {
+  double s = 0.0;
+  for (float v : img.rgb) s += v;
+  return img.rgb.empty() ? 0.0 : s / static_cast<double>(img.rgb.size());
+}
+
 std::string vec(const glm::vec3& v) { return num(v.x) + "," + num(v.y) + "," + num(v.z); }
 
 std::uint64_t fnv1a(const std::string& s) {
@@ -213,7 +234,9 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
        "|voxels=" + std::to_string(o.voxels) + "|backend=" + to_string(o.back) + "|light=" + vec(p.s.light.position) +
        "," + vec(p.s.light.intensity) + "|camera=" + vec(p.s.cam.eye) + "," + vec(p.s.cam.target) + "," +
        vec(p.s.cam.up) + "," + num(p.s.cam.vfov_deg) + "|direct=" + (o.direct ? "1" : "0");
-  if (kind == "gather") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);
+  // Only when exact, so the keys (and cached files) of voxel references stay what they were.
+  if (o.visibility == visibility_choice::exact && kind != "exact") k += "|visibility=exact";
+  if (kind == "gather" || kind == "exact") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);
   return k;
 }
 
@@ -251,7 +274,7 @@ reference_image get_reference(const options& base, const prepared_scene& p, cons
   }
   std::cout << "reference cache miss: computing " << kind << " -> " << r.path << std::endl;
   options o = base;
-  o.meth = kind == "gather" ? method::gather : method::reference;
+  o.meth = kind == "gather" ? method::gather : kind == "exact" ? method::exact : method::reference;
   o.dirs = dirs;
   o.seed = seed;
   stage_timer t;
@@ -274,13 +297,14 @@ struct run_row {
   int repeats = 1;
   long long gpu_peak_bytes = 0;  // GPU buffers the estimator held at its peak (docs/results.md, memory)
   std::string stages;
-  speed_vs_error::image_error vs_vpl, vs_gather;
+  double mean = 0;  // the image's mean over pixels and channels (linear HDR)
+  speed_vs_error::image_error vs_vpl, vs_gather, vs_exact;
 };
 
 struct bias_variance_row {
   method meth;
   int samples = 0, seeds = 0;
-  double variance = 0, bias2_vpl = 0, bias2_gather = 0;
+  double variance = 0, bias2_vpl = 0, bias2_gather = 0, bias2_exact = 0;
 };
 
 void write_text(const std::string& path, const std::string& text) {
@@ -307,7 +331,8 @@ std::string sci(double v) {
 // these: PREFIX.svg (error against time), PREFIX_samples.svg (error against samples: the paper's
 // Fig. 8) and PREFIX_pareto.md (Pareto front, equal-error table). Returns the files written.
 std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const std::vector<method>& methods,
-                                        const std::vector<int>& samples, bool has_vplsum, bool has_gather, int ref_dirs,
+                                        const std::vector<int>& samples, bool has_vplsum, bool has_gather,
+                                        bool has_exact, int ref_dirs,
                                         const std::string& caption, const std::string& scene_line,
                                         const std::string& out) {
   struct reference_view {
@@ -319,7 +344,8 @@ std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const 
       {has_vplsum, "RMSE vs exhaustive VPL sum", &run_row::vs_vpl},
       {has_gather,
        ref_dirs > 0 ? "RMSE vs converged gathering (" + std::to_string(ref_dirs) + " dirs)" : "RMSE vs converged gathering",
-       &run_row::vs_gather}};
+       &run_row::vs_gather},
+      {has_exact, "RMSE vs exact (ground truth)", &run_row::vs_exact}};
   std::vector<speed_vs_error::panel> by_time, by_samples;
   std::ostringstream pareto;
   pareto << scene_line << " Time = build + estimate (ms, mean over seeds of the median repeat); error = mean RMSE "
@@ -410,6 +436,13 @@ std::vector<std::string> replot(const sweep_options& so) {
                     c_samples = col("samples"), c_width = col("width"), c_height = col("height"),
                     c_total = col("total_ms"), c_rv = col("rmse_vplsum"), c_lv = col("relmse_vplsum"),
                     c_rg = col("rmse_gather"), c_lg = col("relmse_gather");
+  // Written since the exact reference exists; older CSVs have neither column.
+  const auto optional_col = [&](const std::string& name) {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return i;
+    return header.size();
+  };
+  const std::size_t c_re = optional_col("rmse_exact"), c_le = optional_col("relmse_exact");
   const auto number = [&](const std::string& t, int line_no) {
     if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
     char* end = nullptr;
@@ -422,7 +455,7 @@ std::vector<std::string> replot(const sweep_options& so) {
   std::vector<method> methods;
   std::vector<int> samples;
   std::string scene, backend, size;
-  bool has_vpl = false, has_gather = false;
+  bool has_vpl = false, has_gather = false, has_exact = false;
   int line_no = 1;
   while (std::getline(f, line)) {
     ++line_no;
@@ -441,6 +474,9 @@ std::vector<std::string> replot(const sweep_options& so) {
     r.total_ms = number(v[c_total], line_no);
     r.vs_vpl = {number(v[c_rv], line_no), number(v[c_lv], line_no)};
     r.vs_gather = {number(v[c_rg], line_no), number(v[c_lg], line_no)};
+    if (c_re < v.size() && c_le < v.size()) r.vs_exact = {number(v[c_re], line_no), number(v[c_le], line_no)};
+    else r.vs_exact = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+    has_exact = has_exact || !std::isnan(r.vs_exact.rmse);
     has_vpl = has_vpl || !std::isnan(r.vs_vpl.rmse);
     has_gather = has_gather || !std::isnan(r.vs_gather.rmse);
     if (std::find(methods.begin(), methods.end(), r.meth) == methods.end()) methods.push_back(r.meth);
@@ -451,7 +487,7 @@ std::vector<std::string> replot(const sweep_options& so) {
   if (rows.empty()) throw input_error("--replot: '" + so.replot + "' has no rows");
   std::sort(samples.begin(), samples.end());
   const std::string caption = scene + " " + size + ", backend " + backend + " (from " + base_name(so.replot) + ".csv)";
-  return write_analysis(rows, methods, samples, has_vpl, has_gather, 0, caption,
+  return write_analysis(rows, methods, samples, has_vpl, has_gather, has_exact, 0, caption,
                         "Scene `" + scene + "`, " + size + ", backend `" + backend + "`.", so.out);
 }
 
@@ -490,7 +526,11 @@ int main(int argc, char** argv) {
 
     stage_timer prep_timer;
     nlohmann::json prep_det;
-    const frame_buffers b = prepare_buffers(base, p, prep_timer, prep_det);
+    // The exact reference needs the frame's exact rays (Embree), made with the other buffers.
+    options prep = base;
+    if (so.ref_exact || std::find(so.methods.begin(), so.methods.end(), method::exact) != so.methods.end())
+      prep.meth = method::exact;
+    const frame_buffers b = prepare_buffers(prep, p, prep_timer, prep_det);
     double prepare_ms = 0.0;
     for (const stage_time& st : prep_timer.stages()) prepare_ms += st.ms;
     std::cout << "scene " << p.s.name << ", " << base.width << "x" << base.height << ", DPRSM 2x" << base.dprsm << "^2, "
@@ -502,6 +542,9 @@ int main(int argc, char** argv) {
     const reference_image ref_gather =
         so.ref_gather ? get_reference(base, p, b, so.cache_dir, "gather", so.ref_dirs, k_gather_reference_seed)
                       : reference_image{};
+    const reference_image ref_exact =
+        so.ref_exact ? get_reference(base, p, b, so.cache_dir, "exact", so.ref_exact_dirs, k_exact_reference_seed)
+                     : reference_image{};
     // Against a skipped reference every error is NaN, written as an empty field.
     const auto against = [](const image_rgb& img, const reference_image& ref) {
       if (ref.img.rgb.empty()) {
@@ -520,7 +563,7 @@ int main(int argc, char** argv) {
           options o = base;
           o.meth = m;
           o.seed = seed;
-          if (m == method::gather) o.dirs = n;
+          if (m == method::gather || m == method::exact) o.dirs = n;
           else o.vpls = n;
           if (m == method::mis || m == method::mis_as_published) o.dirs = n;
           // --repeats: the same run K times (same seed, same image); the median run's times are
@@ -552,9 +595,11 @@ int main(int argc, char** argv) {
           r.seed = seed;
           r.vs_vpl = against(img, ref_vpl);
           r.vs_gather = against(img, ref_gather);
+          r.vs_exact = against(img, ref_exact);
+          r.mean = image_mean(img);
           std::cout << to_string(m) << " samples " << n << " seed " << seed << ": " << fixed(r.total_ms, 1)
                     << " ms, RMSE vs VPL sum " << sci(r.vs_vpl.rmse) << ", vs gathering " << sci(r.vs_gather.rmse)
-                    << std::endl;
+                    << ", vs exact " << sci(r.vs_exact.rmse) << std::endl;
           rows.push_back(r);
           if (so.seeds.size() >= 2) group.push_back(img);
         }
@@ -565,34 +610,39 @@ int main(int argc, char** argv) {
           const speed_vs_error::bias_variance g = ref_gather.img.rgb.empty()
                                                       ? speed_vs_error::bias_variance{nan, nan}
                                                       : speed_vs_error::split(group, ref_gather.img);
-          const double variance = std::isnan(a.variance) ? g.variance : a.variance;
-          bv_rows.push_back({m, n, static_cast<int>(group.size()), variance, a.bias2, g.bias2});
+          const speed_vs_error::bias_variance e = ref_exact.img.rgb.empty()
+                                                      ? speed_vs_error::bias_variance{nan, nan}
+                                                      : speed_vs_error::split(group, ref_exact.img);
+          const double variance = !std::isnan(a.variance) ? a.variance : !std::isnan(g.variance) ? g.variance : e.variance;
+          bv_rows.push_back({m, n, static_cast<int>(group.size()), variance, a.bias2, g.bias2, e.bias2});
         }
       }
 
     // CSV
     std::ostringstream csv;
     csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,eps,local_combination,gbg_accumulator,"
-           "cdf_search,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
-           "relmse_gather,total_ms_min,repeats,gpu_peak_bytes,stages\n";
+           "cdf_search,visibility,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
+           "relmse_gather,rmse_exact,relmse_exact,total_ms_min,repeats,gpu_peak_bytes,stages\n";
     for (const run_row& r : rows)
       csv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
           << r.seed << "," << base.width << "," << base.height << "," << base.dprsm << "," << base.voxels << ","
           << num(base.eps) << "," << to_string(base.local_combination) << "," << to_string(base.gbg_accumulator) << ","
-          << to_string(base.cdf_search) << "," << num(prepare_ms) << "," << num(r.build_ms) << "," << num(r.estimate_ms) << "," << num(r.total_ms) << ","
+          << to_string(base.cdf_search) << "," << to_string(base.visibility) << "," << num(prepare_ms) << "," << num(r.build_ms) << "," << num(r.estimate_ms) << "," << num(r.total_ms) << ","
           << num(r.wall_ms) << "," << num(r.vs_vpl.rmse) << "," << num(r.vs_vpl.relmse) << "," << num(r.vs_gather.rmse)
-          << "," << num(r.vs_gather.relmse) << "," << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes
+          << "," << num(r.vs_gather.relmse) << "," << num(r.vs_exact.rmse) << "," << num(r.vs_exact.relmse) << ","
+          << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes
           << "," << r.stages << "\n";
     write_text(so.out + ".csv", csv.str());
 
     if (!bv_rows.empty()) {
       std::ostringstream bv;
       bv << "scene,backend,method,samples,seeds,eps,local_combination,gbg_accumulator,cdf_search,variance,"
-            "bias2_vplsum,bias2_gather\n";
+            "bias2_vplsum,bias2_gather,bias2_exact\n";
       for (const bias_variance_row& r : bv_rows)
         bv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
            << r.seeds << "," << num(base.eps) << "," << to_string(base.local_combination) << ","
-           << to_string(base.gbg_accumulator) << "," << to_string(base.cdf_search) << "," << num(r.variance) << "," << num(r.bias2_vpl) << "," << num(r.bias2_gather) << "\n";
+           << to_string(base.gbg_accumulator) << "," << to_string(base.cdf_search) << "," << num(r.variance) << "," << num(r.bias2_vpl) << "," << num(r.bias2_gather) << ","
+           << num(r.bias2_exact) << "\n";
       write_text(so.out + "_bias_variance.csv", bv.str());
     }
 
@@ -605,16 +655,27 @@ int main(int argc, char** argv) {
        << "`. Prepare (G-buffer + DPRSM + voxels, once): " << fixed(prepare_ms, 1) << " ms. References: VPL sum "
        << (!so.ref_vplsum ? "skipped" : ref_vpl.hit ? "from cache" : fixed(ref_vpl.ms, 0) + " ms") << ", gathering at "
        << so.ref_dirs << " dirs "
-       << (!so.ref_gather ? "skipped" : ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms");
+       << (!so.ref_gather ? "skipped" : ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms")
+       << ", exact at " << so.ref_exact_dirs << " dirs "
+       << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
+       << ". Visibility `" << to_string(base.visibility) << "`";
+    md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
+       << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
+       << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");
     if (so.ref_vplsum && so.ref_gather)
       md << ". Between the references: RMSE " << sci(speed_vs_error::compare(ref_gather.img, ref_vpl.img).rmse);
+    if (so.ref_exact && so.ref_vplsum) md << "; VPL sum vs exact " << sci(speed_vs_error::compare(ref_vpl.img, ref_exact.img).rmse);
+    if (so.ref_exact && so.ref_gather)
+      md << "; gathering vs exact " << sci(speed_vs_error::compare(ref_gather.img, ref_exact.img).rmse);
     md << ". Times: the median of " << so.repeats << " repeat(s) of each run.\n\n";
-    md << "| method | samples | seed | build ms | estimate ms | total ms | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
-          "gathering | relMSE vs gathering |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md << "| method | samples | seed | build ms | estimate ms | total ms | mean | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
+          "gathering | relMSE vs gathering | RMSE vs exact | relMSE vs exact |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const run_row& r : rows)
       md << "| " << to_string(r.meth) << " | " << r.samples << " | " << r.seed << " | " << fixed(r.build_ms, 1) << " | "
-         << fixed(r.estimate_ms, 1) << " | " << fixed(r.total_ms, 1) << " | " << sci(r.vs_vpl.rmse) << " | "
-         << sci(r.vs_vpl.relmse) << " | " << sci(r.vs_gather.rmse) << " | " << sci(r.vs_gather.relmse) << " |\n";
+         << fixed(r.estimate_ms, 1) << " | " << fixed(r.total_ms, 1) << " | " << sci(r.mean) << " | " << sci(r.vs_vpl.rmse) << " | "
+         << sci(r.vs_vpl.relmse) << " | " << sci(r.vs_gather.rmse) << " | " << sci(r.vs_gather.relmse) << " | "
+         << sci(r.vs_exact.rmse) << " | " << sci(r.vs_exact.relmse) << " |\n";
     write_text(so.out + ".md", md.str());
 
     const std::string caption = base_name(p.s.name) + " " + std::to_string(base.width) + "x" +
@@ -622,7 +683,8 @@ int main(int argc, char** argv) {
     const std::string scene_line = "Scene `" + p.s.name + "`, " + std::to_string(base.width) + "x" +
                                    std::to_string(base.height) + ", backend `" + to_string(base.back) + "`.";
     const std::vector<std::string> plots =
-        write_analysis(rows, so.methods, so.samples, so.ref_vplsum, so.ref_gather, so.ref_dirs, caption, scene_line, so.out);
+        write_analysis(rows, so.methods, so.samples, so.ref_vplsum, so.ref_gather, so.ref_exact, so.ref_dirs, caption,
+                       scene_line, so.out);
     std::cout << "wrote " << so.out << ".csv, " << so.out << ".md";
     for (const std::string& f : plots) std::cout << ", " << f;
     std::cout << (bv_rows.empty() ? "" : ", " + so.out + "_bias_variance.csv") << "\n";

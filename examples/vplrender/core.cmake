@@ -17,6 +17,11 @@ find_package(CLI11 2 CONFIG QUIET)
 if(NOT TARGET CLI11::CLI11)
   list(APPEND _vplrender_missing "CLI11 (libcli11-dev)")
 endif()
+# Embree 3: exact visibility on the CPU backend and --method exact (render/cpu/ray_scene.hpp).
+find_package(embree 3 CONFIG QUIET)
+if(NOT TARGET embree)
+  list(APPEND _vplrender_missing "Embree 3 (libembree-dev)")
+endif()
 find_package(nlohmann_json 3 CONFIG QUIET)
 if(NOT TARGET nlohmann_json::nlohmann_json)
   list(APPEND _vplrender_missing "nlohmann_json (nlohmann-json3-dev)")
@@ -38,7 +43,7 @@ endif()
 # from two directories, so promote them (and what they drag in) to global.
 foreach(_t tinyobjloader::tinyobjloader OpenEXR::OpenEXR OpenEXR::Iex OpenEXR::IlmThread OpenEXR::OpenEXRCore
            OpenEXR::OpenEXRConfig OpenEXR::IexConfig OpenEXR::IlmThreadConfig OpenEXR::OpenEXRUtil
-           Imath::Imath Imath::ImathConfig CLI11::CLI11 nlohmann_json::nlohmann_json)
+           Imath::Imath Imath::ImathConfig CLI11::CLI11 nlohmann_json::nlohmann_json embree)
   if(TARGET ${_t})
     get_target_property(_global ${_t} IMPORTED_GLOBAL)
     get_target_property(_imported ${_t} IMPORTED)
@@ -65,6 +70,8 @@ add_library(vplrender_core STATIC
   ${_vr}/raster/voxels.cpp
   ${_vr}/render/cpu/cpu_backend.cpp
   ${_vr}/render/cpu/cpu_builders.cpp
+  ${_vr}/render/cpu/exact_estimator.cpp
+  ${_vr}/render/cpu/ray_scene.cpp
   ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp
   ${_vr}/scene/camera.cpp
@@ -81,7 +88,7 @@ target_include_directories(vplrender_core PUBLIC ${_vr})
 target_include_directories(vplrender_core SYSTEM PRIVATE ${VPLRENDER_STB_INCLUDE_DIR})
 target_link_libraries(vplrender_core
   PUBLIC vplkit::vplkit glm::glm nlohmann_json::nlohmann_json
-  PRIVATE vplkit_project_options tinyobjloader::tinyobjloader OpenEXR::OpenEXR CLI11::CLI11 ${VPLRENDER_STB_LIBRARY})
+  PRIVATE vplkit_project_options tinyobjloader::tinyobjloader OpenEXR::OpenEXR CLI11::CLI11 embree ${VPLRENDER_STB_LIBRARY})
 find_package(Threads REQUIRED)
 target_link_libraries(vplrender_core PUBLIC Threads::Threads)
 set(VPLRENDER_CORE_AVAILABLE ON)
@@ -93,6 +100,7 @@ if(TARGET vplkit_headless_gl)
   add_library(vplrender_pipeline STATIC
     ${_vr}/app/render_options.cpp
     ${_vr}/raster/gl_raster.cpp
+    ${_vr}/raster/gpu_bvh.cpp
     ${_vr}/raster/gpu_scene_buffers.cpp
     ${_vr}/raster/voxels_gpu.cpp
     ${_vr}/render/gpu/gpu_backend.cpp

@@ -113,7 +113,7 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
         VPLKIT_MEMBER(acc, width), VPLKIT_MEMBER(acc, height), VPLKIT_MEMBER(acc, resolution),
         VPLKIT_MEMBER(acc, n_dirs), VPLKIT_MEMBER(acc, accumulator), VPLKIT_MEMBER(acc, dir_begin),
         VPLKIT_MEMBER(acc, dir_end), VPLKIT_MEMBER(acc, count_gather_points), VPLKIT_MEMBER(acc, seed),
-        VPLKIT_MEMBER(acc, pad0), VPLKIT_MEMBER(acc, pad1), VPLKIT_MEMBER(acc, pad2), VPLKIT_MEMBER(acc, dmin),
+        VPLKIT_MEMBER(acc, bvh_node_count), VPLKIT_MEMBER(acc, pad1), VPLKIT_MEMBER(acc, pad2), VPLKIT_MEMBER(acc, dmin),
         VPLKIT_MEMBER(acc, depth_tolerance), VPLKIT_MEMBER(acc, offset_voxels), VPLKIT_MEMBER(acc, end_tolerance_voxels),
         VPLKIT_MEMBER(acc, scale), VPLKIT_MEMBER(acc, max_units), VPLKIT_MEMBER(acc, pad4), VPLKIT_MEMBER(acc, pad5)})
     ga.push_back(m);

@@ -110,7 +110,8 @@ TEST_CASE("every flag is parsed into the options struct") {
 TEST_CASE("every method name of the contract is accepted, and nothing else") {
   const std::pair<const char*, method> names[] = {
       {"reference", method::reference}, {"global", method::global}, {"local", method::local}, {"gbg", method::gbg},
-      {"gather", method::gather},       {"mis", method::mis},       {"mis-as-published", method::mis_as_published}};
+      {"gather", method::gather},       {"mis", method::mis},       {"mis-as-published", method::mis_as_published},
+      {"exact", method::exact}};
   for (const auto& [name, m] : names) {
     CHECK(parse({"--method", name}).meth == m);
     CHECK(std::string(to_string(m)) == name);
@@ -346,4 +347,16 @@ TEST_CASE("the estimator switches (local combination, GBG accumulator, CDF searc
     INFO(s);
     CHECK(help.find(s) != std::string::npos);
   }
+}
+
+TEST_CASE("the visibility flag is voxels (default) or exact, and the window refuses the exact method") {
+  CHECK(parse({}).visibility == visibility_choice::voxels);
+  CHECK(parse({"--visibility", "exact"}).visibility == visibility_choice::exact);
+  CHECK(parse({"--visibility", "voxels"}).visibility == visibility_choice::voxels);
+  CHECK(parse({"--paper", "--visibility", "exact"}).visibility == visibility_choice::exact);
+  CHECK(std::string(to_string(visibility_choice::exact)) == "exact");
+  CHECK(starts_with(error_of({"--visibility", "bvh"}), "--visibility: unknown value 'bvh' (expected voxels|exact)"));
+  CHECK(starts_with(error_of({"--window", "--method", "exact"}), "--window: does not offer --method exact"));
+  CHECK(help_text().find("--visibility") != std::string::npos);
+  CHECK(help_text().find("runs on the CPU") != std::string::npos);
 }

@@ -23,6 +23,51 @@
 #define VR_GATHER 3
 #define VR_MIS 4
 
+// Visibility (VR_VISIBILITY, defined by the host beside VR_METHOD: render/gpu/gpu_visibility.hpp):
+// what V(x, y) and the gathering rays are decided against. 0: the voxel grid (binding 2). 1: exact,
+// the scene's BVH (bindings 8 and 9, u_bvh_node_count) through the pack's user visibility and
+// tracer hooks. This block is the only place the kernel chooses; vr_make_visibility and
+// vr_make_tracer are what main() uses. The includes stay outside the #if: the include resolver
+// inlines each file once wherever it first appears and does not evaluate #if.
+#define VR_VISIBILITY_VOXELS 0
+#define VR_VISIBILITY_EXACT 1
+#ifndef VR_VISIBILITY
+#define VR_VISIBILITY VR_VISIBILITY_VOXELS
+#endif
+#if VR_VISIBILITY == VR_VISIBILITY_EXACT
+#define VPLKIT_USER_VISIBILITY
+#define VPLKIT_USER_TRACER
+#endif
+#include "vplkit/visibility/bvh_visibility.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
+#if VR_VISIBILITY == VR_VISIBILITY_EXACT
+layout(std430, binding = 8) readonly buffer VrBvhNodes { vplkit_bvh_node vr_bvh_nodes[]; };
+layout(std430, binding = 9) readonly buffer VrBvhTriangles { vplkit_bvh_triangle vr_bvh_triangles[]; };
+uniform uint u_bvh_node_count;
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vr_bvh_nodes[index]; }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) { return vr_bvh_triangles[slot]; }
+bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
+  return vplkit_bvh_visible(vplkit_bvh(u_bvh_node_count), x, n_x, y, n_y);
+}
+vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
+  return vplkit_bvh_trace(vplkit_bvh(u_bvh_node_count), x, n_x, dir);
+}
+vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
+  return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0);
+}
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_voxel_tracer(grid, 0.0, true); }
+#elif VR_VISIBILITY == VR_VISIBILITY_VOXELS
+// No BVH buffers: the pack's BVH functions are compiled but never called.
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) {
+  return vplkit_bvh_triangle(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u);
+}
+vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_voxel_visibility(grid); }
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_voxel_tracer(grid); }
+#else
+#error "VR_VISIBILITY must be VR_VISIBILITY_VOXELS or VR_VISIBILITY_EXACT"
+#endif
+
 layout(local_size_x = 64) in;
 
 #include "vplkit/core/gather_point.glsl"
@@ -203,8 +248,8 @@ void main() {
       u_dprsm_res, vplkit_point_light(u_light_pos, u_light_int,
                                       vplkit_light_frame(u_frame_pos, u_axis_x, u_axis_y, u_axis_z)));
   vplkit_voxel_grid grid = vplkit_voxel_grid(u_grid_min, u_grid_max, u_grid_res);
-  vplkit_visibility visibility = vplkit_make_voxel_visibility(grid);
-  vplkit_voxel_tracer tracer = vplkit_make_voxel_tracer(grid);
+  vplkit_visibility visibility = vr_make_visibility(grid);
+  vplkit_voxel_tracer tracer = vr_make_tracer(grid);
   bool valid = vplkit_gather_point_valid(gp);
   if (valid) {
 #if VR_METHOD == VR_REFERENCE

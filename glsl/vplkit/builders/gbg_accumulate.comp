@@ -17,9 +17,16 @@
 #ifdef VPLKIT_GBG_TRIANGLE_VOXELS
 #define VPLKIT_TRIANGLE_VOXELS
 #endif
+// Tracer: the voxel grid's by default; with VPLKIT_GBG_TRACER_BVH defined (host preamble) the
+// pack's BVH (visibility/bvh_visibility.glsl: exact first hits against the triangles), its nodes and
+// triangles bound at VPLKIT_GBG_BINDING_BVH_NODES / _TRIANGLES and params.bvh_node_count set.
+#ifdef VPLKIT_GBG_TRACER_BVH
+#define VPLKIT_USER_TRACER
+#endif
 #include "vplkit/builders/gbg_accumulate_params.h"
 #include "vplkit/builders/gbg_weights.glsl"
 #include "vplkit/core/gather_point.glsl"
+#include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
 
 layout(local_size_x = VPLKIT_GBG_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
@@ -70,6 +77,27 @@ uint vplkit_load_voxel_offset(uint index) { return vplkit_gbg_voxel_offsets[inde
 uint vplkit_load_voxel_entry(uint index) { return vplkit_gbg_voxel_entries[index]; }
 vec4 vplkit_load_voxel_triangle(uint index) { return vplkit_gbg_voxel_triangles[index]; }
 #endif
+// (bvh_visibility.glsl is included above, outside the #ifdef: the include resolver inlines a file
+// once where it first appears and does not evaluate #if.)
+#ifdef VPLKIT_GBG_TRACER_BVH
+layout(std430, binding = VPLKIT_GBG_BINDING_BVH_NODES) readonly buffer vplkit_gbg_bvh_node_buffer {
+  vplkit_bvh_node vplkit_gbg_bvh_nodes[];
+};
+layout(std430, binding = VPLKIT_GBG_BINDING_BVH_TRIANGLES) readonly buffer vplkit_gbg_bvh_triangle_buffer {
+  vplkit_bvh_triangle vplkit_gbg_bvh_triangles[];
+};
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_gbg_bvh_nodes[index]; }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) { return vplkit_gbg_bvh_triangles[slot]; }
+vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
+  return vplkit_bvh_trace(vplkit_bvh(vplkit_gbg_accumulate.bvh_node_count), x, n_x, dir);
+}
+#else
+// No BVH buffers: the BVH functions are compiled but never called.
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) {
+  return vplkit_bvh_triangle(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u);
+}
+#endif
 
 // 64-bit add as two 32-bit atomics: the low word's carry is detected from the value it had just
 // before this add (atomicAdd returns it), so every wrap of the low word adds 1 to the high word
@@ -101,6 +129,9 @@ void main() {
 #else
   vplkit_voxel_tracer tracer = vplkit_make_voxel_tracer(grid);
   tracer.offset_voxels = p.offset_voxels;
+#ifdef VPLKIT_GBG_TRACER_BVH
+  tracer.user = true;
+#endif
 #endif
   vplkit_gbg_params params = vplkit_gbg_params(p.n_dirs, p.dmin, p.depth_tolerance, p.seed, p.accumulator, false);
   int dir_begin = max(p.dir_begin, 0);

@@ -22,22 +22,28 @@
 #ifndef VPLKIT_GBG_BINDING_STATS
 #define VPLKIT_GBG_BINDING_STATS 4  // SSBO: uint stats[VPLKIT_GBG_STATS_SIZE], zeroed first
 #endif
+#ifndef VPLKIT_GBG_BINDING_BVH_NODES
+#define VPLKIT_GBG_BINDING_BVH_NODES 10  // SSBO, readonly, VPLKIT_GBG_TRACER_BVH only: vplkit_bvh_node[]
+#endif
+#ifndef VPLKIT_GBG_BINDING_BVH_TRIANGLES
+#define VPLKIT_GBG_BINDING_BVH_TRIANGLES 11  // SSBO, readonly, VPLKIT_GBG_TRACER_BVH only: vplkit_bvh_triangle[]
+#endif
 #ifndef VPLKIT_GBG_BINDING_PARAMS
 #define VPLKIT_GBG_BINDING_PARAMS 5  // uniform block: gbg_accumulate_params
 #endif
 // With VPLKIT_GBG_TRIANGLE_VOXELS: the triangle voxel grid's arrays (visibility/triangle_voxel_grid.glsl
 // layout, as the C++ triangle_voxel_grid's), all readonly SSBOs.
 #ifndef VPLKIT_GBG_BINDING_VOXEL_RANK
-#define VPLKIT_GBG_BINDING_VOXEL_RANK 5  // uint rank[]
+#define VPLKIT_GBG_BINDING_VOXEL_RANK 6  // uint rank[]
 #endif
 #ifndef VPLKIT_GBG_BINDING_VOXEL_OFFSETS
-#define VPLKIT_GBG_BINDING_VOXEL_OFFSETS 6  // uint offsets[]
+#define VPLKIT_GBG_BINDING_VOXEL_OFFSETS 7  // uint offsets[]
 #endif
 #ifndef VPLKIT_GBG_BINDING_VOXEL_ENTRIES
-#define VPLKIT_GBG_BINDING_VOXEL_ENTRIES 7  // uint entries[]
+#define VPLKIT_GBG_BINDING_VOXEL_ENTRIES 8  // uint entries[]
 #endif
 #ifndef VPLKIT_GBG_BINDING_VOXEL_TRIANGLES
-#define VPLKIT_GBG_BINDING_VOXEL_TRIANGLES 8  // vec4 triangles[] (4 per triangle)
+#define VPLKIT_GBG_BINDING_VOXEL_TRIANGLES 9  // vec4 triangles[] (4 per triangle)
 #endif
 #ifndef VPLKIT_GBG_LOCAL_SIZE
 #define VPLKIT_GBG_LOCAL_SIZE 64
@@ -73,7 +79,7 @@ struct vplkit_gbg_accumulate_params {
   int dir_end;
   int count_gather_points;  // 1 in exactly one dispatch of a build
   uint seed;                // streams are pixel indices
-  uint pad0;
+  uint bvh_node_count;      // VPLKIT_GBG_TRACER_BVH: the hierarchy's node count (0: empty)
   uint pad1;
   uint pad2;
   float dmin;

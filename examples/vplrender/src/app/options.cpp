@@ -25,7 +25,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler;
+      face_selection, sampler, visibility;
   bool paper = false, direct = false, window = false;
 };
 
@@ -46,7 +46,7 @@ std::string wrap(const std::string& text, std::size_t width = 62) {
   return out + line;
 }
 
-constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published";
+constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published|exact";
 
 void build_app(CLI::App& app, raw_values& v) {
   app.description(wrap(
@@ -61,7 +61,10 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("Estimator (default mis): reference = exhaustive VPL sum with visibility; global = BRSM global "
                  "CDF; local = per-region CDFs (balance heuristic); gbg = gathering-based global CDF; gather = "
                  "cosine gathering only; mis = gathering + GBG CDF with solid-angle balance heuristic; "
-                 "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison)."))
+                 "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison); exact = ground truth: "
+                 "--dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
+                 "light at each hit with an exact shadow ray, no VPLs (runs on the CPU with Embree on either "
+                 "backend; no GPU kernel)."))
       ->type_name(kMethods);
   app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
                                       "(headless). gpu: voxelisation and the estimator of every method run as compute "
@@ -112,6 +115,12 @@ void build_app(CLI::App& app, raw_values& v) {
                    "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
                    "docs/results.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
       ->type_name("cdf|alias");
+  app.add_option("--visibility", v.visibility,
+                 d("What visibility and the gathering rays are decided against, for every method (default "
+                   "voxels): voxels = the voxel grid (--voxels); exact = the scene's triangles, through Embree on "
+                   "the CPU backend and the GLSL pack's BVH (built on the host, uploaded once per frame) on the GPU "
+                   "backend. --method exact always uses exact rays."))
+      ->type_name("voxels|exact");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -273,7 +282,7 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.meth = parse_choice<method>("--method", v.meth,
                                   {{"reference", method::reference}, {"global", method::global}, {"local", method::local},
                                    {"gbg", method::gbg}, {"gather", method::gather}, {"mis", method::mis},
-                                   {"mis-as-published", method::mis_as_published}});
+                                   {"mis-as-published", method::mis_as_published}, {"exact", method::exact}});
   if (given("--backend")) o.back = parse_choice<backend>("--backend", v.back, {{"gpu", backend::gpu}, {"cpu", backend::cpu}});
   if (given("--progress"))
     o.progress = parse_choice<progress_mode>("--progress", v.progress,
@@ -304,6 +313,10 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (o.cdf_search == cdf_search_choice::binary &&
       (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))
     throw usage_error("--cdf-search binary: needs --sampler cdf and --face-selection joint");
+  if (given("--visibility"))
+    o.visibility = parse_choice<visibility_choice>("--visibility", v.visibility,
+                                                   {{"voxels", visibility_choice::voxels},
+                                                    {"exact", visibility_choice::exact}});
   o.paper = v.paper;
   if (o.paper) {
     o.width = o.height = 512;
@@ -394,6 +407,7 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                          std::to_string(o.regions_y) + ") do not fit a " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
   if (o.window && o.back != backend::gpu) bad("--window", "needs --backend gpu");
+  if (o.window && o.meth == method::exact) bad("--window", "does not offer --method exact (it has no GPU kernel)");
   return r;
 }
 

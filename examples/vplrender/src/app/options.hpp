@@ -55,6 +55,7 @@ struct options {
   cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
   face_selection_choice face_selection = face_selection_choice::joint;  // paper: roulette
   sampler_choice sampler = sampler_choice::cdf;
+  visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

@@ -9,6 +9,7 @@ frame_settings make_frame_settings(const options& o) {
   f.dprsm = o.dprsm;
   f.voxels = o.voxels;
   f.back = o.back;
+  f.exact_rays = o.visibility == visibility_choice::exact || o.meth == method::exact;
   return f;
 }
 
@@ -25,6 +26,7 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.cdf_search = o.cdf_search;
   e.face_selection = o.face_selection;
   e.sampler = o.sampler;
+  e.visibility = o.visibility;
   e.seed = o.seed;
   e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;

@@ -31,6 +31,7 @@ nlohmann::json options_to_json(const options& o) {
   j["cdf_search"] = to_string(o.cdf_search);
   j["face_selection"] = to_string(o.face_selection);
   j["sampler"] = to_string(o.sampler);
+  j["visibility"] = to_string(o.visibility);
   j["voxels"] = o.voxels;
   j["dprsm"] = o.dprsm;
   j["paper"] = o.paper;

@@ -3,6 +3,7 @@
 // (the pack's builder kernels, the fallback weights, estimate.comp): made once per frame by the
 // pipeline (render/pipeline.hpp) and bound by every GPU stage, so nothing is uploaded twice. A
 // richer visibility structure adds its buffers here and to upload_scene_buffers.
+#include "raster/gpu_bvh.hpp"
 #include "raster/render_data.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -17,6 +18,7 @@ struct gpu_scene_buffers {
   vplkit::gl::buffer gbuffer;  // surfels of gbuffer_data, index y * W + x (row 0 = top)
   vplkit::gl::buffer dprsm;    // surfels of dprsm_data, index face * R^2 + y * R + x
   vplkit::gl::buffer voxels;   // the voxel grid's occupancy words (voxel_grid::words order)
+  gpu_bvh bvh;                 // --visibility exact: the scene's BVH (empty unless prepared with exact rays)
 };
 
 // A G-buffer pixel or a DPRSM texel as the kernels read it: struct { vec4 position; vec4 normal;

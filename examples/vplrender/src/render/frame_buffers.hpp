@@ -14,6 +14,7 @@
 namespace vplrender {
 
 struct gpu_scene_buffers;  // raster/gpu_scene_buffers.hpp (GL types; this header stays GL-free)
+class ray_scene;          // render/cpu/ray_scene.hpp (Embree types stay out of this header)
 
 struct frame_buffers {
   backend back = backend::gpu;  // the backend whose estimators these buffers serve
@@ -23,6 +24,9 @@ struct frame_buffers {
   vplkit::voxel_grid<float> grid;
   // The same G-buffer, DPRSM and voxel words on the GPU; null for the CPU backend.
   std::shared_ptr<const gpu_scene_buffers> gpu;
+  // The scene's triangles in Embree (--visibility exact on the CPU, --method exact); null unless
+  // the frame was prepared with frame_settings::exact_rays.
+  std::shared_ptr<const ray_scene> rays;
 };
 
 }  // namespace vplrender

@@ -2,11 +2,13 @@
 
 #include "io/errors.hpp"
 #include "raster/gl_raster.hpp"
+#include "raster/gpu_bvh.hpp"
 #include "raster/gpu_scene_buffers.hpp"
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"
 #include "raster/voxels_gpu.hpp"
 #include "render/cpu/cpu_backend.hpp"
+#include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_backend.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -93,12 +95,31 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     scene_gpu->gbuffer = upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
     scene_gpu->dprsm = upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
   }
+  // Exact rays: Embree over the scene for the CPU (exact visibility there, --method exact on either
+  // backend) and, for the GPU backend, the pack's BVH built here and uploaded with the scene buffers.
+  std::shared_ptr<const ray_scene> rays;
+  if (f.exact_rays) {
+    {
+      auto t = timer.scoped("embree scene (cpu)");
+      rays = std::make_shared<const ray_scene>(s);
+    }
+    if (gpu) {
+      auto t = timer.scoped("bvh build and upload (cpu)");
+      scene_gpu->bvh = upload_scene_bvh(s);
+    }
+    det["exact_rays"] = {{"triangles", s.triangles.size()},
+                         {"surface_offset", rays->surface_offset()},
+                         {"bvh_nodes", gpu ? scene_gpu->bvh.node_count : 0u},
+                         {"bvh_depth", gpu ? scene_gpu->bvh.depth : 0}};
+  }
   det["scene_buffers"] = {
       {"on_gpu", gpu},
-      {"gpu_bytes", gpu ? scene_gpu->gbuffer.size_bytes() + scene_gpu->dprsm.size_bytes() + scene_gpu->voxels.size_bytes()
+      {"gpu_bytes", gpu ? scene_gpu->gbuffer.size_bytes() + scene_gpu->dprsm.size_bytes() + scene_gpu->voxels.size_bytes() +
+                              scene_gpu->bvh.nodes.size_bytes() + scene_gpu->bvh.triangles.size_bytes()
                         : std::size_t(0)}};
-  frame_buffers b{f.back, std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid), nullptr};
+  frame_buffers b{f.back, std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid), nullptr, nullptr};
   b.gpu = std::move(scene_gpu);
+  b.rays = std::move(rays);
   return b;
 }
 
@@ -111,12 +132,13 @@ render_result run_estimator(const frame_buffers& b, const render_settings& s, st
   vplkit::gl::reset_gpu_memory_peak();
   render_result r;
   try {
-    r = gpu ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
+    // --method exact has no GPU kernel: it runs on the CPU (Embree) with either backend's frame.
+    r = gpu && s.meth != method::exact ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
   } catch (const vplkit::invalid_input& e) {
     throw input_error(e.what());
   }
   det["estimator"] = r.details;
-  det["estimator_backend"] = to_string(b.back);
+  det["estimator_backend"] = to_string(s.meth == method::exact ? backend::cpu : b.back);
   const vplkit::gl::gpu_memory after = vplkit::gl::gpu_memory_usage();
   det["memory"] = {{"gpu_peak_bytes_prepare", before.peak_bytes},
                    {"gpu_live_bytes_before_estimator", before.live_bytes},

@@ -14,6 +14,7 @@ const char* to_string(method m) {
     case method::gather: return "gather";
     case method::mis: return "mis";
     case method::mis_as_published: return "mis-as-published";
+    case method::exact: return "exact";
   }
   return "?";
 }
@@ -26,8 +27,9 @@ const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_ch
 const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
 const char* to_string(face_selection_choice f) { return f == face_selection_choice::roulette ? "roulette" : "joint"; }
 const char* to_string(sampler_choice s) { return s == sampler_choice::alias ? "alias" : "cdf"; }
+const char* to_string(visibility_choice v) { return v == visibility_choice::exact ? "exact" : "voxels"; }
 
-bool has_distribution(method m) { return m != method::reference && m != method::gather; }
+bool has_distribution(method m) { return m != method::reference && m != method::gather && m != method::exact; }
 
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);

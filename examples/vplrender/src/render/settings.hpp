@@ -10,7 +10,9 @@
 
 namespace vplrender {
 
-enum class method { reference, global, local, gbg, gather, mis, mis_as_published };
+// exact: one-bounce indirect light by cosine gathering against the scene's triangles with exact
+// visibility and no VPLs (render/cpu/exact_estimator.hpp), the ground truth of the others.
+enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
 // accumulator and the CDF search; and how a distribution is sampled (face selection, sampler).
@@ -23,6 +25,9 @@ enum class face_selection_choice { joint, roulette };
 // cdf: discrete CDF (inversion, keeps u's stratification); alias: Walker's alias table
 // (vplkit::alias_table; O(1), same pmf, does not keep u's stratification).
 enum class sampler_choice { cdf, alias };
+// What V(x, y) and the gathering rays are decided against: the voxel grid (docs/math.md section 7)
+// or the scene's triangles (exact: Embree on the CPU backend, the pack's BVH on the GPU backend).
+enum class visibility_choice { voxels, exact };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -31,9 +36,10 @@ const char* to_string(gbg_accumulator_choice a);
 const char* to_string(cdf_search_choice s);
 const char* to_string(face_selection_choice f);
 const char* to_string(sampler_choice s);
+const char* to_string(visibility_choice v);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
-// mis-as-published): they have builders and CDFs; reference and gather have neither.
+// mis-as-published): they have builders and CDFs; reference, gather and exact have none.
 bool has_distribution(method m);
 
 // Everything an estimator run needs besides the buffers (docs/renderer.md).
@@ -48,6 +54,7 @@ struct render_settings {
   cdf_search_choice cdf_search = cdf_search_choice::guide;
   face_selection_choice face_selection = face_selection_choice::joint;
   sampler_choice sampler = sampler_choice::cdf;
+  visibility_choice visibility = visibility_choice::voxels;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF

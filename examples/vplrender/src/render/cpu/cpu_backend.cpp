@@ -1,6 +1,8 @@
 #include "render/cpu/cpu_backend.hpp"
 
 #include "render/cpu/cpu_builders.hpp"
+#include "render/cpu/cpu_visibility.hpp"
+#include "render/cpu/exact_estimator.hpp"
 #include "render/cpu/parallel.hpp"
 #include "render/mixture_components.hpp"
 
@@ -80,8 +82,9 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   det["dmin"] = s.dmin;
 
   const vplkit::voxel_grid_view<float> grid = b.grid.view();
-  const vplkit::voxel_visibility<float> visibility{grid};
-  const vplkit::voxel_tracer<float> tracer{grid};
+  const cpu_visibility visibility = make_cpu_visibility(b, s.visibility);
+  const cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
+  det["visibility"] = to_string(s.meth == method::exact ? visibility_choice::exact : s.visibility);
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(s.cdf_search);
@@ -145,6 +148,13 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
             s.meth == method::mis ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published;
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
           return vplkit::estimate_mis(gp, view, dists[0], rng, s.dirs, s.vpls, tracer, visibility, depth_tol, mode);
+        });
+        break;
+      }
+      case method::exact: {
+        const ray_scene& rs = frame_ray_scene(b, "--method exact");
+        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+          return estimate_exact(rs, view.light, gp, gather_point_geometric_normal(rs, gp), rng, s.dirs);
         });
         break;
       }

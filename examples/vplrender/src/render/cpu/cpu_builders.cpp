@@ -1,5 +1,6 @@
 #include "render/cpu/cpu_builders.hpp"
 
+#include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/parallel.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
@@ -51,7 +52,7 @@ std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_se
   const int threads = thread_count(s.threads);
   const int W = g.width, H = g.height;
   const vplkit::voxel_grid_view<float> grid = b.grid.view();
-  const vplkit::voxel_tracer<float> tracer{grid};
+  const cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   vplkit::gbg_params<float> params;
   params.n_dirs = s.dirs;
@@ -98,6 +99,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
   switch (s.meth) {
     case method::reference:
     case method::gather:
+    case method::exact:
       break;
     case method::global: {
       std::vector<float> weights(n_texels, 0.0f);

@@ -2,6 +2,7 @@
 
 #include "raster/gpu_scene_buffers.hpp"
 #include "render/gpu/gpu_builders.hpp"
+#include "render/gpu/gpu_visibility.hpp"
 #include "render/gpu/loop_budget.hpp"
 #include "render/mixture_components.hpp"
 
@@ -86,14 +87,16 @@ kernel_kind kernel_of(method m) {
     case method::gather: return k_gather;
     case method::mis:
     case method::mis_as_published: return k_mis;
+    case method::exact: break;  // no GPU kernel: run_estimator sends it to the CPU backend
   }
   return k_reference;
 }
 
-// estimate.comp compiled once per kind (the process's program cache).
-const vplkit::gl::program& kernel(kernel_kind k) {
+// estimate.comp compiled once per kind and visibility (the process's program cache).
+const vplkit::gl::program& kernel(kernel_kind k, visibility_choice v) {
   return vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/estimate.comp",
-                                   "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n");
+                                   "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n" +
+                                       estimate_visibility_define(v));
 }
 
 // Worst-case loop iterations of one unit of work (a texel, sample, round, direction or MIS step)
@@ -103,9 +106,9 @@ struct work_shape {
   long long units = 0;
 };
 
-work_shape shape_of(const render_settings& es, int R, const vplkit::ivec3& vr, int regions, int rounds) {
-  // One voxel march crosses at most rx + ry + rz voxels; doubled for the two-sided test's loops.
-  const long long dda = 2LL * (vr.x + vr.y + vr.z) + 32;
+work_shape shape_of(const render_settings& es, int R, long long query_cost, int regions, int rounds) {
+  // One query's loops (gpu_query_cost), doubled for the two-sided voxel test's two marches.
+  const long long dda = 2LL * query_cost + 32;
   const long long texels = 2LL * R * R;
   long long log2n = 1;
   while ((1LL << log2n) < texels) ++log2n;
@@ -126,7 +129,8 @@ work_shape shape_of(const render_settings& es, int R, const vplkit::ivec3& vr, i
 int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit::ivec3& voxel_resolution,
                    int regions) {
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
-  const work_shape s = shape_of(es, dprsm_resolution, voxel_resolution, regions, rounds);
+  const work_shape s =
+      shape_of(es, dprsm_resolution, gpu_query_cost(nullptr, visibility_choice::voxels, voxel_resolution), regions, rounds);
   const long long chunk = std::max(1LL, gpu_loop_budget / s.cost);
   return static_cast<int>((s.units + chunk - 1) / chunk);
 }
@@ -149,6 +153,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const float depth_tol = gathering_depth_tolerance(grid);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(es.cdf_search);
+  det["visibility"] = to_string(es.visibility);
   // Builders and CDFs on the GPU (gpu_builders.cpp, gpu_cdf.cpp): the mixtures stay there. The
   // methods without a builder (reference, gather) sample no distribution at all.
   const bool with_dists = has_distribution(es.meth);
@@ -176,7 +181,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   det["face_selection"] = to_string(es.face_selection);
   det["sampler"] = to_string(es.sampler);
 
-  const gl::program& prog = kernel(kind);
+  const gl::program& prog = kernel(kind, es.visibility);
   prog.use();
   auto set_i = [&](const char* n, int v) { glUniform1i(prog.uniform_location(n), v); };
   auto set_f = [&](const char* n, float v) { glUniform1f(prog.uniform_location(n), v); };
@@ -215,9 +220,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   b_state.bind(5);
   b_out.bind(6);
   b_components.bind(7);
+  glUniform1ui(prog.uniform_location("u_bvh_node_count"), bind_visibility_buffers(scene, es.visibility, 8, 9));
 
   const int regions = std::max(1, n_dists);
-  const work_shape shape = shape_of(es, view.resolution, grid.resolution, regions, local_rounds);
+  const work_shape shape =
+      shape_of(es, view.resolution, gpu_query_cost(&scene, es.visibility, grid.resolution), regions, local_rounds);
   const long long chunk = std::max(1LL, gpu_loop_budget / shape.cost);
   const long long units = std::max(1LL, shape.units);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);

@@ -1,5 +1,6 @@
 #include "render/gpu/gpu_builders.hpp"
 
+#include "render/gpu/gpu_visibility.hpp"
 #include "render/gpu/loop_budget.hpp"
 #include "render/mixture_components.hpp"
 
@@ -140,7 +141,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
                                    : lum_i / (3.141592653589793 * d1min * d1min);
   const double scale = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(max_units / v_bound))));
 
-  const gl::program& acc_prog = gl::cached_kernel("vplkit/builders/gbg_accumulate.comp");
+  const gl::program& acc_prog = gl::cached_kernel("vplkit/builders/gbg_accumulate.comp", gbg_tracer_define(s.visibility));
   const gl::program& fin_prog = gl::cached_kernel("vplkit/builders/gbg_finish.comp");
   gl::buffer b_acc = gl::buffer::filled(2 * n * 4, 0);
   gl::buffer b_stats = gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
@@ -149,7 +150,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   // llvmpipe leaves every loop after 65535 iterations per invocation: one ray marches at most
   // nx + ny + nz voxels (+ 8 for the rest of its body), so split the directions over dispatches
   // (the fixed-point sums do not depend on the split).
-  const long long per_dir = static_cast<long long>(grid.resolution.x) + grid.resolution.y + grid.resolution.z + 8;
+  const long long per_dir = gpu_query_cost(&scene, s.visibility, grid.resolution) + 8;
   const int dirs_per = static_cast<int>(std::max(1LL, gpu_loop_budget / per_dir));
   const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), VPLKIT_GBG_LOCAL_SIZE);
   const GLuint gx = std::min<GLuint>(groups, 65535u);
@@ -157,6 +158,9 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   const vplkit::gpu::light_params light = vplkit::gpu::make_light_params(view.light);
   std::vector<gl::buffer> blocks;
   int dispatches = 0;
+  // The tracer's own buffers (exact: the BVH), bound once for every accumulation dispatch.
+  const std::uint32_t bvh_nodes = bind_visibility_buffers(scene, s.visibility, VPLKIT_GBG_BINDING_BVH_NODES,
+                                                          VPLKIT_GBG_BINDING_BVH_TRIANGLES);
   {
     gl::timer_query tq;
     tq.begin();
@@ -181,6 +185,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
       p.offset_voxels = float(vplkit::voxel_surface_offset_default);
       p.scale = float(scale);
       p.max_units = float(max_units);
+      p.bvh_node_count = bvh_nodes;
       blocks.push_back(gl::buffer::from_bytes(&p, sizeof p));
       scene.gbuffer.bind(VPLKIT_GBG_BINDING_GBUFFER);
       scene.dprsm.bind(VPLKIT_GBG_BINDING_DPRSM);
@@ -269,6 +274,7 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
     }
     case method::reference:
     case method::gather:
+    case method::exact:
       throw vplkit::invalid_input("build_distributions_gpu: the method has no builder");
   }
   gpu_mixtures mix = build_mixtures_gpu(weights, D, scene.dprsm, view, s.eps, timer, det);

@@ -1,0 +1,68 @@
+#pragma once
+// The CPU backend's visibility and tracer, the callables vplkit's estimators and builders take
+// (include/vplkit/visibility/visibility_callables.hpp), chosen by render_settings::visibility:
+// voxels (the frame's voxel grid: voxel_visibility, voxel_tracer) or exact (the scene's triangles
+// in Embree, render/cpu/ray_scene.hpp). This is the one place that maps a visibility_choice to
+// code on the CPU; a new kind adds a member and a case to both structs. The kind is a run-time
+// branch per query, the same every time, so it costs nothing measurable next to the query.
+#include "render/cpu/ray_scene.hpp"
+#include "render/frame_buffers.hpp"
+#include "render/settings.hpp"
+
+#include <vplkit/core/error.hpp>
+#include <vplkit/visibility/visibility_callables.hpp>
+
+namespace vplrender {
+
+struct cpu_visibility {
+  visibility_choice kind = visibility_choice::voxels;
+  vplkit::voxel_visibility<float> voxels;
+  const ray_scene* exact = nullptr;
+  bool operator()(vec3 x, vec3 n_x, vec3 y, vec3 n_y) const {
+    switch (kind) {
+      case visibility_choice::exact: return exact->visible(x, n_x, y, n_y);
+      case visibility_choice::voxels: break;
+    }
+    return voxels(x, n_x, y, n_y);
+  }
+};
+
+struct cpu_tracer {
+  visibility_choice kind = visibility_choice::voxels;
+  vplkit::voxel_tracer<float> voxels;
+  const ray_scene* exact = nullptr;
+  vplkit::ray_hit<float> operator()(vec3 x, vec3 n_x, vec3 dir) const {
+    switch (kind) {
+      case visibility_choice::exact: return exact->trace(x, n_x, dir);
+      case visibility_choice::voxels: break;
+    }
+    return voxels(x, n_x, dir);
+  }
+};
+
+// The frame's ray scene, or invalid_input naming `who` when the frame was prepared without one
+// (frame_settings::exact_rays).
+inline const ray_scene& frame_ray_scene(const frame_buffers& b, const char* who) {
+  if (!b.rays)
+    throw vplkit::invalid_input(std::string(who) +
+                                ": exact visibility needs a frame prepared with exact rays (frame_settings::exact_rays)");
+  return *b.rays;
+}
+
+inline cpu_visibility make_cpu_visibility(const frame_buffers& b, visibility_choice v) {
+  cpu_visibility c;
+  c.kind = v;
+  c.voxels = vplkit::voxel_visibility<float>{b.grid.view()};
+  if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu visibility");
+  return c;
+}
+
+inline cpu_tracer make_cpu_tracer(const frame_buffers& b, visibility_choice v) {
+  cpu_tracer c;
+  c.kind = v;
+  c.voxels = vplkit::voxel_tracer<float>{b.grid.view()};
+  if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu tracer");
+  return c;
+}
+
+}  // namespace vplrender

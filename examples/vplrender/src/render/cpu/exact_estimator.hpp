@@ -1,0 +1,43 @@
+#pragma once
+// --method exact: the one-bounce diffuse indirect light at a gather point with exact visibility
+// and no VPLs, the renderer's ground truth. For each of n_dirs cosine-distributed directions
+// around the gather point's geometric normal the ray is traced (Embree, ray_scene) to its first
+// hit y; y reflects the point light's direct light, decided by an exact shadow ray:
+//
+//   L(x) = integral over the hemisphere of (rho_x / pi) L_o(y(w)) cos(n_s, w) dw
+//   L_o(y) = rho_y I cos(alpha) / (pi |c - y|^2) V(y, c)      (vplkit::reflected_radiance)
+//   estimate = (1/N) sum_k rho_x L_o(y_k) cos(n_s, w_k) / cos(n_g, w_k)
+//
+// with p(w) = cos(n_g, w) / pi. The conventions are those of the renderer's direct light
+// (include/vplkit/vpl/direct_light.hpp) and of the gathering estimator: the light and its
+// intensity are the DPRSM's, y reflects from the side facing the light only (a hit seen from its
+// unlit side gives 0, as the DPRSM's texel normal does for gathering), the albedo is the
+// material's at y (texture included). Geometric normals place the hemisphere and move ray origins
+// off their surfaces (ray_scene::surface_offset); shading normals give the cosines. The gather
+// point's geometric normal comes from the triangle its camera ray meets (gather_point_frame).
+// Random numbers: make_counter_rng(seed, pixel), per direction u0 then u1 (the gathering
+// estimator's stream).
+#include "render/cpu/ray_scene.hpp"
+
+#include <vplkit/core/gather_point.hpp>
+#include <vplkit/sampling/rng.hpp>
+#include <vplkit/vpl/dprsm_view.hpp>
+
+namespace vplrender {
+
+// The gather point's geometric normal: that of the triangle met by the ray from the camera's eye
+// to x, oriented to the side of x's (camera-facing) G-buffer normal; the G-buffer normal itself
+// when the ray meets nothing within 1e-3 of the scene's size of x (x off every triangle: never
+// for a rasterised point, kept for safety).
+vec3 gather_point_geometric_normal(const ray_scene& rs, const vplkit::gather_point<float>& gp);
+
+// One direction's value, local = its coordinates in the frame of n_g (z up): rho_x L_o(y) cos_s /
+// cos_g, 0 at or below either horizon. Exposed for the tests.
+vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
+                  vec3 n_g, vec3 dir);
+
+// The estimate with n_dirs directions; 0 for an invalid gather point (nothing drawn).
+vec3 estimate_exact(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
+                    vec3 n_g, vplkit::counter_rng& rng, int n_dirs);
+
+}  // namespace vplrender

@@ -1,0 +1,70 @@
+#pragma once
+// The GPU backend's visibility, chosen by render_settings::visibility: the one place that maps a
+// visibility_choice to what the kernels need: the define that selects the kernel's visibility
+// (estimate.comp's VR_VISIBILITY block; gbg_accumulate.comp's VPLKIT_GBG_TRACER_BVH), the buffers
+// to bind and the loop iterations one query costs under llvmpipe's budget. A new kind adds a case
+// to each function here and a branch to those define blocks.
+#include "raster/gpu_scene_buffers.hpp"
+#include "render/frame_buffers.hpp"
+#include "render/settings.hpp"
+
+#include <vplkit/core/error.hpp>
+
+#include <string>
+
+namespace vplrender {
+
+// The frame's BVH on the GPU, or invalid_input naming `who` when the frame was prepared without
+// exact rays (frame_settings::exact_rays).
+inline const gpu_bvh& gpu_frame_bvh(const gpu_scene_buffers& scene, const char* who) {
+  if (scene.bvh.nodes.size_bytes() == 0)  // upload_scene_bvh leaves at least one node, even when empty
+    throw vplkit::invalid_input(std::string(who) +
+                                ": exact visibility needs a frame prepared with exact rays (frame_settings::exact_rays)");
+  return scene.bvh;
+}
+
+// estimate.comp's VR_VISIBILITY (0 voxels, 1 exact).
+inline std::string estimate_visibility_define(visibility_choice v) {
+  switch (v) {
+    case visibility_choice::exact: return "#define VR_VISIBILITY 1\n";
+    case visibility_choice::voxels: break;
+  }
+  return "#define VR_VISIBILITY 0\n";
+}
+
+// gbg_accumulate.comp's tracer define (none: the voxel tracer).
+inline std::string gbg_tracer_define(visibility_choice v) {
+  switch (v) {
+    case visibility_choice::exact: return "#define VPLKIT_GBG_TRACER_BVH\n";
+    case visibility_choice::voxels: break;
+  }
+  return "";
+}
+
+// Loop iterations one visibility query or traced ray may spend: a voxel march crosses at most
+// rx + ry + rz voxels; a BVH query visits at most gpu_bvh::query_cost nodes and triangles.
+inline long long gpu_query_cost(const gpu_scene_buffers* scene, visibility_choice v, const vplkit::ivec3& voxels) {
+  switch (v) {
+    case visibility_choice::exact: return scene != nullptr ? scene->bvh.query_cost : 1024;
+    case visibility_choice::voxels: break;
+  }
+  return static_cast<long long>(voxels.x) + voxels.y + voxels.z;
+}
+
+// Binds the buffers the kind reads beyond the G-buffer, DPRSM and voxels (exact: the BVH's nodes
+// and triangles); returns the BVH's node count for the kernel (0 for voxels).
+inline std::uint32_t bind_visibility_buffers(const gpu_scene_buffers& scene, visibility_choice v, unsigned nodes_binding,
+                                             unsigned triangles_binding) {
+  switch (v) {
+    case visibility_choice::exact: {
+      const gpu_bvh& b = gpu_frame_bvh(scene, "gpu visibility");
+      b.nodes.bind(nodes_binding);
+      b.triangles.bind(triangles_binding);
+      return b.node_count;
+    }
+    case visibility_choice::voxels: break;
+  }
+  return 0u;
+}
+
+}  // namespace vplrender
