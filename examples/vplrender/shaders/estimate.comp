@@ -53,9 +53,9 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
   return vplkit_bvh_trace(vplkit_bvh(u_bvh_node_count), x, n_x, dir);
 }
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
-  return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0);
+  return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
 }
-vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_voxel_tracer(grid, 0.0, true); }
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_voxel_tracer(grid, 0.0, true, false, 0.0); }
 #elif VR_VISIBILITY == VR_VISIBILITY_VOXELS
 // No BVH buffers: the pack's BVH functions are compiled but never called.
 vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
