@@ -192,7 +192,7 @@ std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subse
   ob.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
   wb.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS);
   bind_uniform(ub, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS);
-  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N));
+  vplkit::gl::dispatch_linear(prog, vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N));
   return wb.read<float>();
 }
 

@@ -160,8 +160,6 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const long long units = std::max(1LL, shape.units);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
   const GLuint groups = gl::groups_for(n_pixels, prog.local_size()[0]);
-  const GLuint gx = std::min<GLuint>(groups, 65535u);
-  const GLuint gy = (groups + gx - 1) / gx;
   det["gpu"] = {{"kernel", "examples/vplrender/shaders/estimate.comp"},
                 {"passes", passes},
                 {"units_per_pass", chunk},
@@ -178,7 +176,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
       set_i("u_end", static_cast<int>(end));
       set_i("u_first_pass", k == 0 ? 1 : 0);
       set_i("u_last_pass", k == passes - 1 ? 1 : 0);
-      gl::dispatch(prog, gx, gy);
+      gl::dispatch_linear(prog, groups);
       if (progress && passes > 1) {
         glFinish();
         progress("render (gpu)", static_cast<std::uint64_t>(k + 1), static_cast<std::uint64_t>(passes));

@@ -78,7 +78,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
     gl::check_gl("vpl_fallback_weights.comp uniforms");
     dprsm.bind(0);
     weights.bind(1);
-    gl::dispatch(fp, gl::groups_for(n, 64));
+    gl::dispatch_linear(fp, gl::groups_for(n, 64));
   }
   const gl::program& cp = gl::cached_kernel("vplkit/distribution/cdf_build.comp");
   weights.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
@@ -90,9 +90,10 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   b_info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
   glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_CDF_BUILD_BINDING_PARAMS, b_params.id());
   gl::check_gl("cdf_build.comp bindings");
-  const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), 65535));
-  const GLuint guide_groups =
-      static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, 65535));
+  // cdf_build.comp strides its blocks over gl_NumWorkGroups.x: any count up to the axis limit works.
+  const std::size_t max_x = gl::max_work_group_count(0);
+  const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), max_x));
+  const GLuint guide_groups = static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, max_x));
   for (std::uint32_t pass = 1; pass <= 6; ++pass) {
     vplkit::gpu::cdf_build_params p{};
     p.n = static_cast<std::uint32_t>(n);
