@@ -55,9 +55,11 @@ add_library(vplrender_core STATIC
   ${_vr}/app/report.cpp
   ${_vr}/app/scene_setup.cpp
   ${_vr}/io/atomic_file.cpp
+  ${_vr}/io/cleanup_on_signal.cpp
   ${_vr}/io/exr_io.cpp
   ${_vr}/io/image.cpp
   ${_vr}/io/json_file.cpp
+  ${_vr}/io/output_set.cpp
   ${_vr}/io/png_preview.cpp
   ${_vr}/io/text_file.cpp
   ${_vr}/raster/dprsm_check.cpp

@@ -10,6 +10,7 @@
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"
 #include "io/json_file.hpp"
+#include "io/output_set.hpp"
 #include "io/png_preview.hpp"
 #include "render/stage_timer.hpp"
 
@@ -69,6 +70,10 @@ int main(int argc, char** argv) {
     }
     for (const std::string& w : p.s.warnings) std::cerr << "vplrender: warning: " << w << "\n";
     check_output_location(o);
+    // The three outputs are one set: temporaries beside them from now on (removed on an error or
+    // SIGINT/SIGTERM), renamed into place together once all three are written.
+    output_set outputs;
+    for (const std::string& f : {o.out, o.png_path(), o.json_path()}) outputs.reserve(f);
     std::cout << describe(p, o);
     if (o.back == backend::cpu)
       std::cout << "estimator backend: cpu (C++ templates)\n";
@@ -103,17 +108,18 @@ int main(int argc, char** argv) {
     run.warnings = p.s.warnings;
     {
       auto t = timer.scoped("write outputs");
-      write_exr(o.out, res.image,
+      write_exr(outputs, o.out, res.image,
                 {{"vplrender:method", to_string(o.meth)}, {"vplrender:scene", p.s.name},
                  {"vplrender:seed", std::to_string(o.seed)}});
-      write_png_preview(o.png_path(), res.image, o.exposure);
+      write_png_preview(outputs, o.png_path(), res.image, o.exposure);
     }
     run.outputs = {o.out, o.png_path(), o.json_path()};
     run.stages = timer.stages();
     nlohmann::json report = make_report(o, p, run);
     report["pipeline"] = res.details;
     report["host_peak_rss_bytes"] = host_peak_rss_bytes();
-    write_json(o.json_path(), report);
+    write_json(outputs, o.json_path(), report);
+    outputs.publish();
     double total = 0.0;
     for (const stage_time& st : run.stages) total += st.ms;
     std::cout << "wrote " << o.out << ", " << o.png_path() << ", " << o.json_path() << " (" << static_cast<long long>(total)
