@@ -67,6 +67,7 @@ add_library(vplrender_core STATIC
   ${_vr}/raster/voxels.cpp
   ${_vr}/render/cpu/cpu_backend.cpp
   ${_vr}/render/cpu/cpu_builders.cpp
+  ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp
   ${_vr}/scene/camera.cpp

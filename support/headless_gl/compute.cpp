@@ -27,12 +27,15 @@ const char* gl_error_name(GLenum e) {
 
 void check_gl(const char* where) {
   std::string errors;
+  bool out_of_memory = false;
   // glGetError returns one flag per call; bounded so a lost context cannot loop forever.
   for (int i = 0; i < 16; ++i) {
     const GLenum e = glGetError();
     if (e == GL_NO_ERROR) break;
+    out_of_memory = out_of_memory || e == GL_OUT_OF_MEMORY;
     errors += std::string(errors.empty() ? "" : ", ") + gl_error_name(e);
   }
+  if (out_of_memory) throw gl_out_of_memory(std::string(where) + ": " + errors, 0);
   if (!errors.empty()) throw gl_error(std::string(where) + ": " + errors);
 }
 
@@ -214,7 +217,11 @@ buffer buffer::from_bytes(const void* data, std::size_t bytes) {
                bytes > 0 ? data : zero.data(), GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   track_gpu_bytes(stored_bytes(bytes));  // before the check: b's destructor untracks on a throw
-  check_gl("creating a shader storage buffer");
+  try {
+    check_gl("creating a shader storage buffer");
+  } catch (const gl_out_of_memory& e) {
+    throw gl_out_of_memory(std::string(e.what()).substr(std::strlen("vplkit gl: ")), bytes);
+  }
   return b;
 }
 

@@ -23,8 +23,19 @@ public:
   explicit gl_error(const std::string& what) : std::runtime_error("vplkit gl: " + what) {}
 };
 
+// GL_OUT_OF_MEMORY: the driver could not allocate; `bytes` is the size asked for (0 = unknown).
+class gl_out_of_memory : public gl_error {
+public:
+  gl_out_of_memory(const std::string& what, std::size_t bytes) : gl_error(what), bytes_(bytes) {}
+  std::size_t bytes() const { return bytes_; }
+
+private:
+  std::size_t bytes_;
+};
+
 const char* gl_error_name(GLenum e);
-// Throws gl_error naming `where` when glGetError() reports anything (drains all pending errors).
+// Throws gl_error naming `where` when glGetError() reports anything (drains all pending errors);
+// gl_out_of_memory when one of them is GL_OUT_OF_MEMORY.
 void check_gl(const char* where);
 
 // Include root of the GLSL pack in the source tree (CMake passes VPLKIT_GLSL_SOURCE_DIR).

@@ -12,6 +12,7 @@
 #include "io/json_file.hpp"
 #include "io/output_set.hpp"
 #include "io/png_preview.hpp"
+#include "render/running_stage.hpp"
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -43,6 +44,8 @@ void check_output_location(const options& o) {
   for (const std::string& f : {o.out, o.png_path(), o.json_path()})
     if (fs::is_directory(f, ec)) throw output_error("--out: '" + f + "' is a directory");
 }
+
+std::string stage_or_setup(const std::string& stage) { return stage.empty() ? "setup" : stage; }
 
 }  // namespace
 
@@ -141,11 +144,20 @@ int main(int argc, char** argv) {
   } catch (const output_error& e) {
     std::cerr << "vplrender: error: " << e.what() << "\n";
     return 1;
+  } catch (const out_of_memory_error& e) {
+    std::cerr << "vplrender: error: " << e.what() << "\n";
+    return 1;
+  } catch (const vplkit::gl::gl_out_of_memory& e) {
+    // A GL buffer made outside allocating(): the stage it failed in, the size when known.
+    std::cerr << "vplrender: error: " << stage_or_setup(failed_stage()) << ": out of memory on the GPU"
+              << (e.bytes() > 0 ? " allocating " + mebibytes(e.bytes()) + " for a buffer" : std::string()) << " ("
+              << e.what() << ")\n";
+    return 1;
   } catch (const vplkit::gl::gl_error& e) {
     std::cerr << "vplrender: error: OpenGL: " << e.what() << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
-    std::cerr << "vplrender: error: out of memory\n";
+    std::cerr << "vplrender: error: " << stage_or_setup(failed_stage()) << ": out of memory (host)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "vplrender: internal error: " << e.what() << "\n";

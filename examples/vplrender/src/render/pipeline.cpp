@@ -7,6 +7,7 @@
 #include "raster/voxels.hpp"
 #include "raster/voxels_gpu.hpp"
 #include "render/cpu/cpu_backend.hpp"
+#include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_backend.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -45,6 +46,7 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   gbuffer_data gbuf;
   dprsm_data dprsm;
   {
+    auto gbuffer_running = stage_timer::running("gbuffer (gpu)");
     gl_rasterizer raster(s);
     raster_timing tg;
     gbuf = raster.render_gbuffer(s.cam, f.width, f.height, &tg);
@@ -54,7 +56,10 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     tp.max_angle = tessellation_angle_for_resolution(f.dprsm);
     tessellation_stats ts;
     raster_timing td;
-    dprsm = raster.render_dprsm(dprsm_light(s), f.dprsm, tp, &td, &ts);
+    {
+      auto running = stage_timer::running("dprsm (gpu)");
+      dprsm = raster.render_dprsm(dprsm_light(s), f.dprsm, tp, &td, &ts);
+    }
     timer.add("dprsm (gpu)", td.ms, td.clock);
     timer.add("dprsm read-back (cpu)", td.readback_ms, "cpu-wall");
     det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}};
@@ -72,6 +77,7 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   auto scene_gpu = gpu ? std::make_shared<gpu_scene_buffers>() : nullptr;
   vplkit::voxel_grid<float> grid = [&] {
     if (gpu) {
+      auto running = stage_timer::running("voxelize (gpu)");
       gpu_voxelization v = voxelize_gpu(s, f.voxels);
       timer.add("voxelize (gpu)", v.ms, "gpu");
       timer.add("voxels read-back (cpu)", v.readback_ms, "cpu-wall");
@@ -90,8 +96,12 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   // the DPRSM packed as surfels and uploaded, the voxel words as voxelize.comp left them.
   if (gpu) {
     auto t = timer.scoped("scene upload (cpu)");
-    scene_gpu->gbuffer = upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
-    scene_gpu->dprsm = upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
+    scene_gpu->gbuffer = gpu_allocating(surfel_bytes(gbuf.position.size()), "the G-buffer surfels", [&] {
+      return upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
+    });
+    scene_gpu->dprsm = gpu_allocating(surfel_bytes(dprsm.position.size()), "the DPRSM surfels", [&] {
+      return upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
+    });
   }
   det["scene_buffers"] = {
       {"on_gpu", gpu},

@@ -1,6 +1,7 @@
 #include "render/gpu/gpu_backend.hpp"
 
 #include "raster/gpu_scene_buffers.hpp"
+#include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_builders.hpp"
 #include "render/gpu/loop_budget.hpp"
 
@@ -113,8 +114,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // Without distributions the kernel still binds both buffers: one zero word each.
   gl::buffer b_data = with_dists ? std::move(gm.data) : gl::buffer::filled(4, 0);
   gl::buffer b_meta = with_dists ? std::move(gm.meta) : gl::buffer::filled(4, 0);
-  gl::buffer b_state = gl::buffer::filled(48 * std::max<std::size_t>(n_pixels, 1), 0);
-  gl::buffer b_out = gl::buffer::filled(16 * std::max<std::size_t>(n_pixels, 1), 0xFF);
+  auto estimate_running = stage_timer::running("estimate (gpu)");
+  const std::size_t state_bytes = 48 * std::max<std::size_t>(n_pixels, 1);
+  const std::size_t out_bytes = 16 * std::max<std::size_t>(n_pixels, 1);
+  gl::buffer b_state = gpu_allocating(state_bytes, "the per-pixel estimator state",
+                                      [&] { return gl::buffer::filled(state_bytes, 0); });
+  gl::buffer b_out = gpu_allocating(out_bytes, "the per-pixel estimates", [&] { return gl::buffer::filled(out_bytes, 0xFF); });
 
   const gl::program& prog = kernel(kind);
   prog.use();

@@ -31,6 +31,7 @@ const gpu_scene_buffers& scene_on_gpu(const frame_buffers& b, const char* who) {
 }
 
 gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings& s, bool local, stage_timer& timer) {
+  auto running = stage_timer::running(local ? "local weights (gpu)" : "global weights (gpu)");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   const vplkit::dprsm_view<float> view = b.dprsm.view();
   g.validate();
@@ -104,6 +105,7 @@ gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings
 
 gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                       nlohmann::json& det, bool read_back) {
+  auto running = stage_timer::running("gbg weights + hole fill (gpu)");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   const vplkit::dprsm_view<float> view = b.dprsm.view();
   g.validate();

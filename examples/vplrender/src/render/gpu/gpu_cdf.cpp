@@ -32,6 +32,7 @@ constexpr std::size_t cdf_block = VPLKIT_CDF_BUILD_BLOCK;  // weights per block 
 gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buffer& dprsm,
                                 const vplkit::dprsm_view<float>& view, float eps, stage_timer& timer,
                                 nlohmann::json& det) {
+  auto running = stage_timer::running("cdf (gpu)");
   if (!(eps >= 0.0f && eps <= 1.0f))
     throw vplkit::invalid_input("build_mixtures_gpu: eps = " + std::to_string(eps) + " is outside [0, 1]");
   if (D < 1) throw vplkit::invalid_input("build_mixtures_gpu: no weight arrays");
