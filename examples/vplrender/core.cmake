@@ -50,6 +50,7 @@ endforeach()
 
 set(_vr ${CMAKE_CURRENT_LIST_DIR}/src)
 add_library(vplrender_core STATIC
+  ${_vr}/app/lighting_check.cpp
   ${_vr}/app/options.cpp
   ${_vr}/app/progress.cpp
   ${_vr}/app/report.cpp

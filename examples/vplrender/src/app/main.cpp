@@ -1,6 +1,7 @@
 // vplrender: the example renderer's command line. Parses the options, builds or loads the scene,
 // frames and lights it, checks the output location, runs the pipeline (render/pipeline.hpp) and writes
 // the EXR, the PNG preview and the JSON report.
+#include "app/lighting_check.hpp"
 #include "app/options.hpp"
 #include "app/progress.hpp"
 #include "app/render_options.hpp"
@@ -109,6 +110,18 @@ int main(int argc, char** argv) {
     run_info run;
     run.gl_renderer = res.gl_renderer;
     run.warnings = p.s.warnings;
+    {
+      const nlohmann::json& g = res.details.at("gbuffer");
+      lighting_facts facts;
+      facts.pixels = res.image.rgb.size() / 3;
+      facts.visible_pixels = g.at("valid_pixels").get<std::size_t>();
+      facts.directly_lit_pixels = g.at("directly_lit_pixels").get<std::size_t>();
+      facts.image_black = image_is_black(res.image);
+      for (const std::string& w : lighting_warnings(p, o, facts)) {
+        std::cerr << "vplrender: warning: " << w << "\n";
+        run.warnings.push_back(w);
+      }
+    }
     {
       auto t = timer.scoped("write outputs");
       write_exr(outputs, o.out, res.image,

@@ -1,5 +1,6 @@
 #include "render/pipeline.hpp"
 
+#include "app/lighting_check.hpp"
 #include "io/errors.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/gpu_scene_buffers.hpp"
@@ -62,7 +63,9 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     }
     timer.add("dprsm (gpu)", td.ms, td.clock);
     timer.add("dprsm read-back (cpu)", td.readback_ms, "cpu-wall");
-    det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}};
+    // Pixels the light reaches directly (with or without --direct): a frame with none gets a
+    // warning after the render (app/lighting_check.hpp).
+    det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}, {"directly_lit_pixels", count_directly_lit_pixels(gbuf, dprsm)}};
     det["dprsm"] = {{"resolution", f.dprsm},
                     {"front_axis", {0, -1, 0}},
                     {"tessellation_max_angle_deg", tp.max_angle * 180.0 / 3.14159265358979323846},
