@@ -55,6 +55,7 @@ add_library(vplrender_core STATIC
   ${_vr}/app/progress.cpp
   ${_vr}/app/report.cpp
   ${_vr}/app/scene_setup.cpp
+  ${_vr}/app/window_update.cpp
   ${_vr}/io/atomic_file.cpp
   ${_vr}/io/cleanup_on_signal.cpp
   ${_vr}/io/exr_io.cpp
