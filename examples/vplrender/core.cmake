@@ -55,14 +55,18 @@ endforeach()
 
 set(_vr ${CMAKE_CURRENT_LIST_DIR}/src)
 add_library(vplrender_core STATIC
+  ${_vr}/app/lighting_check.cpp
   ${_vr}/app/options.cpp
   ${_vr}/app/progress.cpp
   ${_vr}/app/report.cpp
   ${_vr}/app/scene_setup.cpp
+  ${_vr}/app/window_update.cpp
   ${_vr}/io/atomic_file.cpp
+  ${_vr}/io/cleanup_on_signal.cpp
   ${_vr}/io/exr_io.cpp
   ${_vr}/io/image.cpp
   ${_vr}/io/json_file.cpp
+  ${_vr}/io/output_set.cpp
   ${_vr}/io/png_preview.cpp
   ${_vr}/io/text_file.cpp
   ${_vr}/raster/dprsm_check.cpp
@@ -72,6 +76,7 @@ add_library(vplrender_core STATIC
   ${_vr}/render/cpu/cpu_builders.cpp
   ${_vr}/render/cpu/exact_estimator.cpp
   ${_vr}/render/cpu/ray_scene.cpp
+  ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp
   ${_vr}/scene/camera.cpp

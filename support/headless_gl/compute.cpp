@@ -1,5 +1,6 @@
 #include "compute.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <map>
@@ -26,12 +27,15 @@ const char* gl_error_name(GLenum e) {
 
 void check_gl(const char* where) {
   std::string errors;
+  bool out_of_memory = false;
   // glGetError returns one flag per call; bounded so a lost context cannot loop forever.
   for (int i = 0; i < 16; ++i) {
     const GLenum e = glGetError();
     if (e == GL_NO_ERROR) break;
+    out_of_memory = out_of_memory || e == GL_OUT_OF_MEMORY;
     errors += std::string(errors.empty() ? "" : ", ") + gl_error_name(e);
   }
+  if (out_of_memory) throw gl_out_of_memory(std::string(where) + ": " + errors, 0);
   if (!errors.empty()) throw gl_error(std::string(where) + ": " + errors);
 }
 
@@ -213,7 +217,11 @@ buffer buffer::from_bytes(const void* data, std::size_t bytes) {
                bytes > 0 ? data : zero.data(), GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   track_gpu_bytes(stored_bytes(bytes));  // before the check: b's destructor untracks on a throw
-  check_gl("creating a shader storage buffer");
+  try {
+    check_gl("creating a shader storage buffer");
+  } catch (const gl_out_of_memory& e) {
+    throw gl_out_of_memory(std::string(e.what()).substr(std::strlen("vplkit gl: ")), bytes);
+  }
   return b;
 }
 
@@ -252,9 +260,8 @@ void memory_barrier(GLbitfield bits) { glMemoryBarrier(bits); }
 void dispatch(const program& p, GLuint groups_x, GLuint groups_y, GLuint groups_z) {
   const GLuint groups[3] = {groups_x, groups_y, groups_z};
   for (GLuint axis = 0; axis < 3; ++axis) {
-    GLint max_groups = 0;
-    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, axis, &max_groups);
-    if (groups[axis] > static_cast<GLuint>(max_groups)) {
+    const GLuint max_groups = max_work_group_count(axis);
+    if (groups[axis] > max_groups) {
       throw gl_error("dispatch: " + std::to_string(groups[axis]) + " work groups on axis " +
                      std::to_string(axis) + " exceed GL_MAX_COMPUTE_WORK_GROUP_COUNT = " +
                      std::to_string(max_groups));
@@ -264,6 +271,30 @@ void dispatch(const program& p, GLuint groups_x, GLuint groups_y, GLuint groups_
   glDispatchCompute(groups_x, groups_y, groups_z);
   memory_barrier();
   check_gl("glDispatchCompute");
+}
+
+group_grid split_groups(std::size_t groups, GLuint max_x, GLuint max_y, const char* what) {
+  const std::size_t mx = std::max<GLuint>(max_x, 1), my = std::max<GLuint>(max_y, 1);
+  const std::size_t n = std::max<std::size_t>(groups, 1);
+  const std::size_t x = std::min(n, mx);
+  const std::size_t y = (n + x - 1) / x;
+  if (y > my) {
+    throw gl_error(std::string(what) + ": " + std::to_string(groups) + " work groups exceed " + std::to_string(mx) +
+                   " x " + std::to_string(my) + " (GL_MAX_COMPUTE_WORK_GROUP_COUNT on x and y)");
+  }
+  return {static_cast<GLuint>(x), static_cast<GLuint>(y)};
+}
+
+GLuint max_work_group_count(GLuint axis) {
+  GLint max_groups = 0;
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, axis, &max_groups);
+  check_gl("glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT)");
+  return max_groups > 0 ? static_cast<GLuint>(max_groups) : 0u;
+}
+
+void dispatch_linear(const program& p, std::size_t groups, GLuint groups_z) {
+  const group_grid g = split_groups(groups, max_work_group_count(0), max_work_group_count(1), "dispatch_linear");
+  dispatch(p, g.x, g.y, groups_z);
 }
 
 // ---- timer ------------------------------------------------------------------------------------

@@ -23,8 +23,19 @@ public:
   explicit gl_error(const std::string& what) : std::runtime_error("vplkit gl: " + what) {}
 };
 
+// GL_OUT_OF_MEMORY: the driver could not allocate; `bytes` is the size asked for (0 = unknown).
+class gl_out_of_memory : public gl_error {
+public:
+  gl_out_of_memory(const std::string& what, std::size_t bytes) : gl_error(what), bytes_(bytes) {}
+  std::size_t bytes() const { return bytes_; }
+
+private:
+  std::size_t bytes_;
+};
+
 const char* gl_error_name(GLenum e);
-// Throws gl_error naming `where` when glGetError() reports anything (drains all pending errors).
+// Throws gl_error naming `where` when glGetError() reports anything (drains all pending errors);
+// gl_out_of_memory when one of them is GL_OUT_OF_MEMORY.
 void check_gl(const char* where);
 
 // Include root of the GLSL pack in the source tree (CMake passes VPLKIT_GLSL_SOURCE_DIR).
@@ -144,12 +155,29 @@ inline GLuint groups_for(std::size_t invocations, GLint local_size) {
   return static_cast<GLuint>(g > 0 ? g : 1);
 }
 
+// A 1D range of work groups laid out on two axes, x * y >= the range, for ranges past
+// GL_MAX_COMPUTE_WORK_GROUP_COUNT on x (a 2048^2 DPRSM holds 8.4M texels: 131072 groups of 64,
+// and the GL minimum is 65535 per axis). Kernels read their linear group as
+// gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x and return past the end of the range.
+struct group_grid {
+  GLuint x = 1, y = 1;
+};
+// Pure (tested without GL): x = min(groups, max_x), y = ceil(groups / x); a range that fits on x
+// stays (groups, 1), so dispatches that fit are unchanged. Throws gl_error naming `what` when even
+// max_x * max_y groups cannot cover the range.
+group_grid split_groups(std::size_t groups, GLuint max_x, GLuint max_y, const char* what = "dispatch");
+// GL_MAX_COMPUTE_WORK_GROUP_COUNT on `axis` (0, 1, 2) of the current context.
+GLuint max_work_group_count(GLuint axis);
+
 // glMemoryBarrier with the bits a compute -> read-back or compute -> compute chain needs.
 void memory_barrier(GLbitfield bits = GL_SHADER_STORAGE_BARRIER_BIT |
                                       GL_BUFFER_UPDATE_BARRIER_BIT);
 // use(), glDispatchCompute, memory_barrier(), check_gl. Throws when a group count exceeds
 // GL_MAX_COMPUTE_WORK_GROUP_COUNT.
 void dispatch(const program& p, GLuint groups_x, GLuint groups_y = 1, GLuint groups_z = 1);
+// `groups` work groups as a group_grid over x and y (split_groups against the context's limits),
+// times `groups_z` on z (regions, faces, distributions). Same barrier and checks as dispatch().
+void dispatch_linear(const program& p, std::size_t groups, GLuint groups_z = 1);
 
 // ---- GPU timing ---------------------------------------------------------------------------------
 // Device time of the GL work between begin() and end(); milliseconds() waits for the result.

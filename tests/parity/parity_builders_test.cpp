@@ -153,13 +153,14 @@ std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subse
   const auto ob = vplkit::gl::buffer::from_vector(offsets);
   const auto wb = vplkit::gl::buffer::filled(std::size_t(N * n) * 4, 0xFF);
   const auto ub = vplkit_test::uniform_buffer(p);
-  vplkit_test::dispatch(prog, {vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N), 1},
-                        {vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER, gb),
-                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM, dp),
-                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET, sb),
-                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS, ob),
-                         vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS, wb),
-                         vplkit_test::uniform_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, ub)});
+  // The texels spread over x and y, the regions along z (global_weights.comp).
+  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER, gb),
+                     vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM, dp),
+                     vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET, sb),
+                     vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS, ob),
+                     vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS, wb),
+                     vplkit_test::uniform_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, ub)});
+  vplkit::gl::dispatch_linear(prog, vplkit::gl::groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), GLuint(N));
   return wb.read<float>();
 }
 

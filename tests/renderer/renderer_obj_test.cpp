@@ -326,6 +326,10 @@ TEST_CASE("empty and degenerate scenes are errors") {
         ": degenerate scene: all 2 faces have zero area");
   CHECK(load_error("v 5 5 5\nv 5 5 5\nv 5 5 5\nv 5 5 5\nf 1 2 3 4\n") ==
         ": degenerate scene: all 1 faces have zero area");
+  // Distinct vertices near 1e-38 (denormal extent): not "every vertex is at (0, 0, 0)".
+  const std::string tiny = load_error("v 1e-38 0 0\nv 0 1e-38 0\nv 0 0 1e-38\nf 1 2 3\n");
+  CHECK_THAT(tiny, Catch::StartsWith(": the scene's extent (1e-38, 1e-38, 1e-38) is too small to render"));
+  CHECK_THAT(tiny, Catch::Contains("denormal") && Catch::Contains("scale the model up"));
   // Some degenerate faces among good ones: dropped with a warning naming the first.
   temp_dir d;
   const scene s = load_obj_scene(d.write("some.obj", std::string(kQuad) + "f 1 2 3\nf 1 1 2\nf 1 3 4\n"));

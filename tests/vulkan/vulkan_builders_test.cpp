@@ -160,7 +160,7 @@ std::vector<float> run_global_weights(context& ctx, const kernel& k, const std::
       {{VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER, &gb}, {VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM, &dp},
        {VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET, &sb}, {VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS, &ob},
        {VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS, &wb}, {VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, &ub}},
-      groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), std::uint32_t(N));
+      groups_for(std::size_t(n), VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), 1u, std::uint32_t(N));  // regions along z
   return wb.read<float>();
 }
 

@@ -229,7 +229,7 @@ float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
 }
 
 void main() {
-  // Groups are spread over y past 65535 (the host's dispatch); pixel = flat invocation index.
+  // Groups are spread over y past the x limit (vplkit::gl::dispatch_linear); pixel = flat index.
   uint p = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   if (p >= uint(u_width) * uint(u_height)) return;
   vplkit_gather_point gp = vplkit_load_gather_point(int(p));

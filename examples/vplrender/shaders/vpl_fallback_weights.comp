@@ -36,7 +36,8 @@ void main() {
   vplkit_dprsm_view view = vplkit_dprsm_view(
       u_dprsm_res, vplkit_point_light(u_light_pos, u_light_int,
                                       vplkit_light_frame(u_frame_pos, u_axis_x, u_axis_y, u_axis_z)));
-  int t = int(gl_GlobalInvocationID.x);
+  // Groups spread over x and y past GL_MAX_COMPUTE_WORK_GROUP_COUNT (vplkit::gl::dispatch_linear).
+  int t = int(gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x);
   if (t >= vplkit_dprsm_view_texel_count(view)) return;
   vr_weights[u_offset + uint(t)] = vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, t)) ? 1.0 : 0.0;
 }

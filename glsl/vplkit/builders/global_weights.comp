@@ -5,8 +5,10 @@
 // writes weights[i * 2 R^2 + t] (region-major; N = 1: global) -- the C++ float arithmetic
 // statement for statement. Interface: global_weights_params.h, shared with the C++ host; the
 // G-buffer and the DPRSM are vec4 triplets (position, normal, albedo). Dispatch
-// (ceil(2 R^2 / LOCAL_SIZE), N, 1); under llvmpipe's loop budget (docs/glsl.md) keep each |S_i|
-// below ~65000. Precision: docs/glsl/builders.md.
+// ceil(2 R^2 / LOCAL_SIZE) groups spread over x and y (linear group = x + y * gl_NumWorkGroups.x:
+// R = 2048 needs 131072 groups, past the GL minimum of 65535 per axis) and N on z (the host's
+// vplkit::gl::dispatch_linear); under llvmpipe's loop budget (docs/glsl.md) keep each |S_i| below
+// ~65000. Precision: docs/glsl/builders.md.
 #include "vplkit/builders/global_weights.glsl"
 #include "vplkit/builders/global_weights_params.h"
 #include "vplkit/core/gather_point.glsl"
@@ -48,8 +50,8 @@ vplkit_gather_point vplkit_load_subset_gather_point(int i) {
 void main() {
   int R = vplkit_global_weights.resolution;
   int n = vplkit_texel_count(R);
-  int t = int(gl_GlobalInvocationID.x);
-  int region = int(gl_GlobalInvocationID.y);
+  int t = int(gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x);
+  int region = int(gl_GlobalInvocationID.z);
   if (t >= n || region >= vplkit_global_weights.regions) return;
   vplkit_global_weights_first = vplkit_global_weights_offsets[region];
   int count = int(vplkit_global_weights_offsets[region + 1] - vplkit_global_weights_first);

@@ -1,6 +1,7 @@
 // vplrender: the example renderer's command line. Parses the options, builds or loads the scene,
 // frames and lights it, checks the output location, runs the pipeline (render/pipeline.hpp) and writes
 // the EXR, the PNG preview and the JSON report.
+#include "app/lighting_check.hpp"
 #include "app/options.hpp"
 #include "app/progress.hpp"
 #include "app/render_options.hpp"
@@ -10,7 +11,9 @@
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"
 #include "io/json_file.hpp"
+#include "io/output_set.hpp"
 #include "io/png_preview.hpp"
+#include "render/running_stage.hpp"
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -43,6 +46,8 @@ void check_output_location(const options& o) {
     if (fs::is_directory(f, ec)) throw output_error("--out: '" + f + "' is a directory");
 }
 
+std::string stage_or_setup(const std::string& stage) { return stage.empty() ? "setup" : stage; }
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -69,6 +74,10 @@ int main(int argc, char** argv) {
     }
     for (const std::string& w : p.s.warnings) std::cerr << "vplrender: warning: " << w << "\n";
     check_output_location(o);
+    // The three outputs are one set: temporaries beside them from now on (removed on an error or
+    // SIGINT/SIGTERM), renamed into place together once all three are written.
+    output_set outputs;
+    for (const std::string& f : {o.out, o.png_path(), o.json_path()}) outputs.reserve(f);
     std::cout << describe(p, o);
     if (o.back == backend::cpu)
       std::cout << "estimator backend: cpu (C++ templates)\n";
@@ -102,18 +111,31 @@ int main(int argc, char** argv) {
     run.gl_renderer = res.gl_renderer;
     run.warnings = p.s.warnings;
     {
+      const nlohmann::json& g = res.details.at("gbuffer");
+      lighting_facts facts;
+      facts.pixels = res.image.rgb.size() / 3;
+      facts.visible_pixels = g.at("valid_pixels").get<std::size_t>();
+      facts.directly_lit_pixels = g.at("directly_lit_pixels").get<std::size_t>();
+      facts.image_black = image_is_black(res.image);
+      for (const std::string& w : lighting_warnings(p, o, facts)) {
+        std::cerr << "vplrender: warning: " << w << "\n";
+        run.warnings.push_back(w);
+      }
+    }
+    {
       auto t = timer.scoped("write outputs");
-      write_exr(o.out, res.image,
+      write_exr(outputs, o.out, res.image,
                 {{"vplrender:method", to_string(o.meth)}, {"vplrender:scene", p.s.name},
                  {"vplrender:seed", std::to_string(o.seed)}});
-      write_png_preview(o.png_path(), res.image, o.exposure);
+      write_png_preview(outputs, o.png_path(), res.image, o.exposure);
     }
     run.outputs = {o.out, o.png_path(), o.json_path()};
     run.stages = timer.stages();
     nlohmann::json report = make_report(o, p, run);
     report["pipeline"] = res.details;
     report["host_peak_rss_bytes"] = host_peak_rss_bytes();
-    write_json(o.json_path(), report);
+    write_json(outputs, o.json_path(), report);
+    outputs.publish();
     double total = 0.0;
     for (const stage_time& st : run.stages) total += st.ms;
     std::cout << "wrote " << o.out << ", " << o.png_path() << ", " << o.json_path() << " (" << static_cast<long long>(total)
@@ -135,11 +157,20 @@ int main(int argc, char** argv) {
   } catch (const output_error& e) {
     std::cerr << "vplrender: error: " << e.what() << "\n";
     return 1;
+  } catch (const out_of_memory_error& e) {
+    std::cerr << "vplrender: error: " << e.what() << "\n";
+    return 1;
+  } catch (const vplkit::gl::gl_out_of_memory& e) {
+    // A GL buffer made outside allocating(): the stage it failed in, the size when known.
+    std::cerr << "vplrender: error: " << stage_or_setup(failed_stage()) << ": out of memory on the GPU"
+              << (e.bytes() > 0 ? " allocating " + mebibytes(e.bytes()) + " for a buffer" : std::string()) << " ("
+              << e.what() << ")\n";
+    return 1;
   } catch (const vplkit::gl::gl_error& e) {
     std::cerr << "vplrender: error: OpenGL: " << e.what() << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
-    std::cerr << "vplrender: error: out of memory\n";
+    std::cerr << "vplrender: error: " << stage_or_setup(failed_stage()) << ": out of memory (host)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "vplrender: internal error: " << e.what() << "\n";

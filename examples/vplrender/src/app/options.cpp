@@ -67,10 +67,10 @@ void build_app(CLI::App& app, raw_values& v) {
                  "backend; no GPU kernel)."))
       ->type_name(kMethods);
   app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
-                                      "(headless). gpu: voxelisation and the estimator of every method run as compute "
-                                      "shaders from the GLSL pack, and so do the GBG weights and hole fill (gbg, mis, "
-                                      "mis-as-published); the global/local weights, CDFs and direct light still run on "
-                                      "the CPU. cpu: the C++ templates, all cores."))
+                                      "(headless). gpu: everything after that runs as compute shaders from the GLSL "
+                                      "pack: voxelisation, the builders' weights (global, local, GBG with its hole "
+                                      "fill), the CDFs, the estimator of every method and the direct light. cpu: the "
+                                      "C++ templates on all cores (voxelisation, builders, CDFs, estimators)."))
       ->type_name("gpu|cpu");
   app.add_option("--size", v.size, d("Image size (default 512x512; each side 1..16384, at most 2^26 pixels)."))
       ->type_name("WxH");

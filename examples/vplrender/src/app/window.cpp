@@ -1,5 +1,7 @@
 #include "app/window.hpp"
 
+#include "app/window_update.hpp"
+
 #include "io/errors.hpp"
 #include "io/png_preview.hpp"
 
@@ -75,13 +77,6 @@ private:
   std::thread thread_;
 };
 
-constexpr method kMethodOrder[] = {method::reference, method::global, method::local, method::gbg,
-                                   method::gather, method::mis, method::mis_as_published};
-
-bool uses_dirs(method m) {
-  return m == method::gbg || m == method::gather || m == method::mis || m == method::mis_as_published;
-}
-
 const char* kVertex = R"(#version 430 core
 out vec2 uv;
 void main() {
@@ -128,6 +123,7 @@ struct window_session::impl {
   std::unique_ptr<frame_buffers> buffers;  // voxel_grid has no default constructor
   std::unique_ptr<gl_worker> worker;
   std::deque<std::string> pending;  // key actions from the keyboard
+  bool damaged = false;             // resized, exposed or asked to refresh: draw again
   double last_ms = 0.0;
 
   impl(const options& opts, const prepared_scene& ps) : o(opts), p(ps) {}
@@ -167,6 +163,11 @@ struct window_session::impl {
       else if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) a = "q";
       if (!a.empty()) self->pending.push_back(a);
     });
+    // Resizing or exposing the window only needs the image drawn again, not rendered.
+    glfwSetFramebufferSizeCallback(win, [](GLFWwindow* w, int, int) {
+      static_cast<impl*>(glfwGetWindowUserPointer(w))->damaged = true;
+    });
+    glfwSetWindowRefreshCallback(win, [](GLFWwindow* w) { static_cast<impl*>(glfwGetWindowUserPointer(w))->damaged = true; });
     glfwMakeContextCurrent(win);
     glfwSwapInterval(1);
     const GLuint vs = compile(GL_VERTEX_SHADER, kVertex), fs = compile(GL_FRAGMENT_SHADER, kFragment);
@@ -208,53 +209,18 @@ struct window_session::impl {
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, o.width, o.height, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
   }
 
-  std::string samples_text() const {
-    std::string s = "vpls " + std::to_string(o.vpls);
-    if (uses_dirs(o.meth)) s += ", dirs " + std::to_string(o.dirs);
-    return s;
+  window_view view() const { return window_view{o.meth, o.vpls, o.dirs}; }
+  void set_view(const window_view& v) {
+    o.meth = v.meth;
+    o.vpls = v.vpls;
+    o.dirs = v.dirs;
   }
 
   void set_title() {
     char ms[32];
     std::snprintf(ms, sizeof ms, "%.0f ms", last_ms);
-    const std::string t = std::string("vplrender - ") + to_string(o.meth) + " - " + samples_text() + " - " + ms;
+    const std::string t = "vplrender - " + window_samples_text(view()) + " - " + ms;
     glfwSetWindowTitle(win, t.c_str());
-  }
-
-  // Returns true when the image must be re-rendered; sets the close flag for "q".
-  bool apply(const std::string& a) {
-    if (a == "q") {
-      glfwSetWindowShouldClose(win, GLFW_TRUE);
-      return false;
-    }
-    if (a.size() == 1 && a[0] >= '1' && a[0] <= '7') {
-      const method m = kMethodOrder[a[0] - '1'];
-      if (m == o.meth) return false;
-      o.meth = m;
-      return true;
-    }
-    if (a == "m") {
-      int i = 0;
-      while (kMethodOrder[i] != o.meth) ++i;
-      o.meth = kMethodOrder[(i + 1) % 7];
-      return true;
-    }
-    const bool dirs = uses_dirs(o.meth);
-    if (a == "+") {
-      const int v = std::min(o.vpls * 2, limits::max_vpls), d = dirs ? std::min(o.dirs * 2, limits::max_dirs) : o.dirs;
-      const bool changed = v != o.vpls || d != o.dirs;
-      o.vpls = v;
-      o.dirs = d;
-      return changed;
-    }
-    if (a == "-") {
-      const int v = std::max(o.vpls / 2, 1), d = dirs ? std::max(o.dirs / 2, 1) : o.dirs;
-      const bool changed = v != o.vpls || d != o.dirs;
-      o.vpls = v;
-      o.dirs = d;
-      return changed;
-    }
-    return false;
   }
 
   void rerender() {
@@ -312,29 +278,38 @@ pipeline_result window_session::first_render(stage_timer& timer, const progress_
 void window_session::run() {
   impl& d = *impl_;
   std::size_t next_script = 0;
-  for (int frame = 1;; ++frame) {
-    // One injected action per frame from the second frame on, then what the keyboard queued.
-    if (frame > 1 && next_script < d.o.window_script.size()) d.pending.push_back(d.o.window_script[next_script++]);
-    bool changed = false;
-    while (!d.pending.empty() && !glfwWindowShouldClose(d.win)) {
-      const std::string a = d.pending.front();
-      d.pending.pop_front();
-      changed = d.apply(a) || changed;
-    }
-    if (glfwWindowShouldClose(d.win)) break;
-    if (changed) {
+  int pass = 0, rerenders = 0, redraws = 0;
+  for (;;) {
+    ++pass;
+    // One injected action per pass from the second pass on, then what the keyboard queued.
+    if (pass > 1 && next_script < d.o.window_script.size()) d.pending.push_back(d.o.window_script[next_script++]);
+    const std::vector<std::string> actions(d.pending.begin(), d.pending.end());
+    d.pending.clear();
+    window_view v = d.view();
+    const window_update u = plan_window_update(v, actions, std::exchange(d.damaged, false), pass == 1);
+    if (u.close || glfwWindowShouldClose(d.win)) break;
+    if (u.rerender) {
+      d.set_view(v);
       d.rerender();
       d.set_title();
+      ++rerenders;
+      std::cout << "window re-render " << rerenders << ": " << window_samples_text(v) << ", "
+                << static_cast<long long>(d.last_ms + 0.5) << " ms (pass " << pass << ")" << std::endl;
     }
-    d.draw();
-    std::cout << "window frame " << frame << ": " << to_string(d.o.meth) << ", " << d.samples_text()
-              << ", last render " << static_cast<long long>(d.last_ms + 0.5) << " ms" << (changed ? " (re-rendered)" : "")
-              << std::endl;
-    if (d.o.frames > 0 && frame >= d.o.frames) break;
-    // Idle until a key arrives unless something is scheduled (script actions, a frame limit).
-    if (d.o.frames > 0 || next_script < d.o.window_script.size()) glfwPollEvents();
-    else glfwWaitEvents();
+    if (u.redraw) {
+      d.draw();
+      ++redraws;
+    }
+    if (d.o.frames > 0 && pass >= d.o.frames) break;
+    // On demand: sleep until an event unless work is queued (keys pressed during a render, a
+    // damage event) or scheduled (script actions, a pass limit).
+    if (d.o.frames > 0 || next_script < d.o.window_script.size() || !d.pending.empty() || d.damaged)
+      glfwPollEvents();
+    else
+      glfwWaitEvents();
   }
+  std::cout << "window closed after " << pass << " passes: " << rerenders << " re-renders, " << redraws << " redraws"
+            << std::endl;
 }
 
 #else  // no GLFW in this build

@@ -24,8 +24,10 @@ public:
 
   // The first image: prepare_buffers + run_estimator on the worker thread (what run_pipeline does).
   pipeline_result first_render(stage_timer& timer, const progress_fn& progress);
-  // Shows the image and handles keys until closed (Esc, Q, the close button or o.frames frames);
-  // re-renders with run_estimator on every change. Prints one line per frame on stdout.
+  // Shows the image and handles keys until closed (Esc, Q, the close button or o.frames passes of
+  // the event loop). On demand: re-renders with run_estimator only when a key changes the settings,
+  // redraws only then or when the window is resized or exposed, and otherwise sleeps in
+  // glfwWaitEvents. Prints one line per re-render and a summary at the end on stdout.
   void run();
 
   struct impl;

@@ -2,71 +2,42 @@
 
 #include "io/errors.hpp"
 
-#include <atomic>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 namespace vplrender {
 
-namespace {
-
-std::atomic<unsigned> counter{0};
-
-std::string make_temp_name(const std::string& final_path, unsigned n) {
-  const std::filesystem::path p(final_path);
-  const std::string name = "." + p.filename().string() + "." + std::to_string(::getpid()) + "." + std::to_string(n) + ".tmp";
-  return (p.parent_path() / name).string();
+void write_atomically(const std::string& final_path, const std::function<void(const std::string&)>& write) {
+  output_set set;
+  set.write(final_path, write);
+  set.publish();
 }
 
-}  // namespace
-
-std::string temporary_name_for(const std::string& final_path) { return make_temp_name(final_path, counter.load()); }
-
-void write_atomically(const std::string& final_path, const std::function<void(const std::string&)>& write) {
-  if (final_path.empty()) throw output_error("empty output path");
-  std::string temp;
-  int fd = -1;
-  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    temp = make_temp_name(final_path, counter++);
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) break;
+void write_file_bytes(const std::string& path, const std::string& shown_as, const void* data, std::size_t bytes) {
+  auto fail = [&](int err) {
+    if (err == ENOSPC || err == EDQUOT)
+      throw output_error(shown_as + ": no space left on device (writing " + std::to_string(bytes) + " bytes)");
+    throw output_error(shown_as + ": cannot write (" + std::strerror(err) + ")");
+  };
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) fail(errno);
+  const char* p = static_cast<const char*>(data);
+  std::size_t left = bytes;
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;  // a write of 0 bytes to a regular file: the disk is full
+      ::close(fd);
+      fail(err);
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
   }
-  if (fd < 0) throw output_error(final_path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
-  ::close(fd);
-
-  auto discard = [&]() { ::unlink(temp.c_str()); };
-  try {
-    write(temp);
-  } catch (...) {
-    discard();
-    throw;
-  }
-  // Flush to disk before the rename, or a crash could leave a complete name over empty data.
-  fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    const int e = errno;
-    discard();
-    throw output_error(final_path + ": temporary file vanished while writing (" + std::strerror(e) + ")");
-  }
-  struct stat st {};
-  const bool empty = ::fstat(fd, &st) == 0 && st.st_size == 0;
-  ::fsync(fd);
-  ::close(fd);
-  if (empty) {
-    discard();
-    throw output_error(final_path + ": the writer produced an empty file");
-  }
-  if (std::rename(temp.c_str(), final_path.c_str()) != 0) {
-    const int e = errno;
-    discard();
-    throw output_error(final_path + ": cannot rename the temporary file into place (" + std::strerror(e) + ")");
-  }
+  if (::close(fd) != 0) fail(errno);
 }
 
 }  // namespace vplrender

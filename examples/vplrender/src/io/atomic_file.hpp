@@ -1,19 +1,20 @@
 #pragma once
-// Every output goes to a temporary file in the destination's own directory (so rename(2) stays on
-// one file system and is atomic) and is renamed into place only once complete. A failure at any
-// point removes the temporary file and leaves any previous file of that name untouched.
+// One output written atomically: a set of one (io/output_set.hpp). A failure at any point removes
+// the temporary file and leaves any previous file of that name untouched.
+#include "io/output_set.hpp"
+
 #include <functional>
 #include <string>
 
 namespace vplrender {
 
-// Reserves a fresh temporary name ".<name>.<pid>.<n>.tmp" beside `final_path` (O_EXCL, mode 0666
-// less the umask), calls write(temp_path), flushes it to disk and renames it over `final_path`.
-// Exceptions from `write` propagate after the clean-up; other failures throw output_error naming
-// the path and the reason.
+// Reserves a temporary beside `final_path`, calls write(temp_path), flushes it to disk and renames
+// it over `final_path`. Exceptions from `write` propagate after the clean-up; other failures throw
+// output_error naming the path and the reason.
 void write_atomically(const std::string& final_path, const std::function<void(const std::string& temp_path)>& write);
 
-// The temporary name write_atomically would use next (exposed for tests).
-std::string temporary_name_for(const std::string& final_path);
+// The bytes to `path` with write(2), every error checked: ENOSPC reads "<shown_as>: no space left on
+// device (writing N bytes)", others "<shown_as>: cannot write (<strerror>)". Throws output_error.
+void write_file_bytes(const std::string& path, const std::string& shown_as, const void* data, std::size_t bytes);
 
 }  // namespace vplrender

@@ -1,6 +1,5 @@
 #include "io/exr_io.hpp"
 
-#include "io/atomic_file.hpp"
 #include "io/errors.hpp"
 
 #include <ImfChannelList.h>
@@ -16,8 +15,15 @@ namespace vplrender {
 
 void write_exr(const std::string& path, const image_rgb& img,
                const std::vector<std::pair<std::string, std::string>>& attributes) {
+  output_set set;
+  write_exr(set, path, img, attributes);
+  set.publish();
+}
+
+void write_exr(output_set& set, const std::string& path, const image_rgb& img,
+               const std::vector<std::pair<std::string, std::string>>& attributes) {
   require_finite(img, path);
-  write_atomically(path, [&](const std::string& temp) {
+  set.write(path, [&](const std::string& temp) {
     try {
       Imf::Header header(img.width, img.height);
       header.compression() = Imf::ZIP_COMPRESSION;
@@ -33,7 +39,11 @@ void write_exr(const std::string& path, const image_rgb& img,
       file.setFrameBuffer(fb);
       file.writePixels(img.height);
     } catch (const std::exception& e) {
-      throw output_error(path + ": cannot write OpenEXR (" + e.what() + ")");
+      // OpenEXR reports a full disk as the errno text of its failed write.
+      const std::string why = e.what();
+      if (why.find("No space left on device") != std::string::npos)
+        throw output_error(path + ": no space left on device (writing OpenEXR)");
+      throw output_error(path + ": cannot write OpenEXR (" + why + ")");
     }
   });
 }

@@ -32,15 +32,34 @@ std::vector<std::uint8_t> tonemap_reinhard(const image_rgb& img, float exposure)
   return out;
 }
 
+std::vector<std::uint8_t> encode_png(const std::string& path, const std::vector<std::uint8_t>& rgb8, int width,
+                                     int height) {
+  std::vector<std::uint8_t> png;
+  // In memory, then written by write_file_bytes: stbi_write_png ignores fwrite's errors (a full
+  // disk left a truncated file behind a success).
+  const auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<std::uint8_t>*>(context);
+    const auto* bytes = static_cast<const std::uint8_t*>(data);
+    out->insert(out->end(), bytes, bytes + size);
+  };
+  if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb8.data(), width * 3) || png.empty())
+    throw output_error(path + ": cannot encode PNG");
+  return png;
+}
+
 void write_png_preview(const std::string& path, const image_rgb& img, float exposure) {
+  output_set set;
+  write_png_preview(set, path, img, exposure);
+  set.publish();
+}
+
+void write_png_preview(output_set& set, const std::string& path, const image_rgb& img, float exposure) {
   if (!(std::isfinite(exposure) && exposure > 0.0f))
     throw output_error(path + ": exposure " + std::to_string(exposure) + " must be finite and > 0");
   require_finite(img, path);
   const std::vector<std::uint8_t> ldr = tonemap_reinhard(img, exposure);
-  write_atomically(path, [&](const std::string& temp) {
-    if (!stbi_write_png(temp.c_str(), img.width, img.height, 3, ldr.data(), img.width * 3))
-      throw output_error(path + ": cannot write PNG");
-  });
+  const std::vector<std::uint8_t> png = encode_png(path, ldr, img.width, img.height);
+  set.write(path, [&](const std::string& temp) { write_file_bytes(temp, path, png.data(), png.size()); });
 }
 
 }  // namespace vplrender

@@ -4,6 +4,7 @@
 // i.e. L maps to L / (1 + L) and hue is kept; channels that a saturated colour pushes past 1 are
 // clipped. No log-average "key": a fixed exposure keeps previews of different methods comparable.
 #include "io/image.hpp"
+#include "io/output_set.hpp"
 
 #include <cstdint>
 #include <string>
@@ -17,5 +18,9 @@ std::vector<std::uint8_t> tonemap_reinhard(const image_rgb& img, float exposure 
 // Tone-maps and writes a PNG atomically. Throws output_error on a non-finite image, a bad exposure
 // or a failed write.
 void write_png_preview(const std::string& path, const image_rgb& img, float exposure = 1.0f);
+// The same into `set`: on disk under `path` once the set is published.
+void write_png_preview(output_set& set, const std::string& path, const image_rgb& img, float exposure = 1.0f);
+// The PNG file's bytes (stb_image_write's encoder, in memory). Throws output_error naming `path`.
+std::vector<std::uint8_t> encode_png(const std::string& path, const std::vector<std::uint8_t>& rgb8, int width, int height);
 
 }  // namespace vplrender

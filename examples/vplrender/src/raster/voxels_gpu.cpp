@@ -37,11 +37,8 @@ gpu_voxelization voxelize_gpu(const scene& s, int resolution) {
   grid.bind(VPLKIT_VOXELIZE_BINDING_WORDS);
   vplkit::gl::timer_query tq;
   tq.begin();
-  // One work group per triangle (voxelize.comp's dispatch rule), spread over y past 65535.
-  const GLuint groups = tris > 0 ? tris : 1u;
-  const GLuint gx = groups > 65535u ? 65535u : groups;
-  const GLuint gy = (groups + gx - 1) / gx;
-  vplkit::gl::dispatch(prog, gx, gy);
+  // One work group per triangle (voxelize.comp's dispatch rule), spread over y past the x limit.
+  vplkit::gl::dispatch_linear(prog, tris);
   tq.end();
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> w = grid.read<std::uint32_t>(words);

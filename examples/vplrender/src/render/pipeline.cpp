@@ -1,5 +1,6 @@
 #include "render/pipeline.hpp"
 
+#include "app/lighting_check.hpp"
 #include "io/errors.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/gpu_bvh.hpp"
@@ -9,6 +10,7 @@
 #include "raster/voxels_gpu.hpp"
 #include "render/cpu/cpu_backend.hpp"
 #include "render/cpu/ray_scene.hpp"
+#include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_backend.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -47,6 +49,7 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   gbuffer_data gbuf;
   dprsm_data dprsm;
   {
+    auto gbuffer_running = stage_timer::running("gbuffer (gpu)");
     gl_rasterizer raster(s);
     raster_timing tg;
     gbuf = raster.render_gbuffer(s.cam, f.width, f.height, &tg);
@@ -56,10 +59,15 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     tp.max_angle = tessellation_angle_for_resolution(f.dprsm);
     tessellation_stats ts;
     raster_timing td;
-    dprsm = raster.render_dprsm(dprsm_light(s), f.dprsm, tp, &td, &ts);
+    {
+      auto running = stage_timer::running("dprsm (gpu)");
+      dprsm = raster.render_dprsm(dprsm_light(s), f.dprsm, tp, &td, &ts);
+    }
     timer.add("dprsm (gpu)", td.ms, td.clock);
     timer.add("dprsm read-back (cpu)", td.readback_ms, "cpu-wall");
-    det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}};
+    // Pixels the light reaches directly (with or without --direct): a frame with none gets a
+    // warning after the render (app/lighting_check.hpp).
+    det["gbuffer"] = {{"valid_pixels", gbuf.valid_count()}, {"directly_lit_pixels", count_directly_lit_pixels(gbuf, dprsm)}};
     det["dprsm"] = {{"resolution", f.dprsm},
                     {"front_axis", {0, -1, 0}},
                     {"tessellation_max_angle_deg", tp.max_angle * 180.0 / 3.14159265358979323846},
@@ -74,6 +82,7 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   auto scene_gpu = gpu ? std::make_shared<gpu_scene_buffers>() : nullptr;
   vplkit::voxel_grid<float> grid = [&] {
     if (gpu) {
+      auto running = stage_timer::running("voxelize (gpu)");
       gpu_voxelization v = voxelize_gpu(s, f.voxels);
       timer.add("voxelize (gpu)", v.ms, "gpu");
       timer.add("voxels read-back (cpu)", v.readback_ms, "cpu-wall");
@@ -92,8 +101,12 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   // the DPRSM packed as surfels and uploaded, the voxel words as voxelize.comp left them.
   if (gpu) {
     auto t = timer.scoped("scene upload (cpu)");
-    scene_gpu->gbuffer = upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
-    scene_gpu->dprsm = upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
+    scene_gpu->gbuffer = gpu_allocating(surfel_bytes(gbuf.position.size()), "the G-buffer surfels", [&] {
+      return upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
+    });
+    scene_gpu->dprsm = gpu_allocating(surfel_bytes(dprsm.position.size()), "the DPRSM surfels", [&] {
+      return upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
+    });
   }
   // Exact rays: Embree over the scene for the CPU (exact visibility there, --method exact on either
   // backend) and, for the GPU backend, the pack's BVH built here and uploaded with the scene buffers.

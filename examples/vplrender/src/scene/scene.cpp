@@ -108,7 +108,13 @@ void validate_geometry(const scene& s) {
   const aabb b = bounds(s);
   if (!std::isfinite(b.diagonal()))
     throw input_error(who + ": scene bounds are not finite (coordinates too large)");
-  if (!(b.diagonal() > 0.0f)) throw input_error(who + ": degenerate scene: every vertex is at " + str3(b.lo));
+  if (b.lo == b.hi) throw input_error(who + ": degenerate scene: every vertex is at " + str3(b.lo));
+  // Distinct vertices whose extent squares to 0 in float (coordinates near 1e-38 are denormal or
+  // flush to zero): nothing downstream can resolve such a scene. Say so rather than call it a point.
+  if (!(b.diagonal() > 1e-18f))
+    throw input_error(who + ": the scene's extent " + str3(b.hi - b.lo) +
+                      " is too small to render (coordinates this close to zero are denormal floats); scale the "
+                      "model up (e.g. to metres)");
 }
 
 void validate_scene(const scene& s) {

@@ -1,6 +1,7 @@
 #include "render/gpu/gpu_backend.hpp"
 
 #include "raster/gpu_scene_buffers.hpp"
+#include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_builders.hpp"
 #include "render/gpu/gpu_visibility.hpp"
 #include "render/gpu/loop_budget.hpp"
@@ -167,8 +168,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // Without distributions the kernel still binds both buffers: one zero word each.
   gl::buffer b_data = with_dists ? std::move(gm.data) : gl::buffer::filled(4, 0);
   gl::buffer b_meta = with_dists ? std::move(gm.meta) : gl::buffer::filled(4, 0);
-  gl::buffer b_state = gl::buffer::filled(48 * std::max<std::size_t>(n_pixels, 1), 0);
-  gl::buffer b_out = gl::buffer::filled(16 * std::max<std::size_t>(n_pixels, 1), 0xFF);
+  auto estimate_running = stage_timer::running("estimate (gpu)");
+  const std::size_t state_bytes = 48 * std::max<std::size_t>(n_pixels, 1);
+  const std::size_t out_bytes = 16 * std::max<std::size_t>(n_pixels, 1);
+  gl::buffer b_state = gpu_allocating(state_bytes, "the per-pixel estimator state",
+                                      [&] { return gl::buffer::filled(state_bytes, 0); });
+  gl::buffer b_out = gpu_allocating(out_bytes, "the per-pixel estimates", [&] { return gl::buffer::filled(out_bytes, 0xFF); });
   // --sampler alias / --face-selection roulette: the components built on the host from the
   // weights read back (mixture_components.hpp), uploaded; else one zero word.
   const bool components = with_dists && mixture_components::wanted(es);
@@ -229,8 +234,6 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const long long units = std::max(1LL, shape.units);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
   const GLuint groups = gl::groups_for(n_pixels, prog.local_size()[0]);
-  const GLuint gx = std::min<GLuint>(groups, 65535u);
-  const GLuint gy = (groups + gx - 1) / gx;
   det["gpu"] = {{"kernel", "examples/vplrender/shaders/estimate.comp"},
                 {"passes", passes},
                 {"units_per_pass", chunk},
@@ -247,7 +250,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
       set_i("u_end", static_cast<int>(end));
       set_i("u_first_pass", k == 0 ? 1 : 0);
       set_i("u_last_pass", k == passes - 1 ? 1 : 0);
-      gl::dispatch(prog, gx, gy);
+      gl::dispatch_linear(prog, groups);
       if (progress && passes > 1) {
         glFinish();
         progress("render (gpu)", static_cast<std::uint64_t>(k + 1), static_cast<std::uint64_t>(passes));

@@ -33,6 +33,7 @@ const gpu_scene_buffers& scene_on_gpu(const frame_buffers& b, const char* who) {
 }
 
 gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings& s, bool local, stage_timer& timer) {
+  auto running = stage_timer::running(local ? "local weights (gpu)" : "global weights (gpu)");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   const vplkit::dprsm_view<float> view = b.dprsm.view();
   g.validate();
@@ -92,8 +93,8 @@ gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings
   b_offsets.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
   out.weights.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS);
   glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, blocks.back().id());
-  gl::dispatch(gl::cached_kernel("vplkit/builders/global_weights.comp"), gl::groups_for(n, VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE),
-               static_cast<GLuint>(N));
+  gl::dispatch_linear(gl::cached_kernel("vplkit/builders/global_weights.comp"),
+                      gl::groups_for(n, VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), static_cast<GLuint>(N));
   // |S_i| for the report: the subsets are a few hundred ints.
   const std::vector<std::int32_t> picks = b_subset.read<std::int32_t>(cap);
   out.used.assign(static_cast<std::size_t>(N), 0);
@@ -106,6 +107,7 @@ gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings
 
 gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                       nlohmann::json& det, bool read_back) {
+  auto running = stage_timer::running("gbg weights + hole fill (gpu)");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   const vplkit::dprsm_view<float> view = b.dprsm.view();
   g.validate();
@@ -153,8 +155,6 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   const long long per_dir = gpu_query_cost(&scene, s.visibility, grid.resolution) + 8;
   const int dirs_per = static_cast<int>(std::max(1LL, gpu_loop_budget / per_dir));
   const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), VPLKIT_GBG_LOCAL_SIZE);
-  const GLuint gx = std::min<GLuint>(groups, 65535u);
-  const GLuint gy = (groups + gx - 1) / gx;
   const vplkit::gpu::light_params light = vplkit::gpu::make_light_params(view.light);
   std::vector<gl::buffer> blocks;
   int dispatches = 0;
@@ -193,7 +193,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
       b_acc.bind(VPLKIT_GBG_BINDING_ACC);
       b_stats.bind(VPLKIT_GBG_BINDING_STATS);
       glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GBG_BINDING_PARAMS, blocks.back().id());
-      gl::dispatch(acc_prog, gx, gy);
+      gl::dispatch_linear(acc_prog, groups);
       ++dispatches;
     }
     vplkit::gpu::gbg_finish_params fp{};

@@ -32,6 +32,7 @@ constexpr std::size_t cdf_block = VPLKIT_CDF_BUILD_BLOCK;  // weights per block 
 gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buffer& dprsm,
                                 const vplkit::dprsm_view<float>& view, float eps, stage_timer& timer,
                                 nlohmann::json& det) {
+  auto running = stage_timer::running("cdf (gpu)");
   if (!(eps >= 0.0f && eps <= 1.0f))
     throw vplkit::invalid_input("build_mixtures_gpu: eps = " + std::to_string(eps) + " is outside [0, 1]");
   if (D < 1) throw vplkit::invalid_input("build_mixtures_gpu: no weight arrays");
@@ -78,7 +79,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
     gl::check_gl("vpl_fallback_weights.comp uniforms");
     dprsm.bind(0);
     weights.bind(1);
-    gl::dispatch(fp, gl::groups_for(n, 64));
+    gl::dispatch_linear(fp, gl::groups_for(n, 64));
   }
   const gl::program& cp = gl::cached_kernel("vplkit/distribution/cdf_build.comp");
   weights.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
@@ -90,9 +91,10 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   b_info.bind(VPLKIT_CDF_BUILD_BINDING_INFO);
   glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_CDF_BUILD_BINDING_PARAMS, b_params.id());
   gl::check_gl("cdf_build.comp bindings");
-  const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), 65535));
-  const GLuint guide_groups =
-      static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, 65535));
+  // cdf_build.comp strides its blocks over gl_NumWorkGroups.x: any count up to the axis limit works.
+  const std::size_t max_x = gl::max_work_group_count(0);
+  const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), max_x));
+  const GLuint guide_groups = static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, max_x));
   for (std::uint32_t pass = 1; pass <= 6; ++pass) {
     vplkit::gpu::cdf_build_params p{};
     p.n = static_cast<std::uint32_t>(n);

@@ -1,0 +1,37 @@
+#pragma once
+// The --window loop's decisions, apart from GLFW so they can be tested: what the key actions of one
+// pass of the event loop change, and whether that pass re-renders, only redraws, or does nothing.
+// The window renders on demand: a pass with no change and no damage to the window touches nothing.
+#include "app/options.hpp"
+#include "render/settings.hpp"
+
+#include <string>
+#include <vector>
+
+namespace vplrender {
+
+// What the keys change (the rest of the options stay as the command line gave them).
+struct window_view {
+  method meth = method::mis;
+  int vpls = 0;
+  int dirs = 0;
+};
+
+struct window_update {
+  bool rerender = false;  // the settings changed: run_estimator again, then draw
+  bool redraw = false;    // draw the image we have (first pass, after a re-render, the window was damaged)
+  bool close = false;     // 'q' (actions after it in the same pass are dropped)
+};
+
+// Applies one key action ("1"-"7", "m", "+", "-", "q"; see docs/renderer.md, "Window"). Returns
+// true when the view changed; sets *close for "q".
+bool apply_window_action(window_view& v, const std::string& action, bool* close);
+
+// One pass: the actions in order, then the decision. `damaged`: the window was resized, exposed or
+// asked to refresh (GLFW's framebuffer-size and refresh callbacks); `first`: nothing drawn yet.
+window_update plan_window_update(window_view& v, const std::vector<std::string>& actions, bool damaged, bool first);
+
+// "mis, vpls 4, dirs 16" (dirs only for the methods that use them).
+std::string window_samples_text(const window_view& v);
+
+}  // namespace vplrender

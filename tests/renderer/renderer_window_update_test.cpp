@@ -1,0 +1,83 @@
+// --window renders on demand (app/window_update.hpp): which passes of the event loop re-render,
+// which only redraw, and which do nothing at all.
+#include "app/window_update.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace vplrender;
+
+namespace {
+window_view view(method m, int vpls, int dirs) { return window_view{m, vpls, dirs}; }
+}  // namespace
+
+TEST_CASE("a pass with no key and no damage does nothing", "[renderer][window]") {
+  window_view v = view(method::mis, 4, 16);
+  const window_update u = plan_window_update(v, {}, false, false);
+  CHECK_FALSE(u.rerender);
+  CHECK_FALSE(u.redraw);
+  CHECK_FALSE(u.close);
+}
+
+TEST_CASE("the first pass draws the image it has without rendering it again", "[renderer][window]") {
+  window_view v = view(method::mis, 4, 16);
+  const window_update u = plan_window_update(v, {}, false, true);
+  CHECK_FALSE(u.rerender);
+  CHECK(u.redraw);
+}
+
+TEST_CASE("a resize or expose redraws, never re-renders", "[renderer][window]") {
+  window_view v = view(method::gbg, 4, 16);
+  const window_update u = plan_window_update(v, {}, true, false);
+  CHECK_FALSE(u.rerender);
+  CHECK(u.redraw);
+}
+
+TEST_CASE("a key that changes the settings re-renders and redraws", "[renderer][window]") {
+  window_view v = view(method::mis, 4, 16);
+  window_update u = plan_window_update(v, {"+"}, false, false);
+  CHECK(u.rerender);
+  CHECK(u.redraw);
+  CHECK(v.vpls == 8);
+  CHECK(v.dirs == 32);
+  u = plan_window_update(v, {"2"}, false, false);
+  CHECK(u.rerender);
+  CHECK(v.meth == method::global);
+  CHECK(window_samples_text(v) == "global, vpls 8");
+}
+
+TEST_CASE("a key that changes nothing does not re-render", "[renderer][window]") {
+  window_view v = view(method::global, 1, 16);
+  CHECK_FALSE(plan_window_update(v, {"-"}, false, false).rerender);  // already 1 VPL; global has no dirs
+  CHECK(v.dirs == 16);
+  CHECK_FALSE(plan_window_update(v, {"2"}, false, false).rerender);  // already global
+  v = view(method::gather, limits::max_vpls, limits::max_dirs);
+  CHECK_FALSE(plan_window_update(v, {"+"}, false, false).rerender);  // both at their caps
+}
+
+TEST_CASE("several keys in one pass re-render once, with their combined effect", "[renderer][window]") {
+  window_view v = view(method::reference, 4, 2);
+  const window_update u = plan_window_update(v, {"m", "m", "+", "-", "-"}, false, false);
+  CHECK(u.rerender);
+  CHECK(v.meth == method::local);
+  CHECK(v.vpls == 2);
+  CHECK(v.dirs == 2);  // local has no dirs
+  // "+" then "-" changed the settings twice: the pass re-renders (once) even though they end
+  // where they started (a change is a change; comparing with the displayed image is not worth it).
+  window_view w = view(method::mis, 4, 16);
+  CHECK(plan_window_update(w, {"+", "-"}, false, false).rerender);
+}
+
+TEST_CASE("q closes: no render, and the keys after it are dropped", "[renderer][window]") {
+  window_view v = view(method::mis, 4, 16);
+  const window_update u = plan_window_update(v, {"+", "q", "m"}, true, false);
+  CHECK(u.close);
+  CHECK_FALSE(u.rerender);
+  CHECK_FALSE(u.redraw);
+  CHECK(v.meth == method::mis);
+}
+
+TEST_CASE("m wraps around the seven methods", "[renderer][window]") {
+  window_view v = view(method::mis_as_published, 4, 16);
+  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(v.meth == method::reference);
+}
