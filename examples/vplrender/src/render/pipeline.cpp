@@ -9,6 +9,7 @@
 #include "raster/voxels.hpp"
 #include "raster/voxels_gpu.hpp"
 #include "render/cpu/cpu_backend.hpp"
+#include "render/light_range.hpp"
 #include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_backend.hpp"
@@ -148,8 +149,9 @@ render_result run_estimator(const frame_buffers& b, const render_settings& s, st
     // --method exact has no GPU kernel: it runs on the CPU (Embree) with either backend's frame.
     r = gpu && s.meth != method::exact ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
   } catch (const vplkit::invalid_input& e) {
-    throw input_error(e.what());
+    throw input_error(with_light_hint(e.what(), b.dprsm.light.intensity));
   }
+  check_image_against_light(r.image, b.dprsm.light.intensity);
   det["estimator"] = r.details;
   det["estimator_backend"] = to_string(s.meth == method::exact ? backend::cpu : b.back);
   const vplkit::gl::gpu_memory after = vplkit::gl::gpu_memory_usage();
