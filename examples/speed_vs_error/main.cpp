@@ -43,6 +43,8 @@ namespace fs = std::filesystem;
 constexpr std::uint32_t k_gather_reference_seed = 0x5EED0F1Eu;
 // The exact reference's seed, for the same reason.
 constexpr std::uint32_t k_exact_reference_seed = 0x5EED0E4Au;
+// The patch VPL sum's seed (its jitter; --vpl-mode point draws nothing), for the same reason.
+constexpr std::uint32_t k_vplsum_reference_seed = 0x5EED0A50u;
 
 const char* k_help = R"(speed_vs_error: error against time for each method on one scene, in one process.
 
@@ -68,23 +70,26 @@ Sweep options:
   --cache-dir DIR    reference cache (default speed_vs_error_cache); references are EXR files
                      named by a hash of scene, size, DPRSM, voxels, backend, light, camera,
                      --direct, --visibility exact, and for the gathering and exact references
-                     their directions and seed
+                     their directions and seed, for the patch VPL sum its mode and seed
   --out PREFIX       writes PREFIX.csv, PREFIX.md, PREFIX.svg (default speed_vs_error), and
                      with 2 or more seeds PREFIX_bias_variance.csv
   --help             this text
 
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps
-  --local-combination --gbg-accumulator --cdf-search --visibility --camera --light --paper --direct.
+  --local-combination --gbg-accumulator --cdf-search --visibility --vpl-mode --camera --light --paper
+  --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
 Error metrics, on linear HDR values, over all pixels p and channels c (x = run, r = reference):
   RMSE   = sqrt( mean_{p,c} (x_pc - r_pc)^2 )
   relMSE = mean_{p,c} (x_pc - r_pc)^2 / (r_pc^2 + 1e-2)
-Reported against (a) the exhaustive VPL sum (method reference: the estimand of global, local,
-gbg) and (b) converged gathering (gather at --ref-dirs, seed 0x5EED0F1E: the estimand of gather
-and mis; it differs from (a) by the VPL discretisation and the distance clamp), both with the
+Reported against (a) the exhaustive VPL sum (method reference with the runs' --vpl-mode: the
+estimand of global, local, gbg; with patch one jittered point per texel, seed 0x5EED0A50, an
+unbiased estimate of the continuous integral that (b) estimates) and (b) converged gathering
+(gather at --ref-dirs, seed 0x5EED0F1E: the estimand of gather and mis; with point VPLs it
+differs from (a) by the VPL discretisation; with either by the distance clamp), both with the
 chosen --visibility, and (c) the ground truth (exact at --ref-exact-dirs, seed 0x5EED0E4A: cosine
 gathering against the triangles with exact visibility and no VPLs; the distance from (a) and (b)
 to (c) is what the VPLs, the DPRSM and the voxel grid cost in accuracy).
@@ -237,6 +242,9 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   // Only when exact, so the keys (and cached files) of voxel references stay what they were.
   if (o.visibility == visibility_choice::exact && kind != "exact") k += "|visibility=exact";
   if (kind == "gather" || kind == "exact") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);
+  // Only for patch VPLs, so the keys of point VPL sums stay what they were.
+  if (kind == "vplsum" && o.vpl_mode == vpl_mode_choice::patch)
+    k += "|vpl_mode=patch|strata=" + std::to_string(reference_patch_strata) + "|seed=" + std::to_string(seed);
   return k;
 }
 
@@ -538,7 +546,7 @@ int main(int argc, char** argv) {
               << "\nprepare (G-buffer, DPRSM, voxels): " << num(prepare_ms) << " ms" << std::endl;
 
     const reference_image ref_vpl =
-        so.ref_vplsum ? get_reference(base, p, b, so.cache_dir, "vplsum", 0, 0) : reference_image{};
+        so.ref_vplsum ? get_reference(base, p, b, so.cache_dir, "vplsum", 0, k_vplsum_reference_seed) : reference_image{};
     const reference_image ref_gather =
         so.ref_gather ? get_reference(base, p, b, so.cache_dir, "gather", so.ref_dirs, k_gather_reference_seed)
                       : reference_image{};
@@ -658,7 +666,7 @@ int main(int argc, char** argv) {
        << (!so.ref_gather ? "skipped" : ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms")
        << ", exact at " << so.ref_exact_dirs << " dirs "
        << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
-       << ". Visibility `" << to_string(base.visibility) << "`";
+       << ". Visibility `" << to_string(base.visibility) << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
     md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
        << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
        << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");

@@ -275,7 +275,7 @@ TEST_CASE("the --help flag returns the help text, which documents every flag") {
   CHECK(r.help == help_text("vplrender"));
   for (const char* flag : {"--scene", "--method", "--backend", "--size", "--vpls", "--seed", "--out", "--regions",
                            "--dirs", "--eps", "--voxels", "--dprsm", "--camera", "--light", "--paper", "--direct",
-                           "--window", "--frames", "--window-script", "--exposure", "--progress", "--help"}) {
+                           "--window", "--frames", "--window-script", "--exposure", "--progress", "--vpl-mode", "--help"}) {
     INFO(flag);
     CHECK(r.help.find(flag) != std::string::npos);
   }
@@ -359,4 +359,26 @@ TEST_CASE("the visibility flag is voxels (default) or exact, and the window refu
   CHECK(starts_with(error_of({"--window", "--method", "exact"}), "--window: does not offer --method exact"));
   CHECK(help_text().find("--visibility") != std::string::npos);
   CHECK(help_text().find("runs on the CPU") != std::string::npos);
+}
+
+TEST_CASE("the VPL mode flag is patch (default) or point, --paper selects point, and an explicit flag wins") {
+  CHECK(parse({}).vpl_mode == vpl_mode_choice::patch);
+  CHECK(parse({"--vpl-mode", "point"}).vpl_mode == vpl_mode_choice::point);
+  CHECK(parse({"--vpl-mode", "patch"}).vpl_mode == vpl_mode_choice::patch);
+  CHECK(parse({"--vpl-mode=point", "--method", "reference"}).vpl_mode == vpl_mode_choice::point);
+  CHECK(parse({"--paper"}).vpl_mode == vpl_mode_choice::point);
+  CHECK(parse({"--paper", "--vpl-mode", "patch"}).vpl_mode == vpl_mode_choice::patch);
+  CHECK(parse({"--vpl-mode", "patch", "--paper"}).vpl_mode == vpl_mode_choice::patch);
+  CHECK(std::string(to_string(vpl_mode_choice::point)) == "point");
+  CHECK(std::string(to_string(vpl_mode_choice::patch)) == "patch");
+  CHECK(library_vpl_mode(vpl_mode_choice::patch) == vplkit::vpl_mode::patch);
+  CHECK(library_vpl_mode(vpl_mode_choice::point) == vplkit::vpl_mode::point);
+  // It applies to every method with VPLs; gather and exact have none.
+  for (method m : {method::reference, method::global, method::local, method::gbg, method::mis, method::mis_as_published})
+    CHECK(uses_vpls(m));
+  CHECK_FALSE(uses_vpls(method::gather));
+  CHECK_FALSE(uses_vpls(method::exact));
+  CHECK(starts_with(error_of({"--vpl-mode", "area"}), "--vpl-mode: unknown value 'area' (expected point|patch)"));
+  CHECK(starts_with(error_of({"--vpl-mode"}), "--vpl-mode"));
+  CHECK(help_text().find("--vpl-mode") != std::string::npos);
 }

@@ -12,7 +12,8 @@
 // pass writes the estimator's _finish, plus vplkit_direct_light when u_direct is set, to the
 // RGBA32F output; the host applies max(., 0) and the finite guard as the CPU backend does.
 //
-// Random numbers: vplkit_make_counter_rng(u_seed, pixel), the CPU backend's stream per pixel.
+// Random numbers: vplkit_make_counter_rng(u_seed, pixel), the CPU backend's stream per pixel (the
+// patch reference reads it at fixed counters, so every pass starts from the pixel's fresh stream).
 // Distributions: defensive mixtures as CDF + guide arrays and the mixture scalars (pack
 // distribution/defensive_mixture.glsl). Built on the GPU for global, local, gbg, mis and
 // mis-as-published (gpu_cdf.cpp: cdf_build.comp, the same layout); the vr_dist_* layout below is
@@ -143,6 +144,8 @@ uniform int u_direct;  // 1: add the direct light (--direct) in the last pass
 uniform int u_cdf_search;          // 0: guide table (vplkit_defensive_mixture_sample), 1: plain binary search
 uniform int u_sampler;             // 0: the mixtures' CDFs, 1: alias tables, 2: face roulettes (binding 7)
 uniform int u_local_combination;   // vplkit_local_balance or vplkit_local_average (--local-combination)
+uniform int u_vpl_mode;            // vplkit_vpl_point or vplkit_vpl_patch (--vpl-mode), with u_depth_tol as window
+uniform int u_strata;              // the patch reference's strata per texel side (m of m x m)
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
   return vplkit_gather_point(vr_gbuffer[pixel].position.xyz, vr_gbuffer[pixel].normal.xyz,
@@ -253,17 +256,22 @@ void main() {
   bool valid = vplkit_gather_point_valid(gp);
   if (valid) {
 #if VR_METHOD == VR_REFERENCE
-    vplkit_exhaustive_vpl_sum_range(gp, view, ref, u_begin, u_end, visibility, u_dmin);
+    if (u_vpl_mode == vplkit_vpl_patch)
+      vplkit_exhaustive_vpl_patch_sum_range(gp, view, ref, u_begin, u_end, vplkit_make_counter_rng(u_seed, p), u_strata,
+                                            visibility, u_dmin, u_depth_tol);
+    else
+      vplkit_exhaustive_vpl_sum_range(gp, view, ref, u_begin, u_end, visibility, u_dmin);
 #elif VR_METHOD == VR_VPL_SAMPLING
-    vplkit_estimate_vpl_sampling_range(gp, view, 0u, est, u_begin, u_end, visibility, u_dmin);
+    vplkit_estimate_vpl_sampling_range(gp, view, 0u, est, u_begin, u_end, visibility, u_dmin, u_vpl_mode,
+                                       u_depth_tol);
 #elif VR_METHOD == VR_LOCAL
     vplkit_estimate_local_range(gp, view, 0u, u_n_dists, est, u_begin, u_end, visibility, u_dmin,
-                                u_local_combination);
+                                u_local_combination, u_vpl_mode, u_depth_tol);
 #elif VR_METHOD == VR_GATHER
     vplkit_estimate_gathering_range(gp, view, est, u_begin, u_end, tracer, u_depth_tol);
 #elif VR_METHOD == VR_MIS
     vplkit_estimate_mis_range(gp, view, 0u, est, u_begin, u_end, u_n_dirs, u_n_vpls, tracer, visibility,
-                              u_depth_tol, u_mis_mode);
+                              u_depth_tol, u_mis_mode, u_vpl_mode);
 #endif
   }
 #if VR_METHOD == VR_REFERENCE
@@ -278,7 +286,8 @@ void main() {
     vec3 e = vec3(0.0);
     if (valid) {
 #if VR_METHOD == VR_REFERENCE
-      e = vplkit_exhaustive_vpl_sum_finish(ref);
+      e = u_vpl_mode == vplkit_vpl_patch ? vplkit_exhaustive_vpl_patch_sum_finish(ref, u_strata)
+                                         : vplkit_exhaustive_vpl_sum_finish(ref);
 #elif VR_METHOD == VR_VPL_SAMPLING
       e = vplkit_estimate_vpl_sampling_finish(est, u_n_samples);
 #elif VR_METHOD == VR_LOCAL

@@ -25,7 +25,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility;
+      face_selection, sampler, visibility, vpl_mode;
   bool paper = false, direct = false, window = false;
 };
 
@@ -121,6 +121,13 @@ void build_app(CLI::App& app, raw_values& v) {
                    "the CPU backend and the GLSL pack's BVH (built on the host, uploaded once per frame) on the GPU "
                    "backend. --method exact always uses exact rays."))
       ->type_name("voxels|exact");
+  app.add_option("--vpl-mode", v.vpl_mode,
+                 d("What a VPL is, for every method that uses VPLs (reference, global, local, gbg, mis, "
+                   "mis-as-published; default patch): patch = a point drawn uniformly over its texel's patch "
+                   "with that point's own solid angle, so every method estimates the same continuous one-bounce "
+                   "integral as gather and exact; point = the paper's VPL at the texel centre, whose VPL sum is "
+                   "a midpoint rule of it (docs/math.md section 11). --paper selects point."))
+      ->type_name("point|patch");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -134,7 +141,7 @@ void build_app(CLI::App& app, raw_values& v) {
                                      "one placed automatically (see docs/renderer.md)."))
       ->type_name("X,Y,Z[,R,G,B]");
   app.add_flag("--paper", v.paper, d("The paper's parameters: --size 512x512 --dprsm 512 --voxels 128 --vpls 800 "
-                                   "--regions 4 --dirs 800. Flags given explicitly win."));
+                                   "--regions 4 --dirs 800 --vpl-mode point. Flags given explicitly win."));
   app.add_flag("--direct", v.direct, d("Add direct lighting (default: one-bounce indirect only, as in the paper)."));
   app.add_flag("--window", v.window, d("Also show the result in an interactive window (GPU backend; needs a display). "
                                      "Keys: 1-7 reference/global/local/gbg/gather/mis/mis-as-published, M next "
@@ -325,7 +332,11 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.vpls = 800;
     o.regions = 4;
     o.dirs = 800;
+    o.vpl_mode = vpl_mode_choice::point;
   }
+  if (given("--vpl-mode"))
+    o.vpl_mode = parse_choice<vpl_mode_choice>("--vpl-mode", v.vpl_mode,
+                                               {{"point", vpl_mode_choice::point}, {"patch", vpl_mode_choice::patch}});
   if (given("--size")) parse_size(v.size, o.width, o.height);
   if (given("--vpls")) o.vpls = static_cast<int>(parse_integer("--vpls", v.vpls, 1, limits::max_vpls));
   if (given("--seed")) o.seed = static_cast<std::uint32_t>(parse_integer("--seed", v.seed, 0, 4294967295LL));

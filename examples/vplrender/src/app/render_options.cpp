@@ -27,6 +27,7 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.face_selection = o.face_selection;
   e.sampler = o.sampler;
   e.visibility = o.visibility;
+  e.vpl_mode = o.vpl_mode;
   e.seed = o.seed;
   e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;

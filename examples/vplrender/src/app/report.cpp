@@ -32,6 +32,7 @@ nlohmann::json options_to_json(const options& o) {
   j["face_selection"] = to_string(o.face_selection);
   j["sampler"] = to_string(o.sampler);
   j["visibility"] = to_string(o.visibility);
+  j["vpl_mode"] = to_string(o.vpl_mode);
   j["voxels"] = o.voxels;
   j["dprsm"] = o.dprsm;
   j["paper"] = o.paper;

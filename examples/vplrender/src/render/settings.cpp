@@ -28,8 +28,14 @@ const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::bina
 const char* to_string(face_selection_choice f) { return f == face_selection_choice::roulette ? "roulette" : "joint"; }
 const char* to_string(sampler_choice s) { return s == sampler_choice::alias ? "alias" : "cdf"; }
 const char* to_string(visibility_choice v) { return v == visibility_choice::exact ? "exact" : "voxels"; }
+const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
+
+vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
+  return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;
+}
 
 bool has_distribution(method m) { return m != method::reference && m != method::gather && m != method::exact; }
+bool uses_vpls(method m) { return m != method::gather && m != method::exact; }
 
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);

@@ -3,6 +3,7 @@
 // the numbers derived from the scene (dmin), the builders' seeds and the progress callback. The
 // command line fills it (app/render_options.hpp); nothing here knows about flags.
 #include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/vpl/dprsm_patch.hpp>
 
 #include <cstdint>
 #include <functional>
@@ -28,6 +29,11 @@ enum class sampler_choice { cdf, alias };
 // What V(x, y) and the gathering rays are decided against: the voxel grid (docs/math.md section 7)
 // or the scene's triangles (exact: Embree on the CPU backend, the pack's BVH on the GPU backend).
 enum class visibility_choice { voxels, exact };
+// What a VPL is, for every method that uses VPLs (docs/math.md section 11): point = the paper's VPL
+// at the texel centre (the VPL sum is the midpoint rule of the one-bounce integral); patch = a point
+// jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
+// estimate the same continuous integral.
+enum class vpl_mode_choice { point, patch };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -37,10 +43,14 @@ const char* to_string(cdf_search_choice s);
 const char* to_string(face_selection_choice f);
 const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
+const char* to_string(vpl_mode_choice v);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
 // mis-as-published): they have builders and CDFs; reference, gather and exact have none.
 bool has_distribution(method m);
+
+// The methods whose samples are VPLs (every one but gather and exact): --vpl-mode applies to them.
+bool uses_vpls(method m);
 
 // Everything an estimator run needs besides the buffers (docs/renderer.md).
 struct render_settings {
@@ -55,6 +65,7 @@ struct render_settings {
   face_selection_choice face_selection = face_selection_choice::joint;
   sampler_choice sampler = sampler_choice::cdf;
   visibility_choice visibility = visibility_choice::voxels;
+  vpl_mode_choice vpl_mode = vpl_mode_choice::patch;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF
@@ -66,6 +77,13 @@ struct render_settings {
 // Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed
 // that differs from the per-pixel estimator streams (make_counter_rng(seed, pixel)).
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
+
+// The reference's strata per texel side with --vpl-mode patch: m = 1, one jittered point per texel
+// (vplkit::exhaustive_vpl_patch_sum), the point reference's cost; its noise is measured in
+// docs/results.md.
+constexpr int reference_patch_strata = 1;
+
+vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v);
 
 // Depth tolerance of the gathering look-ups (gather, mis; GBG rays): 2 voxel diagonals.
 float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid);

@@ -114,17 +114,29 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
 
   det["face_selection"] = to_string(s.face_selection);
   det["sampler"] = to_string(s.sampler);
+  // Patch VPLs take the gathering look-up's depth window in every method, so that the VPL methods,
+  // gathering and MIS estimate one integral (docs/math.md section 11, "Rejections").
+  const vplkit::vpl_mode vmode = library_vpl_mode(s.vpl_mode);
+  if (uses_vpls(s.meth)) det["vpl_mode"] = to_string(s.vpl_mode);
+  if (s.meth == method::reference && vmode == vplkit::vpl_mode::patch) det["reference_strata"] = reference_patch_strata;
   with_distributions(built, b, s, timer, [&](const auto* dists) {
     switch (s.meth) {
       case method::reference:
-        render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng&) {
-          return vplkit::exhaustive_vpl_sum(gp, view, visibility, s.dmin);
-        });
+        if (vmode == vplkit::vpl_mode::patch)
+          render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+            return vplkit::exhaustive_vpl_patch_sum(gp, view, rng, reference_patch_strata, visibility, s.dmin,
+                                                    depth_tol);
+          });
+        else
+          render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng&) {
+            return vplkit::exhaustive_vpl_sum(gp, view, visibility, s.dmin);
+          });
         break;
       case method::global:
       case method::gbg:
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-          return vplkit::estimate_vpl_sampling(gp, view, dists[0], rng, s.vpls, visibility, s.dmin);
+          return vplkit::estimate_vpl_sampling(gp, view, dists[0], rng, s.vpls, visibility, s.dmin, vmode,
+                                                depth_tol);
         });
         break;
       case method::local: {
@@ -133,7 +145,8 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
                                                    ? vplkit::local_combination::average
                                                    : vplkit::local_combination::balance;
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-          return vplkit::estimate_local(gp, view, dists, N, rng, built.local_rounds, visibility, s.dmin, comb);
+          return vplkit::estimate_local(gp, view, dists, N, rng, built.local_rounds, visibility, s.dmin, comb,
+                                        vmode, depth_tol);
         });
         break;
       }
@@ -147,7 +160,8 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         const vplkit::mis_mode mode =
             s.meth == method::mis ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published;
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-          return vplkit::estimate_mis(gp, view, dists[0], rng, s.dirs, s.vpls, tracer, visibility, depth_tol, mode);
+          return vplkit::estimate_mis(gp, view, dists[0], rng, s.dirs, s.vpls, tracer, visibility, depth_tol, mode,
+                                      vmode);
         });
         break;
       }

@@ -114,9 +114,11 @@ work_shape shape_of(const render_settings& es, int R, long long query_cost, int 
   long long log2n = 1;
   while ((1LL << log2n) < texels) ++log2n;
   const long long cdf = 2 * (log2n + 4);  // guided search (binary search in the worst bucket), twice
+  // A patch reference texel runs its m x m strata, each a query.
+  const long long strata = es.vpl_mode == vpl_mode_choice::patch ? 1LL * reference_patch_strata * reference_patch_strata : 1;
   work_shape s;
   switch (kernel_of(es.meth)) {
-    case k_reference: s.cost = dda + 4; s.units = texels; break;
+    case k_reference: s.cost = strata * (dda + 4); s.units = texels; break;
     case k_vpl_sampling: s.cost = dda + cdf + 4; s.units = es.vpls; break;
     case k_local: s.cost = regions * (dda + cdf + regions + 4); s.units = rounds; break;
     case k_gather: s.cost = dda + 4; s.units = es.dirs; break;
@@ -185,6 +187,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   }
   det["face_selection"] = to_string(es.face_selection);
   det["sampler"] = to_string(es.sampler);
+  if (uses_vpls(es.meth)) det["vpl_mode"] = to_string(es.vpl_mode);
+  if (es.meth == method::reference && es.vpl_mode == vpl_mode_choice::patch)
+    det["reference_strata"] = reference_patch_strata;
 
   const gl::program& prog = kernel(kind, es.visibility);
   prog.use();
@@ -215,6 +220,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   set_i("u_cdf_search", es.cdf_search == cdf_search_choice::binary ? 1 : 0);
   set_i("u_sampler", !components ? 0 : es.sampler == sampler_choice::alias ? 1 : 2);
   set_i("u_local_combination", es.local_combination == local_combination_choice::average ? 1 : 0);
+  set_i("u_vpl_mode", es.vpl_mode == vpl_mode_choice::patch ? 1 : 0);  // vplkit_vpl_point / vplkit_vpl_patch
+  set_i("u_strata", reference_patch_strata);
   glUniform1ui(prog.uniform_location("u_slot_base"), slot_base);
   gl::check_gl("estimate.comp uniforms");
   scene.gbuffer.bind(0);
