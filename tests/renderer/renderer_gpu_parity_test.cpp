@@ -195,17 +195,16 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     const prepared_scene& p = f.p;
     const gbuffer_data& g = f.b.gbuf;
     const dprsm_data& d = f.b.dprsm;
-    const vplkit::voxel_grid<float>& grid = f.b.grid;
     const render_settings es = make_render_settings(o, p.s);
     vplkit::gbg_params<float> params;
     params.n_dirs = es.dirs;
     params.dmin = es.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(grid.view());
+    params.depth_tolerance = gathering_depth_tolerance(es, f.b.grid.occupancy().view(), d.resolution);
     params.seed = builder_seed(es.seed, 2);
     params.accumulator = vplkit::gbg_accumulator::gathering;
     vplkit::gbg_stats cs;
     const std::vector<float> cpu =
-        vplkit::build_gbg_weights(g.view(), d.view(), vplkit::voxel_tracer<float>{grid.view()}, params, &cs);
+        vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{f.b.grid.view()}, params, &cs);
     stage_timer timer;
     nlohmann::json det;
     const gbg_gpu_weights gw = build_gbg_weights_gpu(f.b, es, timer, det);
