@@ -70,6 +70,7 @@ double distance_to_other_surface(const scene& s, const glm::dvec3& x, const glm:
 struct junction_numbers {
   double black_fraction = 0.0;  // of the pixels where exact > 3 % of its mean
   int black = 0;
+  int considered = 0;           // pixels where exact > 3 % of its mean
   double band_ratio = 0.0;      // band mean / exact's band mean
   double mean_ratio = 0.0;      // image mean / exact's
 };
@@ -88,7 +89,7 @@ junction_numbers compare(const image_rgb& img, const image_rgb& exact, const std
   exact_mean /= double(n);
   mean /= double(n);
   junction_numbers r;
-  int considered = 0;
+  int& considered = r.considered;
   double band_sum = 0.0, band_exact = 0.0;
   for (std::size_t p = 0; p < n; ++p) {
     if (luminance(exact, p) > 0.03 * exact_mean) {
@@ -151,7 +152,8 @@ TEST_CASE("at cornell's junctions the default visibility matches exact visibilit
   const image_rgb exact = render(visibility_choice::exact);
   const junction_numbers tri = compare(render(visibility_choice::voxels), exact, band);
   const junction_numbers paper = compare(render(visibility_choice::paper_voxels), exact, band);
-  std::cout << "cornell 128^3, 48x48, DPRSM 2x16^2, reference; band " << band_count << " pixels\n"
+  std::cout << "cornell 128^3, 48x48, DPRSM 2x16^2, reference; band " << band_count << " pixels, "
+            << tri.considered << " pixels above 3 % of exact's mean\n"
             << "  voxels:       black " << tri.black << " (" << 100.0 * tri.black_fraction << " %), band ratio "
             << tri.band_ratio << ", mean ratio " << tri.mean_ratio << "\n"
             << "  paper-voxels: black " << paper.black << " (" << 100.0 * paper.black_fraction << " %), band ratio "

@@ -96,9 +96,10 @@ parity compare(const image_rgb& c, const image_rgb& g, double rel_bound) {
   return r;
 }
 
-void run_scene(const std::string& scene_name) {
+void run_scene(const std::string& scene_name, visibility_choice v = visibility_choice::voxels) {
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene_name));
   options o = f.o;
+  o.visibility = v;
   const prepared_scene& p = f.p;
   for (method m : {method::reference, method::global, method::local, method::gbg, method::gather, method::mis,
                    method::mis_as_published}) {
@@ -110,7 +111,7 @@ void run_scene(const std::string& scene_name) {
     const image_rgb gi = render_gpu(f.b, es, tg).image;
     const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
     const parity r = compare(c, gi, bound);
-    std::cout << scene_name << " " << to_string(m) << ": " << 100.0 * r.within << "% of pixels within "
+    std::cout << scene_name << " " << to_string(v) << " " << to_string(m) << ": " << 100.0 * r.within << "% of pixels within "
               << bound << " relative; worst inside " << r.worst_rel << ", worst overall " << r.worst_any
               << " at pixel (" << r.worst_x << ", " << r.worst_y << ")\n";
     INFO(scene_name << " " << to_string(m) << ": worst pixel (" << r.worst_x << ", " << r.worst_y << ") rel "
@@ -181,6 +182,11 @@ TEST_CASE("GPU estimators match the CPU backend on the cornell scene") { run_sce
 
 TEST_CASE("GPU estimators match the CPU backend on the open scene") { run_scene("open"); }
 
+// The default above is the triangle voxel grid; the paper's binary voxel test is still selectable.
+TEST_CASE("GPU estimators match the CPU backend on the cornell scene with --visibility paper-voxels") {
+  run_scene("cornell", visibility_choice::paper_voxels);
+}
+
 TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point bound") {
   // The CPU side is build_distributions_cpu's GBG builder (same params, seed builder_seed(seed, 2),
   // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
@@ -246,12 +252,18 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
 TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {
   // The cornell/open cases above already run the reference in two passes (512 texels at 32^3
   // voxels), so the per-pixel state carried between passes is covered by the parity itself.
+  // The paper's voxel march: rx + ry + rz loop iterations per query.
   render_settings es;
+  es.visibility = visibility_choice::paper_voxels;
   es.meth = method::gbg;
   es.vpls = 64;
   CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) == 1);
   es.meth = method::reference;
   CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) == 2);
+  // The triangle voxels add the triangle tests (bounded without the scene's lists): more passes.
+  es.visibility = visibility_choice::voxels;
+  CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) > 2);
+  es.visibility = visibility_choice::paper_voxels;
   CHECK(gpu_pass_count(es, 512, vplkit::ivec3(128), 1) > 1000);
   es.meth = method::mis;
   es.vpls = 800;

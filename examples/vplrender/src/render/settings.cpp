@@ -46,8 +46,9 @@ std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
 float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid,
                                 int dprsm_resolution) {
   // The paper's voxel tracer: its own error (one voxel diagonal, voxel_tracer_depth_tolerance)
-  // doubled for the texel's depth spread on tilted surfaces.
-  if (s.visibility == visibility_choice::paper_voxels) return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
+  // doubled for the texel's depth spread on tilted surfaces. Exact visibility keeps that rule too,
+  // so that it changes nothing but visibility against the paper's (results.md section 7).
+  if (s.visibility != visibility_choice::voxels) return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
   if (!(s.scene_diagonal > 0.0f) || dprsm_resolution < 1)
     throw vplkit::invalid_input("gathering_depth_tolerance: the scene's diagonal (" + std::to_string(s.scene_diagonal) +
                                 ") and the DPRSM resolution (" + std::to_string(dprsm_resolution) +

@@ -71,11 +71,12 @@ struct render_settings {
 // that differs from the per-pixel estimator streams (make_counter_rng(seed, pixel)).
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
 
-// Depth tolerance of the gathering look-ups (gather, mis; GBG rays). With hits on the surfaces
-// (voxels, exact) it covers only the DPRSM texel's own depth spread: 3 D / R for a scene of
-// diagonal s.scene_diagonal and a DPRSM of R^2 texels per face, whatever the voxels. With the
-// paper's voxel tracer (paper_voxels), whose hits lie up to a voxel diagonal off the surface: 2
-// voxel diagonals of `grid`. Throws vplkit::invalid_input when D or R is not positive.
+// Depth tolerance of the gathering look-ups (gather, mis; GBG rays). voxels: the triangle voxel
+// tracer's hits lie on the surfaces, so it covers only the DPRSM texel's own depth spread: 3 D / R
+// for a scene of diagonal s.scene_diagonal and a DPRSM of R^2 texels per face, whatever the
+// voxels (throws vplkit::invalid_input when D or R is not positive). paper_voxels, whose tracer's
+// hits lie up to a voxel diagonal off the surface, and exact (which changes only visibility
+// against it): 2 voxel diagonals of `grid`.
 float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid,
                                 int dprsm_resolution);
 
