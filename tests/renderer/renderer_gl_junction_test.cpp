@@ -10,6 +10,7 @@
 #include "app/scene_setup.hpp"
 #include "render/frame_buffers.hpp"
 #include "render/pipeline.hpp"
+#include "scene/raycast.hpp"
 
 #include <vplkit/core/gather_point.hpp>
 
@@ -29,27 +30,6 @@ using namespace vplrender;
 
 namespace {
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), in double.
-glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const glm::dvec3 bp = p - b;
-  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
-  const glm::dvec3 cp = p - c;
-  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
 // Distance from the gather point x (normal n) to the nearest triangle of another surface: one whose
 // plane does not hold x (further than `on_plane`) or faces another way.
 double distance_to_other_surface(const scene& s, const glm::dvec3& x, const glm::dvec3& n, double on_plane) {
@@ -62,7 +42,7 @@ double distance_to_other_surface(const scene& s, const glm::dvec3& x, const glm:
     const glm::dvec3 tn = cr / len;
     const bool same_surface = std::abs(glm::dot(x - a, tn)) <= on_plane && std::abs(glm::dot(tn, n)) > 0.999;
     if (same_surface) continue;
-    best = std::min(best, glm::length(x - closest_on_triangle(x, a, b, c)));
+    best = std::min(best, distance_to_triangle(t, x));
   }
   return best;
 }
