@@ -2,18 +2,20 @@
 # Renders a fixed matrix of small images (both built-in scenes, every method, both backends, the
 # estimator switches) with a built vplrender and prints "sha256  name" for each OpenEXR. Two
 # builds that print the same manifest produce bit-identical images; scripts/check-images.sh
-# compares a revision against the working tree this way.
-#   scripts/image-manifest.sh BUILD_DIR [WORK_DIR]
+# compares a revision against the working tree this way. FLAGS are added to every render (e.g.
+# --visibility paper-voxels, to compare with a revision whose default that was).
+#   scripts/image-manifest.sh BUILD_DIR [WORK_DIR [FLAGS...]]
 set -euo pipefail
 build=${1:?usage: image-manifest.sh BUILD_DIR [WORK_DIR]}
 exe="$build/examples/vplrender/vplrender"
 [ -x "$exe" ] || { echo "image-manifest: no vplrender at $exe" >&2; exit 1; }
 work=${2:-$(mktemp -d)}
+extra=("${@:3}")
 mkdir -p "$work"
 small=(--size 48x32 --dprsm 32 --voxels 32 --vpls 16 --dirs 16 --seed 7 --progress never)
 render() {  # name, flags...
   local name=$1; shift
-  "$exe" "$@" --out "$work/$name.exr" >"$work/$name.log" 2>&1 ||
+  "$exe" "$@" ${extra[@]+"${extra[@]}"} --out "$work/$name.exr" >"$work/$name.log" 2>&1 ||
     { echo "image-manifest: $name failed:" >&2; cat "$work/$name.log" >&2; exit 1; }
   (cd "$work" && sha256sum "$name.exr")
 }

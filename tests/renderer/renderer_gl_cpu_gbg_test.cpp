@@ -28,11 +28,11 @@ TEST_CASE("the CPU backend's threaded GBG build equals vplkit::build_gbg_weights
     vplkit::gbg_params<float> params;
     params.n_dirs = s.dirs;
     params.dmin = s.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(f.b.grid.view());
+    params.depth_tolerance = gathering_depth_tolerance(s, f.b.grid.occupancy().view(), f.b.dprsm.resolution);
     params.seed = builder_seed(s.seed, 2);
     vplkit::gbg_stats serial_stats;
     const std::vector<float> serial = vplkit::build_gbg_weights(
-        f.b.gbuf.view(), f.b.dprsm.view(), vplkit::voxel_tracer<float>{f.b.grid.view()}, params, &serial_stats);
+        f.b.gbuf.view(), f.b.dprsm.view(), vplkit::triangle_voxel_tracer<float>{f.b.grid.view()}, params, &serial_stats);
     for (int threads : {1, 2, 3}) {
       INFO(scene_name << ", " << threads << " thread(s)");
       s.threads = threads;

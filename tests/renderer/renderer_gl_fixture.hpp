@@ -48,7 +48,7 @@ inline gl_fixture make_gl_fixture(const vplrender::options& o) {
   vplrender::tessellation_params tp;
   tp.max_angle = vplrender::tessellation_angle_for_resolution(o.dprsm);
   vplrender::dprsm_data d = raster.render_dprsm(vplrender::dprsm_light(p.s), o.dprsm, tp);
-  vplkit::voxel_grid<float> grid = vplrender::voxelize_cpu(p.s, o.voxels);
+  vplrender::scene_voxels grid = vplrender::voxelize_cpu(p.s, o.voxels);
   auto gpu = std::make_shared<vplrender::gpu_scene_buffers>(vplrender::upload_scene_buffers(g, d, grid.view()));
   vplrender::frame_buffers b{vplrender::backend::gpu, "", std::move(g), std::move(d), std::move(grid), std::move(gpu), nullptr};
   return {o, std::move(p), std::move(b)};

@@ -165,7 +165,8 @@ TEST_CASE("a light outside the voxel grid (above the open scene) renders") {
   o.light = l;
   const prepared_scene p = prepare_scene(o);
   REQUIRE(p.light_outside_bounds);
-  const vplkit::voxel_grid<float> g = voxelize_cpu(p.s, 32);
+  const scene_voxels v = voxelize_cpu(p.s, 32);
+  const vplkit::voxel_grid<float>& g = v.occupancy();
   CHECK_FALSE(vplkit::voxel_in_grid(g.resolution(), g.world_to_voxel(p.s.light.position)));
   for (method m : {method::gbg, method::mis, method::reference}) {
     o.meth = m;
@@ -189,7 +190,8 @@ TEST_CASE("same seed, same image; another seed, another image") {
 
 TEST_CASE("voxel grid covers the scene and its walls") {
   const prepared_scene p = prepare_scene(tiny("cornell", method::gbg));
-  const vplkit::voxel_grid<float> g = voxelize_cpu(p.s, 32);
+  const scene_voxels sv = voxelize_cpu(p.s, 32);
+  const vplkit::voxel_grid<float>& g = sv.occupancy();
   // Every vertex lies in an occupied voxel.
   for (const triangle& t : p.s.triangles)
     for (const vec3& v : t.p) CHECK(g.test(g.world_to_voxel(v)));
@@ -197,18 +199,35 @@ TEST_CASE("voxel grid covers the scene and its walls") {
   CHECK_FALSE(g.test(g.world_to_voxel(vec3(0.0f, 1.5f, 1.5f))));
 }
 
-TEST_CASE("GPU voxelisation (voxelize.comp) equals the CPU grid on both built-in scenes") {
+TEST_CASE("GPU voxelisation (voxelize.comp, prefix_sum.comp) equals the CPU grid on both built-in scenes") {
   gl_context();
   for (const char* name : {"cornell", "open"})
     for (int res : {32, 128}) {
       const prepared_scene p = prepare_scene(tiny(name, method::gbg));
-      const vplkit::voxel_grid<float> c = voxelize_cpu(p.s, res);
-      const vplkit::voxel_grid<float> g = voxelize_gpu(p.s, res).grid;
+      const scene_voxels cv = voxelize_cpu(p.s, res);
+      const scene_voxels gv = voxelize_gpu(p.s, res).grid;
+      const vplkit::voxel_grid<float>& c = cv.occupancy();
+      const vplkit::voxel_grid<float>& g = gv.occupancy();
       std::size_t differ = 0;
       for (std::size_t i = 0; i < c.words().size(); ++i)
         differ += static_cast<std::size_t>(__builtin_popcount(c.words()[i] ^ g.words()[i]));
+      // The lists: the same triangles per voxel (the GPU's order is the atomics').
+      std::size_t lists_differ = 0;
+      if (differ == 0)
+        for (std::size_t r = 0; r + 1 < cv.offsets().size(); ++r) {
+          std::vector<std::uint32_t> a(cv.entries().begin() + cv.offsets()[r], cv.entries().begin() + cv.offsets()[r + 1]);
+          std::vector<std::uint32_t> b(gv.entries().begin() + gv.offsets()[r], gv.entries().begin() + gv.offsets()[r + 1]);
+          std::sort(a.begin(), a.end());
+          std::sort(b.begin(), b.end());
+          lists_differ += a != b;
+        }
       std::cout << name << " " << res << "^3: CPU " << c.count() << " voxels, GPU " << g.count() << ", differing "
-                << differ << "\n";
+                << differ << "; " << cv.entries().size() << " triangle entries, lists differing " << lists_differ
+                << "\n";
       CHECK(differ == 0);
+      CHECK(lists_differ == 0);
+      CHECK(cv.entries().size() == gv.entries().size());
+      CHECK(cv.rank() == gv.rank());
+      CHECK(cv.offsets() == gv.offsets());
     }
 }

@@ -96,9 +96,10 @@ parity compare(const image_rgb& c, const image_rgb& g, double rel_bound) {
   return r;
 }
 
-void run_scene(const std::string& scene_name) {
+void run_scene(const std::string& scene_name, visibility_choice v = visibility_choice::voxels) {
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene_name));
   options o = f.o;
+  o.visibility = v;
   const prepared_scene& p = f.p;
   // Both VPL modes (--vpl-mode): patch VPLs draw two more numbers per sample (the reference reads
   // the pixel's stream at fixed counters) and carry the jittered point onto the texel's plane with
@@ -121,7 +122,7 @@ void run_scene(const std::string& scene_name) {
       }
       const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
       const parity r = compare(cr.image, gr.image, bound);
-      std::cout << scene_name << " " << to_string(m) << " --vpl-mode " << to_string(vm) << ": " << 100.0 * r.within
+      std::cout << scene_name << " " << to_string(v) << " " << to_string(m) << " --vpl-mode " << to_string(vm) << ": " << 100.0 * r.within
                 << "% of pixels within " << bound << " relative; worst inside " << r.worst_rel << ", worst overall "
                 << r.worst_any << " at pixel (" << r.worst_x << ", " << r.worst_y << ")\n";
       INFO(scene_name << " " << to_string(m) << " --vpl-mode " << to_string(vm) << ": worst pixel (" << r.worst_x
@@ -205,6 +206,11 @@ TEST_CASE("GPU estimators match the CPU backend on the cornell scene") { run_sce
 
 TEST_CASE("GPU estimators match the CPU backend on the open scene") { run_scene("open"); }
 
+// The default above is the triangle voxel grid; the paper's binary voxel test is still selectable.
+TEST_CASE("GPU estimators match the CPU backend on the cornell scene with --visibility paper-voxels") {
+  run_scene("cornell", visibility_choice::paper_voxels);
+}
+
 TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point bound") {
   // The CPU side is build_distributions_cpu's GBG builder (same params, seed builder_seed(seed, 2),
   // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
@@ -219,17 +225,16 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     const prepared_scene& p = f.p;
     const gbuffer_data& g = f.b.gbuf;
     const dprsm_data& d = f.b.dprsm;
-    const vplkit::voxel_grid<float>& grid = f.b.grid;
     const render_settings es = make_render_settings(o, p.s);
     vplkit::gbg_params<float> params;
     params.n_dirs = es.dirs;
     params.dmin = es.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(grid.view());
+    params.depth_tolerance = gathering_depth_tolerance(es, f.b.grid.occupancy().view(), d.resolution);
     params.seed = builder_seed(es.seed, 2);
     params.accumulator = vplkit::gbg_accumulator::gathering;
     vplkit::gbg_stats cs;
     const std::vector<float> cpu =
-        vplkit::build_gbg_weights(g.view(), d.view(), vplkit::voxel_tracer<float>{grid.view()}, params, &cs);
+        vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{f.b.grid.view()}, params, &cs);
     stage_timer timer;
     nlohmann::json det;
     const gbg_gpu_weights gw = build_gbg_weights_gpu(f.b, es, timer, det);
@@ -271,12 +276,18 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
 TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {
   // The cornell/open cases above already run the reference in two passes (512 texels at 32^3
   // voxels), so the per-pixel state carried between passes is covered by the parity itself.
+  // The paper's voxel march: rx + ry + rz loop iterations per query.
   render_settings es;
+  es.visibility = visibility_choice::paper_voxels;
   es.meth = method::gbg;
   es.vpls = 64;
   CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) == 1);
   es.meth = method::reference;
   CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) == 2);
+  // The triangle voxels add the triangle tests (bounded without the scene's lists): more passes.
+  es.visibility = visibility_choice::voxels;
+  CHECK(gpu_pass_count(es, 16, vplkit::ivec3(32), 1) > 2);
+  es.visibility = visibility_choice::paper_voxels;
   CHECK(gpu_pass_count(es, 512, vplkit::ivec3(128), 1) > 1000);
   es.meth = method::mis;
   es.vpls = 800;

@@ -349,13 +349,19 @@ TEST_CASE("the estimator switches (local combination, GBG accumulator, CDF searc
   }
 }
 
-TEST_CASE("the visibility flag is voxels (default) or exact, and the window refuses the exact method") {
+TEST_CASE("the visibility flag is voxels (default), paper-voxels (--paper) or exact, and the window refuses the exact method") {
   CHECK(parse({}).visibility == visibility_choice::voxels);
   CHECK(parse({"--visibility", "exact"}).visibility == visibility_choice::exact);
   CHECK(parse({"--visibility", "voxels"}).visibility == visibility_choice::voxels);
+  CHECK(parse({"--visibility", "paper-voxels"}).visibility == visibility_choice::paper_voxels);
+  CHECK(parse({"--paper"}).visibility == visibility_choice::paper_voxels);
   CHECK(parse({"--paper", "--visibility", "exact"}).visibility == visibility_choice::exact);
+  CHECK(parse({"--paper", "--visibility", "voxels"}).visibility == visibility_choice::voxels);
   CHECK(std::string(to_string(visibility_choice::exact)) == "exact");
-  CHECK(starts_with(error_of({"--visibility", "bvh"}), "--visibility: unknown value 'bvh' (expected voxels|exact)"));
+  CHECK(std::string(to_string(visibility_choice::paper_voxels)) == "paper-voxels");
+  CHECK(std::string(to_string(visibility_choice::voxels)) == "voxels");
+  CHECK(starts_with(error_of({"--visibility", "bvh"}),
+                    "--visibility: unknown value 'bvh' (expected voxels|paper-voxels|exact)"));
   CHECK(starts_with(error_of({"--window", "--method", "exact"}), "--window: does not offer --method exact"));
   CHECK(help_text().find("--visibility") != std::string::npos);
   CHECK(help_text().find("runs on the CPU") != std::string::npos);

@@ -25,19 +25,25 @@
 #define VR_MIS 4
 
 // Visibility (VR_VISIBILITY, defined by the host beside VR_METHOD: render/gpu/gpu_visibility.hpp):
-// what V(x, y) and the gathering rays are decided against. 0: the voxel grid (binding 2). 1: exact,
-// the scene's BVH (bindings 8 and 9, u_bvh_node_count) through the pack's user visibility and
-// tracer hooks. This block is the only place the kernel chooses; vr_make_visibility and
-// vr_make_tracer are what main() uses. The includes stay outside the #if: the include resolver
-// inlines each file once wherever it first appears and does not evaluate #if.
-#define VR_VISIBILITY_VOXELS 0
+// what V(x, y) and the gathering rays are decided against. 0: the paper's binary voxel test on the
+// occupancy words (binding 2). 1: exact, the scene's BVH (bindings 8 and 9, u_bvh_node_count)
+// through the pack's user visibility and tracer hooks. 2 (the default): the triangles the voxel
+// grid lists (the words at binding 2, rank, offsets, entries and triangles at 10-13; no
+// self-occlusion at the ends or at junctions, docs/math.md section 7.2). This block is the only
+// place the kernel chooses; vr_make_visibility and vr_make_tracer are what main() uses. The
+// includes stay outside the #if: the include resolver inlines each file once wherever it first
+// appears and does not evaluate #if.
+#define VR_VISIBILITY_PAPER_VOXELS 0
 #define VR_VISIBILITY_EXACT 1
+#define VR_VISIBILITY_TRIANGLE_VOXELS 2
 #ifndef VR_VISIBILITY
-#define VR_VISIBILITY VR_VISIBILITY_VOXELS
+#define VR_VISIBILITY VR_VISIBILITY_TRIANGLE_VOXELS
 #endif
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT
 #define VPLKIT_USER_VISIBILITY
 #define VPLKIT_USER_TRACER
+#elif VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
+#define VPLKIT_TRIANGLE_VOXELS
 #endif
 #include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
@@ -57,16 +63,30 @@ vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
 }
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_voxel_tracer(grid, 0.0, true, false, 0.0); }
-#elif VR_VISIBILITY == VR_VISIBILITY_VOXELS
+#else
 // No BVH buffers: the pack's BVH functions are compiled but never called.
 vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
 vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) {
   return vplkit_bvh_triangle(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u);
 }
+#if VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
+// The triangle voxel grid beside the occupancy words (triangle_voxel_grid.glsl's layout).
+layout(std430, binding = 10) readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
+layout(std430, binding = 11) readonly buffer VrVoxelOffsets { uint vr_voxel_offsets[]; };
+layout(std430, binding = 12) readonly buffer VrVoxelEntries { uint vr_voxel_entries[]; };
+layout(std430, binding = 13) readonly buffer VrVoxelTriangles { vec4 vr_voxel_triangles[]; };
+uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
+uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
+uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
+vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_visibility(grid); }
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_tracer(grid); }
+#elif VR_VISIBILITY == VR_VISIBILITY_PAPER_VOXELS
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_voxel_visibility(grid); }
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_voxel_tracer(grid); }
 #else
-#error "VR_VISIBILITY must be VR_VISIBILITY_VOXELS or VR_VISIBILITY_EXACT"
+#error "VR_VISIBILITY must be VR_VISIBILITY_PAPER_VOXELS, VR_VISIBILITY_EXACT or VR_VISIBILITY_TRIANGLE_VOXELS"
+#endif
 #endif
 
 layout(local_size_x = 64) in;

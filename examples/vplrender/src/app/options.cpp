@@ -117,10 +117,12 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("cdf|alias");
   app.add_option("--visibility", v.visibility,
                  d("What visibility and the gathering rays are decided against, for every method (default "
-                   "voxels): voxels = the voxel grid (--voxels); exact = the scene's triangles, through Embree on "
-                   "the CPU backend and the GLSL pack's BVH (built on the host, uploaded once per frame) on the GPU "
-                   "backend. --method exact always uses exact rays."))
-      ->type_name("voxels|exact");
+                   "voxels; --paper: paper-voxels): voxels = the triangles listed by the voxel grid (--voxels; no "
+                   "self-occlusion where surfaces meet); paper-voxels = the paper's binary voxel test and voxel "
+                   "tracer (dark seams at junctions); exact = the scene's triangles, through Embree on the CPU "
+                   "backend and the GLSL pack's BVH (built on the host, uploaded once per frame) on the GPU backend. "
+                   "--method exact always uses exact rays."))
+      ->type_name("voxels|paper-voxels|exact");
   app.add_option("--vpl-mode", v.vpl_mode,
                  d("What a VPL is, for every method that uses VPLs (reference, global, local, gbg, mis, "
                    "mis-as-published; default patch): patch = a point drawn uniformly over its texel's patch "
@@ -141,7 +143,7 @@ void build_app(CLI::App& app, raw_values& v) {
                                      "one placed automatically (see docs/renderer.md)."))
       ->type_name("X,Y,Z[,R,G,B]");
   app.add_flag("--paper", v.paper, d("The paper's parameters: --size 512x512 --dprsm 512 --voxels 128 --vpls 800 "
-                                   "--regions 4 --dirs 800 --vpl-mode point. Flags given explicitly win."));
+                                   "--regions 4 --dirs 800 --vpl-mode point --visibility paper-voxels. Flags given explicitly win."));
   app.add_flag("--direct", v.direct, d("Add direct lighting (default: one-bounce indirect only, as in the paper)."));
   app.add_flag("--window", v.window, d("Also show the result in an interactive window (GPU backend; needs a display). "
                                      "Keys: 1-7 reference/global/local/gbg/gather/mis/mis-as-published, M next "
@@ -320,11 +322,13 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (o.cdf_search == cdf_search_choice::binary &&
       (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))
     throw usage_error("--cdf-search binary: needs --sampler cdf and --face-selection joint");
+  o.paper = v.paper;
+  if (o.paper) o.visibility = visibility_choice::paper_voxels;
   if (given("--visibility"))
     o.visibility = parse_choice<visibility_choice>("--visibility", v.visibility,
                                                    {{"voxels", visibility_choice::voxels},
+                                                    {"paper-voxels", visibility_choice::paper_voxels},
                                                     {"exact", visibility_choice::exact}});
-  o.paper = v.paper;
   if (o.paper) {
     o.width = o.height = 512;
     o.dprsm = 512;

@@ -32,7 +32,8 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;
   // the reference uses the same value, so the CDF methods converge to it exactly).
-  e.dmin = 0.01f * bounds(s).diagonal();
+  e.scene_diagonal = bounds(s).diagonal();
+  e.dmin = 0.01f * e.scene_diagonal;
   return e;
 }
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
+#include <functional>
 
 namespace vplrender {
 
@@ -24,12 +26,57 @@ vplkit::gl::buffer upload_voxel_words(const vplkit::voxel_grid_view<float>& grid
   return vplkit::gl::buffer::from_vector(words);
 }
 
-gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d,
-                                       const vplkit::voxel_grid_view<float>& grid) {
+long long march_triangle_tests(const scene_voxels_view& v) {
+  const vplkit::ivec3 r = v.grid.resolution;
+  const std::size_t k = std::min<std::size_t>(v.occupied, std::size_t(r.x) + std::size_t(r.y) + std::size_t(r.z));
+  std::vector<std::uint32_t> lengths(v.occupied);
+  for (std::size_t i = 0; i < v.occupied; ++i) lengths[i] = v.offsets[i + 1] - v.offsets[i];
+  std::partial_sort(lengths.begin(), lengths.begin() + std::ptrdiff_t(k), lengths.end(), std::greater<std::uint32_t>());
+  long long sum = 0;
+  for (std::size_t i = 0; i < k; ++i) sum += lengths[i];
+  return sum;
+}
+
+namespace {
+
+// A voxel_triangle<float> is four vec4 in the GLSL layout.
+static_assert(sizeof(vplkit::voxel_triangle<float>) == 4 * sizeof(glm::vec4), "four vec4 per triangle");
+
+std::size_t at_least_one(std::size_t n) { return n > 0 ? n : 1; }
+
+vplkit::gl::buffer upload_uints(const std::uint32_t* p, std::size_t n) {
+  std::vector<std::uint32_t> a(p, p + n);
+  if (a.empty()) a.push_back(0u);  // a buffer is never empty
+  return vplkit::gl::buffer::from_vector(a);
+}
+
+}  // namespace
+
+std::size_t triangle_voxels_bytes(const scene_voxels_view& v) {
+  const std::size_t words = vplkit::voxel_word_count(v.grid.resolution);
+  return 4 * (at_least_one(words) + at_least_one(v.occupied + 1) + at_least_one(v.entry_count())) +
+         sizeof(vplkit::voxel_triangle<float>) * at_least_one(v.triangle_count);
+}
+
+gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v) {
+  gpu_triangle_voxels g;
+  g.rank = upload_uints(v.rank, vplkit::voxel_word_count(v.grid.resolution));
+  g.offsets = upload_uints(v.offsets, v.occupied + 1);
+  g.entries = upload_uints(v.entries, v.entry_count());
+  std::vector<glm::vec4> tris(4 * at_least_one(v.triangle_count), glm::vec4(0.0f));
+  if (v.triangle_count > 0)
+    std::memcpy(tris.data(), v.triangles, v.triangle_count * sizeof(vplkit::voxel_triangle<float>));
+  g.triangles = vplkit::gl::buffer::from_vector(tris);
+  g.march_tests = march_triangle_tests(v);
+  return g;
+}
+
+gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d, const scene_voxels_view& grid) {
   gpu_scene_buffers b;
   b.gbuffer = upload_surfels(g.position, g.normal, g.albedo);
   b.dprsm = upload_surfels(d.position, d.normal, d.albedo);
-  b.voxels = upload_voxel_words(grid);
+  b.voxels = upload_voxel_words(grid.grid);
+  b.voxel_triangles = upload_triangle_voxels(grid);
   return b;
 }
 

@@ -5,19 +5,32 @@
 // richer visibility structure adds its buffers here and to upload_scene_buffers.
 #include "raster/gpu_bvh.hpp"
 #include "raster/render_data.hpp"
+#include "raster/voxels.hpp"
 
 #include <headless_gl/compute.hpp>
 
-#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/visibility/triangle_voxel_grid.hpp>
 
 #include <vector>
 
 namespace vplrender {
 
+// The triangle voxel grid beside the occupancy words: the four arrays of
+// glsl/vplkit/visibility/triangle_voxel_grid.glsl (rank, offsets, entries, triangles as four vec4
+// each), each at least one element, and the loop bound of one march over them.
+struct gpu_triangle_voxels {
+  vplkit::gl::buffer rank, offsets, entries, triangles;
+  long long march_tests = 0;  // march_triangle_tests of the grid
+  std::size_t size_bytes() const {
+    return rank.size_bytes() + offsets.size_bytes() + entries.size_bytes() + triangles.size_bytes();
+  }
+};
+
 struct gpu_scene_buffers {
   vplkit::gl::buffer gbuffer;  // surfels of gbuffer_data, index y * W + x (row 0 = top)
   vplkit::gl::buffer dprsm;    // surfels of dprsm_data, index face * R^2 + y * R + x
   vplkit::gl::buffer voxels;   // the voxel grid's occupancy words (voxel_grid::words order)
+  gpu_triangle_voxels voxel_triangles;  // --visibility voxels: the lists of the occupied voxels
   gpu_bvh bvh;                 // --visibility exact: the scene's BVH (empty unless prepared with exact rays)
 };
 
@@ -31,8 +44,16 @@ vplkit::gl::buffer upload_surfels(const std::vector<vec3>& position, const std::
 // The occupancy words (at least one).
 vplkit::gl::buffer upload_voxel_words(const vplkit::voxel_grid_view<float>& grid);
 
+// The triangle tests one voxel march may make: it visits each voxel at most once and at most
+// nx + ny + nz of them, so the sum of the nx + ny + nz longest lists bounds them.
+long long march_triangle_tests(const scene_voxels_view& v);
+
+// The four arrays of the triangle voxel grid (needs the current GL context).
+gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v);
+// Bytes upload_triangle_voxels asks for.
+std::size_t triangle_voxels_bytes(const scene_voxels_view& v);
+
 // All of them from the CPU copies (needs the current GL context).
-gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d,
-                                       const vplkit::voxel_grid_view<float>& grid);
+gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d, const scene_voxels_view& grid);
 
 }  // namespace vplrender

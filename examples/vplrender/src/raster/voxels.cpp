@@ -1,6 +1,7 @@
 #include "raster/voxels.hpp"
 
 #include <vplkit/visibility/voxelize.hpp>
+#include <vplkit/visibility/voxelize_triangles.hpp>
 
 namespace vplrender {
 
@@ -15,12 +16,15 @@ voxel_mesh make_voxel_mesh(const scene& s) {
   return m;
 }
 
-vplkit::voxel_grid<float> voxelize_cpu(const scene& s, int resolution) {
+vplkit::voxel_bounds<float> scene_voxel_bounds(const voxel_mesh& m) {
+  return vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
+}
+
+scene_voxels voxelize_cpu(const scene& s, int resolution) {
   const voxel_mesh m = make_voxel_mesh(s);
-  const vplkit::voxel_bounds<float> b = vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
-  vplkit::voxel_grid<float> g(b.min, b.max, glm::ivec3(resolution));
-  vplkit::voxelize(g, m.positions.data(), m.positions.size(), m.indices.data(), m.indices.size());
-  return g;
+  const vplkit::voxel_bounds<float> b = scene_voxel_bounds(m);
+  return vplkit::voxelize_triangles(b.min, b.max, glm::ivec3(resolution), m.positions.data(), m.positions.size(),
+                                    m.indices.data(), m.indices.size());
 }
 
 }  // namespace vplrender

@@ -1,9 +1,13 @@
 #pragma once
 // The scene's voxel grid (docs/math.md section 7): bounds = the triangles' box padded by 1% of its
-// largest extent and made cubic (vplkit::fit_voxel_bounds), `resolution` voxels per axis.
+// largest extent and made cubic (vplkit::fit_voxel_bounds), `resolution` voxels per axis. It is a
+// triangle voxel grid: the conservative occupancy (vplkit::voxelize's, what --visibility
+// paper-voxels marches) plus, per occupied voxel, the triangles through it, so that --visibility
+// voxels decides by the triangles (no self-occlusion at junctions, section 7.2).
 #include "scene/scene.hpp"
 
-#include <vplkit/visibility/voxel_grid.hpp>
+#include <vplkit/visibility/triangle_voxel_grid.hpp>
+#include <vplkit/visibility/voxelize.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -17,7 +21,13 @@ struct voxel_mesh {
 };
 voxel_mesh make_voxel_mesh(const scene& s);
 
-// Conservative CPU voxelisation (vplkit::voxelize).
-vplkit::voxel_grid<float> voxelize_cpu(const scene& s, int resolution);
+using scene_voxels = vplkit::triangle_voxel_grid<float>;
+using scene_voxels_view = vplkit::triangle_voxel_view<float>;
+
+// The bounds both voxelisers use.
+vplkit::voxel_bounds<float> scene_voxel_bounds(const voxel_mesh& m);
+
+// CPU voxelisation (vplkit::voxelize_triangles; its occupancy is vplkit::voxelize's).
+scene_voxels voxelize_cpu(const scene& s, int resolution);
 
 }  // namespace vplrender

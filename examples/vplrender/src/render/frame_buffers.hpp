@@ -4,9 +4,8 @@
 // report, the tests) and, when prepared for the GPU backend, the same buffers on the GPU, made once
 // (raster/gpu_scene_buffers.hpp). Both backends take this one type.
 #include "raster/render_data.hpp"
+#include "raster/voxels.hpp"
 #include "render/settings.hpp"
-
-#include <vplkit/visibility/voxel_grid.hpp>
 
 #include <memory>
 #include <string>
@@ -21,8 +20,8 @@ struct frame_buffers {
   std::string gl_renderer;      // the headless context's description
   gbuffer_data gbuf;
   dprsm_data dprsm;
-  vplkit::voxel_grid<float> grid;
-  // The same G-buffer, DPRSM and voxel words on the GPU; null for the CPU backend.
+  scene_voxels grid;  // the triangle voxel grid; grid.occupancy() is the paper's binary grid
+  // The same G-buffer, DPRSM and voxel grid on the GPU; null for the CPU backend.
   std::shared_ptr<const gpu_scene_buffers> gpu;
   // The scene's triangles in Embree (--visibility exact on the CPU, --method exact); null unless
   // the frame was prepared with frame_settings::exact_rays.

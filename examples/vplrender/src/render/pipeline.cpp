@@ -77,29 +77,31 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
                     {"triangles_capped", ts.capped}};
   }
 
-  // --backend gpu: the pack's voxelize.comp (equal to the CPU grid on the built-in scenes, see
-  // renderer_gl_pipeline_test), its words kept on the GPU; --backend cpu: vplkit::voxelize.
+  // --backend gpu: the pack's voxelize.comp and prefix_sum.comp (equal to the CPU grid on the
+  // built-in scenes, see renderer_gl_pipeline_test); --backend cpu: vplkit::voxelize_triangles.
   const bool gpu = f.back == backend::gpu;
   auto scene_gpu = gpu ? std::make_shared<gpu_scene_buffers>() : nullptr;
-  vplkit::voxel_grid<float> grid = [&] {
+  scene_voxels grid = [&] {
     if (gpu) {
       auto running = stage_timer::running("voxelize (gpu)");
       gpu_voxelization v = voxelize_gpu(s, f.voxels);
       timer.add("voxelize (gpu)", v.ms, "gpu");
-      timer.add("voxels read-back (cpu)", v.readback_ms, "cpu-wall");
-      scene_gpu->voxels = std::move(v.words);
       return std::move(v.grid);
     }
     auto t = timer.scoped("voxelize (cpu)");
     return voxelize_cpu(s, f.voxels);
   }();
+  const vplkit::voxel_grid<float>& occupancy = grid.occupancy();
   det["voxels"] = {{"resolution", f.voxels},
-                   {"occupied", grid.count()},
-                   {"bounds_min", {grid.bounds_min().x, grid.bounds_min().y, grid.bounds_min().z}},
-                   {"bounds_max", {grid.bounds_max().x, grid.bounds_max().y, grid.bounds_max().z}},
-                   {"builder", gpu ? "gpu (voxelize.comp)" : "cpu (vplkit::voxelize)"}};
+                   {"occupied", occupancy.count()},
+                   {"triangle_entries", grid.entries().size()},
+                   {"longest_list", grid.max_entries_per_voxel()},
+                   {"bytes", grid.memory_bytes()},
+                   {"bounds_min", {occupancy.bounds_min().x, occupancy.bounds_min().y, occupancy.bounds_min().z}},
+                   {"bounds_max", {occupancy.bounds_max().x, occupancy.bounds_max().y, occupancy.bounds_max().z}},
+                   {"builder", gpu ? "gpu (voxelize.comp, prefix_sum.comp)" : "cpu (vplkit::voxelize_triangles)"}};
   // The GPU backend's scene buffers, once for every estimator run on this frame: the G-buffer and
-  // the DPRSM packed as surfels and uploaded, the voxel words as voxelize.comp left them.
+  // the DPRSM packed as surfels, the voxel grid's words and lists, uploaded.
   if (gpu) {
     auto t = timer.scoped("scene upload (cpu)");
     scene_gpu->gbuffer = gpu_allocating(surfel_bytes(gbuf.position.size()), "the G-buffer surfels", [&] {
@@ -108,6 +110,10 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     scene_gpu->dprsm = gpu_allocating(surfel_bytes(dprsm.position.size()), "the DPRSM surfels", [&] {
       return upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);
     });
+    scene_gpu->voxels = gpu_allocating(4 * std::max<std::size_t>(occupancy.word_count(), 1), "the voxel words",
+                                       [&] { return upload_voxel_words(occupancy.view()); });
+    scene_gpu->voxel_triangles = gpu_allocating(triangle_voxels_bytes(grid.view()), "the voxel triangle lists",
+                                                [&] { return upload_triangle_voxels(grid.view()); });
   }
   // Exact rays: Embree over the scene for the CPU (exact visibility there, --method exact on either
   // backend) and, for the GPU backend, the pack's BVH built here and uploaded with the scene buffers.
@@ -129,6 +135,7 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   det["scene_buffers"] = {
       {"on_gpu", gpu},
       {"gpu_bytes", gpu ? scene_gpu->gbuffer.size_bytes() + scene_gpu->dprsm.size_bytes() + scene_gpu->voxels.size_bytes() +
+                              scene_gpu->voxel_triangles.size_bytes() +
                               scene_gpu->bvh.nodes.size_bytes() + scene_gpu->bvh.triangles.size_bytes()
                         : std::size_t(0)}};
   frame_buffers b{f.back, std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid), nullptr, nullptr};

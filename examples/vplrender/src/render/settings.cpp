@@ -1,5 +1,6 @@
 #include "render/settings.hpp"
 
+#include <vplkit/core/error.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 
@@ -27,7 +28,14 @@ const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_ch
 const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
 const char* to_string(face_selection_choice f) { return f == face_selection_choice::roulette ? "roulette" : "joint"; }
 const char* to_string(sampler_choice s) { return s == sampler_choice::alias ? "alias" : "cdf"; }
-const char* to_string(visibility_choice v) { return v == visibility_choice::exact ? "exact" : "voxels"; }
+const char* to_string(visibility_choice v) {
+  switch (v) {
+    case visibility_choice::paper_voxels: return "paper-voxels";
+    case visibility_choice::exact: return "exact";
+    case visibility_choice::voxels: break;
+  }
+  return "voxels";
+}
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
@@ -41,10 +49,20 @@ std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);
 }
 
-float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid) {
-  // The tracer's own error (one voxel diagonal, voxel_tracer_depth_tolerance) doubled for the
-  // texel's depth spread on tilted surfaces.
-  return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
+float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid,
+                                int dprsm_resolution) {
+  // The paper's voxel tracer: its own error (one voxel diagonal, voxel_tracer_depth_tolerance)
+  // doubled for the texel's depth spread on tilted surfaces. Exact visibility keeps that rule too,
+  // so that it changes nothing but visibility against the paper's (results.md section 7).
+  if (s.visibility != visibility_choice::voxels) return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
+  if (!(s.scene_diagonal > 0.0f) || dprsm_resolution < 1)
+    throw vplkit::invalid_input("gathering_depth_tolerance: the scene's diagonal (" + std::to_string(s.scene_diagonal) +
+                                ") and the DPRSM resolution (" + std::to_string(dprsm_resolution) +
+                                ") must be positive");
+  // A texel subtends up to 4 / R radians; on a surface tilted by alpha its depth spreads over
+  // footprint * tan(alpha). 3 D / R is that spread at three quarters of the scene's diagonal for
+  // alpha = 45 degrees, chosen by measurement (examples/visibility_error, part (d)).
+  return 3.0f * s.scene_diagonal / static_cast<float>(dprsm_resolution);
 }
 
 }  // namespace vplrender

@@ -26,9 +26,12 @@ enum class face_selection_choice { joint, roulette };
 // cdf: discrete CDF (inversion, keeps u's stratification); alias: Walker's alias table
 // (vplkit::alias_table; O(1), same pmf, does not keep u's stratification).
 enum class sampler_choice { cdf, alias };
-// What V(x, y) and the gathering rays are decided against: the voxel grid (docs/math.md section 7)
-// or the scene's triangles (exact: Embree on the CPU backend, the pack's BVH on the GPU backend).
-enum class visibility_choice { voxels, exact };
+// What V(x, y) and the gathering rays are decided against. voxels: the triangles listed by the
+// voxel grid (triangle_voxel_visibility / triangle_voxel_tracer, docs/math.md section 7.2: no
+// self-occlusion at junctions); paper_voxels: the paper's binary voxel test (voxel_visibility /
+// voxel_tracer, section 7.1); exact: the scene's triangles (Embree on the CPU backend, the pack's
+// BVH on the GPU backend).
+enum class visibility_choice { voxels, paper_voxels, exact };
 // What a VPL is, for every method that uses VPLs (docs/math.md section 11): point = the paper's VPL
 // at the texel centre (the VPL sum is the midpoint rule of the one-bounce integral); patch = a point
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
@@ -67,6 +70,7 @@ struct render_settings {
   visibility_choice visibility = visibility_choice::voxels;
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;
   float dmin = 0.0f;          // VPL distance clamp (world units)
+  float scene_diagonal = 0.0f;  // of the scene's box (world units): the gathering depth tolerance
   std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF
   int local_subset = 256;     // |S_i| per region of the local CDFs
@@ -85,8 +89,14 @@ constexpr int reference_patch_strata = 1;
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v);
 
-// Depth tolerance of the gathering look-ups (gather, mis; GBG rays): 2 voxel diagonals.
-float gathering_depth_tolerance(const vplkit::voxel_grid_view<float>& grid);
+// Depth tolerance of the gathering look-ups (gather, mis; GBG rays). voxels: the triangle voxel
+// tracer's hits lie on the surfaces, so it covers only the DPRSM texel's own depth spread: 3 D / R
+// for a scene of diagonal s.scene_diagonal and a DPRSM of R^2 texels per face, whatever the
+// voxels (throws vplkit::invalid_input when D or R is not positive). paper_voxels, whose tracer's
+// hits lie up to a voxel diagonal off the surface, and exact (which changes only visibility
+// against it): 2 voxel diagonals of `grid`.
+float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid,
+                                int dprsm_resolution);
 
 // Progress callback: (label, done, total); called from the calling thread only.
 using progress_fn = std::function<void(const std::string& label, std::uint64_t done, std::uint64_t total)>;

@@ -84,12 +84,13 @@ std::vector<glm::dvec3> sphere_directions(std::size_t n) {
   return dirs;
 }
 
+double distance_to_triangle(const triangle& t, const glm::dvec3& p) {
+  return glm::length(p - closest_point_on_triangle(p, d3(t.p[0]), d3(t.p[1]), d3(t.p[2])));
+}
+
 double distance_to_geometry(const std::vector<triangle>& tris, const glm::dvec3& p) {
   double best = std::numeric_limits<double>::infinity();
-  for (const triangle& t : tris) {
-    const glm::dvec3 q = closest_point_on_triangle(p, d3(t.p[0]), d3(t.p[1]), d3(t.p[2]));
-    best = std::min(best, glm::length(p - q));
-  }
+  for (const triangle& t : tris) best = std::min(best, distance_to_triangle(t, p));
   return best;
 }
 

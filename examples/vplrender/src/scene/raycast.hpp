@@ -23,6 +23,9 @@ ray_hit cast_ray(const std::vector<triangle>& tris, const glm::dvec3& origin, co
 // n directions spread evenly over the sphere (spherical Fibonacci lattice), unit length.
 std::vector<glm::dvec3> sphere_directions(std::size_t n);
 
+// Distance from p to triangle t (exact point-triangle distance).
+double distance_to_triangle(const triangle& t, const glm::dvec3& p);
+
 // Distance from p to the nearest triangle (exact point-triangle distance).
 double distance_to_geometry(const std::vector<triangle>& tris, const glm::dvec3& p);
 

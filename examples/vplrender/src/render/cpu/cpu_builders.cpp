@@ -51,13 +51,12 @@ std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_se
   view.validate();
   const int threads = thread_count(s.threads);
   const int W = g.width, H = g.height;
-  const vplkit::voxel_grid_view<float> grid = b.grid.view();
   const cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   vplkit::gbg_params<float> params;
   params.n_dirs = s.dirs;
   params.dmin = s.dmin;
-  params.depth_tolerance = gathering_depth_tolerance(grid);
+  params.depth_tolerance = gathering_depth_tolerance(s, b.grid.occupancy().view(), b.dprsm.resolution);
   params.seed = builder_seed(s.seed, 2);
   params.accumulator = s.gbg_accumulator == gbg_accumulator_choice::paper ? vplkit::gbg_accumulator::paper
                                                                           : vplkit::gbg_accumulator::gathering;

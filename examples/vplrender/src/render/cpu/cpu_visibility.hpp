@@ -1,8 +1,9 @@
 #pragma once
 // The CPU backend's visibility and tracer, the callables vplkit's estimators and builders take
 // (include/vplkit/visibility/visibility_callables.hpp), chosen by render_settings::visibility:
-// voxels (the frame's voxel grid: voxel_visibility, voxel_tracer) or exact (the scene's triangles
-// in Embree, render/cpu/ray_scene.hpp). This is the one place that maps a visibility_choice to
+// voxels (the triangles the frame's voxel grid lists: triangle_voxel_visibility,
+// triangle_voxel_tracer), paper_voxels (its occupancy: voxel_visibility, voxel_tracer) or exact
+// (the scene's triangles in Embree, render/cpu/ray_scene.hpp). This is the one place that maps a visibility_choice to
 // code on the CPU; a new kind adds a member and a case to both structs. The kind is a run-time
 // branch per query, the same every time, so it costs nothing measurable next to the query.
 #include "render/cpu/ray_scene.hpp"
@@ -16,11 +17,13 @@ namespace vplrender {
 
 struct cpu_visibility {
   visibility_choice kind = visibility_choice::voxels;
-  vplkit::voxel_visibility<float> voxels;
+  vplkit::triangle_voxel_visibility<float> voxels;
+  vplkit::voxel_visibility<float> paper_voxels;
   const ray_scene* exact = nullptr;
   bool operator()(vec3 x, vec3 n_x, vec3 y, vec3 n_y) const {
     switch (kind) {
       case visibility_choice::exact: return exact->visible(x, n_x, y, n_y);
+      case visibility_choice::paper_voxels: return paper_voxels(x, n_x, y, n_y);
       case visibility_choice::voxels: break;
     }
     return voxels(x, n_x, y, n_y);
@@ -29,11 +32,13 @@ struct cpu_visibility {
 
 struct cpu_tracer {
   visibility_choice kind = visibility_choice::voxels;
-  vplkit::voxel_tracer<float> voxels;
+  vplkit::triangle_voxel_tracer<float> voxels;
+  vplkit::voxel_tracer<float> paper_voxels;
   const ray_scene* exact = nullptr;
   vplkit::ray_hit<float> operator()(vec3 x, vec3 n_x, vec3 dir) const {
     switch (kind) {
       case visibility_choice::exact: return exact->trace(x, n_x, dir);
+      case visibility_choice::paper_voxels: return paper_voxels(x, n_x, dir);
       case visibility_choice::voxels: break;
     }
     return voxels(x, n_x, dir);
@@ -52,7 +57,8 @@ inline const ray_scene& frame_ray_scene(const frame_buffers& b, const char* who)
 inline cpu_visibility make_cpu_visibility(const frame_buffers& b, visibility_choice v) {
   cpu_visibility c;
   c.kind = v;
-  c.voxels = vplkit::voxel_visibility<float>{b.grid.view()};
+  c.voxels = vplkit::triangle_voxel_visibility<float>{b.grid.view()};
+  c.paper_voxels = vplkit::voxel_visibility<float>{b.grid.occupancy().view()};
   if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu visibility");
   return c;
 }
@@ -60,7 +66,8 @@ inline cpu_visibility make_cpu_visibility(const frame_buffers& b, visibility_cho
 inline cpu_tracer make_cpu_tracer(const frame_buffers& b, visibility_choice v) {
   cpu_tracer c;
   c.kind = v;
-  c.voxels = vplkit::voxel_tracer<float>{b.grid.view()};
+  c.voxels = vplkit::triangle_voxel_tracer<float>{b.grid.view()};
+  c.paper_voxels = vplkit::voxel_tracer<float>{b.grid.occupancy().view()};
   if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu tracer");
   return c;
 }

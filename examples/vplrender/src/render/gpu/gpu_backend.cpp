@@ -108,7 +108,8 @@ struct work_shape {
 };
 
 work_shape shape_of(const render_settings& es, int R, long long query_cost, int regions, int rounds) {
-  // One query's loops (gpu_query_cost), doubled for the two-sided voxel test's two marches.
+  // One query's loops (gpu_query_cost), doubled for the two-sided voxel test's two marches (a
+  // margin for the other kinds).
   const long long dda = 2LL * query_cost + 32;
   const long long texels = 2LL * R * R;
   long long log2n = 1;
@@ -133,7 +134,7 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
                    int regions) {
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
   const work_shape s =
-      shape_of(es, dprsm_resolution, gpu_query_cost(nullptr, visibility_choice::voxels, voxel_resolution), regions, rounds);
+      shape_of(es, dprsm_resolution, gpu_query_cost(nullptr, es.visibility, voxel_resolution), regions, rounds);
   const long long chunk = std::max(1LL, gpu_loop_budget / s.cost);
   return static_cast<int>((s.units + chunk - 1) / chunk);
 }
@@ -146,14 +147,14 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   g.validate();
   view.validate();
   const gpu_scene_buffers& scene = scene_on_gpu(b, "render_gpu");
-  const vplkit::voxel_grid_view<float> grid = b.grid.view();
+  const vplkit::voxel_grid_view<float> grid = b.grid.occupancy().view();
   const int W = g.width, H = g.height;
   const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
   render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
   det["dmin"] = es.dmin;
-  const float depth_tol = gathering_depth_tolerance(grid);
+  const float depth_tol = gathering_depth_tolerance(es, grid, view.resolution);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(es.cdf_search);
   det["visibility"] = to_string(es.visibility);
@@ -232,7 +233,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   b_state.bind(5);
   b_out.bind(6);
   b_components.bind(7);
-  glUniform1ui(prog.uniform_location("u_bvh_node_count"), bind_visibility_buffers(scene, es.visibility, 8, 9));
+  glUniform1ui(prog.uniform_location("u_bvh_node_count"),
+               bind_visibility_buffers(scene, es.visibility, visibility_bindings{8, 9, 10, 11, 12, 13}));
 
   const int regions = std::max(1, n_dists);
   const work_shape shape =
@@ -245,6 +247,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
                 {"passes", passes},
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
+                {"query_cost", gpu_query_cost(&scene, es.visibility, grid.resolution)},
                 {"builders", with_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)" : "none"},
                 {"cdf", with_dists ? "gpu (cdf_build.comp)" : "none"},
                 {"direct_light", es.direct ? "gpu (estimate.comp)" : "off"}};

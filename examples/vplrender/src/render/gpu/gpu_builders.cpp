@@ -11,6 +11,7 @@
 #include <vplkit/builders/global_weights_params.h>
 #include <vplkit/builders/local_weights.hpp>
 #include <vplkit/core/error.hpp>
+#include <vplkit/visibility/triangle_voxel_query.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
 #include <vplkit/vpl/luminance.hpp>
 
@@ -114,11 +115,11 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   view.validate();
   const gpu_scene_buffers& scene = scene_on_gpu(b, "build_gbg_weights_gpu");
   if (s.dirs < 1) throw vplkit::invalid_input("build_gbg_weights_gpu: --dirs must be >= 1");
-  const vplkit::voxel_grid_view<float> grid = b.grid.view();
+  const vplkit::voxel_grid_view<float> grid = b.grid.occupancy().view();
   const int W = g.width, H = g.height, R = view.resolution;
   const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
-  const float depth_tol = gathering_depth_tolerance(grid);
+  const float depth_tol = gathering_depth_tolerance(s, grid, R);
   int gather_points = 0;
   for (std::size_t p = 0; p < n_pixels; ++p)
     if (vplkit::gather_point_valid(g.at(static_cast<int>(p)))) ++gather_points;
@@ -149,9 +150,9 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   gl::buffer b_stats = gl::buffer::filled(VPLKIT_GBG_STATS_SIZE * 4, 0);
   gl::buffer b_weights = gl::buffer::filled(n * 4, 0);
 
-  // llvmpipe leaves every loop after 65535 iterations per invocation: one ray marches at most
-  // nx + ny + nz voxels (+ 8 for the rest of its body), so split the directions over dispatches
-  // (the fixed-point sums do not depend on the split).
+  // llvmpipe leaves every loop after 65535 iterations per invocation: one ray costs at most
+  // gpu_query_cost (+ 8 for the rest of its body), so split the directions over dispatches (the
+  // fixed-point sums do not depend on the split).
   const long long per_dir = gpu_query_cost(&scene, s.visibility, grid.resolution) + 8;
   const int dirs_per = static_cast<int>(std::max(1LL, gpu_loop_budget / per_dir));
   const GLuint groups = gl::groups_for(std::max<std::size_t>(n_pixels, 1), VPLKIT_GBG_LOCAL_SIZE);
@@ -159,8 +160,11 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   std::vector<gl::buffer> blocks;
   int dispatches = 0;
   // The tracer's own buffers (exact: the BVH), bound once for every accumulation dispatch.
-  const std::uint32_t bvh_nodes = bind_visibility_buffers(scene, s.visibility, VPLKIT_GBG_BINDING_BVH_NODES,
-                                                          VPLKIT_GBG_BINDING_BVH_TRIANGLES);
+  const std::uint32_t bvh_nodes = bind_visibility_buffers(
+      scene, s.visibility,
+      visibility_bindings{VPLKIT_GBG_BINDING_BVH_NODES, VPLKIT_GBG_BINDING_BVH_TRIANGLES, VPLKIT_GBG_BINDING_VOXEL_RANK,
+                          VPLKIT_GBG_BINDING_VOXEL_OFFSETS, VPLKIT_GBG_BINDING_VOXEL_ENTRIES,
+                          VPLKIT_GBG_BINDING_VOXEL_TRIANGLES});
   {
     gl::timer_query tq;
     tq.begin();
@@ -186,6 +190,9 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
       p.scale = float(scale);
       p.max_units = float(max_units);
       p.bvh_node_count = bvh_nodes;
+      // The triangle voxel tracer's end rule (used only under VPLKIT_GBG_TRIANGLE_VOXELS), as the
+      // CPU's triangle_voxel_tracer.
+      p.end_tolerance_voxels = float(vplkit::triangle_voxel_default_end_tolerance);
       blocks.push_back(gl::buffer::from_bytes(&p, sizeof p));
       scene.gbuffer.bind(VPLKIT_GBG_BINDING_GBUFFER);
       scene.dprsm.bind(VPLKIT_GBG_BINDING_DPRSM);

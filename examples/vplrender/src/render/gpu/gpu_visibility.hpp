@@ -1,9 +1,10 @@
 #pragma once
 // The GPU backend's visibility, chosen by render_settings::visibility: the one place that maps a
 // visibility_choice to what the kernels need: the define that selects the kernel's visibility
-// (estimate.comp's VR_VISIBILITY block; gbg_accumulate.comp's VPLKIT_GBG_TRACER_BVH), the buffers
-// to bind and the loop iterations one query costs under llvmpipe's budget. A new kind adds a case
-// to each function here and a branch to those define blocks.
+// (estimate.comp's VR_VISIBILITY block; gbg_accumulate.comp's VPLKIT_GBG_TRIANGLE_VOXELS or
+// VPLKIT_GBG_TRACER_BVH), the buffers to bind and the loop iterations one query costs under
+// llvmpipe's budget. A new kind adds a case to each function here and a branch to those define
+// blocks.
 #include "raster/gpu_scene_buffers.hpp"
 #include "render/frame_buffers.hpp"
 #include "render/settings.hpp"
@@ -23,46 +24,67 @@ inline const gpu_bvh& gpu_frame_bvh(const gpu_scene_buffers& scene, const char* 
   return scene.bvh;
 }
 
-// estimate.comp's VR_VISIBILITY (0 voxels, 1 exact).
+// estimate.comp's VR_VISIBILITY (0 paper voxels, 1 exact, 2 triangle voxels).
 inline std::string estimate_visibility_define(visibility_choice v) {
   switch (v) {
+    case visibility_choice::paper_voxels: return "#define VR_VISIBILITY 0\n";
     case visibility_choice::exact: return "#define VR_VISIBILITY 1\n";
     case visibility_choice::voxels: break;
   }
-  return "#define VR_VISIBILITY 0\n";
+  return "#define VR_VISIBILITY 2\n";
 }
 
-// gbg_accumulate.comp's tracer define (none: the voxel tracer).
+// gbg_accumulate.comp's tracer define (none: the paper's voxel tracer).
 inline std::string gbg_tracer_define(visibility_choice v) {
   switch (v) {
     case visibility_choice::exact: return "#define VPLKIT_GBG_TRACER_BVH\n";
+    case visibility_choice::paper_voxels: return "";
     case visibility_choice::voxels: break;
   }
-  return "";
+  return "#define VPLKIT_GBG_TRIANGLE_VOXELS\n";
 }
 
 // Loop iterations one visibility query or traced ray may spend: a voxel march crosses at most
-// rx + ry + rz voxels; a BVH query visits at most gpu_bvh::query_cost nodes and triangles.
+// rx + ry + rz voxels, and with the triangle voxels tests at most march_triangle_tests triangles
+// in them (without the scene's buffers: a bound of 2 per voxel crossed); a BVH query visits at
+// most gpu_bvh::query_cost nodes and triangles.
 inline long long gpu_query_cost(const gpu_scene_buffers* scene, visibility_choice v, const vplkit::ivec3& voxels) {
+  const long long march = static_cast<long long>(voxels.x) + voxels.y + voxels.z;
   switch (v) {
     case visibility_choice::exact: return scene != nullptr ? scene->bvh.query_cost : 1024;
+    case visibility_choice::paper_voxels: return march;
     case visibility_choice::voxels: break;
   }
-  return static_cast<long long>(voxels.x) + voxels.y + voxels.z;
+  return march + (scene != nullptr ? scene->voxel_triangles.march_tests : 2 * march);
 }
 
-// Binds the buffers the kind reads beyond the G-buffer, DPRSM and voxels (exact: the BVH's nodes
-// and triangles); returns the BVH's node count for the kernel (0 for voxels).
-inline std::uint32_t bind_visibility_buffers(const gpu_scene_buffers& scene, visibility_choice v, unsigned nodes_binding,
-                                             unsigned triangles_binding) {
+// The bindings of the buffers a kind reads beyond the G-buffer, DPRSM and occupancy words.
+struct visibility_bindings {
+  unsigned bvh_nodes, bvh_triangles;                                         // exact
+  unsigned voxel_rank, voxel_offsets, voxel_entries, voxel_triangles;        // voxels
+};
+
+// Binds the buffers the kind reads beyond the G-buffer, DPRSM and occupancy words (exact: the
+// BVH's nodes and triangles; voxels: the triangle voxel grid's four arrays); returns the BVH's
+// node count for the kernel (0 for the voxel kinds).
+inline std::uint32_t bind_visibility_buffers(const gpu_scene_buffers& scene, visibility_choice v,
+                                             const visibility_bindings& at) {
   switch (v) {
     case visibility_choice::exact: {
       const gpu_bvh& b = gpu_frame_bvh(scene, "gpu visibility");
-      b.nodes.bind(nodes_binding);
-      b.triangles.bind(triangles_binding);
+      b.nodes.bind(at.bvh_nodes);
+      b.triangles.bind(at.bvh_triangles);
       return b.node_count;
     }
-    case visibility_choice::voxels: break;
+    case visibility_choice::paper_voxels: break;
+    case visibility_choice::voxels: {
+      const gpu_triangle_voxels& t = scene.voxel_triangles;
+      t.rank.bind(at.voxel_rank);
+      t.offsets.bind(at.voxel_offsets);
+      t.entries.bind(at.voxel_entries);
+      t.triangles.bind(at.voxel_triangles);
+      break;
+    }
   }
   return 0u;
 }
