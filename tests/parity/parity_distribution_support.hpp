@@ -3,10 +3,10 @@
 // become programs): the packing of several distributions into the buffers the test kernels read,
 // and a host driver for the GPU CDF build kernel glsl/vplkit/distribution/cdf_build.comp with the
 // comparisons that measure it. Weights: weight_generators.hpp (portable streams).
+#include <cdf_build_kernel.hpp>
 #include <parity_harness.hpp>
 #include <weight_generators.hpp>
 
-#include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
@@ -179,12 +179,7 @@ inline build_result gpu_build(const std::vector<float>& weights, u32 n, u32 coun
   gl::buffer blk = gl::buffer::filled(std::size_t(count) * blocks * sizeof(vplkit::gpu::cdf_build_block), 0xFF);
   gl::buffer info = gl::buffer::filled(std::size_t(count) * sizeof(build_info), 0xFF);
   gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
-  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_WEIGHTS, w),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_CDF, cdf),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_GUIDE, guide),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_BLOCKS, blk),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_INFO, info),
-                     vplkit_test::uniform_at(VPLKIT_CDF_BUILD_BINDING_PARAMS, params)});
+  vplkit_test::bind_cdf_build(w, cdf, guide, blk, info, params);
   for (int pass = 1; pass <= 6; ++pass) build_program(o, o.program_per_pass ? pass : 0);
   glFinish();
   const auto t0 = std::chrono::steady_clock::now();
