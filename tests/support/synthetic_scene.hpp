@@ -345,4 +345,11 @@ struct lit_room {
   lit_room& operator=(const lit_room&) = delete;
 };
 
+// lit_room with a w x h G-buffer of it: what a builder test starts from.
+template <class T>
+struct lit_room_gbuffer : lit_room<T> {
+  gbuffer_data<T> gb;
+  lit_room_gbuffer(int R, int w, int h) : lit_room<T>(R), gb(this->scene.make_gbuffer(w, h)) {}
+};
+
 }  // namespace vplkit_test
