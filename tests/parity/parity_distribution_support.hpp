@@ -24,6 +24,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vplkit::parity::dist {
@@ -80,6 +81,13 @@ struct packed_cdfs {
     const u32 f = add(r.front());
     const u32 b = add(r.back());
     return {descs[f], descs[b], r.front_probability(), r.back_probability(), r.front_scale(), r.back_scale()};
+  }
+  // Each distribution `named[k].*part`, in order: the GPU handles of all of them.
+  template <class Named, class D>
+  auto add_each(const std::vector<Named>& named, D Named::*part) {
+    std::vector<decltype(add(std::declval<const D&>()))> handles;
+    for (const Named& x : named) handles.push_back(add(x.*part));
+    return handles;
   }
   std::vector<ssbo> inputs() const {
     return {input(2, cdf), input(3, guide), input(4, offsets), input(5, descs)};
