@@ -17,6 +17,7 @@
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxelize.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
@@ -67,6 +68,26 @@ Acc run_items(benchmark::State& state, std::size_t n, Value&& value) {
 template <class Acc = float, class Value>
 Acc run_batch(benchmark::State& state, Value&& value) {
   return run_items<Acc>(state, kBatch, std::forward<Value>(value));
+}
+
+// The timed loop of a per-gather-point benchmark: `estimate(gp, rng)` on `per_iteration` of the
+// points per iteration (cycled), each with its own stream of seed 99. Items processed =
+// per_iteration * items_per_point * iterations.
+template <class Estimate>
+void run_gather_points(benchmark::State& state, const std::vector<vplkit::gather_point<float>>& pts,
+                       int per_iteration, std::int64_t items_per_point, Estimate&& estimate) {
+  std::size_t next = 0;
+  std::uint32_t stream = 0;
+  float acc = 0;
+  for (auto _ : state) {
+    for (int k = 0; k < per_iteration; ++k) {
+      vplkit::counter_rng rng = vplkit::make_counter_rng(99u, stream++);
+      acc += estimate(pts[next], rng).y;
+      next = next + 1 == pts.size() ? 0 : next + 1;
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * per_iteration * items_per_point);
 }
 
 inline int run_main(int argc, char** argv) {

@@ -74,19 +74,7 @@ const distributions_t& dists() {
 // Runs `estimate(gp, rng)` on kPointsPerIteration gather points per iteration.
 template <class Estimate>
 void run_points(benchmark::State& state, std::int64_t items_per_point, Estimate&& estimate) {
-  const auto& pts = points();
-  std::size_t next = 0;
-  std::uint32_t stream = 0;
-  float acc = 0;
-  for (auto _ : state) {
-    for (int k = 0; k < kPointsPerIteration; ++k) {
-      vplkit::counter_rng rng = vplkit::make_counter_rng(99u, stream++);
-      acc += estimate(pts[next], rng).y;
-      next = next + 1 == pts.size() ? 0 : next + 1;
-    }
-    benchmark::DoNotOptimize(acc);
-  }
-  state.SetItemsProcessed(std::int64_t(state.iterations()) * kPointsPerIteration * items_per_point);
+  run_gather_points(state, points(), kPointsPerIteration, items_per_point, estimate);
 }
 
 void BM_exhaustive_vpl_sum_no_visibility(benchmark::State& state) {

@@ -14,6 +14,7 @@
 //    (items = triangles).
 #include "bench_common.hpp"
 
+#include <cdf_build_kernel.hpp>
 #include <gbg_kernels.hpp>
 #include <gl_kernels.hpp>
 #include <std430_types.hpp>
@@ -21,7 +22,6 @@
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
 
-#include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/image/median_fill_params.h>
 #include <vplkit/paraboloid/texel_grid.hpp>
@@ -84,12 +84,7 @@ void BM_gpu_cdf_build(benchmark::State& state) {
   gl::buffer blk = gl::buffer::filled(std::size_t(blocks) * sizeof(vplkit::gpu::cdf_build_block));
   gl::buffer info = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_info));
   gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params));
-  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_WEIGHTS, wb),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_CDF, cdf),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_GUIDE, guide),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_BLOCKS, blk),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_INFO, info),
-                     vplkit_test::uniform_at(VPLKIT_CDF_BUILD_BINDING_PARAMS, params)});
+  vplkit_test::bind_cdf_build(wb, cdf, guide, blk, info, params);
   timed(
       state, [] {},
       [&] {

@@ -7,6 +7,8 @@
 // changes nothing.
 #include "fuzz_check.hpp"
 
+#include <special_values.hpp>
+
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
@@ -132,12 +134,7 @@ void check_alias(const vplkit::alias_table<T>& a, const std::vector<T>& w, long 
   for (std::size_t i = 0; i < n; ++i)
     VPLKIT_FUZZ_CHECK(std::fabs(realised[i] - double(w[i] / sum)) <= 4.0 * eps + double(n) * 0x1p-52);
   std::vector<T> all = us;
-  for (std::size_t j = 0; j <= n; ++j) {
-    const T e = T(j) / T(n);
-    all.push_back(e);
-    all.push_back(std::nextafter(e, T(0)));
-    all.push_back(std::nextafter(e, T(2)));
-  }
+  vplkit_test::append_bucket_edges(all, n);
   for (T u : all) {
     for (const auto& s : {a.sample(u), a.sample(u, T(0)), a.sample(u, u), a.sample(u, std::nextafter(T(1), T(0)))}) {
       VPLKIT_FUZZ_CHECK(s.index < n);

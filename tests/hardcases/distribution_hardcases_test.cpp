@@ -6,6 +6,7 @@
 #include <vplkit/distribution/face_roulette.hpp>
 
 #include <distribution_checks.hpp>
+#include <special_values.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -27,19 +28,8 @@ using vplkit_test::require_cdf_invariants;
 // largest below 1, exactly 1, and the out-of-range ones that get clamped.
 template <class T>
 std::vector<T> edge_us() {
-  return {T(0),
-          T(-0.0),
-          std::numeric_limits<T>::denorm_min(),
-          std::numeric_limits<T>::min(),
-          T(1e-30),
-          T(0.5),
-          std::nextafter(T(1), T(0)),
-          T(1),
-          std::nextafter(T(1), T(2)),
-          std::numeric_limits<T>::infinity(),
-          -std::numeric_limits<T>::infinity(),
-          T(-1),
-          std::numeric_limits<T>::quiet_NaN()};
+  return vplkit_test::special_values_and<T>(
+      {T(1e-30), std::nextafter(T(1), T(0)), std::nextafter(T(1), T(2))});
 }
 
 // Every stored CDF value, its neighbours and the edge u's: the sampled index always has a

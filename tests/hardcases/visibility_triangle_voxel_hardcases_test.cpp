@@ -37,14 +37,10 @@ struct scene {
   }
   // Closed axis-aligned box [lo, hi] (local frame).
   void box(d3 lo, d3 hi) {
-    const d3 v[8] = {d3(lo.x, lo.y, lo.z), d3(hi.x, lo.y, lo.z), d3(hi.x, hi.y, lo.z), d3(lo.x, hi.y, lo.z),
-                     d3(lo.x, lo.y, hi.z), d3(hi.x, lo.y, hi.z), d3(hi.x, hi.y, hi.z), d3(lo.x, hi.y, hi.z)};
-    quad(v[0], v[3], v[2], v[1]);
-    quad(v[4], v[5], v[6], v[7]);
-    quad(v[0], v[1], v[5], v[4]);
-    quad(v[2], v[3], v[7], v[6]);
-    quad(v[1], v[2], v[6], v[5]);
-    quad(v[3], v[0], v[4], v[7]);
+    d3 v[8];  // corner k takes hi along x, y, z where bits 0, 1, 2 of k are set
+    for (int k = 0; k < 8; ++k) v[k] = d3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {3, 2, 6, 7}, {1, 3, 7, 5}, {2, 0, 4, 6}};
+    for (const auto& f : faces) quad(v[f[0]], v[f[1]], v[f[2]], v[f[3]]);
   }
 };
 

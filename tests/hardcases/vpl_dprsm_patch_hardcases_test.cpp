@@ -46,27 +46,20 @@ bool sample_finite(const dprsm_patch_sample<T>& s) {
 template <class T>
 struct one_texel_view {
   int R, t;
-  std::vector<vec3<T>> position, normal, albedo;
-  point_light<T> light;
+  dprsm_data<T> d;
   one_texel_view(int R_, int x, int y, vec3<T> y_t, vec3<T> n, vec3<T> light_pos = vec3<T>(T(0)))
-      : R(R_), t(texel_index(paraboloid_front, x, y, R_)),
-        position(std::size_t(texel_count(R_)), vec3<T>(T(0))),
-        normal(std::size_t(texel_count(R_)), vec3<T>(T(0))),
-        albedo(std::size_t(texel_count(R_)), vec3<T>(T(0))),
-        light(make_point_light(light_pos, vec3<T>(T(4), T(5), T(6)))) {
-    position[std::size_t(t)] = y_t;
-    normal[std::size_t(t)] = n;
-    albedo[std::size_t(t)] = vec3<T>(T(0.5), T(0.6), T(0.7));
+      : R(R_), t(texel_index(paraboloid_front, x, y, R_)) {
+    const std::size_t count = std::size_t(texel_count(R_));
+    d.resolution = R_;
+    d.light = make_point_light(light_pos, vec3<T>(T(4), T(5), T(6)));
+    d.position.assign(count, vec3<T>(T(0)));
+    d.normal.assign(count, vec3<T>(T(0)));
+    d.albedo.assign(count, vec3<T>(T(0)));
+    d.position[std::size_t(t)] = y_t;
+    d.normal[std::size_t(t)] = n;
+    d.albedo[std::size_t(t)] = vec3<T>(T(0.5), T(0.6), T(0.7));
   }
-  dprsm_view<T> view() const {
-    dprsm_view<T> v;
-    v.resolution = R;
-    v.position = position.data();
-    v.normal = normal.data();
-    v.albedo = albedo.data();
-    v.light = light;
-    return v;
-  }
+  dprsm_view<T> view() const { return d.view(); }
   // The centre direction of the texel (light space = world space here).
   vec3<T> centre_dir() const {
     const ivec2 xy = texel_coords(t, R);

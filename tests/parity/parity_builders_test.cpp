@@ -132,27 +132,16 @@ namespace {
 std::vector<float> run_global_weights(const std::vector<std::vector<int>>& subsets, float dmin) {
   const auto& s = fx().s;
   const auto& prog = pack_kernel("vplkit/builders/global_weights.comp");
-  std::vector<std::int32_t> flat;
-  std::vector<std::uint32_t> offsets = {0u};
-  for (const auto& sub : subsets) {
-    flat.insert(flat.end(), sub.begin(), sub.end());
-    offsets.push_back(std::uint32_t(flat.size()));
-  }
-  if (flat.empty()) flat.push_back(-1);
+  const vplkit_test::global_weights_inputs in =
+      vplkit_test::make_global_weights_inputs(subsets, s.dprsm, s.gbuffer.width * s.gbuffer.height, dmin);
   const int n = vplkit::texel_count(s.R);
   const int N = int(subsets.size());
-  vplkit::gpu::global_weights_params p{};
-  p.light = vplkit::gpu::make_light_params(s.dprsm.light);
-  p.resolution = s.R;
-  p.regions = N;
-  p.pixel_count = s.gbuffer.width * s.gbuffer.height;
-  p.dmin = dmin;
   const auto gb = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
   const auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
-  const auto sb = vplkit::gl::buffer::from_vector(flat);
-  const auto ob = vplkit::gl::buffer::from_vector(offsets);
+  const auto sb = vplkit::gl::buffer::from_vector(in.flat);
+  const auto ob = vplkit::gl::buffer::from_vector(in.offsets);
   const auto wb = vplkit::gl::buffer::filled(std::size_t(N * n) * 4, 0xFF);
-  const auto ub = vplkit_test::uniform_buffer(p);
+  const auto ub = vplkit_test::uniform_buffer(in.params);
   // The texels spread over x and y, the regions along z (global_weights.comp).
   vplkit_test::bind({vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER, gb),
                      vplkit_test::storage_at(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM, dp),
@@ -468,13 +457,7 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
 
     // 3. Weights and stats against build_gbg_weights.
     for (bool fill : {false, true}) {
-      vplkit::gbg_params<float> params;
-      params.n_dirs = st.n_dirs;
-      params.dmin = st.dmin;
-      params.depth_tolerance = tol;
-      params.seed = st.seed;
-      params.accumulator = accumulator == 0 ? vplkit::gbg_accumulator::paper : vplkit::gbg_accumulator::gathering;
-      params.fill_holes = fill;
+      const vplkit::gbg_params<float> params = vplkit_test::gbg_cpu_params(st, fill);
       vplkit::gbg_stats cs;
       const auto cpu = vplkit::build_gbg_weights(gb, view, vplkit::voxel_tracer<float>{s.grid.view()}, params, &cs);
       const auto gpu = fill ? run_gbg(s.gbuffer, st, {{0, st.n_dirs}}, true) : one;
@@ -548,25 +531,14 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp: fixed-point GBG weights agains
 
 TEST_CASE("GBG kernels: all-background G-buffer gives zero weights and stats, no NaN") {
   const auto& s = fx().s;
-  vplkit_test::gbuffer_data<float> empty = s.gbuffer;
-  std::fill(empty.normal.begin(), empty.normal.end(), v3f(0));
-  gbg_setup st;
-  st.tol = 0.3f;
-  st.scale = 1024.0f;
-  st.max_units = std::ldexp(1.0f, 40);
-  const auto r = run_gbg(empty, st, {{0, st.n_dirs}}, true);
+  const vplkit_test::all_background_gbg bg(s.gbuffer, s.view(), s.grid);
+  const auto r = run_gbg(bg.gbuffer, bg.setup, {{0, bg.setup.n_dirs}}, true);
   const int n = vplkit::texel_count(s.R);
   std::vector<std::uint32_t> bits, zeros(std::size_t(n), 0u);
   for (float w : r.weights) bits.push_back(bits_of(w));
   VPLKIT_CHECK_PARITY(compare_exact(bits, zeros, {}, "GBG all background: weights are +0 (bits)"));
-  for (int k : {VPLKIT_GBG_STAT_GATHER_POINTS, VPLKIT_GBG_STAT_HITS, VPLKIT_GBG_STAT_LIT_HITS,
-                VPLKIT_GBG_STAT_SATURATED_HITS, VPLKIT_GBG_STAT_REACHED_TEXELS, VPLKIT_GBG_STAT_FILLED})
-    CHECK(r.stats[std::size_t(k)] == 0u);
+  for (int k : vplkit_test::all_background_gbg::zero_stats) CHECK(r.stats[std::size_t(k)] == 0u);
   // Every texel carrying a VPL is a hole that stays one.
-  vplkit::gbg_params<float> params;
-  params.depth_tolerance = 0.3f;
-  vplkit::gbg_stats cs;
-  vplkit::build_gbg_weights(empty.view(), s.view(), vplkit::voxel_tracer<float>{s.grid.view()}, params, &cs);
-  CHECK(r.stats[VPLKIT_GBG_STAT_HOLES] == std::uint32_t(cs.holes));
+  CHECK(r.stats[VPLKIT_GBG_STAT_HOLES] == bg.cpu_holes);
 }
 

@@ -23,8 +23,7 @@ TEST_CASE("defensive_mixture.glsl: binary-search sampling returns the C++ index 
   splitmix_rng g(72);
   const auto mixtures = test_mixtures(n, 71, g, {0.0f, 0.05f, 0.5f, 1.0f});
   packed_cdfs packed;
-  std::vector<gpu_mixture> gm;
-  for (const auto& nm : mixtures) gm.push_back(packed.add(nm.m));
+  const std::vector<gpu_mixture> gm = packed.add_each(mixtures, &named_mixture::m);
   struct q2 {
     float u;
     u32 d;

@@ -3,10 +3,10 @@
 // become programs): the packing of several distributions into the buffers the test kernels read,
 // and a host driver for the GPU CDF build kernel glsl/vplkit/distribution/cdf_build.comp with the
 // comparisons that measure it. Weights: weight_generators.hpp (portable streams).
+#include <cdf_build_kernel.hpp>
 #include <parity_harness.hpp>
 #include <weight_generators.hpp>
 
-#include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
@@ -24,6 +24,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vplkit::parity::dist {
@@ -80,6 +81,13 @@ struct packed_cdfs {
     const u32 f = add(r.front());
     const u32 b = add(r.back());
     return {descs[f], descs[b], r.front_probability(), r.back_probability(), r.front_scale(), r.back_scale()};
+  }
+  // Each distribution `named[k].*part`, in order: the GPU handles of all of them.
+  template <class Named, class D>
+  auto add_each(const std::vector<Named>& named, D Named::*part) {
+    std::vector<decltype(add(std::declval<const D&>()))> handles;
+    for (const Named& x : named) handles.push_back(add(x.*part));
+    return handles;
   }
   std::vector<ssbo> inputs() const {
     return {input(2, cdf), input(3, guide), input(4, offsets), input(5, descs)};
@@ -179,12 +187,7 @@ inline build_result gpu_build(const std::vector<float>& weights, u32 n, u32 coun
   gl::buffer blk = gl::buffer::filled(std::size_t(count) * blocks * sizeof(vplkit::gpu::cdf_build_block), 0xFF);
   gl::buffer info = gl::buffer::filled(std::size_t(count) * sizeof(build_info), 0xFF);
   gl::buffer params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
-  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_WEIGHTS, w),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_CDF, cdf),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_GUIDE, guide),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_BLOCKS, blk),
-                     vplkit_test::storage_at(VPLKIT_CDF_BUILD_BINDING_INFO, info),
-                     vplkit_test::uniform_at(VPLKIT_CDF_BUILD_BINDING_PARAMS, params)});
+  vplkit_test::bind_cdf_build(w, cdf, guide, blk, info, params);
   for (int pass = 1; pass <= 6; ++pass) build_program(o, o.program_per_pass ? pass : 0);
   glFinish();
   const auto t0 = std::chrono::steady_clock::now();

@@ -525,8 +525,7 @@ TEST_CASE("face_roulette.glsl: face and index exact and pmf within 1 ulp with em
   CHECK(rs[4].r.back_probability() == 0.0f);
 
   packed_cdfs packed;
-  std::vector<gpu_roulette> gr;
-  for (const auto& nr : rs) gr.push_back(packed.add(nr.r));
+  const std::vector<gpu_roulette> gr = packed.add_each(rs, &named_roulette::r);
   struct q4 {
     float u;
     int face;

@@ -170,6 +170,13 @@ struct patch_out {
   float4 extra;     // distance, cos(alpha), uv.x, uv.y
 };
 
+// A kernel of out_block, `head` (includes, query types and buffers) and a main running `body` for
+// each i below VPLKIT_PARITY_COUNT.
+std::string point_kernel(const std::string& head, const std::string& body) {
+  return std::string(out_block) + head + "void main() {\n  uint i = gl_GlobalInvocationID.x;\n" +
+         "  if (i >= VPLKIT_PARITY_COUNT) return;\n" + body + "}\n";
+}
+
 const char* const k_patch = R"(
 #include "vplkit/vpl/dprsm_patch.glsl"
 struct patch_query { int texel; float xi_x; float xi_y; float tol; };
@@ -302,20 +309,16 @@ TEST_CASE("mis_patch_vpl_pdf: GPU vs C++ at patch points seen from the gather po
       qs.push_back({std::uint32_t(i), t, 0.003f, 0.0f, f4(s.point.position)});
       cpu.push_back(vplkit::mis_patch_vpl_pdf(view, t, 0.003f, pts[i].gp.position, s.point.position));
     }
-  const std::string body = std::string(out_block) + R"(
+  const std::string body = point_kernel(R"(
 #include "vplkit/estimators/mis_estimator.glsl"
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint d, float u) { return vplkit_discrete_sample(0u, 0.0); }
 float vplkit_estimator_distribution_pmf(uint d, uint i) { return 0.0; }
 struct pdf_query { uint point; int texel; float pmf; float pad; vec4 y; };
 layout(std430, binding = 9) readonly buffer Queries { pdf_query queries[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  pdf_query q = queries[i];
+)", R"(  pdf_query q = queries[i];
   float p = vplkit_mis_patch_vpl_pdf(load_view(), q.texel, q.pmf, load_point(q.point).position, q.y.xyz);
   result[i] = est_out(vec4(p, 0.0, 0.0, 0.0), uvec4(0u));
-}
-)";
+)");
   const auto gpu = run_kernel<est_out>(body, qs.size(), base_params(), pts, {input(9, qs)}, "mis_patch_vpl_pdf.comp");
   std::vector<float> g;
   for (const auto& o : gpu) g.push_back(o.value.x);
@@ -377,25 +380,25 @@ std::set<std::size_t> flipped_points(const replay& r, const std::vector<named_po
       }
     }
   }
+  // `body` over queries at binding 9, with the depth tolerance in fp.y.
+  const auto run_queries = [&](const std::string& body, const auto& queries, const char* name) {
+    scene_params p = base_params();
+    p.fp.y = tol;
+    return run_kernel<est_out>(body, queries.size(), p, pts, {input(9, queries)}, name);
+  };
   if (!r.pairs.empty()) {
-    const std::string body = std::string(out_block) + R"(
+    const std::string body = point_kernel(R"(
 #include "vplkit/vpl/dprsm_patch.glsl"
 struct vis_query { uint point; int texel; float xi_x; float xi_y; };
 layout(std430, binding = 9) readonly buffer Queries { vis_query queries[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vis_query q = queries[i];
+)", R"(  vis_query q = queries[i];
   vplkit_gather_point gp = load_point(q.point);
   vplkit_dprsm_patch_sample s = vplkit_dprsm_patch_vpl(load_view(), q.texel, vec2(q.xi_x, q.xi_y), fp.y);
   bool v = vplkit_visibility_test(vplkit_make_voxel_visibility(load_grid()), gp.position, gp.normal, s.point.position,
                                   s.point.normal);
   result[i] = est_out(vec4(0.0), uvec4(v ? 1u : 0u, 0u, 0u, 0u));
-}
-)";
-    scene_params p = base_params();
-    p.fp.y = tol;
-    const auto gpu = run_kernel<est_out>(body, r.pairs.size(), p, pts, {input(9, r.pairs)}, "patch_visibility_check.comp");
+)");
+    const auto gpu = run_queries(body, r.pairs, "patch_visibility_check.comp");
     const vplkit::voxel_visibility<float> vis{f.grid.view()};
     for (std::size_t i = 0; i < r.pairs.size(); ++i) {
       const auto& q = r.pairs[i];
@@ -409,14 +412,11 @@ void main() {
     }
   }
   if (!r.rays.empty()) {
-    const std::string body = std::string(out_block) + R"(
+    const std::string body = point_kernel(R"(
 #include "vplkit/estimators/gathering_estimator.glsl"
 struct ray_query { uint point; float u0; float u1; uint pad; };
 layout(std430, binding = 9) readonly buffer Rays { ray_query rays[]; };
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_gather_point gp = load_point(rays[i].point);
+)", R"(  vplkit_gather_point gp = load_point(rays[i].point);
   vec3 local = vplkit_sample_cosine_hemisphere(vec2(rays[i].u0, rays[i].u1));
   vplkit_gathering_ray_result g = vplkit_gathering_ray_result(false, -2, vec3(0.0), vec3(0.0));
   if (local.z > 0.0)
@@ -424,11 +424,8 @@ void main() {
                                    vplkit_to_world(vplkit_make_orthonormal_basis(gp.normal), local),
                                    vplkit_make_voxel_tracer(load_grid()), fp.y);
   result[i] = est_out(vec4(0.0), uvec4(uint(g.texel + 2), g.lit ? 1u : 0u, 0u, 0u));
-}
-)";
-    scene_params p = base_params();
-    p.fp.y = tol;
-    const auto gpu = run_kernel<est_out>(body, r.rays.size(), p, pts, {input(9, r.rays)}, "ray_check.comp");
+)");
+    const auto gpu = run_queries(body, r.rays, "ray_check.comp");
     const vplkit::voxel_tracer<float> tracer{f.grid.view()};
     for (std::size_t i = 0; i < r.rays.size(); ++i) {
       const auto& gp = pts[r.rays[i].point].gp;
@@ -485,19 +482,15 @@ TEST_CASE("exhaustive patch sum: GPU (compensated float) vs C++ (double), V = 1 
   const scene_fixture& f = fixture();
   const auto view = f.view();
   const auto pts = gather_points();
-  const std::string body = std::string(out_block) + R"(
+  const std::string body = point_kernel(R"(
 #include "vplkit/estimators/vpl_sum.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  uint p = i / uint(ip.z), c = i % uint(ip.z);
+)", R"(  uint p = i / uint(ip.z), c = i % uint(ip.z);
   vplkit_visibility vis = ip.y == 1 ? vplkit_make_voxel_visibility(load_grid()) : vplkit_make_always_visible();
   vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
   vplkit_exhaustive_vpl_patch_sum_range(load_point(p), load_view(), st, int(c) * ip.w, int(c + 1u) * ip.w,
                                         vplkit_counter_rng(uint(ip2.x), uint(ip2.y)), int(fp.z), vis, fp.x, fp.y);
   result[i] = est_out(vec4(vplkit_exhaustive_vpl_patch_sum_finish(st, 1), 0.0), uvec4(0u));
-}
-)";
+)");
   const int chunk = 128, chunks = (view.texel_count() + chunk - 1) / chunk;
   const vplkit::counter_rng stream = vplkit::make_counter_rng(seed, 77u);
   for (int kind : {0, 1})
@@ -562,39 +555,21 @@ TEST_CASE("patch estimators: VPL sampling, local and MIS, same streams, voxel vi
   const cdf_pair& d = cdfs();
   const vplkit::voxel_visibility<float> vis{f.grid.view()};
   const vplkit::voxel_tracer<float> tracer{f.grid.view()};
-  const std::string k_vpl = std::string(out_block) + distribution_hooks + R"(
-#include "vplkit/estimators/vpl_sampling_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
-  vec3 s = vplkit_estimate_vpl_sampling(load_point(i), load_view(), 0u, rng, ip.w,
-                                        vplkit_make_voxel_visibility(load_grid()), fp.x, vplkit_vpl_patch, fp.y);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, 0u, 0u, 0u));
-}
-)";
-  const std::string k_local = std::string(out_block) + distribution_hooks + R"(
-#include "vplkit/estimators/local_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
-  vec3 s = vplkit_estimate_local(load_point(i), load_view(), 0u, 2, rng, ip.w, vplkit_make_voxel_visibility(load_grid()),
-                                 fp.x, ip.y, vplkit_vpl_patch, fp.y);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, 0u, 0u, 0u));
-}
-)";
-  const std::string k_mis = std::string(out_block) + distribution_hooks + R"(
-#include "vplkit/estimators/mis_estimator.glsl"
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= VPLKIT_PARITY_COUNT) return;
-  vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);
-  vec3 s = vplkit_estimate_mis(load_point(i), load_view(), 0u, rng, ip2.x, ip2.y, vplkit_make_voxel_tracer(load_grid()),
-                               vplkit_make_voxel_visibility(load_grid()), fp.y, ip.y, vplkit_vpl_patch);
-  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, 0u, 0u, 0u));
-}
-)";
+  // One estimate per gather point from its own counter stream: `estimate` is a vec3 expression of rng.
+  const auto kernel_of = [](const std::string& include, const std::string& estimate) {
+    return point_kernel(std::string(distribution_hooks) + "\n#include \"" + include + "\"\n",
+                        "  vplkit_counter_rng rng = vplkit_make_counter_rng(uint(ip.z), i);\n  vec3 s = " + estimate +
+                            ";\n  result[i] = est_out(vec4(s, 0.0), uvec4(rng.counter, 0u, 0u, 0u));\n");
+  };
+  const std::string k_vpl = kernel_of("vplkit/estimators/vpl_sampling_estimator.glsl", R"(
+      vplkit_estimate_vpl_sampling(load_point(i), load_view(), 0u, rng, ip.w,
+                                   vplkit_make_voxel_visibility(load_grid()), fp.x, vplkit_vpl_patch, fp.y))");
+  const std::string k_local = kernel_of("vplkit/estimators/local_estimator.glsl", R"(
+      vplkit_estimate_local(load_point(i), load_view(), 0u, 2, rng, ip.w, vplkit_make_voxel_visibility(load_grid()),
+                            fp.x, ip.y, vplkit_vpl_patch, fp.y))");
+  const std::string k_mis = kernel_of("vplkit/estimators/mis_estimator.glsl", R"(
+      vplkit_estimate_mis(load_point(i), load_view(), 0u, rng, ip2.x, ip2.y, vplkit_make_voxel_tracer(load_grid()),
+                          vplkit_make_voxel_visibility(load_grid()), fp.y, ip.y, vplkit_vpl_patch))");
   struct run {
     std::string name;
     int kind;  // 0 VPL sampling, 1 local, 2 MIS

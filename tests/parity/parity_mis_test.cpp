@@ -159,32 +159,36 @@ struct R { vec4 weights; vec4 combined; vec4 clean; };
            ", p2 = " + show(in[k].w) + ", f = " + show(fs[k]) +
            (k < n_random ? " [random]" : " [special sweep]");
   };
-  struct named {
-    const char* what;
-    float (*get)(const heuristics_out&);
+  // Each float4 of the output, with the call behind each of its components.
+  struct named_float4 {
+    float4 heuristics_out::*field;
+    const char* what[4];
     bool exact;
   };
-  const named columns[] = {
-      {"vplkit_balance_heuristic(n1,p1,n2,p2)", [](const heuristics_out& o) { return o.weights.x; }, false},
-      {"vplkit_balance_heuristic(n2,p2,n1,p1)", [](const heuristics_out& o) { return o.weights.y; }, false},
-      {"vplkit_power_heuristic(n1,p1,n2,p2)", [](const heuristics_out& o) { return o.weights.z; }, false},
-      {"vplkit_power_heuristic(n2,p2,n1,p1)", [](const heuristics_out& o) { return o.weights.w; }, false},
-      {"vplkit_balance_combined(f,n1,p1,n2,p2)", [](const heuristics_out& o) { return o.combined.x; }, false},
-      {"vplkit_mis_scaled_terms .a", [](const heuristics_out& o) { return o.combined.y; }, false},
-      {"vplkit_mis_scaled_terms .b", [](const heuristics_out& o) { return o.combined.z; }, false},
-      {"vplkit_balance_combined(f,n2,p2,n1,p1)", [](const heuristics_out& o) { return o.combined.w; }, false},
-      {"vplkit_mis_clean_count(n1)", [](const heuristics_out& o) { return o.clean.x; }, true},
-      {"vplkit_mis_clean_pdf(p1)", [](const heuristics_out& o) { return o.clean.y; }, true},
-      {"vplkit_mis_clean_count(n2)", [](const heuristics_out& o) { return o.clean.z; }, true},
-      {"vplkit_mis_clean_pdf(p2)", [](const heuristics_out& o) { return o.clean.w; }, true},
+  const named_float4 columns[] = {
+      {&heuristics_out::weights,
+       {"vplkit_balance_heuristic(n1,p1,n2,p2)", "vplkit_balance_heuristic(n2,p2,n1,p1)",
+        "vplkit_power_heuristic(n1,p1,n2,p2)", "vplkit_power_heuristic(n2,p2,n1,p1)"},
+       false},
+      {&heuristics_out::combined,
+       {"vplkit_balance_combined(f,n1,p1,n2,p2)", "vplkit_mis_scaled_terms .a", "vplkit_mis_scaled_terms .b",
+        "vplkit_balance_combined(f,n2,p2,n1,p1)"},
+       false},
+      {&heuristics_out::clean,
+       {"vplkit_mis_clean_count(n1)", "vplkit_mis_clean_pdf(p1)", "vplkit_mis_clean_count(n2)",
+        "vplkit_mis_clean_pdf(p2)"},
+       true},
   };
   for (const auto& c : columns) {
-    const auto gv = component(gpu, c.get), cv = component(cpu, c.get);
-    VPLKIT_CHECK_PARITY(compare_floats(gv, cv, c.exact ? within_ulps(0) : value_bound, input_text, c.what));
-    std::size_t nans = 0;
-    for (float v : gv) nans += std::isnan(v) ? 1 : 0;
-    INFO(c.what);
-    CHECK(nans == 0);
+    for (int k = 0; k < 4; ++k) {
+      const auto get = [&c, k](const heuristics_out& o) { return (o.*c.field)[k]; };
+      const auto gv = component(gpu, get), cv = component(cpu, get);
+      VPLKIT_CHECK_PARITY(compare_floats(gv, cv, c.exact ? within_ulps(0) : value_bound, input_text, c.what[k]));
+      std::size_t nans = 0;
+      for (float v : gv) nans += std::isnan(v) ? 1 : 0;
+      INFO(c.what[k]);
+      CHECK(nans == 0);
+    }
   }
   // The GPU's own weights: in [0, 1], a partition of unity or both 0.
   std::size_t bad = 0;

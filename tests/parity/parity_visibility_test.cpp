@@ -21,6 +21,7 @@
 //   their number.
 #include <bvh_test_scenes.hpp>
 #include <parity_harness.hpp>
+#include <voxel_cells.hpp>
 
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/triangle_box_overlap.hpp>
@@ -116,16 +117,6 @@ brute_hit brute_first_hit(const vplkit::voxel_grid<float>& g, const std::vector<
   return best;
 }
 
-std::vector<ivec3> occupied_voxels(const vplkit::voxel_grid<float>& g) {
-  std::vector<ivec3> out;
-  const ivec3 r = g.resolution();
-  for (int z = 0; z < r.z; ++z)
-    for (int y = 0; y < r.y; ++y)
-      for (int x = 0; x < r.x; ++x)
-        if (g.test(ivec3(x, y, z))) out.push_back(ivec3(x, y, z));
-  return out;
-}
-
 // A ray is a near-tie when the first hit with every occupied box grown by eps voxels and the one
 // with every box shrunk by eps differ (in hit/miss or voxel): rounding of a few ulp can then change
 // the DDA's answer. Non-finite or zero-length rays are never ties (both sides must miss).
@@ -199,7 +190,7 @@ void check_dda(const vplkit::voxel_grid<float>& g, const std::vector<dda_ray>& r
   std::vector<dda_out> cpu;
   cpu.reserve(rays.size());
   for (const auto& r : rays) cpu.push_back(cpu_dda(g, r));
-  const std::vector<ivec3> occupied = occupied_voxels(g);
+  const std::vector<ivec3> occupied = vplkit_test::occupied_voxels(g);
   const double L = double(g.voxel_length());
   auto ray_text = [&](std::size_t i) {
     const auto& r = rays[i];
@@ -385,12 +376,7 @@ std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, c
                                  "#define VPLKIT_VOXELIZE_LOCAL_SIZE 64\n");
   std::vector<float4> pos;
   for (const v3f& p : m.positions) pos.push_back(f4(p, 1.0f));
-  vplkit::gpu::voxelize_params params{};
-  params.bounds_min = glm::vec4(like.bounds_min(), 0.0f);
-  params.bounds_max = glm::vec4(like.bounds_max(), 0.0f);
-  params.resolution = glm::ivec4(like.resolution(), 0);
-  params.triangle_count = std::uint32_t(m.indices.size() / 3);
-  params.margin_voxels = margin;
+  const vplkit::gpu::voxelize_params params = vplkit_test::voxelize_block(like, m.indices.size() / 3, margin);
   const auto pb = vplkit::gl::buffer::from_vector(pos);
   const auto ib = vplkit::gl::buffer::from_vector(m.indices);
   const auto wb = vplkit::gl::buffer::filled(like.word_count() * 4, 0);
@@ -400,28 +386,6 @@ std::vector<std::uint32_t> gpu_voxelize(const vplkit::voxel_grid<float>& like, c
                         {vplkit_test::storage_at(4, pb), vplkit_test::storage_at(5, ib), vplkit_test::storage_at(6, wb),
                          vplkit_test::uniform_at(1, ub)});
   return wb.read<std::uint32_t>();
-}
-
-// The smallest margin (in voxels, up to `cap`) at which the C++ double SAT marks voxel c for some
-// triangle of the mesh; cap + 1 if none. Bisection to 1e-9 voxel.
-double flip_margin(const vplkit::voxel_grid<float>& g, const mesh& m, ivec3 c, double cap) {
-  const v3d bmin(g.bounds_min());
-  const v3d size = (v3d(g.bounds_max()) - bmin) / v3d(g.resolution());
-  const v3d centre = v3d(c) + v3d(0.5);
-  double best = cap + 1.0;
-  for (std::size_t t = 0; t < m.indices.size() / 3; ++t) {
-    v3d v[3];
-    for (int k = 0; k < 3; ++k) v[k] = (v3d(m.positions[m.indices[3 * t + std::size_t(k)]]) - bmin) / size;
-    if (!vplkit::triangle_box_overlap(centre, v3d(0.5 + cap), v[0], v[1], v[2])) continue;
-    double lo = 0.0, hi = cap;
-    if (vplkit::triangle_box_overlap(centre, v3d(0.5), v[0], v[1], v[2])) hi = 0.0;
-    while (hi - lo > 1e-9) {
-      const double mid = 0.5 * (lo + hi);
-      (vplkit::triangle_box_overlap(centre, v3d(0.5 + mid), v[0], v[1], v[2]) ? hi : lo) = mid;
-    }
-    best = std::min(best, hi);
-  }
-  return best;
 }
 
 // Compares the GPU grid with the C++ voxelize() grid. Every differing voxel must lie within `delta`
@@ -444,7 +408,7 @@ void check_voxelize(const vplkit::voxel_grid<float>& shape, const mesh& m, const
         const ivec3 c(x, y, z);
         if (gpu.test(c) == cpu.test(c)) continue;
         (gpu.test(c) ? only_gpu : only_cpu) += 1;
-        const double fm = flip_margin(shape, m, c, 0.01);
+        const double fm = vplkit_test::voxel_flip_margin(shape, m, c, 0.01);
         worst = std::max(worst, std::abs(fm - margin));
         if (std::abs(fm - margin) > delta) {
           ++far;
@@ -726,7 +690,7 @@ TEST_CASE("dda: lattice rays along voxel planes and through edges and corners (t
     rays.push_back({f4(o, t_max), f4(d)});
   }
   // How many of them are near-ties (informational: shows the set exercises the tie rule).
-  const auto occupied = occupied_voxels(g);
+  const auto occupied = vplkit_test::occupied_voxels(g);
   std::size_t ties = 0;
   for (std::size_t i = 0; i < rays.size(); i += 10)
     ties += dda_near_tie(g, occupied, v3f(rays[i].origin_tmax.x, rays[i].origin_tmax.y, rays[i].origin_tmax.z),

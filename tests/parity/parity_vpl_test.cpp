@@ -57,6 +57,31 @@ comparison compare_scaled(const std::vector<float>& gpu, const std::vector<float
   return compare_floats_abs(g, c, bound, describe, what);
 }
 
+// compare_scaled on each colour channel, named "<what> <channel> / (<scale>)": the cosine bound
+// of a radiance divided by its value with the cosines taken as 1.
+void check_scaled_channels(const channels<float>& gpu, const channels<float>& cpu, const channels<double>& scale,
+                           const float_bound& bound, const describe_fn& describe, const std::string& what,
+                           const std::string& scale_text) {
+  for (int ch = 0; ch < 3; ++ch) {
+    VPLKIT_CHECK_PARITY(compare_scaled(gpu.c[ch], cpu.c[ch], scale.c[ch], bound, describe,
+                                       what + " " + channel_name(ch) + " / (" + scale_text + ")"));
+  }
+}
+
+// n cases drawn in turn by draw(rnd, i, c) from one stream, labelled "random i".
+template <class Case, class Draw>
+std::vector<Case> random_cases(std::uint64_t seed, int n, Draw draw) {
+  random_source rnd(seed);
+  std::vector<Case> cases;
+  for (int i = 0; i < n; ++i) {
+    Case c;
+    draw(rnd, i, c);
+    c.label = "random " + std::to_string(i);
+    cases.push_back(c);
+  }
+  return cases;
+}
+
 // Cosines are dot products of vectors normalised by unit_or_zero on each side (division, sqrt,
 // dot: each a few ulp, FMA-contracted or not), so cos1 cos2 differs by a few ulp of 1 in ABSOLUTE
 // terms; relative to a small cosine (grazing) that is large (measured rel 2e-4 at cos1 cos2 =
@@ -187,41 +212,34 @@ void check_geometry(const std::vector<geometry_case>& cases, const std::string& 
             << " (allowed only within the cosine bound)\n";
   VPLKIT_CHECK_PARITY(compare_scaled(g_term.gpu, g_term.cpu, sg, cosine_bound, describe,
                                      what + ": G * pi max(d2^2, dmin^2, floor)"));
-  for (int ch = 0; ch < 3; ++ch) {
-    VPLKIT_CHECK_PARITY(compare_scaled(gl.c[ch], cl.c[ch], sl.c[ch], cosine_bound, describe,
-                                       what + ": contribution " + channel_name(ch) + " / (rho flux / pi^2 d2^2)"));
-  }
+  check_scaled_channels(gl, cl, sl, cosine_bound, describe, what + ": contribution", "rho flux / pi^2 d2^2");
 }
 
 }  // namespace
 
 TEST_CASE("vpl_geometry_term and vpl_contribution: 10^5 random configurations") {
-  random_source rnd(22);
-  std::vector<geometry_case> cases;
-  for (int i = 0; i < 100000; ++i) {
-    geometry_case c;
-    c.x = rnd.in_box(5);
-    c.y = rnd.in_box(5);
-    const vec3<float> to_y = glm::normalize(c.y - c.x);
-    // half of the cases face each other (most give G > 0), half random (mostly back-facing)
-    if (i % 2 == 0) {
-      c.n_x = glm::normalize(to_y + rnd.sphere_direction() * 0.9f);
-      c.n_y = glm::normalize(-to_y + rnd.sphere_direction() * 0.9f);
-    } else {
-      c.n_x = rnd.sphere_direction();
-      c.n_y = rnd.sphere_direction();
-    }
-    // unnormalised normals of any scale, some zero
-    c.n_x *= float(std::pow(10.0, rnd.uniform(-20, 20)));
-    c.n_y *= float(std::pow(10.0, rnd.uniform(-20, 20)));
-    if (i % 50 == 7) c.n_x = vec3<float>(0);
-    if (i % 50 == 13) c.n_y = vec3<float>(0);
-    c.rho_x = rnd.colour(0, 1);
-    c.flux = rnd.colour(0, 10);
-    c.dmin = i % 3 == 0 ? 0.0f : float(rnd.uniform(0, 0.5));
-    c.label = "random " + std::to_string(i);
-    cases.push_back(c);
-  }
+  const std::vector<geometry_case> cases =
+      random_cases<geometry_case>(22, 100000, [](random_source& rnd, int i, geometry_case& c) {
+      c.x = rnd.in_box(5);
+      c.y = rnd.in_box(5);
+      const vec3<float> to_y = glm::normalize(c.y - c.x);
+      // half of the cases face each other (most give G > 0), half random (mostly back-facing)
+      if (i % 2 == 0) {
+        c.n_x = glm::normalize(to_y + rnd.sphere_direction() * 0.9f);
+        c.n_y = glm::normalize(-to_y + rnd.sphere_direction() * 0.9f);
+      } else {
+        c.n_x = rnd.sphere_direction();
+        c.n_y = rnd.sphere_direction();
+      }
+      // unnormalised normals of any scale, some zero
+      c.n_x *= float(std::pow(10.0, rnd.uniform(-20, 20)));
+      c.n_y *= float(std::pow(10.0, rnd.uniform(-20, 20)));
+      if (i % 50 == 7) c.n_x = vec3<float>(0);
+      if (i % 50 == 13) c.n_y = vec3<float>(0);
+      c.rho_x = rnd.colour(0, 1);
+      c.flux = rnd.colour(0, 10);
+      c.dmin = i % 3 == 0 ? 0.0f : float(rnd.uniform(0, 0.5));
+      });
   check_geometry(cases, "geometry (random)");
 }
 
@@ -340,34 +358,27 @@ void check_light_cases(const std::vector<light_case>& cases, const std::string& 
   // the GLSL limit (2.5 ulp) stays inside the bound of 4 ulps.
   VPLKIT_CHECK_PARITY(compare_floats_abs(area, within_ulps(4), describe, what + ": vpl_patch_area"));
   // reflected radiance scaled by rho I / (pi d1^2): the cosine's absolute error (cosine_bound).
-  for (int ch = 0; ch < 3; ++ch) {
-    VPLKIT_CHECK_PARITY(compare_scaled(gl.c[ch], cl.c[ch], sl.c[ch], cosine_bound, describe,
-                                       what + ": reflected_radiance " + channel_name(ch) + " / (rho I / pi d1^2)"));
-  }
+  check_scaled_channels(gl, cl, sl, cosine_bound, describe, what + ": reflected_radiance", "rho I / pi d1^2");
 }
 
 }  // namespace
 
 TEST_CASE("vpl_cos_alpha, vpl_patch_area, reflected_radiance: random and hard cases") {
-  random_source rnd(33);
-  std::vector<light_case> cases;
-  for (int i = 0; i < 100000; ++i) {
-    light_case c;
-    c.c = rnd.in_box(3);
-    c.y = rnd.in_box(5);
-    const vec3<float> to_c = glm::normalize(c.c - c.y);
-    c.n_y = (i % 2 == 0 ? glm::normalize(to_c + rnd.sphere_direction() * 0.9f) : rnd.sphere_direction()) *
-            float(std::pow(10.0, rnd.uniform(-20, 20)));
-    if (i % 50 == 3) c.n_y = vec3<float>(0);
-    c.intensity = rnd.colour(0, 100);
-    c.rho_y = rnd.colour(0, 1);
-    c.omega = float(rnd.uniform(0, 0.05));
-    c.d1 = float(rnd.uniform(0, 20));
-    // cos in [-0.2, 1], a fifth of them around the 1e-6 floor
-    c.cos_in = i % 5 == 0 ? float(rnd.uniform(0, 2e-6)) : float(rnd.uniform(-0.2, 1.0));
-    c.label = "random " + std::to_string(i);
-    cases.push_back(c);
-  }
+  std::vector<light_case> cases =
+      random_cases<light_case>(33, 100000, [](random_source& rnd, int i, light_case& c) {
+      c.c = rnd.in_box(3);
+      c.y = rnd.in_box(5);
+      const vec3<float> to_c = glm::normalize(c.c - c.y);
+      c.n_y = (i % 2 == 0 ? glm::normalize(to_c + rnd.sphere_direction() * 0.9f) : rnd.sphere_direction()) *
+              float(std::pow(10.0, rnd.uniform(-20, 20)));
+      if (i % 50 == 3) c.n_y = vec3<float>(0);
+      c.intensity = rnd.colour(0, 100);
+      c.rho_y = rnd.colour(0, 1);
+      c.omega = float(rnd.uniform(0, 0.05));
+      c.d1 = float(rnd.uniform(0, 20));
+      // cos in [-0.2, 1], a fifth of them around the 1e-6 floor
+      c.cos_in = i % 5 == 0 ? float(rnd.uniform(0, 2e-6)) : float(rnd.uniform(-0.2, 1.0));
+      });
   const vec3<float> I(10, 20, 30), rho(0.5f, 0.25f, 1.0f);
   // light on the surface point (coincident), and approaching it: d1 from 1 to 1e-30
   for (float s : {0.0f, 1.0f, 1000.0f}) {

@@ -66,29 +66,25 @@ std::vector<double> quadrature(const vplkit_test::synthetic_scene<double>& s,
 
 TEST_CASE("builders: GBG weights average to their per-texel integrals, both accumulators",
           "[builders][statistical]") {
-  const vplkit_test::synthetic_scene<double> s;
-  const int R = 6;
-  const auto d = s.make_dprsm(R);
-  const auto view = d.view();
+  const vplkit_test::lit_room<double> room(6);
   // the scene's hand-placed gather points (lit, shadowed, near walls, next to the light, ...)
-  const auto named = s.gather_points();
   vplkit_test::gbuffer_data<double> gb;
-  gb.width = int(named.size());
+  gb.width = int(room.gps.size());
   gb.height = 1;
-  for (const auto& n : named) {
+  for (const auto& n : room.gps) {
     gb.position.push_back(n.gp.position);
     gb.normal.push_back(n.gp.normal);
     gb.albedo.push_back(n.gp.albedo);
   }
   for (auto acc : {vplkit::gbg_accumulator::gathering, vplkit::gbg_accumulator::paper}) {
     INFO("accumulator " << (acc == vplkit::gbg_accumulator::paper ? "paper" : "gathering"));
-    const std::vector<double> q = quadrature(s, gb.view(), view, params(acc, 1, 0u), 384, 768);
+    const std::vector<double> q = quadrature(room.scene, gb.view(), room.view, params(acc, 1, 0u), 384, 768);
     const int K = 48, n_dirs = 256;
     const std::size_t n = q.size();
     std::vector<double> mean(n, 0.0), m2(n, 0.0);
     for (int k = 0; k < K; ++k) {
       const std::vector<double> w = vplkit::build_gbg_weights(
-          gb.view(), view, vplkit_test::exact_tracer<double>{&s}, params(acc, n_dirs, std::uint32_t(1000 + k)));
+          gb.view(), room.view, room.tracer, params(acc, n_dirs, std::uint32_t(1000 + k)));
       for (std::size_t t = 0; t < n; ++t) {
         mean[t] += w[t];
         m2[t] += w[t] * w[t];

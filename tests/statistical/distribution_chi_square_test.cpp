@@ -9,6 +9,7 @@
 #include <vplkit_test_support.hpp>
 #include <weight_generators.hpp>
 
+#include <array>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -41,19 +42,28 @@ void require_fit(const std::vector<std::uint64_t>& counts, const std::vector<dou
   REQUIRE(stat < vplkit_test::chi_square_critical(dof));
 }
 
+// Per-index counts of kSamples draws by two samplers fed the same (u1, u2) pairs of one stream.
+template <class T, class SampleA, class SampleB>
+std::array<std::vector<std::uint64_t>, 2> paired_counts(std::size_t n, unsigned seed, SampleA a, SampleB b) {
+  std::mt19937 rng(seed);
+  std::array<std::vector<std::uint64_t>, 2> counts = {std::vector<std::uint64_t>(n, 0),
+                                                      std::vector<std::uint64_t>(n, 0)};
+  for (std::uint64_t k = 0; k < kSamples; ++k) {
+    const T u1 = u01<T>(rng), u2 = u01<T>(rng);
+    ++counts[0][a(u1, u2)];
+    ++counts[1][b(u1, u2)];
+  }
+  return counts;
+}
+
 }  // namespace
 
 TEMPLATE_TEST_CASE("chi-square: discrete_cdf", "[distribution][statistical]", float, double) {
   using T = TestType;
   const std::vector<T> w = exponential_weights<T>(300, 1u, 0.3);
   const vplkit::discrete_cdf<T> d(w);
-  std::mt19937 rng(101);
-  std::vector<std::uint64_t> guided(w.size(), 0), binary(w.size(), 0);
-  for (std::uint64_t k = 0; k < kSamples; ++k) {
-    const T u = u01<T>(rng);
-    ++guided[d.sample(u).index];
-    ++binary[d.sample_binary_search(u).index];
-  }
+  const auto [guided, binary] = paired_counts<T>(
+      w.size(), 101u, [&](T u, T) { return d.sample(u).index; }, [&](T u, T) { return d.sample_binary_search(u).index; });
   require_fit(guided, normalised(w));
   REQUIRE(binary == guided);
 }
@@ -63,13 +73,9 @@ TEMPLATE_TEST_CASE("chi-square: alias_table with two u and with one u", "[distri
   using T = TestType;
   const std::vector<T> w = exponential_weights<T>(300, 2u, 0.3);
   const vplkit::alias_table<T> a(w);
-  std::mt19937 rng(202);
-  std::vector<std::uint64_t> two(w.size(), 0), one(w.size(), 0);
-  for (std::uint64_t k = 0; k < kSamples; ++k) {
-    const T u1 = u01<T>(rng), u2 = u01<T>(rng);
-    ++two[a.sample(u1, u2).index];
-    ++one[a.sample(u1).index];  // n = 300: 15+ bits left for the fraction
-  }
+  // n = 300: one u leaves 15+ bits for the fraction.
+  const auto [two, one] = paired_counts<T>(
+      w.size(), 202u, [&](T u1, T u2) { return a.sample(u1, u2).index; }, [&](T u1, T) { return a.sample(u1).index; });
   require_fit(two, normalised(w));
   require_fit(one, normalised(w));
 }

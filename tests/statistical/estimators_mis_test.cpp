@@ -26,12 +26,8 @@ constexpr int quad_m = 512;
 }  // namespace
 
 TEST_CASE("MIS as_published is biased, MIS solid_angle is not") {
-  const synthetic_scene<double> scene;
-  const dprsm_data<double> d = scene.make_dprsm(64);
-  const dprsm_view<double> view = d.view();
-  const auto gps = scene.gather_points();
-  const exact_visibility<double> vis{&scene};
-  const exact_tracer<double> tracer{&scene};
+  const lit_room<double> room(64);
+  const auto& [scene, dprsm, view, gps, vis, tracer] = room;
   const discrete_cdf<double> cdf(importance_weights(view, plain_points(gps), 0.02));
   const int runs = 2000, n = 8;  // n_dirs = n_vpls = 8 (the paper: 800 and 800)
   std::printf("MIS, %d runs x (%d dirs + %d VPLs), R = 64; values are luminances\n", runs, n, n);

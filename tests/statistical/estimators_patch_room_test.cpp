@@ -102,12 +102,8 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
 }
 
 TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS between it and gathering") {
-  const synthetic_scene<double> scene;
-  const dprsm_data<double> d = scene.make_dprsm(64);
-  const dprsm_view<double> view = d.view();
-  const auto gps = scene.gather_points();
-  const exact_visibility<double> vis{&scene};
-  const exact_tracer<double> tracer{&scene};
+  const lit_room<double> room(64);
+  const auto& [scene, dprsm, view, gps, vis, tracer] = room;
   const discrete_cdf<double> cdf(importance_weights(view, plain_points(gps), 0.02));
   const int runs = 1000;
   std::printf("room R = 64: VPL sampling (patch, 16 samples) and MIS (patch, 8 + 8), %d runs\n", runs);

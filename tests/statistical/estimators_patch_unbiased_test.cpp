@@ -128,13 +128,7 @@ TEST_CASE("exhaustive patch sum: unbiased for the continuous integral, the point
 
 TEST_CASE("VPL sampling with patch VPLs is unbiased for the continuous integral, with point VPLs for the VPL sum") {
   const fixture& f = fx();
-  const discrete_cdf<double> cdf(f.weights);
-  const alias_table<double> alias(f.weights);
-  const defensive_mixture<double> mix(discrete_cdf<double>(f.weights),
-                                      discrete_cdf<double>(uniform_valid_weights(f.view)), 0.1);
-  const std::size_t face = std::size_t(R) * R;
-  const face_roulette<double> roulette(discrete_cdf<double>(f.weights.data(), face),
-                                       discrete_cdf<double>(f.weights.data() + face, face));
+  const vpl_sampling_distributions<double> dists(f.weights, f.view);
   const int runs = 2000, n = 16;
   std::printf("VPL sampling, %d runs x %d samples, dmin = 0\n", runs, n);
   for (std::size_t i = 0; i < f.gps.size(); ++i) {
@@ -144,12 +138,12 @@ TEST_CASE("VPL sampling with patch VPLs is unbiased for the continuous integral,
         return estimate_vpl_sampling(g.gp, f.view, dist, rng, n, f.vis, 0.0, vpl_mode::patch, inf);
       });
     };
-    const run_stats a = patch(cdf, 111u), b = patch(alias, 112u), c = patch(mix, 113u);
+    const run_stats a = patch(dists.cdf, 111u), b = patch(dists.alias, 112u), c = patch(dists.mix, 113u);
     const run_stats d = repeat_estimates(runs, 114u, [&](counter_rng& rng) {
-      return estimate_vpl_sampling(g.gp, f.view, roulette, rng, n, f.vis, 0.0, vpl_mode::patch, inf);
+      return estimate_vpl_sampling(g.gp, f.view, dists.roulette, rng, n, f.vis, 0.0, vpl_mode::patch, inf);
     });
     const run_stats p = repeat_estimates(runs, 115u, [&](counter_rng& rng) {
-      return estimate_vpl_sampling(g.gp, f.view, cdf, rng, n, f.vis, 0.0);
+      return estimate_vpl_sampling(g.gp, f.view, dists.cdf, rng, n, f.vis, 0.0);
     });
     row("patch discrete_cdf", g.name, a, f.I[i]);
     row("patch alias_table", g.name, b, f.I[i]);

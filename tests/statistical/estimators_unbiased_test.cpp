@@ -61,29 +61,23 @@ void print_row(const char* what, const std::string& gp, const run_stats& r, vec3
 
 TEST_CASE("VPL sampling (discrete_cdf, alias_table, defensive mixture, face roulette) is unbiased for the VPL sum") {
   const fixture& f = fx();
-  const discrete_cdf<double> cdf(f.weights);
-  const alias_table<double> alias(f.weights);
-  const defensive_mixture<double> mix(discrete_cdf<double>(f.weights),
-                                      discrete_cdf<double>(uniform_valid_weights(f.view)), 0.1);
-  const std::size_t face = std::size_t(R) * R;
-  const face_roulette<double> roulette(discrete_cdf<double>(f.weights.data(), face),
-                                       discrete_cdf<double>(f.weights.data() + face, face));
+  const vpl_sampling_distributions<double> dists(f.weights, f.view);
   const int runs = 1000, n = 16;
   std::printf("VPL sampling, %d runs x %d samples, R = %d, exact visibility, dmin = 0\n", runs, n, R);
   for (const auto& g : f.gps) {
     const vec3<double> ref = exhaustive_vpl_sum(g.gp, f.view, f.vis, 0.0);
     REQUIRE(luminance(ref) > 0.0);
     const run_stats a = repeat_estimates(runs, 11u, [&](counter_rng& rng) {
-      return estimate_vpl_sampling(g.gp, f.view, cdf, rng, n, f.vis, 0.0);
+      return estimate_vpl_sampling(g.gp, f.view, dists.cdf, rng, n, f.vis, 0.0);
     });
     const run_stats b = repeat_estimates(runs, 12u, [&](counter_rng& rng) {
-      return estimate_vpl_sampling(g.gp, f.view, alias, rng, n, f.vis, 0.0);
+      return estimate_vpl_sampling(g.gp, f.view, dists.alias, rng, n, f.vis, 0.0);
     });
     const run_stats c = repeat_estimates(runs, 13u, [&](counter_rng& rng) {
-      return estimate_vpl_sampling(g.gp, f.view, mix, rng, n, f.vis, 0.0);
+      return estimate_vpl_sampling(g.gp, f.view, dists.mix, rng, n, f.vis, 0.0);
     });
     const run_stats d = repeat_estimates(runs, 14u, [&](counter_rng& rng) {
-      return estimate_vpl_sampling(g.gp, f.view, roulette, rng, n, f.vis, 0.0);
+      return estimate_vpl_sampling(g.gp, f.view, dists.roulette, rng, n, f.vis, 0.0);
     });
     print_row("discrete_cdf", g.name, a, ref);
     print_row("alias_table", g.name, b, ref);

@@ -17,6 +17,23 @@ bool finite_nonneg(T x) {
   return std::isfinite(x) && x >= T(0);
 }
 
+// A distribution of pmf.size() entries (discrete_cdf, alias_table): its size and total, not
+// empty, pmf(i) == T(pmf[i]) (rel = 0) or within `rel` relative, and 0 one past the end.
+template <class D, class T>
+void require_pmf(const D& d, T total, const std::vector<double>& pmf, double rel) {
+  REQUIRE(d.size() == pmf.size());
+  REQUIRE(d.total() == total);
+  REQUIRE_FALSE(d.empty());
+  for (std::size_t i = 0; i < pmf.size(); ++i) {
+    if (rel == 0.0) {
+      REQUIRE(d.pmf(i) == T(pmf[i]));
+    } else {
+      REQUIRE(d.pmf(i) == Approx(pmf[i]).epsilon(rel));
+    }
+  }
+  REQUIRE(d.pmf(pmf.size()) == T(0));
+}
+
 // n + 1 finite values from exactly 0 to exactly 1, never decreasing, flat over a zero weight, and
 // every pmf finite and non-negative.
 template <class T>

@@ -4,7 +4,11 @@
 // MIS estimators. All in double.
 #include <synthetic_scene.hpp>
 
+#include <vplkit/distribution/alias_table.hpp>
+#include <vplkit/distribution/defensive_mixture.hpp>
+#include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
+#include <vplkit/distribution/face_roulette.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
@@ -184,5 +188,24 @@ inline std::vector<vplkit::gather_point<T>> plain_points(const std::vector<named
   for (const auto& n : named) p.push_back(n.gp);
   return p;
 }
+
+// The four global distributions VPL sampling is tested with, over the same importance weights:
+// discrete_cdf, alias_table, the defensive mixture (eps 0.1, uniform over the valid texels) and
+// the face roulette (one CDF per paraboloid face).
+template <class T>
+struct vpl_sampling_distributions {
+  vplkit::discrete_cdf<T> cdf;
+  vplkit::alias_table<T> alias;
+  vplkit::defensive_mixture<T> mix;
+  vplkit::face_roulette<T> roulette;
+  vpl_sampling_distributions(const std::vector<T>& weights, const vplkit::dprsm_view<T>& view)
+      : cdf(weights), alias(weights),
+        mix(vplkit::discrete_cdf<T>(weights), vplkit::discrete_cdf<T>(uniform_valid_weights(view)), T(0.1)),
+        roulette(vplkit::discrete_cdf<T>(weights.data(), face_texels(view)),
+                 vplkit::discrete_cdf<T>(weights.data() + face_texels(view), face_texels(view))) {}
+  static std::size_t face_texels(const vplkit::dprsm_view<T>& view) {
+    return std::size_t(view.resolution) * std::size_t(view.resolution);
+  }
+};
 
 }  // namespace vplkit_test

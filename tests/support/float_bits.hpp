@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace vplkit_test {
@@ -28,6 +29,14 @@ inline std::vector<std::uint32_t> bits_of(const std::vector<float>& v) {
   std::vector<std::uint32_t> out(v.size());
   for (std::size_t i = 0; i < v.size(); ++i) out[i] = bits_of(v[i]);
   return out;
+}
+
+// Bit-for-bit equality of two values (vectors included): "the same result", NaNs and signed
+// zeros told apart.
+template <class V>
+bool same_bits(const V& a, const V& b) {
+  static_assert(std::is_trivially_copyable<V>::value, "same_bits compares object representations");
+  return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
 inline float float_of(std::uint32_t u) {

@@ -94,12 +94,7 @@ public:
   }
 
   dprsm_data<T> make_dprsm(int R) const {
-    dprsm_data<T> d;
-    d.resolution = R;
-    d.light = light;
-    vplkit::render_dprsm(light, R, [this](vec3<T> o, vec3<T> dir) { return trace_from_light(o, dir); },
-                         d.position, d.normal, d.albedo);
-    return d;
+    return render_dprsm_data(light, R, [this](vec3<T> o, vec3<T> dir) { return trace_from_light(o, dir); });
   }
 
   // Gather points above the floor, normals below the horizon, albedo (0.8, 0.75, 0.7).

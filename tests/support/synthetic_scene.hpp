@@ -74,15 +74,20 @@ struct dprsm_data {
   vplkit::point_light<T> light{};
   std::vector<vec3<T>> position, normal, albedo;
   vplkit::dprsm_view<T> view() const {
-    vplkit::dprsm_view<T> v;
-    v.resolution = resolution;
-    v.position = position.data();
-    v.normal = normal.data();
-    v.albedo = albedo.data();
-    v.light = light;
-    return v;
+    return vplkit::dprsm_view<T>{resolution, position.data(), normal.data(), albedo.data(), light};
   }
 };
+
+// The DPRSM of `light` at resolution R, each texel's point found by trace(origin, direction) (an
+// optional dprsm_hit: nothing seen when empty).
+template <class T, class Trace>
+dprsm_data<T> render_dprsm_data(const vplkit::point_light<T>& light, int R, Trace&& trace) {
+  dprsm_data<T> d;
+  d.resolution = R;
+  d.light = light;
+  vplkit::render_dprsm(light, R, trace, d.position, d.normal, d.albedo);
+  return d;
+}
 
 // Row-major w x h G-buffer of a pinhole camera (owns the arrays; view() as for dprsm_data).
 // Every pixel of the closed room hits a surface; set a pixel's normal to 0 to make background.
@@ -209,12 +214,7 @@ public:
   }
 
   dprsm_data<T> make_dprsm(int R) const {
-    dprsm_data<T> d;
-    d.resolution = R;
-    d.light = light;
-    vplkit::render_dprsm(light, R, [this](vec3<T> o, vec3<T> dir) { return trace_from_light(o, dir); },
-                         d.position, d.normal, d.albedo);
-    return d;
+    return render_dprsm_data(light, R, [this](vec3<T> o, vec3<T> dir) { return trace_from_light(o, dir); });
   }
 
   vplkit::voxel_grid<T> make_voxel_grid(int res = 32) const {
@@ -343,6 +343,13 @@ struct lit_room {
   explicit lit_room(int R) : d(scene.make_dprsm(R)), view(d.view()) {}
   lit_room(const lit_room&) = delete;
   lit_room& operator=(const lit_room&) = delete;
+};
+
+// lit_room with a w x h G-buffer of it: what a builder test starts from.
+template <class T>
+struct lit_room_gbuffer : lit_room<T> {
+  gbuffer_data<T> gb;
+  lit_room_gbuffer(int R, int w, int h) : lit_room<T>(R), gb(this->scene.make_gbuffer(w, h)) {}
 };
 
 }  // namespace vplkit_test

@@ -39,16 +39,12 @@ vplkit::gbg_params<T> params(int n_dirs, vplkit::gbg_accumulator acc, bool fill,
 TEMPLATE_TEST_CASE("builders: GBG weight lands only on valid texels that carry a VPL",
                    "[builders]", float, double) {
   using T = TestType;
-  const vplkit_test::synthetic_scene<T> s;
   const int R = 16;
-  const auto d = s.make_dprsm(R);
-  const auto view = d.view();
-  const auto gb = s.make_gbuffer(12, 12);
-  const vplkit_test::exact_tracer<T> tracer{&s};
+  const vplkit_test::lit_room_gbuffer<T> room(R, 12, 12);
   for (auto acc : {vplkit::gbg_accumulator::paper, vplkit::gbg_accumulator::gathering}) {
     vplkit::gbg_stats st;
     const std::vector<T> w =
-        vplkit::build_gbg_weights(gb.view(), view, tracer, params<T>(16, acc, false), &st);
+        vplkit::build_gbg_weights(room.gb.view(), room.view, room.tracer, params<T>(16, acc, false), &st);
     REQUIRE(st.gather_points == 144);
     REQUIRE(st.rays == 144 * 16);
     REQUIRE(st.hits == st.rays);  // closed room: every ray hits
@@ -56,18 +52,18 @@ TEMPLATE_TEST_CASE("builders: GBG weight lands only on valid texels that carry a
     REQUIRE(st.lit_hits < st.rays);  // the block's shadow and the unlit faces catch some rays
     REQUIRE(st.filled == 0);
     int reached = 0, carriers = 0;
-    for (int t = 0; t < view.texel_count(); ++t) {
-      const bool carries = vplkit::vpl_has_flux(view.vpl_at(t));
+    for (int t = 0; t < room.view.texel_count(); ++t) {
+      const bool carries = vplkit::vpl_has_flux(room.view.vpl_at(t));
       carriers += carries;
       const T wt = w[std::size_t(t)];
       REQUIRE(std::isfinite(wt));
       REQUIRE(wt >= T(0));
       if (wt > T(0)) {
         ++reached;
-        REQUIRE(view.texel_valid(t));
+        REQUIRE(room.view.texel_valid(t));
         REQUIRE(carries);
         // the texel's surface point is lit (exact shadow ray from the VPL to the light)
-        REQUIRE(s.lit(view.position[t], view.normal[t]));
+        REQUIRE(room.scene.lit(room.view.position[t], room.view.normal[t]));
       }
     }
     REQUIRE(reached == st.reached_texels);
@@ -182,24 +178,20 @@ TEST_CASE("builders: GBG built from partials over pixel ranges equals the serial
 TEMPLATE_TEST_CASE("builders: GBG hole filling fills only texels that carry a VPL", "[builders]",
                    float, double) {
   using T = TestType;
-  const vplkit_test::synthetic_scene<T> s;
   const int R = 24;
-  const auto d = s.make_dprsm(R);
-  const auto view = d.view();
-  const auto gb = s.make_gbuffer(8, 8);
-  const vplkit_test::exact_tracer<T> tr{&s};
+  const vplkit_test::lit_room_gbuffer<T> room(R, 8, 8);
   vplkit::gbg_stats raw_stats, filled_stats;
   const auto raw = vplkit::build_gbg_weights(
-      gb.view(), view, tr, params<T>(8, vplkit::gbg_accumulator::gathering, false), &raw_stats);
+      room.gb.view(), room.view, room.tracer, params<T>(8, vplkit::gbg_accumulator::gathering, false), &raw_stats);
   const auto filled = vplkit::build_gbg_weights(
-      gb.view(), view, tr, params<T>(8, vplkit::gbg_accumulator::gathering, true), &filled_stats);
+      room.gb.view(), room.view, room.tracer, params<T>(8, vplkit::gbg_accumulator::gathering, true), &filled_stats);
   REQUIRE(raw_stats.holes > 100);  // sparse: 512 rays over ~900 VPL texels
   REQUIRE(filled_stats.filled > 0);
   REQUIRE(filled_stats.filled <= filled_stats.holes);
   int filled_count = 0;
-  for (int t = 0; t < view.texel_count(); ++t) {
+  for (int t = 0; t < room.view.texel_count(); ++t) {
     const std::size_t i = std::size_t(t);
-    const bool carries = vplkit::vpl_has_flux(view.vpl_at(t));
+    const bool carries = vplkit::vpl_has_flux(room.view.vpl_at(t));
     if (raw[i] != T(0)) {
       REQUIRE(filled[i] == raw[i]);  // reached texels are never changed
     } else if (!carries) {
@@ -223,10 +215,10 @@ TEMPLATE_TEST_CASE("builders: GBG hole filling fills only texels that carry a VP
   REQUIRE(filled_count == filled_stats.filled);
   // the fill as a separate step gives the same array
   std::vector<T> again(raw.size(), T(-1));
-  REQUIRE(vplkit::gbg_fill_holes(raw.data(), again.data(), view) == filled_stats.filled);
+  REQUIRE(vplkit::gbg_fill_holes(raw.data(), again.data(), room.view) == filled_stats.filled);
   REQUIRE(again == filled);
-  REQUIRE(vplkit::gbg_fill_holes(raw, view) == filled);
-  CHECK_THROWS_AS(vplkit::gbg_fill_holes(raw.data(), const_cast<T*>(raw.data()), view),
+  REQUIRE(vplkit::gbg_fill_holes(raw, room.view) == filled);
+  CHECK_THROWS_AS(vplkit::gbg_fill_holes(raw.data(), const_cast<T*>(raw.data()), room.view),
                   vplkit::invalid_input);
 }
 
@@ -280,24 +272,20 @@ TEST_CASE("builders: GBG gathering weights correlate with the exhaustive contrib
   // Exhaustive per-texel weight with exact visibility over ALL gather points,
   //   E_t = (1/|G|) sum_x V(x, y_t) luminance(L_t(x)),
   // is what the gathering accumulator estimates (as texels shrink). Compare after normalising.
-  const vplkit_test::synthetic_scene<double> s;
   const int R = 16;
-  const auto d = s.make_dprsm(R);
-  const auto view = d.view();
-  const auto gb = s.make_gbuffer(16, 16);
-  const vplkit_test::exact_tracer<double> tr{&s};
+  const vplkit_test::lit_room_gbuffer<double> room(R, 16, 16);
   const double dmin = 0.2;  // keeps near-contact VPLs from dominating the comparison
-  std::vector<double> exhaustive(std::size_t(view.texel_count()), 0.0);
+  std::vector<double> exhaustive(std::size_t(room.view.texel_count()), 0.0);
   int G = 0;
-  for (int p = 0; p < gb.view().pixel_count(); ++p) {
-    const auto g = gb.view().at(p);
+  for (int p = 0; p < room.gb.view().pixel_count(); ++p) {
+    const auto g = room.gb.view().at(p);
     if (!vplkit::gather_point_valid(g)) continue;
     ++G;
-    for (int t = 0; t < view.texel_count(); ++t) {
-      const auto v = view.vpl_at(t);
+    for (int t = 0; t < room.view.texel_count(); ++t) {
+      const auto v = room.view.vpl_at(t);
       if (!vplkit::vpl_has_flux(v)) continue;
       const double c = vplkit::luminance(vplkit::vpl_contribution(g.position, g.normal, g.albedo, v, dmin));
-      if (c > 0 && s.visible(g.position, g.normal, v.position, v.normal)) exhaustive[std::size_t(t)] += c;
+      if (c > 0 && room.scene.visible(g.position, g.normal, v.position, v.normal)) exhaustive[std::size_t(t)] += c;
     }
   }
   for (double& e : exhaustive) e /= G;
@@ -310,9 +298,9 @@ TEST_CASE("builders: GBG gathering weights correlate with the exhaustive contrib
   };
   const auto ex = normalised(exhaustive);
   const auto gath = normalised(vplkit::build_gbg_weights(
-      gb.view(), view, tr, params<double>(256, vplkit::gbg_accumulator::gathering, true)));
+      room.gb.view(), room.view, room.tracer, params<double>(256, vplkit::gbg_accumulator::gathering, true)));
   const auto paper = normalised(vplkit::build_gbg_weights(
-      gb.view(), view, tr, params<double>(256, vplkit::gbg_accumulator::paper, true)));
+      room.gb.view(), room.view, room.tracer, params<double>(256, vplkit::gbg_accumulator::paper, true)));
   const double r_gath = vplkit_test::pearson_correlation(gath, ex), r_paper = vplkit_test::pearson_correlation(paper, ex);
   // face totals (what the face roulette uses) agree too
   double front_ex = 0, front_g = 0;

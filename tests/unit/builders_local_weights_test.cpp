@@ -94,30 +94,28 @@ TEST_CASE("builders: local subsets lie in their region and are deterministic", "
 TEMPLATE_TEST_CASE("builders: local weights are the global weights of each region's subset",
                    "[builders]", float, double) {
   using T = TestType;
-  const vplkit_test::synthetic_scene<T> s;
-  const auto d = s.make_dprsm(8);
-  const auto gb = s.make_gbuffer(15, 11);
+  const vplkit_test::lit_room_gbuffer<T> room(8, 15, 11);
   const vplkit::image_regions regions(15, 11);  // 2 x 2
-  const std::vector<T> flat = vplkit::build_local_weights(gb.view(), regions, 6, 3u, d.view(), T(0.1));
-  const std::size_t per = std::size_t(d.view().texel_count());
+  const std::vector<T> flat = vplkit::build_local_weights(room.gb.view(), regions, 6, 3u, room.view, T(0.1));
+  const std::size_t per = std::size_t(room.view.texel_count());
   REQUIRE(flat.size() == 4 * per);
-  const auto subsets = vplkit::local_gather_subsets(gb.view(), regions, 6, 3u);
+  const auto subsets = vplkit::local_gather_subsets(room.gb.view(), regions, 6, 3u);
   std::vector<int> used(4, -1);
   std::vector<T> flat2(flat.size(), T(-1));
-  vplkit::build_local_weights(gb.view(), regions, subsets, d.view(), T(0.1), flat2.data(),
+  vplkit::build_local_weights(room.gb.view(), regions, subsets, room.view, T(0.1), flat2.data(),
                               flat2.size(), used.data());
   REQUIRE(flat2 == flat);
   for (int i = 0; i < 4; ++i) {
     REQUIRE(used[std::size_t(i)] == 6);
     const std::vector<T> g =
-        vplkit::build_global_weights(gb.view(), subsets[std::size_t(i)], d.view(), T(0.1));
+        vplkit::build_global_weights(room.gb.view(), subsets[std::size_t(i)], room.view, T(0.1));
     REQUIRE(std::equal(g.begin(), g.end(), flat.begin() + std::ptrdiff_t(i * per)));
   }
   // the regions see the scene differently: their weight arrays differ
   REQUIRE(!std::equal(flat.begin(), flat.begin() + std::ptrdiff_t(per),
                       flat.begin() + std::ptrdiff_t(per)));
   // one distribution per region
-  const auto dists = vplkit::make_local_vpl_distributions(flat, 4, d.view(), T(0.1));
+  const auto dists = vplkit::make_local_vpl_distributions(flat, 4, room.view, T(0.1));
   REQUIRE(dists.size() == 4);
   for (const auto& m : dists) {
     REQUIRE(!m.empty());

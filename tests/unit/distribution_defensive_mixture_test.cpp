@@ -26,6 +26,14 @@ void make_inputs(std::vector<T>* learned, std::vector<T>* valid, std::size_t n, 
   }
 }
 
+// The mixture with weight eps on the valid-texel fallback of make_inputs(n, seed).
+template <class T>
+vplkit::defensive_mixture<T> make_mixture(std::size_t n, unsigned seed, T eps) {
+  std::vector<T> lw, vw;
+  make_inputs<T>(&lw, &vw, n, seed);
+  return vplkit::defensive_mixture<T>(vplkit::discrete_cdf<T>(lw), vplkit::discrete_cdf<T>(vw), eps);
+}
+
 }  // namespace
 
 TEMPLATE_TEST_CASE("defensive_mixture: eps is validated", "[distribution]", float, double) {
@@ -148,10 +156,7 @@ TEMPLATE_TEST_CASE("defensive_mixture: an empty component hands all mass to the 
 TEMPLATE_TEST_CASE("defensive_mixture: the fraction of the unit interval mapping to i is pmf(i)",
                    "[distribution]", float, double) {
   using T = TestType;
-  std::vector<T> lw, vw;
-  make_inputs<T>(&lw, &vw, 50, 6u);
-  const vplkit::defensive_mixture<T> m(vplkit::discrete_cdf<T>(lw), vplkit::discrete_cdf<T>(vw),
-                                       T(0.3));
+  const vplkit::defensive_mixture<T> m = make_mixture<T>(50, 6u, T(0.3));
   // Stratified sweep: each stratum-centred u counts 1 / N; monotone in u within each
   // component, so every index is off by at most one stratum per component boundary.
   const std::size_t N = 1 << 20;

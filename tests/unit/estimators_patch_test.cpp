@@ -7,6 +7,7 @@
 //    ranges gives the same terms, and the stream's counter shifts them texel by texel;
 //  - vpl_mode::point is the default and leaves every estimator as it was (n_dirs = 0 MIS is VPL
 //    sampling with dmin = 0 in both modes).
+#include <estimator_splits.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/builders/vpl_distribution.hpp>
@@ -19,7 +20,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <vector>
 
 using namespace vplkit;
@@ -27,49 +27,18 @@ using namespace vplkit_test;
 
 namespace {
 
+// The first CDF wobbles around the flux, the second has holes at every fourth texel.
 template <class T>
-bool same_bits(vec3<T> a, vec3<T> b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-template <class T>
-struct patch_fixture {
-  synthetic_scene<T> scene;
-  dprsm_data<T> d = scene.make_dprsm(16);
-  dprsm_view<T> view = d.view();
-  std::vector<named_gather_point<T>> gps = scene.gather_points();
-  exact_visibility<T> vis{&scene};
-  exact_tracer<T> tracer{&scene};
-  std::vector<defensive_mixture<T>> dists;
-  patch_fixture() {
-    const std::size_t n = std::size_t(view.texel_count());
-    std::vector<T> flat(2 * n);
-    for (std::size_t t = 0; t < n; ++t) {
-      const T lum = luminance(view.vpl_at(int(t)).flux);
-      flat[t] = lum * (T(1) + T(0.5) * std::cos(T(0.3) * T(t)));
-      flat[n + t] = t % 4 == 1 ? T(0) : lum;
-    }
-    dists = make_local_vpl_distributions(flat, 2, view, T(0.1));
-  }
+struct patch_fixture : room_with_local_dists<T> {
+  static T first(std::size_t t, T lum) { return lum * (T(1) + T(0.5) * std::cos(T(0.3) * T(t))); }
+  static T second(std::size_t t, T lum) { return t % 4 == 1 ? T(0) : lum; }
+  patch_fixture() : room_with_local_dists<T>(16, first, second) {}
 };
 
-// One estimate split at every cut of [0, n) (one piece, one per sample, uneven with empty
-// pieces) against the one-shot: same bits, same counter.
+// Each estimate from the stream (23, 9), cut into one range, one per sample, and uneven pieces.
 template <class T, class OneShot, class Range, class Finish>
 void check_cuts(int n, OneShot&& one_shot, Range&& range, Finish&& finish) {
-  counter_rng rng = make_counter_rng(23u, 9u);
-  const vec3<T> expected = one_shot(rng);
-  std::vector<std::vector<int>> cuts = {{0, n}, {0, 0, n / 2, n / 2, n}};
-  std::vector<int> each;
-  for (int k = 0; k <= n; ++k) each.push_back(k);
-  cuts.push_back(each);
-  for (const auto& cut : cuts) {
-    estimator_state<T> state = make_estimator_state<T>(make_counter_rng(23u, 9u));
-    for (std::size_t k = 0; k + 1 < cut.size(); ++k) range(state, cut[k], cut[k + 1]);
-    INFO("pieces " << cut.size() - 1);
-    CHECK(same_bits(finish(state), expected));
-    CHECK(state.rng.counter == rng.counter);
-  }
+  check_splits<T>(make_counter_rng(23u, 9u), cuts_of(n, {0, 0, n / 2, n / 2, n}), one_shot, range, finish);
 }
 
 }  // namespace
@@ -78,8 +47,8 @@ TEMPLATE_TEST_CASE("patch estimators: three numbers per VPL sample, replayed by 
                    float, double) {
   using T = TestType;
   const patch_fixture<T> f;
-  const auto& dist = f.dists.front();
   const T tol = T(0.3), dmin = T(0);
+  const auto& dist = f.dists.front();
   for (const auto& g : f.gps) {
     INFO(g.name);
     const gather_point<T>& gp = g.gp;
@@ -139,9 +108,9 @@ TEMPLATE_TEST_CASE("patch estimators: ranges of samples give the one-shot estima
                    float, double) {
   using T = TestType;
   const patch_fixture<T> f;
+  const vpl_mode P = vpl_mode::patch;
   const auto& dist = f.dists.front();
   const T tol = T(0.3), dmin = T(0.02);
-  const vpl_mode P = vpl_mode::patch;
   for (const auto& g : f.gps) {
     INFO(g.name);
     const gather_point<T>& gp = g.gp;
@@ -161,20 +130,17 @@ TEMPLATE_TEST_CASE("patch estimators: ranges of samples give the one-shot estima
             estimate_local_range(gp, f.view, f.dists.data(), 2, s, b, e, f.vis, dmin, comb, P, tol);
           },
           [&](const estimator_state<T>& s) { return estimate_local_finish(s, 5); });
-    for (const mis_mode mode : {mis_mode::solid_angle, mis_mode::as_published})
-      for (const auto& counts : {std::vector<int>{6, 4}, std::vector<int>{2, 7}, std::vector<int>{0, 5}}) {
-        const int n_dirs = counts[0], n_vpls = counts[1];
-        INFO("MIS mode " << int(mode) << ", " << n_dirs << " directions, " << n_vpls << " VPLs");
-        check_cuts<T>(
-            std::max(n_dirs, n_vpls),
-            [&](counter_rng& rng) {
-              return estimate_mis(gp, f.view, dist, rng, n_dirs, n_vpls, f.tracer, f.vis, tol, mode, P);
-            },
-            [&](estimator_state<T>& s, int b, int e) {
-              estimate_mis_range(gp, f.view, dist, s, b, e, n_dirs, n_vpls, f.tracer, f.vis, tol, mode, P);
-            },
-            [&](const estimator_state<T>& s) { return estimate_mis_finish(s, n_dirs, n_vpls, mode); });
-      }
+    for_each_mis_case({{6, 4}, {2, 7}, {0, 5}}, [&](mis_mode mode, int n_dirs, int n_vpls) {
+      check_cuts<T>(
+          std::max(n_dirs, n_vpls),
+          [&](counter_rng& rng) {
+            return estimate_mis(gp, f.view, dist, rng, n_dirs, n_vpls, f.tracer, f.vis, tol, mode, P);
+          },
+          [&](estimator_state<T>& s, int b, int e) {
+            estimate_mis_range(gp, f.view, dist, s, b, e, n_dirs, n_vpls, f.tracer, f.vis, tol, mode, P);
+          },
+          [&](const estimator_state<T>& s) { return estimate_mis_finish(s, n_dirs, n_vpls, mode); });
+    });
   }
   // Background: nothing added, nothing drawn.
   gather_point<T> background = f.gps.front().gp;

@@ -3,6 +3,7 @@
 // bit for bit and leaves the random-number stream where the one-shot leaves it, however [0, n) is
 // cut. This is what lets a GPU kernel split an estimate over passes (examples/vplrender's
 // estimate.comp) and still match the CPU backend.
+#include <estimator_splits.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/builders/vpl_distribution.hpp>
@@ -17,7 +18,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <vector>
 
 using namespace vplkit;
@@ -25,51 +25,20 @@ using namespace vplkit_test;
 
 namespace {
 
-template <class T>
-struct fixture : lit_room<T> {
-  std::vector<defensive_mixture<T>> dists;
-  fixture() : lit_room<T>(16) {
-    const dprsm_view<T>& view = this->view;
-    const std::size_t n = std::size_t(view.texel_count());
-    std::vector<T> flat(2 * n);
-    for (std::size_t t = 0; t < n; ++t) {
-      const T lum = luminance(view.vpl_at(int(t)).flux);
-      flat[t] = lum * (T(1) + T(0.5) * std::sin(T(0.1) * T(t)));
-      flat[n + t] = t % 3 == 0 ? T(0) : lum;  // holes: the mixture's fallback matters
-    }
-    dists = make_local_vpl_distributions(flat, 2, view, T(0.1));
-  }
-};
-
-// Cuts of [0, n): one range, every sample its own range, and uneven pieces (empty ones included).
-std::vector<std::vector<int>> cuts_of(int n) {
-  std::vector<std::vector<int>> cuts = {{0, n}};
-  std::vector<int> each;
-  for (int k = 0; k <= n; ++k) each.push_back(k);
-  cuts.push_back(each);
-  cuts.push_back({0, 0, n / 3, n / 3, n - 1, n});
-  return cuts;
-}
-
-template <class T>
-bool same_bits(vec3<T> a, vec3<T> b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-// Runs `range(state, begin, end)` over each cut and checks the finished estimate and the stream
-// against the one-shot's.
+// Each estimate from the stream (17, 3), cut into one range, one per sample, and uneven pieces.
 template <class T, class OneShot, class Range, class Finish>
 void check_splits(int n, OneShot&& one_shot, Range&& range, Finish&& finish) {
-  counter_rng rng = make_counter_rng(17u, 3u);
-  const vec3<T> expected = one_shot(rng);
-  for (const std::vector<int>& cut : cuts_of(n)) {
-    estimator_state<T> state = make_estimator_state<T>(make_counter_rng(17u, 3u));
-    for (std::size_t k = 0; k + 1 < cut.size(); ++k) range(state, cut[k], cut[k + 1]);
-    INFO("pieces " << cut.size() - 1);
-    CHECK(same_bits(finish(state), expected));
-    CHECK(state.rng.counter == rng.counter);
-  }
+  vplkit_test::check_splits<T>(make_counter_rng(17u, 3u), cuts_of(n, {0, 0, n / 3, n / 3, n - 1, n}), one_shot, range,
+                               finish);
 }
+
+template <class T>
+struct fixture : room_with_local_dists<T> {
+  fixture()
+      : room_with_local_dists<T>(
+            16, [](std::size_t t, T lum) { return lum * (T(1) + T(0.5) * std::sin(T(0.1) * T(t))); },
+            [](std::size_t t, T lum) { return t % 3 == 0 ? T(0) : lum; }) {}
+};
 
 }  // namespace
 
@@ -113,20 +82,17 @@ TEMPLATE_TEST_CASE("estimators: ranges of samples give the one-shot estimate bit
           [&](estimator_state<T>& s, int b, int e) { estimate_gathering_range(gp, f.view, s, b, e, f.tracer, tol); },
           [&](const estimator_state<T>& s) { return estimate_gathering_finish(s, n); });
     }
-    for (const mis_mode mode : {mis_mode::solid_angle, mis_mode::as_published})
-      for (const auto& counts : {std::vector<int>{6, 4}, std::vector<int>{3, 8}, std::vector<int>{0, 5}}) {
-        const int n_dirs = counts[0], n_vpls = counts[1];
-        INFO("MIS, mode " << int(mode) << ", " << n_dirs << " directions, " << n_vpls << " VPLs");
-        check_splits<T>(
-            std::max(n_dirs, n_vpls),
-            [&](counter_rng& rng) {
-              return estimate_mis(gp, f.view, dist, rng, n_dirs, n_vpls, f.tracer, f.vis, tol, mode);
-            },
-            [&](estimator_state<T>& s, int b, int e) {
-              estimate_mis_range(gp, f.view, dist, s, b, e, n_dirs, n_vpls, f.tracer, f.vis, tol, mode);
-            },
-            [&](const estimator_state<T>& s) { return estimate_mis_finish(s, n_dirs, n_vpls, mode); });
-      }
+    for_each_mis_case({{6, 4}, {3, 8}, {0, 5}}, [&](mis_mode mode, int n_dirs, int n_vpls) {
+      check_splits<T>(
+          std::max(n_dirs, n_vpls),
+          [&](counter_rng& rng) {
+            return estimate_mis(gp, f.view, dist, rng, n_dirs, n_vpls, f.tracer, f.vis, tol, mode);
+          },
+          [&](estimator_state<T>& s, int b, int e) {
+            estimate_mis_range(gp, f.view, dist, s, b, e, n_dirs, n_vpls, f.tracer, f.vis, tol, mode);
+          },
+          [&](const estimator_state<T>& s) { return estimate_mis_finish(s, n_dirs, n_vpls, mode); });
+    });
     {
       INFO("exhaustive sum");
       const vec3<T> expected = exhaustive_vpl_sum(gp, f.view, f.vis, dmin);

@@ -18,6 +18,18 @@ using vplkit::glsl::resolve_includes;
 
 namespace {
 
+// What resolve_includes(source, name, dirs) throws; fails the test case when it throws nothing.
+std::string include_error_of(const std::string& source, const std::string& name,
+                             const std::vector<std::string>& dirs) {
+  try {
+    resolve_includes(source, name, dirs);
+  } catch (const include_error& e) {
+    return e.what();
+  }
+  FAIL("no exception");
+  return {};
+}
+
 // A temporary tree, removed at the end of the test case.
 struct temp_tree {
   fs::path root;
@@ -134,11 +146,9 @@ TEST_CASE("include_resolver: a shader without #version gets the preamble first")
 TEST_CASE("include_resolver: missing file names the includer and line") {
   temp_tree t;
   t.write("inc/vplkit/a.glsl", "int a;\n\n#include \"vplkit/missing.glsl\"\n");
-  try {
-    resolve_includes("#version 430\n#include \"vplkit/a.glsl\"\n", "s.comp", {t.dir("inc")});
-    FAIL("no exception");
-  } catch (const include_error& e) {
-    const std::string what = e.what();
+  {
+    const std::string what =
+        include_error_of("#version 430\n#include \"vplkit/a.glsl\"\n", "s.comp", {t.dir("inc")});
     INFO(what);
     CHECK(what.find("\"vplkit/missing.glsl\"") != std::string::npos);
     CHECK(what.find("a.glsl:3") != std::string::npos);
@@ -155,11 +165,8 @@ TEST_CASE("include_resolver: include cycles are errors") {
   temp_tree t;
   t.write("inc/a.glsl", "#include \"b.glsl\"\n");
   t.write("inc/b.glsl", "int b;\n#include \"a.glsl\"\n");
-  try {
-    resolve_includes("#include \"a.glsl\"\n", "s.comp", {t.dir("inc")});
-    FAIL("no exception");
-  } catch (const include_error& e) {
-    const std::string what = e.what();
+  {
+    const std::string what = include_error_of("#include \"a.glsl\"\n", "s.comp", {t.dir("inc")});
     INFO(what);
     CHECK(what.find("include cycle") != std::string::npos);
     CHECK(what.find("b.glsl:2") != std::string::npos);

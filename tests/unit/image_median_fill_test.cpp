@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -36,6 +37,14 @@ std::vector<T> reference_fill(const std::vector<T>& in, int w, int h, F fillable
 template <class T>
 bool same_bits(T a, T b) {
   return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// The centre of a 3x3 image after the fill (every texel fillable).
+template <class T>
+T filled_centre(const std::array<T, 9>& in) {
+  std::array<T, 9> out{};
+  vplkit::median_fill(in.data(), out.data(), 3, 3, [](int, int) { return true; });
+  return out[4];
 }
 
 template <class T>
@@ -94,26 +103,11 @@ TEST_CASE("median fill takes the lower median for an even neighbour count", "[im
     REQUIRE(out[1] == 3.0f);
   }
   // 3x3 image: hole in the centre, neighbours 1, 2, 3, 4 (the rest holes) -> 2.
-  {
-    const double in[9] = {4, 0, 1, 0, 0, 0, 3, 0, 2};
-    double out[9];
-    vplkit::median_fill(in, out, 3, 3, all);
-    REQUIRE(out[4] == 2.0);
-  }
+  REQUIRE(filled_centre<double>({4, 0, 1, 0, 0, 0, 3, 0, 2}) == 2.0);
   // Odd count: neighbours 9, 1, 5 -> 5.
-  {
-    const double in[9] = {9, 0, 0, 0, 0, 1, 0, 5, 0};
-    double out[9];
-    vplkit::median_fill(in, out, 3, 3, all);
-    REQUIRE(out[4] == 5.0);
-  }
+  REQUIRE(filled_centre<double>({9, 0, 0, 0, 0, 1, 0, 5, 0}) == 5.0);
   // Eight neighbours 1..8 -> element (8-1)/2 = 3 of the sorted list: 4.
-  {
-    const float in[9] = {8, 1, 7, 2, 0, 6, 3, 5, 4};
-    float out[9];
-    vplkit::median_fill(in, out, 3, 3, all);
-    REQUIRE(out[4] == 4.0f);
-  }
+  REQUIRE(filled_centre<float>({8, 1, 7, 2, 0, 6, 3, 5, 4}) == 4.0f);
 }
 
 TEST_CASE("median fill is one pass: filled values do not feed other fills", "[image]") {

@@ -2,6 +2,8 @@
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxelize.hpp>
 
+#include <voxel_cells.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -32,17 +34,6 @@ std::vector<ivec3> brute_force_voxels(const vplkit::voxel_grid<T>& g, vplkit::ve
 }
 
 template <class T>
-std::vector<ivec3> marked(const vplkit::voxel_grid<T>& g) {
-  std::vector<ivec3> out;
-  const ivec3 r = g.resolution();
-  for (int z = 0; z < r.z; ++z)
-    for (int y = 0; y < r.y; ++y)
-      for (int x = 0; x < r.x; ++x)
-        if (g.test(ivec3(x, y, z))) out.push_back(ivec3(x, y, z));
-  return out;
-}
-
-template <class T>
 void single_triangles_match_brute_force(std::uint32_t seed) {
   using v3 = vplkit::vec3<T>;
   std::mt19937 rng(seed);
@@ -60,7 +51,7 @@ void single_triangles_match_brute_force(std::uint32_t seed) {
     for (double margin : {0.0, vplkit::voxelize_default_margin}) {
       vplkit::voxel_grid<T> g(bmin, bmax, res);
       vplkit::voxelize(g, p, 3, idx, 3, margin);
-      const std::vector<ivec3> got = marked(g), expected = brute_force_voxels(g, p[0], p[1], p[2], margin);
+      const std::vector<ivec3> got = vplkit_test::occupied_voxels(g), expected = brute_force_voxels(g, p[0], p[1], p[2], margin);
       INFO("trial " << trial << " margin " << margin);
       REQUIRE(got == expected);
       total_marked += int(got.size());

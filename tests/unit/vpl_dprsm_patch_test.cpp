@@ -5,6 +5,7 @@
 //  - The texels' domains (uv square inside the disk) tile the face: the pointwise solid angles of
 //    the valid texels plus those of the invalid texels' parts inside the disk add up to 2 pi.
 //  - The depth window is dprsm_lookup's: an accepted point is what the lookup calls lit.
+#include <float_bits.hpp>
 #include <planar_scene.hpp>
 #include <synthetic_scene.hpp>
 
@@ -15,20 +16,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 using namespace vplkit;
 using namespace vplkit_test;
-
-namespace {
-
-template <class T>
-bool same_bits(vec3<T> a, vec3<T> b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-}  // namespace
 
 TEMPLATE_TEST_CASE("dprsm_patch_vpl: the texel centre is the point VPL", "[vpl]", float, double) {
   using T = TestType;

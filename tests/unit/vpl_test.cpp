@@ -18,6 +18,23 @@ vec3<T> random_unit(std::mt19937_64& rng) {
   const vec3<double> v(n(rng), n(rng), n(rng));
   return vec3<T>(v / glm::length(v));
 }
+
+// Two points uniform in [-half, half]^3 and a random unit normal at each, drawn in that order.
+template <class T>
+struct oriented_pair {
+  vec3<T> x, nx, y, ny;
+};
+
+template <class T>
+oriented_pair<T> random_oriented_pair(std::mt19937_64& rng, double half) {
+  std::uniform_real_distribution<double> u(-half, half);
+  oriented_pair<T> p;
+  for (int k = 0; k < 3; ++k) p.x[k] = T(u(rng));
+  for (int k = 0; k < 3; ++k) p.y[k] = T(u(rng));
+  p.nx = random_unit<T>(rng);
+  p.ny = random_unit<T>(rng);
+  return p;
+}
 }  // namespace
 
 TEMPLATE_TEST_CASE("vpl: luminance uses the eq. 6 weights", "[vpl]", float, double) {
@@ -65,11 +82,9 @@ TEMPLATE_TEST_CASE("vpl: contribution matches a hand-computed configuration", "[
 TEMPLATE_TEST_CASE("vpl: geometry term is symmetric in the two points", "[vpl]", float, double) {
   using T = TestType;
   std::mt19937_64 rng(31);
-  std::uniform_real_distribution<double> u(-2.0, 2.0);
   int nonzero = 0;
   for (int i = 0; i < 20000; ++i) {
-    const vec3<T> x(T(u(rng)), T(u(rng)), T(u(rng))), y(T(u(rng)), T(u(rng)), T(u(rng)));
-    const vec3<T> nx = random_unit<T>(rng), ny = random_unit<T>(rng);
+    const auto [x, nx, y, ny] = random_oriented_pair<T>(rng, 2.0);
     const T dmin = T(i % 2 == 0 ? 0.0 : 0.3);
     const T a = vplkit::vpl_geometry_term(x, nx, y, ny, dmin);
     const T b = vplkit::vpl_geometry_term(y, ny, x, nx, dmin);
@@ -98,10 +113,8 @@ TEMPLATE_TEST_CASE("vpl: normals of any length give the same contribution", "[vp
                    double) {
   using T = TestType;
   std::mt19937_64 rng(32);
-  std::uniform_real_distribution<double> u(-2.0, 2.0);
   for (int i = 0; i < 2000; ++i) {
-    const vec3<T> x(T(u(rng)), T(u(rng)), T(u(rng))), y(T(u(rng)), T(u(rng)), T(u(rng)));
-    const vec3<T> nx = random_unit<T>(rng), ny = random_unit<T>(rng);
+    const auto [x, nx, y, ny] = random_oriented_pair<T>(rng, 2.0);
     const vplkit::vpl<T> v{y, ny, vec3<T>(1, 2, 3)};
     const vec3<T> ref = vplkit::vpl_contribution(x, nx, vec3<T>(T(0.7)), v, T(0.1));
     for (T s : {T(1e-20), T(0.3), T(7), T(1e20)}) {

@@ -14,6 +14,8 @@
 //    (the low word wraps: carries) within the same bound; an all-background G-buffer gives +0.
 #include "vulkan_test_support.hpp"
 
+#include "builder_params.hpp"
+#include "std430_types.hpp"
 #include "synthetic_scene.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
@@ -41,6 +43,7 @@ namespace {
 
 using namespace vplkit::vk_test;
 using v3f = vplkit::vec3<float>;
+using vplkit_test::surfels;
 constexpr slot_kind S = slot_kind::storage;
 constexpr slot_kind U = slot_kind::uniform;
 
@@ -64,16 +67,6 @@ const scene_fixture& fx() {
   return *f;
 }
 
-// G-buffers and DPRSMs as the kernels read them: vec4 triplets (position, normal, albedo).
-std::vector<glm::vec4> surfels(const std::vector<v3f>& p, const std::vector<v3f>& n, const std::vector<v3f>& a) {
-  std::vector<glm::vec4> out;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    out.emplace_back(p[i], 0.0f);
-    out.emplace_back(n[i], 0.0f);
-    out.emplace_back(a[i], 0.0f);
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -135,27 +128,16 @@ namespace {
 std::vector<float> run_global_weights(context& ctx, const kernel& k, const std::vector<std::vector<int>>& subsets,
                                       float dmin) {
   const auto& s = fx();
-  std::vector<std::int32_t> flat;
-  std::vector<std::uint32_t> offsets = {0u};
-  for (const auto& sub : subsets) {
-    flat.insert(flat.end(), sub.begin(), sub.end());
-    offsets.push_back(std::uint32_t(flat.size()));
-  }
-  if (flat.empty()) flat.push_back(-1);
+  const vplkit_test::global_weights_inputs in =
+      vplkit_test::make_global_weights_inputs(subsets, s.dprsm, s.gbuffer.width * s.gbuffer.height, dmin);
   const int n = vplkit::texel_count(s.R);
   const int N = int(subsets.size());
-  vplkit::gpu::global_weights_params p{};
-  p.light = vplkit::gpu::make_light_params(s.dprsm.light);
-  p.resolution = s.R;
-  p.regions = N;
-  p.pixel_count = s.gbuffer.width * s.gbuffer.height;
-  p.dmin = dmin;
   const buffer gb = buffer::from_vector(ctx, surfels(s.gbuffer.position, s.gbuffer.normal, s.gbuffer.albedo));
   const buffer dp = buffer::from_vector(ctx, surfels(s.dprsm.position, s.dprsm.normal, s.dprsm.albedo));
-  const buffer sb = buffer::from_vector(ctx, flat);
-  const buffer ob = buffer::from_vector(ctx, offsets);
+  const buffer sb = buffer::from_vector(ctx, in.flat);
+  const buffer ob = buffer::from_vector(ctx, in.offsets);
   const buffer wb(ctx, std::size_t(N * n) * 4, 0xFF);
-  const buffer ub = buffer::from_bytes(ctx, &p, sizeof p);
+  const buffer ub = buffer::from_bytes(ctx, &in.params, sizeof in.params);
   run(ctx, k,
       {{VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER, &gb}, {VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM, &dp},
        {VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET, &sb}, {VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS, &ob},
@@ -219,16 +201,6 @@ TEST_CASE("global_weights.comp on Vulkan: global and local weights against the C
 // ---- GBG ----------------------------------------------------------------------------------------
 namespace {
 
-struct gbg_run {
-  int accumulator = 1;  // 0 paper, 1 gathering
-  int n_dirs = 16;
-  float dmin = 0.05f;
-  float tol = 0.0f;
-  std::uint32_t seed = 21u;
-  float scale = 0.0f;
-  float max_units = 0.0f;
-};
-
 struct gbg_result {
   std::vector<std::uint32_t> acc;    // (lo, hi) per texel
   std::vector<std::uint32_t> stats;  // VPLKIT_GBG_STAT_*
@@ -249,7 +221,7 @@ struct gbg_kernels {
 
 // One accumulation dispatch per direction range, then the finish, in one command buffer.
 gbg_result run_gbg(context& ctx, const gbg_kernels& k, const vplkit_test::gbuffer_data<float>& gbuffer,
-                   const gbg_run& st, const std::vector<std::pair<int, int>>& ranges, bool fill) {
+                   const vplkit_test::gbg_setup& st, const std::vector<std::pair<int, int>>& ranges, bool fill) {
   const auto& s = fx();
   const int n = vplkit::texel_count(s.R);
   const buffer gb = buffer::from_vector(ctx, surfels(gbuffer.position, gbuffer.normal, gbuffer.albedo));
@@ -262,25 +234,8 @@ gbg_result run_gbg(context& ctx, const gbg_kernels& k, const vplkit_test::gbuffe
   blocks.reserve(ranges.size() + 1);
   std::vector<dispatch_step> steps;
   for (std::size_t r = 0; r < ranges.size(); ++r) {
-    vplkit::gpu::gbg_accumulate_params p{};
-    p.light = vplkit::gpu::make_light_params(s.dprsm.light);
-    p.grid_min = glm::vec4(s.grid.bounds_min(), 0.0f);
-    p.grid_max = glm::vec4(s.grid.bounds_max(), 0.0f);
-    p.grid_resolution = glm::ivec4(s.grid.resolution(), 0);
-    p.width = gbuffer.width;
-    p.height = gbuffer.height;
-    p.resolution = s.R;
-    p.n_dirs = st.n_dirs;
-    p.accumulator = st.accumulator;
-    p.dir_begin = ranges[r].first;
-    p.dir_end = ranges[r].second;
-    p.count_gather_points = r == 0 ? 1 : 0;
-    p.seed = st.seed;
-    p.dmin = st.dmin;
-    p.depth_tolerance = st.tol;
-    p.offset_voxels = 1.75f;
-    p.scale = st.scale;
-    p.max_units = st.max_units;
+    const vplkit::gpu::gbg_accumulate_params p = vplkit_test::gbg_accumulate_block(
+        s.dprsm, s.grid, gbuffer.width, gbuffer.height, st, ranges[r].first, ranges[r].second, r == 0);
     blocks.push_back(buffer::from_bytes(ctx, &p, sizeof p));
     steps.push_back({&k.accumulate,
                      {{VPLKIT_GBG_BINDING_GBUFFER, &gb}, {VPLKIT_GBG_BINDING_DPRSM, &dp}, {VPLKIT_GBG_BINDING_VOXELS, &vx},
@@ -288,12 +243,7 @@ gbg_result run_gbg(context& ctx, const gbg_kernels& k, const vplkit_test::gbuffe
                       {VPLKIT_GBG_BINDING_PARAMS, &blocks.back()}},
                      groups_for(std::size_t(gbuffer.width * gbuffer.height), VPLKIT_GBG_LOCAL_SIZE)});
   }
-  vplkit::gpu::gbg_finish_params f{};
-  f.light = vplkit::gpu::make_light_params(s.dprsm.light);
-  f.resolution = s.R;
-  f.n_dirs = st.n_dirs;
-  f.fill_holes = fill ? 1 : 0;
-  f.inv_scale = 1.0f / st.scale;
+  const vplkit::gpu::gbg_finish_params f = vplkit_test::gbg_finish_block(s.dprsm, st, fill);
   blocks.push_back(buffer::from_bytes(ctx, &f, sizeof f));
   const std::uint32_t g = groups_for(std::size_t(s.R), VPLKIT_GBG_FINISH_LOCAL_SIZE);
   steps.push_back({&k.finish,
@@ -305,40 +255,8 @@ gbg_result run_gbg(context& ctx, const gbg_kernels& k, const vplkit_test::gbuffe
   return {acc.read<std::uint32_t>(), stats.read<std::uint32_t>(), weights.read<float>()};
 }
 
-// The fixed-point parameters docs/glsl/builders.md recommends (and the GL test uses):
-// max_units = 2^(63 - ceil(log2 H)), H = |G| n_dirs; scale = 2^floor(log2(max_units / v_bound)).
-void choose_fixed_point(gbg_run& st, int gather_points) {
-  const auto& s = fx();
-  st.max_units = float(std::ldexp(1.0, 63 - int(std::ceil(std::log2(double(gather_points) * st.n_dirs)))));
-  const double pi = 3.141592653589793;
-  const double lum = double(vplkit::luminance(s.dprsm.light.intensity));
-  double v_bound;
-  if (st.accumulator == 1) {  // gathering: luminance(I_s) / (pi d1_min^2)
-    double d1 = 1e30;
-    for (std::size_t t = 0; t < s.dprsm.position.size(); ++t)
-      if (s.dprsm.albedo[t] != v3f(0)) d1 = std::min(d1, double(glm::length(s.dprsm.position[t] - s.dprsm.light.position)));
-    d1 = std::max(d1 - double(st.tol), 1e-3);
-    v_bound = lum / (pi * d1 * d1);
-  } else {  // paper: luminance(I_s) Omega_max / (pi^2 dmin^2)
-    const double dm = std::max(double(st.dmin), 1e-3);
-    v_bound = lum * 4.0 * (2.0 / s.R) * (2.0 / s.R) / (pi * pi * dm * dm);
-  }
-  st.scale = float(std::ldexp(1.0, int(std::floor(std::log2(double(st.max_units) / v_bound)))));
-}
-
-vplkit::gbg_params<float> cpu_params(const gbg_run& st, bool fill) {
-  vplkit::gbg_params<float> p;
-  p.n_dirs = st.n_dirs;
-  p.dmin = st.dmin;
-  p.depth_tolerance = st.tol;
-  p.seed = st.seed;
-  p.accumulator = st.accumulator == 0 ? vplkit::gbg_accumulator::paper : vplkit::gbg_accumulator::gathering;
-  p.fill_holes = fill;
-  return p;
-}
-
 // Weights against the C++ within the stated bound; returns the texels outside it.
-std::size_t texels_outside(const std::vector<float>& gpu, const std::vector<float>& cpu, const gbg_run& st,
+std::size_t texels_outside(const std::vector<float>& gpu, const std::vector<float>& cpu, const vplkit_test::gbg_setup& st,
                            std::uint32_t lit_hits, int gather_points, const std::string& what) {
   const double quantum = double(lit_hits) * 0.5 / double(st.scale) / (double(gather_points) * st.n_dirs);
   std::size_t outside = 0;
@@ -376,10 +294,10 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp on Vulkan: fixed-point GBG weig
   with_vulkan([&](context& ctx) {
     const gbg_kernels k(ctx);
     for (int accumulator : {1, 0}) {
-      gbg_run st;
+      vplkit_test::gbg_setup st;
       st.accumulator = accumulator;
       st.tol = 0.2f + vplkit::voxel_tracer_depth_tolerance(s.grid.view());
-      choose_fixed_point(st, G);
+      vplkit_test::choose_gbg_fixed_point(st, G, s.dprsm);
       const std::string name = accumulator == 1 ? "GBG gathering" : "GBG paper";
       const gbg_result one = run_gbg(ctx, k, s.gbuffer, st, {{0, st.n_dirs}}, false);
       const gbg_result split = run_gbg(ctx, k, s.gbuffer, st, {{0, 5}, {5, 11}, {11, st.n_dirs}}, false);
@@ -390,7 +308,7 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp on Vulkan: fixed-point GBG weig
       for (bool fill : {false, true}) {
         vplkit::gbg_stats cs;
         const auto cpu = vplkit::build_gbg_weights(s.gbuffer.view(), view, vplkit::voxel_tracer<float>{s.grid.view()},
-                                                   cpu_params(st, fill), &cs);
+                                                   vplkit_test::gbg_cpu_params(st, fill), &cs);
         const gbg_result gpu = fill ? run_gbg(ctx, k, s.gbuffer, st, {{0, st.n_dirs}}, true) : one;
         const std::string what = name + (fill ? ", filled" : ", raw");
         const auto& g = gpu.stats;
@@ -410,12 +328,12 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp on Vulkan: fixed-point GBG weig
       // about 256 times; a lost or doubled carry would be off by 2^32 units (2^-8 relative).
       std::vector<float> sums;
       const auto cpu = vplkit::build_gbg_weights(s.gbuffer.view(), view, vplkit::voxel_tracer<float>{s.grid.view()},
-                                                 cpu_params(st, false));
+                                                 vplkit_test::gbg_cpu_params(st, false));
       for (float w : cpu)
         if (w > 0) sums.push_back(w * float(G) * float(st.n_dirs));
       REQUIRE(!sums.empty());
       std::nth_element(sums.begin(), sums.begin() + std::ptrdiff_t(sums.size() / 2), sums.end());
-      gbg_run big = st;
+      vplkit_test::gbg_setup big = st;
       big.scale = std::ldexp(1.0f, 40 - int(std::floor(std::log2(sums[sums.size() / 2]))));
       big.max_units = std::ldexp(1.0f, 52);
       const gbg_result r = run_gbg(ctx, k, s.gbuffer, big, {{0, big.n_dirs}}, false);
@@ -433,23 +351,12 @@ TEST_CASE("gbg_accumulate.comp + gbg_finish.comp on Vulkan: fixed-point GBG weig
 
 TEST_CASE("GBG kernels on Vulkan: an all-background G-buffer gives +0 weights and zero counts") {
   const auto& s = fx();
-  vplkit_test::gbuffer_data<float> empty = s.gbuffer;
-  std::fill(empty.normal.begin(), empty.normal.end(), v3f(0));
-  gbg_run st;
-  st.tol = 0.3f;
-  st.scale = 1024.0f;
-  st.max_units = std::ldexp(1.0f, 40);
+  const vplkit_test::all_background_gbg bg(s.gbuffer, s.dprsm.view(), s.grid);
   with_vulkan([&](context& ctx) {
     const gbg_kernels k(ctx);
-    const gbg_result r = run_gbg(ctx, k, empty, st, {{0, st.n_dirs}}, true);
+    const gbg_result r = run_gbg(ctx, k, bg.gbuffer, bg.setup, {{0, bg.setup.n_dirs}}, true);
     CHECK(bits_of(r.weights) == std::vector<std::uint32_t>(r.weights.size(), 0u));
-    for (int c : {VPLKIT_GBG_STAT_GATHER_POINTS, VPLKIT_GBG_STAT_HITS, VPLKIT_GBG_STAT_LIT_HITS,
-                  VPLKIT_GBG_STAT_SATURATED_HITS, VPLKIT_GBG_STAT_REACHED_TEXELS, VPLKIT_GBG_STAT_FILLED})
-      CHECK(r.stats[std::size_t(c)] == 0u);
-    vplkit::gbg_params<float> params;
-    params.depth_tolerance = 0.3f;
-    vplkit::gbg_stats cs;
-    vplkit::build_gbg_weights(empty.view(), s.dprsm.view(), vplkit::voxel_tracer<float>{s.grid.view()}, params, &cs);
-    CHECK(r.stats[VPLKIT_GBG_STAT_HOLES] == std::uint32_t(cs.holes));  // every VPL texel stays a hole
+    for (int c : vplkit_test::all_background_gbg::zero_stats) CHECK(r.stats[std::size_t(c)] == 0u);
+    CHECK(r.stats[VPLKIT_GBG_STAT_HOLES] == bg.cpu_holes);  // every VPL texel stays a hole
   });
 }

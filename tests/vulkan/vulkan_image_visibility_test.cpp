@@ -8,7 +8,9 @@
 //    the margin, at most 8 of them (tests/parity/parity_visibility_test.cpp).
 #include "vulkan_test_support.hpp"
 
+#include "bvh_test_scenes.hpp"
 #include "synthetic_scene.hpp"
+#include "voxel_cells.hpp"
 
 #include <vplkit/image/median_fill.hpp>
 #include <vplkit/image/median_fill_params.h>
@@ -75,26 +77,13 @@ TEST_CASE("median_fill.comp on Vulkan: bit for bit the C++ median_fill_dprsm") {
 
 namespace {
 
-struct mesh {
-  std::vector<v3f> positions;
-  std::vector<std::uint32_t> indices;
-  void tri(v3f a, v3f b, v3f c) {
-    const auto base = std::uint32_t(positions.size());
-    positions.insert(positions.end(), {a, b, c});
-    indices.insert(indices.end(), {base, base + 1, base + 2});
-  }
-};
+using mesh = vplkit_test::tri_mesh;
 
 std::vector<std::uint32_t> gpu_voxelize(context& ctx, const kernel& k, const vplkit::voxel_grid<float>& shape,
                                         const mesh& m, float margin) {
   std::vector<glm::vec4> positions;
   for (const v3f& p : m.positions) positions.emplace_back(p, 1.0f);
-  vplkit::gpu::voxelize_params p{};
-  p.bounds_min = glm::vec4(shape.bounds_min(), 0.0f);
-  p.bounds_max = glm::vec4(shape.bounds_max(), 0.0f);
-  p.resolution = glm::ivec4(shape.resolution(), 0);
-  p.triangle_count = std::uint32_t(m.indices.size() / 3);
-  p.margin_voxels = margin;
+  const vplkit::gpu::voxelize_params p = vplkit_test::voxelize_block(shape, m.indices.size() / 3, margin);
   const buffer pb = buffer::from_vector(ctx, positions);
   const buffer ib = buffer::from_vector(ctx, m.indices);
   const buffer wb(ctx, shape.word_count() * 4, 0);
@@ -104,27 +93,6 @@ std::vector<std::uint32_t> gpu_voxelize(context& ctx, const kernel& k, const vpl
        {VPLKIT_VOXELIZE_BINDING_WORDS, &wb}, {VPLKIT_VOXELIZE_BINDING_PARAMS, &ub}},
       p.triangle_count);  // one work group per triangle (fewer than 65535 here)
   return wb.read<std::uint32_t>();
-}
-
-// The smallest margin (voxels, up to cap) at which the C++ double SAT marks voxel c for some
-// triangle; cap + 1 if none. Bisection to 1e-9 voxel.
-double flip_margin(const vplkit::voxel_grid<float>& g, const mesh& m, vplkit::ivec3 c, double cap) {
-  const v3d lo(g.bounds_min());
-  const v3d size = (v3d(g.bounds_max()) - lo) / v3d(g.resolution());
-  const v3d centre = v3d(c) + v3d(0.5);
-  double best = cap + 1.0;
-  for (std::size_t t = 0; t < m.indices.size() / 3; ++t) {
-    v3d v[3];
-    for (int j = 0; j < 3; ++j) v[j] = (v3d(m.positions[m.indices[3 * t + std::size_t(j)]]) - lo) / size;
-    if (!vplkit::triangle_box_overlap(centre, v3d(0.5 + cap), v[0], v[1], v[2])) continue;
-    double a = 0.0, b = vplkit::triangle_box_overlap(centre, v3d(0.5), v[0], v[1], v[2]) ? 0.0 : cap;
-    while (b - a > 1e-9) {
-      const double mid = 0.5 * (a + b);
-      (vplkit::triangle_box_overlap(centre, v3d(0.5 + mid), v[0], v[1], v[2]) ? b : a) = mid;
-    }
-    best = std::min(best, b);
-  }
-  return best;
 }
 
 void check_voxelize(context& ctx, const kernel& k, const vplkit::voxel_grid<float>& shape, const mesh& m,
@@ -145,7 +113,7 @@ void check_voxelize(context& ctx, const kernel& k, const vplkit::voxel_grid<floa
         const vplkit::ivec3 c(x, y, z);
         if (gpu.test(c) == cpu.test(c)) continue;
         ++differ;
-        const double off = std::fabs(flip_margin(shape, m, c, 0.01) - margin);
+        const double off = std::fabs(vplkit_test::voxel_flip_margin(shape, m, c, 0.01) - margin);
         worst = std::max(worst, off);
         far += off > 2e-5;
       }

@@ -3,6 +3,8 @@
 // small comparison helpers (bits, ulps, printing).
 #include "vulkan_compute.hpp"
 
+#include <float_bits.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -31,19 +33,10 @@ void with_vulkan(Body&& body) {
   CHECK(log.messages.size() == 0u);
 }
 
-inline std::uint32_t bits_of(float f) {
-  std::uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
+using vplkit_test::bits_of;
 
-inline std::vector<std::uint32_t> bits_of(const std::vector<float>& v) {
-  std::vector<std::uint32_t> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) out[i] = bits_of(v[i]);
-  return out;
-}
-
-// Distance in float steps (0 for equal values, +-0 equal; infinite across NaN).
+// Distance in float steps (0 for equal values, +-0 equal; infinite across NaN). Stricter than
+// vplkit_test::ulp_distance: NaN against NaN is infinitely far too, so no bound passes a NaN.
 inline double ulp_distance(float a, float b) {
   if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<double>::infinity();
   auto ordered = [](float f) {
