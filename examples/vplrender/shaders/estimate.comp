@@ -145,8 +145,7 @@ uniform int u_sampler;             // 0: the mixtures' CDFs, 1: alias tables, 2:
 uniform int u_local_combination;   // vplkit_local_balance or vplkit_local_average (--local-combination)
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
-  return vplkit_gather_point(vr_gbuffer[pixel].position.xyz, vr_gbuffer[pixel].normal.xyz,
-                             vr_gbuffer[pixel].albedo.xyz);
+  return vplkit_unpack_gather_point(vr_gbuffer[pixel].position, vr_gbuffer[pixel].normal, vr_gbuffer[pixel].albedo);
 }
 vec3 vplkit_load_dprsm_position(int texel) { return vr_dprsm[texel].position.xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vr_dprsm[texel].normal.xyz; }
