@@ -105,7 +105,36 @@ struct gather_point {
   vec3<T> position;
   vec3<T> normal;  // need not be unit length; zero means "no surface" (background pixel)
   vec3<T> albedo;  // diffuse reflectance rho_x
+  // The shading normal (e.g. interpolated vertex normals), on the geometric normal's side; zero
+  // means "the same as normal". `normal` is the geometric normal: offsets, hemisphere tests and
+  // visibility use it; only the receiver's cosine uses the shading normal (docs/math.md section 12).
+  vec3<T> shading_normal{T(0)};
 };
+
+// The normal of the receiver's cosine: the shading normal, or the geometric one where none is set.
+template <class T>
+inline vec3<T> gather_point_shading_normal(const gather_point<T>& g) {
+  const bool set = g.shading_normal.x != T(0) || g.shading_normal.y != T(0) || g.shading_normal.z != T(0);
+  return set ? g.shading_normal : g.normal;
+}
+
+// True where the unit direction wd leaves x above its geometric surface. A receiver gets nothing
+// from below it, whatever the shading normal says (decided with the cosine's own expression, so
+// with one normal the test and the clamped cosine agree bit for bit).
+template <class T>
+inline bool gather_point_above(const gather_point<T>& g, vec3<T> wd) {
+  return glm::dot(unit_or_zero(g.normal), wd) > T(0);
+}
+
+// Directions sampled in the shading normal's hemisphere that point below the geometric surface
+// count as zero samples (docs/math.md section 12). With one normal the hemisphere sampled is the
+// geometric one and nothing is rejected.
+template <class T>
+inline bool gather_point_accepts_direction(const gather_point<T>& g, vec3<T> wd) {
+  const vec3<T> ns = gather_point_shading_normal(g);
+  const bool one_normal = ns.x == g.normal.x && ns.y == g.normal.y && ns.z == g.normal.z;
+  return one_normal || gather_point_above(g, wd);
+}
 
 // Background pixels (zero or non-finite normal) are skipped by every builder and estimator.
 template <class T>
@@ -124,9 +153,13 @@ struct gbuffer_view {
   const vec3<T>* position = nullptr;
   const vec3<T>* normal = nullptr;
   const vec3<T>* albedo = nullptr;
+  const vec3<T>* shading_normal = nullptr;  // optional: null = the geometric normals shade too
 
   int pixel_count() const { return width * height; }
-  gather_point<T> at(int index) const { return gather_point<T>{position[index], normal[index], albedo[index]}; }
+  gather_point<T> at(int index) const {
+    return gather_point<T>{position[index], normal[index], albedo[index],
+                           shading_normal != nullptr ? shading_normal[index] : vec3<T>(T(0))};
+  }
   gather_point<T> at(int x, int y) const { return at(y * width + x); }
 
   // Throws invalid_input for a bad size or null arrays. Non-finite entries are not an error:
@@ -4144,6 +4177,14 @@ inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl
   return rho_x * brdf_scale * v.flux * g;
 }
 
+// L_t at a gather point with two normals: theta2 against the shading normal, and 0 where y_t lies
+// on or below the geometric surface (docs/math.md section 12).
+template <class T>
+inline vec3<T> vpl_contribution(const gather_point<T>& gp, const vpl<T>& v, T dmin) {
+  if (!gather_point_above(gp, unit_or_zero(v.position - gp.position))) return vec3<T>(T(0));
+  return vpl_contribution(gp.position, gather_point_shading_normal(gp), gp.albedo, v, dmin);
+}
+
 // Smallest cos(alpha) vpl_patch_area divides by: a texel seen at grazing incidence maps to a
 // long but finite patch (area <= 1e6 Omega_t d1^2).
 template <class T>
@@ -4509,7 +4550,8 @@ inline T direct_light_depth_tolerance(T d, T cos_a, int resolution) {
 
 // L_o(x) = rho_x I_s cos(alpha) / (pi d^2) (reflected_radiance) where the DPRSM sees x lit
 // (dprsm_lookup within direct_light_depth_tolerance), else 0: background pixels, points at the
-// light or facing away from it, points in shadow.
+// light or facing away from it, points in shadow. cos(alpha) is the shading normal's; whether x
+// faces the light, and the shadow test's tolerance, are the geometric surface's.
 template <class T>
 inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
@@ -4521,7 +4563,8 @@ inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view
   const T tolerance = direct_light_depth_tolerance(d, cos_a, view.resolution);
   const dprsm_lookup_result r = dprsm_lookup(view, gp.position, tolerance);
   if (!r.lit) return vec3<T>(T(0));
-  return reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
+  return reflected_radiance(view.light.position, view.light.intensity, gp.position,
+                            gather_point_shading_normal(gp), gp.albedo);
 }
 
 }  // namespace vplkit
@@ -4761,7 +4804,7 @@ inline T global_weight_texel(const dprsm_view<T>& view, int texel, const gather_
   T sum = T(0);
   for (int i = 0; i < count; ++i) {
     const gather_point<T>& g = points[i];
-    sum += luminance(vpl_contribution(g.position, g.normal, g.albedo, v, dmin));
+    sum += luminance(vpl_contribution(g, v, dmin));
   }
   return sum * (T(1) / T(count));
 }
@@ -5025,7 +5068,7 @@ template <class T>
 inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
                        vec3<T> hit_position, T dmin, gbg_accumulator accumulator) {
   if (accumulator == gbg_accumulator::paper)
-    return luminance(vpl_contribution(g.position, g.normal, g.albedo, view.vpl_at(texel), dmin));
+    return luminance(vpl_contribution(g, view.vpl_at(texel), dmin));
   const vec3<T> n_t = view.normal[texel];
   // One-sided emission, as in the gathering estimator: a hit seen from behind the texel's normal
   // sends nothing towards x.
@@ -5054,7 +5097,7 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
                                         const dprsm_view<T>& view, Tracer&& trace,
                                         const gbg_params<T>& params, double* acc,
                                         gbg_stats* stats = nullptr) {
-  const orthonormal_basis<T> frame = make_orthonormal_basis(g.normal);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(g));
   counter_rng rng = make_counter_rng(params.seed, std::uint32_t(pixel));
   long long hits = 0, lit = 0;
   for (int j = 0; j < params.n_dirs; ++j) {
@@ -5064,7 +5107,9 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     // On the horizon (probability ~2^-24 per draw) p1 = 0: no contribution, no trace, as in the
     // gathering estimator.
     if (!(local.z > T(0))) continue;
-    const ray_hit<T> h = trace(g.position, g.normal, to_world(frame, local));
+    const vec3<T> dir = to_world(frame, local);
+    if (!gather_point_accepts_direction(g, dir)) continue;  // below the geometric surface: 0
+    const ray_hit<T> h = trace(g.position, g.normal, dir);
     if (!h.hit) continue;
     ++hits;
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);
@@ -5418,7 +5463,7 @@ inline vec3<T> vpl_visible_contribution(const gather_point<T>& gp, const dprsm_v
                                         const Visibility& visibility, T dmin) {
   if (t < 0 || t >= view.texel_count()) return vec3<T>(T(0));
   const vpl<T> v = view.vpl_at(t);
-  const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, dmin);
+  const vec3<T> c = vpl_contribution(gp, v, dmin);
   if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
   return visibility(gp.position, gp.normal, v.position, v.normal) ? c : vec3<T>(T(0));
 }
@@ -5433,7 +5478,7 @@ inline vec3<T> vpl_patch_visible_contribution(const gather_point<T>& gp, const d
                                               T depth_tolerance) {
   if (t < 0 || t >= view.texel_count()) return vec3<T>(T(0));
   const dprsm_patch_sample<T> s = dprsm_patch_vpl(view, t, xi, depth_tolerance);
-  const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, s.point, dmin);
+  const vec3<T> c = vpl_contribution(gp, s.point, dmin);
   if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
   return visibility(gp.position, gp.normal, s.point.position, s.point.normal) ? c : vec3<T>(T(0));
 }
@@ -5775,14 +5820,16 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
-// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon.
+// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon, and
+// 0 below the geometric surface (the frame is the shading normal's; docs/math.md section 12).
 template <class T, class Tracer>
 inline vec3<T> gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                 const orthonormal_basis<T>& frame, vec3<T> local, const Tracer& tracer,
                                 T depth_tolerance) {
   if (!(local.z > T(0))) return vec3<T>(T(0));
-  const gathering_ray_result<T> r =
-      trace_gathering_ray(view, gp.position, gp.normal, to_world(frame, local), tracer, depth_tolerance);
+  const vec3<T> dir = to_world(frame, local);
+  if (!gather_point_accepts_direction(gp, dir)) return vec3<T>(T(0));
+  const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   return estimator_finite_or_zero(gp.albedo * r.radiance);
 }
 
@@ -5792,7 +5839,7 @@ inline void estimate_gathering_range(const gather_point<T>& gp, const dprsm_view
                                      estimator_state<T>& state, int begin, int end, const Tracer& tracer,
                                      T depth_tolerance) {
   if (!gather_point_valid(gp)) return;
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int k = begin; k < end; ++k) {
     const T u0 = rng_next_unit<T>(state.rng);
     const T u1 = rng_next_unit<T>(state.rng);
@@ -5899,8 +5946,9 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
                                     mis_mode mode, vpl_mode vmode = vpl_mode::point) {
   const T cos2 = local.z;
   if (!(cos2 > T(0))) return vec3<T>(T(0));
-  const gathering_ray_result<T> r =
-      trace_gathering_ray(view, gp.position, gp.normal, to_world(frame, local), tracer, depth_tolerance);
+  const vec3<T> dir = to_world(frame, local);
+  if (!gather_point_accepts_direction(gp, dir)) return vec3<T>(T(0));
+  const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
@@ -5924,19 +5972,19 @@ template <class T, class Visibility>
 inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v, T pmf,
                              T area, const Visibility& visibility, T n1, T n2, mis_mode mode) {
   if (mode == mis_mode::as_published) {
-    const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, T(0));
+    const vec3<T> c = vpl_contribution(gp, v, T(0));
     if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
     if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
-    const T cos2 = glm::dot(unit_or_zero(gp.normal), unit_or_zero(v.position - gp.position));
+    const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), unit_or_zero(v.position - gp.position));
     const mis_weight_pair<T> w = mis_weights_as_published(cos2, mis_sin_from_cos(cos2), pmf);
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
   if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
   const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
-  const T cos2 = glm::dot(unit_or_zero(gp.normal), wd);
+  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
   const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
-  if (!(cos2 > T(0)) || !(cos1 > T(0))) return vec3<T>(T(0));
+  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
   if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo *
                     reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
@@ -5989,7 +6037,7 @@ inline void estimate_mis_range(const gather_point<T>& gp, const dprsm_view<T>& v
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   const T n1 = T(n_dirs), n2 = T(n_vpls);
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_vpls) {
       const T u = rng_next_unit<T>(state.rng);

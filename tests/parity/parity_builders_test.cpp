@@ -60,6 +60,16 @@ struct fixture_t {
       for (int x = 0; x < 24; ++x) s.gbuffer.normal[std::size_t(y * 24 + x)] = v3f(0);
     for (int y = 12; y < 24; ++y)
       for (int x = 0; x < 5; ++x) s.gbuffer.normal[std::size_t(y * 24 + x)] = v3f(0);
+    // Two normals at every third pixel: the shading normal 50 degrees off the geometric one, so
+    // GBG's frame is the shading normal's and some of its directions fall below the surface.
+    s.gbuffer.shading_normal.assign(s.gbuffer.position.size(), v3f(0));
+    for (std::size_t p = 0; p < s.gbuffer.position.size(); p += 3) {
+      const v3f n = s.gbuffer.normal[p];
+      if (!(glm::dot(n, n) > 0.0f)) continue;
+      const v3f nn = glm::normalize(n);
+      const v3f side = glm::normalize(glm::cross(nn, std::abs(nn.x) < 0.9f ? v3f(1, 0, 0) : v3f(0, 1, 0)));
+      s.gbuffer.shading_normal[p] = 0.6428f * nn + 0.7660f * side;
+    }
   }
 };
 
@@ -69,7 +79,7 @@ const fixture_t& fx() {
 }
 
 std::vector<float4> gbuffer_surfels(const vplkit_test::gbuffer_data<float>& g) {
-  return vplkit_test::surfels(g.position, g.normal, g.albedo);
+  return vplkit_test::surfels(g.position, g.normal, g.albedo, g.shading_normal.empty() ? nullptr : &g.shading_normal);
 }
 std::vector<float4> dprsm_surfels(const vplkit_test::dprsm_data<float>& d) {
   return vplkit_test::surfels(d.position, d.normal, d.albedo);
@@ -265,9 +275,9 @@ void main() {
     float u0 = vplkit_rng_next_unit(rng);
     float u1 = vplkit_rng_next_unit(rng);
     vec3 local = vplkit_sample_cosine_hemisphere(vec2(u0, u1));
-    if (local.z > 0.0) {
-      vplkit_ray_hit h = vplkit_voxel_tracer_trace(vplkit_make_voxel_tracer(load_grid()), g.position, g.normal,
-                                                   vplkit_to_world(vplkit_make_orthonormal_basis(g.normal), local));
+    vec3 dir = vplkit_to_world(vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(g)), local);
+    if (local.z > 0.0 && vplkit_gather_point_accepts_direction(g, dir)) {
+      vplkit_ray_hit h = vplkit_voxel_tracer_trace(vplkit_make_voxel_tracer(load_grid()), g.position, g.normal, dir);
       if (h.hit) {
         o.flags = 1u;
         vplkit_dprsm_view view = load_view();
@@ -311,15 +321,16 @@ std::vector<ray_out> cpu_rays(const vplkit_test::gbuffer_data<float>& gbuf, cons
   std::vector<ray_out> out;
   for (int p = 0; p < gb.pixel_count(); ++p) {
     const auto g = gb.at(p);
-    const auto frame = vplkit::make_orthonormal_basis(g.normal);
+    const auto frame = vplkit::make_orthonormal_basis(vplkit::gather_point_shading_normal(g));
     vplkit::counter_rng rng = vplkit::make_counter_rng(st.seed, std::uint32_t(p));
     for (int j = 0; j < st.n_dirs; ++j) {
       ray_out o{-1, 0u, 0.0f, 0u};
       const float u0 = vplkit::rng_next_unit<float>(rng), u1 = vplkit::rng_next_unit<float>(rng);
       if (vplkit::gather_point_valid(g)) {
         const v3f local = vplkit::sample_cosine_hemisphere(vplkit::vec2<float>(u0, u1));
-        if (local.z > 0) {
-          const auto h = tracer(g.position, g.normal, vplkit::to_world(frame, local));
+        const v3f dir = vplkit::to_world(frame, local);
+        if (local.z > 0 && vplkit::gather_point_accepts_direction(g, dir)) {
+          const auto h = tracer(g.position, g.normal, dir);
           if (h.hit) {
             o.flags = 1u;
             const auto r = vplkit::dprsm_lookup(view, h.position, st.tol);

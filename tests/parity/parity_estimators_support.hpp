@@ -9,7 +9,7 @@
 //   2, 3, 4  DPRSM position / normal / albedo  (vec4)
 //   5        parameter block  (struct scene_params below)
 //   6        voxel words      (uint)
-//   7        gather points    (vec4 position, normal, albedo per point)
+//   7        gather points    (vec4 position, normal, albedo per point; shading normal in .w)
 //   8        G-buffer         (vec4 position, normal, albedo per pixel)
 #include <parity_harness.hpp>
 #include <synthetic_scene.hpp>
@@ -92,13 +92,14 @@ struct scene_fixture {
 };
 
 inline std::vector<float4> pack_points(const std::vector<named_point>& pts) {
-  std::vector<v3f> position, normal, albedo;
+  std::vector<v3f> position, normal, albedo, shading;
   for (const auto& p : pts) {
     position.push_back(p.gp.position);
     normal.push_back(p.gp.normal);
     albedo.push_back(p.gp.albedo);
+    shading.push_back(p.gp.shading_normal);
   }
-  std::vector<float4> out = vplkit_test::surfels(position, normal, albedo);
+  std::vector<float4> out = vplkit_test::surfels(position, normal, albedo, &shading);
   if (out.empty()) out.push_back({0, 0, 0, 0});
   return out;
 }
@@ -123,7 +124,7 @@ vec3 vplkit_load_dprsm_normal(int texel) { return dprsm_normal[texel].xyz; }
 vec3 vplkit_load_dprsm_albedo(int texel) { return dprsm_albedo[texel].xyz; }
 uint vplkit_load_voxel_word(uint i) { return voxel_words[i]; }
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
-  return vplkit_gather_point(gbuffer[3 * pixel].xyz, gbuffer[3 * pixel + 1].xyz, gbuffer[3 * pixel + 2].xyz);
+  return vplkit_unpack_gather_point(gbuffer[3 * pixel], gbuffer[3 * pixel + 1], gbuffer[3 * pixel + 2]);
 }
 vplkit_dprsm_view load_view() {
   vplkit_light_frame frame = vplkit_light_frame(light_position.xyz, axis_x.xyz, axis_y.xyz, axis_z.xyz);
@@ -131,7 +132,7 @@ vplkit_dprsm_view load_view() {
 }
 vplkit_voxel_grid load_grid() { return vplkit_voxel_grid(grid_min.xyz, grid_max.xyz, grid_res.xyz); }
 vplkit_gather_point load_point(uint i) {
-  return vplkit_gather_point(points[3u * i].xyz, points[3u * i + 1u].xyz, points[3u * i + 2u].xyz);
+  return vplkit_unpack_gather_point(points[3u * i], points[3u * i + 1u], points[3u * i + 2u]);
 }
 )";
 

@@ -70,6 +70,17 @@ std::vector<named_point> gather_points(int stride) {
   for (std::size_t i = 0; i < f.gbuffer.position.size(); i += std::size_t(stride))
     pts.push_back({"pixel " + std::to_string(i),
                    {f.gbuffer.position[i], f.gbuffer.normal[i], f.gbuffer.albedo[i]}});
+  // Two normals: every 5th of those pixels again with its shading normal tilted 50 degrees off the
+  // geometric one, so some directions above the surface lie below the shading horizon and the
+  // other way round (cosines against the shading normal, rejections against the geometric one).
+  for (std::size_t i = 0; i < f.gbuffer.position.size(); i += std::size_t(5 * stride)) {
+    const v3f n = f.gbuffer.normal[i];
+    if (!(glm::dot(n, n) > 0.0f)) continue;
+    const v3f nn = glm::normalize(n);
+    const v3f side = glm::normalize(glm::cross(nn, std::abs(nn.x) < 0.9f ? v3f(1, 0, 0) : v3f(0, 1, 0)));
+    pts.push_back({"pixel " + std::to_string(i) + " shading normal tilted 50 deg",
+                   {f.gbuffer.position[i], n, f.gbuffer.albedo[i], 0.6428f * nn + 0.7660f * side}});
+  }
   const auto named = f.scene.gather_points();
   for (const auto& g : named) pts.push_back({g.name, g.gp});
   const auto& open = named[0].gp;  // floor_open

@@ -866,6 +866,15 @@ TEST_CASE("direct_light: lit decision and value, exact decisions except near a d
       gps.push_back({p, vec3<float>(0, 0, float(rnd.uniform(0.01, 10))), vec3<float>(0.8f, 0.5f, 0.3f)});
       kind.push_back("floor");
     }
+    // ... the floor again with shading normals tilted up to 60 degrees off the geometric one (the
+    // cosine is theirs, the facing test and the tolerance are the floor's) ...
+    for (int i = 0; i < 2000; ++i) {
+      const vec3<float> p(float(rnd.uniform(-6, 6)), float(rnd.uniform(-6, 6)), 0.0f);
+      const float a = 1.05f * float(i) / 2000.0f, phi = 0.01f * float(i);
+      const vec3<float> ns(std::sin(a) * std::cos(phi), std::sin(a) * std::sin(phi), std::cos(a));
+      gps.push_back({p, vec3<float>(0, 0, 1), vec3<float>(0.8f, 0.5f, 0.3f), ns});
+      kind.push_back("floor, two normals");
+    }
     gps.push_back({d.light.position, vec3<float>(0, 0, 1), vec3<float>(1)});
     kind.push_back("at the light");
     gps.push_back({vec3<float>(1, 1, 0), vec3<float>(0, 0, -1), vec3<float>(1)});
@@ -874,13 +883,13 @@ TEST_CASE("direct_light: lit decision and value, exact decisions except near a d
     kind.push_back("background");
     std::vector<float4> in;
     for (const auto& g : gps) {
-      in.push_back(f4(g.position));
-      in.push_back(f4(g.normal));
-      in.push_back(f4(g.albedo));
+      in.push_back(f4(g.position, g.shading_normal.x));
+      in.push_back(f4(g.normal, g.shading_normal.y));
+      in.push_back(f4(g.albedo, g.shading_normal.z));
     }
     const auto gpu = run_compute<float4>(
         dprsm_kernel(d, R"(#include "vplkit/vpl/direct_light.glsl")", {input(0, in, "vec4 q")}, "vec4 result", R"(
-  vplkit_gather_point gp = vplkit_gather_point(q[3u * i].xyz, q[3u * i + 1u].xyz, q[3u * i + 2u].xyz);
+  vplkit_gather_point gp = vplkit_unpack_gather_point(q[3u * i], q[3u * i + 1u], q[3u * i + 2u]);
   result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);)"),
         gps.size());
     std::size_t lit = 0, edge = 0;

@@ -27,7 +27,8 @@ struct gbg_buffers {
   const vplkit::gl::program& finish_kernel = pack_kernel("vplkit/builders/gbg_finish.comp");
   gbg_buffers(const gbuffer_data<float>& gb, const dprsm_data<float>& dp, const vplkit::voxel_grid<float>& grid,
               unsigned char weights_fill)
-      : gbuffer(vplkit::gl::buffer::from_vector(surfels(gb.position, gb.normal, gb.albedo))),
+      : gbuffer(vplkit::gl::buffer::from_vector(
+            surfels(gb.position, gb.normal, gb.albedo, gb.shading_normal.empty() ? nullptr : &gb.shading_normal))),
         dprsm(vplkit::gl::buffer::from_vector(surfels(dp.position, dp.normal, dp.albedo))),
         voxels(vplkit::gl::buffer::from_vector(grid.words())),
         acc(vplkit::gl::buffer::filled(std::size_t(2 * vplkit::texel_count(dp.resolution)) * 4, 0)),

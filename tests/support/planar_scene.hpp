@@ -135,32 +135,41 @@ struct planar_tracer {
 };
 
 // The continuous integral at gp (double), Gauss-Legendre with n nodes per piece and direction.
+// With two normals (docs/math.md section 12) the cosine is the shading normal's and directions
+// below the geometric surface count 0; both normals must point down (y < 0).
 inline vec3<double> continuous_integral(const planar_scene<double>& s, const vplkit::gather_point<double>& gp,
                                         int n = 160) {
   const double pi = 3.14159265358979323846;
-  const vec3<double> x = gp.position, nx = glm::normalize(gp.normal), c = s.light.position;
+  const vec3<double> x = gp.position, nx = glm::normalize(vplkit::gather_point_shading_normal(gp)),
+                     ng = glm::normalize(gp.normal), c = s.light.position;
   const double hx = x.y, H = c.y;
   const gauss_legendre gl(n);
-  // a(phi) = nx.x cos phi + nx.z sin phi = A cos(phi - phi0): zero at phi0 +- pi/2.
-  const double phi0 = std::atan2(nx.z, nx.x);
-  const double cuts[3] = {phi0 - 0.5 * pi, phi0 + 0.5 * pi, phi0 + 1.5 * pi};
-  auto beta_max = [&](double phi) {
-    const double a = nx.x * std::cos(phi) + nx.z * std::sin(phi);
+  // a(phi) = n.x cos phi + n.z sin phi = A cos(phi - phi0): zero at phi0 +- pi/2, for each normal;
+  // the integrand's edge in beta is smooth between consecutive cuts.
+  const double phi_s = std::atan2(nx.z, nx.x), phi_g = std::atan2(ng.z, ng.x);
+  std::vector<double> cuts = {phi_s - 0.5 * pi, phi_s + 0.5 * pi};
+  if (ng != nx)
+    for (double p : {phi_g - 0.5 * pi, phi_g + 0.5 * pi}) cuts.push_back(p + 2.0 * pi * std::floor((p - cuts[0]) / (2.0 * pi)));
+  std::sort(cuts.begin(), cuts.end());
+  cuts.push_back(cuts[0] + 2.0 * pi);
+  auto beta_limit = [&](vec3<double> nn, double phi) {
+    const double a = nn.x * std::cos(phi) + nn.z * std::sin(phi);
     if (a >= 0.0) return 0.5 * pi;
-    return std::atan2(-nx.y, -a);  // tan(beta) a > nx.y  <=>  tan(beta) < |nx.y| / |a|
+    return std::atan2(-nn.y, -a);  // tan(beta) a > n.y  <=>  tan(beta) < |n.y| / |a|
   };
+  auto beta_max = [&](double phi) { return std::min(beta_limit(nx, phi), beta_limit(ng, phi)); };
   auto radiance_term = [&](double beta, double phi) {
     const double sb = std::sin(beta), cb = std::cos(beta);
     const vec3<double> dir(sb * std::cos(phi), -cb, sb * std::sin(phi));
     const double cos2 = glm::dot(nx, dir);
-    if (!(cos2 > 0.0) || !(cb > 0.0)) return 0.0;
+    if (!(cos2 > 0.0) || !(glm::dot(ng, dir) > 0.0) || !(cb > 0.0)) return 0.0;
     const vec3<double> y = x + (hx / cb) * dir;
     const vec3<double> d = y - c;
     const double d1 = std::sqrt(glm::dot(d, d));
     return cos2 * sb * H / (pi * d1 * d1 * d1) / pi;  // (1/pi) [I rho_f H / (pi d1^3)] cos2 sin(beta)
   };
   double total = 0.0;
-  for (int k = 0; k < 2; ++k) {
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
     const double p_lo = cuts[k], p_hi = cuts[k + 1];
     total += gl.integrate(p_lo, p_hi, [&](double phi) {
       return gl.integrate(0.0, beta_max(phi), [&](double beta) { return radiance_term(beta, phi); });

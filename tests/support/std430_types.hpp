@@ -23,14 +23,17 @@ inline float4 f4(vplkit::vec3<float> v, float w = 0.0f) { return {v.x, v.y, v.z,
 inline vplkit::vec3<float> xyz(const float4& v) { return vplkit::vec3<float>(v.x, v.y, v.z); }
 
 // Surface samples as the kernels read them: position, normal, albedo of element i at 3 i, 3 i + 1,
-// 3 i + 2 (a G-buffer, a DPRSM, gather points).
+// 3 i + 2 (a G-buffer, a DPRSM, gather points); a gather point's shading normal, when given, in
+// the three .w (vplkit_unpack_gather_point), else 0 there.
 inline std::vector<float4> surfels(const std::vector<vplkit::vec3<float>>& p, const std::vector<vplkit::vec3<float>>& n,
-                                   const std::vector<vplkit::vec3<float>>& a) {
+                                   const std::vector<vplkit::vec3<float>>& a,
+                                   const std::vector<vplkit::vec3<float>>* shading = nullptr) {
   std::vector<float4> out;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    out.push_back(f4(p[i]));
-    out.push_back(f4(n[i]));
-    out.push_back(f4(a[i]));
+    const vplkit::vec3<float> s = shading != nullptr ? (*shading)[i] : vplkit::vec3<float>(0.0f);
+    out.push_back(f4(p[i], s.x));
+    out.push_back(f4(n[i], s.y));
+    out.push_back(f4(a[i], s.z));
   }
   return out;
 }

@@ -95,6 +95,7 @@ template <class T>
 struct gbuffer_data {
   int width = 0, height = 0;
   std::vector<vec3<T>> position, normal, albedo;
+  std::vector<vec3<T>> shading_normal;  // empty: none (the geometric normals shade)
   vplkit::gbuffer_view<T> view() const {
     vplkit::gbuffer_view<T> v;
     v.width = width;
@@ -102,6 +103,7 @@ struct gbuffer_data {
     v.position = position.data();
     v.normal = normal.data();
     v.albedo = albedo.data();
+    v.shading_normal = shading_normal.size() == position.size() ? shading_normal.data() : nullptr;
     return v;
   }
 };

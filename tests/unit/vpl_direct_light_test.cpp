@@ -55,6 +55,37 @@ TEMPLATE_TEST_CASE("direct_light: 0 for background, back-facing points and the l
   CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
 }
 
+TEMPLATE_TEST_CASE("direct_light with two normals: the shading cosine where the geometric surface faces the light",
+                   "[vpl]", float, double) {
+  using T = TestType;
+  const lit_room<T> room(64);
+  const gather_point<T> lit = room.scene.gather_points().front().gp;  // floor_open
+  const vec3<T> n = glm::normalize(lit.normal);
+  const vec3<T> l = glm::normalize(room.view.light.position - lit.position);
+  REQUIRE(glm::dot(n, l) > T(0.3));
+  // A shading normal turned towards the light: the value uses it, the lit decision does not move.
+  gather_point<T> g = lit;
+  g.shading_normal = glm::normalize(n + T(0.8) * l);
+  const vec3<T> e = direct_light(g, room.view);
+  CHECK(e == reflected_radiance(room.view.light.position, room.view.light.intensity, g.position, g.shading_normal,
+                                g.albedo));
+  CHECK(e.x > direct_light(lit, room.view).x);
+  // One turned away from the light while the surface faces it: 0 (the cosine is clamped).
+  const vec3<T> side = glm::normalize(l - glm::dot(l, n) * n);
+  g.shading_normal = glm::normalize(n - T(3) * side);
+  REQUIRE(glm::dot(g.shading_normal, l) < T(0));
+  CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
+  // The geometric surface facing away: 0 whatever the shading normal says.
+  g = lit;
+  g.normal = -n;
+  g.shading_normal = n;
+  CHECK(direct_light(g, room.view) == vec3<T>(T(0)));
+  // The shading normal equal to the geometric one is the one-normal result, bit for bit.
+  g = lit;
+  g.shading_normal = lit.normal;
+  CHECK(direct_light(g, room.view) == direct_light(lit, room.view));
+}
+
 TEST_CASE("direct_light_depth_tolerance: a footprint of 4 d / R, times 1/2 + tan(alpha) capped at 20") {
   const double d = 2.0;
   const int R = 64;

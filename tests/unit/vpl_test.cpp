@@ -182,3 +182,40 @@ TEMPLATE_TEST_CASE("vpl: flux equals pi times exitant radiance times patch area"
     REQUIRE(from_radiance.z == Approx(phi.z).epsilon(1e-4));
   }
 }
+
+TEMPLATE_TEST_CASE("vpl: at a gather point with two normals, the shading cosine above the geometric surface",
+                   "[vpl]", float, double) {
+  using T = TestType;
+  std::mt19937_64 rng(41);
+  int above_both = 0, below_geometric = 0, below_shading = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const vec3<T> x = random_unit<T>(rng), n = random_unit<T>(rng);
+    vec3<T> ns = random_unit<T>(rng);
+    if (glm::dot(ns, n) < T(0)) ns = -ns;  // the G-buffer's convention: n_s on n's side
+    const vplkit::vpl<T> v{x + T(2) * random_unit<T>(rng), random_unit<T>(rng), vec3<T>(1, 2, 3)};
+    const vplkit::gather_point<T> gp{x, n, vec3<T>(T(0.5)), ns};
+    const vec3<T> w = v.position - x;
+    const vec3<T> c = vplkit::vpl_contribution(gp, v, T(0.1));
+    if (glm::dot(n, w) <= T(0)) {
+      ++below_geometric;
+      CHECK(c == vec3<T>(0));  // even where n_s faces y
+    } else {
+      CHECK(c == vplkit::vpl_contribution(x, ns, gp.albedo, v, T(0.1)));
+      if (glm::dot(ns, w) <= T(0)) {
+        ++below_shading;
+        CHECK(c == vec3<T>(0));
+      } else if (c.x > T(0)) {
+        ++above_both;
+      }
+    }
+    // No shading normal (or the geometric one again): the one-normal contribution, bit for bit.
+    const vplkit::gather_point<T> one{x, n, vec3<T>(T(0.5))};
+    const vplkit::gather_point<T> same{x, n, vec3<T>(T(0.5)), n};
+    const vec3<T> c1 = vplkit::vpl_contribution(x, n, one.albedo, v, T(0.1));
+    CHECK(vplkit::vpl_contribution(one, v, T(0.1)) == c1);
+    CHECK(vplkit::vpl_contribution(same, v, T(0.1)) == c1);
+  }
+  CHECK(above_both > 200);
+  CHECK(below_geometric > 200);
+  CHECK(below_shading > 50);
+}

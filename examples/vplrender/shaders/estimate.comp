@@ -168,8 +168,7 @@ uniform int u_vpl_mode;            // vplkit_vpl_point or vplkit_vpl_patch (--vp
 uniform int u_strata;              // the patch reference's strata per texel side (m of m x m)
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
-  return vplkit_gather_point(vr_gbuffer[pixel].position.xyz, vr_gbuffer[pixel].normal.xyz,
-                             vr_gbuffer[pixel].albedo.xyz);
+  return vplkit_unpack_gather_point(vr_gbuffer[pixel].position, vr_gbuffer[pixel].normal, vr_gbuffer[pixel].albedo);
 }
 vec3 vplkit_load_dprsm_position(int texel) { return vr_dprsm[texel].position.xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vr_dprsm[texel].normal.xyz; }

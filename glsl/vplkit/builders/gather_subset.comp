@@ -23,8 +23,8 @@ layout(std140, binding = VPLKIT_GATHER_SUBSET_BINDING_PARAMS) uniform vplkit_gat
 };
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
-  return vplkit_gather_point(vplkit_gather_subset_gbuffer[3 * pixel].xyz, vplkit_gather_subset_gbuffer[3 * pixel + 1].xyz,
-                             vplkit_gather_subset_gbuffer[3 * pixel + 2].xyz);
+  return vplkit_unpack_gather_point(vplkit_gather_subset_gbuffer[3 * pixel], vplkit_gather_subset_gbuffer[3 * pixel + 1],
+                                    vplkit_gather_subset_gbuffer[3 * pixel + 2]);
 }
 
 void main() {

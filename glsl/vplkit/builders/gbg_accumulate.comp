@@ -51,8 +51,8 @@ layout(std140, binding = VPLKIT_GBG_BINDING_PARAMS) uniform vplkit_gbg_accumulat
 };
 
 vplkit_gather_point vplkit_load_gather_point(int pixel) {
-  return vplkit_gather_point(vplkit_gbg_gbuffer[3 * pixel].xyz, vplkit_gbg_gbuffer[3 * pixel + 1].xyz,
-                             vplkit_gbg_gbuffer[3 * pixel + 2].xyz);
+  return vplkit_unpack_gather_point(vplkit_gbg_gbuffer[3 * pixel], vplkit_gbg_gbuffer[3 * pixel + 1],
+                                    vplkit_gbg_gbuffer[3 * pixel + 2]);
 }
 vec3 vplkit_load_dprsm_position(int texel) { return vplkit_gbg_dprsm[3 * texel].xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vplkit_gbg_dprsm[3 * texel + 1].xyz; }

@@ -41,7 +41,7 @@ void vplkit_store_gbg_hit(int texel, float value);
 float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, int texel, vec3 hit_position, float dmin,
                            int accumulator) {
   if (accumulator == vplkit_gbg_accumulator_paper)
-    return vplkit_luminance(vplkit_vpl_contribution(g.position, g.normal, g.albedo, vplkit_dprsm_view_vpl_at(view, texel), dmin));
+    return vplkit_luminance(vplkit_vpl_contribution(g, vplkit_dprsm_view_vpl_at(view, texel), dmin));
   vec3 n_t = vplkit_load_dprsm_normal(texel);
   // One-sided emission, as in the gathering estimator.
   if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(g.position - hit_position)) > 0.0)) return 0.0;
@@ -65,7 +65,7 @@ vec3 vplkit_gbg_direction(vec3 n_x, int pixel, int j, uint seed) {
 ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplkit_dprsm_view view,
                                          vplkit_voxel_tracer tracer, vplkit_gbg_params params, int dir_begin,
                                          int dir_end) {
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(g.normal);
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(g));
   vplkit_counter_rng rng = vplkit_make_counter_rng(params.seed, uint(pixel));
   rng.counter = 2u * uint(dir_begin);
   int hits = 0, lit = 0;
@@ -74,7 +74,9 @@ ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplki
     float u1 = vplkit_rng_next_unit(rng);
     vec3 local = vplkit_sample_cosine_hemisphere(vec2(u0, u1));
     if (!(local.z > 0.0)) continue;  // on the horizon p1 = 0: no contribution, no trace
-    vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, g.position, g.normal, vplkit_to_world(frame, local));
+    vec3 dir = vplkit_to_world(frame, local);
+    if (!vplkit_gather_point_accepts_direction(g, dir)) continue;  // below the geometric surface: 0
+    vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, g.position, g.normal, dir);
     if (!h.hit) continue;
     ++hits;
     vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, params.depth_tolerance);

@@ -42,9 +42,9 @@ uint vplkit_global_weights_first;  // this invocation's region: offsets[region]
 
 vplkit_gather_point vplkit_load_subset_gather_point(int i) {
   int p = vplkit_global_weights_subset[vplkit_global_weights_first + uint(i)];
-  if (p < 0 || p >= vplkit_global_weights.pixel_count) return vplkit_gather_point(vec3(0.0), vec3(0.0), vec3(0.0));
-  return vplkit_gather_point(vplkit_global_weights_gbuffer[3 * p].xyz, vplkit_global_weights_gbuffer[3 * p + 1].xyz,
-                             vplkit_global_weights_gbuffer[3 * p + 2].xyz);
+  if (p < 0 || p >= vplkit_global_weights.pixel_count) return vplkit_unpack_gather_point(vec4(0.0), vec4(0.0), vec4(0.0));
+  return vplkit_unpack_gather_point(vplkit_global_weights_gbuffer[3 * p], vplkit_global_weights_gbuffer[3 * p + 1],
+                                    vplkit_global_weights_gbuffer[3 * p + 2]);
 }
 
 void main() {

@@ -37,7 +37,7 @@ float vplkit_global_weight_texel(vplkit_dprsm_view view, int texel, int count, f
   for (int i = 0; i < count; ++i) {
     vplkit_gather_point g = vplkit_load_subset_gather_point(i);
     if (!vplkit_gather_point_valid(g)) continue;
-    sum += vplkit_luminance(vplkit_vpl_contribution(g.position, g.normal, g.albedo, v, dmin));
+    sum += vplkit_luminance(vplkit_vpl_contribution(g, v, dmin));
     ++used;
   }
   if (used == 0) return 0.0;

@@ -48,12 +48,14 @@ vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, v
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
-// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon.
+// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon, and
+// 0 below the geometric surface (the frame is the shading normal's).
 vec3 vplkit_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_orthonormal_basis frame,
                              vec3 local, vplkit_voxel_tracer tracer, float depth_tolerance) {
   if (!(local.z > 0.0)) return vec3(0.0);
-  vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(
-      view, gp.position, gp.normal, vplkit_to_world(frame, local), tracer, depth_tolerance);
+  vec3 dir = vplkit_to_world(frame, local);
+  if (!vplkit_gather_point_accepts_direction(gp, dir)) return vec3(0.0);
+  vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   return vplkit_estimator_finite_or_zero(gp.albedo * r.radiance);
 }
 
@@ -62,7 +64,7 @@ void vplkit_estimate_gathering_range(vplkit_gather_point gp, vplkit_dprsm_view v
                                      inout vplkit_estimator_state state, int begin, int end,
                                      vplkit_voxel_tracer tracer, float depth_tolerance) {
   if (!vplkit_gather_point_valid(gp)) return;
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
   for (int k = begin; k < end; ++k) {
     float u0 = vplkit_rng_next_unit(state.rng);
     float u1 = vplkit_rng_next_unit(state.rng);

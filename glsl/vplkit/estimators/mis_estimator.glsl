@@ -85,8 +85,9 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
                                  float depth_tolerance, float n1, float n2, int mode, int vpl_mode) {
   float cos2 = local.z;
   if (!(cos2 > 0.0)) return vec3(0.0);
-  vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(
-      view, gp.position, gp.normal, vplkit_to_world(frame, local), tracer, depth_tolerance);
+  vec3 dir = vplkit_to_world(frame, local);
+  if (!vplkit_gather_point_accepts_direction(gp, dir)) return vec3(0.0);
+  vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3(0.0);
   vec3 f = gp.albedo * r.radiance * (cos2 / vplkit_vpl_pi);
   float pmf = vplkit_estimator_distribution_pmf(distribution, uint(r.texel));
@@ -115,19 +116,19 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
 vec3 vplkit_mis_vpl_value(vplkit_gather_point gp, vplkit_dprsm_view view, int t, vplkit_vpl v, float pmf,
                           float area, vplkit_visibility visibility, float n1, float n2, int mode) {
   if (mode == vplkit_mis_as_published) {
-    vec3 c = vplkit_vpl_contribution(gp.position, gp.normal, gp.albedo, v, 0.0);
+    vec3 c = vplkit_vpl_contribution(gp, v, 0.0);
     if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) return vec3(0.0);
     if (!vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal)) return vec3(0.0);
-    float cos2 = dot(vplkit_unit_or_zero(gp.normal), vplkit_unit_or_zero(v.position - gp.position));
+    float cos2 = dot(vplkit_unit_or_zero(vplkit_gather_point_shading_normal(gp)), vplkit_unit_or_zero(v.position - gp.position));
     vplkit_mis_weight_pair w = vplkit_mis_weights_as_published(cos2, vplkit_mis_sin_from_cos(cos2), pmf);
     return vplkit_estimator_finite_or_zero(c * vplkit_mis_div(w.vpl, pmf));
   }
   if (!vplkit_vpl_has_flux(v)) return vec3(0.0);
   if (vplkit_vpl_points_coincide(gp.position, v.position)) return vec3(0.0);
   vec3 wd = vplkit_unit_or_zero(v.position - gp.position);  // x -> y
-  float cos2 = dot(vplkit_unit_or_zero(gp.normal), wd);
+  float cos2 = dot(vplkit_unit_or_zero(vplkit_gather_point_shading_normal(gp)), wd);
   float cos1 = -dot(vplkit_unit_or_zero(v.normal), wd);
-  if (!(cos2 > 0.0) || !(cos1 > 0.0)) return vec3(0.0);
+  if (!(cos2 > 0.0) || !(cos1 > 0.0) || !vplkit_gather_point_above(gp, wd)) return vec3(0.0);
   if (!vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal)) return vec3(0.0);
   vec3 f = gp.albedo *
            vplkit_reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
@@ -173,7 +174,7 @@ void vplkit_estimate_mis_range(vplkit_gather_point gp, vplkit_dprsm_view view, u
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   float n1 = float(n_dirs), n2 = float(n_vpls);
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
+  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_vpls) {
       float u = vplkit_rng_next_unit(state.rng);

@@ -42,7 +42,7 @@ vec3 vplkit_vpl_visible_contribution(vplkit_gather_point gp, vplkit_dprsm_view v
                                      vplkit_visibility visibility, float dmin) {
   if (t < 0 || t >= vplkit_dprsm_view_texel_count(view)) return vec3(0.0);
   vplkit_vpl v = vplkit_dprsm_view_vpl_at(view, t);
-  vec3 c = vplkit_vpl_contribution(gp.position, gp.normal, gp.albedo, v, dmin);
+  vec3 c = vplkit_vpl_contribution(gp, v, dmin);
   if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) return vec3(0.0);
   return vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal) ? c : vec3(0.0);
 }
@@ -53,7 +53,7 @@ vec3 vplkit_vpl_patch_visible_contribution(vplkit_gather_point gp, vplkit_dprsm_
                                            vplkit_visibility visibility, float dmin, float depth_tolerance) {
   if (t < 0 || t >= vplkit_dprsm_view_texel_count(view)) return vec3(0.0);
   vplkit_dprsm_patch_sample s = vplkit_dprsm_patch_vpl(view, t, xi, depth_tolerance);
-  vec3 c = vplkit_vpl_contribution(gp.position, gp.normal, gp.albedo, s.point, dmin);
+  vec3 c = vplkit_vpl_contribution(gp, s.point, dmin);
   if (!(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)) return vec3(0.0);
   return vplkit_visibility_test(visibility, gp.position, gp.normal, s.point.position, s.point.normal) ? c
                                                                                                       : vec3(0.0);

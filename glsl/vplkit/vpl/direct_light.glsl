@@ -15,7 +15,8 @@ float vplkit_direct_light_depth_tolerance(float d, float cos_a, int resolution) 
   return d * (4.0 / float(resolution)) * (0.5 + tan_a) + 1e-4 * d;
 }
 
-// L_o(x) where the DPRSM sees x lit, else 0.
+// L_o(x) where the DPRSM sees x lit, else 0; cos(alpha) the shading normal's, facing and
+// tolerance the geometric surface's.
 vec3 vplkit_direct_light(vplkit_gather_point gp, vplkit_dprsm_view view) {
   if (!vplkit_gather_point_valid(gp)) return vec3(0.0);
   vec3 to_light = view.light.position - gp.position;
@@ -26,7 +27,8 @@ vec3 vplkit_direct_light(vplkit_gather_point gp, vplkit_dprsm_view view) {
   float tolerance = vplkit_direct_light_depth_tolerance(d, cos_a, view.resolution);
   vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, gp.position, tolerance);
   if (!r.lit) return vec3(0.0);
-  return vplkit_reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
+  return vplkit_reflected_radiance(view.light.position, view.light.intensity, gp.position,
+                                   vplkit_gather_point_shading_normal(gp), gp.albedo);
 }
 
 #endif  // VPLKIT_VPL_DIRECT_LIGHT_GLSL

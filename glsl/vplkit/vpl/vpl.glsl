@@ -13,6 +13,7 @@
 #define VPLKIT_VPL_VPL_GLSL
 
 #include "vplkit/core/constants.glsl"
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 
 struct vplkit_vpl {
@@ -71,6 +72,13 @@ vec3 vplkit_vpl_contribution(vec3 x, vec3 n_x, vec3 rho_x, vplkit_vpl v, float d
   float g = vplkit_vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
   float brdf_scale = 1.0 / vplkit_vpl_pi;  // diffuse BRDF rho_x / pi
   return rho_x * brdf_scale * v.flux * g;
+}
+
+// L_t at a gather point with two normals: theta2 against the shading normal, 0 on or below the
+// geometric surface.
+vec3 vplkit_vpl_contribution(vplkit_gather_point gp, vplkit_vpl v, float dmin) {
+  if (!vplkit_gather_point_above(gp, vplkit_unit_or_zero(v.position - gp.position))) return vec3(0.0);
+  return vplkit_vpl_contribution(gp.position, vplkit_gather_point_shading_normal(gp), gp.albedo, v, dmin);
 }
 
 // Smallest cos(alpha) vplkit_vpl_patch_area divides by.

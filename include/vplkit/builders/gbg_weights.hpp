@@ -62,7 +62,7 @@ template <class T>
 inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
                        vec3<T> hit_position, T dmin, gbg_accumulator accumulator) {
   if (accumulator == gbg_accumulator::paper)
-    return luminance(vpl_contribution(g.position, g.normal, g.albedo, view.vpl_at(texel), dmin));
+    return luminance(vpl_contribution(g, view.vpl_at(texel), dmin));
   const vec3<T> n_t = view.normal[texel];
   // One-sided emission, as in the gathering estimator: a hit seen from behind the texel's normal
   // sends nothing towards x.
@@ -91,7 +91,7 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
                                         const dprsm_view<T>& view, Tracer&& trace,
                                         const gbg_params<T>& params, double* acc,
                                         gbg_stats* stats = nullptr) {
-  const orthonormal_basis<T> frame = make_orthonormal_basis(g.normal);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(g));
   counter_rng rng = make_counter_rng(params.seed, std::uint32_t(pixel));
   long long hits = 0, lit = 0;
   for (int j = 0; j < params.n_dirs; ++j) {
@@ -101,7 +101,9 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     // On the horizon (probability ~2^-24 per draw) p1 = 0: no contribution, no trace, as in the
     // gathering estimator.
     if (!(local.z > T(0))) continue;
-    const ray_hit<T> h = trace(g.position, g.normal, to_world(frame, local));
+    const vec3<T> dir = to_world(frame, local);
+    if (!gather_point_accepts_direction(g, dir)) continue;  // below the geometric surface: 0
+    const ray_hit<T> h = trace(g.position, g.normal, dir);
     if (!h.hit) continue;
     ++hits;
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);

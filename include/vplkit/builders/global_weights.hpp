@@ -40,7 +40,7 @@ inline T global_weight_texel(const dprsm_view<T>& view, int texel, const gather_
   T sum = T(0);
   for (int i = 0; i < count; ++i) {
     const gather_point<T>& g = points[i];
-    sum += luminance(vpl_contribution(g.position, g.normal, g.albedo, v, dmin));
+    sum += luminance(vpl_contribution(g, v, dmin));
   }
   return sum * (T(1) / T(count));
 }

@@ -2,6 +2,7 @@
 // What builders and estimators know of the camera's visible points: a non-owning G-buffer view
 // (the host renderer owns the image) and the result type of the host's ray-casting callable.
 #include <vplkit/core/error.hpp>
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 
 #include <cmath>
@@ -14,7 +15,36 @@ struct gather_point {
   vec3<T> position;
   vec3<T> normal;  // need not be unit length; zero means "no surface" (background pixel)
   vec3<T> albedo;  // diffuse reflectance rho_x
+  // The shading normal (e.g. interpolated vertex normals), on the geometric normal's side; zero
+  // means "the same as normal". `normal` is the geometric normal: offsets, hemisphere tests and
+  // visibility use it; only the receiver's cosine uses the shading normal (docs/math.md section 12).
+  vec3<T> shading_normal{T(0)};
 };
+
+// The normal of the receiver's cosine: the shading normal, or the geometric one where none is set.
+template <class T>
+inline vec3<T> gather_point_shading_normal(const gather_point<T>& g) {
+  const bool set = g.shading_normal.x != T(0) || g.shading_normal.y != T(0) || g.shading_normal.z != T(0);
+  return set ? g.shading_normal : g.normal;
+}
+
+// True where the unit direction wd leaves x above its geometric surface. A receiver gets nothing
+// from below it, whatever the shading normal says (decided with the cosine's own expression, so
+// with one normal the test and the clamped cosine agree bit for bit).
+template <class T>
+inline bool gather_point_above(const gather_point<T>& g, vec3<T> wd) {
+  return glm::dot(unit_or_zero(g.normal), wd) > T(0);
+}
+
+// Directions sampled in the shading normal's hemisphere that point below the geometric surface
+// count as zero samples (docs/math.md section 12). With one normal the hemisphere sampled is the
+// geometric one and nothing is rejected.
+template <class T>
+inline bool gather_point_accepts_direction(const gather_point<T>& g, vec3<T> wd) {
+  const vec3<T> ns = gather_point_shading_normal(g);
+  const bool one_normal = ns.x == g.normal.x && ns.y == g.normal.y && ns.z == g.normal.z;
+  return one_normal || gather_point_above(g, wd);
+}
 
 // Background pixels (zero or non-finite normal) are skipped by every builder and estimator.
 template <class T>
@@ -33,9 +63,13 @@ struct gbuffer_view {
   const vec3<T>* position = nullptr;
   const vec3<T>* normal = nullptr;
   const vec3<T>* albedo = nullptr;
+  const vec3<T>* shading_normal = nullptr;  // optional: null = the geometric normals shade too
 
   int pixel_count() const { return width * height; }
-  gather_point<T> at(int index) const { return gather_point<T>{position[index], normal[index], albedo[index]}; }
+  gather_point<T> at(int index) const {
+    return gather_point<T>{position[index], normal[index], albedo[index],
+                           shading_normal != nullptr ? shading_normal[index] : vec3<T>(T(0))};
+  }
   gather_point<T> at(int x, int y) const { return at(y * width + x); }
 
   // Throws invalid_input for a bad size or null arrays. Non-finite entries are not an error:

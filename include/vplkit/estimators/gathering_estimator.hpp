@@ -51,14 +51,16 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
-// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon.
+// f / p1 = rho_x L_o(y) (the cos(theta2)/pi of f and p1 cancel); 0 at or below the horizon, and
+// 0 below the geometric surface (the frame is the shading normal's; docs/math.md section 12).
 template <class T, class Tracer>
 inline vec3<T> gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                 const orthonormal_basis<T>& frame, vec3<T> local, const Tracer& tracer,
                                 T depth_tolerance) {
   if (!(local.z > T(0))) return vec3<T>(T(0));
-  const gathering_ray_result<T> r =
-      trace_gathering_ray(view, gp.position, gp.normal, to_world(frame, local), tracer, depth_tolerance);
+  const vec3<T> dir = to_world(frame, local);
+  if (!gather_point_accepts_direction(gp, dir)) return vec3<T>(T(0));
+  const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   return estimator_finite_or_zero(gp.albedo * r.radiance);
 }
 
@@ -68,7 +70,7 @@ inline void estimate_gathering_range(const gather_point<T>& gp, const dprsm_view
                                      estimator_state<T>& state, int begin, int end, const Tracer& tracer,
                                      T depth_tolerance) {
   if (!gather_point_valid(gp)) return;
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int k = begin; k < end; ++k) {
     const T u0 = rng_next_unit<T>(state.rng);
     const T u1 = rng_next_unit<T>(state.rng);

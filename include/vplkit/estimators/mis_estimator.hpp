@@ -95,8 +95,9 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
                                     mis_mode mode, vpl_mode vmode = vpl_mode::point) {
   const T cos2 = local.z;
   if (!(cos2 > T(0))) return vec3<T>(T(0));
-  const gathering_ray_result<T> r =
-      trace_gathering_ray(view, gp.position, gp.normal, to_world(frame, local), tracer, depth_tolerance);
+  const vec3<T> dir = to_world(frame, local);
+  if (!gather_point_accepts_direction(gp, dir)) return vec3<T>(T(0));
+  const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
@@ -120,19 +121,19 @@ template <class T, class Visibility>
 inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v, T pmf,
                              T area, const Visibility& visibility, T n1, T n2, mis_mode mode) {
   if (mode == mis_mode::as_published) {
-    const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, T(0));
+    const vec3<T> c = vpl_contribution(gp, v, T(0));
     if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
     if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
-    const T cos2 = glm::dot(unit_or_zero(gp.normal), unit_or_zero(v.position - gp.position));
+    const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), unit_or_zero(v.position - gp.position));
     const mis_weight_pair<T> w = mis_weights_as_published(cos2, mis_sin_from_cos(cos2), pmf);
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
   if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
   const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
-  const T cos2 = glm::dot(unit_or_zero(gp.normal), wd);
+  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
   const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
-  if (!(cos2 > T(0)) || !(cos1 > T(0))) return vec3<T>(T(0));
+  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
   if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo *
                     reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
@@ -185,7 +186,7 @@ inline void estimate_mis_range(const gather_point<T>& gp, const dprsm_view<T>& v
   if (n_dirs < 0) n_dirs = 0;
   if (n_vpls < 0) n_vpls = 0;
   const T n1 = T(n_dirs), n2 = T(n_vpls);
-  const orthonormal_basis<T> frame = make_orthonormal_basis(gp.normal);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_vpls) {
       const T u = rng_next_unit<T>(state.rng);

@@ -33,7 +33,7 @@ inline vec3<T> vpl_visible_contribution(const gather_point<T>& gp, const dprsm_v
                                         const Visibility& visibility, T dmin) {
   if (t < 0 || t >= view.texel_count()) return vec3<T>(T(0));
   const vpl<T> v = view.vpl_at(t);
-  const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, v, dmin);
+  const vec3<T> c = vpl_contribution(gp, v, dmin);
   if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
   return visibility(gp.position, gp.normal, v.position, v.normal) ? c : vec3<T>(T(0));
 }
@@ -48,7 +48,7 @@ inline vec3<T> vpl_patch_visible_contribution(const gather_point<T>& gp, const d
                                               T depth_tolerance) {
   if (t < 0 || t >= view.texel_count()) return vec3<T>(T(0));
   const dprsm_patch_sample<T> s = dprsm_patch_vpl(view, t, xi, depth_tolerance);
-  const vec3<T> c = vpl_contribution(gp.position, gp.normal, gp.albedo, s.point, dmin);
+  const vec3<T> c = vpl_contribution(gp, s.point, dmin);
   if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
   return visibility(gp.position, gp.normal, s.point.position, s.point.normal) ? c : vec3<T>(T(0));
 }

@@ -26,7 +26,8 @@ inline T direct_light_depth_tolerance(T d, T cos_a, int resolution) {
 
 // L_o(x) = rho_x I_s cos(alpha) / (pi d^2) (reflected_radiance) where the DPRSM sees x lit
 // (dprsm_lookup within direct_light_depth_tolerance), else 0: background pixels, points at the
-// light or facing away from it, points in shadow.
+// light or facing away from it, points in shadow. cos(alpha) is the shading normal's; whether x
+// faces the light, and the shadow test's tolerance, are the geometric surface's.
 template <class T>
 inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
@@ -38,7 +39,8 @@ inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view
   const T tolerance = direct_light_depth_tolerance(d, cos_a, view.resolution);
   const dprsm_lookup_result r = dprsm_lookup(view, gp.position, tolerance);
   if (!r.lit) return vec3<T>(T(0));
-  return reflected_radiance(view.light.position, view.light.intensity, gp.position, gp.normal, gp.albedo);
+  return reflected_radiance(view.light.position, view.light.intensity, gp.position,
+                            gather_point_shading_normal(gp), gp.albedo);
 }
 
 }  // namespace vplkit

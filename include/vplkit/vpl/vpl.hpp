@@ -13,6 +13,7 @@
 //  - Squared distances are raised to at least vpl_distance_sq_floor = sqrt(smallest normal)
 //    (2^-63 in float, 2^-511 in double), so 1 / (pi d^2) <= 2.9e18 in float: the result is
 //    finite whenever |flux| * albedo (resp. |I| * albedo) stays below ~1e19 (float).
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 
@@ -91,6 +92,14 @@ inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl
   const T g = vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
   const T brdf_scale = T(1) / vpl_pi<T>;  // diffuse BRDF rho_x / pi
   return rho_x * brdf_scale * v.flux * g;
+}
+
+// L_t at a gather point with two normals: theta2 against the shading normal, and 0 where y_t lies
+// on or below the geometric surface (docs/math.md section 12).
+template <class T>
+inline vec3<T> vpl_contribution(const gather_point<T>& gp, const vpl<T>& v, T dmin) {
+  if (!gather_point_above(gp, unit_or_zero(v.position - gp.position))) return vec3<T>(T(0));
+  return vpl_contribution(gp.position, gather_point_shading_normal(gp), gp.albedo, v, dmin);
 }
 
 // Smallest cos(alpha) vpl_patch_area divides by: a texel seen at grazing incidence maps to a

@@ -101,33 +101,54 @@ uniform mat4 u_view_projection;
 out vec3 v_position;
 out vec3 v_normal;
 out vec2 v_uv;
+flat out vec4 v_plane;
 void main() {
   v_position = a_position;
   v_normal = a_normal;
   v_uv = a_uv;
+  v_plane = a_plane;
   gl_Position = u_view_projection * vec4(a_position, 1.0);
 }
 )";
 }
 
+// Depth = distance to the eye / u_far, written per fragment (as the DPRSM pass does). The
+// projection's own depth, with znear = 1e-5 zfar, resolves only about 1e-5 z^2 / znear in float:
+// millimetres in the Cornell box, so where a closed box's top face lies just behind its front face
+// (the camera a little below the top) the back face won the test along the front face's top row.
+// Linear depth resolves 2^-24 u_far everywhere.
 std::string gbuffer_fs() {
   return std::string("#version 430 core\n") + material_fs + R"(
 uniform vec3 u_eye;
+uniform float u_far;
 in vec3 v_position;
 in vec3 v_normal;
 in vec2 v_uv;
+flat in vec4 v_plane;
 layout(location = 0) out vec4 o_position;
 layout(location = 1) out vec4 o_normal;
 layout(location = 2) out vec4 o_albedo;
+layout(location = 3) out vec4 o_shading_normal;
 void main() {
-  vec3 n = v_normal;
-  float len = length(n);
-  n = len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
-  // Two-sided: the normal faces the camera.
-  if (dot(n, u_eye - v_position) < 0.0) n = -n;
+  // Geometric normal: the triangle's plane, turned to the camera's side of it (two-sided). The
+  // side is decided by the plane equation at the eye, exact for the whole triangle; an
+  // interpolated normal against the interpolated position can pick the wrong side.
+  vec3 ng = v_plane.xyz;
+  if (dot(ng, u_eye) - v_plane.w < 0.0) ng = -ng;
+  // Shading normal: the interpolated vertex normal, on the geometric normal's side.
+  vec3 ns = v_normal;
+  float len = length(ns);
+  ns = len > 0.0 ? ns / len : ng;
+  if (dot(ns, ng) < 0.0) ns = -ns;
+  // A flat triangle's vertex normal and its plane's normal differ by rounding only: one vector
+  // for both then (the shading one, as before), so flat scenes keep their G-buffer bit for bit.
+  if (dot(ns, ng) >= 1.0 - 1e-6) ng = ns;
+  if (dot(ng, ng) == 0.0) ng = ns;  // a degenerate triangle has no plane
+  gl_FragDepth = clamp(length(v_position - u_eye) / u_far, 0.0, 1.0);
   o_position = vec4(v_position, 1.0);
-  o_normal = vec4(n, 1.0);
+  o_normal = vec4(ng, 1.0);
   o_albedo = vec4(material_albedo(v_uv), 1.0);
+  o_shading_normal = vec4(ns, 1.0);
 }
 )";
 }
@@ -294,19 +315,21 @@ void upload(mesh& m, const std::vector<triangle>& tris_in) {
   check_gl("vplrender: mesh upload");
 }
 
-// Three RGBA32F colour targets + a 32-bit float depth buffer.
+// `attachments` (3: DPRSM, 4: G-buffer) RGBA32F colour targets + a 32-bit float depth buffer.
 struct target {
   GLuint fbo = 0, depth = 0;
-  GLuint color[3] = {0, 0, 0};
+  GLuint color[4] = {0, 0, 0, 0};
+  int attachments = 0;
   int w = 0, h = 0;
-  void create(int width, int height) {
+  void create(int width, int height, int count) {
     release();
     w = width;
     h = height;
+    attachments = count;
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glGenTextures(3, color);
-    for (int i = 0; i < 3; ++i) {
+    glGenTextures(attachments, color);
+    for (int i = 0; i < attachments; ++i) {
       glBindTexture(GL_TEXTURE_2D, color[i]);
       glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, w, h);
       glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), GL_TEXTURE_2D, color[i], 0);
@@ -316,8 +339,8 @@ struct target {
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
     vplkit::gl::track_gpu_bytes(bytes());
-    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glDrawBuffers(3, bufs);
+    const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+    glDrawBuffers(attachments, bufs);
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
       throw gl_error("vplrender: float render target " + std::to_string(w) + "x" + std::to_string(h) +
@@ -328,7 +351,7 @@ struct target {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, w, h);
     const float zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+    for (int i = 0; i < attachments; ++i) glClearBufferfv(GL_COLOR, i, zero);
     const float one = 1.0f;
     glClearBufferfv(GL_DEPTH, 0, &one);
   }
@@ -342,15 +365,15 @@ struct target {
     check_gl("vplrender: read-back");
     return px;
   }
-  // Three RGBA32F targets and a 32-bit depth buffer.
-  long long bytes() const { return static_cast<long long>(w) * h * (3 * 16 + 4); }
+  // The RGBA32F targets and a 32-bit depth buffer.
+  long long bytes() const { return static_cast<long long>(w) * h * (attachments * 16 + 4); }
   void release() {
     if (fbo) vplkit::gl::track_gpu_bytes(-bytes());
     if (depth) glDeleteRenderbuffers(1, &depth);
-    if (color[0]) glDeleteTextures(3, color);
+    if (color[0]) glDeleteTextures(attachments, color);
     if (fbo) glDeleteFramebuffers(1, &fbo);
     fbo = depth = 0;
-    color[0] = color[1] = color[2] = 0;
+    color[0] = color[1] = color[2] = color[3] = 0;
   }
 };
 
@@ -426,7 +449,7 @@ gl_rasterizer::~gl_rasterizer() = default;
 
 gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int height, raster_timing* timing) {
   target rt;
-  rt.create(width, height);
+  rt.create(width, height, 4);
   const aabb b = bounds(*impl_->s);
   double far = 0.0;
   for (int k = 0; k < 8; ++k) {
@@ -448,6 +471,7 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
   glUseProgram(impl_->gbuffer_program);
   glUniformMatrix4fv(glGetUniformLocation(impl_->gbuffer_program, "u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
   glUniform3f(glGetUniformLocation(impl_->gbuffer_program, "u_eye"), cam.eye.x, cam.eye.y, cam.eye.z);
+  glUniform1f(glGetUniformLocation(impl_->gbuffer_program, "u_far"), zfar);
   impl_->draw(impl_->gbuffer_program, impl_->scene_mesh);
   tq.end();
   check_gl("vplrender: G-buffer pass");
@@ -460,8 +484,9 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
   g.position.assign(n, vec3(0.0f));
   g.normal.assign(n, vec3(0.0f));
   g.albedo.assign(n, vec3(0.0f));
-  std::vector<vec3>* outs[3] = {&g.position, &g.normal, &g.albedo};
-  for (int a = 0; a < 3; ++a) {
+  g.shading_normal.assign(n, vec3(0.0f));
+  std::vector<vec3>* outs[4] = {&g.position, &g.normal, &g.albedo, &g.shading_normal};
+  for (int a = 0; a < 4; ++a) {
     const std::vector<float> px = rt.read(a);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
@@ -486,7 +511,7 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
   mesh m;
   upload(m, tessellate_for_light(impl_->s->triangles, light.position, tess, ts));
   target rt;
-  rt.create(R, R);
+  rt.create(R, R, 3);
   const GLuint prog = impl_->dprsm_program;
   dprsm_data d;
   d.resolution = R;

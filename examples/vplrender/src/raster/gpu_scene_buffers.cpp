@@ -10,12 +10,14 @@
 namespace vplrender {
 
 vplkit::gl::buffer upload_surfels(const std::vector<vec3>& position, const std::vector<vec3>& normal,
-                                  const std::vector<vec3>& albedo) {
+                                  const std::vector<vec3>& albedo, const std::vector<vec3>* shading_normal) {
   std::vector<glm::vec4> s(3 * std::max<std::size_t>(position.size(), 1), glm::vec4(0.0f));
+  const bool shading = shading_normal != nullptr && shading_normal->size() == position.size();
   for (std::size_t i = 0; i < position.size(); ++i) {
-    s[3 * i] = glm::vec4(position[i], 0.0f);
-    s[3 * i + 1] = glm::vec4(normal[i], 0.0f);
-    s[3 * i + 2] = glm::vec4(albedo[i], 0.0f);
+    const vec3 ns = shading ? (*shading_normal)[i] : vec3(0.0f);
+    s[3 * i] = glm::vec4(position[i], ns.x);
+    s[3 * i + 1] = glm::vec4(normal[i], ns.y);
+    s[3 * i + 2] = glm::vec4(albedo[i], ns.z);
   }
   return vplkit::gl::buffer::from_vector(s);
 }
@@ -73,7 +75,7 @@ gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v) {
 
 gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d, const scene_voxels_view& grid) {
   gpu_scene_buffers b;
-  b.gbuffer = upload_surfels(g.position, g.normal, g.albedo);
+  b.gbuffer = upload_surfels(g.position, g.normal, g.albedo, &g.shading_normal);
   b.dprsm = upload_surfels(d.position, d.normal, d.albedo);
   b.voxels = upload_voxel_words(grid.grid);
   b.voxel_triangles = upload_triangle_voxels(grid);

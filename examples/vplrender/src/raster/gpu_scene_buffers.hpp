@@ -35,11 +35,13 @@ struct gpu_scene_buffers {
 };
 
 // A G-buffer pixel or a DPRSM texel as the kernels read it: struct { vec4 position; vec4 normal;
-// vec4 albedo; } in std430 (xyz used, w = 0). At least one entry, so an empty array still binds.
+// vec4 albedo; } in std430 (xyz used); a G-buffer pixel's shading normal in the three w
+// (vplkit_unpack_gather_point), w = 0 without one. At least one entry, so an empty array still
+// binds.
 // Bytes upload_surfels() asks for: three vec4 per surfel (at least one surfel).
 inline std::size_t surfel_bytes(std::size_t count) { return 3 * 16 * (count > 0 ? count : 1); }
 vplkit::gl::buffer upload_surfels(const std::vector<vec3>& position, const std::vector<vec3>& normal,
-                                  const std::vector<vec3>& albedo);
+                                  const std::vector<vec3>& albedo, const std::vector<vec3>* shading_normal = nullptr);
 
 // The occupancy words (at least one).
 vplkit::gl::buffer upload_voxel_words(const vplkit::voxel_grid_view<float>& grid);

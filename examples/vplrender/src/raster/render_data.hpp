@@ -12,12 +12,15 @@ namespace vplrender {
 
 // width x height gather points, row 0 = TOP row (flipped from GL's bottom-up read-back), index
 // y * width + x as vplkit::gbuffer_view wants. Background pixels: normal 0.
-// Normals are unit and face the camera (two-sided shading; docs/renderer.md).
+// `normal` is the geometric normal (the triangle's plane), unit and facing the camera (two-sided
+// shading; docs/renderer.md); `shading_normal` the interpolated vertex normal, unit and on the
+// geometric normal's side (equal to `normal` on flat triangles; docs/math.md section 12).
 struct gbuffer_data {
   int width = 0, height = 0;
-  std::vector<vec3> position, normal, albedo;
+  std::vector<vec3> position, normal, albedo, shading_normal;
   vplkit::gbuffer_view<float> view() const {
-    return vplkit::gbuffer_view<float>{width, height, position.data(), normal.data(), albedo.data()};
+    return vplkit::gbuffer_view<float>{width, height, position.data(), normal.data(), albedo.data(),
+                                       shading_normal.size() == position.size() ? shading_normal.data() : nullptr};
   }
   std::size_t valid_count() const;
 };

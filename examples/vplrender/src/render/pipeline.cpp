@@ -105,7 +105,7 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
   if (gpu) {
     auto t = timer.scoped("scene upload (cpu)");
     scene_gpu->gbuffer = gpu_allocating(surfel_bytes(gbuf.position.size()), "the G-buffer surfels", [&] {
-      return upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo);
+      return upload_surfels(gbuf.position, gbuf.normal, gbuf.albedo, &gbuf.shading_normal);
     });
     scene_gpu->dprsm = gpu_allocating(surfel_bytes(dprsm.position.size()), "the DPRSM surfels", [&] {
       return upload_surfels(dprsm.position, dprsm.normal, dprsm.albedo);

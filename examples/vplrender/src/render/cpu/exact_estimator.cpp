@@ -31,7 +31,7 @@ vec3 gather_point_geometric_normal(const ray_scene& rs, const vplkit::gather_poi
 vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
                   vec3 n_g, vec3 dir) {
   const float cos_g = glm::dot(n_g, dir);
-  const float cos_s = glm::dot(vplkit::unit_or_zero(gp.normal), dir);
+  const float cos_s = glm::dot(vplkit::unit_or_zero(vplkit::gather_point_shading_normal(gp)), dir);
   if (!(cos_g > 0.0f) || !(cos_s > 0.0f)) return vec3(0.0f);
   const float offset = rs.surface_offset();
   const ray_scene::hit h = rs.intersect(vplkit::bvh_offset_point(gp.position, n_g, offset), dir);

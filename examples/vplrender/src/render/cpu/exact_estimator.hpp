@@ -13,8 +13,9 @@
 // intensity are the DPRSM's, y reflects from the side facing the light only (a hit seen from its
 // unlit side gives 0, as the DPRSM's texel normal does for gathering), the albedo is the
 // material's at y (texture included). Geometric normals place the hemisphere and move ray origins
-// off their surfaces (ray_scene::surface_offset); shading normals give the cosines. The gather
-// point's geometric normal comes from the triangle its camera ray meets (gather_point_frame).
+// off their surfaces (ray_scene::surface_offset); shading normals give the cosines (the gather
+// point's: vplkit::gather_point_shading_normal). The gather point's geometric normal comes from
+// the triangle its camera ray meets (gather_point_geometric_normal), oriented by the G-buffer's.
 // Random numbers: make_counter_rng(seed, pixel), per direction u0 then u1 (the gathering
 // estimator's stream).
 #include "render/cpu/ray_scene.hpp"
@@ -26,7 +27,7 @@
 namespace vplrender {
 
 // The gather point's geometric normal: that of the triangle met by the ray from the camera's eye
-// to x, oriented to the side of x's (camera-facing) G-buffer normal; the G-buffer normal itself
+// to x, oriented to the side of x's (camera-facing, geometric) G-buffer normal; that normal itself
 // when the ray meets nothing within 1e-3 of the scene's size of x (x off every triangle: never
 // for a rasterised point, kept for safety).
 vec3 gather_point_geometric_normal(const ray_scene& rs, const vplkit::gather_point<float>& gp);
