@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Builds single_include/vplkit/vplkit.hpp from include/vplkit/vplkit.hpp by inlining every
 # `#include <vplkit/...>` once, in first-use order (what nlohmann/json's amalgamate.py does).
 # A CMake script rather than Python so that the build needs nothing beyond CMake.
@@ -16,6 +17,8 @@ function(vplkit_expand header out_var)
   file(READ "${path}" text)
   # Every header starts with #pragma once; the amalgamation has one guard of its own.
   string(REPLACE "#pragma once\n" "" text "${text}")
+  # Each header's licence line; the amalgamation carries one at its top.
+  string(REPLACE "// SPDX-License-Identifier: MIT\n" "" text "${text}")
   # An include line may carry a trailing comment; the whole line is replaced.
   string(REGEX MATCHALL "#include <vplkit/[^>\n]+>[^\n]*\n" includes "${text}")
   foreach(inc IN LISTS includes)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds the Google Benchmark suite (tests/bench/bench_<area>.cpp) in Release and runs every
 # program with repetitions, writing per program JSON (what the table is made from), the console
 # table (.txt) and a log (.log: context, GL renderer), plus results.md: one markdown table with

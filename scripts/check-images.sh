@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Shows that a change leaves every image bit for bit as it was: builds vplrender at REV (default
 # HEAD) in a scratch worktree and from the working tree, renders the matrix of
 # scripts/image-manifest.sh with both, and compares the hashes. Exit 0 when all are identical.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Renders a fixed matrix of small images (both built-in scenes, every method, both backends, the
 # estimator switches) with a built vplrender and prints "sha256  name" for each OpenEXR. Two
 # builds that print the same manifest produce bit-identical images; scripts/check-images.sh

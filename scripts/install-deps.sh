@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs the Debian 12 packages vplkit's build, tests, examples and benchmarks need, skipping
 # those already present. Safe to run again. Needs root (or sudo) only when something is missing.
 set -euo pipefail

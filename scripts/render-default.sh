@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The first command a new user runs: installs what is missing, builds the example renderer and
 # renders the built-in Cornell scene with the gathering-based CDF (gbg) on headless OpenGL
 # (EGL surfaceless on Mesa llvmpipe when there is no GPU).

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The one test command (README.md, .ci/run): installs what is missing, builds everything with
 # warnings as errors, runs the whole test suite, then runs it again under ASan + UBSan.
 #   scripts/test.sh            everything (default build + sanitizer build + a short fuzz pass)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Prepends #version 450 to the example shader and compiles it to SPIR-V for Vulkan 1.1.
 file(READ "${SHADER}" body)
 file(WRITE "${OUT}/pick_vpls_vk.comp" "#version 450\n${body}")

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/glsl.md's complete minimal example: EGL (surfaceless, no window) and GL both through libepoxy, the
 // vplkit include resolver, and one compute shader from the GLSL pack that picks VPLs exactly as
 // the C++ does. Exits 0 when every GPU pick equals the CPU pick. Built and run by the ctest

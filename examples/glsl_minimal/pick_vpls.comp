@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Minimal vplkit compute shader: every invocation picks one VPL by inverse-transform sampling.
 // The host prepends #version (430 for OpenGL, 450 for Vulkan) and resolves the includes.
 #extension GL_GOOGLE_include_directive : require

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // speed_vs_error: for one scene, every requested method over a sweep of sample counts in one
 // process. The scene, G-buffer, DPRSM and voxel grid are prepared once (prepare_buffers) and every
 // run reuses them (run_estimator); each run is timed per stage and compared with three references

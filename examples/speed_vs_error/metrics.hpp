@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Error of an image against a reference, on linear HDR values (docs/speed_vs_error.md):
 //   RMSE   = sqrt( mean over pixels p and channels c of (x_pc - r_pc)^2 )

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Equal-error comparison and the Pareto front of (time, error) points: which method reaches a
 // given error fastest. Pure functions on numbers, so they are unit-tested

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A hand-written log-log SVG line plot (no dependency): one polyline per series, decade ticks.
 #include <string>

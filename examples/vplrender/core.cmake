@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # vplrender_core: the example renderer's library (scene, loaders, outputs, options). Included from
 # examples/CMakeLists.txt and from tests/renderer/CMakeLists.txt, whichever CMake reaches first
 # (tests come first in the top-level list, and the tests also build with examples switched off).

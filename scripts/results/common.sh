@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Shared settings of the results scripts (sourced). BUILD: a build directory with the examples
 # (default build/release, made by `cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release
 # -DVPLKIT_BUILD_EXAMPLES=ON`); SCENES: the shared scenes folder (default ../shared/scenes);

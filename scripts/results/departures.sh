@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: MIT
 # Our departures from the paper, measured in the renderer (docs/results.md, section 4), at the
 # Fig. 8 sizes so the exhaustive VPL sum (cached by fig8.sh) is the reference:
 #   local-CDF combination balance vs average (eps 0.05 and 0), the two GBG accumulators,

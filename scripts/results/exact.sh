@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # docs/results.md section 7: every method against the ground truth (c) = --method exact, with
 # --visibility voxels and --visibility exact, on both built-in scenes and both backends, back to
 # back in one run of this script. Sizes: 96x96, DPRSM 2x64^2, 64^3 voxels, 64 samples, references

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: MIT
 # Fig. 8 analogue (RMSE against samples), equal-error table and Pareto front, bias/variance:
 # every method at samples 1..800, 2 seeds, both references, on each scene. 128x128, DPRSM
 # 2x128x128, 64^3 voxels: the exhaustive VPL sum stays affordable (minutes on 2 cores).

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: MIT
 # Memory per method at the paper's parameters: the GPU buffers each estimator holds at its peak
 # (beyond the shared G-buffer/DPRSM/voxel read-backs) and the process's peak RSS, one vplrender
 # process per method so the RSS is the method's own. Memory does not depend on the sample count,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # docs/results.md section 8: point vs patch VPLs (--vpl-mode). With --visibility exact on the CPU
 # backend (Embree), 96x96, DPRSM 2x64^2, 64^3 voxels, references at 4096 directions:
 #  - the three references, (a) the exhaustive VPL sum in each mode, (b) converged gathering and

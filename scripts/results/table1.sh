@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: MIT
 # Table 1 analogue: time of global, local, gbg and mis at 800 VPLs per pixel with the paper's
 # parameters (--paper: 512x512, DPRSM 2x512x512, 128^3 voxels, 4 regions), each run REPEATS times
 # (median and min), with its error against converged gathering (the exhaustive VPL sum at 2x512^2

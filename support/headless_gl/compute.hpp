@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Small RAII helpers for compute work on the current GL context (see context.hpp): programs
 // compiled from source with readable errors, shader storage buffers from std::vector, dispatch,

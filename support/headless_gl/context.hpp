@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A windowless OpenGL 4.3+ core context for tests and tools (not part of the installed library).
 //

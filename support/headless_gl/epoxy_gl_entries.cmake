@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Writes OUTPUT: one `VPLKIT_EPOXY_GL(glFoo)` line per GL dispatch pointer that epoxy declares in
 # HEADER (epoxy/gl_generated.h). Run at configure time; rewrites OUTPUT only when it changes.
 #   cmake -DHEADER=<gl_generated.h> -DOUTPUT=<file.inc> -P epoxy_gl_entries.cmake

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "osmesa_dispatch.hpp"
 
 #include <epoxy/gl.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "voxelize_gpu.hpp"
 
 #include "compute.hpp"

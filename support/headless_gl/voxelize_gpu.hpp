@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Host side of the pack's GPU voxelisation (glsl/vplkit/visibility/voxelize.comp and
 // prefix_sum.comp) on the current GL context: the binary occupancy grid, and the triangle voxel

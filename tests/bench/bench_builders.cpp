@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CDF weight builders (include/vplkit/builders) on the synthetic room (24 triangles), T = float.
 // Time per build; items = the work unit named in each benchmark:
 //  - gather subset: stratified_gather_subset of |S| pixels of the 64 x 64 G-buffer (items = picks);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The C++ BVH (include/vplkit/visibility/bvh_*.hpp) against Embree 3 (libembree-dev) on one
 // procedural scene of ~100k triangles: a rolling terrain (150 x 150 quads), 64 UV spheres
 // (20 x 20 quads each) standing on it and a closed box around everything, 97k triangles in all.

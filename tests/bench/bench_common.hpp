@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Shared by the bench_<area>.cpp programs (not a program itself: only *.cpp files are globbed).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Build and sampling throughput of the discrete samplers against std::discrete_distribution.
 //   bench_distribution --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // Weights are exponential (not trivially uniform); the u are precomputed (2^20 of them, the

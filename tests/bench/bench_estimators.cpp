@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Estimators (include/vplkit/estimators) per gather point on the synthetic room (24 triangles),
 // T = float. Gather points: the 4096 of the 64 x 64 G-buffer, 64 per iteration, cycled.
 // Visibility: the two-sided voxel test on the room voxelised at 64^3 (voxel_visibility), or none

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Patch-sampled VPLs (vpl_mode::patch, docs/math.md section 11) against point VPLs, per sample,
 // T = float, on the synthetic room as in bench_estimators.cpp: DPRSM 2 x 64 x 64, the 4096 gather
 // points of the 64 x 64 G-buffer (64 per iteration, cycled), voxel visibility at 64^3 or none,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Device time of the GLSL pack's compute kernels (glsl/vplkit/**/*.comp) on the headless GL
 // context of support/headless_gl (VPLKIT_GL picks the path; llvmpipe on a CPU-only machine).
 // Each iteration's time is the GL work between timer_query::begin and end, reported through

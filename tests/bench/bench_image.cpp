@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Hole-aware 3x3 median fill (include/vplkit/image/median_fill.hpp) of a DPRSM weight array of
 // 2 x R x R floats: median_fill_dprsm (validation, the finiteness scan and the fill of both faces).
 // Holes: each texel is set to 0 with probability holes% (fixed seed), the rest are exponential

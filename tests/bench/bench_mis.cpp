@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Per-value cost of the MIS heuristics and density conversions (include/vplkit/mis). T = float;
 // inputs precomputed (kBatch = 4096 per iteration): pdfs in (0, 4), counts 16 and 16.
 #include "bench_common.hpp"

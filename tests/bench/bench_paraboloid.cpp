@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Per-value cost of the dual paraboloid mapping (include/vplkit/paraboloid): direction -> (face,
 // uv) -> texel, texel centre -> direction, texel solid angle, and the light-frame rotation.
 // T = float; inputs precomputed (kBatch = 4096 per iteration); resolutions stated in the names.

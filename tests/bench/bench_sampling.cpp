@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Per-value cost of the sampling primitives (include/vplkit/sampling): the counter RNG (PCG hash),
 // Duff et al.'s orthonormal basis, the concentric cosine-hemisphere map. T = float.
 //   bench_sampling --benchmark_repetitions=3 --benchmark_report_aggregates_only=true

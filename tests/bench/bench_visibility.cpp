@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Voxel visibility (include/vplkit/visibility), T = float:
 //  - triangle_box_overlap (the SAT of the voxeliser), random small triangles against unit boxes;
 //  - voxelize: the dense mesh of bench_common.hpp (the room tessellated + block + 2 spheres,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The VPL model (include/vplkit/vpl) on the synthetic room (tests/support/synthetic_scene.hpp,
 // 24 triangles, light at (0.3, 2.6, 0.2) looking down), T = float:
 //  - vpl_at: the VPL (flux, position, normal) of a DPRSM texel, over every texel of a 2 x R x R map;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10 for the CDF builders: empty inputs, empty DPRSMs, degenerate tracers, bad
 // weights. One TEST_CASE per hard case; nothing may produce NaN or Inf.
 #include <vplkit/builders/gather_subset.hpp>

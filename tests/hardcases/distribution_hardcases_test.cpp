@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, CDF and face-roulette hard cases: one TEST_CASE per case, each run on
 // discrete_cdf and alias_table where it applies. The 2^24+ cases take about a second each
 // (RelWithDebInfo, one core), so they stay here rather than in a *_slow.cpp file.

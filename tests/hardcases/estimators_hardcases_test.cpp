@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10 for the estimators: d2 -> 0 (gather point on a VPL), back-facing gather
 // points, unnormalised normals, a zero-flux DPRSM, empty distributions, background pixels, denormal
 // pmfs. Every estimator (exhaustive sum, VPL sampling, local balance / average, gathering, MIS in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, median fill: borders, all-hole neighbourhoods; nothing NaN or infinite.
 // One TEST_CASE per hard case.
 #include <vplkit/image/median_fill.hpp>

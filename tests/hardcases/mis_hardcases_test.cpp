@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, "MIS: both pdfs 0, one infinite, denormal", and more. Every case in
 // float and double; nothing may be NaN or infinite; the weights of the two strategies add up to 1
 // (within 2 ulps) whenever at least one strategy has n > 0 and p > 0, and are both 0 otherwise.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, paraboloid: d = (0,0,+-1), rim directions (z = 0 and +-1 ulp), r2
 // slightly above 1 from rounding; plus degenerate inputs. Nothing may come out NaN or Inf.
 #include <vplkit/paraboloid/light_frame.hpp>

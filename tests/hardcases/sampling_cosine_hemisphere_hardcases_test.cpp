@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Extreme u for sample_cosine_hemisphere: the result must be a finite unit vector (within 4 eps of
 // length 1) with z >= 0 for u = 0, the largest float below 1, exactly 1, and their mixtures.
 #include <vplkit/sampling/cosine_hemisphere.hpp>

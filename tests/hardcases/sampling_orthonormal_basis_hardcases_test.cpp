@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, "ONB: normals near (0,0,-1)", plus degenerate inputs. Tolerance: every
 // dot product, |t|^2 - 1, |b|^2 - 1, cross(t, b) - n and n - normalize(input) within 8 epsilon of T
 // (measured worst case of the construction: 3 epsilon); no component NaN or infinite.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Hard cases of the BVH ray queries and visibility callables (include/vplkit/visibility/bvh_*.hpp),
 // one TEST_CASE each: empty input, one triangle (exact answers), degenerate triangles,
 // axis-parallel rays and rays along shared edges (exact t, watertight), rays in a triangle's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, DDA: axis-parallel rays, rays outside the grid, zero length; plus rays
 // along voxel boundaries and exactly through voxel corners. One TEST_CASE per hard case; every case
 // checks that nothing NaN or infinite comes out.

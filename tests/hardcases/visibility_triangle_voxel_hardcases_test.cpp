@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Hard cases of the triangle voxel queries (include/vplkit/visibility/triangle_voxel_query.hpp):
 // concave junctions (a room corner: floor and two walls), a box on the floor, points exactly on a
 // junction edge, thin walls (a voxel thick, half a voxel, a tenth, a single quad) that must not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md sections 10 and 11 for patch-sampled VPLs: grazing planes (cos(alpha) -> 0, where the
 // intersection runs off), light rays meeting the plane behind the light or running parallel to it,
 // the light on the texel's plane, rim texels whose square leaves the disk, zero / tiny / huge

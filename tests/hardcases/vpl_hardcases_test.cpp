@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/math.md section 10, contribution: d2 -> 0, back-facing, unnormalised normals (and zero
 // normals); the same care in reflected_radiance and vpl_patch_area. Nothing may come out NaN or
 // Inf.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The library's layers (docs/architecture.md): the one place that states their order.
 # Checks that no header of include/vplkit and no file of the GLSL pack includes an area of a higher
 # layer, nor an area of its own layer other than its own:

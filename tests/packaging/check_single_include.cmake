@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Fails when single_include/vplkit/vplkit.hpp differs from a fresh amalgamation of include/.
 set(fresh "${VPLKIT_SCRATCH}/vplkit.hpp")
 execute_process(COMMAND ${CMAKE_COMMAND} -DVPLKIT_ROOT=${VPLKIT_ROOT} -DVPLKIT_OUTPUT=${fresh}

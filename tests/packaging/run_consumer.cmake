@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Configures, builds and runs a consumer project against vplkit, the way a user would.
 #   MODE=install      : install vplkit into a scratch prefix, consumer uses find_package(vplkit)
 #   MODE=subdirectory : consumer uses add_subdirectory(<vplkit source>), compiles README's example

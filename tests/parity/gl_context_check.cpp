@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // gl_context_check <expected path prefix>
 // Creates the headless context the way VPLKIT_GL asks (ctest sets it: gl_context_egl,
 // gl_context_osmesa), prints GL_VERSION / GL_RENDERER, checks that the path taken is the one

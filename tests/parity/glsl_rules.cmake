@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Checks the written rules of the GLSL pack (docs/glsl.md) on one include file:
 #   cmake -DFILE=<glsl/vplkit/.../x.glsl> -DREL=<vplkit/.../x.glsl> -P glsl_rules.cmake
 #  - no #version (the including shader chooses it);

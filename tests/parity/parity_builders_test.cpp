@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of the builder kernels glsl/vplkit/builders/*.comp (and their include files) with
 // include/vplkit/builders/*.hpp (T = float) on the synthetic scene of tests/support/
 // synthetic_scene.hpp: DPRSM R = 32, 32^3 voxel grid, a 24 x 24 G-buffer (with a band of background

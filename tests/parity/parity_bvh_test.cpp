@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/visibility/bvh_*.glsl with include/vplkit/visibility/bvh_*.hpp
 // (T = float): the std430 layout of nodes and triangles, closest hit and occlusion, the
 // visibility callables, and their use as the estimators' user visibility / tracer.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parity of glsl/vplkit/core/constants.glsl with the C++ values, bit for bit, and a self-check of
 // the harness (sentinel detection, float and integer comparison reports, declared buffers, several
 // outputs, uniform blocks, pack kernels driven through their parameter headers).

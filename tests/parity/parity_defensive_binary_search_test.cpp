@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parity of vplkit_defensive_mixture_sample_binary_search (glsl/vplkit/distribution/
 // defensive_mixture.glsl) with defensive_mixture<float>::sample_binary_search, and of both with
 // the guided sample(): the renderer's --cdf-search binary must draw exactly the indices of

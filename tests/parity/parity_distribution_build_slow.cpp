@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // cdf_build.comp at 2^24 and more weights (docs/math.md section 10: "2^24+ equal weights"), label
 // `slow`: the block offsets and prefix maxima then span several chunks of passes 2 and 4 with the
 // default block size (2^24 / 1024 = 16384 blocks, 17 chunks), and a float CDF can no longer resolve

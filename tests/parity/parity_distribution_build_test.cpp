@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The GPU CDF build, glsl/vplkit/distribution/cdf_build.comp, against the C++ build
 // vplkit::discrete_cdf<float> (float weights accumulated in double, 4 sequential lanes).
 //

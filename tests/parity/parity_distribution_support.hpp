@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Helpers shared by the distribution parity tests (not a test program: only parity_*.cpp files
 // become programs): the packing of several distributions into the buffers the test kernels read,

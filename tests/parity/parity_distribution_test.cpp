@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parity of the sampling side of glsl/vplkit/distribution/*.glsl with
 // include/vplkit/distribution/*.hpp (T = float): discrete CDF sampling by the guide table and by
 // plain binary search, pmf from the stored CDF, the clamp of u, the alias table, the defensive

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of the patch-sampled VPLs (docs/math.md section 11): glsl/vplkit/vpl/dprsm_patch.glsl
 // against include/vplkit/vpl/dprsm_patch.hpp, the patch forms of the estimators (VPL sampling,
 // local, MIS, the exhaustive patch sum) and the pointwise MIS density, T = float, on the synthetic

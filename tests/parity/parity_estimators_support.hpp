@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Shared by parity_estimators_test.cpp and parity_builders_test.cpp (not a test program: only
 // parity_*.cpp files become programs): the synthetic scene of tests/support/synthetic_scene.hpp

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/estimators/*.glsl with include/vplkit/estimators/*.hpp (T = float)
 // on the synthetic scene of tests/support/synthetic_scene.hpp: DPRSM R = 32, 32^3 voxel grid, the
 // voxel visibility / voxel tracer on BOTH sides (the GPU can only march voxels), a 24 x 24

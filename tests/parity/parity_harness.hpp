@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Parity-test harness: run a GLSL kernel that #includes the pack on the headless GL context and
 // compare what it wrote with the C++ templates' answer. A parity test is data (inputs, the GLSL

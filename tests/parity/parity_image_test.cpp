@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/image/median_fill.glsl and the kernel median_fill.comp with
 // include/vplkit/image/median_fill.hpp (T = float).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The kernels' parameter headers (glsl/vplkit/<area>/<kernel>_params.h) compile as C++ here and
 // as GLSL inside each kernel; this test asks the GL driver where every member of each kernel's
 // uniform block (and of cdf_build.comp's std430 records) lies, and checks that the C++ struct puts

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parity of glsl/vplkit/mis/{heuristics,pdf_conversion}.glsl with the C++ templates of
 // include/vplkit/mis/ (T = float): random pdfs spanning 1e-38..3e38 (0, denormals, +inf, NaN,
 // negatives mixed in), random and invalid counts, and the sweep over every combination of the

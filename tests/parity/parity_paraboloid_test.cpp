@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/paraboloid/*.glsl with include/vplkit/paraboloid/*.hpp (T = float):
 // unit_or_zero, the dual paraboloid mapping both ways, the texel grid (integers exact), the texel
 // solid angle and the light frame. Random inputs with fixed seeds plus the hard cases of

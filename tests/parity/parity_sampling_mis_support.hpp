@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Helpers shared by parity_sampling_test.cpp and parity_mis_test.cpp (not a test program: only
 // parity_*.cpp files become programs).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parity of glsl/vplkit/sampling/{rng,orthonormal_basis,cosine_hemisphere}.glsl with the C++
 // templates of include/vplkit/sampling/ (T = float, and T = double where it says how far each side
 // is from the exact value).

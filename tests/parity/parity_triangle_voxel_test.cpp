@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of the triangle voxel grid: the GPU construction (voxelize.comp modes 0, 1, 2 and
 // prefix_sum.comp, driven by support/headless_gl/voxelize_gpu.cpp) against voxelize_triangles,
 // and the GLSL queries (triangle_voxel_query.glsl) against the C++ ones (T = float) on the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/visibility/*.glsl and the kernel voxelize.comp with
 // include/vplkit/visibility/*.hpp (T = float): triangle/box overlap, conservative voxelisation,
 // the 3D DDA (first hit, trace point), surface ray origins and point-to-point visibility.

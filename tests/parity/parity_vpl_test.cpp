@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/vpl/*.glsl with include/vplkit/vpl/*.hpp (T = float): luminance,
 // the VPL model (flux, geometry term, contribution, cos(alpha), patch area, reflected radiance),
 // the DPRSM view (vpl_at over a synthetic DPRSM uploaded as vec4 SSBOs, texel_of_direction /

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // --method exact (render/cpu/exact_estimator.hpp) against a brute-force numerical integral of the
 // same one-bounce integral, with the same Embree scene for every visibility and shadow test:
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Automatic camera and light for OBJ scenes, the --camera/--light overrides, and the light
 // position checks of prepare_scene.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Convergence of the unbiased methods: 4x the samples must cut the RMSE against the estimand to
 // about half (bound 0.6 for noise). The CDF methods (global, local, gbg with eps > 0) estimate the
 // exhaustive VPL sum: their estimand is the `reference` image, computed exactly. gather and mis

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The CPU backend's GBG weights (build_gbg_weights_cpu: rows handed to worker threads, each
 // accumulating into its own vplkit::gbg_partial, merged by vplkit::gbg_merge) against the library's
 // serial vplkit::build_gbg_weights on the same G-buffer, DPRSM and voxel grid. One worker merges

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit::gl::dispatch_linear: work-group ranges past GL_MAX_COMPUTE_WORK_GROUP_COUNT on x spread
 // over y. GL guarantees only 65535 groups per axis (llvmpipe reports exactly that); a 2 x 2048^2
 // DPRSM has 8.4M texels, 131072 groups of 64, and every --dprsm above 1448 used to fail on the GPU

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The inputs most GL renderer tests start from, made the way the pipeline makes them: a scene
 // prepared from `o`, its G-buffer and its DPRSM (tessellated for o.dprsm) rasterised on the

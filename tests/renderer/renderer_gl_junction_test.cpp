@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Junctions on the built-in cornell at 128^3 voxels: where two surfaces meet (the floor and a wall,
 // a block on the floor), the paper's binary voxel test calls a gather point's own neighbourhood an
 // occluder, so pixels go black and the band along the seam loses light (docs/math.md section 7.1).

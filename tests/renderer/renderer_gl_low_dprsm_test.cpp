@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // DPRSM 2x8x8 (the smallest --dprsm): the rasterised map agrees with a ray cast, and the
 // gathering image is not black. A regression test: the ceiling, 0.1 above the cornell light,
 // was tessellated uniformly; the sub-triangle above the light spanned ~147 degrees, its corners all

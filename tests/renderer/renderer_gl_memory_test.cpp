@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // GPU memory accounting (the results' memory table): vplkit::gl::track_gpu_bytes counts every SSBO of
 // the `buffer` class and what the rasteriser allocates; run_estimator reports what a method's
 // builders, CDFs and estimator held at their peak, per texel and per pixel, and nothing on the CPU

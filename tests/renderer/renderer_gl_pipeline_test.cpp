@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The rendering pipeline end to end on headless GL (llvmpipe here): G-buffer, DPRSM against a CPU
 // ray cast, the voxel grid, and every method on both built-in scenes at tiny sizes.
 #include "app/render_options.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The G-buffer's two normals (docs/math.md section 12, docs/renderer.md "G-buffer"): the geometric
 // normal from the triangle's plane, turned to the camera by the plane equation at the eye, and the
 // interpolated shading normal turned to the geometric normal's side. The direct light of both

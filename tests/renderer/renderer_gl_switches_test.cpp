@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The estimator switches on the CPU backend: --cdf-search binary draws exactly the
 // indices of the guide table (the guided search returns the binary search's index by
 // construction), so the image is bit-identical; --local-combination average is a different

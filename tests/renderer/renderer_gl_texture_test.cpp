@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A textured OBJ through the G-buffer shader (GL_SRGB8, GL_LINEAR, GL_REPEAT, no mipmaps): the
 // albedo buffer shows the map_Kd picture decoded to linear, the right way up, and agrees with the
 // CPU lookup sample_texture at every pixel's texcoord; a missing texture falls back to Kd.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The GPU backend's builders and CDFs against the C++ ones on the same G-buffer and DPRSM:
 //  - global and local (2 x 2 regions) weights from build_brsm_weights_gpu (gather_subset.comp +
 //    global_weights.comp) against vplkit::build_global_weights / build_local_weights on the CPU

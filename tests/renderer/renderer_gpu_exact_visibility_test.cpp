@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // --visibility exact on both backends: the CPU traces the scene's triangles with Embree
 // (render/cpu/ray_scene.hpp), the GPU with the GLSL pack's BVH built on the host and uploaded with
 // the scene buffers (estimate.comp's VR_VISIBILITY block, gbg_accumulate.comp's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // DPRSMs whose per-texel kernels need more work groups than one axis allows. GL guarantees only
 // 65535 groups per axis (llvmpipe reports exactly that); a 2 x 2048^2 DPRSM has 8.4M texels,
 // 131072 groups of 64, and every --dprsm above 1448 used to fail on the GPU backend with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // CPU/GPU parity of vplrender's estimators: the same G-buffer, DPRSM and voxel grid rendered by the
 // C++ templates (render_cpu) and by the compute shader of the GLSL pack (render_gpu), every method,
 // both built-in scenes, 24x16 pixels, DPRSM 2x16x16, 32^3 voxels.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Outputs: OpenEXR round trip, the Reinhard PNG preview, the JSON report, and the temporary file +
 // rename discipline (a failed write leaves nothing behind and never clobbers an older file).
 #include <catch2/catch.hpp>

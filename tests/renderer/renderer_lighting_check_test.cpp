@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Warnings for a frame that shows nothing lit (app/lighting_check.hpp): which one, and that each
 // says what to try for how the camera and the light were chosen.
 #include "app/lighting_check.hpp"

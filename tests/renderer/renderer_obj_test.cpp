@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // OBJ/MTL loading: what real files do (quads, n-gons, no normals, CRLF, missing MTL or textures,
 // textures, relative indices) and what broken files do (each gets a one-line error naming file and
 // line, never a crash). Every fixture is written by the test into its own temporary directory.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Command-line parsing of vplrender: every flag, its limits and its errors, without running
 // anything.
 #include <catch2/catch.hpp>

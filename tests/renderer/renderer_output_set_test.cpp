@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The outputs of a run as one set (io/output_set.hpp): EXR, PNG and JSON go to temporaries and are
 // renamed into place together; a failure at any point (a writer, a full disk, a rename half way)
 // leaves the previous run's three files as they were and no temporary behind. The SIGTERM case runs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The stderr progress bar: silent when disabled or before its delay, complete when finished.
 // (No timing is measured: the delays used are 0 and "never".)
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // "Out of memory" names the stage and the size: the running stage under the stage timer's names,
 // the stage an exception left, allocating()'s message and its test fault hook.
 #include "render/running_stage.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The built-in scenes: valid, closed where they should be, open where they should be; and the
 // ray casting and camera geometry they are checked with.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // speed_vs_error's analysis helpers (examples/speed_vs_error/{metrics,pareto}.hpp) on hand-made
 // numbers whose answers are known in closed form.
 #include "metrics.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The DPRSM tessellation (tessellate.cpp): every output edge within theta_max at the light, even
 // next to the light (the sub-triangle that wrapped over the DPRSM's front face at R = 8, see
 // tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike.

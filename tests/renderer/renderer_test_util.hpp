@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Helpers shared by the renderer tests: a private temporary directory and file writing.
 #include <cstdlib>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Polygon triangulation for OBJ faces: area preserved, winding kept, concave and degenerate
 // inputs handled, no hang on large or self-intersecting polygons.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // --window renders on demand (app/window_update.hpp): which passes of the event loop re-render,
 // which only redraw, and which do nothing at all.
 #include "app/window_update.hpp"

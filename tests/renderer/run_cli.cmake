@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Runs EXE with ARGS (a ;-list) in WORKDIR; checks the exit status RC and that stdout+stderr match
 # MATCH. Also checks that a failed run left no output image behind.
 separate_arguments(_args UNIX_COMMAND "")

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # speed_vs_error on a tiny sweep, twice: checks the CSV (header, one row per method x samples x seed,
 # finite non-negative numbers), the markdown table and the SVG, and that the second run takes both
 # references from the cache (printed "reference cache hit", EXR files untouched).

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # SIGTERM (and SIGINT) sent to a running vplrender: the temporaries of its outputs are removed, the
 # previous run's files stay as they were, and the process dies of the signal.
 #   sigterm_cleans_up.sh <vplrender> <work dir> <TERM|INT>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The GBG accumulators are unbiased for their per-texel quantities: the mean of the weights over
 // independent seeds matches a deterministic quadrature of
 //   Q_t = (1/|G|) sum_x  integral over the hemisphere of x of  1[first hit lit, in texel t] value

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // make_vpl_distribution with eps > 0: every VPL with nonzero flux has a positive pmf, samples
 // follow the pmf (chi-square), and the one-sample VPL estimator is unbiased where the plain CDF
 // (eps = 0) of hole-ridden GBG weights is not.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Pearson chi-square goodness of fit of every discrete sampler against the distribution it
 // claims (w / total computed here in long double, not the sampler's own pmf). Fixed seeds; the
 // critical value is at alpha ~ 1e-4 (vplkit_test_support.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Defensive mixing (docs/math.md section 3, defensive mixing): a CDF with zero weight on VPLs that
 // contribute gives a biased estimate (it converges to the sum over the VPLs it covers); mixing in
 // eps > 0 of a uniform distribution over the valid texels removes the bias; eps = 0 reproduces the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Local CDFs at a seam (docs/math.md section 4): two image regions, one seeing only the floor, the
 // other only the ceiling. Each region's CDF (built like the global builder from that region's
 // points, V = 1) gives weight 0 to VPLs that cannot reach its own points -- the floor CDF misses

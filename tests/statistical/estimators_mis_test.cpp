@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // mis_mode::as_published (the paper's eq. 7-15 and Alg. 4-6, evaluated as published) is biased;
 // mis_mode::solid_angle (docs/math.md section 5) is not. Same scene, CDF, sample counts and
 // reference:

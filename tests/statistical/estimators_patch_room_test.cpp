@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Patch VPLs in a room with creases and silhouettes (tests/support/synthetic_scene.hpp, R = 64,
 // exact visibility on every side, depth tolerance 0.2 for the lookup and the patch window):
 // what is left between the references once the midpoint gap is gone (docs/math.md section 11).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // One estimand (docs/math.md section 11): on the planar scene (tests/support/planar_scene.hpp: a
 // point light over an infinite floor, gather points above it looking down) the continuous
 // one-bounce integral I is known to ~1e-15 by Gauss-Legendre quadrature over the directions at x.

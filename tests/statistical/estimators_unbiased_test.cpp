@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Every estimator converges to its own reference on the synthetic scene (real occluders, exact
 // ray-traced visibility on both sides, so only estimator bias is tested):
 //   VPL sampling (discrete_cdf, alias_table, defensive mixture, face roulette), local (balance,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // MIS in solid angle is unbiased: a small analytic version of docs/math.md section 5.
 //
 // Gather point x at the origin, normal +z. Above it, at height h, a downward-facing planar

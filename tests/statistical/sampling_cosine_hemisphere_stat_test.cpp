@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The distribution of sample_cosine_hemisphere is cos(theta)/pi per steradian: cos^2(theta) and
 // phi are then independent and uniform on [0,1] and [0, 2 pi).
 #include <vplkit/sampling/cosine_hemisphere.hpp>

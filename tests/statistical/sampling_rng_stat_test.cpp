@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Statistical quality of the counter-based RNG: uniformity, independence of consecutive draws,
 // independence of neighbouring streams and seeds, avalanche of the hash. Fixed keys throughout;
 // thresholds at ~1e-4 significance (chi_square_critical) or >= 4 sigma.

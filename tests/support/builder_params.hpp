@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The parameter blocks of the builder kernels glsl/vplkit/builders/*.comp as the GPU tests fill
 // them, GL- and Vulkan-free so that the GL parity test (support/gbg_kernels.hpp), the Vulkan test

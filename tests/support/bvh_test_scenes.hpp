@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Triangle meshes and an independent double-precision reference for the BVH tests and benchmarks
 // (not part of the library). Header-only, namespace vplkit_test, float meshes (the GPU layout).

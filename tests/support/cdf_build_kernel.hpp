@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The buffers of cdf_build.comp (glsl/vplkit/distribution), bound at the kernel's bindings: the one
 // layout the CDF-build parity tests and the GPU benchmark drive it with. Needs a current GL context.

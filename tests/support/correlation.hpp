@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Pearson correlation of two equally long sequences, for the tests that check samples or weights
 // are (un)correlated (not part of the library).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Checks the distribution tests share (not part of the library; needs Catch2): the invariants
 // every discrete_cdf must keep, and the pmf an alias_table really samples.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Embree 3 (Debian's libembree-dev) as the reference the BVH tests and benchmarks compare
 // against: one scene with one triangle mesh built from the same arrays vplkit's builder takes.

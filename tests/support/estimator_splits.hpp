@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Shared by the tests of the estimators' range forms (not part of the library): the synthetic
 // room with two local VPL distributions, and the check that an estimate spread over ranges of its

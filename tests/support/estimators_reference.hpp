@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Deterministic references for the estimator tests (not part of the library): midpoint-rule
 // quadrature over the cosine-hemisphere primary sample square, and the exact expectations of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Floats as bits (not part of the library): the float limits the hard cases use, exact
 // comparisons of GPU and C++ results, and the ordered ulp distance the parity bounds are stated in.

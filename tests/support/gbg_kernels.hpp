@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // gbg_accumulate.comp + gbg_finish.comp driven on a synthetic scene (synthetic_scene.hpp), for the
 // GBG parity test (tests/parity/parity_builders_test.cpp) and the GPU benchmark

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Driving the GLSL pack's compute kernels (glsl/vplkit/**/*.comp) from the GPU tests and the GPU
 // benchmarks (not part of the library): a program cache, the buffers a kernel binds -- shader

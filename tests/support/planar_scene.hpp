@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A scene whose continuous one-bounce integral is known to ~1e-10: a point light over an infinite
 // diffuse floor, and gather points above the floor looking down at it (not part of the library;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The random inputs of the tests (not part of the library): every stream is fixed by its seed and
 // gives the same numbers with every standard library, so a test's inputs -- and the measurements

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The floating-point values every function of the library must survive (not part of the library,
 // nor of Catch: the fuzz harnesses use it too): the hard-case tests start from this list and add

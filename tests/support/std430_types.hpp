@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // C++ twins of the GLSL std430 element types the GPU tests and benchmarks upload and read back
 // (not part of the library). std430 has no vec3 array element of 12 bytes: a vec3 travels as a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A small closed test scene with real occluders, shared by the builder and estimator tests (not
 // part of the library). Header-only, namespace vplkit_test, T = double or float.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Brute-force exact visibility over a triangle list, in double, independent of the library's
 // records: the yardstick of the triangle voxel tests (unit, hard cases, parity).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Values as text for test messages (not part of the library): enough digits to round-trip, and a
 // float's bits next to it, so a failure can be replayed from its message.

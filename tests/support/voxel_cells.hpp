@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Voxel grids cell by cell, for the voxelisation tests on the CPU, GL and Vulkan (not part of the
 // library, nor of Catch): the occupied cells, the margin at which the C++ double SAT starts to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Helpers shared by the test programs (not part of the library).
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Weight arrays the distribution tests sample from (not part of the library).
 //  - exponential_weights<T>: Exp(1) weights with an optional fraction of zeros, drawn with the

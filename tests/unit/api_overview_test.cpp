@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The renderer loop shown in docs/api.md, compiled and run on the synthetic scene so that the
 // page cannot drift from the headers.
 #include <vplkit/vplkit.hpp>

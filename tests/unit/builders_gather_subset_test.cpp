@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Stratified gather-pixel subsets: the stratum grid tiles the rectangle, picks stay inside their
 // stratum, are distinct, valid and deterministic, and background strata resample or drop.
 #include <synthetic_scene.hpp>

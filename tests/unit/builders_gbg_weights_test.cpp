@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Gathering-based global (GBG) weights on the synthetic scene with the exact tracer: support,
 // random-number order, hole filling, both accumulators, and agreement with the exhaustive
 // per-texel contribution sum.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Global (BRSM) weights: equal to an independent brute-force double loop, exactly 0 where no VPL
 // is, background skipped, and the argument checks.
 #include <vplkit/builders/gather_subset.hpp>

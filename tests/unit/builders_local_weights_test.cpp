@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Local CDF: the region grid partitions the image, subsets stay in their region, and each region's
 // weights are the global weights of its own subset.
 #include <vplkit/builders/global_weights.hpp>

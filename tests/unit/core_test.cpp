@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/vector.hpp>
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/distribution/alias_table.hpp>
 
 #include <distribution_checks.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // defensive_mixture::sample_binary_search: the same index and pmf as the guided sample() for
 // every u (the renderer's --cdf-search binary relies on it for bit-identical images).
 #include <vplkit/distribution/defensive_mixture.hpp>

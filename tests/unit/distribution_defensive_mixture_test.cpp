@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/distribution/defensive_mixture.hpp>
 
 #include <weight_generators.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/distribution/alias_table.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 

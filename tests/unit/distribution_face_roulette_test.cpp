@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/distribution/face_roulette.hpp>
 
 #include <weight_generators.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The patch-sampled estimators (vpl_mode::patch, docs/math.md section 11) on the synthetic room:
 //  - the random-number layout: every VPL sample takes u, then u0, u1 (its jitter), always; MIS
 //    then takes the direction's two; replaying the stream by hand gives the estimate bit for bit;

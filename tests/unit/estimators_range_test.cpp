@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The range forms of the estimators: an estimate spread over consecutive ranges of its samples
 // (estimate_X_range on one estimator_state, then estimate_X_finish) equals the one-shot estimate_X
 // bit for bit and leaves the random-number stream where the one-shot leaves it, however [0, n) is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The shared synthetic test scene (tests/support/synthetic_scene.hpp) is what it claims to be:
 // closed, with the block really casting a shadow, a valid DPRSM, G-buffer and voxel grid.
 #include <synthetic_scene.hpp>

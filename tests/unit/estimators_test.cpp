@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit checks of the estimators: exact values of single samples, the random-number consumption
 // order the GLSL mirror follows, the consistency identities between estimators, and the adaptors.
 #include <synthetic_scene.hpp>

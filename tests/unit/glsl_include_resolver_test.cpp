@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit::glsl::resolve_includes on small files written to a fresh temporary folder.
 #include <vplkit/glsl/include_resolver.hpp>
 

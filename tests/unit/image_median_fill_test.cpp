@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the hole-aware 3x3 median fill (include/vplkit/image/median_fill.hpp).
 #include <vplkit/image/median_fill.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>

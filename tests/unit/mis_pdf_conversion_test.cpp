@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/mis/heuristics.hpp>
 #include <vplkit/mis/pdf_conversion.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/core/error.hpp>
 #include <vplkit/paraboloid/light_frame.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>

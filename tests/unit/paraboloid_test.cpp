@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/paraboloid/paraboloid.hpp>
 
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/paraboloid/texel_grid.hpp>
 
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/rng.hpp>
 

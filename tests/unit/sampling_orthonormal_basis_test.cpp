@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
 

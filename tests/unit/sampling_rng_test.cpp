@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Known answers of the counter-based RNG. The GLSL mirror must reproduce these exact bits; the
 // values were computed by an independent Python implementation of the algorithm in rng.hpp, and
 // pcg_hash(0), (1), (2), (4096), (0xDEADBEEF) agree with golden values published elsewhere for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the BVH builder (include/vplkit/visibility/bvh_build.hpp): the invariants of the
 // flat arrays, checked here independently of validate_bvh; determinism to the byte; the depth
 // limit on inputs that defeat the SAH; the SAH doing better than an object-median tree; input

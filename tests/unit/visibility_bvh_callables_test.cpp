@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The BVH visibility callables (include/vplkit/visibility/bvh_visibility.hpp) against the
 // synthetic test scene's brute-force exact ray caster (tests/support/synthetic_scene.hpp), which
 // the estimator tests use as ground truth: the exhaustive VPL sum with bvh_visibility equals the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The C++ BVH (include/vplkit/visibility/bvh_*.hpp) against Embree 3 (robust mode) on the same
 // triangle arrays: closest hits on random soups and on a closed room, occlusion of random
 // segments, and the visibility callable with Embree behind the same end-point offsets.

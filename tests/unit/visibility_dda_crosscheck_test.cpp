@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Cross-check of the DDA against brute force: for thousands of random rays in a random occupancy
 // grid, the first hit equals the smallest entry distance of a ray / closed-box slab test over ALL
 // occupied voxels.

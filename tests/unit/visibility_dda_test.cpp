@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the DDA (include/vplkit/visibility/dda.hpp).
 #include <vplkit/visibility/dda.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the SAT triangle/box overlap test against an independent reference: clipping the
 // triangle by the six closed half-spaces of the box (Sutherland-Hodgman, long double) leaves
 // something iff they overlap. Near-touching configurations, where the answer depends on the last

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the triangle voxel grid (include/vplkit/visibility/triangle_voxel_grid.hpp,
 // voxelize_triangles.hpp, triangle_voxel_query.hpp): layout against brute force, the triangle
 // records, validation, and visibility / first hits against exact brute force on random scenes.

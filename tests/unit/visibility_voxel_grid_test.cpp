@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the packed binary voxel grid (include/vplkit/visibility/voxel_grid.hpp).
 #include <vplkit/visibility/voxel_grid.hpp>
 

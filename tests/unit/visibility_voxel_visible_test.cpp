@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of point-to-point voxel visibility (include/vplkit/visibility/voxel_visible.hpp) on
 // small voxelised scenes: a floor meeting a wall (mutually visible everywhere), the same with a
 // low occluding wall in between, axis-aligned and tilted.

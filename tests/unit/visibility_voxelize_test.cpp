@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the conservative voxelisation (include/vplkit/visibility/voxelize.hpp).
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/voxelize.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Direct light through the DPRSM's shadow test (vpl/direct_light.hpp): at the synthetic scene's
 // gather points it is lit exactly where an exact shadow ray says so, and then equals the light's
 // reflected radiance; background, back-facing and coincident points give 0.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // dprsm_patch_vpl (docs/math.md section 11): the jittered point of a texel's patch.
 //  - At xi = (0.5, 0.5) it is the point VPL: y = y_t to rounding, the same flux bit for bit.
 //  - Every accepted point lies on the texel's plane, projects back into its texel, and inside a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/core/error.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>

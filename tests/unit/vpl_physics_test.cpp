@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Physics checks of the paraboloid texel solid angles and the VPL model against closed-form
 // answers: the light's whole sphere of directions, energy conservation in closed scenes, the
 // surface area seen through the texels, and one-bounce radiance inside a sphere.

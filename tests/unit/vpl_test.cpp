@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/vpl/luminance.hpp>
 #include <vplkit/vpl/vpl.hpp>
 

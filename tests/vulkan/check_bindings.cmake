@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Checks that a kernel's default bindings form a valid Vulkan descriptor set layout: compiles it as
 # Vulkan GLSL (#version 450 + GL_GOOGLE_include_directive, no defines: the defaults of its
 # parameter header), reflects the SPIR-V with spirv-cross and fails if two resources share a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The builder kernels glsl/vplkit/builders/*.comp on Vulkan, with the default bindings of their
 // parameter headers, against the C++ builders (T = float), on the scene of the GL parity test
 // (tests/parity/parity_builders_test.cpp): tests/support/synthetic_scene.hpp with a DPRSM R = 32,

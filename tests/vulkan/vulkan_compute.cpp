@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "vulkan_compute.hpp"
 
 #include <algorithm>

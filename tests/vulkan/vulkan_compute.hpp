@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A small Vulkan compute harness for the Vulkan runtime tests (not part of the library; plain
 // Vulkan C API, no window). What a host of the GLSL pack does on Vulkan, and no more:

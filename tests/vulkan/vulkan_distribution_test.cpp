@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // cdf_build.comp on Vulkan (default bindings of cdf_build_params.h; the six passes in one command
 // buffer, the pass chosen by the uniform block) against the C++ build vplkit::discrete_cdf<float>,
 // with the bounds of the GL parity test (tests/parity/parity_distribution_build_test.cpp):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // median_fill.comp and voxelize.comp on Vulkan (default bindings of their parameter headers)
 // against the C++, with the bounds of the GL parity tests:
 //  - median_fill.comp: BIT FOR BIT vplkit::median_fill_dprsm (the fill selects, it does no

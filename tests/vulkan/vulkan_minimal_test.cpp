@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // docs/glsl.md's minimal example on Vulkan: examples/glsl_minimal/pick_vpls.comp, compiled to
 // SPIR-V at build time, picks 4096 VPLs from a CDF the C++ built; every pick must be the C++ pick
 // (vplkit::discrete_cdf<float>::sample with the same counter RNG stream): exact, integer results.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What the Vulkan test cases share: a context whose validation messages fail the test case, and
 // small comparison helpers (bits, ulps, printing).

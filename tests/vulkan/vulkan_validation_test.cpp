@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The validation plumbing itself: every other Vulkan test case passes only if no message arrives,
 // which would also be the case if the layer were not running. Here a host declares a layout that
 // does not match the kernel (the uniform block declared as a storage buffer, the mistake the old

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplrender's estimator kernel (--backend gpu): one invocation per pixel, glue between the
 // renderer's buffers and the GLSL pack's estimators. Compiled once per method with VR_METHOD
 // defined by the host (gpu_backend.cpp puts "#version 430" first and the define in the preamble).

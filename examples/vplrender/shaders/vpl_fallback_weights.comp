@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The defensive fallback's weights on the GPU: 1 where a DPRSM texel carries a VPL, else 0 --
 // the weights of vplkit::make_vpl_fallback (builders/vpl_distribution.hpp), which cdf_build.comp then
 // turns into the uniform distribution over the VPL texels. One invocation per texel; the host

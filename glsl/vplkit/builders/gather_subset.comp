@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: stratified gather subset (docs/math.md section 4), one invocation per stratum: the
 // GPU side of vplkit::stratified_gather_subset for one rectangle -- the whole image for the global
 // weights, region i with stream_offset = i * count for the local ones (one dispatch per region).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: stratified (jittered-grid) choice of gather pixels inside a rectangle of the
 // image, the subset S of the global CDF and the S_i of the local CDF (docs/math.md section 4);
 // mirrors the per-stratum part of include/vplkit/builders/gather_subset.hpp (T = float). The kernel

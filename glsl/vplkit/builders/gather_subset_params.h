@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of gather_subset.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::gather_subset_params): default bindings, local size, the std140 parameter block.
 #ifndef VPLKIT_BUILDERS_GATHER_SUBSET_PARAMS_H

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: GBG accumulation (paper Alg. 2, docs/math.md section 4), one invocation per
 // G-buffer pixel: the accumulation loop of vplkit::build_gbg_weights for directions
 // [dir_begin, dir_end) of every valid gather point, traced with the pack's voxel tracer; the value

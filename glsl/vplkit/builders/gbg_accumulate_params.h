@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of gbg_accumulate.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::gbg_accumulate_params): default bindings, local size, the stats counters, the
 // std140 parameter block.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: finishes the GBG weights from gbg_accumulate.comp's fixed-point sums, one
 // invocation (x, y, face) per texel: w_t = acc[t] / scale / (|G| n_dirs) (the C++ gbg_finish), then
 // with fill_holes the hole-aware 3x3 median fill of vplkit::gbg_fill_holes (per face, fillable =

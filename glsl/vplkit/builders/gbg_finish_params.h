@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of gbg_finish.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::gbg_finish_params): default bindings, local size, the std140 parameter block. The
 // stats counters are gbg_accumulate_params.h's.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md
 // section 4); mirrors include/vplkit/builders/gbg_weights.hpp (T = float): the same random numbers
 // (stream = pixel, direction j = counters 2j, 2j + 1), rays, lookups and hit values. The kernels

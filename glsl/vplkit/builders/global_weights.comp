@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: global weights (BRSM; docs/math.md section 4), one invocation per (texel, region):
 // the GPU side of vplkit::build_global_weights and, with N regions, of build_local_weights. Per
 // texel it runs vplkit_global_weight_texel over the region's subset pixels[offsets[i] ..

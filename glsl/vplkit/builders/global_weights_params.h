@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of global_weights.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::global_weights_params): default bindings, local size, the std140 parameter block.
 #ifndef VPLKIT_BUILDERS_GLOBAL_WEIGHTS_PARAMS_H

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the region grid of the local CDFs (paper 5.2, docs/math.md section 4): which of
 // the rx x ry regions a pixel belongs to, and each region's rectangle; mirrors the integer part of
 // include/vplkit/builders/local_weights.hpp. A renderer's estimator kernel uses

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: numeric constants shared by every part.
 // Rules of the pack (docs/glsl.md): no #version, no bindings, every identifier prefixed vplkit_,
 // guarded against double inclusion. Literals are written with enough digits that the compiler's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: what builders and estimators know of the camera's visible points; mirrors
 // include/vplkit/core/gather_point.hpp (T = float): vplkit_gather_point, vplkit_gather_point_valid
 // (decided as the C++ decides it), vplkit_gbuffer_view (the sizes; the arrays are the accessor),

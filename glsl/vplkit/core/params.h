@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The common ground of the kernels' parameter headers (<kernel>_params.h, docs/glsl.md "Kernel
 // parameters"): one struct definition compiles as GLSL, where it is the type of the kernel's
 // std140 uniform block, and as C++, where the host fills it and uploads its bytes. On the C++ side

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: normalisation that cannot produce NaN or Inf, shared by the paraboloid mapping
 // and the VPL model. Mirrors include/vplkit/core/unit_or_zero.hpp (T = float) line for line.
 #ifndef VPLKIT_CORE_UNIT_OR_ZERO_GLSL

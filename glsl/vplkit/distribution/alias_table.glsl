@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: sampling with Walker's alias method (mirrors the sampling side of
 // include/vplkit/distribution/alias_table.hpp, T = float). Build the table with the C++
 // alias_table<float> (Vose's method in double) and upload bins() as it is.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: builds discrete CDFs and their guide tables on the GPU from float weights, in the
 // layout discrete_cdf.glsl samples: the GPU side of the vplkit::discrete_cdf<float> build, for D
 // distributions of n weights each per set of dispatches (work group z = distribution).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of cdf_build.comp, shared by the kernel (GLSL) and its hosts (C++, namespace
 // vplkit::gpu): default bindings, local size and items per invocation, the std140 parameter block,
 // and the std430 records of the blocks scratch buffer and the per-distribution info the host reads.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: defensive sampling, p(i) = (1 - eps) p_learned(i) + eps p_fallback(i)
 // (docs/math.md section 3, defensive mixing; mirrors
 // include/vplkit/distribution/defensive_mixture.hpp, T = float).

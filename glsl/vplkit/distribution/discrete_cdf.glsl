@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: sampling a discrete distribution by inverse transform; mirrors the sampling
 // side of include/vplkit/distribution/discrete_cdf.hpp (T = float). The arrays come from the C++
 // discrete_cdf<float> (upload cdf() and guide()) or from the kernel cdf_build.comp, in the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: what a discrete sampler returns (mirrors
 // include/vplkit/distribution/discrete_sample.hpp, T = float).
 //

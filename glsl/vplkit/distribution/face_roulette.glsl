@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: Russian roulette between the front and the back paraboloid (paper Alg. 1,
 // docs/math.md section 3; mirrors include/vplkit/distribution/face_roulette.hpp, T = float).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: a face roulette seen as one distribution over the flat DPRSM index
 // (face * R * R + index within the face), so that the estimators' distribution hooks can serve the
 // paper's Alg. 1 / 3 like any other distribution; mirrors

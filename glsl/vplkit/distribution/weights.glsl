@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the per-sample helpers shared by every discrete sampler (mirrors the sampling
 // side of include/vplkit/distribution/weights.hpp, T = float): the clamp of a random number u into
 // [0, 1), and the product of two probabilities that never underflows to 0. Weight validation and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: what a per-pixel estimate carries from one range of its samples to the next
 // (the running sum and the random-number stream); mirrors
 // include/vplkit/estimators/estimator_state.hpp (T = float). With the range forms of the

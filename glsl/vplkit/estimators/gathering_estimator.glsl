@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: cosine gathering through the DPRSM (docs/math.md section 5, strategy 1; the
 // paper's Alg. 5 without MIS); mirrors include/vplkit/estimators/gathering_estimator.hpp
 // (T = float), random numbers included: each direction omega ~ cos(theta2)/pi adds

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: local CDFs (docs/math.md section 4, paper section 5.2), N distributions, one
 // per image region, each round drawing one VPL from every one; mirrors
 // include/vplkit/estimators/local_estimator.hpp (T = float): the combinations

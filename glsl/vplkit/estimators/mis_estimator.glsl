@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: multiple importance sampling of cosine gathering and VPL sampling at one
 // gather point (docs/math.md section 5); mirrors include/vplkit/estimators/mis_estimator.hpp
 // (T = float): the same modes (vplkit_mis_solid_angle, vplkit_mis_as_published), random numbers

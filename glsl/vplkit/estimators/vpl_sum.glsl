@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the exhaustive VPL sum L(x) = sum_t L_t(x) V(x, y_t) (docs/math.md section 2),
 // the estimand of every CDF method, and the per-sample pieces every VPL-sampling estimator shares;
 // mirrors include/vplkit/estimators/vpl_sum.hpp (T = float), its patch form (m x m stratified

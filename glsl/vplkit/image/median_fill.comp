@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: hole-aware 3x3 median fill of both faces of a DPRSM weight array (the GPU side of
 // vplkit::median_fill_dprsm; per texel: vplkit_median_fill_texel in median_fill.glsl).
 //

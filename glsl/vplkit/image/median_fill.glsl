@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: hole-aware 3x3 median fill, per texel (docs/math.md section 4); mirrors
 // include/vplkit/image/median_fill.hpp (T = float): a hole (value 0) that is fillable gets the
 // lower median of the non-hole values of its 3x3 window (clipped to the image), always one

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of median_fill.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::median_fill_params): default bindings, local size, the std140 parameter block.
 #ifndef VPLKIT_IMAGE_MEDIAN_FILL_PARAMS_H

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: multiple importance sampling weights for two strategies (n1 samples of
 // density p1, n2 of p2, both densities of the same point in the same measure: solid angle at the
 // gather point, docs/math.md section 5); the float mirror of include/vplkit/mis/heuristics.hpp

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: densities of the two strategies of docs/math.md section 5 in one measure (solid
 // angle at the gather point x), and the paper's mixed-measure forms (`_as_published`); the float
 // mirror of include/vplkit/mis/pdf_conversion.hpp (docs/api/mis.md, docs/glsl/mis.md).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the light-space frame of a DPRSM, mirroring include/vplkit/paraboloid/
 // light_frame.hpp (T = float). The light position c and a right-handed orthonormal basis
 // (axis_x, axis_y, axis_z), axis_z the "front axis" (centre of the front paraboloid). Light-space

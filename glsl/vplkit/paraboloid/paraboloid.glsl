@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: dual paraboloid mapping in light space (docs/math.md section 1), direction <->
 // (face, uv). Mirrors include/vplkit/paraboloid/paraboloid.hpp (T = float) line for line.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the R x R texel grid of each paraboloid face over uv in [-1,1]^2 (docs/math.md
 // section 1). Mirrors include/vplkit/paraboloid/texel_grid.hpp (T = float) line for line.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: cosine-weighted directions on the hemisphere z >= 0 (local frame); the float
 // mirror of include/vplkit/sampling/cosine_hemisphere.hpp (docs/api/sampling.md).
 //

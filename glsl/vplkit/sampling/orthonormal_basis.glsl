@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: a right-handed orthonormal frame (t, b, n) around a normal; the float mirror
 // of include/vplkit/sampling/orthonormal_basis.hpp (docs/api/sampling.md, docs/glsl/sampling.md).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: counter-based random numbers, bit for bit those of
 // include/vplkit/sampling/rng.hpp (docs/api/sampling.md states the algorithm and known answers).
 //

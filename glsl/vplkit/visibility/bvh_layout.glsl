@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the flat arrays of a BVH over triangles, as the host builds them (mirrors
 // include/vplkit/visibility/bvh_layout.hpp, T = float; build with vplkit::build_bvh<float> and
 // upload bvh<float>::nodes() and triangles() as they are).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the two geometric tests of BVH traversal (mirrors
 // include/vplkit/visibility/bvh_ray.hpp, T = float, statement for statement):
 //  - Woop, Benthin and Wald's watertight ray/triangle test (JCGT 2013), both windings, closed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: ray queries against a BVH, the closest hit and any hit (mirrors
 // include/vplkit/visibility/bvh_traverse.hpp, T = float, statement for statement).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: exact visibility through a BVH, the GPU side of the C++ callables
 // bvh_visibility<float> and bvh_tracer<float> (mirrors include/vplkit/visibility/bvh_visibility.hpp,
 // T = float, statement for statement):

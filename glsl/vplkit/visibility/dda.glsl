@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: 3D DDA ray marching through the voxel grid (Amanatides & Woo 1987; mirrors
 // include/vplkit/visibility/dda.hpp, T = float, statement for statement).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: exclusive prefix sum of a uint array, in chunks (the GPU side of
 // vplkit::voxel_occupancy_rank and of the triangle voxel grid's offsets; voxelize.comp's modes).
 //   out[i] = sum of f(in[j]) for j < i, for i < count; and, with write_total, out[count] = the sum

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of prefix_sum.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::prefix_sum_params): default bindings (distinct numbers, so that they also form a
 // valid Vulkan set 0), local size, elements per invocation, the std140 parameter block.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: triangle / axis-aligned box overlap by the separating axis theorem
 // (Akenine-Moeller 2001; mirrors include/vplkit/visibility/triangle_box_overlap.hpp, T = float).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the triangle voxel grid (mirrors include/vplkit/visibility/triangle_voxel_grid.hpp,
 // T = float): occupied voxels list the triangles that overlap them.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: visibility and first hits decided by the triangles of a triangle voxel grid
 // (mirrors include/vplkit/visibility/triangle_voxel_query.hpp, T = float, statement for statement).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: the visibility and tracing "callables" of builders and estimators on the GPU;
 // mirrors include/vplkit/visibility/visibility_callables.hpp (T = float). GLSL has neither host
 // callables nor templates, so vplkit_visibility and vplkit_voxel_tracer are small structs over the

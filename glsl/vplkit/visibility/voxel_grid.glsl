@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: binary occupancy grid over an axis-aligned box (mirrors
 // include/vplkit/visibility/voxel_grid.hpp, T = float).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: dense indices of the occupied voxels (mirrors
 // include/vplkit/visibility/voxel_rank.hpp): rank[w] = occupied voxels in words 0 .. w-1, so an
 // occupied voxel with flat index i is number r = rank[i >> 5] + bitCount(words[i >> 5] &

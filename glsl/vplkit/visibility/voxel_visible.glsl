@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: point-to-point visibility through the voxel grid (docs/math.md section 7, the
 // paper's Alg. 6; mirrors include/vplkit/visibility/voxel_visible.hpp, T = float).
 // L = vplkit_voxel_length (the largest voxel edge) is the unit of every offset and tolerance.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit kernel: conservative voxelisation of a triangle mesh into the binary voxel grid, the GPU
 // side of vplkit::voxelize (grid layout in voxel_grid.glsl). One work group per triangle: its
 // invocations share the voxel columns of the triangle's bounding box, sweep only the part of each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Interface of voxelize.comp, shared by the kernel (GLSL) and its hosts (C++,
 // vplkit::gpu::voxelize_params): default bindings (distinct numbers, so that they also form a
 // valid Vulkan set 0), local size, the std140 parameter block.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: direct light at a gather point from the DPRSM's point light, shadowed by the
 // DPRSM itself; mirrors include/vplkit/vpl/direct_light.hpp (T = float) statement for statement.
 // ACCESSORS used: those of vpl/dprsm_view.glsl.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: is a surface point lit by the light, and through which DPRSM texel? Mirrors
 // include/vplkit/vpl/dprsm_lookup.hpp (T = float): the shadow-map test of the gathering estimator
 // and of the GBG builder (docs/math.md section 4). y is lit when the light, looking through the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: patch-sampled VPLs (docs/math.md section 11); mirrors
 // include/vplkit/vpl/dprsm_patch.hpp (T = float) line for line. A point y drawn uniformly over a
 // texel's uv square, carried along its light ray onto the texel's plane (through y_t, normal n_t),

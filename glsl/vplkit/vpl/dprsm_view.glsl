@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: read access to a Dual Paraboloid Reflective Shadow Map, mirroring
 // include/vplkit/vpl/dprsm_view.hpp (T = float). Texels are indexed as in texel_grid.glsl
 // (index = face * R * R + y * R + x, 2 R^2 in all); a texel that saw no geometry has albedo 0.

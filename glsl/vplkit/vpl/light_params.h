@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The point light of a DPRSM as kernel parameters (std140, 80 bytes): part of the parameter blocks
 // of the builder kernels. C++: vplkit::gpu::light_params, filled by make_light_params(light);
 // GLSL: vplkit_light_params, turned back into a vplkit_point_light by

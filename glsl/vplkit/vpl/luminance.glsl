@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: scalar weight of an RGB quantity (paper eq. 6; ITU-R BT.601 luma weights).
 // Mirrors include/vplkit/vpl/luminance.hpp (T = float).
 #ifndef VPLKIT_VPL_LUMINANCE_GLSL

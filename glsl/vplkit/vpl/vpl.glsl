@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplkit GLSL pack: VPL model (docs/math.md sections 2 and 5), mirroring include/vplkit/vpl/vpl.hpp
 // (T = float) line for line: flux of a DPRSM texel, contribution of a VPL to a gather point,
 // radiance reflected by a directly lit diffuse point. No visibility here: callers multiply by V.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Stratified (jittered-grid) choice of gather pixels inside a rectangle of the image: the subset S
 // of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (docs/math.md section 4).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md section 4): every
 // valid gather point shoots n_dirs cosine rays through the host's tracer; a hit that the DPRSM sees

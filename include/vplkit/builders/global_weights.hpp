@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Global weights (BRSM, Ritschel et al. 2011; docs/math.md section 4): the mean luminance of every
 // VPL's contribution to a subset S of gather points, without visibility:

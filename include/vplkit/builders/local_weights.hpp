@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Local weights (paper 5.2, docs/math.md section 4): the image is split into an rx x ry grid of
 // regions (N = rx * ry; the paper's N = 4 is 2 x 2), and region i gets its own weight array, built

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // One exception type for bad input, so a host renderer can catch vplkit's complaints apart from
 // its own. Messages name what was wrong and where (an index, a texel, a size).

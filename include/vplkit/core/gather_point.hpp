@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What builders and estimators know of the camera's visible points: a non-owning G-buffer view
 // (the host renderer owns the image) and the result type of the host's ray-casting callable.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Normalisation that cannot produce NaN or Inf, shared by the paraboloid mapping and the VPL
 // model (GLSL: vplkit_unit_or_zero).

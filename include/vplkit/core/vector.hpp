@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // GLM is vplkit's vector vocabulary because GLM mirrors GLSL: vplkit::vec3<T> on the CPU reads
 // like vec3 in the matching glsl/vplkit file.

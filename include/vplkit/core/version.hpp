@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 
 // vplkit is C++17 (inline variables, if constexpr, std::data). Say so before anything else fails.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Walker's alias method, built with Vose's (1991) numerically stable O(n) algorithm in double.
 // O(1) sampling: pick bucket j uniformly, keep j with probability threshold[j], else take

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Defensive sampling (docs/math.md section 3, defensive mixing):
 //     p(i) = (1 - eps) p_learned(i) + eps p_fallback(i).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Discrete distribution sampled by inverse transform: a normalised CDF searched with a guide
 // table (the cutpoint method of Chen & Asau 1974; Fishman & Moore 1984). Monotone in u, so it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What a discrete sampler returns: the chosen index and the probability of choosing it. The pmf is
 // the value the estimator divides by, so every sampler returns exactly what its pmf(index) would

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Russian roulette between the front and the back paraboloid (paper Alg. 1, docs/math.md section
 // 3): choose the front face with probability b_F = v_F / (v_F + v_B), v = the sum of a face's

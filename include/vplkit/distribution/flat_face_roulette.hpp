@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A face_roulette seen as one distribution over the flat DPRSM index (face * R * R + index within
 // the face), with the sample(u) / pmf(i) interface of discrete_cdf, so every estimator takes it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Shared by discrete_cdf and alias_table: weight validation, the sanitizing copy, the accurate
 // running sum, and the clamp of a random number u into [0, 1).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What a per-pixel estimate carries from one range of its samples to the next: the running sum
 // and the random-number stream. Every estimator comes in three parts (docs/api/estimators.md,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Cosine gathering through the DPRSM (docs/math.md section 5, strategy 1; the paper's Alg. 5
 // without MIS): directions omega ~ cos(theta2)/pi around n_x are traced to their first hit y; y is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Local CDFs (docs/math.md section 4, paper section 5.2): N distributions, one per image region.
 // Each round draws one VPL from every distribution; n_rounds rounds (the paper's N_NG), N *

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Multiple importance sampling of cosine gathering (strategy 1, n_dirs samples) and VPL sampling
 // from a distribution (strategy 2, n_vpls samples) at one gather point (docs/math.md section 5,

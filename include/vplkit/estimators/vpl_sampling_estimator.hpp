@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // VPL sampling by inverse transform (docs/math.md section 3):
 //     L^(x) = (1/N) sum_k L_{t_k}(x) V / p(t_k),   t_k ~ p.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // OPTIONAL helper, not included by <vplkit/vplkit.hpp> (nor the single header): include it when
 // you feed vplkit's GLSL pack to plain OpenGL, whose drivers do not implement #include.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Hole-aware 3x3 median fill (docs/math.md section 4): the gathering pass of the GBG builder leaves
 // texels that no ray reached at exactly 0 ("holes"); each fillable hole takes the median of its

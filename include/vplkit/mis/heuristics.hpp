@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Multiple importance sampling weights (Veach & Guibas 1995) for two strategies: n1 samples from
 // density p1 and n2 from p2, both densities of the same point in the same measure (for vplkit:

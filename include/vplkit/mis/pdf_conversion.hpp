@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Densities of the two strategies of docs/math.md section 5, expressed in one measure — solid angle
 // at the gather point x — so that the heuristics of heuristics.hpp may compare them.

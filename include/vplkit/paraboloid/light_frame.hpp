@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The light-space frame of a DPRSM: the light position c and a right-handed orthonormal basis
 // (axis_x, axis_y, axis_z) with axis_z the "front axis", the centre of the front paraboloid.

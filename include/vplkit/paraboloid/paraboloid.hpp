@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Dual paraboloid mapping in light space (docs/math.md section 1): direction <-> (face, uv).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The R x R texel grid of each paraboloid face over uv in [-1,1]^2 (docs/math.md section 1).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Cosine-weighted directions on the hemisphere z >= 0 (local frame; see orthonormal_basis.hpp).
 //

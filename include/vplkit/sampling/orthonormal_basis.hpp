@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A right-handed orthonormal frame (t, b, n) around a normal, for turning locally sampled
 // directions (z = up) into world directions and back.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Counter-based random numbers that a GLSL shader reproduces bit for bit.
 //

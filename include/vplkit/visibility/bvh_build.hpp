@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Building a BVH over triangles on the host: binned SAH (Wald, "On fast construction of SAH-based
 // bounding volume hierarchies", 2007), single-threaded and deterministic.

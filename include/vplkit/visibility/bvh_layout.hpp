@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The flat arrays of a bounding volume hierarchy over triangles, laid out exactly as the GLSL pack
 // reads them (glsl/vplkit/visibility/bvh_layout.glsl). For T = float, one bvh_node is the std430

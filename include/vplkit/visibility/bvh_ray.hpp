@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The two geometric tests of BVH traversal, mirrored statement for statement by
 // glsl/vplkit/visibility/bvh_ray.glsl:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Ray queries against a BVH (bvh_layout.hpp): the closest hit, and any hit (occlusion of a
 // segment). glsl/vplkit/visibility/bvh_traverse.glsl is the same code statement for statement.

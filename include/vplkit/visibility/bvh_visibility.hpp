@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Exact visibility through a BVH, as the two callables the estimators take (the exact
 // counterparts of voxel_visibility and voxel_tracer in visibility/visibility_callables.hpp):

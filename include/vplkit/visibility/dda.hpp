@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // 3D DDA ray marching through a voxel_grid_view (Amanatides & Woo, "A fast voxel traversal
 // algorithm for ray tracing", Eurographics 1987).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Triangle / axis-aligned box overlap by the separating axis theorem (Akenine-Moeller, "Fast 3D
 // triangle-box overlap testing", JGT 2001): the box and the triangle are disjoint iff their

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A voxel grid whose occupied voxels list the triangles that overlap them, so that visibility is
 // decided by the triangles themselves, not by their voxels (docs/math.md section 7.2). Queries:

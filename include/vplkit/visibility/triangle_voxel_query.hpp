@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Visibility and first hits decided by the triangles a triangle_voxel_grid lists (docs/math.md
 // section 7.2; docs/api/visibility.md, "Triangle voxels"). L = voxel_length.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Adaptors that turn a voxel grid (or nothing) into the callables the estimators take, so a host
 // with only a voxel grid needs one line. The estimators accept any callable of these shapes:

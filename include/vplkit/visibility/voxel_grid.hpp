@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Binary occupancy grid over an axis-aligned box (docs/math.md section 7).
 //

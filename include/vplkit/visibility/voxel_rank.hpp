@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Dense indices of the occupied voxels of a voxel_grid: rank[w] = the number of occupied voxels in
 // words 0 .. w-1 (one uint32 per occupancy word), so an occupied voxel with flat index i is the

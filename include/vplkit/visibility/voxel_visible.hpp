@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Point-to-point visibility through the voxel grid (docs/math.md section 7; the paper's Alg. 6,
 // lines 8-10). L = voxel_length (the largest voxel edge) is the unit of every offset and tolerance.

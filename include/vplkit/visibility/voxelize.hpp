@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Conservative CPU voxelisation (docs/math.md section 7): every voxel whose closed box overlaps a
 // triangle is marked. Only the voxels of the triangle's bounding box are tested.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // CPU construction of a triangle_voxel_grid (triangle_voxel_grid.hpp): the conservative occupancy
 // of voxelize.hpp, its rank, and in every occupied voxel the list of the triangles whose overlap

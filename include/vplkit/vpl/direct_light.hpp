@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Direct light at a gather point from the DPRSM's point light, shadowed by the DPRSM itself: the
 // DPRSM records what the light sees, so it doubles as the light's shadow map (docs/api/vpl.md,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
 // gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light,

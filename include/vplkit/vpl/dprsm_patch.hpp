@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Patch-sampled VPLs (docs/math.md section 11): instead of a VPL at the texel centre y_t that
 // stands for the whole texel (the midpoint rule, vpl_mode::point), a point y drawn uniformly over

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Builds a DPRSM on the CPU by casting one ray per valid texel centre from the light: for tests
 // and for hosts without a rasteriser. A rasterised DPRSM samples texel centres the same way.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Non-owning view of a Dual Paraboloid Reflective Shadow Map: what every builder and estimator
 // reads. Three arrays of texel_count(R) = 2 R^2 entries indexed as in paraboloid/texel_grid.hpp

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Scalar weight of an RGB quantity (paper eq. 6; ITU-R BT.601 luma weights).
 #include <vplkit/core/vector.hpp>

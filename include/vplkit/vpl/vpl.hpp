@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // VPL model (docs/math.md sections 2 and 5): flux of a DPRSM texel, contribution of a VPL to a
 // gather point, radiance reflected by a directly lit diffuse point. No visibility here: callers

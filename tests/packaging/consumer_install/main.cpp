@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A consumer of vplkit (installed package, pkg-config, add_subdirectory with its own GLM, or
 // FetchContent): the umbrella header, a distribution, the GLSL pack path, and a kernel's parameter
 // header from the pack (every route puts the pack root on the include path).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // add_subdirectory(vplkit) users reach the kernels' parameter headers through vplkit::vplkit.
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/visibility/voxelize_params.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Included in two translation units: a non-inline definition anywhere in the amalgamation would
 // fail to link here.
 #include <vplkit/vplkit.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include <vplkit/vplkit.hpp>
 
 double second_translation_unit() {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "app/lighting_check.hpp"
 
 #include <vplkit/vpl/direct_light.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // After a render: warnings for an image that shows nothing lit, each saying what to try. The facts
 // come from the frame (G-buffer coverage, pixels the light reaches directly) and the image.

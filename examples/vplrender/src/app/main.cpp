@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // vplrender: the example renderer's command line. Parses the options, builds or loads the scene,
 // frames and lights it, checks the output location, runs the pipeline (render/pipeline.hpp) and writes
 // the EXR, the PNG preview and the JSON report.

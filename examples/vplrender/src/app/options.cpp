@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "app/options.hpp"
 
 #include "io/errors.hpp"

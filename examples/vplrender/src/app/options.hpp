@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The command line contract of vplrender: names, defaults, limits. Parsing produces a
 // plain struct and touches nothing else, so it is tested without running anything.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A one-line progress bar on stderr. It appears only once a run has lasted `delay` (1 s by
 // default), so short runs print nothing, and redraws at most ten times a second. With

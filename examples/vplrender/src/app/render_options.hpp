@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The command line's options turned into the pipeline's settings, and the pipeline driven by them:
 // what vplrender, the window, examples/speed_vs_error and the tests run.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "app/report.hpp"
 
 #include <vplkit/core/version.hpp>

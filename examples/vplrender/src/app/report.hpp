@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The JSON report written beside every image: what was asked (all parameters), what scene it
 // became, where it ran (GL renderer string), and how long each stage took.

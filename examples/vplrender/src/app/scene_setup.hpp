@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // From options to a ready scene: build or load it, frame it, light it, apply --camera/--light,
 // validate it, and check the light's position.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "app/window.hpp"
 
 #include "app/window_update.hpp"

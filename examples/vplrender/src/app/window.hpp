@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // vplrender --window: an interactive GLFW view of the rendered image (docs/renderer.md, "Window").
 // The pipeline keeps its own headless GL context on a worker thread (a context is current on one

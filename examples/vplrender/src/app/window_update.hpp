@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The --window loop's decisions, apart from GLFW so they can be tested: what the key actions of one
 // pass of the event loop change, and whether that pass re-renders, only redraws, or does nothing.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // One output written atomically: a set of one (io/output_set.hpp). A failure at any point removes
 // the temporary file and leaves any previous file of that name untouched.

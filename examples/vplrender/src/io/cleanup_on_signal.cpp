@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "io/cleanup_on_signal.hpp"
 
 #include <atomic>

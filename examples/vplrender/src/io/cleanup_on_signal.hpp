@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Temporary files that must not outlive the process when it is interrupted: SIGINT or SIGTERM
 // unlinks every registered path and then dies of the same signal (so the caller still sees

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Colour conversions used by textures (decode) and previews (encode). sRGB is the IEC 61966-2-1
 // piecewise curve, not a 2.2 power, so a GL_SRGB8 texture and the CPU agree.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The renderer's error vocabulary. Every complaint is one line that names where the problem is
 // (a file and line, a flag, a pixel), so the command line can print it as is and exit non-zero.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "io/exr_io.hpp"
 
 #include "io/errors.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Linear HDR output as OpenEXR: 32-bit float R, G, B (half would clip at 65504 and round at
 // 1e-3 relative, too coarse for error measurements), ZIP compression (lossless).

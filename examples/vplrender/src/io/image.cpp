@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "io/image.hpp"
 
 #include "io/errors.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A linear HDR RGB image as the renderer produces it: row 0 is the TOP row (as in the files we
 // write; a GL read-back, bottom row first, must be flipped before it lands here).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "io/json_file.hpp"
 
 #include "io/atomic_file.hpp"

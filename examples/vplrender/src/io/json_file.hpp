@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A JSON document written to a file the way every output is: to a temporary file, then renamed.
 #include "io/output_set.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The outputs of one run (EXR, PNG preview, JSON report) published as a set: each file is written
 // to a temporary beside its final name, and only when every one of them is complete are they

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "io/png_preview.hpp"
 
 #include "io/atomic_file.hpp"

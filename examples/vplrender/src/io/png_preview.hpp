@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The LDR preview: Reinhard's global operator on luminance, then the sRGB curve, 8 bits.
 //   c = exposure * max(rgb, 0);  L = Rec.709 luminance of c;  c' = c / (1 + L)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/dprsm_check.hpp"
 
 #include "scene/raycast.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The DPRSM by ray casting on the CPU (vplkit::render_dprsm with the renderer's double-precision
 // ray caster), and the comparison used to measure the rasterised DPRSM's error.

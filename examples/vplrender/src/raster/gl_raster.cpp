@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/gl_raster.hpp"
 
 #include <headless_gl/compute.hpp>

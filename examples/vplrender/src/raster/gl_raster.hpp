@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The GPU rasterisation stages on a headless OpenGL 4.3+ context (vplkit::gl::headless_context
 // must be current): the camera G-buffer and the two paraboloid maps of the DPRSM, rendered into

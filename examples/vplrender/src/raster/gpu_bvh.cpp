@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/gpu_bvh.hpp"
 
 #include <vplkit/visibility/bvh_build.hpp>

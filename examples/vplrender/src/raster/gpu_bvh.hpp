@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The scene's BVH for the GPU backend's exact visibility (--visibility exact): built on the host by
 // the pack's binned-SAH builder (vplkit::build_bvh_soup, include/vplkit/visibility/bvh_build.hpp)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/gpu_scene_buffers.hpp"
 
 #include <glm/vec4.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The frame's scene buffers on the GPU, in the one layout every kernel of the GPU backend reads
 // (the pack's builder kernels, the fallback weights, estimate.comp): made once per frame by the

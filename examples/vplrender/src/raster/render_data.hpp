@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What the rasterisation stages hand to the estimators: a G-buffer and a DPRSM, read back into
 // CPU arrays in the layouts vplkit's views expect.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/tessellate.hpp"
 
 #include <glm/geometric.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Splitting triangles before the paraboloid projection (docs/renderer.md, "DPRSM").
 //

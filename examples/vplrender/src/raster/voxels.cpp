@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/voxels.hpp"
 
 #include <vplkit/visibility/voxelize.hpp>

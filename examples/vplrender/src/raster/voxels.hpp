@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The scene's voxel grid (docs/math.md section 7): bounds = the triangles' box padded by 1% of its
 // largest extent and made cubic (vplkit::fit_voxel_bounds), `resolution` voxels per axis. It is a

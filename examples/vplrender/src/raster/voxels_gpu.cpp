@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "raster/voxels_gpu.hpp"
 
 #include <headless_gl/voxelize_gpu.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The voxel grid on the GPU: the pack's kernels glsl/vplkit/visibility/voxelize.comp (occupancy,
 // count and fill modes) and prefix_sum.comp over the same bounds as voxelize_cpu, through

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What the method-independent stages (render/pipeline.hpp, prepare_buffers) hand to every estimator
 // run: the G-buffer, the DPRSM and the voxel grid of one frame as CPU arrays (the CPU backend, the

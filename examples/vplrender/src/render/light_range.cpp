@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/light_range.hpp"
 
 #include "io/errors.hpp"

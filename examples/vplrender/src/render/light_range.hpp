@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // A point light whose intensity is near float's limit overflows the renderer's float sums (VPL
 // fluxes, GBG weights, the estimators' terms) on either backend. The library reports where

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // --face-selection roulette and --sampler alias: the defensive mixtures of both backends, sampled
 // through other components than their discrete CDFs. A mixture keeps its split (docs/math.md

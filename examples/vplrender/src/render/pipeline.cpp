@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/pipeline.hpp"
 
 #include "app/lighting_check.hpp"

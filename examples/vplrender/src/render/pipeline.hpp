@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // vplrender's pipeline, stage by stage (docs/renderer.md, docs/architecture.md "Renderer data
 // flow"): headless GL context -> G-buffer and DPRSM rasterised on the GPU and read back -> voxel

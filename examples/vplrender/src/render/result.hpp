@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // What an estimator run returns, whichever backend ran it.
 #include "io/image.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/running_stage.hpp"
 
 #include <cstdio>

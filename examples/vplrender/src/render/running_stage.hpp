@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Which pipeline stage is running, under the names the stage timer reports (render/stage_timer.hpp),
 // so that a failure deep inside a stage can say where it happened. The innermost stage that an

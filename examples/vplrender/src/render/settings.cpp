@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/settings.hpp"
 
 #include <vplkit/core/error.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The render vocabulary that both backends and the pipeline share: the method and its switches,
 // the numbers derived from the scene (dmin), the builders' seeds and the progress callback. The

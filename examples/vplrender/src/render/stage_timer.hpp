@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Per-stage wall-clock times for the JSON report. GPU stages add their timer-query results with
 // add() (and mark themselves running with running()); CPU stages use scoped(), which does both.

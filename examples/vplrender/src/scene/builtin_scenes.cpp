@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/builtin_scenes.hpp"
 
 #include "io/errors.hpp"

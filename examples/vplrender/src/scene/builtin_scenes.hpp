@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The two procedural scenes the renderer carries, so it runs (and its tests pass) without any
 // file. Geometry is listed in docs/renderer.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/camera.hpp"
 
 #include <glm/geometric.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Pinhole camera geometry shared by the CPU and GPU paths: the same frame, the same pixel-centre
 // convention, so a CPU pixel and a GPU pixel look along the same ray.

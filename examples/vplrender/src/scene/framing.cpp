@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/framing.hpp"
 
 #include "io/errors.hpp"

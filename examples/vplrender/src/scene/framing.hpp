@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Automatic camera and light for a scene that brings neither (an OBJ file). The rules are in
 // docs/renderer.md; both results can be overridden with --camera and --light.

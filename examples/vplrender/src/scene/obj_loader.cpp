@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/obj_loader.hpp"
 
 #include "io/errors.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // OBJ/MTL scenes through tinyobjloader, after our own validation pass (obj_scan.hpp).
 #include "scene/scene.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/obj_scan.hpp"
 
 #include "io/errors.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Our own pass over an OBJ file before tinyobjloader sees it. tinyobjloader 2.0.0rc10 is silent
 // where the renderer must not be: a malformed number reads as 0, "nan" reads as 0, 1e39 becomes

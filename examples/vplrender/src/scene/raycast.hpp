@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Brute-force ray casting against the scene triangles, in double precision. It serves setup-time
 // questions (is the light inside a solid? is the box closed?), a few thousand rays at most, so

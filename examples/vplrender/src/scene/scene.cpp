@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/scene.hpp"
 
 #include "io/errors.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The scene model the renderer needs, and nothing more: triangles with normals, diffuse
 // materials (a constant Kd or an 8-bit texture), one point light and a pinhole camera.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "scene/texture.hpp"
 
 #include "io/color.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Diffuse textures: loading (stb_image, any format it reads, reduced to 8-bit RGB) and the CPU
 // lookup that mirrors the GPU one (GL_SRGB8, GL_LINEAR, GL_REPEAT, no mipmaps).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Polygon triangulation for OBJ faces. We load with tinyobjloader's triangulation off and split
 // polygons here, after our index validation, so that every triangle of a polygon gets the

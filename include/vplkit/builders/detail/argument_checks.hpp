@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Argument checks shared by the weight builders; each names the calling function (`who`).
 #include <vplkit/core/error.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/cpu/cpu_backend.hpp"
 
 #include "render/cpu/cpu_builders.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The CPU backend: every method of vplrender on the frame's CPU buffers (G-buffer, DPRSM, voxel
 // grid) through vplkit's builders and estimators (C++ templates, T = float), parallel over image

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The CPU backend's builders and CDFs (vplkit's builders, T = float, parallel over rows or texel
 // blocks): the distributions the estimators of render_cpu sample. The GPU backend's counterpart is

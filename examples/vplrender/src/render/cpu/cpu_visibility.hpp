@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The CPU backend's visibility and tracer, the callables vplkit's estimators and builders take
 // (include/vplkit/visibility/visibility_callables.hpp), chosen by render_settings::visibility:

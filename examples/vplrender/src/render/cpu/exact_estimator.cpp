@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/cpu/exact_estimator.hpp"
 
 #include <vplkit/core/unit_or_zero.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // --method exact: the one-bounce diffuse indirect light at a gather point with exact visibility
 // and no VPLs, the renderer's ground truth. For each of n_dirs cosine-distributed directions

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The CPU backend's threads: items (image rows, texel blocks) handed out one at a time to a pool
 // of std::threads, with progress reported from the calling thread.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/cpu/ray_scene.hpp"
 
 #include "scene/texture.hpp"

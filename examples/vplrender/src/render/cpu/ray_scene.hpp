@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The scene's triangles in Embree 3 (Debian's libembree-dev), for the CPU backend's exact
 // visibility (--visibility exact) and the exact method (--method exact): first hits and shadow

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // allocating() (render/running_stage.hpp) for GL buffers: a GL_OUT_OF_MEMORY from the driver reads
 // like a failed host allocation, "<stage>: out of memory allocating N MiB for <what>".

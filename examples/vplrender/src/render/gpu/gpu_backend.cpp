@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/gpu/gpu_backend.hpp"
 
 #include "raster/gpu_scene_buffers.hpp"

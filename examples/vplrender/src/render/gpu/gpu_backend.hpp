@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The GPU backend: every method of vplrender as a compute shader built from the GLSL pack
 // (examples/vplrender/shaders/estimate.comp), one invocation per pixel, on the frame's GPU scene

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/gpu/gpu_builders.hpp"
 
 #include "render/gpu/gpu_visibility.hpp"

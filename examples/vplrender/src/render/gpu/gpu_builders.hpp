@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The GPU backend's builders and CDFs, the counterpart of render/cpu/cpu_builders.hpp, on the
 // frame's GPU scene buffers:

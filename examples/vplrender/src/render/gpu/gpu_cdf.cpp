@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/gpu/gpu_cdf.hpp"
 
 #include <vplkit/core/error.hpp>

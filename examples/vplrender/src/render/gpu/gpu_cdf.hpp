@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The defensive mixtures of the GPU backend built on the GPU (vplkit::make_vpl_distribution /
 // make_local_vpl_distributions in the layout estimate.comp samples), from weights that already

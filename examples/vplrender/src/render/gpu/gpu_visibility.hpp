@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // The GPU backend's visibility, chosen by render_settings::visibility: the one place that maps a
 // visibility_choice to what the kernels need: the define that selects the kernel's visibility

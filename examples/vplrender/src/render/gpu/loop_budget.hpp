@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #pragma once
 // Loop iterations one dispatch may spend per invocation: llvmpipe leaves every loop after 65535
 // iterations per invocation, silently (docs/glsl.md), so the GPU backend splits long loops over
