@@ -53,7 +53,7 @@ void check_weights(const std::vector<float>& gpu, const float* cpu, std::size_t 
 
 }  // namespace
 
-TEST_CASE("--dprsm 2048 on the GPU backend: weights equal the CPU builders', every method renders") {
+TEST_CASE("the GPU backend at --dprsm 2048: weights equal the CPU builders', every method renders") {
   // 8x8 pixels and subsets of 4 gather points keep the 8.4M-texel builders fast on llvmpipe.
   vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell", 8, 8, 2048, 16));
   render_settings es = make_render_settings(f.o, f.p.s);
