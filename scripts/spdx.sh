@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # SPDX licence identifiers: every source file of ours carries one (LICENSE is MIT).
 #   scripts/spdx.sh           add the line where it is missing
 #   scripts/spdx.sh --check   list the files without one and fail (ctest packaging_spdx_headers)

@@ -2,6 +2,7 @@
 #include "render/cpu/cpu_backend.hpp"
 
 #include "render/cpu/cpu_builders.hpp"
+#include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/exact_estimator.hpp"
 #include "render/cpu/parallel.hpp"
@@ -70,12 +71,10 @@ void with_distributions(const cpu_distributions& built, const frame_buffers& b, 
 
 render_result render_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                          const progress_fn& progress) {
-  const vplkit::gbuffer_view<float> g = b.gbuf.view();
-  const vplkit::dprsm_view<float> view = b.dprsm.view();
-  g.validate();
-  view.validate();
-  const int threads = thread_count(s.threads);
-  const int W = g.width, H = g.height;
+  const cpu_frame f = open_cpu_frame(b, s);
+  const vplkit::gbuffer_view<float>& g = f.g;
+  const vplkit::dprsm_view<float>& view = f.view;
+  const int threads = f.threads, W = f.W, H = f.H;
   render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;

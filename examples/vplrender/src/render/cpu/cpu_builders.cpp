@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "render/cpu/cpu_builders.hpp"
 
+#include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/parallel.hpp"
 
@@ -46,12 +47,10 @@ std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>&
 
 std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                          const progress_fn& progress, nlohmann::json& det) {
-  const vplkit::gbuffer_view<float> g = b.gbuf.view();
-  const vplkit::dprsm_view<float> view = b.dprsm.view();
-  g.validate();
-  view.validate();
-  const int threads = thread_count(s.threads);
-  const int W = g.width, H = g.height;
+  const cpu_frame f = open_cpu_frame(b, s);
+  const vplkit::gbuffer_view<float>& g = f.g;
+  const vplkit::dprsm_view<float>& view = f.view;
+  const int threads = f.threads, W = f.W, H = f.H;
   const cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   vplkit::gbg_params<float> params;
@@ -88,12 +87,10 @@ std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_se
 
 cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                           const progress_fn& progress, nlohmann::json& det) {
-  const vplkit::gbuffer_view<float> g = b.gbuf.view();
-  const vplkit::dprsm_view<float> view = b.dprsm.view();
-  g.validate();
-  view.validate();
-  const int threads = thread_count(s.threads);
-  const int W = g.width, H = g.height;
+  const cpu_frame f = open_cpu_frame(b, s);
+  const vplkit::gbuffer_view<float>& g = f.g;
+  const vplkit::dprsm_view<float>& view = f.view;
+  const int threads = f.threads, W = f.W, H = f.H;
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
   cpu_distributions out;
   switch (s.meth) {
