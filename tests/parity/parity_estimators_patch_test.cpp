@@ -198,8 +198,18 @@ void main() {
 double decision_margin(const vplkit::dprsm_view<float>& view, const patch_query& q) {
   const int R = view.resolution;
   const vplkit::ivec2 xy = vplkit::texel_coords(q.texel, R);
-  const vplkit::vec2<double> uv = vplkit::texel_point_uv(xy.x, xy.y, R, vplkit::vec2<double>(q.xi_x, q.xi_y));
+  const vplkit::texel_block block = vplkit::texel_patch_block(xy.x, xy.y, R);
+  const vplkit::vec2<double> uv = vplkit::texel_block_point_uv(block, R, vplkit::vec2<double>(q.xi_x, q.xi_y));
   double margin = std::abs(glm::dot(uv, uv) - 1.0) / 2e-6;  // 2^-20 of r2 ~ 1e-6
+  if (block.nx * block.ny != 1) {
+    // A rim texel's ownership test (texel_owner_from_uv): texel edges under uv and under the
+    // pulled uv (1 - 2/R), in uv units of 1e-6.
+    for (const vplkit::vec2<double> p : {uv, uv * (1.0 - 2.0 / R)})
+      for (int k = 0; k < 2; ++k) {
+        const double t = (p[k] + 1.0) * 0.5 * R;
+        margin = std::min(margin, std::abs(t - std::round(t)) * (2.0 / R) / 1e-6);
+      }
+  }
   const vplkit::vec3<double> n = glm::normalize(vplkit::vec3<double>(view.normal[q.texel]));
   const vplkit::vec3<double> w(view.light.frame.to_world(vplkit::vec3<float>(
       vplkit::paraboloid_to_direction(vplkit::texel_face(q.texel, R), vplkit::vec2<float>(uv)))));

@@ -670,18 +670,17 @@ bool explained(int cpu_t, int gpu_t, int R, vec3<float> l, vec2<float> uv, std::
     return c == g && std::abs(l.z) <= 2.4e-7f * glm::length(l);
   }
   why = "edge";
-  for (int k = 0; k < 2; ++k) {
-    if (c[k] == g[k]) continue;
-    if (std::abs(c[k] - g[k]) != 1) return false;
-    const float edge = float(-1.0 + 2.0 * double(std::max(c[k], g[k])) / double(R));
-    if (!(std::abs(uv[k] - edge) <= 1e-6f)) return false;
-  }
-  return true;
+  // The owner (texel_owner_from_uv) of a uv within 1e-6 of this one: a texel edge, of uv or of
+  // the pulled uv (1 - 2/R) of the rim band, lies that close.
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (vplkit::texel_owner_from_uv(uv + 1e-6f * vec2<float>(float(dx), float(dy)), R) == g) return true;
+  return false;
 }
 
 }  // namespace
 
-TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + centre rays + seam)") {
+TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + centre rays + seam + rim band)") {
   for (int which = 0; which < 2; ++which) {
     dprsm_data d = make_dprsm(which);
     random_source rnd(55 + std::uint32_t(which));
@@ -711,6 +710,16 @@ TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + cent
       dirs.push_back(w);
       points.push_back(d.light.position + 3.0f * w);
       kind.push_back("seam");
+    }
+    // The rim band: directions within 3 texels of the rim, where a uv inside the disk can lie in
+    // an invalid texel and is filed under the valid neighbour that owns it.
+    for (int k = 0; k < 8000; ++k) {
+      const double phi = rnd.uniform(0, 2 * pi), z = rnd.uniform(-3, 3) / d.R;
+      const vec3<float> w = d.light.frame.to_world(vec3<float>(
+          float(std::sqrt(1 - z * z) * std::cos(phi)), float(std::sqrt(1 - z * z) * std::sin(phi)), float(z)));
+      dirs.push_back(w);
+      points.push_back(d.light.position + 3.0f * w);
+      kind.push_back("rim band");
     }
     // The poles.
     for (float s : {1.0f, -1.0f}) {

@@ -5,6 +5,7 @@
 // backends is compared with one computed from the scene itself (Embree: the camera ray's hit, its
 // interpolated shading normal, an exact shadow ray), and with what the former normal rule gave (the
 // shading normal turned to the eye by the interpolated position, used for everything).
+#include "renderer_direct_reference.hpp"
 #include "renderer_gl_fixture.hpp"
 
 #include "app/render_options.hpp"
@@ -12,7 +13,6 @@
 #include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_backend.hpp"
 
-#include <vplkit/visibility/bvh_visibility.hpp>
 #include <vplkit/vpl/direct_light.hpp>
 
 #include <catch2/catch.hpp>
@@ -27,6 +27,8 @@
 
 using namespace vplrender;
 using vplrender_test::gl_fixture;
+using vplrender_test::direct_image;
+using vplrender_test::scene_direct_light;
 
 namespace {
 
@@ -35,49 +37,12 @@ std::string test_file(const char* name) {
   return here.substr(0, here.find_last_of("/\\") + 1) + name;
 }
 
-// The direct light at the surface point the camera sees through a G-buffer pixel, from the scene
-// itself: Embree's hit on the ray from the eye through the G-buffer position, the triangle's normal
-// turned to the eye, the interpolated shading normal turned to its side, the material's albedo and
-// an exact shadow ray. 0 where the ray meets nothing near the G-buffer point.
-vec3 scene_direct_light(const ray_scene& rs, const scene& s, const vplkit::point_light<float>& light, vec3 x) {
-  const vec3 d = x - s.cam.eye;
-  const float len = glm::length(d);
-  const float slack = 1e-3f * rs.size();
-  const ray_scene::hit h = rs.intersect(s.cam.eye, d, 1.0f + slack / len);
-  if (!h.hit || std::abs(h.t - 1.0f) * len > slack) return vec3(0.0f);
-  vec3 ng = h.geometric_normal;
-  if (glm::dot(ng, s.cam.eye - h.position) < 0.0f) ng = -ng;
-  vec3 ns = rs.shading_normal(h);
-  if (glm::dot(ns, ng) < 0.0f) ns = -ns;
-  if (!(glm::dot(ng, light.position - h.position) > 0.0f)) return vec3(0.0f);
-  const vec3 o = vplkit::bvh_offset_point(h.position, ng, rs.surface_offset());
-  if (rs.occluded(o, light.position - o, 1.0f)) return vec3(0.0f);
-  return vplkit::reflected_radiance(light.position, light.intensity, h.position, ns, rs.albedo_at(h));
-}
-
 // The former normal rule's one normal: the shading normal turned to the eye by the interpolated
 // position (the sign of the stored shading normal does not matter: it is turned again).
 vplkit::gather_point<float> former_gather_point(const gbuffer_data& g, const scene& s, int p) {
   vec3 n = g.shading_normal[std::size_t(p)];
   if (glm::dot(n, s.cam.eye - g.position[std::size_t(p)]) < 0.0f) n = -n;
   return {g.position[std::size_t(p)], n, g.albedo[std::size_t(p)]};
-}
-
-// Direct light of a backend as the difference of --direct and plain renders of the deterministic
-// global method (the same random numbers, so the indirect part cancels up to rounding).
-image_rgb direct_image(const gl_fixture& f, bool gpu) {
-  options o = f.o;
-  o.meth = method::global;
-  o.vpls = 1;
-  render_settings es = make_render_settings(o, f.p.s);
-  es.threads = 2;
-  stage_timer t1, t2;
-  es.direct = true;
-  image_rgb with = gpu ? render_gpu(f.b, es, t1).image : render_cpu(f.b, es, t1).image;
-  es.direct = false;
-  const image_rgb without = gpu ? render_gpu(f.b, es, t2).image : render_cpu(f.b, es, t2).image;
-  for (std::size_t i = 0; i < with.rgb.size(); ++i) with.rgb[i] = std::max(0.0f, with.rgb[i] - without.rgb[i]);
-  return with;
 }
 
 float lum(const float* c) { return 0.299f * c[0] + 0.587f * c[1] + 0.114f * c[2]; }

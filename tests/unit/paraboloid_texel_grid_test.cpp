@@ -161,3 +161,76 @@ TEST_CASE("texel grid: solid angle agrees with numerical integration of one texe
   CHECK(e64 / e128 > 3.5);
   CHECK(e64 / e128 < 4.5);
 }
+
+TEMPLATE_TEST_CASE("texel grid: every uv of the disk has one valid owner, next to the texel holding it",
+                   "[paraboloid]", float, double) {
+  // texel_owner_from_uv: the texel holding uv when it is valid; else (the rim band: an invalid
+  // square's part inside the disk) the one holding uv (1 - 2/R), an 8-neighbour and a rim texel
+  // whose patch block holds uv's texel.
+  using T = TestType;
+  const double pi = 3.14159265358979323846;
+  for (int R : {1, 2, 3, 4, 5, 8, 9, 17, 64, 255, 512, 4096, 16384}) {
+    int band = 0;
+    const int n_angles = 20000;
+    for (int k = 0; k < n_angles; ++k) {
+      const double phi = 2.0 * pi * (k + 0.37) / n_angles;
+      // on the rim (clamped into the disk as paraboloid_from_direction does) and just inside it
+      for (double depth : {0.0, 1e-7, 0.3 / R, 0.9 / R, 1.5 / R, 3.0 / R}) {
+        const vec2<T> uv = vplkit::paraboloid_clamp_to_disk(
+            vec2<T>(T((1.0 - depth) * std::cos(phi)), T((1.0 - depth) * std::sin(phi))));
+        const ivec2 in = vplkit::texel_from_uv(uv, R);
+        const ivec2 owner = vplkit::texel_owner_from_uv(uv, R);
+        INFO("R " << R << " uv " << uv.x << ", " << uv.y << " in (" << in.x << ", " << in.y << ") owner (" << owner.x
+                  << ", " << owner.y << ")");
+        REQUIRE(vplkit::texel_is_valid(owner.x, owner.y, R));
+        if (vplkit::texel_is_valid(in.x, in.y, R)) {
+          REQUIRE(owner == in);
+          continue;
+        }
+        ++band;
+        REQUIRE(std::abs(owner.x - in.x) <= 1);
+        REQUIRE(std::abs(owner.y - in.y) <= 1);
+        REQUIRE(vplkit::texel_is_rim(owner.x, owner.y, R));
+        // in the owner's patch block (dprsm_patch_vpl draws its points there)
+        const vplkit::texel_block b = vplkit::texel_patch_block(owner.x, owner.y, R);
+        REQUIRE((in.x >= b.x0 && in.x < b.x0 + b.nx && in.y >= b.y0 && in.y < b.y0 + b.ny));
+      }
+    }
+    if (R >= 4) CHECK(band > 0);  // the band exists: R = 1..3 have no invalid texel the disk reaches
+  }
+}
+
+TEMPLATE_TEST_CASE("texel grid: patch blocks: the texel off the rim, 2 x 2 on a rim texel's outer side",
+                   "[paraboloid]", float, double) {
+  using T = TestType;
+  for (int R : {36, 37}) {
+    int rim = 0;
+    for (int y = 0; y < R; ++y)
+      for (int x = 0; x < R; ++x) {
+        const vplkit::texel_block b = vplkit::texel_patch_block(x, y, R);
+        INFO("R " << R << " texel (" << x << ", " << y << ")");
+        for (T a : {T(0), T(0.25), T(0.5), T(0.999), T(1)}) {
+          const vec2<T> xi(a, T(1) - a);
+          if (!vplkit::texel_is_rim(x, y, R)) {
+            REQUIRE((b.x0 == x && b.y0 == y && b.nx == 1 && b.ny == 1));
+            REQUIRE(vplkit::texel_block_point_uv(b, R, xi) == vplkit::texel_point_uv(x, y, R, xi));
+            REQUIRE(vplkit::texel_block_point_solid_angle(vplkit::texel_point_uv(x, y, R, xi), b, R) ==
+                    vplkit::texel_point_solid_angle(vplkit::texel_point_uv(x, y, R, xi), R));
+            continue;
+          }
+          // the block holds the texel, and its corners are texel corners
+          REQUIRE((x >= b.x0 && x < b.x0 + b.nx && y >= b.y0 && y < b.y0 + b.ny));
+          REQUIRE((b.nx == 2 || (b.nx == 3 && 2 * x + 1 == R)));
+          REQUIRE((b.ny == 2 || (b.ny == 3 && 2 * y + 1 == R)));
+          CHECK(vplkit::texel_block_point_uv(b, R, vec2<T>(T(0))) == vplkit::texel_point_uv(b.x0, b.y0, R, vec2<T>(T(0))));
+          CHECK(vplkit::texel_block_point_uv(b, R, vec2<T>(T(1))) ==
+                vplkit::texel_point_uv(b.x0 + b.nx - 1, b.y0 + b.ny - 1, R, vec2<T>(T(1))));
+        }
+        rim += vplkit::texel_is_rim(x, y, R);
+      }
+    CHECK(!vplkit::texel_is_rim(R / 2, R / 2, R));
+    CHECK(!vplkit::texel_is_rim(0, 0, R));  // invalid
+    CHECK(rim > 2 * R);  // a ring about the circumference (pi R texel widths) long, one or two deep
+    CHECK(rim < 8 * R);
+  }
+}

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include <vplkit/core/error.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/vpl/direct_light.hpp>
+#include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <string>
@@ -181,5 +184,54 @@ TEMPLATE_TEST_CASE("dprsm: texel_of_direction agrees with the texel centres", "[
         vplkit::texel_face(i, R), vplkit::texel_center_uv<T>(xy.x, xy.y, R)));
     REQUIRE(view.texel_of_direction(d) == i);
     REQUIRE(view.texel_of_point(light.position + T(5) * d) == i);
+  }
+}
+
+TEMPLATE_TEST_CASE("dprsm: every direction at the rim finds the surface the light sees there", "[vpl]", float,
+                   double) {
+  // A cylinder of radius 1 around the light's front axis straddles the seam between the two faces:
+  // the light sees it in every direction near the rim. Every such direction must be filed under a
+  // texel that carries that surface (dprsm_lookup lit within the direct light's tolerance): the
+  // parts of invalid rim squares inside the disk belong to a valid neighbour (texel_owner_from_uv).
+  using T = TestType;
+  const double pi = 3.14159265358979323846;
+  const auto light = vplkit::make_point_light(vec3<T>(1, 2, 3), vec3<T>(1), vec3<T>(1, -2, T(0.5)));
+  const auto trace_cylinder = [&](vec3<T> o, vec3<T> d) -> std::optional<vplkit::dprsm_hit<T>> {
+    const vec3<T> l = light.frame.to_light(d);
+    const T r = std::sqrt(l.x * l.x + l.y * l.y);
+    if (!(r > T(0))) return std::nullopt;
+    const vec3<T> n = -light.frame.to_world(vec3<T>(l.x / r, l.y / r, T(0)));
+    return vplkit::dprsm_hit<T>{o + d / r, n, vec3<T>(T(0.5))};
+  };
+  for (int R : {8, 17, 64, 255}) {
+    std::vector<vec3<T>> P, N, A;
+    const vplkit::dprsm_view<T> view = vplkit::render_dprsm(light, R, trace_cylinder, P, N, A);
+    int tried = 0, unlit = 0, not_contained = 0;
+    const int n_angles = 4000;
+    for (int k = 0; k < n_angles; ++k) {
+      const double phi = 2.0 * pi * (k + 0.5) / n_angles;
+      for (int j = -6; j <= 6; ++j) {
+        const double z = j * 0.5 / R;  // light-space height: within 3 texel widths of the rim
+        const double s = std::sqrt(1.0 - z * z);
+        const vec3<T> d = light.frame.to_world(vec3<T>(T(s * std::cos(phi)), T(s * std::sin(phi)), T(z)));
+        const vec3<T> y = light.position + d / T(s);  // the cylinder, where the light sees it in d
+        const T tolerance = vplkit::direct_light_depth_tolerance(T(1) / T(s), T(s), R);
+        const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, y, tolerance);
+        ++tried;
+        if (!r.lit) {
+          ++unlit;
+          const auto q = vplkit::paraboloid_from_direction(light.frame.to_light(d));
+          UNSCOPED_INFO("R " << R << " phi " << phi << " z " << z << ": texel " << r.texel << " face " << q.face
+                             << " uv " << q.uv.x << ", " << q.uv.y << " valid " << view.texel_valid(r.texel));
+        }
+        const auto q = vplkit::paraboloid_from_direction(light.frame.to_light(d));
+        not_contained += vplkit::texel_from_uv(q.uv, R) != vplkit::texel_coords(r.texel, R);
+      }
+    }
+    std::printf("cylinder across the rim, R %3d: %d directions within 3 texels of the rim, %d unlit, %d filed under a "
+                "neighbour of the texel holding them\n",
+                R, tried, unlit, not_contained);
+    REQUIRE(unlit == 0);
+    CHECK(not_contained > 0);
   }
 }

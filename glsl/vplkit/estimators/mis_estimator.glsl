@@ -60,14 +60,17 @@ float vplkit_mis_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x, vec3 
 }
 
 // p2 of docs/math.md section 11 for the point y of texel t's patch seen from x (a gathering hit):
-// pmf d2^2 / (A(uv) cos(theta1)) with A(uv) = Omega(uv) d1^2 / cos(alpha), all at y itself.
+// pmf d2^2 / (A(uv) cos(theta1)) with A(uv) = Omega(uv) d1^2 / cos(alpha), all at y itself,
+// Omega(uv) over t's patch block.
 float vplkit_mis_patch_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x, vec3 y) {
   vec3 c = view.light.position;
   vec3 n_t = vplkit_load_dprsm_normal(t);
   vplkit_paraboloid_point q =
       vplkit_paraboloid_from_direction(vplkit_light_frame_to_light(view.light.frame, y - c));
-  float area = vplkit_vpl_patch_area(vplkit_texel_point_solid_angle(q.uv, view.resolution), length(y - c),
-                                     vplkit_vpl_cos_alpha(c, y, n_t));
+  ivec2 xy = vplkit_texel_coords(t, view.resolution);
+  vplkit_texel_block block = vplkit_texel_patch_block(xy.x, xy.y, view.resolution);
+  float area = vplkit_vpl_patch_area(vplkit_texel_block_point_solid_angle(q.uv, block, view.resolution),
+                                     length(y - c), vplkit_vpl_cos_alpha(c, y, n_t));
   vec3 w = x - y;
   float cos1 = dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(w));
   return vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), area, cos1);

@@ -71,6 +71,63 @@ bool vplkit_texel_is_valid(int x, int y, int R) {
   return a * a + b * b <= R * R;
 }
 
+// The rim band (texel_grid.hpp, docs/math.md section 1): the parts of invalid rim squares inside
+// the disk are owned by the valid texel containing uv (1 - 2/R), an 8-neighbour whose centre lies
+// at r <= 1 - (2 - sqrt(2))/R. Every uv of the closed disk has exactly one owner, always valid.
+ivec2 vplkit_texel_owner_from_uv(vec2 uv, int R) {
+  ivec2 xy = vplkit_texel_from_uv(uv, R);
+  if (vplkit_texel_is_valid(xy.x, xy.y, R)) return xy;
+  return vplkit_texel_from_uv(uv * (1.0 - 2.0 / float(R)), R);
+}
+
+// A rim texel: valid, with an invalid 8-neighbour inside the grid (only these own band parts).
+bool vplkit_texel_is_rim(int x, int y, int R) {
+  if (!vplkit_texel_is_valid(x, y, R)) return false;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      int nx = x + dx, ny = y + dy;
+      if (nx >= 0 && ny >= 0 && nx < R && ny < R && !vplkit_texel_is_valid(nx, ny, R)) return true;
+    }
+  return false;
+}
+
+// The rectangle of texels a texel's patch is drawn over: columns x0 .. x0 + nx - 1, rows
+// y0 .. y0 + ny - 1.
+struct vplkit_texel_block {
+  int x0;
+  int y0;
+  int nx;
+  int ny;
+};
+
+// The texel itself off the rim; for a rim texel the 2 x 2 block on its outer side (the side of
+// a = 2x + 1 - R, both sides where a = 0), which holds every band part it owns (texel_grid.hpp).
+vplkit_texel_block vplkit_texel_patch_block(int x, int y, int R) {
+  vplkit_texel_block b = vplkit_texel_block(x, y, 1, 1);
+  if (!vplkit_texel_is_rim(x, y, R)) return b;
+  int a = 2 * x + 1 - R, c = 2 * y + 1 - R;
+  if (a <= 0) b.x0 -= 1;
+  if (c <= 0) b.y0 -= 1;
+  b.nx = a == 0 ? 3 : 2;
+  b.ny = c == 0 ? 3 : 2;
+  return b;
+}
+
+// A point of block b chosen by xi in [0, 1]^2 (clamped); vplkit_texel_point_uv bit for bit for the
+// block of one texel.
+vec2 vplkit_texel_block_point_uv(vplkit_texel_block b, int R, vec2 xi) {
+  float sx = !(xi.x >= 0.0) ? 0.0 : (xi.x > 1.0 ? 1.0 : xi.x);
+  float sy = !(xi.y >= 0.0) ? 0.0 : (xi.y > 1.0 ? 1.0 : xi.y);
+  return vec2((float(b.x0) + float(b.nx) * sx) / float(R) * 2.0 - 1.0,
+              (float(b.y0) + float(b.ny) * sy) / float(R) * 2.0 - 1.0);
+}
+
+// J(uv) (2 nx / R) (2 ny / R): the pointwise solid angle of a point drawn uniformly over block b.
+float vplkit_texel_block_point_solid_angle(vec2 uv, vplkit_texel_block b, int R) {
+  float h = 2.0 / float(R);
+  return vplkit_paraboloid_jacobian(uv) * (h * float(b.nx)) * (h * float(b.ny));
+}
+
 // Solid angle of a valid texel: the Jacobian at the centre times the uv area (2/R)^2 (midpoint
 // rule). 0 for invalid texels, so they carry no weight and can never be sampled.
 float vplkit_texel_solid_angle(int x, int y, int R) {

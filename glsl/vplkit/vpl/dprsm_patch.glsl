@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // vplkit GLSL pack: patch-sampled VPLs (docs/math.md section 11); mirrors
 // include/vplkit/vpl/dprsm_patch.hpp (T = float) line for line. A point y drawn uniformly over a
-// texel's uv square, carried along its light ray onto the texel's plane (through y_t, normal n_t),
-// with the flux of its own solid angle rho_t I_s J(uv) (2/R)^2: unbiased for the texel's part of
-// the continuous one-bounce integral. Rejected (flux 0): uv outside the face's disk, rays parallel
+// texel's uv square (a rim texel's: the 2 x 2 texels on its outer side), carried along its light
+// ray onto the texel's plane (through y_t, normal n_t), with the flux of its own solid angle
+// rho_t I_s J(uv) (2/R)^2 nx ny: unbiased for the texel's part of the continuous one-bounce
+// integral. Rejected (flux 0): uv outside the face's disk or not owned by the texel
+// (vplkit_texel_owner_from_uv), rays parallel
 // to the plane or meeting it behind the light, texels without flux, points outside the depth
 // window of vplkit_dprsm_lookup. Assumes n_t is the texel's geometric normal.
 //
@@ -27,7 +29,7 @@ const int vplkit_vpl_patch = 1;
 struct vplkit_dprsm_patch_sample {
   vplkit_vpl point;    // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
   vec2 uv;             // the jittered point in the face's uv square
-  float solid_angle;   // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
+  float solid_angle;   // Omega(uv) = J(uv) (2/R)^2 nx ny (the block's), 0 when rejected
   float distance;      // d1 = |y - c|
   float cos_alpha;     // between n_t and y -> c
 };
@@ -40,11 +42,12 @@ vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, 
   vec3 c = view.light.position;
   vec3 y_t = vplkit_load_dprsm_position(t);
   vec3 n_t = vplkit_load_dprsm_normal(t);
-  vplkit_dprsm_patch_sample s =
-      vplkit_dprsm_patch_sample(vplkit_vpl(y_t, n_t, vec3(0.0)), vplkit_texel_point_uv(xy.x, xy.y, R, xi), 0.0, 0.0,
-                                0.0);
+  vplkit_texel_block block = vplkit_texel_patch_block(xy.x, xy.y, R);
+  vplkit_dprsm_patch_sample s = vplkit_dprsm_patch_sample(vplkit_vpl(y_t, n_t, vec3(0.0)),
+                                                          vplkit_texel_block_point_uv(block, R, xi), 0.0, 0.0, 0.0);
   if (!vplkit_texel_is_valid(xy.x, xy.y, R)) return s;
   if (!(dot(s.uv, s.uv) <= 1.0)) return s;  // beyond the rim: the other face's directions
+  if (block.nx * block.ny != 1 && vplkit_texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vplkit_vpl_cos_alpha(c, y_t, n_t) > 0.0)) return s;  // as vpl_at: the texel's surface is unlit
   vec3 n = vplkit_unit_or_zero(n_t);
   vec3 w = vplkit_light_frame_to_world(view.light.frame,
@@ -56,7 +59,7 @@ vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, 
   float d1 = h / cos_a;
   float d_t = length(y_t - c);  // the depth vplkit_dprsm_lookup compares with
   if (!(d1 <= vplkit_FLT_MAX) || !(abs(d1 - d_t) <= depth_tolerance)) return s;
-  s.solid_angle = vplkit_texel_point_solid_angle(s.uv, R);
+  s.solid_angle = vplkit_texel_block_point_solid_angle(s.uv, block, R);
   s.distance = d1;
   s.cos_alpha = cos_a;
   s.point.position = c + d1 * w;

@@ -74,11 +74,12 @@ vplkit_vpl vplkit_dprsm_view_vpl_at(vplkit_dprsm_view view, int index) {
   return v;
 }
 
-// Texel through which the light sees world direction `dir` (any length).
+// Texel through which the light sees world direction `dir` (any length): the valid texel that
+// owns its uv (vplkit_texel_owner_from_uv), so no direction is filed under a texel without a VPL.
 int vplkit_dprsm_view_texel_of_direction(vplkit_dprsm_view view, vec3 dir) {
   vplkit_paraboloid_point p =
       vplkit_paraboloid_from_direction(vplkit_light_frame_to_light(view.light.frame, dir));
-  ivec2 xy = vplkit_texel_from_uv(p.uv, view.resolution);
+  ivec2 xy = vplkit_texel_owner_from_uv(p.uv, view.resolution);
   return vplkit_texel_index(p.face, xy.x, xy.y, view.resolution);
 }
 

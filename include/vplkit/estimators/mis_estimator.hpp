@@ -68,13 +68,16 @@ inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T>
 // p2 of docs/math.md section 11 for the point y of texel t's patch seen from x: the texel's pmf
 // times the jitter's density at y converted to solid angle at x, pmf d2^2 / (A(uv) cos(theta1))
 // with A(uv) = Omega(uv) d1^2 / cos(alpha), everything at y itself: uv where the light sees y,
-// d1 = |y - c|, cos(alpha) against n_t. For a gathering hit y (which the lookup placed in t).
+// d1 = |y - c|, cos(alpha) against n_t, Omega(uv) over t's patch block (a rim texel's point is
+// drawn over 2 x 2 texels). For a gathering hit y (which the lookup placed in t, so t owns uv).
 template <class T>
 inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> c = view.light.position;
   const vec3<T> n_t = view.normal[t];
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
-  const T area = vpl_patch_area(texel_point_solid_angle(q.uv, view.resolution), glm::length(y - c),
+  const ivec2 xy = texel_coords(t, view.resolution);
+  const texel_block block = texel_patch_block(xy.x, xy.y, view.resolution);
+  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), glm::length(y - c),
                                 vpl_cos_alpha(c, y, n_t));
   const vec3<T> w = x - y;
   const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));

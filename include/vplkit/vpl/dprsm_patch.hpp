@@ -7,10 +7,15 @@
 // the jitter this is exactly the integral over the texel's patch, so VPL sampling converges to the
 // same continuous one-bounce integral as gathering, and MIS mixes two strategies of one estimand.
 //
-// A texel's domain is the part of its uv square inside its face's unit disk, and a plane point
+// A texel's domain is the set of directions it owns (texel_owner_from_uv): the part of its uv
+// square inside its face's unit disk and, for a rim texel, the band parts of invalid neighbours
+// it owns. A rim texel's point is drawn over the 2 x 2 texels on its outer side (texel_patch_block),
+// which hold them all, and kept only where the texel owns it: so its patch is exactly the set of
+// directions the lookup files under it, and no direction belongs to two patches. A plane point
 // counts only where the DPRSM's own lit test (dprsm_lookup) would count a surface point there:
 // within depth_tolerance of the texel centre's distance to the light. Everything else is rejected
-// (flux 0): points outside the disk (r2 > 1, the other face's domain), light rays parallel to the
+// (flux 0): points outside the disk (r2 > 1, the other face's domain) or owned by another texel
+// (a rim texel's block), light rays parallel to the
 // plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
 // light, zero normal), non-finite distances. Never NaN or Inf for a validated view.
 // Assumes n_t is the texel's GEOMETRIC normal: the plane then holds the triangle the texel sees,
@@ -38,7 +43,7 @@ template <class T>
 struct dprsm_patch_sample {
   vpl<T> point{};           // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
   vec2<T> uv{T(0)};         // the jittered point in the face's uv square
-  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
+  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2 nx ny (the block's), 0 when rejected
   T distance = T(0);        // d1 = |y - c|
   T cos_alpha = T(0);       // between n_t and y -> c
 };
@@ -54,12 +59,14 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const vec3<T> c = view.light.position;
   const vec3<T> y_t = view.position[t];
   const vec3<T> n_t = view.normal[t];
-  s.uv = texel_point_uv(xy.x, xy.y, R, xi);
+  const texel_block block = texel_patch_block(xy.x, xy.y, R);
+  s.uv = texel_block_point_uv(block, R, xi);
   s.point.position = y_t;
   s.point.normal = n_t;
   s.point.flux = vec3<T>(T(0));
   if (!texel_is_valid(xy.x, xy.y, R)) return s;
   if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
+  if (block.nx * block.ny != 1 && texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
   const vec3<T> n = unit_or_zero(n_t);
   const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
@@ -72,7 +79,7 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T d1 = h / cos_a;
   const T d_t = glm::length(y_t - c);  // the depth dprsm_lookup compares with
   if (!(d1 <= std::numeric_limits<T>::max()) || !(std::abs(d1 - d_t) <= depth_tolerance)) return s;
-  s.solid_angle = texel_point_solid_angle(s.uv, R);
+  s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
   s.distance = d1;
   s.cos_alpha = cos_a;
   s.point.position = c + d1 * w;

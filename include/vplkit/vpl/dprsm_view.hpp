@@ -72,10 +72,13 @@ struct dprsm_view {
     return v;
   }
 
-  // Texel through which the light sees world direction `dir` (any length).
+  // Texel through which the light sees world direction `dir` (any length): the valid texel that
+  // owns its uv (texel_owner_from_uv). Near the rim that is not always the texel containing uv:
+  // the parts of invalid rim squares inside the disk belong to a valid neighbour, so every
+  // direction is filed under exactly one texel that carries a VPL.
   int texel_of_direction(vec3<T> dir) const {
     const paraboloid_point<T> p = paraboloid_from_direction(light.frame.to_light(dir));
-    const ivec2 xy = texel_from_uv(p.uv, resolution);
+    const ivec2 xy = texel_owner_from_uv(p.uv, resolution);
     return texel_index(p.face, xy.x, xy.y, resolution);
   }
 
