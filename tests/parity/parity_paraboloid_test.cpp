@@ -658,3 +658,68 @@ TEST_CASE("paraboloid constants: the GLSL values are the C++ values, bit for bit
        {"uint(vplkit_paraboloid_max_resolution)", std::uint32_t(vplkit::paraboloid_max_resolution)}},
       "clamp scale bits, face constants, max resolution"));
 }
+
+TEST_CASE("texel_owner_from_uv and texel_patch_block: the rim band (exact off texel edges)") {
+  // The owner of a uv inside the disk (texel_grid.hpp, "The rim band"): the texel holding uv when
+  // valid, else the texel holding uv (1 - 2/R). The GPU's 2.0 / float(R) may round differently
+  // (GLSL division is not correctly rounded), so the pulled uv may differ by an ulp: owners may
+  // differ only where uv or the pulled uv lies within 1e-6 of a texel edge. The block of a texel
+  // is integer arithmetic: exact.
+  random_source rnd(909);
+  std::vector<float4> in;
+  std::vector<vec2<float>> uvs;
+  std::vector<int> Rs;
+  for (int R : grid_resolutions)
+    for (int k = 0; k < 3000; ++k) {
+      const double phi = rnd.uniform(0, 2 * pi), r = 1.0 - rnd.uniform(0, 3) / R;
+      const vec2<float> uv = vplkit::paraboloid_clamp_to_disk(vec2<float>(float(r * std::cos(phi)), float(r * std::sin(phi))));
+      uvs.push_back(uv);
+      Rs.push_back(R);
+      in.push_back({uv.x, uv.y, float(R), 0});
+    }
+  const auto gpu = run_compute<int2>(per_item(R"(#include "vplkit/paraboloid/texel_grid.glsl")",
+                                              {input(0, in, "vec4 q")},  // (u, v, R, -)
+                                              "ivec2 result",
+                                              "result[i] = vplkit_texel_owner_from_uv(q[i].xy, int(q[i].z));"),
+                                     uvs.size());
+  std::size_t band = 0, differ = 0, unexplained = 0;
+  std::vector<int4> owners;
+  for (std::size_t i = 0; i < uvs.size(); ++i) {
+    const int R = Rs[i];
+    const ivec2 c = vplkit::texel_owner_from_uv(uvs[i], R);
+    owners.push_back({c.x, c.y, R, 0});
+    if (c != vplkit::texel_from_uv(uvs[i], R)) ++band;
+    if (gpu[i].x == c.x && gpu[i].y == c.y) continue;
+    ++differ;
+    bool near_edge = false;
+    for (const vec2<double> p : {vec2<double>(uvs[i]), vec2<double>(uvs[i]) * (1.0 - 2.0 / R)})
+      for (int k = 0; k < 2; ++k) {
+        const double t = (p[k] + 1.0) * 0.5 * R;
+        near_edge = near_edge || std::abs(t - std::round(t)) * (2.0 / R) < 1e-6;
+      }
+    if (!near_edge) {
+      ++unexplained;
+      UNSCOPED_INFO("owner differs off an edge: uv " << show2(uvs[i]) << " R " << R << " cpu (" << c.x << ", " << c.y
+                                                     << ") gpu (" << gpu[i].x << ", " << gpu[i].y << ")");
+    }
+  }
+  const auto blocks = run_compute<int4>(per_item(R"(#include "vplkit/paraboloid/texel_grid.glsl")",
+                                                 {input(0, owners, "ivec4 q")},  // (x, y, R, -)
+                                                 "ivec4 result", R"(
+  vplkit_texel_block b = vplkit_texel_patch_block(q[i].x, q[i].y, q[i].z);
+  result[i] = ivec4(b.x0, b.y0, b.nx, b.ny);)"),
+                                        owners.size());
+  std::size_t block_differ = 0, rim = 0;
+  for (std::size_t i = 0; i < owners.size(); ++i) {
+    const vplkit::texel_block b = vplkit::texel_patch_block(owners[i].x, owners[i].y, owners[i].z);
+    rim += b.nx * b.ny != 1;
+    if (blocks[i].x != b.x0 || blocks[i].y != b.y0 || blocks[i].z != b.nx || blocks[i].w != b.ny) ++block_differ;
+  }
+  std::cout << "  texel_owner_from_uv: " << uvs.size() << " uv within 3 texels of the rim, " << band
+            << " in the band; owners differing " << differ << " (unexplained " << unexplained
+            << "); patch blocks of the owners: " << rim << " rim texels, differing " << block_differ << "\n";
+  CHECK(band > 1000);
+  CHECK(unexplained == 0);
+  CHECK(differ <= uvs.size() / 1000);
+  CHECK(block_differ == 0);
+}

@@ -162,7 +162,7 @@ TEST_CASE("texel grid: solid angle agrees with numerical integration of one texe
   CHECK(e64 / e128 < 4.5);
 }
 
-TEMPLATE_TEST_CASE("texel grid: every uv of the disk has one valid owner, next to the texel holding it",
+TEMPLATE_TEST_CASE("texel grid: every uv of the disk has one valid owner next to the texel holding it",
                    "[paraboloid]", float, double) {
   // texel_owner_from_uv: the texel holding uv when it is valid; else (the rim band: an invalid
   // square's part inside the disk) the one holding uv (1 - 2/R), an 8-neighbour and a rim texel
@@ -200,7 +200,7 @@ TEMPLATE_TEST_CASE("texel grid: every uv of the disk has one valid owner, next t
   }
 }
 
-TEMPLATE_TEST_CASE("texel grid: patch blocks: the texel off the rim, 2 x 2 on a rim texel's outer side",
+TEMPLATE_TEST_CASE("texel grid: patch blocks are the texel off the rim and 2 x 2 on a rim texel's outer side",
                    "[paraboloid]", float, double) {
   using T = TestType;
   for (int R : {36, 37}) {
