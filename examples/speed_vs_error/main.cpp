@@ -77,7 +77,7 @@ Sweep options:
   --help             this text
 
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
-  --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps
+  --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --vpl-mode --camera --light --paper
   --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
@@ -240,6 +240,8 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
        "|voxels=" + std::to_string(o.voxels) + "|backend=" + to_string(o.back) + "|light=" + vec(p.s.light.position) +
        "," + vec(p.s.light.intensity) + "|camera=" + vec(p.s.cam.eye) + "," + vec(p.s.cam.target) + "," +
        vec(p.s.cam.up) + "," + num(p.s.cam.vfov_deg) + "|direct=" + (o.direct ? "1" : "0");
+  // Only when not the default, so the keys (and cached files) of earlier references stay what they were.
+  if (kind == "vplsum" && o.dmin_fraction != 0.01) k += "|dmin=" + num(o.dmin_fraction);
   // Only when exact, so the keys (and cached files) of voxel references stay what they were.
   if (o.visibility == visibility_choice::exact && kind != "exact") k += "|visibility=exact";
   if (kind == "gather" || kind == "exact") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);

@@ -207,6 +207,17 @@ TEST_CASE("ranges of --eps and --exposure") {
   }
 }
 
+TEST_CASE("range of --dmin, a fraction of the scene diagonal") {
+  CHECK(parse({}).dmin_fraction == 0.01);
+  CHECK(parse({"--dmin", "0"}).dmin_fraction == 0.0);
+  CHECK(parse({"--dmin", "1"}).dmin_fraction == 1.0);
+  CHECK(parse({"--dmin", "2.5e-3"}).dmin_fraction == Approx(2.5e-3));
+  for (const char* e : {"-0.01", "1.5", "nan", "inf", "abc", ""}) {
+    INFO(e);
+    CHECK(starts_with(error_of({"--dmin", e}), "--dmin:"));
+  }
+}
+
 TEST_CASE("the --camera value must be ten finite numbers forming a usable camera") {
   CHECK(starts_with(error_of({"--camera", "1,2,3"}), "--camera: expected 10"));
   CHECK(starts_with(error_of({"--camera", "0,0,1,0,0,0,0,1,0,nan"}), "--camera:"));

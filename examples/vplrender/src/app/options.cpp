@@ -24,7 +24,7 @@ namespace {
 std::string replace_extension(const std::string& out, const char* ext) { return out.substr(0, out.size() - 4) + ext; }
 
 struct raw_values {
-  std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, voxels, dprsm, cam, light, exposure, progress, frames,
+  std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
       face_selection, sampler, visibility, vpl_mode;
   bool paper = false, direct = false, window = false;
@@ -88,6 +88,11 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("N");
   app.add_option("--eps", v.eps, d("Defensive mixing weight: p = (1-eps) p_cdf + eps p_uniform (default 0.05; "
                                  "0..1; 0 reproduces the paper)."))
+      ->type_name("X");
+  app.add_option("--dmin", v.dmin, d("VPL distance clamp as a fraction of the scene's diagonal (default 0.01; "
+                                   "0..1; 0 = no clamp): every VPL contribution, and the exhaustive reference, "
+                                   "uses max(distance, dmin) in 1/d^2 (docs/math.md section 2): a bias that "
+                                   "bounds the VPL strategy's variance near surfaces."))
       ->type_name("X");
   app.add_option("--local-combination", v.local_combination,
                  d("How --method local combines its N region CDFs (default balance): balance = each sample "
@@ -351,6 +356,10 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.voxels = static_cast<int>(parse_integer("--voxels", v.voxels, limits::min_voxels, limits::max_voxels));
   if (given("--dprsm"))
     o.dprsm = static_cast<int>(parse_integer("--dprsm", v.dprsm, limits::min_dprsm, limits::max_dprsm));
+  if (given("--dmin")) {
+    o.dmin_fraction = parse_real("--dmin", v.dmin);
+    if (!(o.dmin_fraction >= 0.0 && o.dmin_fraction <= 1.0)) bad("--dmin", "value " + v.dmin + " is outside 0..1");
+  }
   if (given("--eps")) {
     o.eps = parse_real("--eps", v.eps);
     if (!(o.eps >= 0.0 && o.eps <= 1.0)) bad("--eps", "value " + v.eps + " is outside 0..1");

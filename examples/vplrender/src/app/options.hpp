@@ -51,6 +51,7 @@ struct options {
   int regions_x = 2, regions_y = 2;  // ... as a grid (the most nearly square factorisation)
   int dirs = 16;                  // gathering directions per gather point (GBG NBDIR, MIS, gather)
   double eps = 0.05;              // defensive mixing weight (0 = the paper)
+  double dmin_fraction = 0.01;    // VPL distance clamp / scene diagonal (0 = no clamp)
   local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
   gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
   cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way

@@ -31,10 +31,10 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.vpl_mode = o.vpl_mode;
   e.seed = o.seed;
   e.direct = o.direct;
-  // The VPL clamp of docs/math.md section 2: 1% of the scene diagonal (a documented, tunable bias;
-  // the reference uses the same value, so the CDF methods converge to it exactly).
+  // The VPL clamp of docs/math.md section 2: --dmin (default 1%) of the scene diagonal (a documented,
+  // tunable bias; the reference uses the same value, so the CDF methods converge to it exactly).
   e.scene_diagonal = bounds(s).diagonal();
-  e.dmin = 0.01f * e.scene_diagonal;
+  e.dmin = static_cast<float>(o.dmin_fraction) * e.scene_diagonal;
   return e;
 }
 

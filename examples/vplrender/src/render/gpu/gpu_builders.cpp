@@ -137,10 +137,12 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
       d1min = std::min(d1min, double(glm::length(b.dprsm.position[t] - view.light.position)));
   d1min = std::max(d1min - double(depth_tol), 1e-3);
   // The paper accumulator (luminance of eq. 5 clamped at dmin) is bounded instead by
-  // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_weights.glsl); dmin > 0 here.
+  // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_weights.glsl). With --dmin 0
+  // the values are unbounded: the grid is then sized for a clamp at 1e-3 of the scene diagonal and
+  // larger values saturate (the weights only shape the pdf; eps keeps it positive where it must be).
   const bool paper_acc = s.gbg_accumulator == gbg_accumulator_choice::paper;
   const double lum_i = std::max(double(vplkit::luminance(view.light.intensity)), 1e-30);
-  const double dmin_b = std::max(double(s.dmin), 1e-6);
+  const double dmin_b = std::max({double(s.dmin), 1e-3 * double(s.scene_diagonal), 1e-6});
   const double v_bound = paper_acc ? lum_i * (16.0 / (double(R) * R)) / (9.869604401089358 * dmin_b * dmin_b)
                                    : lum_i / (3.141592653589793 * d1min * d1min);
   const double scale = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(max_units / v_bound))));
