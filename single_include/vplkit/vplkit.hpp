@@ -4362,13 +4362,90 @@ struct dprsm_view {
 // same continuous one-bounce integral as gathering, and MIS mixes two strategies of one estimand.
 //
 // A texel's domain is the part of its uv square inside its face's unit disk, and a plane point
-// counts only where the DPRSM's own lit test (dprsm_lookup) would count a surface point there:
-// within depth_tolerance of the texel centre's distance to the light. Everything else is rejected
+// counts only where the DPRSM's own lit test (dprsm_plane_lit, that of dprsm_lookup) would count a
+// surface point there; every plane point is at the plane, so that rejects only where the test falls
+// back to the centre's depth (grazing) and the point lies beyond it. Everything else is rejected
 // (flux 0): points outside the disk (r2 > 1, the other face's domain), light rays parallel to the
 // plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
 // light, zero normal), non-finite distances. Never NaN or Inf for a validated view.
 // Assumes n_t is the texel's GEOMETRIC normal: the plane then holds the triangle the texel sees,
 // and inside that triangle y is the surface point the light sees in that direction.
+// ---- begin vplkit/vpl/dprsm_lookup.hpp ----
+// Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
+// gathering estimator, the GBG builder and the direct light (docs/math.md section 4): y is lit
+// when it does not lie behind the surface the light saw through the texel y projects into. That
+// surface is taken as the texel's plane (through y_t, normal n_t), not as the centre's depth: a
+// fixed depth window around |y_t - c| both lights shadowed points just behind a lit surface
+// (contact shadows) and shadows lit points in front of it (a wall at a floor/wall crease).
+
+#include <cmath>
+#include <limits>
+
+namespace vplkit {
+
+struct dprsm_lookup_result {
+  int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
+  bool lit = false;  // texel valid, saw a surface, and y is not behind that surface
+};
+
+// Below this cosine between the light ray and the texel's plane the plane test falls back to the
+// centre's depth. The plane point's distance h / cos moves by h * delta / cos^2 when the normal is
+// off by delta (float rounding, a plane that is not quite the triangle's); below 1e-3 (the ray
+// within 0.06 degrees of the plane) that is no longer a statement about the surface.
+template <class T>
+constexpr T dprsm_plane_min_cos() {
+  return T(1e-3);
+}
+
+// The lit test's own slack at distance d from the light, added to the caller's tolerance: half a
+// texel's widest footprint (4 d / R at the paraboloid's pole), for surfaces that are not quite
+// the texel's plane within one texel (a stored interpolated normal on a smoothed mesh, the next
+// triangle across an edge), and 1e-4 d for the rounding of positions and of the plane product.
+template <class T>
+inline T dprsm_lookup_slack(T d, int resolution) {
+  return d * (T(2) / T(resolution) + T(1e-4));
+}
+
+// Is y, at distance d_y from the light c, at or in front of the plane (y_t, n_t) of the texel it
+// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? One-sided, as a
+// shadow map: a point in front of the surface the light saw in that direction cannot be shadowed
+// by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the light, d_y <=
+// d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times cos > 0): no
+// division, and n . (y - y_t) measured directly instead of h - d_y cos, which cancels for points
+// on the plane. Where it does not (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the
+// plane's horizon crosses the texel; h <= 0: the plane faces away or holds the light; a zero
+// normal), the centre's depth stands in: d_y <= |y_t - c| + tol. NaN or negative tolerance, or a
+// distance that is not finite and positive: unlit (an infinite d_y would make the slack infinite).
+template <class T>
+inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max())) return false;
+  const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
+  const vec3<T> n = unit_or_zero(n_t);
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, (y - c) / d_y);
+  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) return glm::dot(n, y - y_t) >= -tol * cos_a;
+  return d_y <= glm::length(y_t - c) + tol;
+}
+
+// tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
+// voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
+template <class T>
+inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
+  dprsm_lookup_result r;
+  const vec3<T> to_y = y - view.light.position;
+  const T d_y = glm::length(to_y);
+  if (!(d_y > T(0))) return r;
+  r.texel = view.texel_of_direction(to_y);
+  if (!view.texel_valid(r.texel)) return r;
+  const vec3<T> rho = view.albedo[r.texel];
+  if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
+  r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
+                          view.resolution);
+  return r;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/vpl/dprsm_lookup.hpp ----
 
 #include <cmath>
 #include <limits>
@@ -4392,8 +4469,8 @@ struct dprsm_patch_sample {
 };
 
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
-// depth_tolerance: the depth window |d1(y) - |y_t - c|| <= depth_tolerance of dprsm_lookup; +inf
-// accepts the whole plane patch, NaN or a negative value rejects every point.
+// depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
+// patch, NaN or a negative value rejects every point.
 template <class T>
 inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, vec2<T> xi, T depth_tolerance) {
   dprsm_patch_sample<T> s;
@@ -4418,12 +4495,13 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return s;
   const T d1 = h / cos_a;
-  const T d_t = glm::length(y_t - c);  // the depth dprsm_lookup compares with
-  if (!(d1 <= std::numeric_limits<T>::max()) || !(std::abs(d1 - d_t) <= depth_tolerance)) return s;
+  if (!(d1 <= std::numeric_limits<T>::max())) return s;
+  const vec3<T> y = c + d1 * w;
+  if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
   s.solid_angle = texel_point_solid_angle(s.uv, R);
   s.distance = d1;
   s.cos_alpha = cos_a;
-  s.point.position = c + d1 * w;
+  s.point.position = y;
   s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   return s;
 }
@@ -4492,66 +4570,18 @@ inline dprsm_view<T> render_dprsm(const point_light<T>& light, int R, TraceFn&& 
 
 }  // namespace vplkit
 // ---- end vplkit/vpl/dprsm_raycast.hpp ----
-// ---- begin vplkit/vpl/dprsm_lookup.hpp ----
-// Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
-// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light,
-// looking through the texel y projects into, saw a surface at y's distance (within a depth
-// tolerance).
-
-#include <cmath>
-
-namespace vplkit {
-
-struct dprsm_lookup_result {
-  int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit = false;  // texel valid, saw a surface, and that surface is at y's depth
-};
-
-// tolerance: world-space depth tolerance (a voxel or two when y comes from voxel ray marching).
-// Depth is compared along the light ray (|y - c| against |y_t - c|), as a shadow map does; the
-// lateral offset within one texel's footprint is not a reason to reject.
-template <class T>
-inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
-  dprsm_lookup_result r;
-  const vec3<T> to_y = y - view.light.position;
-  const T d_y = glm::length(to_y);
-  if (!(d_y > T(0))) return r;
-  r.texel = view.texel_of_direction(to_y);
-  if (!view.texel_valid(r.texel)) return r;
-  const vec3<T> rho = view.albedo[r.texel];
-  if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
-  const T d_t = glm::length(view.position[r.texel] - view.light.position);
-  r.lit = std::abs(d_y - d_t) <= tolerance;
-  return r;
-}
-
-}  // namespace vplkit
-// ---- end vplkit/vpl/dprsm_lookup.hpp ----
 // ---- begin vplkit/vpl/direct_light.hpp ----
 // Direct light at a gather point from the DPRSM's point light, shadowed by the DPRSM itself: the
 // DPRSM records what the light sees, so it doubles as the light's shadow map (docs/api/vpl.md,
 // "Direct light"). GLSL: vpl/direct_light.glsl, statement for statement.
 
-#include <algorithm>
-#include <cmath>
-
 namespace vplkit {
 
-// Depth tolerance of the shadow test for a point at distance d from the light whose normal makes
-// cos_a > 0 with the direction to the light. A texel's footprint is at most 4 d / R wide (the
-// paraboloid's angular texel size is 2/R at the rim, 4/R at the pole); on a surface tilted by
-// alpha the depth along the light ray varies by footprint * tan(alpha) across it, tan capped at
-// 20; 1e-4 d more covers the depth's own rounding.
-template <class T>
-inline T direct_light_depth_tolerance(T d, T cos_a, int resolution) {
-  const T tan_a = std::min(T(20), std::sqrt(std::max(T(0), T(1) - cos_a * cos_a)) / cos_a);
-  return d * (T(4) / T(resolution)) * (T(0.5) + tan_a) + T(1e-4) * d;
-}
-
 // L_o(x) = rho_x I_s cos(alpha) / (pi d^2) (reflected_radiance) where the DPRSM sees x lit
-// (dprsm_lookup within direct_light_depth_tolerance), else 0: background pixels, points at the
-// light or facing away from it, points in shadow. cos(alpha) is the shading normal's; whether x
-// faces the light, and the shadow test's tolerance, are the geometric surface's.
+// (dprsm_lookup with tolerance 0: a G-buffer point lies on its triangle up to rounding, which the
+// lit test's own slack covers), else 0: background pixels, points at the light or facing away
+// from it, points in shadow. cos(alpha) is the shading normal's; whether x faces the light is the
+// geometric surface's.
 template <class T>
 inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
@@ -4560,8 +4590,7 @@ inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view
   if (!(d > T(0))) return vec3<T>(T(0));
   const T cos_a = glm::dot(glm::normalize(gp.normal), to_light / d);
   if (!(cos_a > T(0))) return vec3<T>(T(0));
-  const T tolerance = direct_light_depth_tolerance(d, cos_a, view.resolution);
-  const dprsm_lookup_result r = dprsm_lookup(view, gp.position, tolerance);
+  const dprsm_lookup_result r = dprsm_lookup(view, gp.position, T(0));
   if (!r.lit) return vec3<T>(T(0));
   return reflected_radiance(view.light.position, view.light.intensity, gp.position,
                             gather_point_shading_normal(gp), gp.albedo);
