@@ -33,6 +33,8 @@ constexpr T dprsm_plane_min_cos() {
 // texel's widest footprint (4 d / R at the paraboloid's pole), for surfaces that are not quite
 // the texel's plane within one texel (a stored interpolated normal on a smoothed mesh, the next
 // triangle across an edge), and 1e-4 d for the rounding of positions and of the plane product.
+// A wider window lights more contact shadows, a narrower one darkens the far faces across convex
+// edges: half the footprint had the smallest worst case of three widths (docs/results.md 7).
 template <class T>
 inline T dprsm_lookup_slack(T d, int resolution) {
   return d * (T(2) / T(resolution) + T(1e-4));
