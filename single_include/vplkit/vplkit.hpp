@@ -1303,79 +1303,6 @@ inline bool texel_is_valid(int x, int y, int R) {
   return a * a + b * b <= R * R;
 }
 
-// The rim band (docs/math.md section 1): a texel square that the rim crosses is valid or not by
-// its centre alone, so the parts of the invalid squares inside the disk (within sqrt(2)/R of the
-// rim) are directions the light sees that no valid texel contains. Each is OWNED by one valid
-// texel instead: the one containing uv pulled toward the pole by one texel width, uv (1 - 2/R).
-// That texel is valid: |uv (1 - 2/R)| <= 1 - 2/R and a texel's centre lies within half a diagonal,
-// sqrt(2)/R, of any of its points, so the centre has r <= 1 - (2 - sqrt(2))/R (a margin of
-// 0.59/R, far above float rounding for every R allowed). It is an 8-neighbour of the texel uv lies
-// in (the pull moves uv by at most 2/R, one texel width). Owning is a function of uv, so every
-// direction of the disk has exactly one owner: the valid texels' domains still tile the disk, no
-// VPL is counted twice, and the lookup (dprsm_view::texel_of_direction) never files a direction
-// the light sees under a texel that carries no VPL. uv must lie in the closed unit disk (as
-// paraboloid_from_direction's does); uv inside a valid texel is owned by that texel.
-template <class T>
-inline ivec2 texel_owner_from_uv(vec2<T> uv, int R) {
-  const ivec2 xy = texel_from_uv(uv, R);
-  if (texel_is_valid(xy.x, xy.y, R)) return xy;
-  return texel_from_uv(uv * (T(1) - T(2) / T(R)), R);
-}
-
-// A rim texel: valid, with an invalid 8-neighbour inside the grid. Only rim texels own parts of
-// other squares (the owner of a band part is an 8-neighbour of the invalid texel holding it); the
-// other valid texels own exactly their squares (inside the disk).
-inline bool texel_is_rim(int x, int y, int R) {
-  if (!texel_is_valid(x, y, R)) return false;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      const int nx = x + dx, ny = y + dy;
-      if (nx >= 0 && ny >= 0 && nx < R && ny < R && !texel_is_valid(nx, ny, R)) return true;
-    }
-  return false;
-}
-
-// The rectangle of texels a texel's patch is drawn over (dprsm_patch.hpp): columns x0 .. x0 + nx - 1,
-// rows y0 .. y0 + ny - 1.
-struct texel_block {
-  int x0, y0, nx, ny;
-};
-
-// The texel itself off the rim. A rim texel (x, y) owns band parts only on its outer side: with
-// k = 1 - 2/R, a band point uv lies in texel I and uv k in the owner (x, y), and per axis
-// u - u k = 2u/R is at most one texel width toward u's sign, so I.x is x or x + sign(u); u k lies
-// in column x, whose sign is that of a = 2x + 1 - R unless a = 0 (the middle column of an odd R,
-// which straddles u = 0). So the block is 2 x 2 on the outer side (2 x 3 or 3 x 3 on an axis of an
-// odd R): every band part the texel owns lies in it.
-inline texel_block texel_patch_block(int x, int y, int R) {
-  texel_block b{x, y, 1, 1};
-  if (!texel_is_rim(x, y, R)) return b;
-  const int a = 2 * x + 1 - R, c = 2 * y + 1 - R;
-  if (a <= 0) b.x0 -= 1;
-  if (c <= 0) b.y0 -= 1;
-  b.nx = a == 0 ? 3 : 2;
-  b.ny = c == 0 ? 3 : 2;
-  return b;
-}
-
-// A point of block b chosen by xi in [0, 1]^2 (clamped as in texel_point_uv). For the block of
-// one texel it is texel_point_uv bit for bit (x + 1 * sx rounds as x + sx). Uniform xi: density
-// (R/2)^2 / (nx ny) per unit uv area.
-template <class T>
-inline vec2<T> texel_block_point_uv(texel_block b, int R, vec2<T> xi) {
-  const T sx = !(xi.x >= T(0)) ? T(0) : (xi.x > T(1) ? T(1) : xi.x);
-  const T sy = !(xi.y >= T(0)) ? T(0) : (xi.y > T(1) ? T(1) : xi.y);
-  return vec2<T>((T(b.x0) + T(b.nx) * sx) / T(R) * T(2) - T(1), (T(b.y0) + T(b.ny) * sy) / T(R) * T(2) - T(1));
-}
-
-// J(uv) (2 nx / R) (2 ny / R): the pointwise solid angle of a point drawn uniformly over block b,
-// texel_point_solid_angle for the block of one texel.
-template <class T>
-inline T texel_block_point_solid_angle(vec2<T> uv, texel_block b, int R) {
-  const T h = T(2) / T(R);
-  return paraboloid_jacobian(uv) * (h * T(b.nx)) * (h * T(b.ny));
-}
-
 // Solid angle of a valid texel: the Jacobian 4 / (1 + r2)^2 at the centre times the texel's
 // uv area (2/R)^2 (midpoint rule; relative error O(R^-2), largest next to the pole: ~3e-4 at
 // R = 64, 2e-5 at R = 256). 0 for invalid texels, so they carry no weight and can never be
@@ -4367,13 +4294,10 @@ struct dprsm_view {
     return v;
   }
 
-  // Texel through which the light sees world direction `dir` (any length): the valid texel that
-  // owns its uv (texel_owner_from_uv). Near the rim that is not always the texel containing uv:
-  // the parts of invalid rim squares inside the disk belong to a valid neighbour, so every
-  // direction is filed under exactly one texel that carries a VPL.
+  // Texel through which the light sees world direction `dir` (any length).
   int texel_of_direction(vec3<T> dir) const {
     const paraboloid_point<T> p = paraboloid_from_direction(light.frame.to_light(dir));
-    const ivec2 xy = texel_owner_from_uv(p.uv, resolution);
+    const ivec2 xy = texel_from_uv(p.uv, resolution);
     return texel_index(p.face, xy.x, xy.y, resolution);
   }
 
@@ -4437,19 +4361,93 @@ struct dprsm_view {
 // the jitter this is exactly the integral over the texel's patch, so VPL sampling converges to the
 // same continuous one-bounce integral as gathering, and MIS mixes two strategies of one estimand.
 //
-// A texel's domain is the set of directions it owns (texel_owner_from_uv): the part of its uv
-// square inside its face's unit disk and, for a rim texel, the band parts of invalid neighbours
-// it owns. A rim texel's point is drawn over the 2 x 2 texels on its outer side (texel_patch_block),
-// which hold them all, and kept only where the texel owns it: so its patch is exactly the set of
-// directions the lookup files under it, and no direction belongs to two patches. A plane point
-// counts only where the DPRSM's own lit test (dprsm_lookup) would count a surface point there:
-// within depth_tolerance of the texel centre's distance to the light. Everything else is rejected
-// (flux 0): points outside the disk (r2 > 1, the other face's domain) or owned by another texel
-// (a rim texel's block), light rays parallel to the
+// A texel's domain is the part of its uv square inside its face's unit disk, and a plane point
+// counts only where the DPRSM's own lit test (dprsm_plane_lit, that of dprsm_lookup) would count a
+// surface point there; every plane point is at the plane, so that rejects only where the test falls
+// back to the centre's depth (grazing) and the point lies beyond it. Everything else is rejected
+// (flux 0): points outside the disk (r2 > 1, the other face's domain), light rays parallel to the
 // plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
 // light, zero normal), non-finite distances. Never NaN or Inf for a validated view.
 // Assumes n_t is the texel's GEOMETRIC normal: the plane then holds the triangle the texel sees,
 // and inside that triangle y is the surface point the light sees in that direction.
+// ---- begin vplkit/vpl/dprsm_lookup.hpp ----
+// Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
+// gathering estimator, the GBG builder and the direct light (docs/math.md section 4): y is lit
+// when it does not lie behind the surface the light saw through the texel y projects into. That
+// surface is taken as the texel's plane (through y_t, normal n_t), not as the centre's depth: a
+// fixed depth window around |y_t - c| both lights shadowed points just behind a lit surface
+// (contact shadows) and shadows lit points in front of it (a wall at a floor/wall crease).
+
+#include <cmath>
+#include <limits>
+
+namespace vplkit {
+
+struct dprsm_lookup_result {
+  int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
+  bool lit = false;  // texel valid, saw a surface, and y is not behind that surface
+};
+
+// Below this cosine between the light ray and the texel's plane the plane test falls back to the
+// centre's depth. The plane point's distance h / cos moves by h * delta / cos^2 when the normal is
+// off by delta (float rounding, a plane that is not quite the triangle's); below 1e-3 (the ray
+// within 0.06 degrees of the plane) that is no longer a statement about the surface.
+template <class T>
+constexpr T dprsm_plane_min_cos() {
+  return T(1e-3);
+}
+
+// The lit test's own slack at distance d from the light, added to the caller's tolerance: half a
+// texel's widest footprint (4 d / R at the paraboloid's pole), for surfaces that are not quite
+// the texel's plane within one texel (a stored interpolated normal on a smoothed mesh, the next
+// triangle across an edge), and 1e-4 d for the rounding of positions and of the plane product.
+// A wider window lights more contact shadows, a narrower one darkens the far faces across convex
+// edges: half the footprint had the smallest worst case of three widths (docs/results.md 7).
+template <class T>
+inline T dprsm_lookup_slack(T d, int resolution) {
+  return d * (T(2) / T(resolution) + T(1e-4));
+}
+
+// Is y, at distance d_y from the light c, at or in front of the plane (y_t, n_t) of the texel it
+// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? One-sided, as a
+// shadow map: a point in front of the surface the light saw in that direction cannot be shadowed
+// by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the light, d_y <=
+// d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times cos > 0): no
+// division, and n . (y - y_t) measured directly instead of h - d_y cos, which cancels for points
+// on the plane. Where it does not (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the
+// plane's horizon crosses the texel; h <= 0: the plane faces away or holds the light; a zero
+// normal), the centre's depth stands in: d_y <= |y_t - c| + tol. NaN or negative tolerance, or a
+// distance that is not finite and positive: unlit (an infinite d_y would make the slack infinite).
+template <class T>
+inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max())) return false;
+  const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
+  const vec3<T> n = unit_or_zero(n_t);
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, (y - c) / d_y);
+  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) return glm::dot(n, y - y_t) >= -tol * cos_a;
+  return d_y <= glm::length(y_t - c) + tol;
+}
+
+// tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
+// voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
+template <class T>
+inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
+  dprsm_lookup_result r;
+  const vec3<T> to_y = y - view.light.position;
+  const T d_y = glm::length(to_y);
+  if (!(d_y > T(0))) return r;
+  r.texel = view.texel_of_direction(to_y);
+  if (!view.texel_valid(r.texel)) return r;
+  const vec3<T> rho = view.albedo[r.texel];
+  if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
+  r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
+                          view.resolution);
+  return r;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/vpl/dprsm_lookup.hpp ----
 
 #include <cmath>
 #include <limits>
@@ -4467,14 +4465,14 @@ template <class T>
 struct dprsm_patch_sample {
   vpl<T> point{};           // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
   vec2<T> uv{T(0)};         // the jittered point in the face's uv square
-  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2 nx ny (the block's), 0 when rejected
+  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
   T distance = T(0);        // d1 = |y - c|
   T cos_alpha = T(0);       // between n_t and y -> c
 };
 
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
-// depth_tolerance: the depth window |d1(y) - |y_t - c|| <= depth_tolerance of dprsm_lookup; +inf
-// accepts the whole plane patch, NaN or a negative value rejects every point.
+// depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
+// patch, NaN or a negative value rejects every point.
 template <class T>
 inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, vec2<T> xi, T depth_tolerance) {
   dprsm_patch_sample<T> s;
@@ -4483,14 +4481,12 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const vec3<T> c = view.light.position;
   const vec3<T> y_t = view.position[t];
   const vec3<T> n_t = view.normal[t];
-  const texel_block block = texel_patch_block(xy.x, xy.y, R);
-  s.uv = texel_block_point_uv(block, R, xi);
+  s.uv = texel_point_uv(xy.x, xy.y, R, xi);
   s.point.position = y_t;
   s.point.normal = n_t;
   s.point.flux = vec3<T>(T(0));
   if (!texel_is_valid(xy.x, xy.y, R)) return s;
   if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
-  if (block.nx * block.ny != 1 && texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
   const vec3<T> n = unit_or_zero(n_t);
   const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
@@ -4501,12 +4497,13 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return s;
   const T d1 = h / cos_a;
-  const T d_t = glm::length(y_t - c);  // the depth dprsm_lookup compares with
-  if (!(d1 <= std::numeric_limits<T>::max()) || !(std::abs(d1 - d_t) <= depth_tolerance)) return s;
-  s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
+  if (!(d1 <= std::numeric_limits<T>::max())) return s;
+  const vec3<T> y = c + d1 * w;
+  if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
+  s.solid_angle = texel_point_solid_angle(s.uv, R);
   s.distance = d1;
   s.cos_alpha = cos_a;
-  s.point.position = c + d1 * w;
+  s.point.position = y;
   s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   return s;
 }
@@ -4575,66 +4572,18 @@ inline dprsm_view<T> render_dprsm(const point_light<T>& light, int R, TraceFn&& 
 
 }  // namespace vplkit
 // ---- end vplkit/vpl/dprsm_raycast.hpp ----
-// ---- begin vplkit/vpl/dprsm_lookup.hpp ----
-// Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
-// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light,
-// looking through the texel y projects into, saw a surface at y's distance (within a depth
-// tolerance).
-
-#include <cmath>
-
-namespace vplkit {
-
-struct dprsm_lookup_result {
-  int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit = false;  // texel valid, saw a surface, and that surface is at y's depth
-};
-
-// tolerance: world-space depth tolerance (a voxel or two when y comes from voxel ray marching).
-// Depth is compared along the light ray (|y - c| against |y_t - c|), as a shadow map does; the
-// lateral offset within one texel's footprint is not a reason to reject.
-template <class T>
-inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
-  dprsm_lookup_result r;
-  const vec3<T> to_y = y - view.light.position;
-  const T d_y = glm::length(to_y);
-  if (!(d_y > T(0))) return r;
-  r.texel = view.texel_of_direction(to_y);
-  if (!view.texel_valid(r.texel)) return r;
-  const vec3<T> rho = view.albedo[r.texel];
-  if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
-  const T d_t = glm::length(view.position[r.texel] - view.light.position);
-  r.lit = std::abs(d_y - d_t) <= tolerance;
-  return r;
-}
-
-}  // namespace vplkit
-// ---- end vplkit/vpl/dprsm_lookup.hpp ----
 // ---- begin vplkit/vpl/direct_light.hpp ----
 // Direct light at a gather point from the DPRSM's point light, shadowed by the DPRSM itself: the
 // DPRSM records what the light sees, so it doubles as the light's shadow map (docs/api/vpl.md,
 // "Direct light"). GLSL: vpl/direct_light.glsl, statement for statement.
 
-#include <algorithm>
-#include <cmath>
-
 namespace vplkit {
 
-// Depth tolerance of the shadow test for a point at distance d from the light whose normal makes
-// cos_a > 0 with the direction to the light. A texel's footprint is at most 4 d / R wide (the
-// paraboloid's angular texel size is 2/R at the rim, 4/R at the pole); on a surface tilted by
-// alpha the depth along the light ray varies by footprint * tan(alpha) across it, tan capped at
-// 20; 1e-4 d more covers the depth's own rounding.
-template <class T>
-inline T direct_light_depth_tolerance(T d, T cos_a, int resolution) {
-  const T tan_a = std::min(T(20), std::sqrt(std::max(T(0), T(1) - cos_a * cos_a)) / cos_a);
-  return d * (T(4) / T(resolution)) * (T(0.5) + tan_a) + T(1e-4) * d;
-}
-
 // L_o(x) = rho_x I_s cos(alpha) / (pi d^2) (reflected_radiance) where the DPRSM sees x lit
-// (dprsm_lookup within direct_light_depth_tolerance), else 0: background pixels, points at the
-// light or facing away from it, points in shadow. cos(alpha) is the shading normal's; whether x
-// faces the light, and the shadow test's tolerance, are the geometric surface's.
+// (dprsm_lookup with tolerance 0: a G-buffer point lies on its triangle up to rounding, which the
+// lit test's own slack covers), else 0: background pixels, points at the light or facing away
+// from it, points in shadow. cos(alpha) is the shading normal's; whether x faces the light is the
+// geometric surface's.
 template <class T>
 inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
@@ -4643,8 +4592,7 @@ inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view
   if (!(d > T(0))) return vec3<T>(T(0));
   const T cos_a = glm::dot(glm::normalize(gp.normal), to_light / d);
   if (!(cos_a > T(0))) return vec3<T>(T(0));
-  const T tolerance = direct_light_depth_tolerance(d, cos_a, view.resolution);
-  const dprsm_lookup_result r = dprsm_lookup(view, gp.position, tolerance);
+  const dprsm_lookup_result r = dprsm_lookup(view, gp.position, T(0));
   if (!r.lit) return vec3<T>(T(0));
   return reflected_radiance(view.light.position, view.light.intensity, gp.position,
                             gather_point_shading_normal(gp), gp.albedo);
@@ -6001,16 +5949,13 @@ inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T>
 // p2 of docs/math.md section 11 for the point y of texel t's patch seen from x: the texel's pmf
 // times the jitter's density at y converted to solid angle at x, pmf d2^2 / (A(uv) cos(theta1))
 // with A(uv) = Omega(uv) d1^2 / cos(alpha), everything at y itself: uv where the light sees y,
-// d1 = |y - c|, cos(alpha) against n_t, Omega(uv) over t's patch block (a rim texel's point is
-// drawn over 2 x 2 texels). For a gathering hit y (which the lookup placed in t, so t owns uv).
+// d1 = |y - c|, cos(alpha) against n_t. For a gathering hit y (which the lookup placed in t).
 template <class T>
 inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> c = view.light.position;
   const vec3<T> n_t = view.normal[t];
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
-  const ivec2 xy = texel_coords(t, view.resolution);
-  const texel_block block = texel_patch_block(xy.x, xy.y, view.resolution);
-  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), glm::length(y - c),
+  const T area = vpl_patch_area(texel_point_solid_angle(q.uv, view.resolution), glm::length(y - c),
                                 vpl_cos_alpha(c, y, n_t));
   const vec3<T> w = x - y;
   const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));

@@ -774,6 +774,20 @@ TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + cent
   }
 }
 
+// Is y within rounding of dprsm_plane_lit's threshold for texel t (or of its branch's edge)?
+bool lit_band(const dprsm_data& d, int t, vec3<float> y, float tolerance) {
+  const vec3<double> c(d.light.position), y_t(d.P[std::size_t(t)]), yd(y);
+  const vec3<double> n = vplkit::unit_or_zero(vec3<double>(d.N[std::size_t(t)]));
+  const double d_y = glm::length(yd - c), d_t = glm::length(y_t - c);
+  const double tol = double(tolerance) + double(vplkit::dprsm_lookup_slack(float(d_y), d.R));
+  const double scale = 8 * double(flt_eps) * (glm::length(yd) + glm::length(y_t) + glm::length(c) + d_y + tol);
+  const double h = glm::dot(n, c - y_t), cos_a = -glm::dot(n, (yd - c) / d_y);
+  const double min_cos = double(vplkit::dprsm_plane_min_cos<float>());
+  if (std::abs(h) <= scale || std::abs(cos_a - min_cos) <= scale / std::max(d_y, 1e-30)) return true;
+  if (h > 0 && cos_a > min_cos) return std::abs(glm::dot(n, yd - y_t) + tol * cos_a) <= scale;
+  return std::abs(d_y - d_t - tol) <= scale;
+}
+
 TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band around the tolerance") {
   const float tolerance = 0.05f;
   for (int which = 0; which < 2; ++which) {
@@ -793,6 +807,22 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
       for (float f : {0.0f, 0.5f, -0.5f, 0.999f, -0.999f, 1.001f, -1.001f, 2.0f, -2.0f}) {
         ys.push_back(p + dir * (f * tolerance));
         kind.push_back("texel " + std::to_string(i) + " moved " + show(f) + " tolerance");
+      }
+    }
+    // points of each texel's plane off its centre (where the plane, not the centre's depth,
+    // decides), moved along their light ray by 0, +-0.5 and +-2 tolerances
+    for (int i = 0; i < d.view.texel_count(); i += 2) {
+      if (d.A[std::size_t(i)] == vec3<float>(0)) continue;
+      const vec3<float> c = d.light.position, n = vplkit::unit_or_zero(d.N[std::size_t(i)]);
+      const vplkit::ivec2 xy = vplkit::texel_coords(i, d.R);
+      const vec2<float> xi(float(rnd.uniform(0.1, 0.9)), float(rnd.uniform(0.1, 0.9)));
+      const vec3<float> w = d.light.frame.to_world(vplkit::paraboloid_to_direction(
+          vplkit::texel_face(i, d.R), vplkit::texel_point_uv(xy.x, xy.y, d.R, xi)));
+      const float d_p = glm::dot(n, c - d.P[std::size_t(i)]) / -glm::dot(n, w);
+      if (!(d_p > 0) || !(d_p < 1e3f)) continue;
+      for (float f : {0.0f, 0.5f, -0.5f, 2.0f, -2.0f}) {
+        ys.push_back(c + (d_p + f * tolerance) * w);
+        kind.push_back("texel " + std::to_string(i) + " plane point moved " + show(f) + " tolerance");
       }
     }
     for (int i = 0; i < 100000; ++i) {
@@ -831,15 +861,13 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
         gt = r.texel;
         glit = r.lit;
       }
-      // lit: |d_y - d_t| <= tolerance with lengths that differ by an ulp or two (FMA in dot):
-      // a point within 8 eps (d_y + d_t) of the tolerance may go either way.
-      if (r.texel >= 0 && glit != int(r.lit)) {
-        const float d_y = glm::length(ys[i] - d.light.position);
-        const float d_t = glm::length(d.P[std::size_t(r.texel)] - d.light.position);
-        if (std::abs(std::abs(d_y - d_t) - tolerance) <= 8 * flt_eps * (d_y + d_t)) {
-          ++band;
-          glit = r.lit;
-        }
+      // lit: n . (y - y_t) >= -tol cos(alpha) (or, falling back, d_y <= d_t + tol) with lengths and
+      // dot products that differ by an ulp or two (FMA in dot): a point within 8 eps of the scale
+      // of the positions from the threshold may go either way, and so may a point whose cos(alpha)
+      // or h lies within as much of the branch's edge.
+      if (r.texel >= 0 && glit != int(r.lit) && lit_band(d, r.texel, ys[i], tolerance)) {
+        ++band;
+        glit = r.lit;
       }
       texel.add(gt, r.texel);
       lit.add(glit, r.lit);

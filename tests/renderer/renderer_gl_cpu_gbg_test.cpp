@@ -29,7 +29,7 @@ TEST_CASE("the CPU backend's threaded GBG build equals vplkit::build_gbg_weights
     vplkit::gbg_params<float> params;
     params.n_dirs = s.dirs;
     params.dmin = s.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(s, f.b.grid.occupancy().view(), f.b.dprsm.resolution);
+    params.depth_tolerance = gathering_depth_tolerance(s, f.b.grid.occupancy().view());
     params.seed = builder_seed(s.seed, 2);
     vplkit::gbg_stats serial_stats;
     const std::vector<float> serial = vplkit::build_gbg_weights(

@@ -176,7 +176,8 @@ TEST_CASE("cornell: the tall block's front face is lit up to its top row") {
   CHECK(row_black_cpu == 0);
   CHECK(row_black_gpu == 0);
   CHECK(top_row.sum_cpu / top_row.sum_ref == Approx(1.0).epsilon(0.02));
-  // The rest of the face: the DPRSM's shadow test misses a band along the face's left silhouette,
-  // seen from the light at grazing incidence (a shadow-map limit, not the normals'); within 5 %.
-  CHECK(all.sum_cpu / all.sum_ref == Approx(1.0).epsilon(0.05));
+  // The rest of the face, seen from the light at grazing incidence along its left edge: the former
+  // centre-depth shadow test blacked out 289 pixels there (mean 0.969); the plane test leaves 36
+  // (mean 0.985): within 2.5 %.
+  CHECK(all.sum_cpu / all.sum_ref == Approx(1.0).epsilon(0.025));
 }

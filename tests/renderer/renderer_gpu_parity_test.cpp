@@ -230,7 +230,7 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     vplkit::gbg_params<float> params;
     params.n_dirs = es.dirs;
     params.dmin = es.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(es, f.b.grid.occupancy().view(), d.resolution);
+    params.depth_tolerance = gathering_depth_tolerance(es, f.b.grid.occupancy().view());
     params.seed = builder_seed(es.seed, 2);
     params.accumulator = vplkit::gbg_accumulator::gathering;
     vplkit::gbg_stats cs;

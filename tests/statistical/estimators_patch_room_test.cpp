@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Patch VPLs in a room with creases and silhouettes (tests/support/synthetic_scene.hpp, R = 64,
-// exact visibility on every side, depth tolerance 0.2 for the lookup and the patch window):
+// exact visibility on every side, depth tolerance 0.2 for the lookup and the patch):
 // what is left between the references once the midpoint gap is gone (docs/math.md section 11).
 //   a = the exhaustive patch sum (32 jittered points per texel), the estimand of VPL sampling
 //   b = I, the gathering integral (512^2 cosine quadrature), the estimand of gathering
@@ -8,7 +8,7 @@
 // A texel that straddles an edge shows two surfaces. The patch model extends the centre's plane
 // over the whole texel (behind a crease the extension is occluded: light lost; beyond a
 // silhouette it floats in the air: light added), while gathering counts whatever surface its ray
-// hits in the texel within the depth window, lit with the centre's normal. Both are O(1/R) (the
+// hits in the texel that is not behind the texel's plane (dprsm_lookup), lit with the centre's normal. Both are O(1/R) (the
 // edge texels' share), measured here at R = 64 and 128. The test shows that this edge term is the
 // whole difference: gathering restricted to hits on their texel's plane (I_plane, test-only)
 // agrees with a to the noise and the silhouette phantoms. VPL sampling converges to a, MIS to a
@@ -85,8 +85,10 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
                     100.0 * (a.lum_mean - luminance(Ip)) / li, 100.0 * (luminance(P) / li - 1.0),
                     100.0 * (luminance(S) / li - 1.0));
         INFO(g.name);
-        // the edge term: a few percent at R = 64 (3.1 % measured at wall_red) ...
-        CHECK(std::abs(edge) < 0.04);
+        // the edge term: a few percent at R = 64 (4.5 % measured at wall_red, 3.1 % with the former
+        // centre-depth lit test: the plane test counts the points in front of a crease texel's
+        // plane lit, and gathering lights them with the texel's normal and albedo) ...
+        CHECK(std::abs(edge) < 0.05);
         // ... and exactly the two estimators' views of the edge texels: with gathering held to the
         // texel planes they agree up to the noise and the phantoms beyond silhouettes (<= 0.3 %)
         CHECK(std::abs(a.lum_mean - luminance(Ip)) < 4.0 * a.lum_sem + 0.005 * li);

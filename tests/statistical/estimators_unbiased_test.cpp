@@ -208,8 +208,10 @@ TEST_CASE("MIS in solid angle converges to its expectation, within the discretis
     // unbiased for its exact expectation ...
     CHECK(within_sigma(r, E, 4.0, quad_rel * E));
     // ... which is the continuous integral up to the midpoint-rule discretisation of the VPL
-    // samples (measured below 0.8 % here, where the VPL sum itself is off by up to 2.5 %)
-    CHECK(std::abs(luminance(E) / luminance(I) - 1.0) < 0.01);
+    // samples (measured up to 1.01 % here, at wall_red, where the VPL sum itself is off by up to
+    // 4 %; 0.8 % and 2.5 % with the former centre-depth lit test: the plane test moved I by +1.5 %
+    // at wall_red and +1.6 % at ceiling_near_light, the point VPLs' part of E by less)
+    CHECK(std::abs(luminance(E) / luminance(I) - 1.0) < 0.015);
     CHECK(r.lum_sem < 0.03 * luminance(I));
   }
 }

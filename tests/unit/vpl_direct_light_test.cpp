@@ -86,13 +86,3 @@ TEMPLATE_TEST_CASE("direct_light with two normals: the shading cosine where the 
   g.shading_normal = lit.normal;
   CHECK(direct_light(g, room.view) == direct_light(lit, room.view));
 }
-
-TEST_CASE("direct_light_depth_tolerance: a footprint of 4 d / R, times 1/2 + tan(alpha) capped at 20") {
-  const double d = 2.0;
-  const int R = 64;
-  const double footprint = d * 4.0 / R;
-  CHECK(direct_light_depth_tolerance(d, 1.0, R) == Approx(footprint * 0.5 + 1e-4 * d));
-  const double c = std::cos(1.0);
-  CHECK(direct_light_depth_tolerance(d, c, R) == Approx(footprint * (0.5 + std::tan(1.0)) + 1e-4 * d));
-  CHECK(direct_light_depth_tolerance(d, 1e-6, R) == Approx(footprint * 20.5 + 1e-4 * d));
-}

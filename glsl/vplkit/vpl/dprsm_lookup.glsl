@@ -1,24 +1,48 @@
 // SPDX-License-Identifier: MIT
 // vplkit GLSL pack: is a surface point lit by the light, and through which DPRSM texel? Mirrors
-// include/vplkit/vpl/dprsm_lookup.hpp (T = float): the shadow-map test of the gathering estimator
-// and of the GBG builder (docs/math.md section 4). y is lit when the light, looking through the
-// texel y projects into, saw a surface at y's distance (within a depth tolerance).
+// include/vplkit/vpl/dprsm_lookup.hpp (T = float): the shadow-map test of the gathering estimator,
+// the GBG builder and the direct light (docs/math.md section 4). y is lit when it does not lie
+// behind the texel's plane (through y_t, normal n_t); the C++ comments give the reasoning.
 //
 // ACCESSORS used (declared in dprsm_view.glsl, defined by the including shader):
 //   vec3 vplkit_load_dprsm_position(int texel);
+//   vec3 vplkit_load_dprsm_normal(int texel);
 //   vec3 vplkit_load_dprsm_albedo(int texel);
 #ifndef VPLKIT_VPL_DPRSM_LOOKUP_GLSL
 #define VPLKIT_VPL_DPRSM_LOOKUP_GLSL
 
+#include "vplkit/core/constants.glsl"
+#include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 
 struct vplkit_dprsm_lookup_result {
   int texel;  // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit;   // texel valid, saw a surface, and that surface is at y's depth
+  bool lit;   // texel valid, saw a surface, and y is not behind that surface
 };
 
-// tolerance: world-space depth tolerance. Depth is compared along the light ray (|y - c| against
-// |y_t - c|), as a shadow map does.
+// Below this cosine between the light ray and the texel's plane the centre's depth stands in.
+const float vplkit_dprsm_plane_min_cos = 1e-3;
+
+// The lit test's own slack at distance d: half the widest texel footprint, and rounding.
+float vplkit_dprsm_lookup_slack(float d, int resolution) {
+  return d * (2.0 / float(resolution) + 1e-4);
+}
+
+// y at or in front of the plane (y_t, n_t) within tolerance + slack along the light ray, tested
+// as n . (y - y_t) >= -tol cos(alpha); else (grazing, plane facing away) the centre's depth. A bad
+// tolerance or a distance that is not finite and positive: unlit.
+bool vplkit_dprsm_plane_lit(vec3 c, vec3 y_t, vec3 n_t, vec3 y, float d_y, float tolerance, int resolution) {
+  if (!(tolerance >= 0.0) || !(d_y > 0.0) || !(d_y <= vplkit_FLT_MAX)) return false;
+  float tol = tolerance + vplkit_dprsm_lookup_slack(d_y, resolution);
+  vec3 n = vplkit_unit_or_zero(n_t);
+  float h = dot(n, c - y_t);
+  float cos_a = -dot(n, (y - c) / d_y);
+  if (h > 0.0 && cos_a > vplkit_dprsm_plane_min_cos) return dot(n, y - y_t) >= -tol * cos_a;
+  return d_y <= length(y_t - c) + tol;
+}
+
+// tolerance: world-space error of y's position along the light ray (0 for exact hits); the lit
+// test adds its own slack.
 vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, float tolerance) {
   vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup_result(-1, false);
   vec3 to_y = y - view.light.position;
@@ -28,8 +52,8 @@ vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, f
   if (!vplkit_dprsm_view_texel_valid(view, r.texel)) return r;
   vec3 rho = vplkit_load_dprsm_albedo(r.texel);
   if (!(rho.x > 0.0 || rho.y > 0.0 || rho.z > 0.0)) return r;
-  float d_t = length(vplkit_load_dprsm_position(r.texel) - view.light.position);
-  r.lit = abs(d_y - d_t) <= tolerance;
+  r.lit = vplkit_dprsm_plane_lit(view.light.position, vplkit_load_dprsm_position(r.texel),
+                                 vplkit_load_dprsm_normal(r.texel), y, d_y, tolerance, view.resolution);
   return r;
 }
 

@@ -5,9 +5,9 @@
 // ray onto the texel's plane (through y_t, normal n_t), with the flux of its own solid angle
 // rho_t I_s J(uv) (2/R)^2 nx ny: unbiased for the texel's part of the continuous one-bounce
 // integral. Rejected (flux 0): uv outside the face's disk or not owned by the texel
-// (vplkit_texel_owner_from_uv), rays parallel
-// to the plane or meeting it behind the light, texels without flux, points outside the depth
-// window of vplkit_dprsm_lookup. Assumes n_t is the texel's geometric normal.
+// (vplkit_texel_owner_from_uv), rays parallel to the plane or meeting it behind the light, texels
+// without flux, points that the lit test of vplkit_dprsm_lookup (vplkit_dprsm_plane_lit) rejects.
+// Assumes n_t is the texel's geometric normal.
 //
 // ACCESSORS used (declared in dprsm_view.glsl, defined by the including shader): position, normal
 // and albedo.
@@ -18,6 +18,7 @@
 #include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/paraboloid/paraboloid.glsl"
 #include "vplkit/paraboloid/texel_grid.glsl"
+#include "vplkit/vpl/dprsm_lookup.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
@@ -34,8 +35,8 @@ struct vplkit_dprsm_patch_sample {
   float cos_alpha;     // between n_t and y -> c
 };
 
-// The point of texel t (0 <= t < texel count, not checked) that xi in [0, 1]^2 selects; the depth
-// window |d1(y) - |y_t - c|| <= depth_tolerance of vplkit_dprsm_lookup (+inf: the whole patch).
+// The point of texel t (0 <= t < texel count, not checked) that xi in [0, 1]^2 selects;
+// depth_tolerance that of vplkit_dprsm_lookup (+inf: the whole patch).
 vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, vec2 xi, float depth_tolerance) {
   int R = view.resolution;
   ivec2 xy = vplkit_texel_coords(t, R);
@@ -57,12 +58,13 @@ vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, 
   float cos_a = -dot(n, w);
   if (!(h > 0.0) || !(cos_a > 0.0)) return s;
   float d1 = h / cos_a;
-  float d_t = length(y_t - c);  // the depth vplkit_dprsm_lookup compares with
-  if (!(d1 <= vplkit_FLT_MAX) || !(abs(d1 - d_t) <= depth_tolerance)) return s;
+  if (!(d1 <= vplkit_FLT_MAX)) return s;
+  vec3 y = c + d1 * w;
+  if (!vplkit_dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
   s.solid_angle = vplkit_texel_block_point_solid_angle(s.uv, block, R);
   s.distance = d1;
   s.cos_alpha = cos_a;
-  s.point.position = c + d1 * w;
+  s.point.position = y;
   s.point.flux = vplkit_vpl_flux(vplkit_load_dprsm_albedo(t), view.light.intensity, s.solid_angle);
   return s;
 }

@@ -8,8 +8,8 @@
 //   vec3 vplkit_load_dprsm_normal(int texel);    // n_t, any length
 //   vec3 vplkit_load_dprsm_albedo(int texel);    // rho_t, 0 where the texel saw nothing
 // A shader only has to define the accessors that the functions it calls use:
-//   vplkit_dprsm_view_vpl_at: all three; vplkit_dprsm_lookup (dprsm_lookup.glsl): position and
-//   albedo; everything else: none. (In std430 an array of vec3 has a 16-byte stride: store vec4.)
+//   vplkit_dprsm_view_vpl_at and vplkit_dprsm_lookup (dprsm_lookup.glsl): all three; everything
+//   else: none. (In std430 an array of vec3 has a 16-byte stride: store vec4.)
 //
 // The C++ view's pointers become the accessors; what is left is a small struct passed by value:
 //   dprsm_view<float>{resolution, ..., light}  <-> vplkit_dprsm_view{resolution, light}

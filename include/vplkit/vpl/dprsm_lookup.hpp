@@ -1,24 +1,68 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
-// gathering estimator and of the GBG builder (docs/math.md section 4): y is lit when the light,
-// looking through the texel y projects into, saw a surface at y's distance (within a depth
-// tolerance).
+// gathering estimator, the GBG builder and the direct light (docs/math.md section 4): y is lit
+// when it does not lie behind the surface the light saw through the texel y projects into. That
+// surface is taken as the texel's plane (through y_t, normal n_t), not as the centre's depth: a
+// fixed depth window around |y_t - c| both lights shadowed points just behind a lit surface
+// (contact shadows) and shadows lit points in front of it (a wall at a floor/wall crease).
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
 #include <cmath>
+#include <limits>
 
 namespace vplkit {
 
 struct dprsm_lookup_result {
   int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit = false;  // texel valid, saw a surface, and that surface is at y's depth
+  bool lit = false;  // texel valid, saw a surface, and y is not behind that surface
 };
 
-// tolerance: world-space depth tolerance (a voxel or two when y comes from voxel ray marching).
-// Depth is compared along the light ray (|y - c| against |y_t - c|), as a shadow map does; the
-// lateral offset within one texel's footprint is not a reason to reject.
+// Below this cosine between the light ray and the texel's plane the plane test falls back to the
+// centre's depth. The plane point's distance h / cos moves by h * delta / cos^2 when the normal is
+// off by delta (float rounding, a plane that is not quite the triangle's); below 1e-3 (the ray
+// within 0.06 degrees of the plane) that is no longer a statement about the surface.
+template <class T>
+constexpr T dprsm_plane_min_cos() {
+  return T(1e-3);
+}
+
+// The lit test's own slack at distance d from the light, added to the caller's tolerance: half a
+// texel's widest footprint (4 d / R at the paraboloid's pole), for surfaces that are not quite
+// the texel's plane within one texel (a stored interpolated normal on a smoothed mesh, the next
+// triangle across an edge), and 1e-4 d for the rounding of positions and of the plane product.
+// A wider window lights more contact shadows, a narrower one darkens the far faces across convex
+// edges: half the footprint had the smallest worst case of three widths (docs/results.md 7).
+template <class T>
+inline T dprsm_lookup_slack(T d, int resolution) {
+  return d * (T(2) / T(resolution) + T(1e-4));
+}
+
+// Is y, at distance d_y from the light c, at or in front of the plane (y_t, n_t) of the texel it
+// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? One-sided, as a
+// shadow map: a point in front of the surface the light saw in that direction cannot be shadowed
+// by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the light, d_y <=
+// d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times cos > 0): no
+// division, and n . (y - y_t) measured directly instead of h - d_y cos, which cancels for points
+// on the plane. Where it does not (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the
+// plane's horizon crosses the texel; h <= 0: the plane faces away or holds the light; a zero
+// normal), the centre's depth stands in: d_y <= |y_t - c| + tol. NaN or negative tolerance, or a
+// distance that is not finite and positive: unlit (an infinite d_y would make the slack infinite).
+template <class T>
+inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max())) return false;
+  const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
+  const vec3<T> n = unit_or_zero(n_t);
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, (y - c) / d_y);
+  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) return glm::dot(n, y - y_t) >= -tol * cos_a;
+  return d_y <= glm::length(y_t - c) + tol;
+}
+
+// tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
+// voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
 template <class T>
 inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
   dprsm_lookup_result r;
@@ -29,8 +73,8 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
   if (!view.texel_valid(r.texel)) return r;
   const vec3<T> rho = view.albedo[r.texel];
   if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
-  const T d_t = glm::length(view.position[r.texel] - view.light.position);
-  r.lit = std::abs(d_y - d_t) <= tolerance;
+  r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
+                          view.resolution);
   return r;
 }
 

@@ -12,8 +12,9 @@
 // it owns. A rim texel's point is drawn over the 2 x 2 texels on its outer side (texel_patch_block),
 // which hold them all, and kept only where the texel owns it: so its patch is exactly the set of
 // directions the lookup files under it, and no direction belongs to two patches. A plane point
-// counts only where the DPRSM's own lit test (dprsm_lookup) would count a surface point there:
-// within depth_tolerance of the texel centre's distance to the light. Everything else is rejected
+// counts only where the DPRSM's own lit test (dprsm_plane_lit, that of dprsm_lookup) would count a
+// surface point there; every plane point is at the plane, so that rejects only where the test falls
+// back to the centre's depth (grazing) and the point lies beyond it. Everything else is rejected
 // (flux 0): points outside the disk (r2 > 1, the other face's domain) or owned by another texel
 // (a rim texel's block), light rays parallel to the
 // plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
@@ -24,6 +25,7 @@
 #include <vplkit/core/vector.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
@@ -49,8 +51,8 @@ struct dprsm_patch_sample {
 };
 
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
-// depth_tolerance: the depth window |d1(y) - |y_t - c|| <= depth_tolerance of dprsm_lookup; +inf
-// accepts the whole plane patch, NaN or a negative value rejects every point.
+// depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
+// patch, NaN or a negative value rejects every point.
 template <class T>
 inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, vec2<T> xi, T depth_tolerance) {
   dprsm_patch_sample<T> s;
@@ -77,12 +79,13 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return s;
   const T d1 = h / cos_a;
-  const T d_t = glm::length(y_t - c);  // the depth dprsm_lookup compares with
-  if (!(d1 <= std::numeric_limits<T>::max()) || !(std::abs(d1 - d_t) <= depth_tolerance)) return s;
+  if (!(d1 <= std::numeric_limits<T>::max())) return s;
+  const vec3<T> y = c + d1 * w;
+  if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
   s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
   s.distance = d1;
   s.cos_alpha = cos_a;
-  s.point.position = c + d1 * w;
+  s.point.position = y;
   s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   return s;
 }

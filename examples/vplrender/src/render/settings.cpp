@@ -50,20 +50,12 @@ std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);
 }
 
-float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid,
-                                int dprsm_resolution) {
+float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid) {
   // The paper's voxel tracer: its own error (one voxel diagonal, voxel_tracer_depth_tolerance)
-  // doubled for the texel's depth spread on tilted surfaces. Exact visibility keeps that rule too,
-  // so that it changes nothing but visibility against the paper's (results.md section 7).
-  if (s.visibility != visibility_choice::voxels) return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
-  if (!(s.scene_diagonal > 0.0f) || dprsm_resolution < 1)
-    throw vplkit::invalid_input("gathering_depth_tolerance: the scene's diagonal (" + std::to_string(s.scene_diagonal) +
-                                ") and the DPRSM resolution (" + std::to_string(dprsm_resolution) +
-                                ") must be positive");
-  // A texel subtends up to 4 / R radians; on a surface tilted by alpha its depth spreads over
-  // footprint * tan(alpha). 3 D / R is that spread at three quarters of the scene's diagonal for
-  // alpha = 45 degrees, chosen by measurement (examples/visibility_error, part (d)).
-  return 3.0f * s.scene_diagonal / static_cast<float>(dprsm_resolution);
+  // doubled, as the paper's rule had it (the hit may lie a diagonal behind the surface it stands
+  // for). The triangle voxels and exact visibility hit the triangles themselves.
+  if (s.visibility == visibility_choice::paper_voxels) return 2.0f * vplkit::voxel_tracer_depth_tolerance(grid);
+  return 0.0f;
 }
 
 }  // namespace vplrender

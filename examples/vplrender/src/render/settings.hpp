@@ -90,14 +90,11 @@ constexpr int reference_patch_strata = 1;
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v);
 
-// Depth tolerance of the gathering look-ups (gather, mis; GBG rays). voxels: the triangle voxel
-// tracer's hits lie on the surfaces, so it covers only the DPRSM texel's own depth spread: 3 D / R
-// for a scene of diagonal s.scene_diagonal and a DPRSM of R^2 texels per face, whatever the
-// voxels (throws vplkit::invalid_input when D or R is not positive). paper_voxels, whose tracer's
-// hits lie up to a voxel diagonal off the surface, and exact (which changes only visibility
-// against it): 2 voxel diagonals of `grid`.
-float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid,
-                                int dprsm_resolution);
+// Depth tolerance of the gathering look-ups (gather, mis; GBG rays): the error of a hit's position,
+// to which dprsm_lookup adds its own slack (a fraction of the texel's footprint). voxels and
+// exact: 0, their hits lie on the triangles. paper_voxels, whose tracer's hits lie up to a voxel
+// diagonal off the surface: 2 voxel diagonals of `grid`.
+float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid);
 
 // Progress callback: (label, done, total); called from the calling thread only.
 using progress_fn = std::function<void(const std::string& label, std::uint64_t done, std::uint64_t total)>;

@@ -56,7 +56,7 @@ std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_se
   vplkit::gbg_params<float> params;
   params.n_dirs = s.dirs;
   params.dmin = s.dmin;
-  params.depth_tolerance = gathering_depth_tolerance(s, b.grid.occupancy().view(), b.dprsm.resolution);
+  params.depth_tolerance = gathering_depth_tolerance(s, b.grid.occupancy().view());
   params.seed = builder_seed(s.seed, 2);
   params.accumulator = s.gbg_accumulator == gbg_accumulator_choice::paper ? vplkit::gbg_accumulator::paper
                                                                           : vplkit::gbg_accumulator::gathering;

@@ -155,7 +155,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
   det["dmin"] = es.dmin;
-  const float depth_tol = gathering_depth_tolerance(es, grid, view.resolution);
+  const float depth_tol = gathering_depth_tolerance(es, grid);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(es.cdf_search);
   det["visibility"] = to_string(es.visibility);

@@ -120,7 +120,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   const int W = g.width, H = g.height, R = view.resolution;
   const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
-  const float depth_tol = gathering_depth_tolerance(s, grid, R);
+  const float depth_tol = gathering_depth_tolerance(s, grid);
   int gather_points = 0;
   for (std::size_t p = 0; p < n_pixels; ++p)
     if (vplkit::gather_point_valid(g.at(static_cast<int>(p)))) ++gather_points;
