@@ -1303,6 +1303,79 @@ inline bool texel_is_valid(int x, int y, int R) {
   return a * a + b * b <= R * R;
 }
 
+// The rim band (docs/math.md section 1): a texel square that the rim crosses is valid or not by
+// its centre alone, so the parts of the invalid squares inside the disk (within sqrt(2)/R of the
+// rim) are directions the light sees that no valid texel contains. Each is OWNED by one valid
+// texel instead: the one containing uv pulled toward the pole by one texel width, uv (1 - 2/R).
+// That texel is valid: |uv (1 - 2/R)| <= 1 - 2/R and a texel's centre lies within half a diagonal,
+// sqrt(2)/R, of any of its points, so the centre has r <= 1 - (2 - sqrt(2))/R (a margin of
+// 0.59/R, far above float rounding for every R allowed). It is an 8-neighbour of the texel uv lies
+// in (the pull moves uv by at most 2/R, one texel width). Owning is a function of uv, so every
+// direction of the disk has exactly one owner: the valid texels' domains still tile the disk, no
+// VPL is counted twice, and the lookup (dprsm_view::texel_of_direction) never files a direction
+// the light sees under a texel that carries no VPL. uv must lie in the closed unit disk (as
+// paraboloid_from_direction's does); uv inside a valid texel is owned by that texel.
+template <class T>
+inline ivec2 texel_owner_from_uv(vec2<T> uv, int R) {
+  const ivec2 xy = texel_from_uv(uv, R);
+  if (texel_is_valid(xy.x, xy.y, R)) return xy;
+  return texel_from_uv(uv * (T(1) - T(2) / T(R)), R);
+}
+
+// A rim texel: valid, with an invalid 8-neighbour inside the grid. Only rim texels own parts of
+// other squares (the owner of a band part is an 8-neighbour of the invalid texel holding it); the
+// other valid texels own exactly their squares (inside the disk).
+inline bool texel_is_rim(int x, int y, int R) {
+  if (!texel_is_valid(x, y, R)) return false;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx >= 0 && ny >= 0 && nx < R && ny < R && !texel_is_valid(nx, ny, R)) return true;
+    }
+  return false;
+}
+
+// The rectangle of texels a texel's patch is drawn over (dprsm_patch.hpp): columns x0 .. x0 + nx - 1,
+// rows y0 .. y0 + ny - 1.
+struct texel_block {
+  int x0, y0, nx, ny;
+};
+
+// The texel itself off the rim. A rim texel (x, y) owns band parts only on its outer side: with
+// k = 1 - 2/R, a band point uv lies in texel I and uv k in the owner (x, y), and per axis
+// u - u k = 2u/R is at most one texel width toward u's sign, so I.x is x or x + sign(u); u k lies
+// in column x, whose sign is that of a = 2x + 1 - R unless a = 0 (the middle column of an odd R,
+// which straddles u = 0). So the block is 2 x 2 on the outer side (2 x 3 or 3 x 3 on an axis of an
+// odd R): every band part the texel owns lies in it.
+inline texel_block texel_patch_block(int x, int y, int R) {
+  texel_block b{x, y, 1, 1};
+  if (!texel_is_rim(x, y, R)) return b;
+  const int a = 2 * x + 1 - R, c = 2 * y + 1 - R;
+  if (a <= 0) b.x0 -= 1;
+  if (c <= 0) b.y0 -= 1;
+  b.nx = a == 0 ? 3 : 2;
+  b.ny = c == 0 ? 3 : 2;
+  return b;
+}
+
+// A point of block b chosen by xi in [0, 1]^2 (clamped as in texel_point_uv). For the block of
+// one texel it is texel_point_uv bit for bit (x + 1 * sx rounds as x + sx). Uniform xi: density
+// (R/2)^2 / (nx ny) per unit uv area.
+template <class T>
+inline vec2<T> texel_block_point_uv(texel_block b, int R, vec2<T> xi) {
+  const T sx = !(xi.x >= T(0)) ? T(0) : (xi.x > T(1) ? T(1) : xi.x);
+  const T sy = !(xi.y >= T(0)) ? T(0) : (xi.y > T(1) ? T(1) : xi.y);
+  return vec2<T>((T(b.x0) + T(b.nx) * sx) / T(R) * T(2) - T(1), (T(b.y0) + T(b.ny) * sy) / T(R) * T(2) - T(1));
+}
+
+// J(uv) (2 nx / R) (2 ny / R): the pointwise solid angle of a point drawn uniformly over block b,
+// texel_point_solid_angle for the block of one texel.
+template <class T>
+inline T texel_block_point_solid_angle(vec2<T> uv, texel_block b, int R) {
+  const T h = T(2) / T(R);
+  return paraboloid_jacobian(uv) * (h * T(b.nx)) * (h * T(b.ny));
+}
+
 // Solid angle of a valid texel: the Jacobian 4 / (1 + r2)^2 at the centre times the texel's
 // uv area (2/R)^2 (midpoint rule; relative error O(R^-2), largest next to the pole: ~3e-4 at
 // R = 64, 2e-5 at R = 256). 0 for invalid texels, so they carry no weight and can never be
@@ -4294,10 +4367,13 @@ struct dprsm_view {
     return v;
   }
 
-  // Texel through which the light sees world direction `dir` (any length).
+  // Texel through which the light sees world direction `dir` (any length): the valid texel that
+  // owns its uv (texel_owner_from_uv). Near the rim that is not always the texel containing uv:
+  // the parts of invalid rim squares inside the disk belong to a valid neighbour, so every
+  // direction is filed under exactly one texel that carries a VPL.
   int texel_of_direction(vec3<T> dir) const {
     const paraboloid_point<T> p = paraboloid_from_direction(light.frame.to_light(dir));
-    const ivec2 xy = texel_from_uv(p.uv, resolution);
+    const ivec2 xy = texel_owner_from_uv(p.uv, resolution);
     return texel_index(p.face, xy.x, xy.y, resolution);
   }
 
@@ -4361,15 +4437,30 @@ struct dprsm_view {
 // the jitter this is exactly the integral over the texel's patch, so VPL sampling converges to the
 // same continuous one-bounce integral as gathering, and MIS mixes two strategies of one estimand.
 //
-// A texel's domain is the part of its uv square inside its face's unit disk, and a plane point
+// A texel's domain is the set of directions it owns (texel_owner_from_uv): the part of its uv
+// square inside its face's unit disk and, for a rim texel, the band parts of invalid neighbours
+// it owns. A rim texel's point is drawn over the 2 x 2 texels on its outer side (texel_patch_block),
+// which hold them all, and kept only where the texel owns it: so its patch is exactly the set of
+// directions the lookup files under it, and no direction belongs to two patches. A plane point
 // counts only where the DPRSM's own lit test (dprsm_plane_lit, that of dprsm_lookup) would count a
 // surface point there; every plane point is at the plane, so that rejects only where the test falls
 // back to the centre's depth (grazing) and the point lies beyond it. Everything else is rejected
-// (flux 0): points outside the disk (r2 > 1, the other face's domain), light rays parallel to the
+// (flux 0): points outside the disk (r2 > 1, the other face's domain) or owned by another texel
+// (a rim texel's block), light rays parallel to the
 // plane or meeting it behind the light, texels without flux (invalid, empty, facing away from the
 // light, zero normal), non-finite distances. Never NaN or Inf for a validated view.
 // Assumes n_t is the texel's GEOMETRIC normal: the plane then holds the triangle the texel sees,
 // and inside that triangle y is the surface point the light sees in that direction.
+//
+// Edge texels (docs/math.md section 11, "Hidden plane points"): where a texel straddles a crease or
+// a silhouette, its plane extended over the whole texel runs behind the neighbouring surface (a
+// floor's plane under the wall it meets, a column's plane behind the floor it stands on). Such a
+// point is seen by no receiver the neighbour faces, so the patch would lose that flux: 7 % of
+// sponza's one-bounce light at R = 128. A plane point that a neighbour's plane hides (the texels
+// across the nearest edges and corner of the point's uv, dprsm_patch_point_hidden) therefore moves
+// to the texel centre y_t with its flux unchanged (at_centre): the midpoint rule for that part of
+// the texel, energy kept. The split is a function of uv alone, so MIS can tell a gathering hit in
+// that part (mis_estimator.hpp gives it to the VPL strategy alone).
 // ---- begin vplkit/vpl/dprsm_lookup.hpp ----
 // Is a surface point lit by the light, and through which DPRSM texel? The shadow-map test of the
 // gathering estimator, the GBG builder and the direct light (docs/math.md section 4): y is lit
@@ -4463,12 +4554,45 @@ enum class vpl_mode {
 // One jittered point of a texel's patch.
 template <class T>
 struct dprsm_patch_sample {
-  vpl<T> point{};           // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
+  vpl<T> point{};           // y (y_t when at_centre), n_t and rho_t I_s Omega(uv); flux 0 and y_t when rejected
   vec2<T> uv{T(0)};         // the jittered point in the face's uv square
-  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2, 0 when rejected
+  T solid_angle = T(0);     // Omega(uv) = J(uv) (2/R)^2 nx ny (the block's), 0 when rejected
   T distance = T(0);        // d1 = |y - c|
   T cos_alpha = T(0);       // between n_t and y -> c
+  bool at_centre = false;   // the plane point was hidden by a neighbour: y = y_t (see above)
 };
+
+// Relative margin of the hidden test: two plane intersections of one ray from one light, each
+// exact to float rounding, compared by distance.
+template <class T>
+constexpr T dprsm_patch_hidden_margin() {
+  return T(1e-3);
+}
+
+// Is the point c + d1 w of texel t's plane (w in t's part of the map at uv) behind the plane of a
+// neighbour on uv's side of t's centre? Neighbours that saw nothing, are invalid, face away from the
+// light or meet w at grazing incidence (no reliable plane) hide nothing.
+template <class T>
+inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> uv, vec3<T> w, T d1) {
+  const int R = view.resolution;
+  const ivec2 xy = texel_coords(t, R);
+  const vec2<T> centre = texel_center_uv<T>(xy.x, xy.y, R);
+  const int dx = uv.x < centre.x ? -1 : 1, dy = uv.y < centre.y ? -1 : 1;
+  const ivec2 near[3] = {ivec2(xy.x + dx, xy.y), ivec2(xy.x, xy.y + dy), ivec2(xy.x + dx, xy.y + dy)};
+  const vec3<T> c = view.light.position;
+  for (const ivec2 q : near) {
+    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R || !texel_is_valid(q.x, q.y, R)) continue;
+    const int u = texel_index(texel_face(t, R), q.x, q.y, R);
+    const vec3<T> rho = view.albedo[u];
+    if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) continue;
+    const vec3<T> n_u = unit_or_zero(view.normal[u]);
+    const T h_u = glm::dot(n_u, c - view.position[u]);
+    const T cos_u = -glm::dot(n_u, w);
+    if (!(h_u > T(0)) || !(cos_u > dprsm_plane_min_cos<T>())) continue;
+    if (d1 * cos_u > h_u * (T(1) + dprsm_patch_hidden_margin<T>())) return true;  // d1 > d_u (1 + margin)
+  }
+  return false;
+}
 
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
 // depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
@@ -4481,12 +4605,14 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const vec3<T> c = view.light.position;
   const vec3<T> y_t = view.position[t];
   const vec3<T> n_t = view.normal[t];
-  s.uv = texel_point_uv(xy.x, xy.y, R, xi);
+  const texel_block block = texel_patch_block(xy.x, xy.y, R);
+  s.uv = texel_block_point_uv(block, R, xi);
   s.point.position = y_t;
   s.point.normal = n_t;
   s.point.flux = vec3<T>(T(0));
   if (!texel_is_valid(xy.x, xy.y, R)) return s;
   if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
+  if (block.nx * block.ny != 1 && texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
   const vec3<T> n = unit_or_zero(n_t);
   const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
@@ -4500,11 +4626,17 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   if (!(d1 <= std::numeric_limits<T>::max())) return s;
   const vec3<T> y = c + d1 * w;
   if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
-  s.solid_angle = texel_point_solid_angle(s.uv, R);
+  s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
+  s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
+  if (dprsm_patch_point_hidden(view, t, s.uv, w, d1)) {  // the centre carries this point's flux
+    s.at_centre = true;
+    s.distance = glm::length(y_t - c);
+    s.cos_alpha = vpl_cos_alpha(c, y_t, n_t);
+    return s;
+  }
   s.distance = d1;
   s.cos_alpha = cos_a;
   s.point.position = y;
-  s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   return s;
 }
 
@@ -5907,7 +6039,8 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 //     up to the midpoint-rule error of the VPL term; with vpl_mode::patch (docs/math.md section
 //     11) the VPL samples are jittered points of their texels' patches, p2 is the pointwise
 //     density p(t) d2^2 / (A(uv) cos(theta1)) of the point itself (a gathering hit is projected
-//     into the DPRSM for its texel and uv), and both strategies sample one integral.
+//     into the DPRSM for its texel and uv), and both strategies sample one integral; the parts of
+//     patches whose points move to the texel centre (dprsm_patch.hpp) belong to the VPL strategy.
 //   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
 //     biased (measured).
 // Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL (and with
@@ -5949,17 +6082,35 @@ inline T mis_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T>
 // p2 of docs/math.md section 11 for the point y of texel t's patch seen from x: the texel's pmf
 // times the jitter's density at y converted to solid angle at x, pmf d2^2 / (A(uv) cos(theta1))
 // with A(uv) = Omega(uv) d1^2 / cos(alpha), everything at y itself: uv where the light sees y,
-// d1 = |y - c|, cos(alpha) against n_t. For a gathering hit y (which the lookup placed in t).
+// d1 = |y - c|, cos(alpha) against n_t, Omega(uv) over t's patch block (a rim texel's point is
+// drawn over 2 x 2 texels). For a gathering hit y (which the lookup placed in t, so t owns uv).
 template <class T>
 inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, vec3<T> y) {
   const vec3<T> c = view.light.position;
   const vec3<T> n_t = view.normal[t];
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
-  const T area = vpl_patch_area(texel_point_solid_angle(q.uv, view.resolution), glm::length(y - c),
+  const ivec2 xy = texel_coords(t, view.resolution);
+  const texel_block block = texel_patch_block(xy.x, xy.y, view.resolution);
+  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), glm::length(y - c),
                                 vpl_cos_alpha(c, y, n_t));
   const vec3<T> w = x - y;
   const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));
   return vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
+}
+
+// Does the light direction of the gathering hit y fall where texel t's patch moves its points to
+// the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter decides
+// it from uv: the plane point of t in that direction, hidden by a neighbour's plane.
+template <class T>
+inline bool mis_patch_hit_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
+  const vec3<T> c = view.light.position;
+  const vec3<T> w = unit_or_zero(y - c);
+  const vec3<T> n = unit_or_zero(view.normal[t]);
+  const T h = glm::dot(n, c - view.position[t]);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > T(0))) return false;
+  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
+  return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
 }
 
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)).
@@ -5984,6 +6135,10 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
+    // The parts of patches whose points sit at the centre belong to the VPL strategy alone (its
+    // samples there take weight 1): a gathering hit there adds nothing unless no VPL is drawn.
+    if (vmode == vpl_mode::patch && n2 > T(0) && mis_patch_hit_at_centre(view, r.texel, r.hit))
+      return vec3<T>(T(0));
     const T p1 = cosine_pdf_solid_angle(cos2);
     const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                           : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
@@ -6052,8 +6207,11 @@ inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  // A point moved to the centre: no gathering direction reaches it, so its weight is 1 (n1 = 0);
+  // p2 with A(uv) = Omega(uv) d1^2 / cos(alpha) at y_t gives f / (n2 p2) = its flux's contribution
+  // over n2 pmf.
   return mis_vpl_value(gp, view, t, p.point, pmf, vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
-                       visibility, n1, n2, mode);
+                       visibility, p.at_centre ? T(0) : n1, n2, mode);
 }
 
 // Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then

@@ -25,6 +25,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 using namespace vplkit;
@@ -89,9 +90,12 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
         // centre-depth lit test: the plane test counts the points in front of a crease texel's
         // plane lit, and gathering lights them with the texel's normal and albedo) ...
         CHECK(std::abs(edge) < 0.05);
-        // ... and exactly the two estimators' views of the edge texels: with gathering held to the
-        // texel planes they agree up to the noise and the phantoms beyond silhouettes (<= 0.3 %)
-        CHECK(std::abs(a.lum_mean - luminance(Ip)) < 4.0 * a.lum_sem + 0.005 * li);
+        // ... and the two estimators' views of the edge texels: with gathering held to the texel
+        // planes they agree up to the noise, the phantoms beyond silhouettes (<= 0.3 %) and the
+        // flux of the plane points that a neighbour hides, which the patch moves to the centre
+        // and gathering on the plane cannot reach (a above I_plane by +0.4 to +1.0 % measured)
+        CHECK(a.lum_mean - luminance(Ip) > -4.0 * a.lum_sem - 0.005 * li);
+        CHECK(a.lum_mean - luminance(Ip) < 4.0 * a.lum_sem + 0.015 * li);
         edge64.push_back(edge);
       } else {
         std::printf("  R %3d %-20s I %.6f  a %+6.2f%% +- %.2f%%  (edge term at R = 64: %+6.2f%%)\n", R, g.name.c_str(),
@@ -130,5 +134,50 @@ TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS be
     const double lo = std::min(a.lum_mean, li), hi = std::max(a.lum_mean, li);
     CHECK(m.lum_mean > lo - 4.0 * std::hypot(m.lum_sem, a.lum_sem));
     CHECK(m.lum_mean < hi + 4.0 * std::hypot(m.lum_sem, a.lum_sem));
+  }
+}
+
+TEST_CASE("empty room (creases only): MIS with patch VPLs converges to the patch sum, moved points included") {
+  // Without the block the room has concave creases only. Every patch plane point hidden by a
+  // neighbour's plane moves to its texel's centre (docs/math.md section 11), and MIS gives those
+  // directions to the VPL strategy alone; everywhere else the plane point is the surface the light
+  // sees, so gathering and the patch integrand agree, and MIS must converge to the patch sum
+  // exactly. Weighing a moved point (or a gathering hit in a moved part) by the balance heuristic
+  // instead counts the moved parts partly twice or not at all: measured with the partition
+  // disabled, MIS lies 10 % (50 sigma) below the patch sum at the floor by the red corner.
+  synthetic_scene<double> scene;
+  scene.indices.resize(12 * 3);  // the room's six walls: drop the block
+  scene.tri_normal.resize(12);
+  scene.tri_albedo.resize(12);
+  const exact_visibility<double> vis{&scene};
+  const exact_tracer<double> tracer{&scene};
+  const dprsm_data<double> d = scene.make_dprsm(32);
+  const dprsm_view<double> view = d.view();
+  const vec3<double> grey(0.6);
+  const std::vector<std::pair<const char*, gather_point<double>>> gps = {
+      {"floor by the red corner", {vec3<double>(-1.93, 0.0, -1.9), vec3<double>(0, 1, 0), grey}},
+      {"red wall by the floor", {vec3<double>(-2.0, 0.15, 0.5), vec3<double>(1, 0, 0), grey}},
+      {"floor by the green wall", {vec3<double>(1.95, 0.0, 0.3), vec3<double>(0, 1, 0), grey}},
+      {"back wall mid-height", {vec3<double>(0.2, 1.5, -2.0), vec3<double>(0, 0, 1), grey}}};
+  std::vector<gather_point<double>> pts;
+  for (const auto& g : gps) pts.push_back(g.second);
+  const discrete_cdf<double> cdf(importance_weights(view, pts, 0.02));
+  int moved = 0, drawn = 0;
+  for (int t = 0; t < view.texel_count(); ++t)
+    if (vpl_has_flux(view.vpl_at(t)))
+      for (int k = 0; k < 4; ++k, ++drawn)
+        moved += dprsm_patch_vpl(view, t, vec2<double>((k % 2 + 0.5) / 2, (k / 2 + 0.5) / 2), 0.0).at_centre ? 1 : 0;
+  std::printf("empty room R = 32: %d of %d patch points moved to their centres; MIS (patch, 8 + 8), 8000 runs\n",
+              moved, drawn);
+  CHECK(moved > 100);
+  for (const auto& [name, gp] : gps) {
+    const run_stats a = patch_reference(gp, view, vis, 8, 8, 0.0);
+    const run_stats m = repeat_estimates(8000, 213u, [&](counter_rng& rng) {
+      return estimate_mis(gp, view, cdf, rng, 8, 8, tracer, vis, 0.0, mis_mode::solid_angle, vpl_mode::patch);
+    });
+    std::printf("  %-24s patch sum %.6f +- %.2f%%  MIS %+6.2f%% +- %.2f%%\n", name, a.lum_mean,
+                100.0 * a.lum_sem / a.lum_mean, 100.0 * (m.lum_mean / a.lum_mean - 1.0), 100.0 * m.lum_sem / a.lum_mean);
+    INFO(name);
+    CHECK(std::abs(m.lum_mean - a.lum_mean) < 4.0 * std::hypot(m.lum_sem, a.lum_sem));
   }
 }

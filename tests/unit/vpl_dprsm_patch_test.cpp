@@ -7,18 +7,23 @@
 //  - The texels' domains (uv square inside the disk, plus the band parts a rim texel owns) tile the
 //    face: the pointwise solid angles of the valid texels' accepted points add up to 2 pi.
 //  - The depth window is dprsm_lookup's: an accepted point is what the lookup calls lit.
+//  - At a crease, a plane point hidden by a neighbour's plane moves to the centre with its flux.
 #include <float_bits.hpp>
 #include <planar_scene.hpp>
 #include <synthetic_scene.hpp>
 
+#include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_patch.hpp>
+#include <vplkit/vpl/dprsm_raycast.hpp>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <vector>
 
 using namespace vplkit;
 using namespace vplkit_test;
@@ -180,4 +185,101 @@ TEST_CASE("dprsm_patch_vpl: the depth window is dprsm_lookup's lit test") {
               beyond_former);
   CHECK(tested > 1000);
   CHECK(beyond_former > tested / 10);
+}
+
+namespace {
+
+// A room corner seen by a light above the floor: the floor z = 0 (normal +z) for x < wall_x and a
+// wall x = wall_x (normal -x, facing the light). Texels along the crease show the floor at their
+// centre and the wall in part of their cone: the floor's plane extended over such a texel runs
+// under the wall, where no receiver in the room sees it.
+struct corner_dprsm {
+  static constexpr double wall_x = 0.3;
+  std::vector<vec3<double>> position, normal, albedo;
+  dprsm_view<double> view;
+  explicit corner_dprsm(int R) {
+    const point_light<double> light = make_point_light(vec3<double>(0, 0, 1), vec3<double>(1), vec3<double>(0, 0, -1));
+    view = render_dprsm(
+        light, R,
+        [](vec3<double> o, vec3<double> d) -> std::optional<dprsm_hit<double>> {
+          double best = std::numeric_limits<double>::infinity();
+          std::optional<dprsm_hit<double>> hit;
+          if (d.z < 0) {  // the floor
+            const double t = -o.z / d.z;
+            const vec3<double> p = o + t * d;
+            if (t > 0 && p.x <= wall_x) best = t, hit = dprsm_hit<double>{p, vec3<double>(0, 0, 1), vec3<double>(0.5)};
+          }
+          if (d.x > 0) {  // the wall
+            const double t = (wall_x - o.x) / d.x;
+            const vec3<double> p = o + t * d;
+            if (t > 0 && t < best && p.z >= 0) hit = dprsm_hit<double>{p, vec3<double>(-1, 0, 0), vec3<double>(0.5)};
+          }
+          return hit;
+        },
+        position, normal, albedo);
+  }
+  corner_dprsm(const corner_dprsm&) = delete;
+  corner_dprsm& operator=(const corner_dprsm&) = delete;
+};
+
+}  // namespace
+
+TEST_CASE("dprsm_patch_vpl: a plane point hidden by a neighbour's plane moves to the centre with its flux") {
+  // Without the move, the floor texels along the crease lose the flux of the points under the
+  // wall. With it: no accepted point lies behind the wall, every moved point sits at y_t with the
+  // flux rho I Omega(uv) it had, and interior texels (neighbours on one plane) never move a point.
+  const int R = 32;
+  const corner_dprsm s(R);
+  const double inf = std::numeric_limits<double>::infinity();
+  int moved = 0, kept = 0, interior_checked = 0;
+  for (int t = 0; t < s.view.texel_count(); ++t) {
+    if (s.view.albedo[t] == vec3<double>(0)) continue;
+    const bool floor = s.view.normal[t].z > 0.5;
+    for (int i = 0; i < 8; ++i)
+      for (int j = 0; j < 8; ++j) {
+        const vec2<double> xi((i + 0.5) / 8, (j + 0.5) / 8);
+        const dprsm_patch_sample<double> p = dprsm_patch_vpl(s.view, t, xi, 0.0);
+        if (!vpl_has_flux(p.point)) continue;
+        INFO("texel " << t << " xi " << xi.x << " " << xi.y);
+        CHECK(p.point.flux.x == Approx(0.5 * texel_block_point_solid_angle(
+                                               p.uv, texel_patch_block(texel_coords(t, R).x, texel_coords(t, R).y, R), R))
+                                    .epsilon(1e-12));
+        if (p.at_centre) {
+          ++moved;
+          CHECK(p.point.position == s.view.position[t]);
+          CHECK(p.distance == Approx(glm::length(s.view.position[t] - s.view.light.position)));
+        } else {
+          ++kept;
+          // Never under the wall / below the floor, beyond the test's relative margin (1e-3 of d1,
+          // d1 < 1.5 here).
+          const double slack = 1.5 * dprsm_patch_hidden_margin<double>();
+          if (floor) CHECK(p.point.position.x <= corner_dprsm::wall_x + slack);
+          else CHECK(p.point.position.z >= -slack);
+        }
+        // The same split, decided from the plane point's direction alone (what MIS does for a
+        // gathering hit there).
+        const vec3<double> c = s.view.light.position;
+        const vec3<double> w = s.view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), p.uv));
+        const vec3<double> n = glm::normalize(s.view.normal[t]);
+        const vec3<double> y_plane = c + (glm::dot(n, c - s.view.position[t]) / -glm::dot(n, w)) * w;
+        CHECK(mis_patch_hit_at_centre(s.view, t, y_plane) == p.at_centre);
+      }
+    // An interior floor texel (all eight neighbours floor, far from the crease): nothing moves.
+    const ivec2 xy = texel_coords(t, R);
+    bool interior = floor;
+    for (int dy = -1; dy <= 1 && interior; ++dy)
+      for (int dx = -1; dx <= 1 && interior; ++dx) {
+        const int x = xy.x + dx, y = xy.y + dy;
+        if (x < 0 || y < 0 || x >= R || y >= R || !texel_is_valid(x, y, R)) { interior = false; break; }
+        const int u = texel_index(texel_face(t, R), x, y, R);
+        interior = s.view.albedo[u] != vec3<double>(0) && s.view.normal[u].z > 0.5;
+      }
+    if (interior) {
+      ++interior_checked;
+      for (int k = 0; k < 16; ++k) CHECK_FALSE(dprsm_patch_vpl(s.view, t, vec2<double>((k % 4 + 0.5) / 4, (k / 4 + 0.5) / 4), inf).at_centre);
+    }
+  }
+  CHECK(moved > 50);
+  CHECK(kept > 1000);
+  CHECK(interior_checked > 100);
 }

@@ -191,7 +191,7 @@ TEMPLATE_TEST_CASE("dprsm: every direction at the rim finds the surface the ligh
                    double) {
   // A cylinder of radius 1 around the light's front axis straddles the seam between the two faces:
   // the light sees it in every direction near the rim. Every such direction must be filed under a
-  // texel that carries that surface (dprsm_lookup lit within the direct light's tolerance): the
+  // texel that carries that surface (dprsm_lookup lit with tolerance 0, as direct_light asks): the
   // parts of invalid rim squares inside the disk belong to a valid neighbour (texel_owner_from_uv).
   using T = TestType;
   const double pi = 3.14159265358979323846;
@@ -215,8 +215,7 @@ TEMPLATE_TEST_CASE("dprsm: every direction at the rim finds the surface the ligh
         const double s = std::sqrt(1.0 - z * z);
         const vec3<T> d = light.frame.to_world(vec3<T>(T(s * std::cos(phi)), T(s * std::sin(phi)), T(z)));
         const vec3<T> y = light.position + d / T(s);  // the cylinder, where the light sees it in d
-        const T tolerance = vplkit::direct_light_depth_tolerance(T(1) / T(s), T(s), R);
-        const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, y, tolerance);
+        const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, y, T(0));  // as direct_light
         ++tried;
         if (!r.lit) {
           ++unlit;

@@ -76,6 +76,19 @@ float vplkit_mis_patch_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x,
   return vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), area, cos1);
 }
 
+// Does the light direction of the gathering hit y fall where texel t's patch moves its points to
+// the centre (vplkit_dprsm_patch_vpl, at_centre)? Decided from y's direction alone.
+bool vplkit_mis_patch_hit_at_centre(vplkit_dprsm_view view, int t, vec3 y) {
+  vec3 c = view.light.position;
+  vec3 w = vplkit_unit_or_zero(y - c);
+  vec3 n = vplkit_unit_or_zero(vplkit_load_dprsm_normal(t));
+  float h = dot(n, c - vplkit_load_dprsm_position(t));
+  float cos_a = -dot(n, w);
+  if (!(h > 0.0) || !(cos_a > 0.0)) return false;
+  vplkit_paraboloid_point q = vplkit_paraboloid_from_direction(vplkit_light_frame_to_light(view.light.frame, w));
+  return vplkit_dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+}
+
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)). `precise`: 1 - c * c
 // must not become an FMA (the C++ rounds c * c first).
 float vplkit_mis_sin_from_cos(float c) {
@@ -96,6 +109,9 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
   vec3 f = gp.albedo * r.radiance * (cos2 / vplkit_vpl_pi);
   float pmf = vplkit_estimator_distribution_pmf(distribution, uint(r.texel));
   if (mode == vplkit_mis_solid_angle) {
+    // The parts of patches whose points sit at the centre belong to the VPL strategy alone.
+    if (vpl_mode == vplkit_vpl_patch && n2 > 0.0 && vplkit_mis_patch_hit_at_centre(view, r.texel, r.hit))
+      return vec3(0.0);
     float p1 = vplkit_cosine_pdf_solid_angle(cos2);
     float p2 = vpl_mode == vplkit_vpl_patch ? vplkit_mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                             : vplkit_mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
@@ -164,8 +180,9 @@ vec3 vplkit_mis_vpl_patch_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
   if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
   int t = int(s.index);
   vplkit_dprsm_patch_sample p = vplkit_dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  // A point moved to the centre takes weight 1 (n1 = 0): no gathering direction reaches it.
   return vplkit_mis_vpl_value(gp, view, t, p.point, pmf, vplkit_vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
-                              visibility, n1, n2, mode);
+                              visibility, p.at_centre ? 0.0 : n1, n2, mode);
 }
 
 // Steps [begin, end) of vplkit_estimate_mis (estimator_state.glsl); step j draws VPL j

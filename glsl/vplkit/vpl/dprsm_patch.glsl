@@ -7,7 +7,9 @@
 // integral. Rejected (flux 0): uv outside the face's disk or not owned by the texel
 // (vplkit_texel_owner_from_uv), rays parallel to the plane or meeting it behind the light, texels
 // without flux, points that the lit test of vplkit_dprsm_lookup (vplkit_dprsm_plane_lit) rejects.
-// Assumes n_t is the texel's geometric normal.
+// Assumes n_t is the texel's geometric normal. A plane point hidden by a neighbour's plane (an edge
+// texel's plane run past a crease or behind a silhouette) moves to the texel centre with its flux
+// (at_centre; the C++ header says why).
 //
 // ACCESSORS used (declared in dprsm_view.glsl, defined by the including shader): position, normal
 // and albedo.
@@ -28,12 +30,43 @@ const int vplkit_vpl_patch = 1;
 
 // One jittered point of a texel's patch.
 struct vplkit_dprsm_patch_sample {
-  vplkit_vpl point;    // y, n_t and rho_t I_s Omega(uv); flux 0 (and y = y_t) when rejected
+  vplkit_vpl point;    // y (y_t when at_centre), n_t and rho_t I_s Omega(uv); flux 0 and y_t when rejected
   vec2 uv;             // the jittered point in the face's uv square
   float solid_angle;   // Omega(uv) = J(uv) (2/R)^2 nx ny (the block's), 0 when rejected
   float distance;      // d1 = |y - c|
   float cos_alpha;     // between n_t and y -> c
+  bool at_centre;      // the plane point was hidden by a neighbour: y = y_t
 };
+
+// Relative margin of the hidden test (two plane intersections of one ray, compared by distance).
+const float vplkit_dprsm_patch_hidden_margin = 1e-3;
+
+// Is the point c + d1 w of texel t's plane (w in t's part of the map at uv) behind the plane of a
+// neighbour on uv's side of t's centre? Neighbours without a surface, invalid, facing away or met
+// at grazing incidence hide nothing.
+bool vplkit_dprsm_patch_point_hidden(vplkit_dprsm_view view, int t, vec2 uv, vec3 w, float d1) {
+  int R = view.resolution;
+  ivec2 xy = vplkit_texel_coords(t, R);
+  vec2 centre = vplkit_texel_center_uv(xy.x, xy.y, R);
+  int dx = uv.x < centre.x ? -1 : 1, dy = uv.y < centre.y ? -1 : 1;
+  ivec2 near[3] = ivec2[3](ivec2(xy.x + dx, xy.y), ivec2(xy.x, xy.y + dy), ivec2(xy.x + dx, xy.y + dy));
+  vec3 c = view.light.position;
+  for (int k = 0; k < 3; ++k) {
+    ivec2 q = near[k];
+    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R || !vplkit_texel_is_valid(q.x, q.y, R)) continue;
+    int u = vplkit_texel_index(vplkit_texel_face(t, R), q.x, q.y, R);
+    vec3 rho = vplkit_load_dprsm_albedo(u);
+    if (!(rho.x > 0.0 || rho.y > 0.0 || rho.z > 0.0)) continue;
+    vec3 n_u = vplkit_unit_or_zero(vplkit_load_dprsm_normal(u));
+    float h_u = dot(n_u, c - vplkit_load_dprsm_position(u));
+    float cos_u = -dot(n_u, w);
+    if (!(h_u > 0.0) || !(cos_u > vplkit_dprsm_plane_min_cos)) continue;
+    precise float lhs = d1 * cos_u;
+    precise float rhs = h_u * (1.0 + vplkit_dprsm_patch_hidden_margin);
+    if (lhs > rhs) return true;  // d1 > d_u (1 + margin)
+  }
+  return false;
+}
 
 // The point of texel t (0 <= t < texel count, not checked) that xi in [0, 1]^2 selects;
 // depth_tolerance that of vplkit_dprsm_lookup (+inf: the whole patch).
@@ -45,7 +78,7 @@ vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, 
   vec3 n_t = vplkit_load_dprsm_normal(t);
   vplkit_texel_block block = vplkit_texel_patch_block(xy.x, xy.y, R);
   vplkit_dprsm_patch_sample s = vplkit_dprsm_patch_sample(vplkit_vpl(y_t, n_t, vec3(0.0)),
-                                                          vplkit_texel_block_point_uv(block, R, xi), 0.0, 0.0, 0.0);
+                                                          vplkit_texel_block_point_uv(block, R, xi), 0.0, 0.0, 0.0, false);
   if (!vplkit_texel_is_valid(xy.x, xy.y, R)) return s;
   if (!(dot(s.uv, s.uv) <= 1.0)) return s;  // beyond the rim: the other face's directions
   if (block.nx * block.ny != 1 && vplkit_texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
@@ -62,10 +95,16 @@ vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, 
   vec3 y = c + d1 * w;
   if (!vplkit_dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
   s.solid_angle = vplkit_texel_block_point_solid_angle(s.uv, block, R);
+  s.point.flux = vplkit_vpl_flux(vplkit_load_dprsm_albedo(t), view.light.intensity, s.solid_angle);
+  if (vplkit_dprsm_patch_point_hidden(view, t, s.uv, w, d1)) {  // the centre carries this point's flux
+    s.at_centre = true;
+    s.distance = length(y_t - c);
+    s.cos_alpha = vplkit_vpl_cos_alpha(c, y_t, n_t);
+    return s;
+  }
   s.distance = d1;
   s.cos_alpha = cos_a;
   s.point.position = y;
-  s.point.flux = vplkit_vpl_flux(vplkit_load_dprsm_albedo(t), view.light.intensity, s.solid_angle);
   return s;
 }
 

@@ -10,7 +10,8 @@
 //     up to the midpoint-rule error of the VPL term; with vpl_mode::patch (docs/math.md section
 //     11) the VPL samples are jittered points of their texels' patches, p2 is the pointwise
 //     density p(t) d2^2 / (A(uv) cos(theta1)) of the point itself (a gathering hit is projected
-//     into the DPRSM for its texel and uv), and both strategies sample one integral.
+//     into the DPRSM for its texel and uv), and both strategies sample one integral; the parts of
+//     patches whose points move to the texel centre (dprsm_patch.hpp) belong to the VPL strategy.
 //   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
 //     biased (measured).
 // Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL (and with
@@ -84,6 +85,21 @@ inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, v
   return vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
 }
 
+// Does the light direction of the gathering hit y fall where texel t's patch moves its points to
+// the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter decides
+// it from uv: the plane point of t in that direction, hidden by a neighbour's plane.
+template <class T>
+inline bool mis_patch_hit_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
+  const vec3<T> c = view.light.position;
+  const vec3<T> w = unit_or_zero(y - c);
+  const vec3<T> n = unit_or_zero(view.normal[t]);
+  const T h = glm::dot(n, c - view.position[t]);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > T(0))) return false;
+  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
+  return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+}
+
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)).
 template <class T>
 inline T mis_sin_from_cos(T c) {
@@ -106,6 +122,10 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
+    // The parts of patches whose points sit at the centre belong to the VPL strategy alone (its
+    // samples there take weight 1): a gathering hit there adds nothing unless no VPL is drawn.
+    if (vmode == vpl_mode::patch && n2 > T(0) && mis_patch_hit_at_centre(view, r.texel, r.hit))
+      return vec3<T>(T(0));
     const T p1 = cosine_pdf_solid_angle(cos2);
     const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                           : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
@@ -174,8 +194,11 @@ inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
+  // A point moved to the centre: no gathering direction reaches it, so its weight is 1 (n1 = 0);
+  // p2 with A(uv) = Omega(uv) d1^2 / cos(alpha) at y_t gives f / (n2 p2) = its flux's contribution
+  // over n2 pmf.
   return mis_vpl_value(gp, view, t, p.point, pmf, vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
-                       visibility, n1, n2, mode);
+                       visibility, p.at_centre ? T(0) : n1, n2, mode);
 }
 
 // Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then
