@@ -4520,6 +4520,18 @@ inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_
   return d_y <= glm::length(y_t - c) + tol;
 }
 
+// Where the light ray towards y meets texel t's plane (y_t, n_t): the surface point the light saw
+// in y's direction. y itself where the plane cannot say (the lit test's fallback cases).
+template <class T>
+inline vec3<T> dprsm_plane_point_towards(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y) {
+  const vec3<T> w = unit_or_zero(y - c);
+  const vec3<T> n = unit_or_zero(n_t);
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > dprsm_plane_min_cos<T>())) return y;
+  return c + (h / cos_a) * w;
+}
+
 // tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
 // voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
 template <class T>
@@ -4535,6 +4547,21 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
   r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
                           view.resolution);
   return r;
+}
+
+// L_o towards x of a hit y that the lookup found lit in texel t: 0 seen from behind n_t (one-sided
+// emission), else the light's reflection with the texel's normal and albedo. A hit known only within
+// depth_tolerance > 0 (the paper's voxel-entry points, up to a voxel diagonal off their surface,
+// often in front of it) is evaluated where the light saw the texel's surface in its direction
+// (dprsm_plane_point_towards): at the point itself the 1/d1^2 of a light near a wall is far larger
+// than the surface's (fireflies). Exact hits (tolerance 0) are evaluated where they are. Shared by
+// the gathering estimator and the GBG builder's gathering accumulator, so that they agree.
+template <class T>
+inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, int t, vec3<T> x, vec3<T> y, T depth_tolerance) {
+  const vec3<T> n_t = view.normal[t];
+  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - y)) > T(0))) return vec3<T>(T(0));  // from behind
+  const vec3<T> at = depth_tolerance > T(0) ? dprsm_plane_point_towards(view.light.position, view.position[t], n_t, y) : y;
+  return reflected_radiance(view.light.position, view.light.intensity, at, n_t, view.albedo[t]);
 }
 
 }  // namespace vplkit
@@ -5229,16 +5256,11 @@ struct gbg_stats {
 // Value accumulated for one lit hit (see the header comment). Plain arithmetic, never throws.
 template <class T>
 inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
-                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator) {
+                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator, T depth_tolerance) {
   if (accumulator == gbg_accumulator::paper)
     return luminance(vpl_contribution(g, view.vpl_at(texel), dmin));
-  const vec3<T> n_t = view.normal[texel];
-  // One-sided emission, as in the gathering estimator: a hit seen from behind the texel's normal
-  // sends nothing towards x.
-  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(g.position - hit_position)) > T(0))) return T(0);
-  const vec3<T> lo = reflected_radiance(view.light.position, view.light.intensity, hit_position,
-                                        n_t, view.albedo[texel]);
-  return luminance(g.albedo * lo);
+  // As the gathering estimator: one-sided, an inexact hit evaluated on the texel's plane.
+  return luminance(g.albedo * dprsm_hit_radiance(view, texel, g.position, hit_position, depth_tolerance));
 }
 
 // Direction j of gather point `pixel` (the random-number consumption documented above). The
@@ -5279,7 +5301,7 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
     ++lit;
     acc[r.texel] += double(gbg_hit_value(g, view, r.texel, h.position, params.dmin,
-                                         params.accumulator));
+                                         params.accumulator, params.depth_tolerance));
   }
   if (stats != nullptr) {
     stats->rays += params.n_dirs;
@@ -5974,10 +5996,7 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
   r.texel = lk.texel;
   r.hit = h.position;
   if (!lk.lit) return r;
-  const vec3<T> n_t = view.normal[lk.texel];
-  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - h.position)) > T(0))) return r;  // from behind
-  r.radiance = reflected_radiance(view.light.position, view.light.intensity, h.position, n_t,
-                                  view.albedo[lk.texel]);
+  r.radiance = dprsm_hit_radiance(view, lk.texel, x, h.position, depth_tolerance);
   r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
   return r;
 }

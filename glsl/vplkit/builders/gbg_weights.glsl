@@ -40,15 +40,11 @@ void vplkit_store_gbg_hit(int texel, float value);
 
 // Value accumulated for one lit hit.
 float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, int texel, vec3 hit_position, float dmin,
-                           int accumulator) {
+                           int accumulator, float depth_tolerance) {
   if (accumulator == vplkit_gbg_accumulator_paper)
     return vplkit_luminance(vplkit_vpl_contribution(g, vplkit_dprsm_view_vpl_at(view, texel), dmin));
-  vec3 n_t = vplkit_load_dprsm_normal(texel);
-  // One-sided emission, as in the gathering estimator.
-  if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(g.position - hit_position)) > 0.0)) return 0.0;
-  vec3 lo = vplkit_reflected_radiance(view.light.position, view.light.intensity, hit_position, n_t,
-                                      vplkit_load_dprsm_albedo(texel));
-  return vplkit_luminance(g.albedo * lo);
+  // As the gathering estimator: one-sided, an inexact hit evaluated on the texel's plane.
+  return vplkit_luminance(g.albedo * vplkit_dprsm_hit_radiance(view, texel, g.position, hit_position, depth_tolerance));
 }
 
 // Direction j of gather point `pixel` (the counter is set explicitly: any order, one thread each).
@@ -83,7 +79,7 @@ ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplki
     vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) continue;
     ++lit;
-    vplkit_store_gbg_hit(r.texel, vplkit_gbg_hit_value(g, view, r.texel, h.position, params.dmin, params.accumulator));
+    vplkit_store_gbg_hit(r.texel, vplkit_gbg_hit_value(g, view, r.texel, h.position, params.dmin, params.accumulator, params.depth_tolerance));
   }
   return ivec2(hits, lit);
 }

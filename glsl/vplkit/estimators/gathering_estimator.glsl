@@ -40,10 +40,7 @@ vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, v
   r.texel = lk.texel;
   r.hit = h.position;
   if (!lk.lit) return r;
-  vec3 n_t = vplkit_load_dprsm_normal(lk.texel);
-  if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(x - h.position)) > 0.0)) return r;  // from behind
-  r.radiance = vplkit_reflected_radiance(view.light.position, view.light.intensity, h.position, n_t,
-                                         vplkit_load_dprsm_albedo(lk.texel));
+  r.radiance = vplkit_dprsm_hit_radiance(view, lk.texel, x, h.position, depth_tolerance);
   r.lit = r.radiance.x > 0.0 || r.radiance.y > 0.0 || r.radiance.z > 0.0;
   return r;
 }

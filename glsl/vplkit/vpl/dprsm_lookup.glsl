@@ -14,6 +14,7 @@
 #include "vplkit/core/constants.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
+#include "vplkit/vpl/vpl.glsl"
 
 struct vplkit_dprsm_lookup_result {
   int texel;  // flat texel index y projects into (-1 when y coincides with the light)
@@ -41,6 +42,16 @@ bool vplkit_dprsm_plane_lit(vec3 c, vec3 y_t, vec3 n_t, vec3 y, float d_y, float
   return d_y <= length(y_t - c) + tol;
 }
 
+// Where the light ray towards y meets texel t's plane (y_t, n_t); y where the plane cannot say.
+vec3 vplkit_dprsm_plane_point_towards(vec3 c, vec3 y_t, vec3 n_t, vec3 y) {
+  vec3 w = vplkit_unit_or_zero(y - c);
+  vec3 n = vplkit_unit_or_zero(n_t);
+  float h = dot(n, c - y_t);
+  float cos_a = -dot(n, w);
+  if (!(h > 0.0) || !(cos_a > vplkit_dprsm_plane_min_cos)) return y;
+  return c + (h / cos_a) * w;
+}
+
 // tolerance: world-space error of y's position along the light ray (0 for exact hits); the lit
 // test adds its own slack.
 vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, float tolerance) {
@@ -55,6 +66,17 @@ vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, f
   r.lit = vplkit_dprsm_plane_lit(view.light.position, vplkit_load_dprsm_position(r.texel),
                                  vplkit_load_dprsm_normal(r.texel), y, d_y, tolerance, view.resolution);
   return r;
+}
+
+// L_o towards x of a hit y the lookup found lit in texel t (one-sided; a hit known only within
+// depth_tolerance > 0 evaluated on the texel's plane in its direction; the C++ says why).
+vec3 vplkit_dprsm_hit_radiance(vplkit_dprsm_view view, int t, vec3 x, vec3 y, float depth_tolerance) {
+  vec3 n_t = vplkit_load_dprsm_normal(t);
+  if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(x - y)) > 0.0)) return vec3(0.0);  // from behind
+  vec3 at = depth_tolerance > 0.0 ? vplkit_dprsm_plane_point_towards(view.light.position, vplkit_load_dprsm_position(t),
+                                                                      n_t, y)
+                                  : y;
+  return vplkit_reflected_radiance(view.light.position, view.light.intensity, at, n_t, vplkit_load_dprsm_albedo(t));
 }
 
 #endif  // VPLKIT_VPL_DPRSM_LOOKUP_GLSL

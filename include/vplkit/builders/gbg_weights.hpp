@@ -61,16 +61,11 @@ struct gbg_stats {
 // Value accumulated for one lit hit (see the header comment). Plain arithmetic, never throws.
 template <class T>
 inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
-                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator) {
+                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator, T depth_tolerance) {
   if (accumulator == gbg_accumulator::paper)
     return luminance(vpl_contribution(g, view.vpl_at(texel), dmin));
-  const vec3<T> n_t = view.normal[texel];
-  // One-sided emission, as in the gathering estimator: a hit seen from behind the texel's normal
-  // sends nothing towards x.
-  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(g.position - hit_position)) > T(0))) return T(0);
-  const vec3<T> lo = reflected_radiance(view.light.position, view.light.intensity, hit_position,
-                                        n_t, view.albedo[texel]);
-  return luminance(g.albedo * lo);
+  // As the gathering estimator: one-sided, an inexact hit evaluated on the texel's plane.
+  return luminance(g.albedo * dprsm_hit_radiance(view, texel, g.position, hit_position, depth_tolerance));
 }
 
 // Direction j of gather point `pixel` (the random-number consumption documented above). The
@@ -111,7 +106,7 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
     ++lit;
     acc[r.texel] += double(gbg_hit_value(g, view, r.texel, h.position, params.dmin,
-                                         params.accumulator));
+                                         params.accumulator, params.depth_tolerance));
   }
   if (stats != nullptr) {
     stats->rays += params.n_dirs;

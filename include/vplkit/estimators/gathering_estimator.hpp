@@ -43,10 +43,7 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
   r.texel = lk.texel;
   r.hit = h.position;
   if (!lk.lit) return r;
-  const vec3<T> n_t = view.normal[lk.texel];
-  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - h.position)) > T(0))) return r;  // from behind
-  r.radiance = reflected_radiance(view.light.position, view.light.intensity, h.position, n_t,
-                                  view.albedo[lk.texel]);
+  r.radiance = dprsm_hit_radiance(view, lk.texel, x, h.position, depth_tolerance);
   r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
   return r;
 }

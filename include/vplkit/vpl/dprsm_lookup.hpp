@@ -9,6 +9,7 @@
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
+#include <vplkit/vpl/vpl.hpp>
 
 #include <cmath>
 #include <limits>
@@ -61,6 +62,18 @@ inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_
   return d_y <= glm::length(y_t - c) + tol;
 }
 
+// Where the light ray towards y meets texel t's plane (y_t, n_t): the surface point the light saw
+// in y's direction. y itself where the plane cannot say (the lit test's fallback cases).
+template <class T>
+inline vec3<T> dprsm_plane_point_towards(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y) {
+  const vec3<T> w = unit_or_zero(y - c);
+  const vec3<T> n = unit_or_zero(n_t);
+  const T h = glm::dot(n, c - y_t);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > dprsm_plane_min_cos<T>())) return y;
+  return c + (h / cos_a) * w;
+}
+
 // tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
 // voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
 template <class T>
@@ -76,6 +89,21 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
   r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
                           view.resolution);
   return r;
+}
+
+// L_o towards x of a hit y that the lookup found lit in texel t: 0 seen from behind n_t (one-sided
+// emission), else the light's reflection with the texel's normal and albedo. A hit known only within
+// depth_tolerance > 0 (the paper's voxel-entry points, up to a voxel diagonal off their surface,
+// often in front of it) is evaluated where the light saw the texel's surface in its direction
+// (dprsm_plane_point_towards): at the point itself the 1/d1^2 of a light near a wall is far larger
+// than the surface's (fireflies). Exact hits (tolerance 0) are evaluated where they are. Shared by
+// the gathering estimator and the GBG builder's gathering accumulator, so that they agree.
+template <class T>
+inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, int t, vec3<T> x, vec3<T> y, T depth_tolerance) {
+  const vec3<T> n_t = view.normal[t];
+  if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - y)) > T(0))) return vec3<T>(T(0));  // from behind
+  const vec3<T> at = depth_tolerance > T(0) ? dprsm_plane_point_towards(view.light.position, view.position[t], n_t, y) : y;
+  return reflected_radiance(view.light.position, view.light.intensity, at, n_t, view.albedo[t]);
 }
 
 }  // namespace vplkit
