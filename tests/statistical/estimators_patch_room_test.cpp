@@ -137,14 +137,16 @@ TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS be
   }
 }
 
-TEST_CASE("empty room (creases only): MIS with patch VPLs converges to the patch sum, moved points included") {
+TEST_CASE("empty room (creases only): MIS with patch VPLs converges to its hybrid, moved parts to gathering") {
   // Without the block the room has concave creases only. Every patch plane point hidden by a
-  // neighbour's plane moves to its texel's centre (docs/math.md section 11), and MIS gives those
-  // directions to the VPL strategy alone; everywhere else the plane point is the surface the light
-  // sees, so gathering and the patch integrand agree, and MIS must converge to the patch sum
-  // exactly. Weighing a moved point (or a gathering hit in a moved part) by the balance heuristic
-  // instead counts the moved parts partly twice or not at all: measured with the partition
-  // disabled, MIS lies 10 % (50 sigma) below the patch sum at the floor by the red corner.
+  // neighbour's plane moves to its texel's centre (docs/math.md section 11); MIS gives those
+  // directions to gathering alone and drops the moved VPL points (their weight 1 would bring back
+  // the VPL strategy's 1/d2^2 next to the creases). Everywhere else a plane point is the surface
+  // the light sees, where gathering and the patch integrand agree. So MIS must converge exactly to
+  // H = (the patch sum without its moved points) + (the gathering integral over the moved
+  // directions). Weighing every sample by the balance heuristic instead (no split) counts the
+  // moved parts partly twice or not at all: measured, 1.1 % below H at the red wall by the floor
+  // (7 sigma) and at the floor by the red corner (5 sigma).
   synthetic_scene<double> scene;
   scene.indices.resize(12 * 3);  // the room's six walls: drop the block
   scene.tri_normal.resize(12);
@@ -170,14 +172,39 @@ TEST_CASE("empty room (creases only): MIS with patch VPLs converges to the patch
   std::printf("empty room R = 32: %d of %d patch points moved to their centres; MIS (patch, 8 + 8), 8000 runs\n",
               moved, drawn);
   CHECK(moved > 100);
+  const int strata = 8;
   for (const auto& [name, gp] : gps) {
-    const run_stats a = patch_reference(gp, view, vis, 8, 8, 0.0);
+    // The patch sum without its moved points (8 seeds x 8 x 8 strata per texel).
+    const run_stats kept = repeat_estimates(8, 201u, [&](counter_rng& rng) {
+      vec3<double> sum(0.0);
+      for (int t = 0; t < view.texel_count(); ++t) {
+        if (!vpl_has_flux(view.vpl_at(t))) continue;
+        for (int j = 0; j < strata; ++j)
+          for (int i = 0; i < strata; ++i) {
+            const dprsm_patch_sample<double> p =
+                dprsm_patch_vpl(view, t, exhaustive_vpl_patch_jitter<double>(rng, t, strata, i, j), 0.0);
+            if (p.at_centre) continue;
+            const vec3<double> c = vpl_contribution(gp, p.point, 0.0);
+            if ((c.x > 0 || c.y > 0 || c.z > 0) && vis(gp.position, gp.normal, p.point.position, p.point.normal))
+              sum += c;
+          }
+      }
+      return sum / double(strata * strata);
+    });
+    // The gathering integral over the moved directions (512^2 cosine quadrature).
+    const vec3<double> g_moved = cosine_quadrature(gp, 512, [&](const orthonormal_basis<double>& f, vec3<double> local) {
+      if (!(local.z > 0.0)) return vec3<double>(0.0);
+      const gathering_ray_result<double> r = trace_gathering_ray(view, gp.position, gp.normal, to_world(f, local), tracer, 0.0);
+      return r.lit && mis_patch_hit_at_centre(view, r.texel, r.hit) ? gp.albedo * r.radiance : vec3<double>(0.0);
+    });
+    const double h = kept.lum_mean + luminance(g_moved);
     const run_stats m = repeat_estimates(8000, 213u, [&](counter_rng& rng) {
       return estimate_mis(gp, view, cdf, rng, 8, 8, tracer, vis, 0.0, mis_mode::solid_angle, vpl_mode::patch);
     });
-    std::printf("  %-24s patch sum %.6f +- %.2f%%  MIS %+6.2f%% +- %.2f%%\n", name, a.lum_mean,
-                100.0 * a.lum_sem / a.lum_mean, 100.0 * (m.lum_mean / a.lum_mean - 1.0), 100.0 * m.lum_sem / a.lum_mean);
+    std::printf("  %-24s H %.6f (moved parts by gathering %.2f%%) +- %.2f%%  MIS %+6.2f%% +- %.2f%%\n", name, h,
+                100.0 * luminance(g_moved) / h, 100.0 * kept.lum_sem / h, 100.0 * (m.lum_mean / h - 1.0),
+                100.0 * m.lum_sem / h);
     INFO(name);
-    CHECK(std::abs(m.lum_mean - a.lum_mean) < 4.0 * std::hypot(m.lum_sem, a.lum_sem));
+    CHECK(std::abs(m.lum_mean - h) < 4.0 * std::hypot(m.lum_sem, kept.lum_sem) + 1e-3 * h);
   }
 }

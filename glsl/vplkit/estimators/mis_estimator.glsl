@@ -109,10 +109,10 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
   vec3 f = gp.albedo * r.radiance * (cos2 / vplkit_vpl_pi);
   float pmf = vplkit_estimator_distribution_pmf(distribution, uint(r.texel));
   if (mode == vplkit_mis_solid_angle) {
-    // The parts of patches whose points sit at the centre belong to the VPL strategy alone.
-    if (vpl_mode == vplkit_vpl_patch && n2 > 0.0 && vplkit_mis_patch_hit_at_centre(view, r.texel, r.hit))
-      return vec3(0.0);
     float p1 = vplkit_cosine_pdf_solid_angle(cos2);
+    // The parts of patches whose points sit at the centre belong to gathering alone (weight 1).
+    if (vpl_mode == vplkit_vpl_patch && n1 > 0.0 && vplkit_mis_patch_hit_at_centre(view, r.texel, r.hit))
+      return vplkit_mis_balance_value(f, n1, p1, 0.0, 0.0);
     float p2 = vpl_mode == vplkit_vpl_patch ? vplkit_mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                             : vplkit_mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
     return vplkit_mis_balance_value(f, n1, p1, n2, p2);
@@ -180,9 +180,10 @@ vec3 vplkit_mis_vpl_patch_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
   if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
   int t = int(s.index);
   vplkit_dprsm_patch_sample p = vplkit_dprsm_patch_vpl(view, t, xi, depth_tolerance);
-  // A point moved to the centre takes weight 1 (n1 = 0): no gathering direction reaches it.
+  // A point moved to the centre: gathering covers its directions alone unless none is traced.
+  if (p.at_centre && n1 > 0.0) return vec3(0.0);
   return vplkit_mis_vpl_value(gp, view, t, p.point, pmf, vplkit_vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
-                              visibility, p.at_centre ? 0.0 : n1, n2, mode);
+                              visibility, n1, n2, mode);
 }
 
 // Steps [begin, end) of vplkit_estimate_mis (estimator_state.glsl); step j draws VPL j

@@ -11,7 +11,7 @@
 //     11) the VPL samples are jittered points of their texels' patches, p2 is the pointwise
 //     density p(t) d2^2 / (A(uv) cos(theta1)) of the point itself (a gathering hit is projected
 //     into the DPRSM for its texel and uv), and both strategies sample one integral; the parts of
-//     patches whose points move to the texel centre (dprsm_patch.hpp) belong to the VPL strategy.
+//     patches whose points move to the texel centre (dprsm_patch.hpp) belong to gathering.
 //   mis_mode::as_published: the paper's weights and evaluation, literally (eq. 7-15, Alg. 4-6);
 //     biased (measured).
 // Random numbers: for j < max(n_dirs, n_vpls): if j < n_vpls one u for the VPL (and with
@@ -122,11 +122,11 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
-    // The parts of patches whose points sit at the centre belong to the VPL strategy alone (its
-    // samples there take weight 1): a gathering hit there adds nothing unless no VPL is drawn.
-    if (vmode == vpl_mode::patch && n2 > T(0) && mis_patch_hit_at_centre(view, r.texel, r.hit))
-      return vec3<T>(T(0));
     const T p1 = cosine_pdf_solid_angle(cos2);
+    // The parts of patches whose points sit at the centre belong to gathering alone (weight 1):
+    // the VPL strategy's moved points have no density there to weigh against.
+    if (vmode == vpl_mode::patch && n1 > T(0) && mis_patch_hit_at_centre(view, r.texel, r.hit))
+      return mis_balance_value(f, n1, p1, T(0), T(0));
     const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                           : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);
     return mis_balance_value(f, n1, p1, n2, p2);
@@ -194,11 +194,13 @@ inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
-  // A point moved to the centre: no gathering direction reaches it, so its weight is 1 (n1 = 0);
-  // p2 with A(uv) = Omega(uv) d1^2 / cos(alpha) at y_t gives f / (n2 p2) = its flux's contribution
-  // over n2 pmf.
+  // A point moved to the centre stands for directions that gathering covers alone (weight 0 here),
+  // unless no direction is traced (n1 = 0: plain VPL sampling, f / (n2 p2) with A(uv) at y_t, its
+  // flux's contribution over n2 pmf). Weight 1 for the moved points instead would bring back the
+  // VPL strategy's 1/d2^2 at creases, where receivers sit next to the texel centres (fireflies).
+  if (p.at_centre && n1 > T(0)) return vec3<T>(T(0));
   return mis_vpl_value(gp, view, t, p.point, pmf, vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha),
-                       visibility, p.at_centre ? T(0) : n1, n2, mode);
+                       visibility, n1, n2, mode);
 }
 
 // Steps [begin, end) of estimate_mis (estimator_state.hpp); step j draws VPL j (j < n_vpls), then

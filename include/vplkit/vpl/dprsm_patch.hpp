@@ -30,7 +30,7 @@
 // across the nearest edges and corner of the point's uv, dprsm_patch_point_hidden) therefore moves
 // to the texel centre y_t with its flux unchanged (at_centre): the midpoint rule for that part of
 // the texel, energy kept. The split is a function of uv alone, so MIS can tell a gathering hit in
-// that part (mis_estimator.hpp gives it to the VPL strategy alone).
+// that part (mis_estimator.hpp gives it to gathering alone).
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>
