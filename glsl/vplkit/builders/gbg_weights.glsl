@@ -13,7 +13,6 @@
 #define VPLKIT_BUILDERS_GBG_WEIGHTS_GLSL
 
 #include "vplkit/core/gather_point.glsl"
-#include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/sampling/cosine_hemisphere.glsl"
 #include "vplkit/sampling/orthonormal_basis.glsl"
 #include "vplkit/sampling/rng.glsl"

@@ -11,7 +11,6 @@
 #define VPLKIT_ESTIMATORS_GATHERING_ESTIMATOR_GLSL
 
 #include "vplkit/core/gather_point.glsl"
-#include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/estimators/estimator_state.glsl"
 #include "vplkit/estimators/vpl_sum.glsl"
 #include "vplkit/sampling/cosine_hemisphere.glsl"

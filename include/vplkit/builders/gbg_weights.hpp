@@ -11,7 +11,6 @@
 #include <vplkit/builders/detail/argument_checks.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/gather_point.hpp>
-#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/image/median_fill.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>

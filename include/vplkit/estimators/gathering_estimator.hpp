@@ -10,7 +10,6 @@
 // gather point gives 0 and draws nothing. What is known at the hit, choosing the depth tolerance:
 // docs/api/estimators.md, "Gathering".
 #include <vplkit/core/gather_point.hpp>
-#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
