@@ -71,15 +71,16 @@ Sweep options:
   --cache-dir DIR    reference cache (default speed_vs_error_cache); references are EXR files
                      named by a hash of scene, size, DPRSM, voxels, backend, light, camera,
                      --direct, --visibility exact, and for the gathering and exact references
-                     their directions and seed, for the patch VPL sum its mode and seed
+                     their directions and seed (gathering: and --lit-test), for the patch VPL
+                     sum its mode and seed
   --out PREFIX       writes PREFIX.csv, PREFIX.md, PREFIX.svg (default speed_vs_error), and
                      with 2 or more seeds PREFIX_bias_variance.csv
   --help             this text
 
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
-  --local-combination --gbg-accumulator --cdf-search --visibility --vpl-mode --camera --light --paper
-  --direct.
+  --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
+  --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
@@ -244,6 +245,9 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   if (kind == "vplsum" && o.dmin_fraction != 0.01) k += "|dmin=" + num(o.dmin_fraction);
   // Only when exact, so the keys (and cached files) of voxel references stay what they were.
   if (o.visibility == visibility_choice::exact && kind != "exact") k += "|visibility=exact";
+  // Gathering references shade known hits as their own surface and take the lit test: keys of the
+  // older ones (the texel's normal, the shadow map always) do not match them.
+  if (kind == "gather") k += std::string("|hits=own-surface|lit=") + to_string(o.lit_test);
   if (kind == "gather" || kind == "exact") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);
   // Only for patch VPLs, so the keys of point VPL sums stay what they were.
   if (kind == "vplsum" && o.vpl_mode == vpl_mode_choice::patch)
@@ -669,7 +673,8 @@ int main(int argc, char** argv) {
        << (!so.ref_gather ? "skipped" : ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms")
        << ", exact at " << so.ref_exact_dirs << " dirs "
        << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
-       << ". Visibility `" << to_string(base.visibility) << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
+       << ". Visibility `" << to_string(base.visibility) << "`, lit test `" << to_string(base.lit_test)
+       << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
     md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
        << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
        << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");

@@ -173,12 +173,33 @@ struct gbuffer_view {
   }
 };
 
-// What a host's ray-casting callable returns: the first surface point along a ray, if any.
+// What a host's ray-casting callable returns: the first surface point along a ray, if any, and
+// what the tracer knows of the surface there, with gather_point's conventions: `normal` the
+// geometric normal (any length, either side; zero when the tracer cannot say, as the voxel-entry
+// tracer), `shading_normal` the normal of the light's cosine (zero: the same as `normal`). With a
+// normal the DPRSM look-up shades the hit as its own surface (dprsm_hit_radiance).
 template <class T>
 struct ray_hit {
   bool hit = false;
   vec3<T> position{T(0)};
+  vec3<T> normal{T(0)};
+  vec3<T> shading_normal{T(0)};
 };
+
+// Does the tracer say which surface it hit?
+template <class T>
+inline bool ray_hit_has_normal(const ray_hit<T>& h) {
+  return h.normal.x != T(0) || h.normal.y != T(0) || h.normal.z != T(0);
+}
+
+// The hit's shading normal on the side of n_g (its geometric normal turned as the caller needs),
+// or n_g where none is set.
+template <class T>
+inline vec3<T> ray_hit_shading_normal(const ray_hit<T>& h, vec3<T> n_g) {
+  const vec3<T> n_s = h.shading_normal;
+  if (!(n_s.x != T(0) || n_s.y != T(0) || n_s.z != T(0))) return n_g;
+  return glm::dot(n_s, n_g) < T(0) ? -n_s : n_s;
+}
 
 }  // namespace vplkit
 // ---- end vplkit/core/gather_point.hpp ----
@@ -2851,7 +2872,7 @@ struct triangle_voxel_visibility {
 
 // First triangle met by the ray leaving x along dir (triangle_voxel_first_hit from x itself). The
 // hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the texel's own
-// depth spread.
+// depth spread. Its normal is the triangle's plane normal.
 template <class T>
 struct triangle_voxel_tracer {
   triangle_voxel_view<T> grid;
@@ -2861,7 +2882,10 @@ struct triangle_voxel_tracer {
         triangle_voxel_first_hit(grid, x, dir, std::numeric_limits<T>::infinity(), end_tolerance_voxels);
     ray_hit<T> h;
     h.hit = r.hit;
-    if (r.hit) h.position = r.point;
+    if (r.hit) {
+      h.position = r.point;
+      h.normal = grid.triangles[r.triangle].plane.normal;
+    }
     return h;
   }
 };
@@ -3762,7 +3786,10 @@ inline ray_hit<T> bvh_trace(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T
   const bvh_hit<T> h = bvh_closest_hit(b, o, dir);
   ray_hit<T> r;
   r.hit = h.hit;
-  if (h.hit) r.position = h.position;
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+  }
   return r;
 }
 
@@ -4475,8 +4502,18 @@ struct dprsm_view {
 namespace vplkit {
 
 struct dprsm_lookup_result {
-  int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit = false;  // texel valid, saw a surface, and y is not behind that surface
+  int texel = -1;         // flat texel index y projects into (-1 when y coincides with the light)
+  bool lit = false;       // texel valid, saw a surface, and y is not behind that surface
+  bool in_front = false;  // lit, and in front of that surface beyond the tolerance: the light saw
+                          // another surface behind y in y's direction (dprsm_plane_side::in_front)
+  bool shadow_ray = false;  // lit was decided by a shadow ray (gathering_hit_lookup), not the plane
+};
+
+// Where a point lies against the surface a texel saw, within the lit test's tolerance.
+enum class dprsm_plane_side {
+  behind,   // shadowed by it
+  on,       // on it: the texel's normal and albedo describe the point's surface
+  in_front  // in front of it: lit (nothing the texel saw is in the way), but on another surface
 };
 
 // Below this cosine between the light ray and the texel's plane the plane test falls back to the
@@ -4499,25 +4536,40 @@ inline T dprsm_lookup_slack(T d, int resolution) {
   return d * (T(2) / T(resolution) + T(1e-4));
 }
 
-// Is y, at distance d_y from the light c, at or in front of the plane (y_t, n_t) of the texel it
-// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? One-sided, as a
-// shadow map: a point in front of the surface the light saw in that direction cannot be shadowed
-// by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the light, d_y <=
-// d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times cos > 0): no
-// division, and n . (y - y_t) measured directly instead of h - d_y cos, which cancels for points
-// on the plane. Where it does not (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the
-// plane's horizon crosses the texel; h <= 0: the plane faces away or holds the light; a zero
-// normal), the centre's depth stands in: d_y <= |y_t - c| + tol. NaN or negative tolerance, or a
-// distance that is not finite and positive: unlit (an infinite d_y would make the slack infinite).
+// Where is y, at distance d_y from the light c, against the plane (y_t, n_t) of the texel it
+// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? Behind it is
+// shadowed, as a shadow map: a point in front of the surface the light saw in that direction cannot
+// be shadowed by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the
+// light, d_y <= d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times
+// cos > 0), and in front as n . (y - y_t) > tol cos(alpha): no division, and n . (y - y_t) measured
+// directly instead of h - d_y cos, which cancels for points on the plane. Where it does not
+// (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the plane's horizon crosses the texel;
+// h <= 0: the plane faces away or holds the light; a zero normal), the centre's depth stands in:
+// |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not finite
+// and positive: behind (an infinite d_y would make the slack infinite).
 template <class T>
-inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
-  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max())) return false;
+inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
+                                            int resolution) {
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max()))
+    return dprsm_plane_side::behind;
   const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
   const vec3<T> n = unit_or_zero(n_t);
   const T h = glm::dot(n, c - y_t);
   const T cos_a = -glm::dot(n, (y - c) / d_y);
-  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) return glm::dot(n, y - y_t) >= -tol * cos_a;
-  return d_y <= glm::length(y_t - c) + tol;
+  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) {
+    const T s = glm::dot(n, y - y_t), band = tol * cos_a;
+    if (!(s >= -band)) return dprsm_plane_side::behind;
+    return s > band ? dprsm_plane_side::in_front : dprsm_plane_side::on;
+  }
+  const T d_t = glm::length(y_t - c);
+  if (!(d_y <= d_t + tol)) return dprsm_plane_side::behind;
+  return d_y < d_t - tol ? dprsm_plane_side::in_front : dprsm_plane_side::on;
+}
+
+// The lit test: y not behind the texel's plane (dprsm_plane_side_of).
+template <class T>
+inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
+  return dprsm_plane_side_of(c, y_t, n_t, y, d_y, tolerance, resolution) != dprsm_plane_side::behind;
 }
 
 // Where the light ray towards y meets texel t's plane (y_t, n_t): the surface point the light saw
@@ -4532,6 +4584,14 @@ inline vec3<T> dprsm_plane_point_towards(vec3<T> c, vec3<T> y_t, vec3<T> n_t, ve
   return c + (h / cos_a) * w;
 }
 
+// Did texel t (any int) see a surface: a valid texel with a nonzero albedo?
+template <class T>
+inline bool dprsm_texel_saw_surface(const dprsm_view<T>& view, int t) {
+  if (t < 0 || t >= view.texel_count() || !view.texel_valid(t)) return false;
+  const vec3<T> rho = view.albedo[t];
+  return rho.x > T(0) || rho.y > T(0) || rho.z > T(0);
+}
+
 // tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
 // voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
 template <class T>
@@ -4541,27 +4601,51 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
   const T d_y = glm::length(to_y);
   if (!(d_y > T(0))) return r;
   r.texel = view.texel_of_direction(to_y);
-  if (!view.texel_valid(r.texel)) return r;
-  const vec3<T> rho = view.albedo[r.texel];
-  if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
-  r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
-                          view.resolution);
+  if (!dprsm_texel_saw_surface(view, r.texel)) return r;
+  const dprsm_plane_side side = dprsm_plane_side_of(view.light.position, view.position[r.texel],
+                                                    view.normal[r.texel], y, d_y, tolerance, view.resolution);
+  r.lit = side != dprsm_plane_side::behind;
+  r.in_front = side == dprsm_plane_side::in_front;
   return r;
 }
 
-// L_o towards x of a hit y that the lookup found lit in texel t: 0 seen from behind n_t (one-sided
-// emission), else the light's reflection with the texel's normal and albedo. A hit known only within
-// depth_tolerance > 0 (the paper's voxel-entry points, up to a voxel diagonal off their surface,
-// often in front of it) is evaluated where the light saw the texel's surface in its direction
-// (dprsm_plane_point_towards): at the point itself the 1/d1^2 of a light near a wall is far larger
-// than the surface's (fireflies). Exact hits (tolerance 0) are evaluated where they are. Shared by
-// the gathering estimator and the GBG builder's gathering accumulator, so that they agree.
+// L_o towards x of a hit the lookup lk found lit (lk.texel = t): the light's reflection with t's
+// albedo, 0 seen from the unlit side (one-sided emission), and
+// - a hit whose tracer knows its surface (ray_hit_has_normal: exact rays, triangle voxels) is
+//   shaded as that surface: its lit side the one facing the light (the exact method's convention),
+//   the cosine from its shading normal. Where the plane test found it on t's plane (not in front,
+//   no shadow ray), the light reached it only as far as the texel's surface says, from n_t's side:
+//   x must lie on that side too. Otherwise a point just behind a texel's plane, within the test's
+//   slack, on a face the light cannot see (the inner side of a closed solid's face below its lit
+//   top) would reflect light. The texel's normal would describe only the surface at the
+//   texel's centre: a column's foot in a floor texel's cone, a wall a few centimetres above a
+//   floor, a grazing face curving away within one texel all reflect the floor's (or the centre's)
+//   cos(alpha) over an area per solid angle of the light that is 1 / cos(alpha_y) larger; the
+//   texel's flux counted cos(alpha_t) / cos(alpha_y) times (+1.4 % on sponza; docs/math.md
+//   section 4.1). Shaded as itself, each texel's cone reflects rho_t I Omega_t, as its VPL.
+// - else (the voxel-entry tracer) with t's normal; a hit known only within depth_tolerance > 0
+//   (up to a voxel diagonal off its surface, often in front of it) is evaluated where the light
+//   saw the texel's surface in its direction (dprsm_plane_point_towards): at the point itself the
+//   1/d1^2 of a light near a wall is far larger than the surface's (fireflies).
+// Shared by the gathering estimator and the GBG builder's gathering accumulator, so that they agree.
 template <class T>
-inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, int t, vec3<T> x, vec3<T> y, T depth_tolerance) {
+inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, const dprsm_lookup_result& lk, vec3<T> x,
+                                  const ray_hit<T>& hit, T depth_tolerance) {
+  const int t = lk.texel;
+  const vec3<T> c = view.light.position;
+  const vec3<T> y = hit.position;
+  if (ray_hit_has_normal(hit)) {
+    const vec3<T> n_g = glm::dot(hit.normal, c - y) < T(0) ? -hit.normal : hit.normal;
+    const vec3<T> to_x = unit_or_zero(x - y);
+    if (!(glm::dot(unit_or_zero(n_g), to_x) > T(0))) return vec3<T>(T(0));  // unlit side
+    if (!lk.shadow_ray && !lk.in_front && !(glm::dot(unit_or_zero(view.normal[t]), to_x) > T(0)))
+      return vec3<T>(T(0));  // behind the surface the texel saw
+    return reflected_radiance(c, view.light.intensity, y, ray_hit_shading_normal(hit, n_g), view.albedo[t]);
+  }
   const vec3<T> n_t = view.normal[t];
   if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - y)) > T(0))) return vec3<T>(T(0));  // from behind
-  const vec3<T> at = depth_tolerance > T(0) ? dprsm_plane_point_towards(view.light.position, view.position[t], n_t, y) : y;
-  return reflected_radiance(view.light.position, view.light.intensity, at, n_t, view.albedo[t]);
+  const vec3<T> at = depth_tolerance > T(0) ? dprsm_plane_point_towards(c, view.position[t], n_t, y) : y;
+  return reflected_radiance(c, view.light.intensity, at, n_t, view.albedo[t]);
 }
 
 }  // namespace vplkit
@@ -5255,12 +5339,13 @@ struct gbg_stats {
 
 // Value accumulated for one lit hit (see the header comment). Plain arithmetic, never throws.
 template <class T>
-inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
-                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator, T depth_tolerance) {
+inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, const dprsm_lookup_result& lookup,
+                       const ray_hit<T>& hit, T dmin, gbg_accumulator accumulator, T depth_tolerance) {
   if (accumulator == gbg_accumulator::paper)
-    return luminance(vpl_contribution(g, view.vpl_at(texel), dmin));
-  // As the gathering estimator: one-sided, an inexact hit evaluated on the texel's plane.
-  return luminance(g.albedo * dprsm_hit_radiance(view, texel, g.position, hit_position, depth_tolerance));
+    return luminance(vpl_contribution(g, view.vpl_at(lookup.texel), dmin));
+  // As the gathering estimator: one-sided, a hit on another surface with its own normal, an
+  // inexact hit evaluated on the texel's plane.
+  return luminance(g.albedo * dprsm_hit_radiance(view, lookup, g.position, hit, depth_tolerance));
 }
 
 // Direction j of gather point `pixel` (the random-number consumption documented above). The
@@ -5300,8 +5385,7 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
     ++lit;
-    acc[r.texel] += double(gbg_hit_value(g, view, r.texel, h.position, params.dmin,
-                                         params.accumulator, params.depth_tolerance));
+    acc[r.texel] += double(gbg_hit_value(g, view, r, h, params.dmin, params.accumulator, params.depth_tolerance));
   }
   if (stats != nullptr) {
     stats->rays += params.n_dirs;
@@ -5973,17 +6057,92 @@ inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& vi
 // Random numbers: per direction u0, then u1 (estimator_state.hpp for the range form). An invalid
 // gather point gives 0 and draws nothing. What is known at the hit, choosing the depth tolerance:
 // docs/api/estimators.md, "Gathering".
+// ---- begin vplkit/visibility/light_visibility.hpp ----
+// Gathering's lit test by a shadow ray: a tracer may also say whether the point light reaches a
+// surface point, in place of the DPRSM's shadow-map test (docs/math.md section 4.1, "An exact lit
+// test"). The shadow map decides per texel, with one plane per texel: within a texel's cone it
+// cannot see a shadow boundary, and it darkens the far side of every convex edge the texel's
+// plane passes over (-1.6 % of sponza's one-bounce light at R = 128, -1.4 % at R = 512). A host
+// with exact rays removes that bias with one shadow ray per lit hit.
+//
+// The protocol, which the gathering estimator and MIS check at compile time (a plain callable,
+// such as a lambda or the voxel tracers, keeps the shadow map):
+//   tracer.answers_light_visibility() -> bool   whether this tracer (now) has a shadow ray
+//   tracer.light_visible(y, n_y, c)   -> bool   does the light at c reach surface point y, whose
+//                                               geometric normal n_y faces c?
+// tracer_with_light_visibility adds both to any tracer from any visibility callable (the light is
+// a point without a surface: visibility(y, n_y, c, 0)). The GLSL mirror is the tracer's
+// light_exact flag (visibility_callables.glsl).
+
+#include <type_traits>
+#include <utility>
+
+namespace vplkit {
+
+// Does Tracer offer light_visible (and answers_light_visibility) for vectors of T?
+template <class Tracer, class T, class = void>
+struct tracer_has_light_visibility : std::false_type {};
+template <class Tracer, class T>
+struct tracer_has_light_visibility<
+    Tracer, T,
+    std::void_t<decltype(bool(std::declval<const Tracer&>().light_visible(vec3<T>(), vec3<T>(), vec3<T>()))),
+                decltype(bool(std::declval<const Tracer&>().answers_light_visibility()))>> : std::true_type {};
+
+// Any tracer, with the lit test answered by a visibility callable (e.g. bvh_visibility).
+template <class Tracer, class Visibility>
+struct tracer_with_light_visibility {
+  Tracer tracer;
+  Visibility visibility;
+  template <class T>
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
+    return tracer(x, n_x, dir);
+  }
+  bool answers_light_visibility() const { return true; }
+  template <class T>
+  bool light_visible(vec3<T> y, vec3<T> n_y, vec3<T> c) const {
+    return visibility(y, n_y, c, vec3<T>(T(0)));
+  }
+};
+
+template <class Tracer, class Visibility>
+inline tracer_with_light_visibility<Tracer, Visibility> with_light_visibility(Tracer tracer, Visibility visibility) {
+  return {std::move(tracer), std::move(visibility)};
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/light_visibility.hpp ----
 
 namespace vplkit {
 
 // What one gathering ray found.
 template <class T>
 struct gathering_ray_result {
-  bool lit = false;          // hit, projected into a texel that saw it, from the front of n_t
+  bool lit = false;          // hit, projected into a texel that saw it, seen from its lit side
+  bool in_front = false;     // lit, in front of the surface its texel saw (dprsm_lookup_result)
   int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light)
   vec3<T> hit{T(0)};         // y (valid when texel >= 0)
   vec3<T> radiance{T(0)};    // L_o(y) towards x; 0 unless lit
 };
+
+// The texel a gathering hit projects into and whether the light reaches it: the DPRSM's plane test
+// within depth_tolerance (dprsm_lookup), or, where the tracer answers shadow rays
+// (light_visibility.hpp) and knows the hit's surface, that shadow ray; in_front stays the plane's
+// verdict (MIS gives such hits to gathering alone), and only lit hits are in front.
+template <class T, class Tracer>
+inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const ray_hit<T>& h, const Tracer& tracer,
+                                                T depth_tolerance) {
+  dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  if constexpr (tracer_has_light_visibility<Tracer, T>::value) {
+    if (tracer.answers_light_visibility() && ray_hit_has_normal(h) && dprsm_texel_saw_surface(view, lk.texel)) {
+      const vec3<T> c = view.light.position;
+      const vec3<T> n_g = glm::dot(h.normal, c - h.position) < T(0) ? -h.normal : h.normal;
+      lk.lit = tracer.light_visible(h.position, n_g, c);
+      lk.in_front = lk.in_front && lk.lit;
+      lk.shadow_ray = true;
+    }
+  }
+  return lk;
+}
 
 // Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
 template <class T, class Tracer>
@@ -5992,12 +6151,13 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
   gathering_ray_result<T> r;
   const ray_hit<T> h = tracer(x, n_x, dir);
   if (!h.hit) return r;
-  const dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  const dprsm_lookup_result lk = gathering_hit_lookup(view, h, tracer, depth_tolerance);
   r.texel = lk.texel;
   r.hit = h.position;
   if (!lk.lit) return r;
-  r.radiance = dprsm_hit_radiance(view, lk.texel, x, h.position, depth_tolerance);
+  r.radiance = dprsm_hit_radiance(view, lk, x, h, depth_tolerance);
   r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
+  r.in_front = r.lit && lk.in_front;
   return r;
 }
 
@@ -6155,9 +6315,10 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
-    // The parts of patches whose points sit at the centre belong to gathering alone (weight 1):
-    // the VPL strategy's moved points have no density there to weigh against.
-    if (vmode == vpl_mode::patch && n1 > T(0) && mis_patch_hit_at_centre(view, r.texel, r.hit))
+    // Hits in front of the surface their texel saw (another surface: the VPL strategy's points lie
+    // on the texel's plane, behind them) and the parts of patches whose points sit at the centre
+    // belong to gathering alone (weight 1): the VPL strategy samples neither.
+    if (n1 > T(0) && (r.in_front || (vmode == vpl_mode::patch && mis_patch_hit_at_centre(view, r.texel, r.hit))))
       return mis_balance_value(f, n1, p1, T(0), T(0));
     const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                           : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);

@@ -42,12 +42,12 @@ std::vector<T> flux_weights(const dprsm_view<T>& view) {
   return w;
 }
 
-// Every estimator at gp; each draws from its own fresh stream.
-template <class T, class Dist>
-std::vector<vec3<T>> all_estimates(const synthetic_scene<T>& s, const dprsm_view<T>& view, const Dist& dist,
-                                   const gather_point<T>& gp, T tol = T(0.2)) {
+// Every estimator at gp with the exact visibility and the given tracer (whose lit test is the
+// DPRSM's plane, or its own shadow ray); each draws from its own fresh stream.
+template <class T, class Dist, class Tracer>
+std::vector<vec3<T>> all_estimates_with(const synthetic_scene<T>& s, const dprsm_view<T>& view, const Dist& dist,
+                                        const gather_point<T>& gp, T tol, const Tracer& tracer) {
   const exact_visibility<T> vis{&s};
-  const exact_tracer<T> tracer{&s};
   const Dist two[2] = {dist, dist};
   std::vector<vec3<T>> r;
   counter_rng rng = make_counter_rng(3u, 0u);
@@ -59,6 +59,15 @@ std::vector<vec3<T>> all_estimates(const synthetic_scene<T>& s, const dprsm_view
   r.push_back(estimate_mis(gp, view, dist, rng, 32, 32, tracer, vis, tol, mis_mode::solid_angle));
   r.push_back(estimate_mis(gp, view, dist, rng, 32, 32, tracer, vis, tol, mis_mode::as_published));
   return r;
+}
+
+// The same with the exact tracer, its lit test the DPRSM's (shadow_ray: its own shadow ray).
+template <class T, class Dist>
+std::vector<vec3<T>> all_estimates(const synthetic_scene<T>& s, const dprsm_view<T>& view, const Dist& dist,
+                                   const gather_point<T>& gp, T tol = T(0.2), bool shadow_ray = false) {
+  if (shadow_ray)
+    return all_estimates_with(s, view, dist, gp, tol, with_light_visibility(exact_tracer<T>{&s}, exact_visibility<T>{&s}));
+  return all_estimates_with(s, view, dist, gp, tol, exact_tracer<T>{&s});
 }
 
 // The lit room at resolution R with a CDF over its flux: where most cases here start.
@@ -134,18 +143,32 @@ TEMPLATE_TEST_CASE("estimators: back-facing gather points", "[hardcase]", double
     INFO(estimator_name(i));
     CHECK(r[i] == vec3<T>(T(0)));
   }
-  // A block face with its normal flipped into the block: rays hit the block's faces from behind
-  // (the one-sided check must reject them), VPLs are occluded by the block itself. The exact
-  // tracer's hits need depth tolerance 0: with 0.2 the lit test's window (0.2 + its slack 2 d / R
-  // = 0.13 at R = 32) reaches 0.33 behind the top face, through the inner side of the block's +z
-  // face down to y = 0.94, below the gather point (y = 1): a window that spans an occluder lights
-  // what lies behind it.
+  // A block face with its normal flipped into the block: rays hit the block's faces from inside.
+  // With shadow rays every estimator gives exactly 0: the one-sided checks reject the faces seen
+  // from behind, and the light reaches no inner side (VPLs are occluded by the block itself).
   const gather_point<T> inside{vec3<T>(T(-1.0), T(1.0), T(0.0)), vec3<T>(T(1), T(0), T(0)), vec3<T>(T(0.9))};
-  const auto q = all_estimates(f.scene, f.view, f.cdf, inside, T(0));
+  const auto q = all_estimates(f.scene, f.view, f.cdf, inside, T(0), true);
   for (std::size_t i = 0; i < q.size(); ++i) {
-    INFO(estimator_name(i));
+    INFO(estimator_name(i) << " (shadow ray)");
     CHECK(finite_nonneg(q[i]));
     CHECK(luminance(q[i]) == T(0));
+  }
+  // With the DPRSM's lit test the hits are shaded as their own faces, turned to the light: a side
+  // face's inner side near the top edge, in a texel whose centre ray passed the block's silhouette
+  // to the floor, lies in front of that texel's plane and counts lit (a sub-texel silhouette, no
+  // shadow map sees it). Only a gather point inside a closed solid sees such a side; the estimates
+  // stay finite and small (1.1 % and 2.1 % of the floor's open value measured for gathering and
+  // MIS here; bound 5 %). The VPL estimators, which
+  // take no lit test, still give exactly 0. Depth tolerance 0: with 0.2 the lit test's window (0.2
+  // + its slack 2 d / R = 0.13 at R = 32) would reach 0.33 behind the top face.
+  const auto p = all_estimates(f.scene, f.view, f.cdf, inside, T(0));
+  const gather_point<T> open{vec3<T>(T(1.2), T(0), T(1.0)), vec3<T>(T(0), T(1), T(0)), vec3<T>(T(0.7))};
+  const T open_value = luminance(all_estimates(f.scene, f.view, f.cdf, open)[4]);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    INFO(estimator_name(i) << " (shadow map)");
+    CHECK(finite_nonneg(p[i]));
+    if (i < 4) CHECK(luminance(p[i]) == T(0));
+    CHECK(luminance(p[i]) < T(0.05) * open_value);
   }
 }
 

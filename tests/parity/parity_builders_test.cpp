@@ -286,7 +286,7 @@ void main() {
         o.texel = r.texel;
         if (r.lit && vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) {
           o.flags = 3u;
-          o.value = vplkit_gbg_hit_value(g, view, r.texel, h.position, fp.x, ip2.x, fp.y);
+          o.value = vplkit_gbg_hit_value(g, view, r, h, fp.x, ip2.x, fp.y);
         }
       }
     }
@@ -338,7 +338,7 @@ std::vector<ray_out> cpu_rays(const vplkit_test::gbuffer_data<float>& gbuf, cons
             o.texel = r.texel;
             if (r.lit && vplkit::vpl_has_flux(view.vpl_at(r.texel))) {
               o.flags = 3u;
-              o.value = vplkit::gbg_hit_value(g, view, r.texel, h.position, st.dmin,
+              o.value = vplkit::gbg_hit_value(g, view, r, h, st.dmin,
                                               st.accumulator == 0 ? vplkit::gbg_accumulator::paper
                                                                   : vplkit::gbg_accumulator::gathering,
                                               st.tol);

@@ -429,7 +429,7 @@ struct ray_query { uint point; float u0; float u1; uint pad; };
 layout(std430, binding = 9) readonly buffer Rays { ray_query rays[]; };
 )", R"(  vplkit_gather_point gp = load_point(rays[i].point);
   vec3 local = vplkit_sample_cosine_hemisphere(vec2(rays[i].u0, rays[i].u1));
-  vplkit_gathering_ray_result g = vplkit_gathering_ray_result(false, -2, vec3(0.0), vec3(0.0));
+  vplkit_gathering_ray_result g = vplkit_gathering_ray_result(false, false, -2, vec3(0.0), vec3(0.0));
   if (local.z > 0.0)
     g = vplkit_trace_gathering_ray(load_view(), gp.position, gp.normal,
                                    vplkit_to_world(vplkit_make_orthonormal_basis(gp.normal), local),

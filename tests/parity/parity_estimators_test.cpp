@@ -301,7 +301,7 @@ struct check_out { ivec4 t; vec4 value; };
   vplkit_gather_point gp = load_point(rays[i].point);
   vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(gp.normal);
   vec3 local = vplkit_sample_cosine_hemisphere(vec2(rays[i].u0, rays[i].u1));
-  vplkit_gathering_ray_result g = vplkit_gathering_ray_result(false, -2, vec3(0.0), vec3(0.0));
+  vplkit_gathering_ray_result g = vplkit_gathering_ray_result(false, false, -2, vec3(0.0), vec3(0.0));
   if (local.z > 0.0)
     g = vplkit_trace_gathering_ray(load_view(), gp.position, gp.normal, vplkit_to_world(frame, local),
                                    vplkit_make_voxel_tracer(load_grid()), fp.y);
@@ -973,7 +973,7 @@ bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
 }
 vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {  // what the voxel tracer does
   vplkit_dda_trace_result r = vplkit_dda_trace_hit_point(load_grid(), vplkit_surface_ray_origin(load_grid(), x, n_x), dir);
-  return vplkit_ray_hit(r.hit, r.hit ? r.point : vec3(0.0));
+  return vplkit_ray_hit(r.hit, r.hit ? r.point : vec3(0.0), vec3(0.0), vec3(0.0));
 }
 )",
                               R"(

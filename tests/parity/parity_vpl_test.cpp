@@ -774,8 +774,9 @@ TEST_CASE("dprsm_view: texel_of_direction and texel_of_point (10^5 random + cent
   }
 }
 
-// Is y within rounding of dprsm_plane_lit's threshold for texel t (or of its branch's edge)?
-bool lit_band(const dprsm_data& d, int t, vec3<float> y, float tolerance) {
+// Is y within rounding of dprsm_plane_side_of's threshold for texel t (or of its branch's edge)?
+// side -1: the behind/on threshold (lit), +1: the on/in-front threshold (in_front).
+bool lit_band(const dprsm_data& d, int t, vec3<float> y, float tolerance, int side = -1) {
   const vec3<double> c(d.light.position), y_t(d.P[std::size_t(t)]), yd(y);
   const vec3<double> n = vplkit::unit_or_zero(vec3<double>(d.N[std::size_t(t)]));
   const double d_y = glm::length(yd - c), d_t = glm::length(y_t - c);
@@ -784,11 +785,11 @@ bool lit_band(const dprsm_data& d, int t, vec3<float> y, float tolerance) {
   const double h = glm::dot(n, c - y_t), cos_a = -glm::dot(n, (yd - c) / d_y);
   const double min_cos = double(vplkit::dprsm_plane_min_cos<float>());
   if (std::abs(h) <= scale || std::abs(cos_a - min_cos) <= scale / std::max(d_y, 1e-30)) return true;
-  if (h > 0 && cos_a > min_cos) return std::abs(glm::dot(n, yd - y_t) + tol * cos_a) <= scale;
-  return std::abs(d_y - d_t - tol) <= scale;
+  if (h > 0 && cos_a > min_cos) return std::abs(glm::dot(n, yd - y_t) - side * tol * cos_a) <= scale;
+  return std::abs(d_y - d_t + side * tol) <= scale;
 }
 
-TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band around the tolerance") {
+TEST_CASE("dprsm_lookup: texel, lit and in-front decisions, exact except within a band around the tolerance") {
   const float tolerance = 0.05f;
   for (int which = 0; which < 2; ++which) {
     const dprsm_data d = make_dprsm(which);
@@ -835,19 +836,21 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
     for (const auto& y : ys) in.push_back(f4(y));
     kernel_call call = dprsm_kernel(d, "", {input(0, in, "vec4 q")}, "ivec2 result", R"(
   vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(load_view(), q[i].xyz, TOLERANCE);
-  result[i] = ivec2(r.texel, r.lit ? 1 : 0);)");
+  result[i] = ivec2(r.texel, (r.lit ? 1 : 0) + (r.in_front ? 2 : 0));)");
     call.defines = "#define TOLERANCE " + show(double(tolerance)) + "\n";
     struct int2 {
       std::int32_t texel, lit;
     };
     const auto gpu = run_compute<int2>(call, ys.size());
-    series<std::int32_t> texel, lit;
-    std::size_t texel_edges = 0, band = 0, lit_count = 0, unexplained = 0;
+    series<std::int32_t> texel, lit, in_front;
+    std::size_t texel_edges = 0, band = 0, lit_count = 0, front_count = 0, unexplained = 0;
     for (std::size_t i = 0; i < ys.size(); ++i) {
       const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(d.view, ys[i], tolerance);
       if (r.lit) ++lit_count;
+      if (r.in_front) ++front_count;
       int gt = gpu[i].texel;
-      int glit = gpu[i].lit;
+      int glit = gpu[i].lit & 1;
+      int gfront = gpu[i].lit >> 1;
       if (gt != r.texel) {
         const vec3<float> l = d.light.frame.to_light(ys[i] - d.light.position);
         std::string why;
@@ -860,6 +863,7 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
         ++texel_edges;  // a different texel legitimately answers lit differently: skip lit
         gt = r.texel;
         glit = r.lit;
+        gfront = r.in_front;
       }
       // lit: n . (y - y_t) >= -tol cos(alpha) (or, falling back, d_y <= d_t + tol) with lengths and
       // dot products that differ by an ulp or two (FMA in dot): a point within 8 eps of the scale
@@ -868,13 +872,19 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
       if (r.texel >= 0 && glit != int(r.lit) && lit_band(d, r.texel, ys[i], tolerance)) {
         ++band;
         glit = r.lit;
+        gfront = r.in_front;  // behind on one side: not in front on either
+      }
+      if (r.texel >= 0 && gfront != int(r.in_front) && lit_band(d, r.texel, ys[i], tolerance, +1)) {
+        ++band;
+        gfront = r.in_front;
       }
       texel.add(gt, r.texel);
       lit.add(glit, r.lit);
+      in_front.add(gfront, r.in_front);
     }
     const std::string what = "dprsm_lookup (light " + std::to_string(which) + ", R " + std::to_string(d.R) + ")";
     std::cout << "  " << what << ": " << ys.size() << " points, " << lit_count
-              << " lit on the CPU; texels differing at edges/seam: " << texel_edges
+              << " lit on the CPU (" << front_count << " in front); texels differing at edges/seam: " << texel_edges
               << ", lit decisions differing inside the band: " << band << "\n";
     CHECK(unexplained == 0);
     CHECK(texel_edges <= 100);
@@ -883,6 +893,8 @@ TEST_CASE("dprsm_lookup: texel and lit decision, exact except within a band arou
                                       what + ": texel (edge/seam differences explained above)"));
     VPLKIT_CHECK_PARITY(compare_exact(lit, describe,
                                       what + ": lit (exact outside the band)"));
+    VPLKIT_CHECK_PARITY(compare_exact(in_front, describe, what + ": in front (exact outside the bands)"));
+    CHECK(front_count > 1000);
   }
 }
 

@@ -22,6 +22,7 @@
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"
 #include "render/cpu/cpu_backend.hpp"
+#include "render/cpu/cpu_visibility.hpp"
 #include "render/gpu/gpu_backend.hpp"
 #include "render/gpu/gpu_builders.hpp"
 #include "scene/builtin_scenes.hpp"
@@ -34,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 using namespace vplrender;
 
@@ -217,30 +219,42 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
   // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
   // docs/glsl/builders.md per texel: H_t 0.5 / scale / (|G| n_dirs) + 5e-6 relative, with H_t
   // bounded by all lit hits. 600 directions at 32^3 voxels split the rays over two dispatches (576 per dispatch).
+  // Triangle voxels and exact visibility (Embree on the CPU with the renderer's tracer, the pack's
+  // BVH on the GPU).
+  for (const visibility_choice vis : {visibility_choice::voxels, visibility_choice::exact})
   for (const char* scene_name : {"cornell", "open"}) {
     options small = vplrender_test::small_options(scene_name);
     small.dirs = 600;
     small.meth = method::gbg;
+    small.visibility = vis;
     const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(small);
     const options& o = f.o;
     const prepared_scene& p = f.p;
-    const gbuffer_data& g = f.b.gbuf;
-    const dprsm_data& d = f.b.dprsm;
+    // Exact visibility: the pipeline's frame, with the Embree scene and the BVH.
+    stage_timer prep_timer;
+    nlohmann::json prep_det;
+    std::optional<frame_buffers> exact_frame;
+    if (vis == visibility_choice::exact) exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
+    const frame_buffers& fb = exact_frame ? *exact_frame : f.b;
+    const gbuffer_data& g = fb.gbuf;
+    const dprsm_data& d = fb.dprsm;
     const render_settings es = make_render_settings(o, p.s);
     vplkit::gbg_params<float> params;
     params.n_dirs = es.dirs;
     params.dmin = es.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(es, f.b.grid.occupancy().view());
+    params.depth_tolerance = gathering_depth_tolerance(es, fb.grid.occupancy().view());
     params.seed = builder_seed(es.seed, 2);
     params.accumulator = vplkit::gbg_accumulator::gathering;
     vplkit::gbg_stats cs;
     const std::vector<float> cpu =
-        vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{f.b.grid.view()}, params, &cs);
+        vis == visibility_choice::exact
+            ? vplkit::build_gbg_weights(g.view(), d.view(), make_cpu_tracer(fb, vis), params, &cs)
+            : vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params, &cs);
     stage_timer timer;
     nlohmann::json det;
-    const gbg_gpu_weights gw = build_gbg_weights_gpu(f.b, es, timer, det);
+    const gbg_gpu_weights gw = build_gbg_weights_gpu(fb, es, timer, det);
     REQUIRE(gw.weights.size() == cpu.size());
-    CHECK(det["gbg"]["dispatches"].get<int>() > 1);
+    if (vis == visibility_choice::voxels) CHECK(det["gbg"]["dispatches"].get<int>() > 1);
     CHECK(gw.gather_points == cs.gather_points);
     CHECK(det["gbg"]["saturated_hits"].get<long long>() == 0);
     const double abs_bound = double(std::max<long long>(gw.lit_hits, 1)) * 0.5 / gw.scale /
@@ -264,11 +278,24 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
       if (diff > bound + 2.0 * hit_bound) ++beyond_flips;
       if (a > 0.0) worst_rel = std::max(worst_rel, diff / a);
     }
-    std::cout << scene_name << " GBG weights: " << nonzero << " non-zero texels, |G| = " << gw.gather_points
+    double sum_c = 0, sum_g = 0;
+    for (std::size_t t = 0; t < cpu.size(); ++t) sum_c += cpu[t], sum_g += gw.weights[t];
+    std::cout << scene_name << " " << to_string(vis) << " GBG weights: lit hits " << cs.lit_hits << " (cpu) "
+              << gw.lit_hits << " (gpu), sums " << sum_c << " " << sum_g << "; " << nonzero << " non-zero texels, |G| = " << gw.gather_points
               << ", worst |gpu - cpu| / bound = " << worst << " (worst relative " << worst_rel << "), outside " << outside << "\n";
+    CHECK(nonzero > 0);
+    // The closed box with exact rays has exact ties (renderer_gpu_exact_visibility_test: G-buffer
+    // points on the edge where two walls meet, which Embree and the BVH round differently): there
+    // the lit hits and the weights' sum agree within 0.5 % (measured 0.11 % and 0.37 %). A budget
+    // that cuts loops short loses hits by the ten thousand.
+    if (vis == visibility_choice::exact && std::string(scene_name) == "cornell") {
+      CHECK(std::abs(double(gw.lit_hits) - double(cs.lit_hits)) <= 0.005 * double(cs.lit_hits));
+      CHECK(std::abs(sum_g - sum_c) <= 0.005 * sum_c);
+      continue;
+    }
+    CHECK(gw.lit_hits == cs.lit_hits);
     CHECK(det["gbg"]["holes"].get<int>() == cs.holes);
     CHECK(det["gbg"]["filled"].get<int>() == cs.filled);
-    CHECK(nonzero > 0);
     CHECK(outside <= nonzero / 50);
     CHECK(beyond_flips == 0);
   }

@@ -400,3 +400,16 @@ TEST_CASE("the VPL mode flag is patch (default) or point, --paper selects point,
   CHECK(starts_with(error_of({"--vpl-mode"}), "--vpl-mode"));
   CHECK(help_text().find("--vpl-mode") != std::string::npos);
 }
+
+TEST_CASE("the lit test flag follows --visibility (shadow ray with exact) and a shadow ray needs exact visibility") {
+  CHECK(parse({}).lit_test == lit_test_choice::shadow_map);
+  CHECK(parse({"--visibility", "exact"}).lit_test == lit_test_choice::shadow_ray);
+  CHECK(parse({"--visibility", "exact", "--lit-test", "shadow-map"}).lit_test == lit_test_choice::shadow_map);
+  CHECK(parse({"--lit-test", "shadow-ray", "--visibility", "exact"}).lit_test == lit_test_choice::shadow_ray);
+  CHECK(parse({"--paper"}).lit_test == lit_test_choice::shadow_map);
+  CHECK(std::string(to_string(lit_test_choice::shadow_map)) == "shadow-map");
+  CHECK(std::string(to_string(lit_test_choice::shadow_ray)) == "shadow-ray");
+  CHECK(starts_with(error_of({"--lit-test", "shadow-ray"}), "--lit-test shadow-ray: needs --visibility exact"));
+  CHECK(starts_with(error_of({"--lit-test", "ray"}), "--lit-test: unknown value 'ray' (expected shadow-map|shadow-ray)"));
+  CHECK(help_text().find("--lit-test") != std::string::npos);
+}

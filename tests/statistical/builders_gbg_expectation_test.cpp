@@ -55,7 +55,7 @@ std::vector<double> quadrature(const vplkit_test::synthetic_scene<double>& s,
         const auto r = vplkit::dprsm_lookup(view, h.position, p.depth_tolerance);
         if (!r.lit || !vplkit::vpl_has_flux(view.vpl_at(r.texel))) continue;
         q[std::size_t(r.texel)] +=
-            w * vplkit::gbg_hit_value(g, view, r.texel, h.position, p.dmin, p.accumulator, p.depth_tolerance);
+            w * vplkit::gbg_hit_value(g, view, r, h, p.dmin, p.accumulator, p.depth_tolerance);
       }
     }
   }

@@ -8,11 +8,13 @@
 // A texel that straddles an edge shows two surfaces. The patch model extends the centre's plane
 // over the whole texel (behind a crease the extension is occluded: light lost; beyond a
 // silhouette it floats in the air: light added), while gathering counts whatever surface its ray
-// hits in the texel that is not behind the texel's plane (dprsm_lookup), lit with the centre's normal. Both are O(1/R) (the
-// edge texels' share), measured here at R = 64 and 128. The test shows that this edge term is the
-// whole difference: gathering restricted to hits on their texel's plane (I_plane, test-only)
-// agrees with a to the noise and the silhouette phantoms. VPL sampling converges to a, MIS to a
-// blend of a and b at edge texels (its expectation lies between them).
+// hits in the texel that is not behind the texel's plane (dprsm_lookup), shaded as that surface
+// (the exact tracer gives its normal: dprsm_hit_radiance). Both are O(1/R) (the edge texels'
+// share), measured here at R = 64 and 128: at most 2 % at R = 64 since hits are shaded as their
+// own surface (4.5 % at wall_red with the texel's normal, which lit a wall's foot with the floor's
+// cos(alpha)). Gathering restricted to hits on their texel's plane (I_plane, test-only) agrees
+// with a to the noise and the silhouette phantoms. VPL sampling converges to a, MIS to a blend of
+// a and b at edge texels (its expectation lies between them).
 #include <estimators_reference.hpp>
 #include <synthetic_scene.hpp>
 
@@ -66,7 +68,7 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
   const auto gps = scene.gather_points();
   std::printf("room, exact visibility; a = patch sum (mean of 8 seeds x 2x2 strata), b = I (gathering), "
               "I_plane = gathering on texel planes, c = P (physical), S = point VPL sum; values relative to I\n");
-  std::vector<double> edge64;
+  std::vector<double> edge64, sem64;
   for (int R : {64, 128}) {
     const dprsm_data<double> d = scene.make_dprsm(R);
     const dprsm_view<double> view = d.view();
@@ -86,10 +88,9 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
                     100.0 * (a.lum_mean - luminance(Ip)) / li, 100.0 * (luminance(P) / li - 1.0),
                     100.0 * (luminance(S) / li - 1.0));
         INFO(g.name);
-        // the edge term: a few percent at R = 64 (4.5 % measured at wall_red, 3.1 % with the former
-        // centre-depth lit test: the plane test counts the points in front of a crease texel's
-        // plane lit, and gathering lights them with the texel's normal and albedo) ...
-        CHECK(std::abs(edge) < 0.05);
+        // the edge term: up to 2 % at R = 64 (-1.96 % measured at block_bottom; 4.5 % at wall_red
+        // when hits in front of a crease texel's plane took the texel's normal) ...
+        CHECK(std::abs(edge) < 0.025 + 4.0 * a.lum_sem / li);
         // ... and the two estimators' views of the edge texels: with gathering held to the texel
         // planes they agree up to the noise, the phantoms beyond silhouettes (<= 0.3 %) and the
         // flux of the plane points that a neighbour hides, which the patch moves to the centre
@@ -97,12 +98,14 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
         CHECK(a.lum_mean - luminance(Ip) > -4.0 * a.lum_sem - 0.005 * li);
         CHECK(a.lum_mean - luminance(Ip) < 4.0 * a.lum_sem + 0.015 * li);
         edge64.push_back(edge);
+        sem64.push_back(a.lum_sem / li);
       } else {
         std::printf("  R %3d %-20s I %.6f  a %+6.2f%% +- %.2f%%  (edge term at R = 64: %+6.2f%%)\n", R, g.name.c_str(),
                     li, 100.0 * edge, 100.0 * a.lum_sem / li, 100.0 * edge64[i]);
         INFO(g.name);
-        // O(1/R): it shrinks with the texels (to half or less where it is above the noise)
-        if (std::abs(edge64[i]) > 0.01) CHECK(std::abs(edge) < 0.75 * std::abs(edge64[i]));
+        // O(1/R): it shrinks with the texels (to a quarter or less where it stands 1 % above the
+        // noise: ceiling_near_light -1.32 -> -0.32 %, block_bottom -1.96 -> -0.41 %)
+        if (std::abs(edge64[i]) > 0.01 + 4.0 * sem64[i]) CHECK(std::abs(edge) < 0.5 * std::abs(edge64[i]));
       }
     }
   }

@@ -53,6 +53,17 @@ inline vec3<double> gathering_integral(const synthetic_scene<double>& s, const v
   });
 }
 
+// The gathering integral with the shadow-ray lit test (vplkit::with_light_visibility): the DPRSM
+// gives each hit only its texel's albedo.
+inline vec3<double> gathering_integral_shadow_ray(const synthetic_scene<double>& s,
+                                                  const vplkit::dprsm_view<double>& view,
+                                                  const vplkit::gather_point<double>& gp, int m) {
+  const auto tracer = vplkit::with_light_visibility(exact_tracer<double>{&s}, exact_visibility<double>{&s});
+  return cosine_quadrature(gp, m, [&](const vplkit::orthonormal_basis<double>& f, vec3<double> local) {
+    return vplkit::gathering_sample(gp, view, f, local, tracer, 0.0);
+  });
+}
+
 // The physical one-bounce integral with exact shadow rays and the true normal / albedo at the hit
 // (no DPRSM at all): what the DPRSM-based integral approximates.
 inline vec3<double> physical_integral(const synthetic_scene<double>& s, const vplkit::gather_point<double>& gp, int m) {

@@ -25,6 +25,7 @@
 //   s.trace_from_light(origin, dir)           -> std::optional<dprsm_hit<T>> (render_dprsm's tracer)
 //   s.visible(x, n_x, y, n_y)                 exact mutual visibility of two surface points
 //   s.trace(x, n_x, dir)                      -> vplkit::ray_hit<T>, first hit leaving surface x
+//                                                (with the triangle's geometric normal)
 //   s.lit(y, n_y)                             exact shadow ray from y to the light
 //   s.make_dprsm(R)                           -> dprsm_data<T> (owns arrays; .view())
 //   s.make_voxel_grid(res = 32)               -> vplkit::voxel_grid<T> over fit_voxel_bounds
@@ -203,7 +204,10 @@ public:
     const scene_hit<T> h = intersect(x + surface_epsilon() * unit(n_x), dir);
     vplkit::ray_hit<T> r;
     r.hit = h.hit;
-    if (h.hit) r.position = h.position;
+    if (h.hit) {
+      r.position = h.position;
+      r.normal = h.normal;
+    }
     return r;
   }
 

@@ -13,6 +13,7 @@
 #include <vplkit/vpl/direct_light.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_raycast.hpp>
+#include <vplkit/vpl/luminance.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -159,7 +160,10 @@ TEST_CASE("dprsm_lookup: a point in front of the floor texel's plane (a wall at 
       INFO("texel " << t << " xi " << xi.x << " " << xi.y);
       REQUIRE(dprsm_lookup(s.view, in_front, tolerance).texel == t);
       CHECK(dprsm_lookup(s.view, in_front, tolerance).lit);
+      CHECK(dprsm_lookup(s.view, in_front, tolerance).in_front);
+      CHECK_FALSE(dprsm_lookup(s.view, s.view.light.position + d_p * w, tolerance).in_front);  // on the floor
       CHECK_FALSE(dprsm_lookup(s.view, behind, tolerance).lit);
+      CHECK_FALSE(dprsm_lookup(s.view, behind, tolerance).in_front);
       CHECK_FALSE(former_rule_lit(s.view, in_front, tolerance));
       ++tested;
     }
@@ -253,4 +257,77 @@ TEST_CASE("dprsm_lookup: where the plane cannot decide, the centre's depth does 
   // A point at infinity: its slack would be infinite too; unlit whatever the tolerance.
   const double inf = std::numeric_limits<double>::infinity();
   for (double tol : {0.0, 1.0, inf}) CHECK_FALSE(dprsm_lookup(s.view, vec3<double>(inf, 0, 0), tol).lit);
+}
+
+TEMPLATE_TEST_CASE("dprsm_hit_radiance: a hit whose surface the tracer knows reflects as that surface", "[vpl]", float,
+                   double) {
+  // A floor texel's cone holding a wall (the wall point lies in front of the floor's plane). Shaded
+  // as the wall, L_o d1^2 / cos(alpha_wall) = rho I / pi for every wall point: the light of the
+  // texel's solid angle, rho I Omega, is what its area reflects, as the texel's VPL carries. With
+  // the floor's normal it would be cos(alpha_floor) / cos(alpha_wall) times that.
+  using T = TestType;
+  const int R = 32;
+  const plane_dprsm<T> s(vec3<T>(T(0.2), T(0.1), T(1.0)), vec3<T>(0, 0, -1), vec3<T>(0), vec3<T>(0, 0, 1), R);
+  const vec3<T> c = s.view.light.position;
+  const T rho_i_over_pi = T(0.5) * T(1) / vplkit::vpl_pi<T>;  // the plane's albedo 0.5, I = 1
+  int tested = 0;
+  for (int t = 5; t < s.view.texel_count(); t += 13) {
+    if (s.view.albedo[t] == vec3<T>(T(0))) continue;
+    const vec3<T> w = s.direction(t, vec2<T>(T(0.4), T(0.6)));
+    const T d_p = s.plane_distance(w);
+    if (!(d_p > T(0)) || -glm::dot(s.n, w) < T(0.3) || s.view.texel_of_direction(w) != t) continue;
+    const vec3<T> y = c + T(0.6) * d_p * w;  // in front of the floor
+    // A wall through y whose normal leans 60 degrees from the ray (either winding).
+    const vec3<T> side = glm::normalize(glm::cross(w, vec3<T>(0, 0, 1)));
+    const vec3<T> n_wall = glm::normalize(T(-0.5) * w + T(0.866) * side);
+    const dprsm_lookup_result lk = dprsm_lookup(s.view, y, T(0));
+    INFO("texel " << t);
+    REQUIRE((lk.texel == t && lk.lit && lk.in_front));
+    for (const T sign : {T(1), T(-1)}) {
+      ray_hit<T> h;
+      h.hit = true;
+      h.position = y;
+      h.normal = sign * n_wall;
+      const vec3<T> x = y + T(0.3) * n_wall + T(0.1) * side;  // on the wall's lit side
+      const vec3<T> L = dprsm_hit_radiance(s.view, lk, x, h, T(0));
+      const T d2 = glm::dot(y - c, y - c), cos_wall = glm::dot(n_wall, glm::normalize(c - y));
+      CHECK(L.x * d2 / cos_wall == Approx(rho_i_over_pi).epsilon(1e-4));
+      // from the wall's unlit side: nothing
+      CHECK(dprsm_hit_radiance(s.view, lk, y - T(0.3) * n_wall, h, T(0)) == vec3<T>(T(0)));
+      // the shading normal gives the cosine (turned to the geometric normal's lit side)
+      h.shading_normal = -sign * glm::normalize(n_wall + T(0.2) * side);
+      const T cos_s = glm::dot(glm::normalize(n_wall + T(0.2) * side), glm::normalize(c - y));
+      CHECK(dprsm_hit_radiance(s.view, lk, x, h, T(0)).x * d2 / cos_s == Approx(rho_i_over_pi).epsilon(1e-4));
+      // a tracer that cannot say (no normal): the texel's (the floor's) normal
+      ray_hit<T> blind = h;
+      blind.normal = blind.shading_normal = vec3<T>(T(0));
+      const T cos_floor = glm::dot(s.n, glm::normalize(c - y));
+      CHECK(dprsm_hit_radiance(s.view, lk, x, blind, T(0)).x * d2 / cos_floor == Approx(rho_i_over_pi).epsilon(1e-4));
+    }
+    ++tested;
+  }
+  CHECK(tested > 20);
+}
+
+TEST_CASE("dprsm_hit_radiance: a known surface found on its texel's plane is seen only from the texel's side") {
+  // The plane test lit the hit only as far as the texel's surface says: from below the floor
+  // (behind the surface the light saw) it reflects nothing, whatever its own normal; a shadow ray
+  // (lk.shadow_ray) lifts that condition.
+  const int R = 32;
+  const plane_dprsm<double> s(vec3<double>(0.2, 0.1, 1.0), vec3<double>(0, 0, -1), vec3<double>(0),
+                              vec3<double>(0, 0, 1), R);
+  const int t = s.view.texel_of_direction(vec3<double>(0.1, 0.05, -1));
+  const vec3<double> w = glm::normalize(s.direction(t, vec2<double>(0.5, 0.5)));
+  const vec3<double> y = s.view.light.position + s.plane_distance(w) * w;
+  dprsm_lookup_result lk = dprsm_lookup(s.view, y, 0.0);
+  REQUIRE((lk.lit && !lk.in_front));
+  ray_hit<double> h;
+  h.hit = true;
+  h.position = y;
+  h.normal = vec3<double>(1, 0, 0);  // a wall through y, its lit side towards the light (-x)
+  const vec3<double> above = y + vec3<double>(-0.2, 0, 0.2), below = y + vec3<double>(-0.2, 0, -0.2);
+  CHECK(luminance(dprsm_hit_radiance(s.view, lk, above, h, 0.0)) > 0.0);
+  CHECK(dprsm_hit_radiance(s.view, lk, below, h, 0.0) == vec3<double>(0.0));
+  lk.shadow_ray = true;
+  CHECK(luminance(dprsm_hit_radiance(s.view, lk, below, h, 0.0)) > 0.0);
 }

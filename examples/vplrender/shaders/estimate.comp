@@ -63,7 +63,14 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
 }
-vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_voxel_tracer(grid, 0.0, true, false, 0.0); }
+// VR_LIT_SHADOW_RAY (the host's --lit-test shadow-ray): gathering's lit test by a BVH shadow ray.
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) {
+  vplkit_voxel_tracer tr = vplkit_voxel_tracer(grid, 0.0, true, false, 0.0, false, vplkit_make_always_visible());
+#ifdef VR_LIT_SHADOW_RAY
+  tr = vplkit_tracer_with_light_visibility(tr, vr_make_visibility(grid));
+#endif
+  return tr;
+}
 #else
 // No BVH buffers: the pack's BVH functions are compiled but never called.
 vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }

@@ -38,12 +38,13 @@ struct vplkit_gbg_params {
 void vplkit_store_gbg_hit(int texel, float value);
 
 // Value accumulated for one lit hit.
-float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, int texel, vec3 hit_position, float dmin,
-                           int accumulator, float depth_tolerance) {
+float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, vplkit_dprsm_lookup_result lookup,
+                           vplkit_ray_hit hit, float dmin, int accumulator, float depth_tolerance) {
   if (accumulator == vplkit_gbg_accumulator_paper)
-    return vplkit_luminance(vplkit_vpl_contribution(g, vplkit_dprsm_view_vpl_at(view, texel), dmin));
-  // As the gathering estimator: one-sided, an inexact hit evaluated on the texel's plane.
-  return vplkit_luminance(g.albedo * vplkit_dprsm_hit_radiance(view, texel, g.position, hit_position, depth_tolerance));
+    return vplkit_luminance(vplkit_vpl_contribution(g, vplkit_dprsm_view_vpl_at(view, lookup.texel), dmin));
+  // As the gathering estimator: one-sided, a hit on a known surface shaded as itself, an inexact
+  // hit evaluated on the texel's plane.
+  return vplkit_luminance(g.albedo * vplkit_dprsm_hit_radiance(view, lookup, g.position, hit, depth_tolerance));
 }
 
 // Direction j of gather point `pixel` (the counter is set explicitly: any order, one thread each).
@@ -78,7 +79,7 @@ ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplki
     vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) continue;
     ++lit;
-    vplkit_store_gbg_hit(r.texel, vplkit_gbg_hit_value(g, view, r.texel, h.position, params.dmin, params.accumulator, params.depth_tolerance));
+    vplkit_store_gbg_hit(r.texel, vplkit_gbg_hit_value(g, view, r, h, params.dmin, params.accumulator, params.depth_tolerance));
   }
   return ivec2(hits, lit);
 }

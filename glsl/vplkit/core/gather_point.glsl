@@ -20,11 +20,26 @@ struct vplkit_gather_point {
   vec3 shading_normal;
 };
 
-// What a ray cast returns: the first surface point along a ray, if any.
+// What a ray cast returns: the first surface point along a ray, if any, and what the tracer knows
+// of the surface there: its geometric normal (zero: unknown, as the voxel-entry tracer) and the
+// normal of the light's cosine (zero: the same as normal). The C++ says where each is used.
 struct vplkit_ray_hit {
   bool hit;
   vec3 position;
+  vec3 normal;
+  vec3 shading_normal;
 };
+
+bool vplkit_ray_hit_has_normal(vplkit_ray_hit h) {
+  return h.normal.x != 0.0 || h.normal.y != 0.0 || h.normal.z != 0.0;
+}
+
+// The hit's shading normal on the side of n_g, or n_g where none is set.
+vec3 vplkit_ray_hit_shading_normal(vplkit_ray_hit h, vec3 n_g) {
+  vec3 n_s = h.shading_normal;
+  if (!(n_s.x != 0.0 || n_s.y != 0.0 || n_s.z != 0.0)) return n_g;
+  return dot(n_s, n_g) < 0.0 ? -n_s : n_s;
+}
 
 // The C++ view's arrays are the accessor; the sizes remain.
 struct vplkit_gbuffer_view {

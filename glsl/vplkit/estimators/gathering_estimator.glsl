@@ -23,24 +23,41 @@
 
 // What one gathering ray found.
 struct vplkit_gathering_ray_result {
-  bool lit;       // hit, projected into a texel that saw it, from the front of n_t
+  bool lit;       // hit, projected into a texel that saw it, seen from its lit side
+  bool in_front;  // lit, in front of the surface its texel saw
   int texel;      // the DPRSM texel the hit projects into (-1: no hit / at the light)
   vec3 hit;       // y (valid when texel >= 0)
   vec3 radiance;  // L_o(y) towards x; 0 unless lit
 };
 
+// The texel a gathering hit projects into and whether the light reaches it: the DPRSM's plane
+// test, or the tracer's shadow ray (light_exact) where the hit's surface is known.
+vplkit_dprsm_lookup_result vplkit_gathering_hit_lookup(vplkit_dprsm_view view, vplkit_ray_hit h,
+                                                       vplkit_voxel_tracer tracer, float depth_tolerance) {
+  vplkit_dprsm_lookup_result lk = vplkit_dprsm_lookup(view, h.position, depth_tolerance);
+  if (tracer.light_exact && vplkit_ray_hit_has_normal(h) && vplkit_dprsm_texel_saw_surface(view, lk.texel)) {
+    vec3 c = view.light.position;
+    vec3 n_g = dot(h.normal, c - h.position) < 0.0 ? -h.normal : h.normal;
+    lk.lit = vplkit_voxel_tracer_light_visible(tracer, h.position, n_g, c);
+    lk.in_front = lk.in_front && lk.lit;
+    lk.shadow_ray = true;
+  }
+  return lk;
+}
+
 // Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
 vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, vec3 x, vec3 n_x, vec3 dir,
                                                        vplkit_voxel_tracer tracer, float depth_tolerance) {
-  vplkit_gathering_ray_result r = vplkit_gathering_ray_result(false, -1, vec3(0.0), vec3(0.0));
+  vplkit_gathering_ray_result r = vplkit_gathering_ray_result(false, false, -1, vec3(0.0), vec3(0.0));
   vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, x, n_x, dir);
   if (!h.hit) return r;
-  vplkit_dprsm_lookup_result lk = vplkit_dprsm_lookup(view, h.position, depth_tolerance);
+  vplkit_dprsm_lookup_result lk = vplkit_gathering_hit_lookup(view, h, tracer, depth_tolerance);
   r.texel = lk.texel;
   r.hit = h.position;
   if (!lk.lit) return r;
-  r.radiance = vplkit_dprsm_hit_radiance(view, lk.texel, x, h.position, depth_tolerance);
+  r.radiance = vplkit_dprsm_hit_radiance(view, lk, x, h, depth_tolerance);
   r.lit = r.radiance.x > 0.0 || r.radiance.y > 0.0 || r.radiance.z > 0.0;
+  r.in_front = r.lit && lk.in_front;
   return r;
 }
 

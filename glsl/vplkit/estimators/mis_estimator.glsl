@@ -110,8 +110,9 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
   float pmf = vplkit_estimator_distribution_pmf(distribution, uint(r.texel));
   if (mode == vplkit_mis_solid_angle) {
     float p1 = vplkit_cosine_pdf_solid_angle(cos2);
-    // The parts of patches whose points sit at the centre belong to gathering alone (weight 1).
-    if (vpl_mode == vplkit_vpl_patch && n1 > 0.0 && vplkit_mis_patch_hit_at_centre(view, r.texel, r.hit))
+    // Hits in front of their texel's surface and the parts of patches whose points sit at the
+    // centre belong to gathering alone (weight 1): the VPL strategy samples neither.
+    if (n1 > 0.0 && (r.in_front || (vpl_mode == vplkit_vpl_patch && vplkit_mis_patch_hit_at_centre(view, r.texel, r.hit))))
       return vplkit_mis_balance_value(f, n1, p1, 0.0, 0.0);
     float p2 = vpl_mode == vplkit_vpl_patch ? vplkit_mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                             : vplkit_mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);

@@ -76,8 +76,11 @@ bool vplkit_bvh_visible(vplkit_bvh b, vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
 vplkit_ray_hit vplkit_bvh_trace(vplkit_bvh b, vec3 x, vec3 n_x, vec3 dir, float offset_relative) {
   vec3 o = vplkit_bvh_offset_point(x, n_x, vplkit_bvh_surface_offset(b, offset_relative));
   vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, o, dir);
-  vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0));
-  if (h.hit) r.position = h.position;
+  vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+  }
   return r;
 }
 

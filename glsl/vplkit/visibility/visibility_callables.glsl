@@ -89,16 +89,34 @@ struct vplkit_voxel_tracer {
   bool user;                   // true: vplkit_user_trace (needs VPLKIT_USER_TRACER); false: the voxel DDA
   bool triangles;              // true: the triangle voxel first hit (needs VPLKIT_TRIANGLE_VOXELS)
   float end_tolerance_voxels;  // of the triangle voxel first hit
+  // Gathering's lit test by a shadow ray through `light` instead of the DPRSM's shadow map
+  // (tracer_with_light_visibility, visibility/light_visibility.hpp); false: the shadow map.
+  bool light_exact;
+  vplkit_visibility light;
 };
 
 vplkit_voxel_tracer vplkit_make_voxel_tracer(vplkit_voxel_grid grid) {
-  return vplkit_voxel_tracer(grid, vplkit_voxel_surface_offset_default, false, false, 0.0);
+  return vplkit_voxel_tracer(grid, vplkit_voxel_surface_offset_default, false, false, 0.0, false,
+                             vplkit_make_always_visible());
+}
+
+// with_light_visibility(tracer, visibility): the lit test of gathering hits by v.
+vplkit_voxel_tracer vplkit_tracer_with_light_visibility(vplkit_voxel_tracer tr, vplkit_visibility v) {
+  tr.light_exact = true;
+  tr.light = v;
+  return tr;
+}
+
+// tracer.light_visible(y, n_y, c): does the light at c reach surface point y (normal n_y facing c)?
+bool vplkit_voxel_tracer_light_visible(vplkit_voxel_tracer tr, vec3 y, vec3 n_y, vec3 c) {
+  return vplkit_visibility_test(tr.light, y, n_y, c, vec3(0.0));
 }
 
 #ifdef VPLKIT_TRIANGLE_VOXELS
 // triangle_voxel_tracer<float>: the first triangle met from x itself (no lift), on the triangle.
 vplkit_voxel_tracer vplkit_make_triangle_voxel_tracer(vplkit_voxel_grid grid) {
-  return vplkit_voxel_tracer(grid, 0.0, false, true, vplkit_triangle_voxel_default_end_tolerance);
+  return vplkit_voxel_tracer(grid, 0.0, false, true, vplkit_triangle_voxel_default_end_tolerance, false,
+                             vplkit_make_always_visible());
 }
 #endif
 
@@ -112,14 +130,17 @@ vplkit_ray_hit vplkit_voxel_tracer_trace(vplkit_voxel_tracer tr, vec3 x, vec3 n_
   if (tr.triangles) {
     vplkit_triangle_voxel_hit t = vplkit_triangle_voxel_first_hit(tr.grid, x, dir, vplkit_dda_infinity(),
                                                                   tr.end_tolerance_voxels);
-    vplkit_ray_hit th = vplkit_ray_hit(t.hit, vec3(0.0));
-    if (t.hit) th.position = t.point;
+    vplkit_ray_hit th = vplkit_ray_hit(t.hit, vec3(0.0), vec3(0.0), vec3(0.0));
+    if (t.hit) {
+      th.position = t.point;
+      th.normal = vplkit_load_voxel_triangle(4u * t.triangle).xyz;  // its plane's normal
+    }
     return th;
   }
 #endif
   vplkit_dda_trace_result r =
       vplkit_dda_trace_hit_point(tr.grid, vplkit_surface_ray_origin(tr.grid, x, n_x, tr.offset_voxels), dir);
-  vplkit_ray_hit h = vplkit_ray_hit(r.hit, vec3(0.0));
+  vplkit_ray_hit h = vplkit_ray_hit(r.hit, vec3(0.0), vec3(0.0), vec3(0.0));
   if (r.hit) h.position = r.point;
   return h;
 }

@@ -12,14 +12,22 @@
 #define VPLKIT_VPL_DPRSM_LOOKUP_GLSL
 
 #include "vplkit/core/constants.glsl"
+#include "vplkit/core/gather_point.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
 struct vplkit_dprsm_lookup_result {
-  int texel;  // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit;   // texel valid, saw a surface, and y is not behind that surface
+  int texel;      // flat texel index y projects into (-1 when y coincides with the light)
+  bool lit;       // texel valid, saw a surface, and y is not behind that surface
+  bool in_front;    // lit, and in front of that surface beyond the tolerance (another surface)
+  bool shadow_ray;  // lit was decided by a shadow ray (vplkit_gathering_hit_lookup), not the plane
 };
+
+// dprsm_plane_side: where a point lies against the surface a texel saw.
+const int vplkit_dprsm_plane_behind = 0;
+const int vplkit_dprsm_plane_on = 1;
+const int vplkit_dprsm_plane_in_front = 2;
 
 // Below this cosine between the light ray and the texel's plane the centre's depth stands in.
 const float vplkit_dprsm_plane_min_cos = 1e-3;
@@ -29,17 +37,28 @@ float vplkit_dprsm_lookup_slack(float d, int resolution) {
   return d * (2.0 / float(resolution) + 1e-4);
 }
 
-// y at or in front of the plane (y_t, n_t) within tolerance + slack along the light ray, tested
-// as n . (y - y_t) >= -tol cos(alpha); else (grazing, plane facing away) the centre's depth. A bad
-// tolerance or a distance that is not finite and positive: unlit.
-bool vplkit_dprsm_plane_lit(vec3 c, vec3 y_t, vec3 n_t, vec3 y, float d_y, float tolerance, int resolution) {
-  if (!(tolerance >= 0.0) || !(d_y > 0.0) || !(d_y <= vplkit_FLT_MAX)) return false;
+// y behind, on or in front of the plane (y_t, n_t) within tolerance + slack along the light ray,
+// tested as n . (y - y_t) against -+tol cos(alpha); else (grazing, plane facing away) against the
+// centre's depth. A bad tolerance or a distance that is not finite and positive: behind.
+int vplkit_dprsm_plane_side_of(vec3 c, vec3 y_t, vec3 n_t, vec3 y, float d_y, float tolerance, int resolution) {
+  if (!(tolerance >= 0.0) || !(d_y > 0.0) || !(d_y <= vplkit_FLT_MAX)) return vplkit_dprsm_plane_behind;
   float tol = tolerance + vplkit_dprsm_lookup_slack(d_y, resolution);
   vec3 n = vplkit_unit_or_zero(n_t);
   float h = dot(n, c - y_t);
   float cos_a = -dot(n, (y - c) / d_y);
-  if (h > 0.0 && cos_a > vplkit_dprsm_plane_min_cos) return dot(n, y - y_t) >= -tol * cos_a;
-  return d_y <= length(y_t - c) + tol;
+  if (h > 0.0 && cos_a > vplkit_dprsm_plane_min_cos) {
+    float s = dot(n, y - y_t), band = tol * cos_a;
+    if (!(s >= -band)) return vplkit_dprsm_plane_behind;
+    return s > band ? vplkit_dprsm_plane_in_front : vplkit_dprsm_plane_on;
+  }
+  float d_t = length(y_t - c);
+  if (!(d_y <= d_t + tol)) return vplkit_dprsm_plane_behind;
+  return d_y < d_t - tol ? vplkit_dprsm_plane_in_front : vplkit_dprsm_plane_on;
+}
+
+// The lit test: y not behind the texel's plane.
+bool vplkit_dprsm_plane_lit(vec3 c, vec3 y_t, vec3 n_t, vec3 y, float d_y, float tolerance, int resolution) {
+  return vplkit_dprsm_plane_side_of(c, y_t, n_t, y, d_y, tolerance, resolution) != vplkit_dprsm_plane_behind;
 }
 
 // Where the light ray towards y meets texel t's plane (y_t, n_t); y where the plane cannot say.
@@ -52,31 +71,52 @@ vec3 vplkit_dprsm_plane_point_towards(vec3 c, vec3 y_t, vec3 n_t, vec3 y) {
   return c + (h / cos_a) * w;
 }
 
+// Did texel t (any int) see a surface: a valid texel with a nonzero albedo?
+bool vplkit_dprsm_texel_saw_surface(vplkit_dprsm_view view, int t) {
+  if (t < 0 || t >= vplkit_dprsm_view_texel_count(view) || !vplkit_dprsm_view_texel_valid(view, t)) return false;
+  vec3 rho = vplkit_load_dprsm_albedo(t);
+  return rho.x > 0.0 || rho.y > 0.0 || rho.z > 0.0;
+}
+
 // tolerance: world-space error of y's position along the light ray (0 for exact hits); the lit
 // test adds its own slack.
 vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, float tolerance) {
-  vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup_result(-1, false);
+  vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup_result(-1, false, false, false);
   vec3 to_y = y - view.light.position;
   float d_y = length(to_y);
   if (!(d_y > 0.0)) return r;
   r.texel = vplkit_dprsm_view_texel_of_direction(view, to_y);
-  if (!vplkit_dprsm_view_texel_valid(view, r.texel)) return r;
-  vec3 rho = vplkit_load_dprsm_albedo(r.texel);
-  if (!(rho.x > 0.0 || rho.y > 0.0 || rho.z > 0.0)) return r;
-  r.lit = vplkit_dprsm_plane_lit(view.light.position, vplkit_load_dprsm_position(r.texel),
-                                 vplkit_load_dprsm_normal(r.texel), y, d_y, tolerance, view.resolution);
+  if (!vplkit_dprsm_texel_saw_surface(view, r.texel)) return r;
+  int side = vplkit_dprsm_plane_side_of(view.light.position, vplkit_load_dprsm_position(r.texel),
+                                        vplkit_load_dprsm_normal(r.texel), y, d_y, tolerance, view.resolution);
+  r.lit = side != vplkit_dprsm_plane_behind;
+  r.in_front = side == vplkit_dprsm_plane_in_front;
   return r;
 }
 
-// L_o towards x of a hit y the lookup found lit in texel t (one-sided; a hit known only within
-// depth_tolerance > 0 evaluated on the texel's plane in its direction; the C++ says why).
-vec3 vplkit_dprsm_hit_radiance(vplkit_dprsm_view view, int t, vec3 x, vec3 y, float depth_tolerance) {
+// L_o towards x of a hit the lookup lk found lit: a hit whose tracer knows its surface shaded as
+// that surface (lit side facing the light, the cosine from its shading normal; found on the
+// texel's plane by the plane test, x also on n_t's side), else with the
+// texel's normal (one-sided; a hit known only within depth_tolerance > 0 evaluated on the texel's
+// plane in its direction); the texel's albedo either way. The C++ says why.
+vec3 vplkit_dprsm_hit_radiance(vplkit_dprsm_view view, vplkit_dprsm_lookup_result lk, vec3 x, vplkit_ray_hit hit,
+                               float depth_tolerance) {
+  int t = lk.texel;
+  vec3 c = view.light.position;
+  vec3 y = hit.position;
+  if (vplkit_ray_hit_has_normal(hit)) {
+    vec3 n_g = dot(hit.normal, c - y) < 0.0 ? -hit.normal : hit.normal;
+    vec3 to_x = vplkit_unit_or_zero(x - y);
+    if (!(dot(vplkit_unit_or_zero(n_g), to_x) > 0.0)) return vec3(0.0);  // unlit side
+    if (!lk.shadow_ray && !lk.in_front && !(dot(vplkit_unit_or_zero(vplkit_load_dprsm_normal(t)), to_x) > 0.0))
+      return vec3(0.0);  // behind the surface the texel saw
+    return vplkit_reflected_radiance(c, view.light.intensity, y, vplkit_ray_hit_shading_normal(hit, n_g),
+                                     vplkit_load_dprsm_albedo(t));
+  }
   vec3 n_t = vplkit_load_dprsm_normal(t);
   if (!(dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(x - y)) > 0.0)) return vec3(0.0);  // from behind
-  vec3 at = depth_tolerance > 0.0 ? vplkit_dprsm_plane_point_towards(view.light.position, vplkit_load_dprsm_position(t),
-                                                                      n_t, y)
-                                  : y;
-  return vplkit_reflected_radiance(view.light.position, view.light.intensity, at, n_t, vplkit_load_dprsm_albedo(t));
+  vec3 at = depth_tolerance > 0.0 ? vplkit_dprsm_plane_point_towards(c, vplkit_load_dprsm_position(t), n_t, y) : y;
+  return vplkit_reflected_radiance(c, view.light.intensity, at, n_t, vplkit_load_dprsm_albedo(t));
 }
 
 #endif  // VPLKIT_VPL_DPRSM_LOOKUP_GLSL

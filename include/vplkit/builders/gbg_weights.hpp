@@ -59,12 +59,13 @@ struct gbg_stats {
 
 // Value accumulated for one lit hit (see the header comment). Plain arithmetic, never throws.
 template <class T>
-inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, int texel,
-                       vec3<T> hit_position, T dmin, gbg_accumulator accumulator, T depth_tolerance) {
+inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, const dprsm_lookup_result& lookup,
+                       const ray_hit<T>& hit, T dmin, gbg_accumulator accumulator, T depth_tolerance) {
   if (accumulator == gbg_accumulator::paper)
-    return luminance(vpl_contribution(g, view.vpl_at(texel), dmin));
-  // As the gathering estimator: one-sided, an inexact hit evaluated on the texel's plane.
-  return luminance(g.albedo * dprsm_hit_radiance(view, texel, g.position, hit_position, depth_tolerance));
+    return luminance(vpl_contribution(g, view.vpl_at(lookup.texel), dmin));
+  // As the gathering estimator: one-sided, a hit on another surface with its own normal, an
+  // inexact hit evaluated on the texel's plane.
+  return luminance(g.albedo * dprsm_hit_radiance(view, lookup, g.position, hit, depth_tolerance));
 }
 
 // Direction j of gather point `pixel` (the random-number consumption documented above). The
@@ -104,8 +105,7 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
     ++lit;
-    acc[r.texel] += double(gbg_hit_value(g, view, r.texel, h.position, params.dmin,
-                                         params.accumulator, params.depth_tolerance));
+    acc[r.texel] += double(gbg_hit_value(g, view, r, h, params.dmin, params.accumulator, params.depth_tolerance));
   }
   if (stats != nullptr) {
     stats->rays += params.n_dirs;

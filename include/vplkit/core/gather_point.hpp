@@ -84,11 +84,32 @@ struct gbuffer_view {
   }
 };
 
-// What a host's ray-casting callable returns: the first surface point along a ray, if any.
+// What a host's ray-casting callable returns: the first surface point along a ray, if any, and
+// what the tracer knows of the surface there, with gather_point's conventions: `normal` the
+// geometric normal (any length, either side; zero when the tracer cannot say, as the voxel-entry
+// tracer), `shading_normal` the normal of the light's cosine (zero: the same as `normal`). With a
+// normal the DPRSM look-up shades the hit as its own surface (dprsm_hit_radiance).
 template <class T>
 struct ray_hit {
   bool hit = false;
   vec3<T> position{T(0)};
+  vec3<T> normal{T(0)};
+  vec3<T> shading_normal{T(0)};
 };
+
+// Does the tracer say which surface it hit?
+template <class T>
+inline bool ray_hit_has_normal(const ray_hit<T>& h) {
+  return h.normal.x != T(0) || h.normal.y != T(0) || h.normal.z != T(0);
+}
+
+// The hit's shading normal on the side of n_g (its geometric normal turned as the caller needs),
+// or n_g where none is set.
+template <class T>
+inline vec3<T> ray_hit_shading_normal(const ray_hit<T>& h, vec3<T> n_g) {
+  const vec3<T> n_s = h.shading_normal;
+  if (!(n_s.x != T(0) || n_s.y != T(0) || n_s.z != T(0))) return n_g;
+  return glm::dot(n_s, n_g) < T(0) ? -n_s : n_s;
+}
 
 }  // namespace vplkit

@@ -16,6 +16,7 @@
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
+#include <vplkit/visibility/light_visibility.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
@@ -25,11 +26,32 @@ namespace vplkit {
 // What one gathering ray found.
 template <class T>
 struct gathering_ray_result {
-  bool lit = false;          // hit, projected into a texel that saw it, from the front of n_t
+  bool lit = false;          // hit, projected into a texel that saw it, seen from its lit side
+  bool in_front = false;     // lit, in front of the surface its texel saw (dprsm_lookup_result)
   int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light)
   vec3<T> hit{T(0)};         // y (valid when texel >= 0)
   vec3<T> radiance{T(0)};    // L_o(y) towards x; 0 unless lit
 };
+
+// The texel a gathering hit projects into and whether the light reaches it: the DPRSM's plane test
+// within depth_tolerance (dprsm_lookup), or, where the tracer answers shadow rays
+// (light_visibility.hpp) and knows the hit's surface, that shadow ray; in_front stays the plane's
+// verdict (MIS gives such hits to gathering alone), and only lit hits are in front.
+template <class T, class Tracer>
+inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const ray_hit<T>& h, const Tracer& tracer,
+                                                T depth_tolerance) {
+  dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  if constexpr (tracer_has_light_visibility<Tracer, T>::value) {
+    if (tracer.answers_light_visibility() && ray_hit_has_normal(h) && dprsm_texel_saw_surface(view, lk.texel)) {
+      const vec3<T> c = view.light.position;
+      const vec3<T> n_g = glm::dot(h.normal, c - h.position) < T(0) ? -h.normal : h.normal;
+      lk.lit = tracer.light_visible(h.position, n_g, c);
+      lk.in_front = lk.in_front && lk.lit;
+      lk.shadow_ray = true;
+    }
+  }
+  return lk;
+}
 
 // Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
 template <class T, class Tracer>
@@ -38,12 +60,13 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
   gathering_ray_result<T> r;
   const ray_hit<T> h = tracer(x, n_x, dir);
   if (!h.hit) return r;
-  const dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  const dprsm_lookup_result lk = gathering_hit_lookup(view, h, tracer, depth_tolerance);
   r.texel = lk.texel;
   r.hit = h.position;
   if (!lk.lit) return r;
-  r.radiance = dprsm_hit_radiance(view, lk.texel, x, h.position, depth_tolerance);
+  r.radiance = dprsm_hit_radiance(view, lk, x, h, depth_tolerance);
   r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
+  r.in_front = r.lit && lk.in_front;
   return r;
 }
 

@@ -123,9 +123,10 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const T pmf = T(distribution.pmf(std::size_t(r.texel)));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
-    // The parts of patches whose points sit at the centre belong to gathering alone (weight 1):
-    // the VPL strategy's moved points have no density there to weigh against.
-    if (vmode == vpl_mode::patch && n1 > T(0) && mis_patch_hit_at_centre(view, r.texel, r.hit))
+    // Hits in front of the surface their texel saw (another surface: the VPL strategy's points lie
+    // on the texel's plane, behind them) and the parts of patches whose points sit at the centre
+    // belong to gathering alone (weight 1): the VPL strategy samples neither.
+    if (n1 > T(0) && (r.in_front || (vmode == vpl_mode::patch && mis_patch_hit_at_centre(view, r.texel, r.hit))))
       return mis_balance_value(f, n1, p1, T(0), T(0));
     const T p2 = vmode == vpl_mode::patch ? mis_patch_vpl_pdf(view, r.texel, pmf, gp.position, r.hit)
                                           : mis_vpl_pdf(view, r.texel, pmf, gp.position, r.hit);

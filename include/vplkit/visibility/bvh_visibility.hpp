@@ -83,7 +83,10 @@ inline ray_hit<T> bvh_trace(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T
   const bvh_hit<T> h = bvh_closest_hit(b, o, dir);
   ray_hit<T> r;
   r.hit = h.hit;
-  if (h.hit) r.position = h.position;
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+  }
   return r;
 }
 

@@ -88,7 +88,7 @@ struct triangle_voxel_visibility {
 
 // First triangle met by the ray leaving x along dir (triangle_voxel_first_hit from x itself). The
 // hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the texel's own
-// depth spread.
+// depth spread. Its normal is the triangle's plane normal.
 template <class T>
 struct triangle_voxel_tracer {
   triangle_voxel_view<T> grid;
@@ -98,7 +98,10 @@ struct triangle_voxel_tracer {
         triangle_voxel_first_hit(grid, x, dir, std::numeric_limits<T>::infinity(), end_tolerance_voxels);
     ray_hit<T> h;
     h.hit = r.hit;
-    if (r.hit) h.position = r.point;
+    if (r.hit) {
+      h.position = r.point;
+      h.normal = grid.triangles[r.triangle].plane.normal;
+    }
     return h;
   }
 };

@@ -6,6 +6,7 @@
 // surface is taken as the texel's plane (through y_t, normal n_t), not as the centre's depth: a
 // fixed depth window around |y_t - c| both lights shadowed points just behind a lit surface
 // (contact shadows) and shadows lit points in front of it (a wall at a floor/wall crease).
+#include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
@@ -17,8 +18,18 @@
 namespace vplkit {
 
 struct dprsm_lookup_result {
-  int texel = -1;    // flat texel index y projects into (-1 when y coincides with the light)
-  bool lit = false;  // texel valid, saw a surface, and y is not behind that surface
+  int texel = -1;         // flat texel index y projects into (-1 when y coincides with the light)
+  bool lit = false;       // texel valid, saw a surface, and y is not behind that surface
+  bool in_front = false;  // lit, and in front of that surface beyond the tolerance: the light saw
+                          // another surface behind y in y's direction (dprsm_plane_side::in_front)
+  bool shadow_ray = false;  // lit was decided by a shadow ray (gathering_hit_lookup), not the plane
+};
+
+// Where a point lies against the surface a texel saw, within the lit test's tolerance.
+enum class dprsm_plane_side {
+  behind,   // shadowed by it
+  on,       // on it: the texel's normal and albedo describe the point's surface
+  in_front  // in front of it: lit (nothing the texel saw is in the way), but on another surface
 };
 
 // Below this cosine between the light ray and the texel's plane the plane test falls back to the
@@ -41,25 +52,40 @@ inline T dprsm_lookup_slack(T d, int resolution) {
   return d * (T(2) / T(resolution) + T(1e-4));
 }
 
-// Is y, at distance d_y from the light c, at or in front of the plane (y_t, n_t) of the texel it
-// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? One-sided, as a
-// shadow map: a point in front of the surface the light saw in that direction cannot be shadowed
-// by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the light, d_y <=
-// d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times cos > 0): no
-// division, and n . (y - y_t) measured directly instead of h - d_y cos, which cancels for points
-// on the plane. Where it does not (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the
-// plane's horizon crosses the texel; h <= 0: the plane faces away or holds the light; a zero
-// normal), the centre's depth stands in: d_y <= |y_t - c| + tol. NaN or negative tolerance, or a
-// distance that is not finite and positive: unlit (an infinite d_y would make the slack infinite).
+// Where is y, at distance d_y from the light c, against the plane (y_t, n_t) of the texel it
+// projects into, within tolerance + dprsm_lookup_slack(d_y) along the light ray? Behind it is
+// shadowed, as a shadow map: a point in front of the surface the light saw in that direction cannot
+// be shadowed by it. Where the light ray meets the plane at d_p = h / cos(alpha) ahead of the
+// light, d_y <= d_p + tol is tested as n . (y - y_t) >= -tol cos(alpha) (the two sides times
+// cos > 0), and in front as n . (y - y_t) > tol cos(alpha): no division, and n . (y - y_t) measured
+// directly instead of h - d_y cos, which cancels for points on the plane. Where it does not
+// (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the plane's horizon crosses the texel;
+// h <= 0: the plane faces away or holds the light; a zero normal), the centre's depth stands in:
+// |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not finite
+// and positive: behind (an infinite d_y would make the slack infinite).
 template <class T>
-inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
-  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max())) return false;
+inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
+                                            int resolution) {
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max()))
+    return dprsm_plane_side::behind;
   const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
   const vec3<T> n = unit_or_zero(n_t);
   const T h = glm::dot(n, c - y_t);
   const T cos_a = -glm::dot(n, (y - c) / d_y);
-  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) return glm::dot(n, y - y_t) >= -tol * cos_a;
-  return d_y <= glm::length(y_t - c) + tol;
+  if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) {
+    const T s = glm::dot(n, y - y_t), band = tol * cos_a;
+    if (!(s >= -band)) return dprsm_plane_side::behind;
+    return s > band ? dprsm_plane_side::in_front : dprsm_plane_side::on;
+  }
+  const T d_t = glm::length(y_t - c);
+  if (!(d_y <= d_t + tol)) return dprsm_plane_side::behind;
+  return d_y < d_t - tol ? dprsm_plane_side::in_front : dprsm_plane_side::on;
+}
+
+// The lit test: y not behind the texel's plane (dprsm_plane_side_of).
+template <class T>
+inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
+  return dprsm_plane_side_of(c, y_t, n_t, y, d_y, tolerance, resolution) != dprsm_plane_side::behind;
 }
 
 // Where the light ray towards y meets texel t's plane (y_t, n_t): the surface point the light saw
@@ -74,6 +100,14 @@ inline vec3<T> dprsm_plane_point_towards(vec3<T> c, vec3<T> y_t, vec3<T> n_t, ve
   return c + (h / cos_a) * w;
 }
 
+// Did texel t (any int) see a surface: a valid texel with a nonzero albedo?
+template <class T>
+inline bool dprsm_texel_saw_surface(const dprsm_view<T>& view, int t) {
+  if (t < 0 || t >= view.texel_count() || !view.texel_valid(t)) return false;
+  const vec3<T> rho = view.albedo[t];
+  return rho.x > T(0) || rho.y > T(0) || rho.z > T(0);
+}
+
 // tolerance: world-space error of y's position along the light ray (0 for exact hits; about a
 // voxel diagonal or two for the paper's voxel ray marching); the lit test adds its own slack.
 template <class T>
@@ -83,27 +117,51 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
   const T d_y = glm::length(to_y);
   if (!(d_y > T(0))) return r;
   r.texel = view.texel_of_direction(to_y);
-  if (!view.texel_valid(r.texel)) return r;
-  const vec3<T> rho = view.albedo[r.texel];
-  if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) return r;
-  r.lit = dprsm_plane_lit(view.light.position, view.position[r.texel], view.normal[r.texel], y, d_y, tolerance,
-                          view.resolution);
+  if (!dprsm_texel_saw_surface(view, r.texel)) return r;
+  const dprsm_plane_side side = dprsm_plane_side_of(view.light.position, view.position[r.texel],
+                                                    view.normal[r.texel], y, d_y, tolerance, view.resolution);
+  r.lit = side != dprsm_plane_side::behind;
+  r.in_front = side == dprsm_plane_side::in_front;
   return r;
 }
 
-// L_o towards x of a hit y that the lookup found lit in texel t: 0 seen from behind n_t (one-sided
-// emission), else the light's reflection with the texel's normal and albedo. A hit known only within
-// depth_tolerance > 0 (the paper's voxel-entry points, up to a voxel diagonal off their surface,
-// often in front of it) is evaluated where the light saw the texel's surface in its direction
-// (dprsm_plane_point_towards): at the point itself the 1/d1^2 of a light near a wall is far larger
-// than the surface's (fireflies). Exact hits (tolerance 0) are evaluated where they are. Shared by
-// the gathering estimator and the GBG builder's gathering accumulator, so that they agree.
+// L_o towards x of a hit the lookup lk found lit (lk.texel = t): the light's reflection with t's
+// albedo, 0 seen from the unlit side (one-sided emission), and
+// - a hit whose tracer knows its surface (ray_hit_has_normal: exact rays, triangle voxels) is
+//   shaded as that surface: its lit side the one facing the light (the exact method's convention),
+//   the cosine from its shading normal. Where the plane test found it on t's plane (not in front,
+//   no shadow ray), the light reached it only as far as the texel's surface says, from n_t's side:
+//   x must lie on that side too. Otherwise a point just behind a texel's plane, within the test's
+//   slack, on a face the light cannot see (the inner side of a closed solid's face below its lit
+//   top) would reflect light. The texel's normal would describe only the surface at the
+//   texel's centre: a column's foot in a floor texel's cone, a wall a few centimetres above a
+//   floor, a grazing face curving away within one texel all reflect the floor's (or the centre's)
+//   cos(alpha) over an area per solid angle of the light that is 1 / cos(alpha_y) larger; the
+//   texel's flux counted cos(alpha_t) / cos(alpha_y) times (+1.4 % on sponza; docs/math.md
+//   section 4.1). Shaded as itself, each texel's cone reflects rho_t I Omega_t, as its VPL.
+// - else (the voxel-entry tracer) with t's normal; a hit known only within depth_tolerance > 0
+//   (up to a voxel diagonal off its surface, often in front of it) is evaluated where the light
+//   saw the texel's surface in its direction (dprsm_plane_point_towards): at the point itself the
+//   1/d1^2 of a light near a wall is far larger than the surface's (fireflies).
+// Shared by the gathering estimator and the GBG builder's gathering accumulator, so that they agree.
 template <class T>
-inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, int t, vec3<T> x, vec3<T> y, T depth_tolerance) {
+inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, const dprsm_lookup_result& lk, vec3<T> x,
+                                  const ray_hit<T>& hit, T depth_tolerance) {
+  const int t = lk.texel;
+  const vec3<T> c = view.light.position;
+  const vec3<T> y = hit.position;
+  if (ray_hit_has_normal(hit)) {
+    const vec3<T> n_g = glm::dot(hit.normal, c - y) < T(0) ? -hit.normal : hit.normal;
+    const vec3<T> to_x = unit_or_zero(x - y);
+    if (!(glm::dot(unit_or_zero(n_g), to_x) > T(0))) return vec3<T>(T(0));  // unlit side
+    if (!lk.shadow_ray && !lk.in_front && !(glm::dot(unit_or_zero(view.normal[t]), to_x) > T(0)))
+      return vec3<T>(T(0));  // behind the surface the texel saw
+    return reflected_radiance(c, view.light.intensity, y, ray_hit_shading_normal(hit, n_g), view.albedo[t]);
+  }
   const vec3<T> n_t = view.normal[t];
   if (!(glm::dot(unit_or_zero(n_t), unit_or_zero(x - y)) > T(0))) return vec3<T>(T(0));  // from behind
-  const vec3<T> at = depth_tolerance > T(0) ? dprsm_plane_point_towards(view.light.position, view.position[t], n_t, y) : y;
-  return reflected_radiance(view.light.position, view.light.intensity, at, n_t, view.albedo[t]);
+  const vec3<T> at = depth_tolerance > T(0) ? dprsm_plane_point_towards(c, view.position[t], n_t, y) : y;
+  return reflected_radiance(c, view.light.intensity, at, n_t, view.albedo[t]);
 }
 
 }  // namespace vplkit

@@ -26,7 +26,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode;
+      face_selection, sampler, visibility, vpl_mode, lit_test;
   bool paper = false, direct = false, window = false;
 };
 
@@ -129,6 +129,12 @@ void build_app(CLI::App& app, raw_values& v) {
                    "backend and the GLSL pack's BVH (built on the host, uploaded once per frame) on the GPU backend. "
                    "--method exact always uses exact rays."))
       ->type_name("voxels|paper-voxels|exact");
+  app.add_option("--lit-test", v.lit_test,
+                 d("How gathering (gather, mis) decides that the light reaches a hit (default shadow-ray with "
+                   "--visibility exact, else shadow-map): shadow-map = the DPRSM's test against its texel's "
+                   "plane (the paper's); shadow-ray = a ray from the hit to the light, through the exact "
+                   "visibility (needs --visibility exact). docs/math.md section 4.1."))
+      ->type_name("shadow-map|shadow-ray");
   app.add_option("--vpl-mode", v.vpl_mode,
                  d("What a VPL is, for every method that uses VPLs (reference, global, local, gbg, mis, "
                    "mis-as-published; default patch): patch = a point drawn uniformly over its texel's patch "
@@ -335,6 +341,13 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                    {{"voxels", visibility_choice::voxels},
                                                     {"paper-voxels", visibility_choice::paper_voxels},
                                                     {"exact", visibility_choice::exact}});
+  o.lit_test = o.visibility == visibility_choice::exact ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map;
+  if (given("--lit-test"))
+    o.lit_test = parse_choice<lit_test_choice>("--lit-test", v.lit_test,
+                                               {{"shadow-map", lit_test_choice::shadow_map},
+                                                {"shadow-ray", lit_test_choice::shadow_ray}});
+  if (o.lit_test == lit_test_choice::shadow_ray && o.visibility != visibility_choice::exact)
+    throw usage_error("--lit-test shadow-ray: needs --visibility exact (the shadow ray is an exact ray)");
   if (o.paper) {
     o.width = o.height = 512;
     o.dprsm = 512;

@@ -58,6 +58,7 @@ struct options {
   face_selection_choice face_selection = face_selection_choice::joint;  // paper: roulette
   sampler_choice sampler = sampler_choice::cdf;
   visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
+  lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)

@@ -28,6 +28,7 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.face_selection = o.face_selection;
   e.sampler = o.sampler;
   e.visibility = o.visibility;
+  e.lit_test = o.lit_test;
   e.vpl_mode = o.vpl_mode;
   e.seed = o.seed;
   e.direct = o.direct;

@@ -38,6 +38,7 @@ const char* to_string(visibility_choice v) {
   return "voxels";
 }
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
+const char* to_string(lit_test_choice l) { return l == lit_test_choice::shadow_ray ? "shadow-ray" : "shadow-map"; }
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
   return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;

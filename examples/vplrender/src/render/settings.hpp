@@ -33,6 +33,11 @@ enum class sampler_choice { cdf, alias };
 // voxel_tracer, section 7.1); exact: the scene's triangles (Embree on the CPU backend, the pack's
 // BVH on the GPU backend).
 enum class visibility_choice { voxels, paper_voxels, exact };
+// How gathering (gather, mis, and the exhaustive gathering reference) decides that the light
+// reaches a hit (docs/math.md section 4.1): shadow_map = the DPRSM's plane test (the paper's);
+// shadow_ray = a ray to the light through the exact visibility (vplkit::with_light_visibility),
+// which needs visibility_choice::exact and is its default there.
+enum class lit_test_choice { shadow_map, shadow_ray };
 // What a VPL is, for every method that uses VPLs (docs/math.md section 11): point = the paper's VPL
 // at the texel centre (the VPL sum is the midpoint rule of the one-bounce integral); patch = a point
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
@@ -48,6 +53,7 @@ const char* to_string(face_selection_choice f);
 const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
+const char* to_string(lit_test_choice l);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
 // mis-as-published): they have builders and CDFs; reference, gather and exact have none.
@@ -69,6 +75,7 @@ struct render_settings {
   face_selection_choice face_selection = face_selection_choice::joint;
   sampler_choice sampler = sampler_choice::cdf;
   visibility_choice visibility = visibility_choice::voxels;
+  lit_test_choice lit_test = lit_test_choice::shadow_map;
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   float scene_diagonal = 0.0f;  // of the scene's box (world units): the gathering depth tolerance

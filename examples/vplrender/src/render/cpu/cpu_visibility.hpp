@@ -44,6 +44,11 @@ struct cpu_tracer {
     }
     return voxels(x, n_x, dir);
   }
+  // Gathering's lit test (vplkit/visibility/light_visibility.hpp): a shadow ray through Embree
+  // (lit_test_choice::shadow_ray, exact visibility only), else the DPRSM's shadow map.
+  bool shadow_ray = false;
+  bool answers_light_visibility() const { return shadow_ray && exact != nullptr; }
+  bool light_visible(vec3 y, vec3 n_y, vec3 c) const { return exact->visible(y, n_y, c, vec3(0.0f)); }
 };
 
 // The frame's ray scene, or invalid_input naming `who` when the frame was prepared without one
@@ -64,9 +69,11 @@ inline cpu_visibility make_cpu_visibility(const frame_buffers& b, visibility_cho
   return c;
 }
 
-inline cpu_tracer make_cpu_tracer(const frame_buffers& b, visibility_choice v) {
+inline cpu_tracer make_cpu_tracer(const frame_buffers& b, visibility_choice v,
+                                  lit_test_choice lit = lit_test_choice::shadow_map) {
   cpu_tracer c;
   c.kind = v;
+  c.shadow_ray = lit == lit_test_choice::shadow_ray && v == visibility_choice::exact;
   c.voxels = vplkit::triangle_voxel_tracer<float>{b.grid.view()};
   c.paper_voxels = vplkit::voxel_tracer<float>{b.grid.occupancy().view()};
   if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu tracer");

@@ -49,7 +49,8 @@ class ray_scene {
   // vplkit::bvh_visible's contract: are surface points x (normal n_x) and y (normal n_y) mutually
   // visible? Non-finite x or y: no.
   bool visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) const;
-  // vplkit::bvh_trace's contract: the first hit of the ray leaving surface x (normal n_x) along dir.
+  // vplkit::bvh_trace's contract: the first hit of the ray leaving surface x (normal n_x) along dir,
+  // with the triangle's geometric normal (no shading normal: see trace in ray_scene.cpp).
   vplkit::ray_hit<float> trace(vec3 x, vec3 n_x, vec3 dir) const;
 
   // The shading normal at a hit (corner normals interpolated, unit) and the albedo there (the

@@ -94,11 +94,11 @@ kernel_kind kernel_of(method m) {
   return k_reference;
 }
 
-// estimate.comp compiled once per kind and visibility (the process's program cache).
-const vplkit::gl::program& kernel(kernel_kind k, visibility_choice v) {
+// estimate.comp compiled once per kind, visibility and lit test (the process's program cache).
+const vplkit::gl::program& kernel(kernel_kind k, visibility_choice v, bool shadow_ray) {
   return vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/estimate.comp",
                                    "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n" +
-                                       estimate_visibility_define(v));
+                                       estimate_visibility_define(v) + (shadow_ray ? "#define VR_LIT_SHADOW_RAY\n" : ""));
 }
 
 // Worst-case loop iterations of one unit of work (a texel, sample, round, direction or MIS step)
@@ -193,7 +193,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (es.meth == method::reference && es.vpl_mode == vpl_mode_choice::patch)
     det["reference_strata"] = reference_patch_strata;
 
-  const gl::program& prog = kernel(kind, es.visibility);
+  const bool shadow_ray = es.lit_test == lit_test_choice::shadow_ray && es.visibility == visibility_choice::exact;
+  det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
+  const gl::program& prog = kernel(kind, es.visibility, shadow_ray);
   prog.use();
   auto set_i = [&](const char* n, int v) { glUniform1i(prog.uniform_location(n), v); };
   auto set_f = [&](const char* n, float v) { glUniform1f(prog.uniform_location(n), v); };
