@@ -46,19 +46,19 @@ namespace {
 // both triangles at the same t, and Embree and the BVH may pick different ones for its geometric
 // normal (exact_estimator.hpp's gather_point_geometric_normal): a different hemisphere, a
 // different value. Such pixels lie beside (4-neighbours) a pixel of another normal in the
-// G-buffer; they are
-// held to the image mean only, every other pixel to rounding.
+// G-buffer; they are held to the image mean only, every other pixel to rounding.
 std::vector<bool> crease_pixels(const gbuffer_data& g) {
   std::vector<bool> crease(g.normal.size(), false);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const vec3 n = g.normal[static_cast<std::size_t>(y * g.width + x)];
       for (const glm::ivec2 step : {glm::ivec2(-1, 0), glm::ivec2(1, 0), glm::ivec2(0, -1), glm::ivec2(0, 1)}) {
-          const int u = x + step.x, v = y + step.y;
-          if (u < 0 || v < 0 || u >= g.width || v >= g.height) continue;
-          const vec3 m = g.normal[static_cast<std::size_t>(v * g.width + u)];
-          if (glm::dot(n, m) < 0.999f * glm::length(n) * glm::length(m)) crease[static_cast<std::size_t>(y * g.width + x)] = true;
-        }
+        const int u = x + step.x, v = y + step.y;
+        if (u < 0 || v < 0 || u >= g.width || v >= g.height) continue;
+        const vec3 m = g.normal[static_cast<std::size_t>(v * g.width + u)];
+        if (glm::dot(n, m) < 0.999f * glm::length(n) * glm::length(m))
+          crease[static_cast<std::size_t>(y * g.width + x)] = true;
+      }
     }
   return crease;
 }

@@ -39,7 +39,8 @@ struct vr_texture {
 // host filled with that very function.
 vec3 vr_texel(vr_texture t, int x, int y) {
   uint w = vr_load_shading_word(t.first + uint(y) * uint(t.width) + uint(x));
-  return vec3(uintBitsToFloat(vr_load_shading_word(w & 0xFFu)), uintBitsToFloat(vr_load_shading_word((w >> 8u) & 0xFFu)),
+  return vec3(uintBitsToFloat(vr_load_shading_word(w & 0xFFu)),
+              uintBitsToFloat(vr_load_shading_word((w >> 8u) & 0xFFu)),
               uintBitsToFloat(vr_load_shading_word((w >> 16u) & 0xFFu)));
 }
 

@@ -79,7 +79,8 @@ gpu_scene_shading upload_scene_shading(const scene& s) {
     return g;
   }
   std::vector<std::uint32_t> pool(words, 0u);
-  for (int i = 0; i < 256; ++i) pool[static_cast<std::size_t>(i)] = bits(srgb_to_linear(static_cast<float>(i) / 255.0f));
+  for (int i = 0; i < 256; ++i)
+    pool[static_cast<std::size_t>(i)] = bits(srgb_to_linear(static_cast<float>(i) / 255.0f));
   std::size_t texel_at = gpu_shading_material_base + 8 * s.materials.size();
   std::vector<std::size_t> first(s.textures.size());
   for (std::size_t k = 0; k < s.textures.size(); ++k) {

@@ -139,7 +139,11 @@ work_shape shape_of(const render_settings& es, int R, long long query_cost, int 
     case k_gather: s.cost = dda + 4; s.units = es.dirs; break;
     case k_mis: s.cost = 2 * dda + cdf + 8; s.units = std::max(es.dirs, es.vpls); break;
     // A direction: its first hit and the hit's shadow ray; a pass: the gather point's camera ray.
-    case k_exact: s.cost = 2 * query_cost + texture_wrap_cost + 32; s.units = es.dirs; s.fixed = query_cost; break;
+    case k_exact:
+      s.cost = 2 * query_cost + texture_wrap_cost + 32;
+      s.units = es.dirs;
+      s.fixed = query_cost;
+      break;
   }
   return s;
 }
@@ -187,6 +191,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const kernel_kind kind = kernel_of(es.meth);
   // --method exact: the host's ray scene gives the offsets (checked first: its error names the method).
   const ray_scene* exact_rays = kind == k_exact ? &frame_ray_scene(b, "--method exact") : nullptr;
+  if (kind == k_exact && !scene.shading.unavailable.empty())
+    throw vplkit::invalid_input("--method exact on the GPU: " + scene.shading.unavailable);
   const std::uint32_t slot_base = with_dists ? gm.slot_base : 0u;
   const int n_dists = with_dists ? gm.count : 0;
 
@@ -261,7 +267,6 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     // exact.comp: the hits' shading (10, 11: the voxel triangle lists' bindings, unused with exact
     // visibility) and the host ray scene's offset, size and eye, so both backends move the same
     // points by the same amounts.
-    if (!scene.shading.unavailable.empty()) throw vplkit::invalid_input("--method exact on the GPU: " + scene.shading.unavailable);
     const ray_scene& rs = *exact_rays;
     scene.shading.triangles.bind(10);
     scene.shading.pool.bind(11);
@@ -278,7 +283,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const long long units = std::max(1LL, shape.units);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
   const GLuint groups = gl::groups_for(n_pixels, prog.local_size()[0]);
-  det["gpu"] = {{"kernel", kind == k_exact ? "examples/vplrender/shaders/exact.comp" : "examples/vplrender/shaders/estimate.comp"},
+  const char* kernel_file =
+      kind == k_exact ? "examples/vplrender/shaders/exact.comp" : "examples/vplrender/shaders/estimate.comp";
+  det["gpu"] = {{"kernel", kernel_file},
                 {"passes", passes},
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
