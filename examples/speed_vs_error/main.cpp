@@ -71,7 +71,8 @@ Sweep options:
   --cache-dir DIR    reference cache (default speed_vs_error_cache); references are EXR files
                      named by a hash of scene, size, DPRSM, voxels, backend, light, camera,
                      --direct, --visibility exact, and for the gathering and exact references
-                     their directions and seed (gathering: and --lit-test), for the patch VPL
+                     their directions and seed (gathering: and --lit-test; exact on the GPU:
+                     also that), for the patch VPL
                      sum its mode and seed
   --out PREFIX       writes PREFIX.csv, PREFIX.md, PREFIX.svg (default speed_vs_error), and
                      with 2 or more seeds PREFIX_bias_variance.csv
@@ -93,8 +94,8 @@ unbiased estimate of the continuous integral that (b) estimates) and (b) converg
 (gather at --ref-dirs, seed 0x5EED0F1E: the estimand of gather and mis; with point VPLs it
 differs from (a) by the VPL discretisation; with either by the distance clamp), both with the
 chosen --visibility, and (c) the ground truth (exact at --ref-exact-dirs, seed 0x5EED0E4A: cosine
-gathering against the triangles with exact visibility and no VPLs; the distance from (a) and (b)
-to (c) is what the VPLs, the DPRSM and the voxel grid cost in accuracy).
+gathering against the triangles with exact visibility and no VPLs, on --backend's estimator; the
+distance from (a) and (b) to (c) is what the VPLs, the DPRSM and the voxel grid cost in accuracy).
 
 Bias/variance (2 or more seeds S, per method and sample count; m = mean image over the seeds):
   variance = mean_{p,c} sum_s (x_s,pc - m_pc)^2 / (S - 1)   (per-run variance, unbiased)
@@ -249,6 +250,10 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   // older ones (the texel's normal, the shadow map always) do not match them.
   if (kind == "gather") k += std::string("|hits=own-surface|lit=") + to_string(o.lit_test);
   if (kind == "gather" || kind == "exact") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);
+  // The exact reference runs on --backend's estimator; the GPU's differs from the CPU's at creases
+  // (ties the two ray tracers break differently), and "backend=gpu" entries written before it had a
+  // GPU kernel hold CPU images: a key of their own.
+  if (kind == "exact" && o.back == backend::gpu) k += "|exact_estimator=gpu";
   // Only for patch VPLs, so the keys of point VPL sums stay what they were.
   if (kind == "vplsum" && o.vpl_mode == vpl_mode_choice::patch)
     k += "|vpl_mode=patch|strata=" + std::to_string(reference_patch_strata) + "|seed=" + std::to_string(seed);

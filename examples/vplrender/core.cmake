@@ -109,6 +109,7 @@ if(TARGET vplkit_headless_gl)
     ${_vr}/raster/gl_raster.cpp
     ${_vr}/raster/gpu_bvh.cpp
     ${_vr}/raster/gpu_scene_buffers.cpp
+    ${_vr}/raster/gpu_scene_shading.cpp
     ${_vr}/raster/voxels_gpu.cpp
     ${_vr}/render/gpu/gpu_backend.cpp
     ${_vr}/render/gpu/gpu_builders.cpp

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -163,7 +164,9 @@ const program& cached_kernel(const std::string& path, const std::string& preambl
   if (!in) throw gl_error("cannot read " + file);
   std::ostringstream text;
   text << "#version 430\n" << in.rdbuf();
-  program p = program::compute_with_includes(text.str(), file, {}, preamble);
+  const glsl::resolved_source resolved = glsl::resolve_includes(text.str(), file, {glsl_source_dir()}, preamble,
+                                                                std::filesystem::path(file).parent_path().string());
+  program p = program::compute(resolved.text, &resolved);
   return cache.emplace(key, std::move(p)).first->second;
 }
 

@@ -81,7 +81,9 @@ private:
 // host that dispatches kernels repeatedly (the renderer's builders, CDFs and estimator). The key
 // is the kernel file and the preamble (defines, placed after #version). Kernel files are
 // #version-free (docs/glsl.md): "#version 430" is put first. A relative `path` is looked up under
-// the pack root (glsl_source_dir()), an absolute one is used as it is. The programs belong to the
+// the pack root (glsl_source_dir()), an absolute one is used as it is. Its #includes resolve
+// against the pack root, and quoted ones first in the kernel's own folder (glslang's rule), so a
+// host's kernel may include its own files beside it. The programs belong to the
 // context current at their first use: vplkit's tools keep one context per process. Thread-safe.
 // Throws gl_error when the file cannot be read or the kernel does not compile.
 const program& cached_kernel(const std::string& path, const std::string& preamble = {});

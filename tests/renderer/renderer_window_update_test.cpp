@@ -8,7 +8,7 @@
 using namespace vplrender;
 
 namespace {
-window_view view(method m, int vpls, int dirs) { return window_view{m, vpls, dirs}; }
+window_view view(method m, int vpls, int dirs) { return window_view{m, vpls, dirs, false}; }
 }  // namespace
 
 TEST_CASE("a pass with no key and no damage does nothing", "[renderer][window]") {
@@ -81,4 +81,20 @@ TEST_CASE("m wraps around the seven methods", "[renderer][window]") {
   window_view v = view(method::mis_as_published, 4, 16);
   CHECK(plan_window_update(v, {"m"}, false, false).rerender);
   CHECK(v.meth == method::reference);
+}
+
+TEST_CASE("8 and m reach exact only on a frame with exact rays, and exact's dirs follow + and -", "[renderer][window]") {
+  window_view v = view(method::mis_as_published, 4, 16);
+  CHECK_FALSE(plan_window_update(v, {"8"}, false, false).rerender);  // no exact rays: 8 changes nothing
+  CHECK(v.meth == method::mis_as_published);
+  v.exact = true;
+  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(v.meth == method::exact);
+  CHECK(plan_window_update(v, {"+"}, false, false).rerender);
+  CHECK(v.dirs == 32);
+  CHECK(window_samples_text(v) == "exact, vpls 8, dirs 32");
+  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(v.meth == method::reference);
+  CHECK(plan_window_update(v, {"8"}, false, false).rerender);
+  CHECK(v.meth == method::exact);
 }

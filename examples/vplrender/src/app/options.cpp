@@ -64,8 +64,8 @@ void build_app(CLI::App& app, raw_values& v) {
                  "cosine gathering only; mis = gathering + GBG CDF with solid-angle balance heuristic; "
                  "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison); exact = ground truth: "
                  "--dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
-                 "light at each hit with an exact shadow ray, no VPLs (runs on the CPU with Embree on either "
-                 "backend; no GPU kernel)."))
+                 "light at each hit with an exact shadow ray, no VPLs (Embree on the CPU backend, the GLSL "
+                 "pack's BVH on the GPU backend; the two agree per pixel up to ties at creases)."))
       ->type_name(kMethods);
   app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
                                       "(headless). gpu: everything after that runs as compute shaders from the GLSL "
@@ -158,15 +158,16 @@ void build_app(CLI::App& app, raw_values& v) {
                                    "--regions 4 --dirs 800 --vpl-mode point --visibility paper-voxels. Flags given explicitly win."));
   app.add_flag("--direct", v.direct, d("Add direct lighting (default: one-bounce indirect only, as in the paper)."));
   app.add_flag("--window", v.window, d("Also show the result in an interactive window (GPU backend; needs a display). "
-                                     "Keys: 1-7 reference/global/local/gbg/gather/mis/mis-as-published, M next "
-                                     "method, + / - double / halve --vpls (and --dirs for gbg, gather, mis), "
+                                     "Keys: 1-7 reference/global/local/gbg/gather/mis/mis-as-published, 8 exact "
+                                     "(when started with --method exact or --visibility exact), M next "
+                                     "method, + / - double / halve --vpls (and --dirs for gbg, gather, mis, exact), "
                                      "Esc or Q close. Each change re-renders; the title shows method, samples and "
                                      "the last render time."));
   app.add_option("--frames", v.frames, d("With --window: close after N frames (default 0: when closed by the user)."))
       ->type_name("N");
   app.add_option("--window-script", v.window_script,
                  d("With --window: key actions injected one per frame from the second frame on, comma-separated "
-                   "(1-7, m, +, -, q); for tests."))
+                   "(1-8, m, +, -, q); for tests."))
       ->type_name("K1,K2,...");
   app.add_option("--exposure", v.exposure, d("Exposure multiplier for the PNG preview only (default 1; > 0)."))
       ->type_name("X");
@@ -431,9 +432,9 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
       const std::size_t j = std::min(v.window_script.find(',', i), v.window_script.size());
       std::string k = v.window_script.substr(i, j - i);
       if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') k[0] = static_cast<char>(k[0] - 'A' + 'a');
-      static const char* const allowed[] = {"1", "2", "3", "4", "5", "6", "7", "m", "+", "-", "q"};
+      static const char* const allowed[] = {"1", "2", "3", "4", "5", "6", "7", "8", "m", "+", "-", "q"};
       if (std::find(std::begin(allowed), std::end(allowed), k) == std::end(allowed))
-        bad("--window-script", "unknown key action '" + k + "' (expected 1-7, m, +, -, q)");
+        bad("--window-script", "unknown key action '" + k + "' (expected 1-8, m, +, -, q)");
       o.window_script.push_back(k);
       i = j + 1;
     }
@@ -445,7 +446,6 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                          std::to_string(o.regions_y) + ") do not fit a " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
   if (o.window && o.back != backend::gpu) bad("--window", "needs --backend gpu");
-  if (o.window && o.meth == method::exact) bad("--window", "does not offer --method exact (it has no GPU kernel)");
   return r;
 }
 

@@ -156,8 +156,8 @@ struct window_session::impl {
       if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
       auto* self = static_cast<impl*>(glfwGetWindowUserPointer(w));
       std::string a;
-      if (key >= GLFW_KEY_1 && key <= GLFW_KEY_7) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_1));
-      else if (key >= GLFW_KEY_KP_1 && key <= GLFW_KEY_KP_7) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_KP_1));
+      if (key >= GLFW_KEY_1 && key <= GLFW_KEY_8) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_1));
+      else if (key >= GLFW_KEY_KP_1 && key <= GLFW_KEY_KP_8) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_KP_1));
       else if (key == GLFW_KEY_M) a = "m";
       else if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) a = "+";
       else if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) a = "-";
@@ -210,7 +210,7 @@ struct window_session::impl {
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, o.width, o.height, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
   }
 
-  window_view view() const { return window_view{o.meth, o.vpls, o.dirs}; }
+  window_view view() const { return window_view{o.meth, o.vpls, o.dirs, buffers && buffers->rays}; }
   void set_view(const window_view& v) {
     o.meth = v.meth;
     o.vpls = v.vpls;

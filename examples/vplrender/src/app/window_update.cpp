@@ -7,12 +7,16 @@ namespace vplrender {
 
 namespace {
 
+// Keys 1-8 in this order; exact (8) only on a frame with exact rays (window_view::exact).
 constexpr method kMethodOrder[] = {method::reference, method::global, method::local, method::gbg,
-                                   method::gather, method::mis, method::mis_as_published};
-constexpr int kMethods = static_cast<int>(sizeof kMethodOrder / sizeof kMethodOrder[0]);
+                                   method::gather, method::mis, method::mis_as_published, method::exact};
+constexpr int kAllMethods = static_cast<int>(sizeof kMethodOrder / sizeof kMethodOrder[0]);
+
+int method_count(const window_view& v) { return v.exact ? kAllMethods : kAllMethods - 1; }
 
 bool uses_dirs(method m) {
-  return m == method::gbg || m == method::gather || m == method::mis || m == method::mis_as_published;
+  return m == method::gbg || m == method::gather || m == method::mis || m == method::mis_as_published ||
+         m == method::exact;
 }
 
 bool set_samples(window_view& v, int vpls, int dirs) {
@@ -29,6 +33,7 @@ bool apply_window_action(window_view& v, const std::string& a, bool* close) {
     *close = true;
     return false;
   }
+  const int kMethods = method_count(v);
   if (a.size() == 1 && a[0] >= '1' && a[0] < '1' + kMethods) {
     const method m = kMethodOrder[a[0] - '1'];
     if (m == v.meth) return false;

@@ -16,6 +16,7 @@ struct window_view {
   method meth = method::mis;
   int vpls = 0;
   int dirs = 0;
+  bool exact = false;  // the frame has exact rays (--method or --visibility exact): key 8 and M reach exact
 };
 
 struct window_update {
@@ -24,8 +25,9 @@ struct window_update {
   bool close = false;     // 'q' (actions after it in the same pass are dropped)
 };
 
-// Applies one key action ("1"-"7", "m", "+", "-", "q"; see docs/renderer.md, "Window"). Returns
-// true when the view changed; sets *close for "q".
+// Applies one key action ("1"-"8", "m", "+", "-", "q"; see docs/renderer.md, "Window"; "8", exact,
+// only with window_view::exact, else it changes nothing). Returns true when the view changed; sets
+// *close for "q".
 bool apply_window_action(window_view& v, const std::string& action, bool* close);
 
 // One pass: the actions in order, then the decision. `damaged`: the window was resized, exposed or

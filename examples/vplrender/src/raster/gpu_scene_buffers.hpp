@@ -5,6 +5,7 @@
 // pipeline (render/pipeline.hpp) and bound by every GPU stage, so nothing is uploaded twice. A
 // richer visibility structure adds its buffers here and to upload_scene_buffers.
 #include "raster/gpu_bvh.hpp"
+#include "raster/gpu_scene_shading.hpp"
 #include "raster/render_data.hpp"
 #include "raster/voxels.hpp"
 
@@ -33,6 +34,7 @@ struct gpu_scene_buffers {
   vplkit::gl::buffer voxels;   // the voxel grid's occupancy words (voxel_grid::words order)
   gpu_triangle_voxels voxel_triangles;  // --visibility voxels: the lists of the occupied voxels
   gpu_bvh bvh;                 // --visibility exact: the scene's BVH (empty unless prepared with exact rays)
+  gpu_scene_shading shading;   // --method exact: the hits' normals and albedos (empty unless prepared with exact rays)
 };
 
 // A G-buffer pixel or a DPRSM texel as the kernels read it: struct { vec4 position; vec4 normal;

@@ -116,8 +116,9 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     scene_gpu->voxel_triangles = gpu_allocating(triangle_voxels_bytes(grid.view()), "the voxel triangle lists",
                                                 [&] { return upload_triangle_voxels(grid.view()); });
   }
-  // Exact rays: Embree over the scene for the CPU (exact visibility there, --method exact on either
-  // backend) and, for the GPU backend, the pack's BVH built here and uploaded with the scene buffers.
+  // Exact rays: Embree over the scene for the CPU backend (and the offsets both backends' exact
+  // rays use) and, for the GPU backend, the pack's BVH built here and uploaded with the scene
+  // buffers, with what --method exact needs to shade its hits (raster/gpu_scene_shading.hpp).
   std::shared_ptr<const ray_scene> rays;
   if (f.exact_rays) {
     {
@@ -127,6 +128,8 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
     if (gpu) {
       auto t = timer.scoped("bvh build and upload (cpu)");
       scene_gpu->bvh = upload_scene_bvh(s);
+      scene_gpu->shading = gpu_allocating(scene_shading_bytes(s), "the triangles' shading and the textures",
+                                          [&] { return upload_scene_shading(s); });
     }
     det["exact_rays"] = {{"triangles", s.triangles.size()},
                          {"surface_offset", rays->surface_offset()},
@@ -137,7 +140,8 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
       {"on_gpu", gpu},
       {"gpu_bytes", gpu ? scene_gpu->gbuffer.size_bytes() + scene_gpu->dprsm.size_bytes() + scene_gpu->voxels.size_bytes() +
                               scene_gpu->voxel_triangles.size_bytes() +
-                              scene_gpu->bvh.nodes.size_bytes() + scene_gpu->bvh.triangles.size_bytes()
+                              scene_gpu->bvh.nodes.size_bytes() + scene_gpu->bvh.triangles.size_bytes() +
+                              scene_gpu->shading.size_bytes()
                         : std::size_t(0)}};
   frame_buffers b{f.back, std::move(gl_renderer), std::move(gbuf), std::move(dprsm), std::move(grid), nullptr, nullptr};
   b.gpu = std::move(scene_gpu);
@@ -154,14 +158,13 @@ render_result run_estimator(const frame_buffers& b, const render_settings& s, st
   vplkit::gl::reset_gpu_memory_peak();
   render_result r;
   try {
-    // --method exact has no GPU kernel: it runs on the CPU (Embree) with either backend's frame.
-    r = gpu && s.meth != method::exact ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
+    r = gpu ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);
   } catch (const vplkit::invalid_input& e) {
     throw input_error(with_light_hint(e.what(), b.dprsm.light.intensity));
   }
   check_image_against_light(r.image, b.dprsm.light.intensity);
   det["estimator"] = r.details;
-  det["estimator_backend"] = to_string(s.meth == method::exact ? backend::cpu : b.back);
+  det["estimator_backend"] = to_string(b.back);
   const vplkit::gl::gpu_memory after = vplkit::gl::gpu_memory_usage();
   det["memory"] = {{"gpu_peak_bytes_prepare", before.peak_bytes},
                    {"gpu_live_bytes_before_estimator", before.live_bytes},

@@ -29,8 +29,9 @@ struct frame_settings {
   int voxels = 128;  // voxel grid resolution per axis
   backend back = backend::gpu;
   // Also build the exact ray-tracing structures: the scene in Embree (frame_buffers::rays: exact
-  // visibility on the CPU backend and --method exact on either) and, for the GPU backend, the
-  // scene's BVH on the GPU (gpu_scene_buffers::bvh). Needed by --visibility exact and --method exact.
+  // rays on the CPU backend, and the surface offset both backends use) and, for the GPU backend,
+  // the scene's BVH and the triangles' shading on the GPU (gpu_scene_buffers::bvh, ::shading).
+  // Needed by --visibility exact and --method exact.
   bool exact_rays = false;
 };
 
@@ -40,8 +41,7 @@ struct frame_settings {
 // vplkit::gl::gl_error when no GL context can be made.
 frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_timer& timer, nlohmann::json& det);
 
-// The estimator of s.meth on the backend `b` was prepared for (--method exact: on the CPU whatever
-// the backend, render/cpu/exact_estimator.hpp) (its builders, CDFs and estimate
+// The estimator of s.meth on the backend `b` was prepared for (its builders, CDFs and estimate
 // stages go to `timer`; facts to `det`: keys estimator, estimator_backend, builders_backend,
 // memory). Throws input_error for inputs it refuses.
 render_result run_estimator(const frame_buffers& b, const render_settings& s, stage_timer& timer,

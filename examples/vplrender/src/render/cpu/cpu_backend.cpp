@@ -86,7 +86,8 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   det["visibility"] = to_string(s.meth == method::exact ? visibility_choice::exact : s.visibility);
   const float depth_tol = gathering_depth_tolerance(s, b.grid.occupancy().view());
   det["depth_tolerance"] = depth_tol;
-  det["lit_test"] = to_string(tracer.answers_light_visibility() ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
+  if (s.meth == method::gather || s.meth == method::mis || s.meth == method::mis_as_published)
+    det["lit_test"] = to_string(tracer.answers_light_visibility() ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
   det["cdf_search"] = to_string(s.cdf_search);
   const cpu_distributions built = build_distributions_cpu(b, s, timer, progress, det);
 

@@ -2,6 +2,7 @@
 #include "render/gpu/gpu_backend.hpp"
 
 #include "raster/gpu_scene_buffers.hpp"
+#include "render/cpu/cpu_visibility.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_builders.hpp"
 #include "render/gpu/gpu_visibility.hpp"
@@ -77,8 +78,8 @@ std::vector<std::uint32_t> pack_components(const mixture_components& c) {
   return out;
 }
 
-// VR_METHOD values of estimate.comp.
-enum kernel_kind { k_reference = 0, k_vpl_sampling = 1, k_local = 2, k_gather = 3, k_mis = 4 };
+// VR_METHOD values of estimate.comp, and k_exact: exact.comp, the kernel of --method exact.
+enum kernel_kind { k_reference = 0, k_vpl_sampling = 1, k_local = 2, k_gather = 3, k_mis = 4, k_exact = 5 };
 
 kernel_kind kernel_of(method m) {
   switch (m) {
@@ -89,24 +90,36 @@ kernel_kind kernel_of(method m) {
     case method::gather: return k_gather;
     case method::mis:
     case method::mis_as_published: return k_mis;
-    case method::exact: break;  // no GPU kernel: run_estimator sends it to the CPU backend
+    case method::exact: return k_exact;
   }
   return k_reference;
 }
 
-// estimate.comp compiled once per kind, visibility and lit test (the process's program cache).
+// What the rays are traced against: --method exact always traces the triangles.
+visibility_choice visibility_of(const render_settings& es) {
+  return es.meth == method::exact ? visibility_choice::exact : es.visibility;
+}
+
+// estimate.comp compiled once per kind, visibility and lit test, exact.comp once (the process's
+// program cache).
 const vplkit::gl::program& kernel(kernel_kind k, visibility_choice v, bool shadow_ray) {
+  if (k == k_exact) return vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/exact.comp");
   return vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/estimate.comp",
                                    "#define VR_METHOD " + std::to_string(static_cast<int>(k)) + "\n" +
                                        estimate_visibility_define(v) + (shadow_ray ? "#define VR_LIT_SHADOW_RAY\n" : ""));
 }
 
-// Worst-case loop iterations of one unit of work (a texel, sample, round, direction or MIS step)
-// and the number of units.
+// Worst-case loop iterations of one unit of work (a texel, sample, round, direction or MIS step),
+// the number of units, and the iterations every pass spends besides its units.
 struct work_shape {
   long long cost = 1;
   long long units = 0;
+  long long fixed = 0;
 };
+
+// Loop iterations ray_scene.glsl's texture lookup may spend: vr_wrap_integral's doubling loop (at
+// most 104 iterations, only for uv beyond 2^24 / size) for x and for y.
+constexpr long long texture_wrap_cost = 2 * 104;
 
 work_shape shape_of(const render_settings& es, int R, long long query_cost, int regions, int rounds) {
   // One query's loops (gpu_query_cost), doubled for the two-sided voxel test's two marches (a
@@ -125,9 +138,18 @@ work_shape shape_of(const render_settings& es, int R, long long query_cost, int 
     case k_local: s.cost = regions * (dda + cdf + regions + 4); s.units = rounds; break;
     case k_gather: s.cost = dda + 4; s.units = es.dirs; break;
     case k_mis: s.cost = 2 * dda + cdf + 8; s.units = std::max(es.dirs, es.vpls); break;
+    // A direction: its first hit and the hit's shadow ray; a pass: the gather point's camera ray.
+    case k_exact:
+      s.cost = 2 * query_cost + texture_wrap_cost + 32;
+      s.units = es.dirs;
+      s.fixed = query_cost;
+      break;
   }
   return s;
 }
+
+// Directions (samples, texels, ...) per pass under the loop budget.
+long long units_per_pass(const work_shape& s) { return std::max(1LL, (gpu_loop_budget - s.fixed) / s.cost); }
 
 }  // namespace
 
@@ -135,8 +157,8 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
                    int regions) {
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
   const work_shape s =
-      shape_of(es, dprsm_resolution, gpu_query_cost(nullptr, es.visibility, voxel_resolution), regions, rounds);
-  const long long chunk = std::max(1LL, gpu_loop_budget / s.cost);
+      shape_of(es, dprsm_resolution, gpu_query_cost(nullptr, visibility_of(es), voxel_resolution), regions, rounds);
+  const long long chunk = units_per_pass(s);
   return static_cast<int>((s.units + chunk - 1) / chunk);
 }
 
@@ -158,7 +180,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const float depth_tol = gathering_depth_tolerance(es, grid);
   det["depth_tolerance"] = depth_tol;
   det["cdf_search"] = to_string(es.cdf_search);
-  det["visibility"] = to_string(es.visibility);
+  const visibility_choice vis = visibility_of(es);
+  det["visibility"] = to_string(vis);
   // Builders and CDFs on the GPU (gpu_builders.cpp, gpu_cdf.cpp): the mixtures stay there. The
   // methods without a builder (reference, gather) sample no distribution at all.
   const bool with_dists = has_distribution(es.meth);
@@ -166,6 +189,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (with_dists) gm = build_distributions_gpu(b, es, timer, det);
   const int local_rounds = with_dists ? gm.local_rounds : 0;
   const kernel_kind kind = kernel_of(es.meth);
+  // --method exact: the host's ray scene gives the offsets (checked first: its error names the method).
+  const ray_scene* exact_rays = kind == k_exact ? &frame_ray_scene(b, "--method exact") : nullptr;
+  if (kind == k_exact && !scene.shading.unavailable.empty())
+    throw vplkit::invalid_input("--method exact on the GPU: " + scene.shading.unavailable);
   const std::uint32_t slot_base = with_dists ? gm.slot_base : 0u;
   const int n_dists = with_dists ? gm.count : 0;
 
@@ -193,9 +220,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (es.meth == method::reference && es.vpl_mode == vpl_mode_choice::patch)
     det["reference_strata"] = reference_patch_strata;
 
-  const bool shadow_ray = es.lit_test == lit_test_choice::shadow_ray && es.visibility == visibility_choice::exact;
-  det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
-  const gl::program& prog = kernel(kind, es.visibility, shadow_ray);
+  const bool shadow_ray = es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact &&
+                          kind != k_exact;
+  if (kind == k_gather || kind == k_mis)
+    det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
+  const gl::program& prog = kernel(kind, vis, shadow_ray);
   prog.use();
   auto set_i = [&](const char* n, int v) { glUniform1i(prog.uniform_location(n), v); };
   auto set_f = [&](const char* n, float v) { glUniform1f(prog.uniform_location(n), v); };
@@ -237,20 +266,34 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   b_out.bind(6);
   b_components.bind(7);
   glUniform1ui(prog.uniform_location("u_bvh_node_count"),
-               bind_visibility_buffers(scene, es.visibility, visibility_bindings{8, 9, 10, 11, 12, 13}));
+               bind_visibility_buffers(scene, vis, visibility_bindings{8, 9, 10, 11, 12, 13}));
+  if (kind == k_exact) {
+    // exact.comp: the hits' shading (10, 11: the voxel triangle lists' bindings, unused with exact
+    // visibility) and the host ray scene's offset, size and eye, so both backends move the same
+    // points by the same amounts.
+    const ray_scene& rs = *exact_rays;
+    scene.shading.triangles.bind(10);
+    scene.shading.pool.bind(11);
+    set_f("u_surface_offset", rs.surface_offset());
+    set_f("u_scene_size", rs.size());
+    set_v("u_eye", rs.scene_camera().eye);
+    gl::check_gl("exact.comp buffers and uniforms");
+  }
 
   const int regions = std::max(1, n_dists);
   const work_shape shape =
-      shape_of(es, view.resolution, gpu_query_cost(&scene, es.visibility, grid.resolution), regions, local_rounds);
-  const long long chunk = std::max(1LL, gpu_loop_budget / shape.cost);
+      shape_of(es, view.resolution, gpu_query_cost(&scene, vis, grid.resolution), regions, local_rounds);
+  const long long chunk = units_per_pass(shape);
   const long long units = std::max(1LL, shape.units);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
   const GLuint groups = gl::groups_for(n_pixels, prog.local_size()[0]);
-  det["gpu"] = {{"kernel", "examples/vplrender/shaders/estimate.comp"},
+  const char* kernel_file =
+      kind == k_exact ? "examples/vplrender/shaders/exact.comp" : "examples/vplrender/shaders/estimate.comp";
+  det["gpu"] = {{"kernel", kernel_file},
                 {"passes", passes},
                 {"units_per_pass", chunk},
                 {"loop_budget", gpu_loop_budget},
-                {"query_cost", gpu_query_cost(&scene, es.visibility, grid.resolution)},
+                {"query_cost", gpu_query_cost(&scene, vis, grid.resolution)},
                 {"builders", with_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)" : "none"},
                 {"cdf", with_dists ? "gpu (cdf_build.comp)" : "none"},
                 {"direct_light", es.direct ? "gpu (estimate.comp)" : "off"}};

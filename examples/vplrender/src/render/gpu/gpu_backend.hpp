@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The GPU backend: every method of vplrender as a compute shader built from the GLSL pack
-// (examples/vplrender/shaders/estimate.comp), one invocation per pixel, on the frame's GPU scene
+// (examples/vplrender/shaders/estimate.comp; --method exact: exact.comp, which shades its hits
+// as the CPU's ray_scene does), one invocation per pixel, on the frame's GPU scene
 // buffers, with the CPU backend's random streams (make_counter_rng(seed, pixel)). Every builder and
 // CDF runs on the GPU too (gpu_builders.hpp); the weights and CDF arrays never leave the GPU, only
 // the CDF totals and the subsets' sizes come back, for the mixture scalars and the report. The
