@@ -4613,16 +4613,18 @@ inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T 
 // albedo, 0 seen from the unlit side (one-sided emission), and
 // - a hit whose tracer knows its surface (ray_hit_has_normal: exact rays, triangle voxels) is
 //   shaded as that surface: its lit side the one facing the light (the exact method's convention),
-//   the cosine from its shading normal. Where the plane test found it on t's plane (not in front,
-//   no shadow ray), the light reached it only as far as the texel's surface says, from n_t's side:
-//   x must lie on that side too. Otherwise a point just behind a texel's plane, within the test's
-//   slack, on a face the light cannot see (the inner side of a closed solid's face below its lit
-//   top) would reflect light. The texel's normal would describe only the surface at the
-//   texel's centre: a column's foot in a floor texel's cone, a wall a few centimetres above a
-//   floor, a grazing face curving away within one texel all reflect the floor's (or the centre's)
-//   cos(alpha) over an area per solid angle of the light that is 1 / cos(alpha_y) larger; the
-//   texel's flux counted cos(alpha_t) / cos(alpha_y) times (+1.4 % on sponza; docs/math.md
-//   section 4.1). Shaded as itself, each texel's cone reflects rho_t I Omega_t, as its VPL.
+//   the cosine from its shading normal (or its geometric one). Shaded as itself, each texel's cone
+//   reflects rho_t I Omega_t, as its VPL (docs/math.md section 4.1). The texel's normal describes
+//   only the surface at the texel's centre: a column's foot in a floor texel's cone, a wall a few
+//   centimetres above a floor, a grazing face curving away within one texel would reflect the
+//   floor's (or the centre's) cos(alpha) over an area per solid angle of the light that is
+//   1 / cos(alpha_y) larger, the texel's flux counted cos(alpha_t) / cos(alpha_y) times (+1.4 %
+//   of sponza's one-bounce light). Where the plane test found the hit on t's plane (not in front,
+//   no shadow ray), the light reached it only as far as the texel's surface says, from n_t's
+//   side: x must lie on that side too. Otherwise a point within the test's slack behind a texel's
+//   plane, on a face the light cannot see (the inner side of a closed solid's face, just below its
+//   lit top), would reflect light. On smoothed meshes pass the shading normal: the geometric one
+//   lights what the shading normal turns away from the light (+2.2 % on sponza's arches).
 // - else (the voxel-entry tracer) with t's normal; a hit known only within depth_tolerance > 0
 //   (up to a voxel diagonal off its surface, often in front of it) is evaluated where the light
 //   saw the texel's surface in its direction (dprsm_plane_point_towards): at the point itself the

@@ -103,9 +103,10 @@ struct run {
   nlohmann::json gpu_details;
 };
 
-// Both backends on one GPU frame (run_estimator routes --backend gpu to the GPU kernel).
-run render_both(options o) {
-  o.meth = method::exact;
+// Both backends on one GPU frame (run_estimator routes --backend gpu to the GPU kernel); method
+// exact unless another is given.
+run render_both(options o, method m = method::exact) {
+  o.meth = m;
   vplrender::pipeline_gl_context();
   const prepared_scene p = prepare_scene(o);
   stage_timer t;
@@ -202,4 +203,17 @@ TEST_CASE("method exact: GPU and CPU images agree per pixel, a textured OBJ with
   SECTION("indirect only") {}
   SECTION("with --direct") { o.direct = true; }
   check_agreement(std::string("textured room exact") + (o.direct ? " + direct" : ""), render_both(o));
+}
+
+TEST_CASE("gather and mis with exact visibility: GPU and CPU agree per pixel on bent normals (the hits' shading normals)") {
+  // Both backends shade gathering hits with their interpolated shading normal (render/cpu/
+  // ray_scene.cpp's trace, estimate.comp's user trace with ray_scene.glsl): on the back wall,
+  // whose corner normals lean +-0.5, the geometric normal would differ.
+  vplrender_test::temp_dir d;
+  options o = room_options(d);
+  o.visibility = visibility_choice::exact;
+  o.lit_test = lit_test_choice::shadow_ray;
+  check_agreement("textured room gather, exact visibility", render_both(o, method::gather));
+  o.vpls = 16;
+  check_agreement("textured room mis, exact visibility", render_both(o, method::mis));
 }

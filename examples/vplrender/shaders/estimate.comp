@@ -48,6 +48,7 @@
 #endif
 #include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
+#include "ray_scene.glsl"
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT
 layout(std430, binding = 8) readonly buffer VrBvhNodes { vplkit_bvh_node vr_bvh_nodes[]; };
 layout(std430, binding = 9) readonly buffer VrBvhTriangles { vplkit_bvh_triangle vr_bvh_triangles[]; };
@@ -57,8 +58,22 @@ vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) { return vr_bvh_triangle
 bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
   return vplkit_bvh_visible(vplkit_bvh(u_bvh_node_count), x, n_x, y, n_y);
 }
+// The hits' shading normals (ray_scene.glsl, as render/cpu/ray_scene.cpp's trace gives them):
+// the per-triangle corner normals at binding 10 (the triangle voxel lists' slot, unused here).
+layout(std430, binding = 10) readonly buffer VrTriangleShading { vr_triangle_shading vr_triangle_shadings[]; };
+vr_triangle_shading vr_load_triangle_shading(uint triangle) { return vr_triangle_shadings[triangle]; }
+uint vr_load_shading_word(uint index) { return 0u; }  // albedos: exact.comp's; not read here
+// vplkit_bvh_trace, with the hit's interpolated shading normal.
 vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
-  return vplkit_bvh_trace(vplkit_bvh(u_bvh_node_count), x, n_x, dir);
+  vplkit_bvh b = vplkit_bvh(u_bvh_node_count);
+  vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, vplkit_bvh_offset_point(x, n_x, vplkit_bvh_surface_offset(b)), dir);
+  vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+    r.shading_normal = vr_shading_normal(h);
+  }
+  return r;
 }
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
@@ -72,8 +87,12 @@ vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) {
   return tr;
 }
 #else
-// No BVH buffers: the pack's BVH functions are compiled but never called.
+// No BVH buffers: the pack's BVH functions (and ray_scene.glsl's) are compiled but never called.
 vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
+vr_triangle_shading vr_load_triangle_shading(uint triangle) {
+  return vr_triangle_shading(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec2(0.0), 0u, 0u);
+}
+uint vr_load_shading_word(uint index) { return 0u; }
 vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) {
   return vplkit_bvh_triangle(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u);
 }

@@ -51,7 +51,8 @@ std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_se
   const vplkit::gbuffer_view<float>& g = f.g;
   const vplkit::dprsm_view<float>& view = f.view;
   const int threads = f.threads, W = f.W, H = f.H;
-  const cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
+  cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
+  tracer.shading_normals = false;  // as the GPU's GBG kernel (cpu_visibility.hpp)
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   vplkit::gbg_params<float> params;
   params.n_dirs = s.dirs;

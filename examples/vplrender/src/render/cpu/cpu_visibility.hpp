@@ -38,7 +38,11 @@ struct cpu_tracer {
   const ray_scene* exact = nullptr;
   vplkit::ray_hit<float> operator()(vec3 x, vec3 n_x, vec3 dir) const {
     switch (kind) {
-      case visibility_choice::exact: return exact->trace(x, n_x, dir);
+      case visibility_choice::exact: {
+        vplkit::ray_hit<float> h = exact->trace(x, n_x, dir);
+        if (!shading_normals) h.shading_normal = vec3(0.0f);
+        return h;
+      }
       case visibility_choice::paper_voxels: return paper_voxels(x, n_x, dir);
       case visibility_choice::voxels: break;
     }
@@ -47,6 +51,9 @@ struct cpu_tracer {
   // Gathering's lit test (vplkit/visibility/light_visibility.hpp): a shadow ray through Embree
   // (lit_test_choice::shadow_ray, exact visibility only), else the DPRSM's shadow map.
   bool shadow_ray = false;
+  // Exact hits carry their shading normal; the GBG builder's tracer drops it, as the GPU's GBG
+  // kernel (the pack's BVH tracer) has none, so that both backends build the same weights.
+  bool shading_normals = true;
   bool answers_light_visibility() const { return shadow_ray && exact != nullptr; }
   bool light_visible(vec3 y, vec3 n_y, vec3 c) const { return exact->visible(y, n_y, c, vec3(0.0f)); }
 };

@@ -50,7 +50,7 @@ class ray_scene {
   // visible? Non-finite x or y: no.
   bool visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) const;
   // vplkit::bvh_trace's contract: the first hit of the ray leaving surface x (normal n_x) along dir,
-  // with the triangle's geometric normal (no shading normal: see trace in ray_scene.cpp).
+  // with the triangle's geometric normal and the interpolated shading normal there.
   vplkit::ray_hit<float> trace(vec3 x, vec3 n_x, vec3 dir) const;
 
   // The shading normal at a hit (corner normals interpolated, unit) and the albedo there (the

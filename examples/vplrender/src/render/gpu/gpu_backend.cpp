@@ -267,6 +267,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   b_components.bind(7);
   glUniform1ui(prog.uniform_location("u_bvh_node_count"),
                bind_visibility_buffers(scene, vis, visibility_bindings{8, 9, 10, 11, 12, 13}));
+  if (kind != k_exact && vis == visibility_choice::exact) {
+    // estimate.comp's exact tracer gives its hits' shading normals (ray_scene.glsl): the corner
+    // normals at binding 10, as exact.comp reads them.
+    scene.shading.triangles.bind(10);
+    gl::check_gl("estimate.comp shading buffer");
+  }
   if (kind == k_exact) {
     // exact.comp: the hits' shading (10, 11: the voxel triangle lists' bindings, unused with exact
     // visibility) and the host ray scene's offset, size and eye, so both backends move the same
