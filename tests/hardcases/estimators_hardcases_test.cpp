@@ -153,14 +153,14 @@ TEMPLATE_TEST_CASE("estimators: back-facing gather points", "[hardcase]", double
     CHECK(finite_nonneg(q[i]));
     CHECK(luminance(q[i]) == T(0));
   }
-  // With the DPRSM's lit test the hits are shaded as their own faces, turned to the light: a side
-  // face's inner side near the top edge, in a texel whose centre ray passed the block's silhouette
-  // to the floor, lies in front of that texel's plane and counts lit (a sub-texel silhouette, no
-  // shadow map sees it). Only a gather point inside a closed solid sees such a side; the estimates
-  // stay finite and small (1.1 % and 2.1 % of the floor's open value measured for gathering and
-  // MIS here; bound 5 %). The VPL estimators, which
-  // take no lit test, still give exactly 0. Depth tolerance 0: with 0.2 the lit test's window (0.2
-  // + its slack 2 d / R = 0.13 at R = 32) would reach 0.33 behind the top face.
+  // With the DPRSM's lit test the hits are shaded as their own faces, turned to the light: the
+  // inner side of a side face near the top edge, within the test's slack below the lit top (or in
+  // a texel whose centre ray passed the block's silhouette to the floor), counts lit (no shadow
+  // map sees that). Only a gather point inside a closed solid sees such a side; the estimates stay
+  // finite and bounded (measured against the floor's open value: gathering 1.4 %, MIS 6.8 % and
+  // 4.3 % as published; bound 10 %). The VPL estimators, which take no lit test, still give
+  // exactly 0. Depth tolerance 0: with 0.2 the lit test's window (0.2 + its slack 2 d / R = 0.13
+  // at R = 32) would reach 0.33 behind the top face.
   const auto p = all_estimates(f.scene, f.view, f.cdf, inside, T(0));
   const gather_point<T> open{vec3<T>(T(1.2), T(0), T(1.0)), vec3<T>(T(0), T(1), T(0)), vec3<T>(T(0.7))};
   const T open_value = luminance(all_estimates(f.scene, f.view, f.cdf, open)[4]);
@@ -168,7 +168,7 @@ TEMPLATE_TEST_CASE("estimators: back-facing gather points", "[hardcase]", double
     INFO(estimator_name(i) << " (shadow map)");
     CHECK(finite_nonneg(p[i]));
     if (i < 4) CHECK(luminance(p[i]) == T(0));
-    CHECK(luminance(p[i]) < T(0.05) * open_value);
+    CHECK(luminance(p[i]) < T(0.1) * open_value);
   }
 }
 

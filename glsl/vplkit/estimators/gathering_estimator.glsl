@@ -40,7 +40,6 @@ vplkit_dprsm_lookup_result vplkit_gathering_hit_lookup(vplkit_dprsm_view view, v
     vec3 n_g = dot(h.normal, c - h.position) < 0.0 ? -h.normal : h.normal;
     lk.lit = vplkit_voxel_tracer_light_visible(tracer, h.position, n_g, c);
     lk.in_front = lk.in_front && lk.lit;
-    lk.shadow_ray = true;
   }
   return lk;
 }

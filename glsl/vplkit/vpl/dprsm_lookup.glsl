@@ -21,7 +21,6 @@ struct vplkit_dprsm_lookup_result {
   int texel;      // flat texel index y projects into (-1 when y coincides with the light)
   bool lit;       // texel valid, saw a surface, and y is not behind that surface
   bool in_front;    // lit, and in front of that surface beyond the tolerance (another surface)
-  bool shadow_ray;  // lit was decided by a shadow ray (vplkit_gathering_hit_lookup), not the plane
 };
 
 // dprsm_plane_side: where a point lies against the surface a texel saw.
@@ -81,7 +80,7 @@ bool vplkit_dprsm_texel_saw_surface(vplkit_dprsm_view view, int t) {
 // tolerance: world-space error of y's position along the light ray (0 for exact hits); the lit
 // test adds its own slack.
 vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, float tolerance) {
-  vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup_result(-1, false, false, false);
+  vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup_result(-1, false, false);
   vec3 to_y = y - view.light.position;
   float d_y = length(to_y);
   if (!(d_y > 0.0)) return r;
@@ -95,8 +94,7 @@ vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, f
 }
 
 // L_o towards x of a hit the lookup lk found lit: a hit whose tracer knows its surface shaded as
-// that surface (lit side facing the light, the cosine from its shading normal; found on the
-// texel's plane by the plane test, x also on n_t's side), else with the
+// that surface (lit side facing the light, the cosine from its shading normal), else with the
 // texel's normal (one-sided; a hit known only within depth_tolerance > 0 evaluated on the texel's
 // plane in its direction); the texel's albedo either way. The C++ says why.
 vec3 vplkit_dprsm_hit_radiance(vplkit_dprsm_view view, vplkit_dprsm_lookup_result lk, vec3 x, vplkit_ray_hit hit,
@@ -108,8 +106,6 @@ vec3 vplkit_dprsm_hit_radiance(vplkit_dprsm_view view, vplkit_dprsm_lookup_resul
     vec3 n_g = dot(hit.normal, c - y) < 0.0 ? -hit.normal : hit.normal;
     vec3 to_x = vplkit_unit_or_zero(x - y);
     if (!(dot(vplkit_unit_or_zero(n_g), to_x) > 0.0)) return vec3(0.0);  // unlit side
-    if (!lk.shadow_ray && !lk.in_front && !(dot(vplkit_unit_or_zero(vplkit_load_dprsm_normal(t)), to_x) > 0.0))
-      return vec3(0.0);  // behind the surface the texel saw
     return vplkit_reflected_radiance(c, view.light.intensity, y, vplkit_ray_hit_shading_normal(hit, n_g),
                                      vplkit_load_dprsm_albedo(t));
   }

@@ -47,7 +47,6 @@ inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const
       const vec3<T> n_g = glm::dot(h.normal, c - h.position) < T(0) ? -h.normal : h.normal;
       lk.lit = tracer.light_visible(h.position, n_g, c);
       lk.in_front = lk.in_front && lk.lit;
-      lk.shadow_ray = true;
     }
   }
   return lk;
