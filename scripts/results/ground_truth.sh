@@ -23,3 +23,10 @@ for s in ${SCENES_LIST:-cornell open sponza}; do
   "$SVE" "${sa[@]}" "${COMMON[@]}" --lit-test shadow-map --methods gather,mis --samples 1024 --seeds "$SEEDS" \
     --references gather,exact --ref-dirs 4096 --ref-exact-dirs 4096 --cache-dir "$CACHE" --out "$OUT/ground_truth_${s}_shadow_map"
 done
+# The default visibility (triangle voxels: geometric normals at the hits, the shadow map) on sponza.
+if [[ " ${SCENES_LIST:-cornell open sponza} " == *" sponza "* ]]; then
+  mapfile -t sa < <(scene_args sponza)
+  "$SVE" "${sa[@]}" --backend cpu --visibility voxels --size 96x96 --dprsm 128 --voxels 64 --methods gather,mis \
+    --samples 256 --seeds 1,2 --references gather,exact --ref-dirs 4096 --ref-exact-dirs 4096 --cache-dir "$CACHE" \
+    --out "$OUT/ground_truth_sponza_voxels"
+fi
