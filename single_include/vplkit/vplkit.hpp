@@ -192,6 +192,12 @@ inline bool ray_hit_has_normal(const ray_hit<T>& h) {
   return h.normal.x != T(0) || h.normal.y != T(0) || h.normal.z != T(0);
 }
 
+// The hit's geometric normal turned to the side of point p (the light: the side it lights).
+template <class T>
+inline vec3<T> ray_hit_normal_towards(const ray_hit<T>& h, vec3<T> p) {
+  return glm::dot(h.normal, p - h.position) < T(0) ? -h.normal : h.normal;
+}
+
 // The hit's shading normal on the side of n_g (its geometric normal turned as the caller needs),
 // or n_g where none is set.
 template <class T>
@@ -4636,9 +4642,8 @@ inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, const dprsm_lookup_
   const vec3<T> c = view.light.position;
   const vec3<T> y = hit.position;
   if (ray_hit_has_normal(hit)) {
-    const vec3<T> n_g = glm::dot(hit.normal, c - y) < T(0) ? -hit.normal : hit.normal;
-    const vec3<T> to_x = unit_or_zero(x - y);
-    if (!(glm::dot(unit_or_zero(n_g), to_x) > T(0))) return vec3<T>(T(0));  // unlit side
+    const vec3<T> n_g = ray_hit_normal_towards(hit, c);
+    if (!(glm::dot(unit_or_zero(n_g), unit_or_zero(x - y)) > T(0))) return vec3<T>(T(0));  // unlit side
     return reflected_radiance(c, view.light.intensity, y, ray_hit_shading_normal(hit, n_g), view.albedo[t]);
   }
   const vec3<T> n_t = view.normal[t];
@@ -6134,8 +6139,7 @@ inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const
   if constexpr (tracer_has_light_visibility<Tracer, T>::value) {
     if (tracer.answers_light_visibility() && ray_hit_has_normal(h) && dprsm_texel_saw_surface(view, lk.texel)) {
       const vec3<T> c = view.light.position;
-      const vec3<T> n_g = glm::dot(h.normal, c - h.position) < T(0) ? -h.normal : h.normal;
-      lk.lit = tracer.light_visible(h.position, n_g, c);
+      lk.lit = tracer.light_visible(h.position, ray_hit_normal_towards(h, c), c);
       lk.in_front = lk.in_front && lk.lit;
     }
   }

@@ -34,6 +34,11 @@ bool vplkit_ray_hit_has_normal(vplkit_ray_hit h) {
   return h.normal.x != 0.0 || h.normal.y != 0.0 || h.normal.z != 0.0;
 }
 
+// The hit's geometric normal turned to the side of point p.
+vec3 vplkit_ray_hit_normal_towards(vplkit_ray_hit h, vec3 p) {
+  return dot(h.normal, p - h.position) < 0.0 ? -h.normal : h.normal;
+}
+
 // The hit's shading normal on the side of n_g, or n_g where none is set.
 vec3 vplkit_ray_hit_shading_normal(vplkit_ray_hit h, vec3 n_g) {
   vec3 n_s = h.shading_normal;

@@ -37,8 +37,7 @@ vplkit_dprsm_lookup_result vplkit_gathering_hit_lookup(vplkit_dprsm_view view, v
   vplkit_dprsm_lookup_result lk = vplkit_dprsm_lookup(view, h.position, depth_tolerance);
   if (tracer.light_exact && vplkit_ray_hit_has_normal(h) && vplkit_dprsm_texel_saw_surface(view, lk.texel)) {
     vec3 c = view.light.position;
-    vec3 n_g = dot(h.normal, c - h.position) < 0.0 ? -h.normal : h.normal;
-    lk.lit = vplkit_voxel_tracer_light_visible(tracer, h.position, n_g, c);
+    lk.lit = vplkit_voxel_tracer_light_visible(tracer, h.position, vplkit_ray_hit_normal_towards(h, c), c);
     lk.in_front = lk.in_front && lk.lit;
   }
   return lk;

@@ -20,7 +20,7 @@
 struct vplkit_dprsm_lookup_result {
   int texel;      // flat texel index y projects into (-1 when y coincides with the light)
   bool lit;       // texel valid, saw a surface, and y is not behind that surface
-  bool in_front;    // lit, and in front of that surface beyond the tolerance (another surface)
+  bool in_front;  // lit, and in front of that surface beyond the tolerance (another surface)
 };
 
 // dprsm_plane_side: where a point lies against the surface a texel saw.
@@ -103,9 +103,8 @@ vec3 vplkit_dprsm_hit_radiance(vplkit_dprsm_view view, vplkit_dprsm_lookup_resul
   vec3 c = view.light.position;
   vec3 y = hit.position;
   if (vplkit_ray_hit_has_normal(hit)) {
-    vec3 n_g = dot(hit.normal, c - y) < 0.0 ? -hit.normal : hit.normal;
-    vec3 to_x = vplkit_unit_or_zero(x - y);
-    if (!(dot(vplkit_unit_or_zero(n_g), to_x) > 0.0)) return vec3(0.0);  // unlit side
+    vec3 n_g = vplkit_ray_hit_normal_towards(hit, c);
+    if (!(dot(vplkit_unit_or_zero(n_g), vplkit_unit_or_zero(x - y)) > 0.0)) return vec3(0.0);  // unlit side
     return vplkit_reflected_radiance(c, view.light.intensity, y, vplkit_ray_hit_shading_normal(hit, n_g),
                                      vplkit_load_dprsm_albedo(t));
   }

@@ -103,6 +103,12 @@ inline bool ray_hit_has_normal(const ray_hit<T>& h) {
   return h.normal.x != T(0) || h.normal.y != T(0) || h.normal.z != T(0);
 }
 
+// The hit's geometric normal turned to the side of point p (the light: the side it lights).
+template <class T>
+inline vec3<T> ray_hit_normal_towards(const ray_hit<T>& h, vec3<T> p) {
+  return glm::dot(h.normal, p - h.position) < T(0) ? -h.normal : h.normal;
+}
+
 // The hit's shading normal on the side of n_g (its geometric normal turned as the caller needs),
 // or n_g where none is set.
 template <class T>

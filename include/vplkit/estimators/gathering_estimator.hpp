@@ -44,8 +44,7 @@ inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const
   if constexpr (tracer_has_light_visibility<Tracer, T>::value) {
     if (tracer.answers_light_visibility() && ray_hit_has_normal(h) && dprsm_texel_saw_surface(view, lk.texel)) {
       const vec3<T> c = view.light.position;
-      const vec3<T> n_g = glm::dot(h.normal, c - h.position) < T(0) ? -h.normal : h.normal;
-      lk.lit = tracer.light_visible(h.position, n_g, c);
+      lk.lit = tracer.light_visible(h.position, ray_hit_normal_towards(h, c), c);
       lk.in_front = lk.in_front && lk.lit;
     }
   }

@@ -152,9 +152,8 @@ inline vec3<T> dprsm_hit_radiance(const dprsm_view<T>& view, const dprsm_lookup_
   const vec3<T> c = view.light.position;
   const vec3<T> y = hit.position;
   if (ray_hit_has_normal(hit)) {
-    const vec3<T> n_g = glm::dot(hit.normal, c - y) < T(0) ? -hit.normal : hit.normal;
-    const vec3<T> to_x = unit_or_zero(x - y);
-    if (!(glm::dot(unit_or_zero(n_g), to_x) > T(0))) return vec3<T>(T(0));  // unlit side
+    const vec3<T> n_g = ray_hit_normal_towards(hit, c);
+    if (!(glm::dot(unit_or_zero(n_g), unit_or_zero(x - y)) > T(0))) return vec3<T>(T(0));  // unlit side
     return reflected_radiance(c, view.light.intensity, y, ray_hit_shading_normal(hit, n_g), view.albedo[t]);
   }
   const vec3<T> n_t = view.normal[t];

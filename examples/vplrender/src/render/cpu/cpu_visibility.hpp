@@ -80,7 +80,7 @@ inline cpu_tracer make_cpu_tracer(const frame_buffers& b, visibility_choice v,
                                   lit_test_choice lit = lit_test_choice::shadow_map) {
   cpu_tracer c;
   c.kind = v;
-  c.shadow_ray = lit == lit_test_choice::shadow_ray && v == visibility_choice::exact;
+  c.shadow_ray = lit == lit_test_choice::shadow_ray;  // answered only with exact rays (answers_light_visibility)
   c.voxels = vplkit::triangle_voxel_tracer<float>{b.grid.view()};
   c.paper_voxels = vplkit::voxel_tracer<float>{b.grid.occupancy().view()};
   if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu tracer");
