@@ -18,6 +18,7 @@
 #include <atomic>
 #include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -140,19 +141,44 @@ struct headless_context::impl {
     return true;
   }
 
+  // eglReleaseThread straight from libEGL.so.1 (already loaded by egl_loaded), or null.
+  static EGLBoolean (*egl_release_thread())() {
+    using release_fn = EGLBoolean (*)();
+    static const release_fn fn = [] {
+      void* lib = dlopen("libEGL.so.1", RTLD_NOW | RTLD_NOLOAD);
+      release_fn f = nullptr;
+      if (lib != nullptr) {
+        void* sym = dlsym(lib, "eglReleaseThread");
+        static_assert(sizeof(sym) == sizeof(f), "function and object pointers differ in size");
+        std::memcpy(&f, &sym, sizeof(f));
+        dlclose(lib);  // RTLD_NOLOAD took a reference; egl_loaded's handle keeps the library
+      }
+      return f;
+    }();
+    return fn;
+  }
+
   const char* egl_client_extensions() {
     const char* ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (ext == nullptr) eglGetError();  // EGL_EXT_client_extensions missing: clear the error
     return ext;
   }
 
+  // Teardown order: unbind, destroy, release the thread's EGL state, terminate. eglReleaseThread
+  // must come before eglTerminate and must not go through epoxy: epoxy resolves an EGL 1.2 entry
+  // point on its first call by reading EGL_VERSION of the display eglGetCurrentDisplay reports,
+  // and a terminated display answers that query with nothing. NVIDIA's driver (580.159) still
+  // reported the display there, so epoxy aborted every process at exit ("No provider of
+  // eglReleaseThread found. Requires one of: EGL 12", status 134). eglReleaseThread also releases
+  // a context that the eglMakeCurrent above failed to unbind. The pointer comes from libEGL itself
+  // (egl_loaded opened it), where no EGL version gates it.
   void egl_release() {
     if (egl_display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (egl_context != EGL_NO_CONTEXT) eglDestroyContext(egl_display, egl_context);
     if (egl_surface != EGL_NO_SURFACE) eglDestroySurface(egl_display, egl_surface);
+    if (auto release_thread = egl_release_thread()) release_thread();
     eglTerminate(egl_display);
-    eglReleaseThread();
     egl_display = EGL_NO_DISPLAY;
     egl_context = EGL_NO_CONTEXT;
     egl_surface = EGL_NO_SURFACE;

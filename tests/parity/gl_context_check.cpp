@@ -10,6 +10,10 @@
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
 
+#if __has_include(<epoxy/egl.h>)
+#include <epoxy/egl.h>
+#endif
+
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -159,6 +163,14 @@ int main(int argc, char** argv) {
       std::cout << "then, in the same process: " << second.describe() << "\n";
       if (auto e = run_compute_check(); !e.empty()) return fail("second context: " + e);
     }
+#if __has_include(<epoxy/egl.h>)
+    // The teardown leaves no EGL context or display current on this thread. epoxy resolves an EGL
+    // entry point on its first call against eglGetCurrentDisplay(): a display left current but
+    // terminated made it abort every process at exit on NVIDIA's driver.
+    if (eglGetCurrentContext() != EGL_NO_CONTEXT || eglGetCurrentDisplay() != EGL_NO_DISPLAY) {
+      return fail("an EGL context or display is still current after the headless contexts closed");
+    }
+#endif
     std::cout << "OK\n";
     return 0;
   } catch (const std::exception& e) {
