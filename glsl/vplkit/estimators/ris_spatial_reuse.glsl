@@ -81,7 +81,8 @@ float vplkit_ris_pair_share(float a, float b) {
 }
 
 // Combines gp's canonical reservoir with the reservoirs of neighbour_pixels[0 .. n) (loaded
-// through the accessors), u[0] the canonical's selection number, u[1 + j] neighbour j's.
+// through the accessors), u[0] the canonical's selection number, u[1 + j] neighbour j's; offered
+// in the order neighbours, then canonical.
 vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_ris_reservoir canonical,
                                         int neighbour_pixels[VPLKIT_RIS_MAX_NEIGHBOURS], int n,
                                         float u[VPLKIT_RIS_MAX_NEIGHBOURS + 1], int mis, float dmin, int vpl_mode,
@@ -97,13 +98,13 @@ vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_vie
   float m_sum = m_c_conf + m_n;
   if (!(m_sum > 0.0)) return out_r;
 
-  float target_q[VPLKIT_RIS_MAX_NEIGHBOURS];
-  float w[VPLKIT_RIS_MAX_NEIGHBOURS];
+  // Neighbours first, each offered at once, the canonical last (see the C++): no per-neighbour arrays.
+  vplkit_weighted_reservoir res = vplkit_make_weighted_reservoir();
+  int kept = -1;
+  float kept_target = 0.0;
   float m_c = mis == vplkit_ris_reuse_pairwise ? m_c_conf / m_sum : 0.0;
   float balance_c = m_c_conf * canonical.target;
   for (int j = 0; j < n; ++j) {
-    target_q[j] = 0.0;
-    w[j] = 0.0;
     vplkit_gather_point g_j = vplkit_load_gather_point(neighbour_pixels[j]);
     vplkit_ris_reservoir r_j = vplkit_load_ris_reservoir(neighbour_pixels[j]);
     float m_j = r_j.confidence;
@@ -114,30 +115,30 @@ vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_vie
       balance_c += m_j * p_j_at_c;
     if (!vplkit_ris_reservoir_has_sample(r_j)) continue;
     vplkit_vpl v_j = vplkit_ris_sample_vpl(view, r_j.kept, vpl_mode, depth_tolerance);
-    target_q[j] = vplkit_ris_target(gp, v_j, dmin);
-    if (!(target_q[j] > 0.0)) continue;
+    float target_q = vplkit_ris_target(gp, v_j, dmin);
+    if (!(target_q > 0.0)) continue;
+    float w = 0.0;
     if (mis == vplkit_ris_reuse_pairwise) {
-      float share = vplkit_ris_pair_share(m_n * r_j.target, m_c_conf * target_q[j]);
-      w[j] = (m_j / m_sum) * share * target_q[j] * vplkit_mis_div(r_j.weight_sum, r_j.target);
+      float share = vplkit_ris_pair_share(m_n * r_j.target, m_c_conf * target_q);
+      w = (m_j / m_sum) * share * target_q * vplkit_mis_div(r_j.weight_sum, r_j.target);
     } else {
-      float denominator = m_c_conf * target_q[j] + m_j * r_j.target;
+      float denominator = m_c_conf * target_q + m_j * r_j.target;
       for (int s = 0; s < n; ++s) {
         if (s == j) continue;
         vplkit_gather_point g_s = vplkit_load_gather_point(neighbour_pixels[s]);
         denominator += vplkit_load_ris_reservoir(neighbour_pixels[s]).confidence * vplkit_ris_target(g_s, v_j, dmin);
       }
-      w[j] = denominator > 0.0 ? vplkit_mis_div(m_j * target_q[j] * r_j.weight_sum, denominator) : 0.0;
+      w = denominator > 0.0 ? vplkit_mis_div(m_j * target_q * r_j.weight_sum, denominator) : 0.0;
+    }
+    if (vplkit_reservoir_update(res, uint(j + 1), w, u[j + 1])) {
+      kept = j;
+      kept_target = target_q;
     }
   }
   if (mis == vplkit_ris_reuse_balance)
     m_c = balance_c > 0.0 ? vplkit_mis_div(m_c_conf * canonical.target, balance_c) : 0.0;
-
-  vplkit_weighted_reservoir res = vplkit_make_weighted_reservoir();
-  int kept = -1;
   float w_c = has_c ? m_c * canonical.weight_sum : 0.0;
   if (vplkit_reservoir_update(res, 0u, w_c, u[0])) kept = -1;
-  for (int j = 0; j < n; ++j)
-    if (vplkit_reservoir_update(res, uint(j + 1), w[j], u[j + 1])) kept = j;
   out_r.confidence = m_sum;
   if (vplkit_reservoir_empty_of(res)) return out_r;
   if (kept < 0) {
@@ -145,7 +146,7 @@ vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_vie
     out_r.target = canonical.target;
   } else {
     out_r.kept = vplkit_load_ris_reservoir(neighbour_pixels[kept]).kept;
-    out_r.target = target_q[kept];
+    out_r.target = kept_target;
   }
   out_r.weight_sum = res.weight_sum;
   return out_r;

@@ -111,7 +111,8 @@ inline T ris_pair_share(T a, T b) {
 // with the reservoirs of the neighbours at neighbour_pixels[0 .. n) (at most ris_max_neighbours;
 // load(pixel) -> ris_neighbour<T> gives each one's gather point and reservoir), with the MIS
 // weights of `mis` and one selection number per input: u[0] the canonical's, u[1 + j] neighbour
-// j's. The output's target is p_hat_q of its sample and its confidence the inputs' sum.
+// j's (offered in the order neighbours, then canonical). The output's target is p_hat_q of its
+// sample and its confidence the inputs' sum.
 template <class T, class Load>
 inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<T>& view,
                                     const ris_reservoir<T>& canonical, const int* neighbour_pixels, int n,
@@ -130,9 +131,13 @@ inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<
   m_sum += m_n;
   if (!(m_sum > T(0))) return out;
 
-  // Per neighbour: p_hat_q at its sample and its resampling weight.
-  T target_q[ris_max_neighbours] = {};
-  T w[ris_max_neighbours] = {};
+  // One pass over the neighbours: each one's resampling weight goes into the reservoir at once,
+  // while the canonical's MIS weight accumulates; the canonical is offered last (the order of the
+  // offers does not change the probabilities), so nothing per neighbour is kept but the kept one's
+  // target: no arrays, which a GPU would hold in local memory.
+  weighted_reservoir<T> res;
+  int kept = -1;  // -1: the canonical (or none yet); j: neighbour j
+  T kept_target = T(0);
   T m_c = mis == ris_reuse_mis::pairwise ? m_c_conf / m_sum : T(0);
   T balance_c = m_c_conf * canonical.target;  // balance: sum_s M_s p_hat_s(y_c)
   for (int j = 0; j < n; ++j) {
@@ -145,33 +150,33 @@ inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<
       balance_c += m_j * p_j_at_c;
     if (!ris_reservoir_has_sample(nb.reservoir)) continue;
     const vpl<T> v_j = ris_sample_vpl(view, nb.reservoir.kept, mode, depth_tolerance);
-    target_q[j] = ris_target(gp, v_j, dmin);
-    if (!(target_q[j] > T(0))) continue;
+    const T target_q = ris_target(gp, v_j, dmin);  // p_hat_q(y_j)
+    if (!(target_q > T(0))) continue;
     // w_j = m_j(y_j) p_hat_q(y_j) W_j with W_j = weight_sum_j / p_hat_j(y_j).
+    T w = T(0);
     if (mis == ris_reuse_mis::pairwise) {
-      const T share = detail::ris_pair_share(m_n * nb.reservoir.target, m_c_conf * target_q[j]);
-      w[j] = (m_j / m_sum) * share * target_q[j] * (nb.reservoir.weight_sum / nb.reservoir.target);
+      const T share = detail::ris_pair_share(m_n * nb.reservoir.target, m_c_conf * target_q);
+      w = (m_j / m_sum) * share * target_q * (nb.reservoir.weight_sum / nb.reservoir.target);
     } else {
       // sum_s M_s p_hat_s(y_j): the canonical's (at q), j's own (stored) and every other one's.
-      T denominator = m_c_conf * target_q[j] + m_j * nb.reservoir.target;
+      T denominator = m_c_conf * target_q + m_j * nb.reservoir.target;
       for (int s = 0; s < n; ++s) {
         if (s == j) continue;
         const ris_neighbour<T> other = load(neighbour_pixels[s]);
         denominator += other.reservoir.confidence * ris_target(other.gp, v_j, dmin);
       }
       // m_j p_hat_q W_j = M_j p_hat_j / denominator * p_hat_q * weight_sum_j / p_hat_j.
-      w[j] = denominator > T(0) ? m_j * target_q[j] * nb.reservoir.weight_sum / denominator : T(0);
+      w = denominator > T(0) ? m_j * target_q * nb.reservoir.weight_sum / denominator : T(0);
+    }
+    if (reservoir_update(res, std::uint32_t(j + 1), w, u[j + 1])) {
+      kept = j;
+      kept_target = target_q;
     }
   }
   if (mis == ris_reuse_mis::balance)
     m_c = balance_c > T(0) ? m_c_conf * canonical.target / balance_c : T(0);
-
-  weighted_reservoir<T> res;
-  int kept = -1;  // -1: the canonical; j: neighbour j
   const T w_c = has_c ? m_c * canonical.weight_sum : T(0);  // m_c p_hat_q(y_c) W_c
   if (reservoir_update(res, 0u, w_c, u[0])) kept = -1;
-  for (int j = 0; j < n; ++j)
-    if (reservoir_update(res, std::uint32_t(j + 1), w[j], u[j + 1])) kept = j;
   out.confidence = m_sum;
   if (reservoir_empty_of(res)) return out;
   if (kept < 0) {
@@ -179,7 +184,7 @@ inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<
     out.target = canonical.target;
   } else {
     out.kept = load(neighbour_pixels[kept]).reservoir.kept;
-    out.target = target_q[kept];
+    out.target = kept_target;
   }
   out.weight_sum = res.weight_sum;
   return out;
