@@ -44,7 +44,7 @@ TEST_CASE("ris options: the method, its defaults and its three flags") {
   CHECK(d.meth == method::ris);
   CHECK(std::string(to_string(method::ris)) == "ris");
   CHECK(d.candidates == 32);
-  CHECK(d.candidate_source == ris_source_choice::global);
+  CHECK(d.candidate_source == ris_source_choice::flux);
   CHECK(d.spatial == 0);
   CHECK(has_distribution(method::ris));
   CHECK(uses_vpls(method::ris));

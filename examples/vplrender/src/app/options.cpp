@@ -150,9 +150,9 @@ void build_app(CLI::App& app, raw_values& v) {
                    "contribution; --vpls samples per pixel, one visibility query each."))
       ->type_name("M");
   app.add_option("--candidate-source", v.candidate_source,
-                 d("--method ris: the distribution the candidates are drawn from (default global): global, local "
-                   "(the CDF of the pixel's region), gbg (as --method gbg builds them, with --eps), or flux (each "
-                   "VPL by its flux: light-power sampling, no view)."))
+                 d("--method ris: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
+                   "flux: light-power sampling, no view, nothing to build), or what global, local (the CDF of the "
+                   "pixel's region) and gbg build, with --eps (docs/results.md section 12 compares them)."))
       ->type_name("global|local|gbg|flux");
   app.add_option("--spatial", v.spatial,
                  d("--method ris: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = off; "

@@ -63,7 +63,7 @@ struct options {
   lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)
   int candidates = 32;            // --method ris: candidates per sample
-  ris_source_choice candidate_source = ris_source_choice::global;  // --method ris: where they come from
+  ris_source_choice candidate_source = ris_source_choice::flux;  // --method ris: where they come from
   int spatial = 0;                // --method ris: spatial-reuse neighbours (0 = off)
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)

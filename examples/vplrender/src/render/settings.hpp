@@ -92,7 +92,7 @@ struct render_settings {
   int threads = 0;            // CPU backend: 0 = std::thread::hardware_concurrency()
   // --method ris: candidates per sample (M), their source, spatial-reuse neighbours (K, 0 = off).
   int ris_candidates = 32;
-  ris_source_choice ris_source = ris_source_choice::global;
+  ris_source_choice ris_source = ris_source_choice::flux;
   int ris_spatial = 0;
 };
 
