@@ -152,6 +152,8 @@ frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_tim
 render_result run_estimator(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                             const progress_fn& progress, nlohmann::json& det) {
   const bool gpu = b.back == backend::gpu;
+  if (gpu && s.meth == method::ris)
+    throw input_error("--method ris: runs on --backend cpu only for now (its GPU kernels are not written yet)");
   // GPU memory of this estimator alone: the peak restarts from what is live now (the frame's scene
   // buffers; the prepare stages' peak is kept as gpu_peak_bytes_prepare).
   const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();

@@ -91,6 +91,7 @@ kernel_kind kernel_of(method m) {
     case method::mis:
     case method::mis_as_published: return k_mis;
     case method::exact: return k_exact;
+    case method::ris: throw vplkit::invalid_input("--method ris: no GPU kernel yet (run_estimator refuses it)");
   }
   return k_reference;
 }

@@ -287,6 +287,7 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
     case method::reference:
     case method::gather:
     case method::exact:
+    case method::ris:  // no GPU kernels yet: run_estimator refuses it
       throw vplkit::invalid_input("build_distributions_gpu: the method has no builder");
   }
   gpu_mixtures mix = build_mixtures_gpu(weights, D, scene.dprsm, view, s.eps, timer, det);
