@@ -230,8 +230,23 @@ buffer buffer::from_bytes(const void* data, std::size_t bytes) {
 }
 
 buffer buffer::filled(std::size_t bytes, unsigned char fill_byte) {
-  const std::vector<unsigned char> data(bytes, fill_byte);
-  return from_bytes(data.data(), bytes);
+  // Filled by the GL (glClearBufferData), not uploaded from a host array: a GPU frame allocates
+  // tens of MB of state and scratch, which would otherwise cross the bus every frame.
+  buffer b;
+  glGenBuffers(1, &b.id_);
+  b.bytes_ = bytes;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id_);
+  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(stored_bytes(bytes)), nullptr, GL_DYNAMIC_COPY);
+  const unsigned char fill = bytes > 0 ? fill_byte : 0;  // an empty buffer's one word is 0, as from_bytes's
+  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &fill);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  track_gpu_bytes(stored_bytes(bytes));  // before the check: b's destructor untracks on a throw
+  try {
+    check_gl("creating a shader storage buffer");
+  } catch (const gl_out_of_memory& e) {
+    throw gl_out_of_memory(std::string(e.what()).substr(std::strlen("vplkit gl: ")), bytes);
+  }
+  return b;
 }
 
 void buffer::bind(GLuint binding) const {
