@@ -77,6 +77,7 @@ add_library(vplrender_core STATIC
   ${_vr}/render/cpu/cpu_builders.cpp
   ${_vr}/render/cpu/exact_estimator.cpp
   ${_vr}/render/cpu/ray_scene.cpp
+  ${_vr}/render/frame_buffers.cpp
   ${_vr}/render/light_range.cpp
   ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
