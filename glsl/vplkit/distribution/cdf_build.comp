@@ -6,8 +6,9 @@
 // Interface: cdf_build_params.h, shared with the C++ host (bindings, local size, ITEMS, the
 // parameter block, the blocks / info records). Options: VPLKIT_CDF_BUILD_PASS (1..6: compile one
 // pass per program), VPLKIT_CDF_BUILD_FLOAT_FLOAT (float pairs instead of double, without fp64).
-// Dispatch passes 1 to 6 in order with a shader-storage barrier between them; nothing needs
-// clearing first. Output: what discrete_cdf<float> stores (cdf[0] = 0, cdf[n] = 1, a zero weight
+// Dispatch the passes vplkit::gpu::cdf_build_pass_needed names (1, 3, 5 up to 2^20 weights with the
+// defaults; 1 to 5 above) in order with a shader-storage barrier between them, or all six: the
+// same output. Nothing needs clearing first. Output: what discrete_cdf<float> stores (cdf[0] = 0, cdf[n] = 1, a zero weight
 // never sampled, the C++ guide for the stored cdf); info[d] gets the float total and the count of
 // rejected (negative, NaN, infinite) weights, which count as 0. Every cdf value is the C++ value
 // or a float neighbour. Passes, group counts, how and why, the accuracy bound and measurements:
@@ -435,8 +436,19 @@ void vplkit_cdf_build_pass_block_prefix_max(uint d) {
   }
 }
 
-// 5: the prefix max across blocks, and the two ends. With one chunk each work group takes the
-// largest of the earlier blocks' maxima itself (at most BLOCK of them).
+// 5: the prefix max across blocks, the two ends, and the guide (as pass 6 defines it, below). With
+// one chunk each work group takes the largest of the earlier blocks' maxima itself (at most BLOCK
+// of them). The guide: work group b owns i in [b BLOCK, (b + 1) BLOCK), whose a_i it has just
+// made (a_(b BLOCK) = ceil(P m) with P the prefix max of the earlier blocks, which is cdf[b BLOCK];
+// a_((b + 1) BLOCK) from its own last value), so it writes the j of [a_(b BLOCK), a_((b + 1) BLOCK))
+// -- the runs of its own i, each j found by a binary search in shared memory -- and reads nothing
+// another work group writes. The runs of all blocks tile [0, m]. Pass 6 is then not needed (it
+// writes the same guide again from the stored cdf).
+#if VPLKIT_CDF_BUILD_BLOCK > 4096
+#error "cdf_build.comp: LOCAL_SIZE x ITEMS must be at most 4096 (pass 5 keeps a block's a_i in shared memory)"
+#endif
+shared uint vplkit_cdf_build_s_a[VPLKIT_CDF_BUILD_BLOCK + 1];
+
 void vplkit_cdf_build_pass_finish(uint d) {
   uint n = vplkit_cdf_build.n;
   uint blocks = vplkit_cdf_build_block_count(n);
@@ -444,34 +456,66 @@ void vplkit_cdf_build_pass_finish(uint d) {
   bool one_chunk = vplkit_cdf_build_one_chunk(blocks);
   bool empty = vplkit_cdf_build_acc_is_zero(vplkit_cdf_build_infos[d].sum);
   uint base = d * (n + 1u);
+  uint m = vplkit_discrete_guide_size(n);
+  float fm = float(m);
+  uint guide_base = d * (m + 1u);
+  uint block = uint(VPLKIT_CDF_BUILD_BLOCK);
+  if (empty) {  // every guide entry 0, split over the work groups
+    for (uint j = gl_WorkGroupID.x * uint(VPLKIT_CDF_BUILD_LOCAL_SIZE) + t; j <= m;
+         j += gl_NumWorkGroups.x * uint(VPLKIT_CDF_BUILD_LOCAL_SIZE)) {
+      vplkit_cdf_build_guide[guide_base + j] = 0u;
+    }
+  }
   for (uint b = gl_WorkGroupID.x; b < blocks; b += gl_NumWorkGroups.x) {
     uint prefix;
     if (one_chunk) {
-      uint m = 0u;
+      uint pm = 0u;
       for (uint k = 0u; k < uint(VPLKIT_CDF_BUILD_ITEMS); ++k) {
         uint e = t * uint(VPLKIT_CDF_BUILD_ITEMS) + k;
-        if (e < b) m = max(m, vplkit_cdf_build_blocks[d * blocks + e].max_bits);
+        if (e < b) pm = max(pm, vplkit_cdf_build_blocks[d * blocks + e].max_bits);
       }
-      prefix = vplkit_cdf_build_group_max(m);
+      prefix = vplkit_cdf_build_group_max(pm);
     } else {
       prefix = vplkit_cdf_build_blocks[d * blocks + b].prefix_max_bits;
     }
+    vplkit_cdf_build_sync();  // the previous block's readers of s_a are done
+    if (t == 0u) vplkit_cdf_build_s_a[0] = uint(ceil(uintBitsToFloat(prefix) * fm));  // cdf[b BLOCK]
     for (uint k = 0u; k < uint(VPLKIT_CDF_BUILD_ITEMS); ++k) {
-      uint i = b * uint(VPLKIT_CDF_BUILD_BLOCK) + k * uint(VPLKIT_CDF_BUILD_LOCAL_SIZE) + t;
+      uint e = k * uint(VPLKIT_CDF_BUILD_LOCAL_SIZE) + t;
+      uint i = b * block + e;
+      uint a = m + 1u;  // a_(i + 1): m + 1 for i + 1 = n (and past it)
       if (i + 1u < n) {
+        uint c = floatBitsToUint(vplkit_cdf_build_cdf[base + i + 1u]);
         if (prefix != 0u) {
-          uint c = floatBitsToUint(vplkit_cdf_build_cdf[base + i + 1u]);
-          vplkit_cdf_build_cdf[base + i + 1u] = uintBitsToFloat(max(c, prefix));
+          c = max(c, prefix);
+          vplkit_cdf_build_cdf[base + i + 1u] = uintBitsToFloat(c);
         }
+        a = uint(ceil(uintBitsToFloat(c) * fm));
       } else if (i + 1u == n) {
         vplkit_cdf_build_cdf[base + n] = empty ? 0.0 : 1.0;
       }
       if (i == 0u) vplkit_cdf_build_cdf[base] = 0.0;
+      vplkit_cdf_build_s_a[e + 1u] = a;
+    }
+    vplkit_cdf_build_sync();
+    if (!empty) {  // the same for the whole group
+      uint j_end = vplkit_cdf_build_s_a[block];
+      for (uint j = vplkit_cdf_build_s_a[0] + t; j < j_end; j += uint(VPLKIT_CDF_BUILD_LOCAL_SIZE)) {
+        uint lo = 0u;  // the largest e in [0, BLOCK) with s_a[e] <= j (s_a is non-decreasing)
+        uint len = block;
+        while (len > 1u) {
+          uint half_len = len / 2u;
+          lo = vplkit_cdf_build_s_a[lo + half_len] <= j ? lo + half_len : lo;
+          len -= half_len;
+        }
+        vplkit_cdf_build_guide[guide_base + j] = b * block + lo;
+      }
     }
   }
 }
 
-// 6: guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m. cdf[i] <= j / m <=>
+// 6 (not needed after pass 5; kept for hosts that dispatch all six): guide[j] = the largest i in
+// [0, n - 1] with cdf[i] <= j / m. cdf[i] <= j / m <=>
 // a_i = ceil(cdf[i] * m) <= j, where cdf[i] * m is exact (m a power of two) and so is every
 // integer conversion: exact for every j up to 2^31 (j / m as a float would not be above 2^24).
 // So guide[j] = i exactly for a_i <= j < a_(i+1) (a_n taken as m + 1): each i owns a run of j.

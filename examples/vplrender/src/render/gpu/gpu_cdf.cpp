@@ -96,8 +96,9 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), max_x));
   const GLuint guide_groups = static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, max_x));
   // One program per pass (VPLKIT_CDF_BUILD_PASS): the parameter block is written once, and each
-  // program holds one pass's code only (fewer registers on a GPU). Passes 2 and 4 only when the
-  // blocks span several chunks (n > 2^20): four dispatches for a 2 x 512^2 DPRSM.
+  // program holds one pass's code only (fewer registers on a GPU). The passes
+  // cdf_build_pass_needed names: 1, 3, 5 (5 writes the guide), and 2 and 4 only when the blocks
+  // span several chunks (n > 2^20): three dependent dispatches for a 2 x 512^2 DPRSM.
   vplkit::gpu::cdf_build_params params{};
   params.n = static_cast<std::uint32_t>(n);
   b_params.write_bytes(&params, 0, sizeof params);
