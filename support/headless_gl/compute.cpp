@@ -232,20 +232,12 @@ buffer buffer::from_bytes(const void* data, std::size_t bytes) {
 buffer buffer::filled(std::size_t bytes, unsigned char fill_byte) {
   // Filled by the GL (glClearBufferData), not uploaded from a host array: a GPU frame allocates
   // tens of MB of state and scratch, which would otherwise cross the bus every frame.
-  buffer b;
-  glGenBuffers(1, &b.id_);
-  b.bytes_ = bytes;
+  buffer b = from_bytes(nullptr, bytes);  // storage only (an empty buffer's one word is 0 already)
+  if (bytes == 0) return b;
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id_);
-  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(stored_bytes(bytes)), nullptr, GL_DYNAMIC_COPY);
-  const unsigned char fill = bytes > 0 ? fill_byte : 0;  // an empty buffer's one word is 0, as from_bytes's
-  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &fill);
+  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &fill_byte);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-  track_gpu_bytes(stored_bytes(bytes));  // before the check: b's destructor untracks on a throw
-  try {
-    check_gl("creating a shader storage buffer");
-  } catch (const gl_out_of_memory& e) {
-    throw gl_out_of_memory(std::string(e.what()).substr(std::strlen("vplkit gl: ")), bytes);
-  }
+  check_gl("filling a shader storage buffer");
   return b;
 }
 
