@@ -15,6 +15,7 @@
 #include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_backend.hpp"
+#include "render/gpu/dprsm_view_uniforms.hpp"
 
 #include <headless_gl/compute.hpp>
 
@@ -62,16 +63,8 @@ frame_facts gpu_frame_facts(const gpu_scene_buffers& scene, const gbuffer_data& 
   const std::uint32_t start[4] = {0u, 0u, 0u, 0x7F800000u};  // the distance starts at +Inf
   gl::buffer facts = gl::buffer::from_bytes(start, sizeof start);
   const gl::program& prog = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/frame_facts.comp");
-  prog.use();
-  const vplkit::point_light<float>& L = d.light;
+  set_dprsm_view_uniforms(prog, d.resolution, d.light);
   glUniform1i(prog.uniform_location("u_pixels"), g.width * g.height);
-  glUniform1i(prog.uniform_location("u_dprsm_res"), d.resolution);
-  glUniform3f(prog.uniform_location("u_light_pos"), L.position.x, L.position.y, L.position.z);
-  glUniform3f(prog.uniform_location("u_light_int"), L.intensity.x, L.intensity.y, L.intensity.z);
-  glUniform3f(prog.uniform_location("u_frame_pos"), L.frame.position.x, L.frame.position.y, L.frame.position.z);
-  glUniform3f(prog.uniform_location("u_axis_x"), L.frame.axis_x.x, L.frame.axis_x.y, L.frame.axis_x.z);
-  glUniform3f(prog.uniform_location("u_axis_y"), L.frame.axis_y.x, L.frame.axis_y.y, L.frame.axis_y.z);
-  glUniform3f(prog.uniform_location("u_axis_z"), L.frame.axis_z.x, L.frame.axis_z.y, L.frame.axis_z.z);
   gl::check_gl("frame_facts.comp uniforms");
   scene.gbuffer.bind(0);
   scene.dprsm.bind(1);

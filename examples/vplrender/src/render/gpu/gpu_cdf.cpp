@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "render/gpu/gpu_cdf.hpp"
 
+#include "render/gpu/dprsm_view_uniforms.hpp"
+
 #include <vplkit/core/error.hpp>
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/defensive_mixture.hpp>
@@ -67,15 +69,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   gl::buffer b_params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
   if (with_fallback) {
     const gl::program& fp = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/vpl_fallback_weights.comp");
-    fp.use();
-    const auto& L = view.light;
-    glUniform1i(fp.uniform_location("u_dprsm_res"), view.resolution);
-    glUniform3f(fp.uniform_location("u_light_pos"), L.position.x, L.position.y, L.position.z);
-    glUniform3f(fp.uniform_location("u_light_int"), L.intensity.x, L.intensity.y, L.intensity.z);
-    glUniform3f(fp.uniform_location("u_frame_pos"), L.frame.position.x, L.frame.position.y, L.frame.position.z);
-    glUniform3f(fp.uniform_location("u_axis_x"), L.frame.axis_x.x, L.frame.axis_x.y, L.frame.axis_x.z);
-    glUniform3f(fp.uniform_location("u_axis_y"), L.frame.axis_y.x, L.frame.axis_y.y, L.frame.axis_y.z);
-    glUniform3f(fp.uniform_location("u_axis_z"), L.frame.axis_z.x, L.frame.axis_z.y, L.frame.axis_z.z);
+    set_dprsm_view_uniforms(fp, view.resolution, view.light);
     glUniform1ui(fp.uniform_location("u_offset"), static_cast<GLuint>(static_cast<std::size_t>(D) * n));
     gl::check_gl("vpl_fallback_weights.comp uniforms");
     dprsm.bind(0);
