@@ -39,22 +39,45 @@ vplkit_gather_point vplkit_load_gather_point(int pixel) {
   return vplkit_unpack_gather_point(vr_gbuffer[pixel].position, vr_gbuffer[pixel].normal, vr_gbuffer[pixel].albedo);
 }
 
+// Each work group counts in shared memory first and adds its totals with one atomic each: a
+// single global counter hit by every invocation (half a million for a 2 x 512^2 DPRSM) would
+// serialise in the GPU's cache.
+shared uint vr_counts[4];
+
 void main() {
+  if (gl_LocalInvocationIndex == 0u) {
+    vr_counts[0] = 0u;
+    vr_counts[1] = 0u;
+    vr_counts[2] = 0u;
+    vr_counts[3] = 0x7F800000u;
+  }
+  memoryBarrierShared();
+  memoryBarrierShared();
+  barrier();
   vplkit_dprsm_view view = vplkit_dprsm_view(
       u_dprsm_res, vplkit_point_light(u_light_pos, u_light_int,
                                       vplkit_light_frame(u_frame_pos, u_axis_x, u_axis_y, u_axis_z)));
   // Groups spread over x and y past GL_MAX_COMPUTE_WORK_GROUP_COUNT (vplkit::gl::dispatch_linear).
   int i = int(gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x);
   if (i < u_pixels) {
-    if (vr_gbuffer[i].normal.xyz != vec3(0.0)) atomicAdd(vr_facts[0], 1u);
+    if (vr_gbuffer[i].normal.xyz != vec3(0.0)) atomicAdd(vr_counts[0], 1u);
     vplkit_gather_point gp = vplkit_load_gather_point(i);
     if (vplkit_gather_point_valid(gp)) {
-      atomicAdd(vr_facts[1], 1u);
+      atomicAdd(vr_counts[1], 1u);
       vec3 c = vplkit_direct_light(gp, view);
-      if (c.x > 0.0 || c.y > 0.0 || c.z > 0.0) atomicAdd(vr_facts[2], 1u);
+      if (c.x > 0.0 || c.y > 0.0 || c.z > 0.0) atomicAdd(vr_counts[2], 1u);
     }
   }
   if (i < vplkit_dprsm_view_texel_count(view) && vr_dprsm[i].albedo.xyz != vec3(0.0)) {
-    atomicMin(vr_facts[3], floatBitsToUint(length(vr_dprsm[i].position.xyz - u_light_pos)));
+    atomicMin(vr_counts[3], floatBitsToUint(length(vr_dprsm[i].position.xyz - u_light_pos)));
+  }
+  memoryBarrierShared();
+  memoryBarrierShared();
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    if (vr_counts[0] != 0u) atomicAdd(vr_facts[0], vr_counts[0]);
+    if (vr_counts[1] != 0u) atomicAdd(vr_facts[1], vr_counts[1]);
+    if (vr_counts[2] != 0u) atomicAdd(vr_facts[2], vr_counts[2]);
+    if (vr_counts[3] != 0x7F800000u) atomicMin(vr_facts[3], vr_counts[3]);
   }
 }
