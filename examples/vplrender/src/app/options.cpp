@@ -179,7 +179,12 @@ void build_app(CLI::App& app, raw_values& v) {
                                      "method, + / - double / halve --vpls (and --dirs for gbg, gather, mis, exact), "
                                      "Esc or Q close. Each change re-renders; the title shows method, samples and "
                                      "the last render time."));
-  app.add_option("--frames", v.frames, d("With --window: close after N frames (default 0: when closed by the user)."))
+  app.add_option("--frames", v.frames,
+                 d("With --window: close after N frames (default 0: when closed by the user; 1..1000000). Without "
+                   "--window: render N frames headless in one process (1..10000) with the light moving once around "
+                   "a horizontal circle through its position (radius 0.05 of the scene's diagonal; frame 0 is the "
+                   "scene's light), after one untimed warm-up frame; the JSON report gets \"frames\" (count, "
+                   "median_ms, per-stage medians). Only the last frame's image is written."))
       ->type_name("N");
   app.add_option("--window-script", v.window_script,
                  d("With --window: key actions injected one per frame from the second frame on, comma-separated "
@@ -449,10 +454,8 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   }
   o.direct = v.direct;
   o.window = v.window;
-  if (given("--frames")) {
-    if (!o.window) bad("--frames", "needs --window");
-    o.frames = static_cast<int>(parse_integer("--frames", v.frames, 1, 1000000));
-  }
+  if (given("--frames"))
+    o.frames = static_cast<int>(parse_integer("--frames", v.frames, 1, o.window ? limits::max_window_frames : limits::max_frames));
   if (given("--window-script")) {
     if (!o.window) bad("--window-script", "needs --window");
     std::size_t i = 0;

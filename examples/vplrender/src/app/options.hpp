@@ -29,6 +29,8 @@ struct limits {
   static constexpr int max_candidates = 1 << 16;         // --candidates (RIS candidates per sample)
   static constexpr int max_spatial = 16;                 // --spatial (vplkit::ris_max_neighbours)
   static constexpr double max_exposure = 1e6;
+  static constexpr int max_frames = 10000;           // --frames without --window (headless frames)
+  static constexpr int max_window_frames = 1000000;  // --frames with --window
 };
 
 struct camera_option {
@@ -72,11 +74,13 @@ struct options {
   bool paper = false;
   bool direct = false;            // add direct lighting (default: one-bounce indirect only)
   bool window = false;            // show the result in a GLFW window (GPU backend)
-  int frames = 0;                 // --window: close after this many frames (0 = when the user closes it)
+  int frames = 0;                 // --window: close after this many frames (0 = when the user closes it);
+                                  // without --window: render this many frames headless (0 = one render)
   std::vector<std::string> window_script;  // --window: key actions injected one per frame (1-7, m, +, -, q)
   float exposure = 1.0f;          // PNG preview only
   progress_mode progress = progress_mode::automatic;
 
+  bool headless_frames() const { return frames > 0 && !window; }  // the frames benchmark (render/frames.hpp)
   std::string png_path() const;   // out with .exr replaced by .png
   std::string json_path() const;  // out with .exr replaced by .json
 };
