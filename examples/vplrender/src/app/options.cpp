@@ -122,7 +122,7 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
                    "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
                    "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
-                   "docs/results.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
+                   "docs/results/notes/2026-11-21-paper-analogues.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
       ->type_name("cdf|alias");
   app.add_option("--visibility", v.visibility,
                  d("What visibility and the gathering rays are decided against, for every method (default "
@@ -152,7 +152,7 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--candidate-source", v.candidate_source,
                  d("--method ris: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
                    "flux: light-power sampling, no view, nothing to build), or what global, local (the CDF of the "
-                   "pixel's region) and gbg build, with --eps (docs/results.md section 12 compares them)."))
+                   "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them)."))
       ->type_name("global|local|gbg|flux");
   app.add_option("--spatial", v.spatial,
                  d("--method ris: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = off; "
