@@ -80,6 +80,7 @@ add_library(vplrender_core STATIC
   ${_vr}/render/frame_buffers.cpp
   ${_vr}/render/light_path.cpp
   ${_vr}/render/light_range.cpp
+  ${_vr}/render/lighting_facts.cpp
   ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "render/frame_buffers.hpp"
 
-#include "app/lighting_check.hpp"
+#include "render/lighting_facts.hpp"
 
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/gather_point.hpp>

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "render/pipeline.hpp"
 
-#include "app/lighting_check.hpp"
 #include "io/errors.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/gpu_bvh.hpp"
