@@ -2,7 +2,7 @@
 #include "raster/gl_raster.hpp"
 
 #include <headless_gl/compute.hpp>
-#include <vplkit/glsl/include_resolver.hpp>
+#include <headless_gl/raster_program.hpp>
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
@@ -39,48 +39,6 @@ using vplkit::gl::gl_error;
 
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-GLuint compile_stage(GLenum kind, const std::string& source, const std::string& name) {
-  const vplkit::glsl::resolved_source src =
-      vplkit::glsl::resolve_includes(source, name, {vplkit::gl::glsl_source_dir()});
-  const GLuint sh = glCreateShader(kind);
-  const char* text = src.text.c_str();
-  glShaderSource(sh, 1, &text, nullptr);
-  glCompileShader(sh);
-  GLint ok = 0;
-  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
-    glGetShaderInfoLog(sh, len, nullptr, log.data());
-    glDeleteShader(sh);
-    throw gl_error(name + " does not compile:\n" + src.map_log(log));
-  }
-  return sh;
-}
-
-GLuint link_program(const std::string& vs, const std::string& fs, const std::string& name) {
-  const GLuint v = compile_stage(GL_VERTEX_SHADER, vs, name + ".vert");
-  const GLuint f = compile_stage(GL_FRAGMENT_SHADER, fs, name + ".frag");
-  const GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint len = 0;
-    glGetProgramiv(p, GL_INFO_LOG_LENGTH, &len);
-    std::string log(static_cast<std::size_t>(len > 0 ? len : 1), '\0');
-    glGetProgramInfoLog(p, len, nullptr, log.data());
-    glDeleteProgram(p);
-    throw gl_error(name + " does not link:\n" + log);
-  }
-  return p;
 }
 
 // ---- shaders ---------------------------------------------------------------------------------
@@ -389,7 +347,7 @@ struct target {
 
 struct gl_rasterizer::impl {
   const scene* s = nullptr;
-  GLuint gbuffer_program = 0, dprsm_program = 0;
+  vplkit::gl::program gbuffer_program, dprsm_program;
   std::vector<GLuint> textures;  // per scene texture
   mesh scene_mesh;               // the scene as is (G-buffer)
   mesh light_mesh;               // the scene tessellated for the last DPRSM's light
@@ -402,14 +360,12 @@ struct gl_rasterizer::impl {
     scene_mesh.release();
     if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
     vplkit::gl::track_gpu_bytes(-texture_bytes);
-    if (gbuffer_program) glDeleteProgram(gbuffer_program);
-    if (dprsm_program) glDeleteProgram(dprsm_program);
   }
 
-  void draw(GLuint prog, const mesh& m) {
-    const GLint kd = glGetUniformLocation(prog, "u_kd");
-    const GLint textured = glGetUniformLocation(prog, "u_textured");
-    const GLint sampler = glGetUniformLocation(prog, "u_texture");
+  void draw(const vplkit::gl::program& prog, const mesh& m) {
+    const GLint kd = prog.uniform_location("u_kd");
+    const GLint textured = prog.uniform_location("u_textured");
+    const GLint sampler = prog.uniform_location("u_texture");
     glUniform1i(sampler, 0);
     glActiveTexture(GL_TEXTURE0);
     glBindVertexArray(m.vao);
@@ -441,8 +397,8 @@ struct gl_rasterizer::impl {
 
 gl_rasterizer::gl_rasterizer(const scene& s) : impl_(std::make_unique<impl>()) {
   impl_->s = &s;
-  impl_->gbuffer_program = link_program(gbuffer_vs(), gbuffer_fs(), "vplrender_gbuffer");
-  impl_->dprsm_program = link_program(dprsm_vs(), dprsm_fs(), "vplrender_dprsm");
+  impl_->gbuffer_program = vplkit::gl::raster_program("vplrender_gbuffer", gbuffer_vs(), gbuffer_fs());
+  impl_->dprsm_program = vplkit::gl::raster_program("vplrender_dprsm", dprsm_vs(), dprsm_fs());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (const texture_rgb8& t : s.textures) {
     GLuint id = 0;
@@ -570,11 +526,12 @@ void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height)
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
-  glUseProgram(gbuffer_program);
-  glUniformMatrix4fv(glGetUniformLocation(gbuffer_program, "u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
-  glUniform3f(glGetUniformLocation(gbuffer_program, "u_eye"), cam.eye.x, cam.eye.y, cam.eye.z);
-  glUniform1f(glGetUniformLocation(gbuffer_program, "u_far"), zfar);
-  draw(gbuffer_program, scene_mesh);
+  const vplkit::gl::program& prog = gbuffer_program;
+  prog.use();
+  glUniformMatrix4fv(prog.uniform_location("u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
+  glUniform3f(prog.uniform_location("u_eye"), cam.eye.x, cam.eye.y, cam.eye.z);
+  glUniform1f(prog.uniform_location("u_far"), zfar);
+  draw(prog, scene_mesh);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   check_gl("vplrender: G-buffer pass");
 }
@@ -586,22 +543,22 @@ void gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light
 
 void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& light, int R, int f) {
   ensure_target(dprsm_rt, R, R, 3);
-  const GLuint prog = dprsm_program;
+  const vplkit::gl::program& prog = dprsm_program;
   dprsm_rt.clear();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   glEnable(GL_CLIP_DISTANCE0);
-  glUseProgram(prog);
-  glUniform3f(glGetUniformLocation(prog, "u_light"), light.position.x, light.position.y, light.position.z);
+  prog.use();
+  glUniform3f(prog.uniform_location("u_light"), light.position.x, light.position.y, light.position.z);
   const vplkit::light_frame<float>& fr = light.frame;
-  glUniform3f(glGetUniformLocation(prog, "u_axis_x"), fr.axis_x.x, fr.axis_x.y, fr.axis_x.z);
-  glUniform3f(glGetUniformLocation(prog, "u_axis_y"), fr.axis_y.x, fr.axis_y.y, fr.axis_y.z);
-  glUniform3f(glGetUniformLocation(prog, "u_axis_z"), fr.axis_z.x, fr.axis_z.y, fr.axis_z.z);
-  glUniform1i(glGetUniformLocation(prog, "u_face"), f);
-  glUniform1f(glGetUniformLocation(prog, "u_resolution"), static_cast<float>(R));
-  glUniform1f(glGetUniformLocation(prog, "u_rim_margin"), 4.0f / static_cast<float>(R));
-  glUniform1f(glGetUniformLocation(prog, "u_far"), far_from(light.position));
+  glUniform3f(prog.uniform_location("u_axis_x"), fr.axis_x.x, fr.axis_x.y, fr.axis_x.z);
+  glUniform3f(prog.uniform_location("u_axis_y"), fr.axis_y.x, fr.axis_y.y, fr.axis_y.z);
+  glUniform3f(prog.uniform_location("u_axis_z"), fr.axis_z.x, fr.axis_z.y, fr.axis_z.z);
+  glUniform1i(prog.uniform_location("u_face"), f);
+  glUniform1f(prog.uniform_location("u_resolution"), static_cast<float>(R));
+  glUniform1f(prog.uniform_location("u_rim_margin"), 4.0f / static_cast<float>(R));
+  glUniform1f(prog.uniform_location("u_far"), far_from(light.position));
   draw(prog, light_mesh);
   glDisable(GL_CLIP_DISTANCE0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
