@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "raster/gl_raster.hpp"
 
+#include "raster/gl_mesh.hpp"
+#include "raster/gl_target.hpp"
+
 #include <headless_gl/compute.hpp>
 #include <headless_gl/raster_program.hpp>
 
@@ -10,13 +13,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
-#include <mutex>
-#include <thread>
 #include <cmath>
-#include <numeric>
 #include <string>
 #include <vector>
 
@@ -201,175 +199,29 @@ void main() {
 )";
 }
 
-struct vertex {
-  float p[3], n[3], uv[2], plane[4];
-};
-
-struct mesh {
-  GLuint vao = 0, vbo = 0;
-  long long bytes = 0;  // vbo storage, for vplkit::gl::track_gpu_bytes
-  // Ranges of vertices per material (triangles sorted by material).
-  struct range {
-    std::uint32_t material;
-    GLint first;
-    GLsizei count;
-  };
-  std::vector<range> ranges;
-  void release() {
-    if (vbo) glDeleteBuffers(1, &vbo);
-    if (vao) glDeleteVertexArrays(1, &vao);
-    vao = vbo = 0;
-    vplkit::gl::track_gpu_bytes(-bytes);
-    bytes = 0;
-    ranges.clear();
-  }
-};
-
-void upload(mesh& m, const std::vector<triangle>& tris_in) {
-  std::vector<std::size_t> order(tris_in.size());
-  std::iota(order.begin(), order.end(), std::size_t(0));
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return tris_in[a].material < tris_in[b].material; });
-  std::vector<vertex> verts;
-  verts.reserve(tris_in.size() * 3);
-  m.ranges.clear();
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const triangle& t = tris_in[order[k]];
-    const glm::dvec3 e1 = glm::dvec3(t.p[1]) - glm::dvec3(t.p[0]), e2 = glm::dvec3(t.p[2]) - glm::dvec3(t.p[0]);
-    glm::dvec3 g = glm::cross(e1, e2);
-    const double gl = glm::length(g);
-    g = gl > 0.0 ? g / gl : glm::dvec3(0.0);
-    const double w = glm::dot(g, (glm::dvec3(t.p[0]) + glm::dvec3(t.p[1]) + glm::dvec3(t.p[2])) / 3.0);
-    if (m.ranges.empty() || m.ranges.back().material != t.material)
-      m.ranges.push_back({t.material, static_cast<GLint>(verts.size()), 0});
-    for (int c = 0; c < 3; ++c) {
-      const std::size_t ci = static_cast<std::size_t>(c);
-      vertex v{};
-      for (int a = 0; a < 3; ++a) {
-        v.p[a] = t.p[ci][a];
-        v.n[a] = t.n[ci][a];
-        v.plane[a] = static_cast<float>(g[a]);
-      }
-      v.uv[0] = t.uv[ci].x;
-      v.uv[1] = t.uv[ci].y;
-      v.plane[3] = static_cast<float>(w);
-      verts.push_back(v);
-    }
-    m.ranges.back().count += 3;
-  }
-  if (!m.vao) glGenVertexArrays(1, &m.vao);
-  if (!m.vbo) glGenBuffers(1, &m.vbo);
-  glBindVertexArray(m.vao);
-  glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(verts.size() * sizeof(vertex)), verts.data(), GL_STATIC_DRAW);
-  const long long vbo_bytes = static_cast<long long>(verts.size() * sizeof(vertex));
-  vplkit::gl::track_gpu_bytes(vbo_bytes - m.bytes);
-  m.bytes = vbo_bytes;
-  const GLsizei stride = sizeof(vertex);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(vertex, p)));
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(vertex, n)));
-  glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(vertex, uv)));
-  glEnableVertexAttribArray(3);
-  glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(vertex, plane)));
-  glBindVertexArray(0);
-  check_gl("vplrender: mesh upload");
-}
-
-// `attachments` (3: DPRSM, 4: G-buffer) RGBA32F colour targets + a 32-bit float depth buffer.
-struct target {
-  GLuint fbo = 0, depth = 0;
-  GLuint color[4] = {0, 0, 0, 0};
-  int attachments = 0;
-  int w = 0, h = 0;
-  void create(int width, int height, int count) {
-    release();
-    w = width;
-    h = height;
-    attachments = count;
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glGenTextures(attachments, color);
-    for (int i = 0; i < attachments; ++i) {
-      glBindTexture(GL_TEXTURE_2D, color[i]);
-      glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, w, h);
-      // Read by texelFetch in surfels_from_targets.comp: one level, no filtering.
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), GL_TEXTURE_2D, color[i], 0);
-    }
-    glGenRenderbuffers(1, &depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    vplkit::gl::track_gpu_bytes(bytes());
-    const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
-    glDrawBuffers(attachments, bufs);
-    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-      throw gl_error("vplrender: float render target " + std::to_string(w) + "x" + std::to_string(h) +
-                     " is incomplete (status 0x" + std::to_string(status) + ")");
-    check_gl("vplrender: render target");
-  }
-  void clear() {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, w, h);
-    const float zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < attachments; ++i) glClearBufferfv(GL_COLOR, i, zero);
-    const float one = 1.0f;
-    glClearBufferfv(GL_DEPTH, 0, &one);
-  }
-  // Attachment i as w*h RGBA floats, GL row order (bottom row first).
-  std::vector<float> read(int i) const {
-    std::vector<float> px(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4u);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
-    glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, px.data());
-    check_gl("vplrender: read-back");
-    return px;
-  }
-  // The RGBA32F targets and a 32-bit depth buffer.
-  long long bytes() const { return static_cast<long long>(w) * h * (attachments * 16 + 4); }
-  void release() {
-    if (fbo) vplkit::gl::track_gpu_bytes(-bytes());
-    if (depth) glDeleteRenderbuffers(1, &depth);
-    if (color[0]) glDeleteTextures(attachments, color);
-    if (fbo) glDeleteFramebuffers(1, &fbo);
-    fbo = depth = 0;
-    color[0] = color[1] = color[2] = color[3] = 0;
-  }
-};
-
 }  // namespace
 
 struct gl_rasterizer::impl {
   const scene* s = nullptr;
   vplkit::gl::program gbuffer_program, dprsm_program;
   std::vector<GLuint> textures;  // per scene texture
-  mesh scene_mesh;               // the scene as is (G-buffer)
-  mesh light_mesh;               // the scene tessellated for the last DPRSM's light
+  gl_mesh scene_mesh;             // the scene as is (G-buffer)
+  gl_mesh light_mesh;             // the scene tessellated for the last DPRSM's light
   long long texture_bytes = 0;   // RGB8 is padded to 4 bytes per texel by most drivers
-  target gbuffer_rt, dprsm_rt;   // kept for the next call of the same size
+  gl_target gbuffer_rt, dprsm_rt;  // kept for the next call of the same size
   ~impl() {
-    gbuffer_rt.release();
-    dprsm_rt.release();
-    light_mesh.release();
-    scene_mesh.release();
     if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
     vplkit::gl::track_gpu_bytes(-texture_bytes);
   }
 
-  void draw(const vplkit::gl::program& prog, const mesh& m) {
+  void draw(const vplkit::gl::program& prog, const gl_mesh& m) {
     const GLint kd = prog.uniform_location("u_kd");
     const GLint textured = prog.uniform_location("u_textured");
     const GLint sampler = prog.uniform_location("u_texture");
     glUniform1i(sampler, 0);
     glActiveTexture(GL_TEXTURE0);
-    glBindVertexArray(m.vao);
-    for (const mesh::range& r : m.ranges) {
+    glBindVertexArray(m.vertex_array());
+    for (const gl_mesh::range& r : m.ranges()) {
       const material& mat = s->materials[r.material];
       glUniform3f(kd, mat.kd.x, mat.kd.y, mat.kd.z);
       glUniform1i(textured, mat.texture >= 0 ? 1 : 0);
@@ -414,7 +266,7 @@ gl_rasterizer::gl_rasterizer(const scene& s) : impl_(std::make_unique<impl>()) {
     impl_->texture_bytes += tb;
     vplkit::gl::track_gpu_bytes(tb);
   }
-  upload(impl_->scene_mesh, s.triangles);
+  impl_->scene_mesh.upload(s.triangles);
   check_gl("vplrender: rasteriser setup");
 }
 
@@ -427,76 +279,23 @@ namespace {
 #error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
 #endif
 
-// The same render target as last time when the size matches (frames reuse them), else a new one.
-void ensure_target(target& rt, int width, int height, int attachments) {
-  if (rt.fbo != 0 && rt.w == width && rt.h == height && rt.attachments == attachments) return;
-  rt.create(width, height, attachments);
-}
-
-// tessellate_for_light over the triangles in chunks on all cores, concatenated in order: each
-// triangle is split on its own, so this is the serial output, once min_edge is fixed from the
-// whole mesh as the serial call fixes it. A moving light re-tessellates every frame (cornell at
-// R = 512: 36 -> 22,742 triangles), which one core does in milliseconds.
-std::vector<triangle> tessellate_on_all_cores(const std::vector<triangle>& tris, vec3 light, tessellation_params tess,
-                                              tessellation_stats* ts) {
-  if (!(tess.min_edge > 0.0)) tess.min_edge = tessellation_min_edge(tris);
-  const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
-  // Several chunks per thread (the split is uneven: triangles near the light yield the most),
-  // taken in turn; a scene of few large triangles (cornell: 36) goes one triangle per chunk.
-  const std::size_t chunk = tris.size() / (4 * threads) + 1;
-  const std::size_t chunks = (tris.size() + chunk - 1) / chunk;
-  if (chunks <= 1 || threads == 1) return tessellate_for_light(tris, light, tess, ts);
-  std::vector<std::vector<triangle>> parts(chunks);
-  std::vector<tessellation_stats> stats(chunks);
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto work = [&] {
-    for (std::size_t c = next++; c < chunks; c = next++) {
-      try {
-        const std::vector<triangle> in(tris.begin() + std::ptrdiff_t(c * chunk),
-                                       tris.begin() + std::ptrdiff_t(std::min(tris.size(), (c + 1) * chunk)));
-        parts[c] = tessellate_for_light(in, light, tess, &stats[c]);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::size_t k = 1; k < std::min(threads, chunks); ++k) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-  std::vector<triangle> out;
-  tessellation_stats total;
-  for (std::size_t c = 0; c < chunks; ++c) {
-    out.insert(out.end(), parts[c].begin(), parts[c].end());
-    total.input += stats[c].input;
-    total.output += stats[c].output;
-    total.capped += stats[c].capped;
-  }
-  if (ts) *ts = total;
-  return out;
-}
-
 // surfels_from_targets.comp over `rt`: kind 0 the G-buffer (rows flipped, four targets), kind 1 a
 // DPRSM face (three targets, surfels from `first`).
-void copy_to_surfels(const target& rt, int kind, std::uint32_t first, const vplkit::gl::buffer& surfels) {
-  const std::size_t texels = static_cast<std::size_t>(rt.w) * static_cast<std::size_t>(rt.h);
+void copy_to_surfels(const gl_target& rt, int kind, std::uint32_t first, const vplkit::gl::buffer& surfels) {
+  const std::size_t texels = static_cast<std::size_t>(rt.width()) * static_cast<std::size_t>(rt.height());
   if (surfels.size_bytes() < 48 * (first + texels))
     throw gl_error("vplrender: the surfel buffer holds fewer than " + std::to_string(first + texels) + " surfels");
   const vplkit::gl::program& prog =
       vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/surfels_from_targets.comp");
   prog.use();
-  glUniform1i(prog.uniform_location("u_width"), rt.w);
-  glUniform1i(prog.uniform_location("u_height"), rt.h);
+  glUniform1i(prog.uniform_location("u_width"), rt.width());
+  glUniform1i(prog.uniform_location("u_height"), rt.height());
   glUniform1i(prog.uniform_location("u_kind"), kind);
   glUniform1ui(prog.uniform_location("u_first"), first);
   for (int i = 0; i < 4; ++i) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
     // The DPRSM has no fourth target: its sampler is never read, bind the first one.
-    glBindTexture(GL_TEXTURE_2D, rt.color[i < rt.attachments ? i : 0]);
+    glBindTexture(GL_TEXTURE_2D, rt.color(i < rt.attachments() ? i : 0));
   }
   surfels.bind(0);
   vplkit::gl::dispatch(prog, vplkit::gl::groups_for(texels, 64));
@@ -510,7 +309,7 @@ void copy_to_surfels(const target& rt, int kind, std::uint32_t first, const vplk
 }  // namespace
 
 void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height) {
-  ensure_target(gbuffer_rt, width, height, 4);
+  gbuffer_rt.ensure(width, height, 4);
   const aabb b = bounds(*s);
   double far = 0.0;
   for (int k = 0; k < 8; ++k) {
@@ -538,11 +337,11 @@ void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height)
 
 void gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess,
                                          tessellation_stats* ts) {
-  upload(light_mesh, tessellate_on_all_cores(s->triangles, light.position, tess, ts));
+  light_mesh.upload(tessellate_on_all_cores(s->triangles, light.position, tess, ts));
 }
 
 void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& light, int R, int f) {
-  ensure_target(dprsm_rt, R, R, 3);
+  dprsm_rt.ensure(R, R, 3);
   const vplkit::gl::program& prog = dprsm_program;
   dprsm_rt.clear();
   glEnable(GL_DEPTH_TEST);
@@ -566,7 +365,7 @@ void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& ligh
 }
 
 gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int height, raster_timing* timing) {
-  ensure_target(impl_->gbuffer_rt, width, height, 4);  // allocated outside the timed draws
+  impl_->gbuffer_rt.ensure(width, height, 4);  // allocated outside the timed draws
   vplkit::gl::timer_query tq;
   tq.begin();
   impl_->draw_gbuffer(cam, width, height);
@@ -602,7 +401,7 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
 
 void gl_rasterizer::render_gbuffer_surfels(const camera& cam, int width, int height, const vplkit::gl::buffer& surfels,
                                            raster_timing* timing) {
-  ensure_target(impl_->gbuffer_rt, width, height, 4);  // allocated outside the timed draws
+  impl_->gbuffer_rt.ensure(width, height, 4);  // allocated outside the timed draws
   vplkit::gl::timer_query tq;
   tq.begin();
   impl_->draw_gbuffer(cam, width, height);
@@ -620,7 +419,7 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
   const auto tess_start = std::chrono::steady_clock::now();
   impl_->tessellate_for(light, tess, ts);
   const double tess_ms = ms_since(tess_start);
-  ensure_target(impl_->dprsm_rt, R, R, 3);
+  impl_->dprsm_rt.ensure(R, R, 3);
   dprsm_data d;
   d.resolution = R;
   d.light = light;
@@ -667,7 +466,7 @@ void gl_rasterizer::render_dprsm_surfels(const vplkit::point_light<float>& light
   const auto tess_start = std::chrono::steady_clock::now();
   impl_->tessellate_for(light, tess, ts);
   const double tess_ms = ms_since(tess_start);
-  ensure_target(impl_->dprsm_rt, R, R, 3);
+  impl_->dprsm_rt.ensure(R, R, 3);
   const std::uint32_t face = static_cast<std::uint32_t>(R) * static_cast<std::uint32_t>(R);
   vplkit::gl::timer_query tq;
   tq.begin();
