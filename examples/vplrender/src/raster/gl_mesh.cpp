@@ -58,7 +58,7 @@ void gl_mesh::upload(const std::vector<triangle>& tris_in) {
   const long long vbo_bytes = static_cast<long long>(verts.size() * sizeof(gl_mesh_vertex));
   vplkit::gl::track_gpu_bytes(vbo_bytes - bytes_);
   bytes_ = vbo_bytes;
-  // Locations 0-3 as the passes' vertex shaders declare them.
+  // Locations 0-3 as shaders/raster_inputs.glsl declares them.
   const GLsizei stride = sizeof(gl_mesh_vertex);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offsetof(gl_mesh_vertex, p)));

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The scene's triangles in a GL vertex array, as both raster passes draw them (vertex attribute
-// locations 0-3, as their vertex shaders declare them): one vertex per triangle corner with its position, shading
+// The scene's triangles in a GL vertex array, as both raster passes draw them (the layout that
+// shaders/raster_inputs.glsl declares): one vertex per triangle corner with its position, shading
 // normal, texcoord, and the plane of its triangle (unit geometric normal n and n . p, computed in
 // double from the corners, the same at all three corners). The triangles are sorted by material
 // (stable), so a pass draws one range per material. Needs the context that was current at the

@@ -18,6 +18,10 @@
 #include <string>
 #include <vector>
 
+#ifndef VPLRENDER_SHADER_DIR
+#error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
+#endif
+
 namespace vplrender {
 
 std::size_t gbuffer_data::valid_count() const {
@@ -39,175 +43,17 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// ---- shaders ---------------------------------------------------------------------------------
-// Vertex layout shared by both passes: position, shading normal, texcoord, and the plane of the
-// (parent) triangle (unit geometric normal n, n . p), the same at all three corners.
-const char* const common_vs_inputs = R"(
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec2 a_uv;
-layout(location = 3) in vec4 a_plane;
-)";
-
-const char* const material_fs = R"(
-uniform vec3 u_kd;
-uniform int u_textured;
-uniform sampler2D u_texture;  // GL_SRGB8, GL_LINEAR, GL_REPEAT, no mipmaps: texture.cpp's lookup
-vec3 material_albedo(vec2 uv) { return u_textured != 0 ? texture(u_texture, uv).rgb : u_kd; }
-)";
-
-std::string gbuffer_vs() {
-  return std::string("#version 430 core\n") + common_vs_inputs + R"(
-uniform mat4 u_view_projection;
-out vec3 v_position;
-out vec3 v_normal;
-out vec2 v_uv;
-flat out vec4 v_plane;
-void main() {
-  v_position = a_position;
-  v_normal = a_normal;
-  v_uv = a_uv;
-  v_plane = a_plane;
-  gl_Position = u_view_projection * vec4(a_position, 1.0);
-}
-)";
-}
-
-// Depth = distance to the eye / u_far, written per fragment (as the DPRSM pass does). The
-// projection's own depth, with znear = 1e-5 zfar, resolves only about 1e-5 z^2 / znear in float:
-// millimetres in the Cornell box, so where a closed box's top face lies just behind its front face
-// (the camera a little below the top) the back face won the test along the front face's top row.
-// Linear depth resolves 2^-24 u_far everywhere.
-std::string gbuffer_fs() {
-  return std::string("#version 430 core\n") + material_fs + R"(
-uniform vec3 u_eye;
-uniform float u_far;
-in vec3 v_position;
-in vec3 v_normal;
-in vec2 v_uv;
-flat in vec4 v_plane;
-layout(location = 0) out vec4 o_position;
-layout(location = 1) out vec4 o_normal;
-layout(location = 2) out vec4 o_albedo;
-layout(location = 3) out vec4 o_shading_normal;
-void main() {
-  // Geometric normal: the triangle's plane, turned to the camera's side of it (two-sided). The
-  // side is decided by the plane equation at the eye, exact for the whole triangle; an
-  // interpolated normal against the interpolated position can pick the wrong side.
-  vec3 ng = v_plane.xyz;
-  if (dot(ng, u_eye) - v_plane.w < 0.0) ng = -ng;
-  // Shading normal: the interpolated vertex normal, on the geometric normal's side.
-  vec3 ns = v_normal;
-  float len = length(ns);
-  ns = len > 0.0 ? ns / len : ng;
-  if (dot(ns, ng) < 0.0) ns = -ns;
-  // A flat triangle's vertex normal and its plane's normal differ by rounding only: one vector
-  // for both then (the shading one, as before), so flat scenes keep their G-buffer bit for bit.
-  if (dot(ns, ng) >= 1.0 - 1e-6) ng = ns;
-  if (dot(ng, ng) == 0.0) ng = ns;  // a degenerate triangle has no plane
-  gl_FragDepth = clamp(length(v_position - u_eye) / u_far, 0.0, 1.0);
-  o_position = vec4(v_position, 1.0);
-  o_normal = vec4(ng, 1.0);
-  o_albedo = vec4(material_albedo(v_uv), 1.0);
-  o_shading_normal = vec4(ns, 1.0);
-}
-)";
-}
-
-// Paraboloid projection in the vertex shader, homogeneous form: with d the unit light-space
-// direction and z' = d.z on the front face, -d.z on the back face, clip = (d.x, d.y, 0, 1 + z')
-// divides to uv = d.xy / (1 + z') = vplkit_paraboloid_from_direction's uv on that face. The other
-// hemisphere is cut by gl_ClipDistance[0] = z' + m >= 0, so a triangle straddling the rim is
-// clipped just past it (w ~ 1 there, finite everywhere it is kept; the back pole, where w = 0, is
-// always clipped). The margin m = 4/R (two rim texels in angle) exists because the clipped edge is
-// a straight chord in uv between two points of the circle: clipping exactly at z' = 0 left the
-// valid texels between chord and rim empty (measured: 1.7% of the texels at R = 64, all with
-// r2 > 0.98). Texels outside the unit disk are cleared after read-back. Depth is written per
-// fragment.
-std::string dprsm_vs() {
-  return std::string("#version 430 core\n") + common_vs_inputs + R"(
-uniform vec3 u_light;
-uniform vec3 u_axis_x;
-uniform vec3 u_axis_y;
-uniform vec3 u_axis_z;
-uniform int u_face;
-uniform float u_rim_margin;
-out vec3 v_position;
-out vec3 v_normal;
-out vec2 v_uv;
-flat out vec4 v_plane;
-out float gl_ClipDistance[1];
-void main() {
-  vec3 q = a_position - u_light;
-  vec3 l = vec3(dot(q, u_axis_x), dot(q, u_axis_y), dot(q, u_axis_z));
-  float len = length(l);
-  vec3 d = len > 0.0 ? l / len : vec3(0.0, 0.0, 1.0);
-  float z = u_face == 0 ? d.z : -d.z;
-  gl_ClipDistance[0] = z + u_rim_margin;
-  gl_Position = vec4(d.x, d.y, 0.0, 1.0 + z);
-  v_position = a_position;
-  v_normal = a_normal;
-  v_uv = a_uv;
-  v_plane = a_plane;
-}
-)";
-}
-
-// Per fragment (= texel centre, gl_FragCoord.xy = (x + 0.5, y + 0.5)): the texel's exact light
-// ray (vplkit_paraboloid_to_direction) meets the triangle's plane; that point, not the
-// interpolated one, is stored, so inside a triangle the map equals a ray cast exactly up to float
-// rounding. Attributes (normal, texcoord) are interpolated across the (small, tessellated)
-// triangle. Depth = distance to the light / u_far.
-std::string dprsm_fs() {
-  return std::string("#version 430 core\n#include \"vplkit/paraboloid/paraboloid.glsl\"\n") + material_fs + R"(
-uniform vec3 u_light;
-uniform vec3 u_axis_x;
-uniform vec3 u_axis_y;
-uniform vec3 u_axis_z;
-uniform int u_face;
-uniform float u_resolution;
-uniform float u_far;
-in vec3 v_position;
-in vec3 v_normal;
-in vec2 v_uv;
-flat in vec4 v_plane;
-layout(location = 0) out vec4 o_position;
-layout(location = 1) out vec4 o_normal;
-layout(location = 2) out vec4 o_albedo;
-void main() {
-  vec2 uv = gl_FragCoord.xy / u_resolution * 2.0 - 1.0;
-  vec3 dl = vplkit_paraboloid_to_direction(u_face, uv);
-  vec3 dir = u_axis_x * dl.x + u_axis_y * dl.y + u_axis_z * dl.z;
-  vec3 p = v_position;
-  float denom = dot(v_plane.xyz, dir);
-  if (abs(denom) > 1e-6) {
-    float t = (v_plane.w - dot(v_plane.xyz, u_light)) / denom;
-    // The texel's ray meets the plane behind the light: this triangle cannot be what the texel
-    // sees (a triangle whose interpolation wrapped across the face, see tessellate.hpp).
-    if (!(t > 0.0)) discard;
-    p = u_light + t * dir;
-  }
-  vec3 n = v_normal;
-  float len = length(n);
-  n = len > 0.0 ? n / len : v_plane.xyz;
-  if (dot(n, u_light - p) < 0.0) n = -n;  // two-sided: the lit side reflects
-  gl_FragDepth = clamp(length(p - u_light) / u_far, 0.0, 1.0);
-  o_position = vec4(p, 1.0);
-  o_normal = vec4(n, 1.0);
-  o_albedo = vec4(material_albedo(v_uv), 1.0);
-}
-)";
-}
-
 }  // namespace
 
 struct gl_rasterizer::impl {
   const scene* s = nullptr;
-  vplkit::gl::program gbuffer_program, dprsm_program;
-  std::vector<GLuint> textures;  // per scene texture
-  gl_mesh scene_mesh;             // the scene as is (G-buffer)
-  gl_mesh light_mesh;             // the scene tessellated for the last DPRSM's light
-  long long texture_bytes = 0;   // RGB8 is padded to 4 bytes per texel by most drivers
+  // shaders/gbuffer.{vert,frag} and shaders/dprsm.{vert,frag}, compiled once per process.
+  const vplkit::gl::program* gbuffer_program = nullptr;
+  const vplkit::gl::program* dprsm_program = nullptr;
+  std::vector<GLuint> textures;    // per scene texture
+  gl_mesh scene_mesh;              // the scene as is (G-buffer)
+  gl_mesh light_mesh;              // the scene tessellated for the last DPRSM's light
+  long long texture_bytes = 0;     // RGB8 is padded to 4 bytes per texel by most drivers
   gl_target gbuffer_rt, dprsm_rt;  // kept for the next call of the same size
   ~impl() {
     if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
@@ -249,8 +95,9 @@ struct gl_rasterizer::impl {
 
 gl_rasterizer::gl_rasterizer(const scene& s) : impl_(std::make_unique<impl>()) {
   impl_->s = &s;
-  impl_->gbuffer_program = vplkit::gl::raster_program("vplrender_gbuffer", gbuffer_vs(), gbuffer_fs());
-  impl_->dprsm_program = vplkit::gl::raster_program("vplrender_dprsm", dprsm_vs(), dprsm_fs());
+  const std::string dir = VPLRENDER_SHADER_DIR;
+  impl_->gbuffer_program = &vplkit::gl::cached_raster_program(dir + "/gbuffer.vert", dir + "/gbuffer.frag");
+  impl_->dprsm_program = &vplkit::gl::cached_raster_program(dir + "/dprsm.vert", dir + "/dprsm.frag");
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (const texture_rgb8& t : s.textures) {
     GLuint id = 0;
@@ -272,12 +119,7 @@ gl_rasterizer::gl_rasterizer(const scene& s) : impl_(std::make_unique<impl>()) {
 
 gl_rasterizer::~gl_rasterizer() = default;
 
-
 namespace {
-
-#ifndef VPLRENDER_SHADER_DIR
-#error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
-#endif
 
 // surfels_from_targets.comp over `rt`: kind 0 the G-buffer (rows flipped, four targets), kind 1 a
 // DPRSM face (three targets, surfels from `first`).
@@ -325,7 +167,7 @@ void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height)
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
-  const vplkit::gl::program& prog = gbuffer_program;
+  const vplkit::gl::program& prog = *gbuffer_program;
   prog.use();
   glUniformMatrix4fv(prog.uniform_location("u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
   glUniform3f(prog.uniform_location("u_eye"), cam.eye.x, cam.eye.y, cam.eye.z);
@@ -342,7 +184,7 @@ void gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light
 
 void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& light, int R, int f) {
   dprsm_rt.ensure(R, R, 3);
-  const vplkit::gl::program& prog = dprsm_program;
+  const vplkit::gl::program& prog = *dprsm_program;
   dprsm_rt.clear();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
