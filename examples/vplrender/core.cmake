@@ -109,7 +109,9 @@ set(VPLRENDER_CORE_AVAILABLE ON)
 if(TARGET vplkit_headless_gl)
   add_library(vplrender_pipeline STATIC
     ${_vr}/app/render_options.cpp
+    ${_vr}/raster/gl_mesh.cpp
     ${_vr}/raster/gl_raster.cpp
+    ${_vr}/raster/gl_target.cpp
     ${_vr}/raster/gpu_bvh.cpp
     ${_vr}/raster/gpu_scene_buffers.cpp
     ${_vr}/raster/gpu_scene_shading.cpp

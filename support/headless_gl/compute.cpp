@@ -89,11 +89,10 @@ program& program::operator=(program&& other) noexcept {
   return *this;
 }
 
-program program::compute(const std::string& source, const glsl::resolved_source* files) {
-  const std::string name = files != nullptr && !files->files.empty() ? files->file_label(0)
-                                                                       : std::string("<source>");
-  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-  if (shader == 0) throw gl_error("glCreateShader(GL_COMPUTE_SHADER) failed for " + name);
+GLuint compile_shader(GLenum kind, const std::string& source, const std::string& what,
+                      const glsl::resolved_source* files) {
+  const GLuint shader = glCreateShader(kind);
+  if (shader == 0) throw gl_error("glCreateShader failed for " + what);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
   glCompileShader(shader);
@@ -103,22 +102,38 @@ program program::compute(const std::string& source, const glsl::resolved_source*
     std::string log = shader_log(shader);
     glDeleteShader(shader);
     if (files != nullptr) log = files->map_log(log);
-    throw gl_error("compute shader " + name + " failed to compile:\n" + log + file_table(files));
+    throw gl_error(what + " failed to compile:\n" + log + file_table(files));
   }
+  return shader;
+}
+
+program program::link(const std::vector<GLuint>& shaders, const std::string& what,
+                      const glsl::resolved_source* files) {
   const GLuint prog = glCreateProgram();
-  glAttachShader(prog, shader);
+  for (const GLuint shader : shaders) glAttachShader(prog, shader);
   glLinkProgram(prog);
-  glDetachShader(prog, shader);
-  glDeleteShader(shader);
+  for (const GLuint shader : shaders) {
+    glDetachShader(prog, shader);
+    glDeleteShader(shader);
+  }
+  GLint ok = GL_FALSE;
   glGetProgramiv(prog, GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {
     std::string log = program_log(prog);
     glDeleteProgram(prog);
     if (files != nullptr) log = files->map_log(log);
-    throw gl_error("compute program " + name + " failed to link:\n" + log + file_table(files));
+    throw gl_error(what + " failed to link:\n" + log + file_table(files));
   }
-  check_gl(("building compute program " + name).c_str());
   return program(prog);
+}
+
+program program::compute(const std::string& source, const glsl::resolved_source* files) {
+  const std::string name = files != nullptr && !files->files.empty() ? files->file_label(0)
+                                                                       : std::string("<source>");
+  const GLuint shader = compile_shader(GL_COMPUTE_SHADER, source, "compute shader " + name, files);
+  program prog = link({shader}, "compute program " + name, files);
+  check_gl(("building compute program " + name).c_str());
+  return prog;
 }
 
 program program::compute_with_includes(const std::string& source, const std::string& name,
@@ -151,6 +166,17 @@ GLint program::uniform_location(const char* name) const {
   return glGetUniformLocation(id_, name);
 }
 
+glsl::resolved_source resolve_shader_file(const std::string& path, const std::string& version_line,
+                                          const std::string& preamble) {
+  const std::string file = !path.empty() && path.front() == '/' ? path : glsl_source_dir() + "/" + path;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw gl_error("cannot read " + file);
+  std::ostringstream text;
+  text << version_line << in.rdbuf();
+  return glsl::resolve_includes(text.str(), file, {glsl_source_dir()}, preamble,
+                                std::filesystem::path(file).parent_path().string());
+}
+
 // ---- program cache ----------------------------------------------------------------------------
 const program& cached_kernel(const std::string& path, const std::string& preamble) {
   static std::mutex mutex;
@@ -159,13 +185,7 @@ const program& cached_kernel(const std::string& path, const std::string& preambl
   const auto key = std::make_pair(path, preamble);
   const auto it = cache.find(key);
   if (it != cache.end()) return it->second;
-  const std::string file = !path.empty() && path.front() == '/' ? path : glsl_source_dir() + "/" + path;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw gl_error("cannot read " + file);
-  std::ostringstream text;
-  text << "#version 430\n" << in.rdbuf();
-  const glsl::resolved_source resolved = glsl::resolve_includes(text.str(), file, {glsl_source_dir()}, preamble,
-                                                                std::filesystem::path(file).parent_path().string());
+  const glsl::resolved_source resolved = resolve_shader_file(path, "#version 430\n", preamble);
   program p = program::compute(resolved.text, &resolved);
   return cache.emplace(key, std::move(p)).first->second;
 }

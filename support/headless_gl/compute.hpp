@@ -64,6 +64,11 @@ public:
   static program compute_from_file(const std::string& path,
                                    const std::vector<std::string>& include_dirs = {},
                                    const std::string& preamble = {});
+  // Links compiled `shaders` (detached and deleted here, whatever happens) into a program; throws
+  // gl_error "<what> failed to link:" with the log, mapped through `files` when given. The last
+  // step of compute() and of raster_program.hpp's vertex + fragment programs.
+  static program link(const std::vector<GLuint>& shaders, const std::string& what,
+                      const glsl::resolved_source* files = nullptr);
 
   GLuint id() const { return id_; }
   void use() const;
@@ -75,6 +80,20 @@ private:
   explicit program(GLuint id) : id_(id) {}
   GLuint id_ = 0;
 };
+
+// One stage of `kind` compiled from text that glShaderSource accepts as is; throws gl_error
+// "<what> failed to compile:" with the driver's log, its source-string numbers mapped to file names
+// through `files` (and their table appended when there are several).
+GLuint compile_shader(GLenum kind, const std::string& source, const std::string& what,
+                      const glsl::resolved_source* files = nullptr);
+
+// A #version-free shader file (the convention of the pack's kernels and of the hosts' shaders,
+// docs/glsl.md) ready for glShaderSource: `version_line` first, then the file with its #includes
+// resolved against the pack root, quoted ones first in the file's own folder (glslang's rule), and
+// `preamble` after the #version. A relative `path` is looked up under the pack root
+// (glsl_source_dir()), an absolute one is used as it is. Throws gl_error when it cannot be read.
+glsl::resolved_source resolve_shader_file(const std::string& path, const std::string& version_line,
+                                          const std::string& preamble = {});
 
 // ---- program cache ----------------------------------------------------------------------------
 // A compute kernel compiled once and kept for the life of the process: the one cache of every

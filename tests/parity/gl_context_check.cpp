@@ -3,12 +3,14 @@
 // Creates the headless context the way VPLKIT_GL asks (ctest sets it: gl_context_egl,
 // gl_context_osmesa), prints GL_VERSION / GL_RENDERER, checks that the path taken is the one
 // asked for, runs a compute shader that writes SSBOs through an #include of the pack, checks the
-// timer and that a compile error inside an included file names that file and line. Then it
+// timer and that a compile error inside an included file names that file and line, and builds
+// vertex + fragment programs (raster_program.hpp) from strings and from files. Then it
 // closes the context and opens one through the other path in the same process (OSMesa re-points
 // epoxy's dispatch and must put it back). Any failure, "no context" included, exits non-zero:
 // CI always has Mesa, so a missing context is a broken machine, not a reason to skip.
 #include <headless_gl/compute.hpp>
 #include <headless_gl/context.hpp>
+#include <headless_gl/raster_program.hpp>
 
 #if __has_include(<epoxy/egl.h>)
 #include <epoxy/egl.h>
@@ -21,8 +23,10 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -127,6 +131,84 @@ std::string run_error_mapping_check() {
   return problem;
 }
 
+// Empty string when `what` holds every piece of `pieces`; else the first missing one and `what`.
+std::string missing_from(const std::string& what, const std::vector<std::string>& pieces) {
+  for (const std::string& piece : pieces)
+    if (what.find(piece) == std::string::npos) return "\"" + piece + "\" not in:\n" + what;
+  return {};
+}
+
+// Runs `build`, which must throw gl_error; empty string when its message holds every piece of
+// `pieces` and, when `file` is given, that file's line 3 ("<file>:3" from Mesa and glslang,
+// "<file>(3)" from NVIDIA); else what is wrong.
+std::string expect_gl_error(const std::function<void()>& build, const std::vector<std::string>& pieces,
+                            const std::string& file = {}) {
+  try {
+    build();
+  } catch (const vplkit::gl::gl_error& e) {
+    const std::string what = e.what();
+    if (!file.empty() && what.find(file + ":3") == std::string::npos && what.find(file + "(3)") == std::string::npos)
+      return "compile error not reported as " + file + " line 3:\n" + what;
+    return missing_from(what, pieces);
+  }
+  return "no error reported (expected \"" + pieces.front() + "\")";
+}
+
+// Vertex + fragment programs: one from strings through the pack's include path, and errors that
+// name the program, the stage and the included file's line (a file pair's quoted #include found
+// beside it), or the failed link. A program that cached_raster_program builds lives until the
+// process exits, past this check's context, so only its failures are exercised here; the
+// renderer's G-buffer and DPRSM passes build theirs on every run.
+std::string run_raster_program_check() {
+  namespace fs = std::filesystem;
+  using vplkit::gl::cached_raster_program;
+  using vplkit::gl::raster_program;
+  const fs::path dir = fs::temp_directory_path() / ("vplkit_gl_raster_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string broken = (dir / "broken.glsl").string();
+  { std::ofstream(dir / "broken.glsl") << "// probe\nfloat probe_ok() { return 1.0; }\nfloat probe_bad() { return undeclared_thing; }\n"; }
+  { std::ofstream(dir / "inputs.glsl") << "layout(location = 0) in vec3 a_position;\n"; }
+  { std::ofstream(dir / "probe.vert") << "#include \"inputs.glsl\"\nvoid main() { gl_Position = vec4(a_position, 1.0); }\n"; }
+  { std::ofstream(dir / "bad.frag") << "#include \"broken.glsl\"\nout vec4 o_colour;\nvoid main() { o_colour = vec4(probe_bad()); }\n"; }
+  const std::string vs = "#version 430 core\n#include \"vplkit/core/constants.glsl\"\n"
+                         "layout(location = 0) in vec3 a_position;\n"
+                         "void main() { gl_Position = vec4(a_position * vplkit_PI, 1.0); }\n";
+  const std::string fs_ok = "#version 430 core\nuniform vec3 u_colour;\nout vec4 o_colour;\n"
+                            "void main() { o_colour = vec4(u_colour, 1.0); }\n";
+  std::string problem;
+  try {
+    const program p = raster_program("probe", vs, fs_ok);
+    if (p.id() == 0 || p.uniform_location("u_colour") < 0) problem = "raster_program: no uniform u_colour";
+  } catch (const std::exception& e) {
+    problem = std::string("a valid raster program failed: ") + e.what();
+  }
+  struct expected_error {
+    std::function<void()> build;
+    std::vector<std::string> pieces;
+    std::string file_at_line_3;
+  };
+  const std::vector<expected_error> errors = {
+      {[&] { raster_program("probe_compile", vs, "#version 430 core\n#include \"broken.glsl\"\nout vec4 o;\nvoid main() { o = vec4(probe_bad()); }\n",
+                        {dir.string(), vplkit::gl::glsl_source_dir()}); },
+       {"probe_compile: fragment shader failed to compile"}, broken},
+      {[&] { raster_program("probe_vertex", "#version 430 core\nvoid main() { gl_Position = undeclared_thing; }\n", fs_ok); },
+       {"probe_vertex: vertex shader failed to compile", "probe_vertex.vert"}, ""},
+      {[&] { raster_program("probe_link", vs, "#version 430 core\nout vec4 o;\nvoid not_main() { o = vec4(1.0); }\n"); },
+       {"probe_link: program failed to link"}, ""},
+      {[&] { cached_raster_program((dir / "probe.vert").string(), (dir / "bad.frag").string()); },
+       {"probe+bad: fragment shader failed to compile"}, broken},
+      {[&] { cached_raster_program((dir / "probe.vert").string(), (dir / "absent.frag").string()); },
+       {"cannot read " + (dir / "absent.frag").string()}, ""}};
+  for (const expected_error& e : errors) {
+    if (!problem.empty()) break;
+    problem = expect_gl_error(e.build, e.pieces, e.file_at_line_3);
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  if (problem.empty()) std::cout << "raster programs build; their errors name the program, the stage and file:line\n";
+  return problem;
+}
+
 int fail(const std::string& why) {
   std::cerr << "gl_context_check: FAILED: " << why << "\n";
   return 1;
@@ -155,6 +237,7 @@ int main(int argc, char** argv) {
       was_osmesa = context.is_osmesa();
       if (auto e = run_compute_check(); !e.empty()) return fail(e);
       if (auto e = run_error_mapping_check(); !e.empty()) return fail(e);
+      if (auto e = run_raster_program_check(); !e.empty()) return fail(e);
     }
     {
       vplkit::gl::context_options other;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The DPRSM tessellation (tessellate.cpp): every output edge within theta_max at the light, even
 // next to the light (the sub-triangle that wrapped over the DPRSM's front face at R = 8, see
-// tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike.
+// tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike; the
+// split over all cores equals the serial one.
 #include "app/options.hpp"
 #include "app/scene_setup.hpp"
 #include "raster/render_data.hpp"
@@ -138,4 +139,34 @@ TEST_CASE("no tessellation when max_angle <= 0 -- and edges shorter than min_edg
   const std::vector<triangle> kept = tessellate_for_light(s.triangles, vec3(0.0f, 1.9f, 0.0f), coarse, &st);
   CHECK(kept.size() == s.triangles.size());
   CHECK(st.capped > 0);
+}
+
+TEST_CASE("tessellate_on_all_cores gives the serial output: same triangles in the same order, same counts") {
+  const scene s = cornell();
+  // Many input triangles (several chunks per thread) of uneven cost, and a light on the floor: the
+  // edges through it are split down to min_edge, which must be the whole mesh's, not a chunk's.
+  tessellation_params pre;
+  pre.max_angle = tessellation_angle_for_resolution(16);
+  const std::vector<triangle> input = tessellate_for_light(s.triangles, vec3(0.3f, 1.0f, -0.2f), pre);
+  REQUIRE(input.size() > 200);
+  const float floor_y = bounds(input).lo.y;
+  for (const vec3 light : {vec3(0.0f, 1.9f, 0.0f), vec3(0.1f, floor_y, 0.2f)}) {
+    tessellation_params tess;
+    tess.max_angle = tessellation_angle_for_resolution(512);
+    tessellation_stats serial_stats, parallel_stats;
+    const std::vector<triangle> serial = tessellate_for_light(input, light, tess, &serial_stats);
+    const std::vector<triangle> parallel = tessellate_on_all_cores(input, light, tess, &parallel_stats);
+    REQUIRE(parallel.size() == serial.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < serial.size(); ++i)
+      differ += (parallel[i].p != serial[i].p || parallel[i].n != serial[i].n || parallel[i].uv != serial[i].uv ||
+                 parallel[i].material != serial[i].material)
+                    ? 1u
+                    : 0u;
+    CHECK(differ == 0);
+    CHECK(parallel_stats.input == serial_stats.input);
+    CHECK(parallel_stats.output == serial_stats.output);
+    CHECK(parallel_stats.capped == serial_stats.capped);
+    if (light.y == floor_y) CHECK(serial_stats.capped > 0);  // min_edge decided those splits
+  }
 }

@@ -10,6 +10,7 @@
 // epoxy before GLFW: it replaces GL/gl.h, and GLFW_INCLUDE_NONE keeps GLFW from including it.
 #include <epoxy/gl.h>
 #include <headless_gl/compute.hpp>
+#include <headless_gl/raster_program.hpp>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #endif
@@ -94,20 +95,6 @@ uniform sampler2D image;
 void main() { color = vec4(texture(image, vec2(uv.x, 1.0 - uv.y)).rgb, 1.0); }
 )";
 
-GLuint compile(GLenum kind, const char* src) {
-  const GLuint sh = glCreateShader(kind);
-  glShaderSource(sh, 1, &src, nullptr);
-  glCompileShader(sh);
-  GLint ok = 0;
-  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
-    throw vplkit::gl::gl_error(std::string("--window: display shader: ") + log);
-  }
-  return sh;
-}
-
 std::string glfw_error_text() {
   const char* d = nullptr;
   const int code = glfwGetError(&d);
@@ -120,7 +107,8 @@ struct window_session::impl {
   options o;
   const prepared_scene& p;
   GLFWwindow* win = nullptr;
-  GLuint program = 0, vao = 0, tex = 0;
+  vplkit::gl::program program;  // deleted with the window's context current (see ~impl)
+  GLuint vao = 0, tex = 0;
   std::unique_ptr<frame_buffers> buffers;  // voxel_grid has no default constructor
   std::unique_ptr<gl_worker> worker;
   std::deque<std::string> pending;  // key actions from the keyboard
@@ -135,7 +123,7 @@ struct window_session::impl {
       glfwMakeContextCurrent(win);
       if (tex) glDeleteTextures(1, &tex);
       if (vao) glDeleteVertexArrays(1, &vao);
-      if (program) glDeleteProgram(program);
+      program = vplkit::gl::program();
       glfwDestroyWindow(win);
     }
     glfwTerminate();
@@ -171,16 +159,7 @@ struct window_session::impl {
     glfwSetWindowRefreshCallback(win, [](GLFWwindow* w) { static_cast<impl*>(glfwGetWindowUserPointer(w))->damaged = true; });
     glfwMakeContextCurrent(win);
     glfwSwapInterval(1);
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertex), fs = compile(GL_FRAGMENT_SHADER, kFragment);
-    program = glCreateProgram();
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glLinkProgram(program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) throw vplkit::gl::gl_error("--window: display program does not link");
+    program = vplkit::gl::raster_program("--window display", kVertex, kFragment);
     glGenVertexArrays(1, &vao);  // core profile: a draw needs a bound VAO, even without attributes
     glGenTextures(1, &tex);
     glBindTexture(GL_TEXTURE_2D, tex);
@@ -245,10 +224,10 @@ struct window_session::impl {
     const double s = std::min(static_cast<double>(fw) / o.width, static_cast<double>(fh) / o.height);
     const int w = std::max(1, static_cast<int>(o.width * s)), h = std::max(1, static_cast<int>(o.height * s));
     glViewport((fw - w) / 2, (fh - h) / 2, w, h);
-    glUseProgram(program);
+    program.use();
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, tex);
-    glUniform1i(glGetUniformLocation(program, "image"), 0);
+    glUniform1i(program.uniform_location("image"), 0);
     glBindVertexArray(vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glfwSwapBuffers(win);

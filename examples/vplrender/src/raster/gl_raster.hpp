@@ -5,8 +5,9 @@
 // float render targets, then either read back into CPU arrays (the CPU backend, the tests) or
 // copied on the GPU into the surfel buffers the GPU backend's kernels read (nothing comes back).
 // See docs/renderer.md for the projection, the clipping at the paraboloid rim and the
-// tessellation rule. The render targets are kept from one call to the next (frames of one size
-// reuse them).
+// tessellation rule; the passes' shaders are examples/vplrender/shaders/gbuffer.{vert,frag} and
+// dprsm.{vert,frag}, the vertex array raster/gl_mesh.hpp, the targets raster/gl_target.hpp. The
+// render targets are kept from one call to the next (frames of one size reuse them).
 #include "raster/render_data.hpp"
 #include "raster/tessellate.hpp"
 #include "scene/scene.hpp"
@@ -28,7 +29,8 @@ struct raster_timing {
 
 class gl_rasterizer {
 public:
-  // Uploads the scene's textures. Throws vplkit::gl::gl_error when a shader does not compile.
+  // Uploads the scene's textures and meshes. Throws vplkit::gl::gl_error when a shader cannot be
+  // read or does not compile.
   explicit gl_rasterizer(const scene& s);
   ~gl_rasterizer();
   gl_rasterizer(const gl_rasterizer&) = delete;

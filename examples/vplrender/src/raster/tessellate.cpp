@@ -4,8 +4,13 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstddef>
+#include <exception>
 #include <limits>
+#include <mutex>
+#include <thread>
 #include <tuple>
 
 namespace vplrender {
@@ -119,6 +124,49 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
   }
   st.output = out.size();
   if (stats) *stats = st;
+  return out;
+}
+
+std::vector<triangle> tessellate_on_all_cores(const std::vector<triangle>& tris, vec3 light, tessellation_params tess,
+                                              tessellation_stats* ts) {
+  if (!(tess.min_edge > 0.0)) tess.min_edge = tessellation_min_edge(tris);
+  const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
+  // Several chunks per thread (the split is uneven: triangles near the light yield the most),
+  // taken in turn; a scene of few large triangles (cornell: 36) goes one triangle per chunk.
+  const std::size_t chunk = tris.size() / (4 * threads) + 1;
+  const std::size_t chunks = (tris.size() + chunk - 1) / chunk;
+  if (chunks <= 1 || threads == 1) return tessellate_for_light(tris, light, tess, ts);
+  std::vector<std::vector<triangle>> parts(chunks);
+  std::vector<tessellation_stats> stats(chunks);
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto work = [&] {
+    for (std::size_t c = next++; c < chunks; c = next++) {
+      try {
+        const std::vector<triangle> in(tris.begin() + std::ptrdiff_t(c * chunk),
+                                       tris.begin() + std::ptrdiff_t(std::min(tris.size(), (c + 1) * chunk)));
+        parts[c] = tessellate_for_light(in, light, tess, &stats[c]);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t k = 1; k < std::min(threads, chunks); ++k) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+  std::vector<triangle> out;
+  tessellation_stats total;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    out.insert(out.end(), parts[c].begin(), parts[c].end());
+    total.input += stats[c].input;
+    total.output += stats[c].output;
+    total.capped += stats[c].capped;
+  }
+  if (ts) *ts = total;
   return out;
 }
 
