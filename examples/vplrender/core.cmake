@@ -78,6 +78,7 @@ add_library(vplrender_core STATIC
   ${_vr}/render/cpu/exact_estimator.cpp
   ${_vr}/render/cpu/ray_scene.cpp
   ${_vr}/render/light_range.cpp
+  ${_vr}/render/method_traits.cpp
   ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp

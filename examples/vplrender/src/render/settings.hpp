@@ -12,8 +12,10 @@
 
 namespace vplrender {
 
-// exact: one-bounce indirect light by cosine gathering against the scene's triangles with exact
-// visibility and no VPLs (render/cpu/exact_estimator.hpp), the ground truth of the others.
+// The estimators of --method; each is described once, by its row in render/method_traits.cpp
+// (name, estimator, builder, samples). exact: one-bounce indirect light by cosine gathering
+// against the scene's triangles with exact visibility and no VPLs (render/cpu/exact_estimator.hpp),
+// the ground truth of the others.
 enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
@@ -55,11 +57,13 @@ const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
 
-// The methods that sample a distribution over the VPLs (global, local, gbg, mis,
-// mis-as-published): they have builders and CDFs; reference, gather and exact have none.
+// The methods that sample a distribution over the VPLs (traits(m).builder is not none: global,
+// local, gbg, mis, mis-as-published): they have builders and CDFs; reference, gather and exact
+// have none.
 bool has_distribution(method m);
 
-// The methods whose samples are VPLs (every one but gather and exact): --vpl-mode applies to them.
+// The methods whose samples are VPLs (traits(m).uses_vpls: every one but gather and exact):
+// --vpl-mode applies to them.
 bool uses_vpls(method m);
 
 // Everything an estimator run needs besides the buffers (docs/renderer.md).

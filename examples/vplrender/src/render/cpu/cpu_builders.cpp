@@ -4,6 +4,7 @@
 #include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/method_traits.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gbg_weights.hpp>
@@ -94,12 +95,10 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
   const int threads = f.threads, W = f.W, H = f.H;
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
   cpu_distributions out;
-  switch (s.meth) {
-    case method::reference:
-    case method::gather:
-    case method::exact:
+  switch (traits(s.meth).builder) {
+    case builder_kind::none:
       break;
-    case method::global: {
+    case builder_kind::global: {
       std::vector<float> weights(n_texels, 0.0f);
       int used = 0;
       {
@@ -116,7 +115,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       out.weights = std::move(weights);
       break;
     }
-    case method::local: {
+    case builder_kind::local: {
       const vplkit::image_regions regions(W, H, s.regions_x, s.regions_y);
       const int N = regions.count();
       std::vector<float> flat(static_cast<std::size_t>(N) * n_texels, 0.0f);
@@ -143,9 +142,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       det["local_combination"] = to_string(s.local_combination);
       break;
     }
-    case method::gbg:
-    case method::mis:
-    case method::mis_as_published: {
+    case builder_kind::gbg: {
       std::vector<float> weights = build_gbg_weights_cpu(b, s, timer, progress, det);
       auto t = timer.scoped("cdf (cpu)");
       out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
