@@ -17,11 +17,14 @@
 // and the iteration time is A's estimate time (UseManualTime). A and B alternate, so a drift of
 // the machine's speed moves both; the ratio is the figure to compare across builds and machines.
 // Each variant is rendered once before timing: llvmpipe JIT-compiles a kernel variant at its
-// first dispatch (seconds) and counts that in the GL timer.
+// first dispatch (seconds) and counts that in the GL timer. One iteration per repetition by
+// default (bench_common.hpp's --benchmark_min_time=0.05): ask for --benchmark_repetitions=N.
 //
 // Arguments: image side W (W x W pixels), N VPL samples, M exact directions, visibility
 // (0 exact = the BVH of --visibility exact, 1 voxels = the triangle voxel grid), scene (0 cornell,
 // 1 open). DPRSM 2 x 128^2, 64^3 voxels: the builders stay cheap beside the estimate.
+#include "bench_common.hpp"
+
 #include <app/options.hpp>
 #include <app/render_options.hpp>
 #include <app/scene_setup.hpp>
@@ -125,9 +128,5 @@ int main(int argc, char** argv) {
     std::cerr << "bench_gpu_estimate: no GL context: " << e.what() << "\n";
     return 1;
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return vplkit_bench::run_main(argc, argv);
 }

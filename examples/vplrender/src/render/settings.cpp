@@ -29,6 +29,14 @@ const char* to_string(visibility_choice v) {
 }
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
 const char* to_string(lit_test_choice l) { return l == lit_test_choice::shadow_ray ? "shadow-ray" : "shadow-map"; }
+const char* to_string(loop_budget_choice l) {
+  switch (l) {
+    case loop_budget_choice::always: return "always";
+    case loop_budget_choice::never: return "never";
+    case loop_budget_choice::automatic: break;
+  }
+  return "automatic";
+}
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
   return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;

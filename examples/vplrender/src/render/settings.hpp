@@ -45,6 +45,11 @@ enum class lit_test_choice { shadow_map, shadow_ray };
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
 // estimate the same continuous integral.
 enum class vpl_mode_choice { point, patch };
+// The GPU backend's split of long loops over dispatches (render/gpu/loop_budget.hpp): automatic =
+// only where the driver leaves loops after 65535 iterations (llvmpipe, softpipe: GL_RENDERER);
+// always = on every driver (the split path, tested anywhere); never = one dispatch per stage on
+// every driver (on llvmpipe right only for work well below its budget: the tests compare the two).
+enum class loop_budget_choice { automatic, always, never };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -56,6 +61,7 @@ const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
+const char* to_string(loop_budget_choice l);
 
 // The methods that sample a distribution over the VPLs (traits(m).builder is not none: global,
 // local, gbg, mis, mis-as-published): they have builders and CDFs; reference, gather and exact
@@ -88,6 +94,10 @@ struct render_settings {
   int local_subset = 256;     // |S_i| per region of the local CDFs
   bool direct = false;
   int threads = 0;            // CPU backend: 0 = std::thread::hardware_concurrency()
+  // GPU backend: where long loops are split over dispatches, and (> 0) at most this many units
+  // (samples, rounds, directions, texels) per dispatch whatever the budget allows (tests).
+  loop_budget_choice loop_budget = loop_budget_choice::automatic;
+  int max_units_per_pass = 0;
 };
 
 // Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed
