@@ -10,12 +10,13 @@ namespace vplrender {
 
 namespace {
 
-// Keys 1-8: the methods in the order of render/method_traits.cpp, those that trace the scene's
-// triangles (exact) only on a frame with exact rays (window_view::exact).
+// Keys 1-8: the methods the GPU backend runs (the window's), in the order of
+// render/method_traits.cpp, those that trace the scene's triangles (exact) only on a frame with
+// exact rays (window_view::exact).
 std::vector<method> window_methods(const window_view& v) {
   std::vector<method> out;
   for (const method_traits& t : all_method_traits())
-    if (!t.exact_rays || v.exact) out.push_back(t.id);
+    if (t.gpu && (!t.exact_rays || v.exact)) out.push_back(t.id);
   return out;
 }
 

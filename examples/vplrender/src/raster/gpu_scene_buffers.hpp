@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The frame's scene buffers on the GPU, in the one layout every kernel of the GPU backend reads
-// (the pack's builder kernels, the fallback weights, estimate.comp): made once per frame by the
+// (the pack's builder kernels, the fallback weights, the estimate kernels): made once per frame by the
 // pipeline (render/pipeline.hpp) and bound by every GPU stage, so nothing is uploaded twice. A
 // richer visibility structure adds its buffers here and to upload_scene_buffers.
 #include "raster/gpu_bvh.hpp"
@@ -57,6 +57,11 @@ long long march_triangle_tests(const scene_voxels_view& v);
 gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v);
 // Bytes upload_triangle_voxels asks for.
 std::size_t triangle_voxels_bytes(const scene_voxels_view& v);
+
+// A GPU frame's G-buffer (W H surfels) and DPRSM (2 R^2 surfels, `light` its light) read back into
+// arrays: for a CPU-side consumer of a GPU frame (needs the current GL context).
+gbuffer_data read_back_gbuffer(const gpu_scene_buffers& b, int width, int height);
+dprsm_data read_back_dprsm(const gpu_scene_buffers& b, int resolution, const vplkit::point_light<float>& light);
 
 // All of them from the CPU copies (needs the current GL context).
 gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d, const scene_voxels_view& grid);

@@ -17,10 +17,13 @@ namespace vplrender {
 
 // The estimator a method runs: one C++ template family of the library on the CPU backend, one
 // kernel (examples/vplrender/shaders/estimate_<kind>.comp, exact.comp) on the GPU backend.
-enum class estimator_kind { reference, vpl_sampling, local, gather, mis, exact };
+// ris: the CPU backend only (render/cpu/ris_render.hpp); no GPU kernel yet.
+enum class estimator_kind { reference, vpl_sampling, local, gather, mis, exact, ris };
 
-// What builds a method's distribution over the VPLs (none: it samples no distribution).
-enum class builder_kind { none, global, local, gbg };
+// What builds a method's distribution over the VPLs (none: it samples no distribution). flux: the
+// light-power weights (vplkit::build_flux_weights); candidate_source: the one named by
+// render_settings::ris_source (--candidate-source), see distribution_builder.
+enum class builder_kind { none, global, local, gbg, flux, candidate_source };
 
 // What speed_vs_error's --samples sets for a method: --vpls, --dirs, or both.
 enum class sweep_count { vpls, dirs, vpls_and_dirs };
@@ -39,15 +42,20 @@ struct method_traits {
   bool swept;               // speed_vs_error may sweep it (not the references it compares against)
   bool swept_by_default;    // in speed_vs_error's default --methods
   sweep_count sweep;        // what the sweep's sample count sets
+  bool gpu;                 // the GPU backend runs it (else run_estimator refuses --backend gpu)
 };
 
-// The table, in the order of the help text and of the window's keys 1-8.
+// The table, in the order of the help text and of the window's keys.
 const std::vector<method_traits>& all_method_traits();
 
 const method_traits& traits(method m);
 
 // The method named `name` (a --method value), if any.
 std::optional<method> method_from_name(const std::string& name);
+
+// The builder that makes s's distribution: the method's, or for candidate_source the one
+// --candidate-source names (global, local, gbg, flux).
+builder_kind distribution_builder(const render_settings& s);
 
 // "reference|global|...": every name, in table order.
 std::string method_names(const char* separator = "|");

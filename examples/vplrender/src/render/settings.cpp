@@ -37,6 +37,15 @@ const char* to_string(loop_budget_choice l) {
   }
   return "automatic";
 }
+const char* to_string(ris_source_choice r) {
+  switch (r) {
+    case ris_source_choice::local: return "local";
+    case ris_source_choice::gbg: return "gbg";
+    case ris_source_choice::flux: return "flux";
+    case ris_source_choice::global: break;
+  }
+  return "global";
+}
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
   return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;

@@ -13,10 +13,12 @@
 namespace vplrender {
 
 // The estimators of --method; each is described once, by its row in render/method_traits.cpp
-// (name, estimator, builder, samples). exact: one-bounce indirect light by cosine gathering
-// against the scene's triangles with exact visibility and no VPLs (render/cpu/exact_estimator.hpp),
-// the ground truth of the others.
-enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact };
+// (name, estimator, builder, samples, backends). exact: one-bounce indirect light by cosine
+// gathering against the scene's triangles with exact visibility and no VPLs
+// (render/cpu/exact_estimator.hpp), the ground truth of the others. ris: resampled importance
+// sampling of VPLs (vplkit/estimators/ris_estimator.hpp), candidates from the distribution of
+// ris_source_choice, optionally with spatial reuse; CPU backend only for now.
+enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact, ris };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
 // accumulator and the CDF search; and how a distribution is sampled (face selection, sampler).
@@ -50,6 +52,9 @@ enum class vpl_mode_choice { point, patch };
 // always = on every driver (the split path, tested anywhere); never = one dispatch per stage on
 // every driver (on llvmpipe right only for work well below its budget: the tests compare the two).
 enum class loop_budget_choice { automatic, always, never };
+// Where --method ris draws its candidates: a builder's defensive mixture (global; local: the
+// pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent).
+enum class ris_source_choice { global, local, gbg, flux };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -62,9 +67,10 @@ const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
 const char* to_string(loop_budget_choice l);
+const char* to_string(ris_source_choice r);
 
 // The methods that sample a distribution over the VPLs (traits(m).builder is not none: global,
-// local, gbg, mis, mis-as-published): they have builders and CDFs; reference, gather and exact
+// local, gbg, mis, mis-as-published, ris): they have builders and CDFs; reference, gather and exact
 // have none.
 bool has_distribution(method m);
 
@@ -98,6 +104,10 @@ struct render_settings {
   // (samples, rounds, directions, texels) per dispatch whatever the budget allows (tests).
   loop_budget_choice loop_budget = loop_budget_choice::automatic;
   int max_units_per_pass = 0;
+  // --method ris: candidates per sample (M), their source, spatial-reuse neighbours (K, 0 = off).
+  int ris_candidates = 32;
+  ris_source_choice ris_source = ris_source_choice::flux;
+  int ris_spatial = 0;
 };
 
 // Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed

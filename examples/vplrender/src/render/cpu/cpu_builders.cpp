@@ -6,6 +6,7 @@
 #include "render/cpu/parallel.hpp"
 #include "render/method_traits.hpp"
 
+#include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/builders/global_weights.hpp>
@@ -95,9 +96,21 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
   const int threads = f.threads, W = f.W, H = f.H;
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
   cpu_distributions out;
-  switch (traits(s.meth).builder) {
+  switch (distribution_builder(s)) {
     case builder_kind::none:
+    case builder_kind::candidate_source:  // resolved to its builder by distribution_builder
       break;
+    case builder_kind::flux: {
+      std::vector<float> weights;
+      {
+        auto t = timer.scoped("flux weights (cpu)");
+        weights = vplkit::build_flux_weights(view);
+      }
+      auto t = timer.scoped("cdf (cpu)");
+      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.weights = std::move(weights);
+      break;
+    }
     case builder_kind::global: {
       std::vector<float> weights(n_texels, 0.0f);
       int used = 0;
@@ -138,8 +151,10 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       // N_NG rounds of one VPL per region's CDF: vpls / N rounds (at least one), so a pixel gets
       // about --vpls samples whatever N is.
       out.local_rounds = std::max(1, s.vpls / N);
-      det["local_rounds"] = out.local_rounds;
-      det["local_combination"] = to_string(s.local_combination);
+      if (s.meth == method::local) {
+        det["local_rounds"] = out.local_rounds;
+        det["local_combination"] = to_string(s.local_combination);
+      }
       break;
     }
     case builder_kind::gbg: {

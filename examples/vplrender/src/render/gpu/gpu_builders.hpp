@@ -29,6 +29,10 @@ namespace vplrender {
 // prepared for the CPU backend (b.gpu is null).
 const gpu_scene_buffers& scene_on_gpu(const frame_buffers& b, const char* who);
 
+// The frame's DPRSM with its arrays, for a host-side consumer (--sampler alias, --face-selection
+// roulette): b.dprsm when the frame has host copies, else read back from the GPU.
+dprsm_data host_dprsm(const frame_buffers& b);
+
 // BRSM weights on the GPU: N = 1 (global: whole image, s.global_subset strata, seed
 // builder_seed(s.seed, 0)) or N = regions (local: s.regions_x x s.regions_y regions,
 // s.local_subset strata each, seed builder_seed(s.seed, 1), stream offset i * count).
@@ -60,7 +64,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
                                       nlohmann::json& det, bool read_back = true);
 
 // Every builder and CDF of s.meth on the GPU (has_distribution(s.meth) must hold): the mixtures
-// estimate.comp samples, builder facts in `det` under the CPU builder's keys (global_subset;
+// the estimate kernels sample, builder facts in `det` under the CPU builder's keys (global_subset;
 // local_subsets, local_rounds, local_combination; gbg) plus "builders": "gpu".
 gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                      nlohmann::json& det);
