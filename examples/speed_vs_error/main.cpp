@@ -14,6 +14,7 @@
 #include "app/scene_setup.hpp"
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"
+#include "render/method_traits.hpp"
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -130,15 +131,21 @@ long long to_int(const std::string& flag, const std::string& t, long long lo, lo
 }
 
 method parse_method(const std::string& t) {
-  for (method m : {method::global, method::local, method::gbg, method::gather, method::mis, method::mis_as_published,
-                   method::exact, method::ris})
-    if (t == to_string(m)) return m;
-  if (t == "reference") bad("--methods: 'reference' is the reference (always computed), not a swept method");
+  const std::optional<method> m = method_from_name(t);
+  if (m && traits(*m).swept) return *m;
+  if (m) bad("--methods: '" + t + "' is the reference (always computed), not a swept method");
   bad("--methods: unknown method '" + t + "'");
 }
 
+std::vector<method> default_methods() {
+  std::vector<method> out;
+  for (const method_traits& t : all_method_traits())
+    if (t.swept_by_default) out.push_back(t.id);
+  return out;
+}
+
 struct sweep_options {
-  std::vector<method> methods{method::global, method::local, method::gbg, method::gather, method::mis};
+  std::vector<method> methods = default_methods();
   std::vector<int> samples{1, 4, 16, 64};
   std::vector<std::uint32_t> seeds{1};
   int ref_dirs = 4096;
@@ -208,8 +215,10 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
   if (r.what == parse_result::action::help) return false;
   so.base = r.opts;
   so.base.progress = progress_mode::never;
-  if (so.base.back == backend::gpu && std::find(so.methods.begin(), so.methods.end(), method::ris) != so.methods.end())
-    bad("--methods ris: runs on --backend cpu only for now (its GPU kernels are not written yet)");
+  if (so.base.back == backend::gpu)
+    for (method m : so.methods)
+      if (!traits(m).gpu)
+        bad(std::string("--methods ") + to_string(m) + ": runs on --backend cpu only for now (its GPU kernels are not written yet)");
   return true;
 }
 
@@ -551,7 +560,8 @@ int main(int argc, char** argv) {
     nlohmann::json prep_det;
     // The exact reference needs the frame's exact rays (Embree), made with the other buffers.
     options prep = base;
-    if (so.ref_exact || std::find(so.methods.begin(), so.methods.end(), method::exact) != so.methods.end())
+    if (so.ref_exact ||
+        std::any_of(so.methods.begin(), so.methods.end(), [](method m) { return traits(m).exact_rays; }))
       prep.meth = method::exact;
     const frame_buffers b = prepare_buffers(prep, p, prep_timer, prep_det);
     double prepare_ms = 0.0;
@@ -586,9 +596,9 @@ int main(int argc, char** argv) {
           options o = base;
           o.meth = m;
           o.seed = seed;
-          if (m == method::gather || m == method::exact) o.dirs = n;
-          else o.vpls = n;
-          if (m == method::mis || m == method::mis_as_published) o.dirs = n;
+          const sweep_count what = traits(m).sweep;
+          if (what != sweep_count::dirs) o.vpls = n;
+          if (what != sweep_count::vpls) o.dirs = n;
           // --repeats: the same run K times (same seed, same image); the median run's times are
           // reported, and the fastest total beside them (the machines are noisy).
           image_rgb img;

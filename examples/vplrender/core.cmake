@@ -80,6 +80,7 @@ add_library(vplrender_core STATIC
   ${_vr}/render/frame_buffers.cpp
   ${_vr}/render/light_path.cpp
   ${_vr}/render/light_range.cpp
+  ${_vr}/render/method_traits.cpp
   ${_vr}/render/lighting_facts.cpp
   ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
@@ -116,12 +117,15 @@ if(TARGET vplkit_headless_gl)
     ${_vr}/raster/gpu_scene_buffers.cpp
     ${_vr}/raster/gpu_scene_shading.cpp
     ${_vr}/raster/voxels_gpu.cpp
+    ${_vr}/render/gpu/estimate_kernels.cpp
     ${_vr}/render/gpu/gpu_backend.cpp
     ${_vr}/render/gpu/gpu_builders.cpp
     ${_vr}/render/gpu/gpu_cdf.cpp
     ${_vr}/render/frames.cpp
     ${_vr}/render/pipeline.cpp)
   target_link_libraries(vplrender_pipeline PUBLIC vplrender_core vplkit::headless_gl PRIVATE vplkit_project_options)
+  # The estimate kernels' parameter header (shaders/estimate_params.h) compiles as C++ too.
+  target_include_directories(vplrender_pipeline PUBLIC ${CMAKE_CURRENT_LIST_DIR}/shaders)
   # The estimator kernel is read at run time from the source tree (like the pack's kernels).
   target_compile_definitions(vplrender_pipeline PRIVATE
     VPLRENDER_SHADER_DIR="${CMAKE_CURRENT_LIST_DIR}/shaders")

@@ -1014,7 +1014,7 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {  // what the voxe
 }
 
 TEST_CASE("range forms: each GLSL estimate split into ranges equals its one-shot form bit for bit") {
-  // What examples/vplrender's estimate.comp relies on across its passes: in one invocation, every
+  // What examples/vplrender's estimate kernels rely on across their passes: in one invocation, every
   // estimator once as the one-shot form and once as range(0, a) + range(a, b) + range(b, n) +
   // finish on one state (b = a for an empty middle range); the values and the streams must agree
   // bit for bit, including at background pixels.

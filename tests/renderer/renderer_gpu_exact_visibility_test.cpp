@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // --visibility exact on both backends: the CPU traces the scene's triangles with Embree
 // (render/cpu/ray_scene.hpp), the GPU with the GLSL pack's BVH built on the host and uploaded with
-// the scene buffers (estimate.comp's VR_VISIBILITY block, gbg_accumulate.comp's
+// the scene buffers (the estimate kernels' VR_VISIBILITY block, gbg_accumulate.comp's
 // VPLKIT_GBG_TRACER_BVH). Both follow the same contract (ends moved off their surfaces by the
 // same offset, the segment tested whole, hits counted for t in (0, t_max]; the hit is the
 // barycentric point on the triangle hit), so on the same frame the images agree as the voxel images

@@ -105,7 +105,7 @@ struct run {
 
 // Both backends on one GPU frame (run_estimator routes --backend gpu to the GPU kernel); method
 // exact unless another is given.
-run render_both(options o, method m = method::exact) {
+run render_both(options o, method m = method::exact, loop_budget_choice budget = loop_budget_choice::automatic) {
   o.meth = m;
   vplrender::pipeline_gl_context();
   const prepared_scene p = prepare_scene(o);
@@ -117,6 +117,7 @@ run render_both(options o, method m = method::exact) {
   read_back_host_copies(b);  // the CPU backend reads the same frame's arrays
   render_settings es = make_render_settings(o, p.s);
   es.threads = 2;
+  es.loop_budget = budget;
   run r;
   stage_timer tc, tg;
   r.cpu = render_cpu(b, es, tc).image;
@@ -191,7 +192,7 @@ options room_options(const vplrender_test::temp_dir& d) {
 TEST_CASE("method exact: GPU and CPU images agree per pixel, cornell (directions split over passes)") {
   options o = vplrender_test::small_options("cornell", 48, 32);
   o.dirs = 400;
-  const run r = render_both(o);
+  const run r = render_both(o, method::exact, loop_budget_choice::always);  // split on every driver
   CHECK(r.gpu_details["gpu"]["kernel"] == "examples/vplrender/shaders/exact.comp");
   CHECK(r.gpu_details["visibility"] == "exact");
   CHECK(r.gpu_details["gpu"]["passes"].get<int>() >= 2);
@@ -208,7 +209,7 @@ TEST_CASE("method exact: GPU and CPU images agree per pixel, a textured OBJ with
 
 TEST_CASE("gather and mis with exact visibility: GPU and CPU agree per pixel on bent normals (the hits' shading normals)") {
   // Both backends shade gathering hits with their interpolated shading normal (render/cpu/
-  // ray_scene.cpp's trace, estimate.comp's user trace with ray_scene.glsl): on the back wall,
+  // ray_scene.cpp's trace, the estimate kernels' user trace with ray_scene.glsl): on the back wall,
   // whose corner normals lean +-0.5, the geometric normal would differ.
   vplrender_test::temp_dir d;
   options o = room_options(d);

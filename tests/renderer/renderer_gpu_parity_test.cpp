@@ -170,7 +170,7 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
       CHECK(r.within >= required_fraction);
     }
   }
-  // --direct: the direct light is added inside estimate.comp (vplkit_direct_light, the C++
+  // --direct: the direct light is added inside the estimate kernel (vplkit_direct_light, the C++
   // vplkit::direct_light statement for statement): the same float arithmetic on the same inputs, so it
   // adds only the few-ulp differences of length/normalize/sqrt/division (~1e-6 relative) to each
   // method's bound; a shadow test at its depth threshold can flip a pixel (the 99% rule above).
@@ -198,7 +198,7 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
                     << r.worst_any);
     CHECK(r.within >= required_fraction);
     CHECK(with > without);  // the term is really there
-    CHECK(gr.details["gpu"]["direct_light"] == "gpu (estimate.comp)");
+    CHECK(gr.details["gpu"]["direct_light"] == "gpu (estimate kernel)");
   }
   o.direct = false;
 }
@@ -312,8 +312,10 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
 }
 
 TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {
-  // The cornell/open cases above already run the reference in two passes (512 texels at 32^3
-  // voxels), so the per-pixel state carried between passes is covered by the parity itself.
+  // gpu_pass_count: the dispatches under llvmpipe's loop budget (where it applies). On llvmpipe
+  // the cornell/open cases above run the reference in two passes (512 texels at 32^3 voxels), so
+  // the per-pixel state carried between passes is covered by the parity itself there;
+  // renderer_gpu_pass_split_test forces the split on every driver.
   // The paper's voxel march: rx + ry + rz loop iterations per query.
   render_settings es;
   es.visibility = visibility_choice::paper_voxels;

@@ -3,7 +3,7 @@
 //  - the random-number layout: every VPL sample takes u, then u0, u1 (its jitter), always; MIS
 //    then takes the direction's two; replaying the stream by hand gives the estimate bit for bit;
 //  - ranges of samples give the one-shot estimate bit for bit with the stream at the same counter
-//    (what lets estimate.comp spread an estimate over passes), also at background pixels;
+//    (what lets vplrender's estimate kernels spread an estimate over passes), also at background pixels;
 //  - the exhaustive patch sum reads its numbers at fixed counters: any cut of the texels into
 //    ranges gives the same terms, and the stream's counter shifts them texel by texel;
 //  - vpl_mode::point is the default and leaves every estimator as it was (n_dirs = 0 MIS is VPL

@@ -2,8 +2,8 @@
 // The range forms of the estimators: an estimate spread over consecutive ranges of its samples
 // (estimate_X_range on one estimator_state, then estimate_X_finish) equals the one-shot estimate_X
 // bit for bit and leaves the random-number stream where the one-shot leaves it, however [0, n) is
-// cut. This is what lets a GPU kernel split an estimate over passes (examples/vplrender's
-// estimate.comp) and still match the CPU backend.
+// cut. This is what lets a GPU kernel split an estimate over passes (examples/vplrender's estimate
+// kernels) and still match the CPU backend.
 #include <estimator_splits.hpp>
 #include <synthetic_scene.hpp>
 

@@ -2,6 +2,7 @@
 #include "app/options.hpp"
 
 #include "io/errors.hpp"
+#include "render/method_traits.hpp"
 #include "scene/scene.hpp"
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 
 namespace vplrender {
 
@@ -47,7 +49,13 @@ std::string wrap(const std::string& text, std::size_t width = 62) {
   return out + line;
 }
 
-constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published|exact|ris";
+// --method's help: one clause per row of render/method_traits.cpp.
+std::string method_help() {
+  std::string clauses;
+  for (const method_traits& t : all_method_traits())
+    clauses += (clauses.empty() ? "" : "; ") + std::string(t.name) + " = " + t.help;
+  return "Estimator (default " + std::string(to_string(options().meth)) + "): " + clauses + ".";
+}
 
 void build_app(CLI::App& app, raw_values& v) {
   app.description(wrap(
@@ -58,18 +66,7 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--scene", v.scene, d("Scene: the built-in 'cornell' (closed box, default) or 'open', or an OBJ file "
                                      "(with its MTL and textures). Use ./cornell for a file of that name."))
       ->type_name("cornell|open|FILE.obj");
-  app.add_option("--method", v.meth,
-                 d("Estimator (default mis): reference = exhaustive VPL sum with visibility; global = BRSM global "
-                 "CDF; local = per-region CDFs (balance heuristic); gbg = gathering-based global CDF; gather = "
-                 "cosine gathering only; mis = gathering + GBG CDF with solid-angle balance heuristic; "
-                 "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison); exact = ground truth: "
-                 "--dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
-                 "light at each hit with an exact shadow ray, no VPLs (Embree on the CPU backend, the GLSL "
-                 "pack's BVH on the GPU backend; the two agree per pixel up to ties at creases); ris = resampled "
-                 "importance sampling: per sample --candidates VPLs from --candidate-source, one kept by their "
-                 "unshadowed contribution, one visibility query, optionally --spatial reuse (CPU backend only "
-                 "for now)."))
-      ->type_name(kMethods);
+  app.add_option("--method", v.meth, wrap(method_help()))->type_name(method_names());
   app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
                                       "(headless). gpu: everything after that runs as compute shaders from the GLSL "
                                       "pack: voxelisation, the builders' weights (global, local, GBG with its hole "
@@ -321,12 +318,11 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     if (v.scene.empty()) bad("--scene", "empty scene name");
     o.scene = v.scene;
   }
-  if (given("--method"))
-    o.meth = parse_choice<method>("--method", v.meth,
-                                  {{"reference", method::reference}, {"global", method::global}, {"local", method::local},
-                                   {"gbg", method::gbg}, {"gather", method::gather}, {"mis", method::mis},
-                                   {"mis-as-published", method::mis_as_published}, {"exact", method::exact},
-                                   {"ris", method::ris}});
+  if (given("--method")) {
+    const std::optional<method> m = method_from_name(v.meth);
+    if (!m) bad("--method", "unknown value '" + v.meth + "' (expected " + method_names() + ")");
+    o.meth = *m;
+  }
   if (given("--backend")) o.back = parse_choice<backend>("--backend", v.back, {{"gpu", backend::gpu}, {"cpu", backend::cpu}});
   if (given("--progress"))
     o.progress = parse_choice<progress_mode>("--progress", v.progress,
@@ -392,8 +388,9 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                           {"gbg", ris_source_choice::gbg},
                                                           {"flux", ris_source_choice::flux}});
   if (given("--spatial")) o.spatial = static_cast<int>(parse_integer("--spatial", v.spatial, 0, limits::max_spatial));
-  if (o.meth == method::ris && o.back == backend::gpu)
-    bad("--method ris", "runs on --backend cpu only for now (its GPU kernels are not written yet); add --backend cpu");
+  if (!traits(o.meth).gpu && o.back == backend::gpu)
+    bad(std::string("--method ") + to_string(o.meth),
+        "runs on --backend cpu only for now (its GPU kernels are not written yet); add --backend cpu");
   if (given("--size")) parse_size(v.size, o.width, o.height);
   if (given("--vpls")) o.vpls = static_cast<int>(parse_integer("--vpls", v.vpls, 1, limits::max_vpls));
   if (given("--seed")) o.seed = static_cast<std::uint32_t>(parse_integer("--seed", v.seed, 0, 4294967295LL));

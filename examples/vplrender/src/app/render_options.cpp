@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "app/render_options.hpp"
 
+#include "render/method_traits.hpp"
+
 namespace vplrender {
 
 frame_settings make_frame_settings(const options& o) {
@@ -10,7 +12,7 @@ frame_settings make_frame_settings(const options& o) {
   f.dprsm = o.dprsm;
   f.voxels = o.voxels;
   f.back = o.back;
-  f.exact_rays = o.visibility == visibility_choice::exact || o.meth == method::exact;
+  f.exact_rays = o.visibility == visibility_choice::exact || traits(o.meth).exact_rays;
   return f;
 }
 

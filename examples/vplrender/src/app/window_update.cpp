@@ -1,23 +1,26 @@
 // SPDX-License-Identifier: MIT
 #include "app/window_update.hpp"
 
+#include "render/method_traits.hpp"
+
 #include <algorithm>
+#include <vector>
 
 namespace vplrender {
 
 namespace {
 
-// Keys 1-8 in this order; exact (8) only on a frame with exact rays (window_view::exact).
-constexpr method kMethodOrder[] = {method::reference, method::global, method::local, method::gbg,
-                                   method::gather, method::mis, method::mis_as_published, method::exact};
-constexpr int kAllMethods = static_cast<int>(sizeof kMethodOrder / sizeof kMethodOrder[0]);
-
-int method_count(const window_view& v) { return v.exact ? kAllMethods : kAllMethods - 1; }
-
-bool uses_dirs(method m) {
-  return m == method::gbg || m == method::gather || m == method::mis || m == method::mis_as_published ||
-         m == method::exact;
+// Keys 1-8: the methods the GPU backend runs (the window's), in the order of
+// render/method_traits.cpp, those that trace the scene's triangles (exact) only on a frame with
+// exact rays (window_view::exact).
+std::vector<method> window_methods(const window_view& v) {
+  std::vector<method> out;
+  for (const method_traits& t : all_method_traits())
+    if (t.gpu && (!t.exact_rays || v.exact)) out.push_back(t.id);
+  return out;
 }
+
+bool uses_dirs(method m) { return traits(m).uses_dirs; }
 
 bool set_samples(window_view& v, int vpls, int dirs) {
   const bool changed = vpls != v.vpls || dirs != v.dirs;
@@ -33,17 +36,18 @@ bool apply_window_action(window_view& v, const std::string& a, bool* close) {
     *close = true;
     return false;
   }
-  const int kMethods = method_count(v);
+  const std::vector<method> order = window_methods(v);
+  const int kMethods = static_cast<int>(order.size());
   if (a.size() == 1 && a[0] >= '1' && a[0] < '1' + kMethods) {
-    const method m = kMethodOrder[a[0] - '1'];
+    const method m = order[static_cast<std::size_t>(a[0] - '1')];
     if (m == v.meth) return false;
     v.meth = m;
     return true;
   }
   if (a == "m") {
     int i = 0;
-    while (i < kMethods && kMethodOrder[i] != v.meth) ++i;
-    v.meth = kMethodOrder[(i + 1) % kMethods];
+    while (i < kMethods && order[static_cast<std::size_t>(i)] != v.meth) ++i;
+    v.meth = order[static_cast<std::size_t>((i + 1) % kMethods)];
     return true;
   }
   const bool dirs = uses_dirs(v.meth);

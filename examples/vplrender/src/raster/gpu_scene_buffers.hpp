@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The frame's scene buffers on the GPU, in the one layout every kernel of the GPU backend reads
-// (the pack's builder kernels, the fallback weights, estimate.comp): made once per frame by the
+// (the pack's builder kernels, the fallback weights, the estimate kernels): made once per frame by the
 // pipeline (render/pipeline.hpp) and bound by every GPU stage, so nothing is uploaded twice. A
 // richer visibility structure adds its buffers here and to upload_scene_buffers.
 #include "raster/gpu_bvh.hpp"

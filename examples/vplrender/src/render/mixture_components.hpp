@@ -9,7 +9,7 @@
 //   alias:    vplkit::alias_table over its weights.
 // Both have the joint CDF's pmf up to its rounding: w_t / sum w. The components are built on the
 // host from the builders' weights, by both backends (the GPU reads its weights back, then uploads
-// the components in the layout of estimate.comp's binding 7).
+// the components in the layout of the estimate kernels' components buffer).
 #include "render/settings.hpp"
 
 #include <vplkit/distribution/alias_table.hpp>

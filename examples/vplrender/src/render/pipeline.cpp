@@ -11,6 +11,7 @@
 #include "render/frame_buffers.hpp"
 #include "render/cpu/cpu_backend.hpp"
 #include "render/light_range.hpp"
+#include "render/method_traits.hpp"
 #include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_backend.hpp"
@@ -260,8 +261,9 @@ void read_back_host_copies(frame_buffers& b) {
 render_result run_estimator(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                             const progress_fn& progress, nlohmann::json& det) {
   const bool gpu = b.back == backend::gpu;
-  if (gpu && s.meth == method::ris)
-    throw input_error("--method ris: runs on --backend cpu only for now (its GPU kernels are not written yet)");
+  if (gpu && !traits(s.meth).gpu)
+    throw input_error(std::string("--method ") + to_string(s.meth) +
+                      ": runs on --backend cpu only for now (its GPU kernels are not written yet)");
   // GPU memory of this estimator alone: the peak restarts from what is live now (the frame's scene
   // buffers; the prepare stages' peak is kept as gpu_peak_bytes_prepare).
   const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();

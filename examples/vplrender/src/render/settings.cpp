@@ -1,26 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "render/settings.hpp"
 
+#include "render/method_traits.hpp"
+
 #include <vplkit/core/error.hpp>
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 
 namespace vplrender {
 
-const char* to_string(method m) {
-  switch (m) {
-    case method::reference: return "reference";
-    case method::global: return "global";
-    case method::local: return "local";
-    case method::gbg: return "gbg";
-    case method::gather: return "gather";
-    case method::mis: return "mis";
-    case method::mis_as_published: return "mis-as-published";
-    case method::exact: return "exact";
-    case method::ris: return "ris";
-  }
-  return "?";
-}
+const char* to_string(method m) { return traits(m).name; }
 
 const char* to_string(backend b) { return b == backend::gpu ? "gpu" : "cpu"; }
 const char* to_string(local_combination_choice c) {
@@ -40,6 +29,14 @@ const char* to_string(visibility_choice v) {
 }
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
 const char* to_string(lit_test_choice l) { return l == lit_test_choice::shadow_ray ? "shadow-ray" : "shadow-map"; }
+const char* to_string(loop_budget_choice l) {
+  switch (l) {
+    case loop_budget_choice::always: return "always";
+    case loop_budget_choice::never: return "never";
+    case loop_budget_choice::automatic: break;
+  }
+  return "automatic";
+}
 const char* to_string(ris_source_choice r) {
   switch (r) {
     case ris_source_choice::local: return "local";
@@ -54,8 +51,8 @@ vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
   return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;
 }
 
-bool has_distribution(method m) { return m != method::reference && m != method::gather && m != method::exact; }
-bool uses_vpls(method m) { return m != method::gather && m != method::exact; }
+bool has_distribution(method m) { return traits(m).builder != builder_kind::none; }
+bool uses_vpls(method m) { return traits(m).uses_vpls; }
 
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);

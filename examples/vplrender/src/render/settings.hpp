@@ -12,10 +12,12 @@
 
 namespace vplrender {
 
-// exact: one-bounce indirect light by cosine gathering against the scene's triangles with exact
-// visibility and no VPLs (render/cpu/exact_estimator.hpp), the ground truth of the others.
-// ris: resampled importance sampling of VPLs (vplkit/estimators/ris_estimator.hpp), candidates from
-// the distribution of ris_source_choice, optionally with spatial reuse; CPU backend only for now.
+// The estimators of --method; each is described once, by its row in render/method_traits.cpp
+// (name, estimator, builder, samples, backends). exact: one-bounce indirect light by cosine
+// gathering against the scene's triangles with exact visibility and no VPLs
+// (render/cpu/exact_estimator.hpp), the ground truth of the others. ris: resampled importance
+// sampling of VPLs (vplkit/estimators/ris_estimator.hpp), candidates from the distribution of
+// ris_source_choice, optionally with spatial reuse; CPU backend only for now.
 enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact, ris };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
@@ -45,6 +47,11 @@ enum class lit_test_choice { shadow_map, shadow_ray };
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
 // estimate the same continuous integral.
 enum class vpl_mode_choice { point, patch };
+// The GPU backend's split of long loops over dispatches (render/gpu/loop_budget.hpp): automatic =
+// only where the driver leaves loops after 65535 iterations (llvmpipe, softpipe: GL_RENDERER);
+// always = on every driver (the split path, tested anywhere); never = one dispatch per stage on
+// every driver (on llvmpipe right only for work well below its budget: the tests compare the two).
+enum class loop_budget_choice { automatic, always, never };
 // Where --method ris draws its candidates: a builder's defensive mixture (global; local: the
 // pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent).
 enum class ris_source_choice { global, local, gbg, flux };
@@ -59,13 +66,16 @@ const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
+const char* to_string(loop_budget_choice l);
 const char* to_string(ris_source_choice r);
 
-// The methods that sample a distribution over the VPLs (global, local, gbg, mis,
-// mis-as-published, ris): they have builders and CDFs; reference, gather and exact have none.
+// The methods that sample a distribution over the VPLs (traits(m).builder is not none: global,
+// local, gbg, mis, mis-as-published, ris): they have builders and CDFs; reference, gather and exact
+// have none.
 bool has_distribution(method m);
 
-// The methods whose samples are VPLs (every one but gather and exact): --vpl-mode applies to them.
+// The methods whose samples are VPLs (traits(m).uses_vpls: every one but gather and exact):
+// --vpl-mode applies to them.
 bool uses_vpls(method m);
 
 // Everything an estimator run needs besides the buffers (docs/renderer.md).
@@ -90,6 +100,10 @@ struct render_settings {
   int local_subset = 256;     // |S_i| per region of the local CDFs
   bool direct = false;
   int threads = 0;            // CPU backend: 0 = std::thread::hardware_concurrency()
+  // GPU backend: where long loops are split over dispatches, and (> 0) at most this many units
+  // (samples, rounds, directions, texels) per dispatch whatever the budget allows (tests).
+  loop_budget_choice loop_budget = loop_budget_choice::automatic;
+  int max_units_per_pass = 0;
   // --method ris: candidates per sample (M), their source, spatial-reuse neighbours (K, 0 = off).
   int ris_candidates = 32;
   ris_source_choice ris_source = ris_source_choice::flux;

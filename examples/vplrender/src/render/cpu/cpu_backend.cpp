@@ -6,6 +6,7 @@
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/exact_estimator.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/method_traits.hpp"
 #include "render/cpu/ris_render.hpp"
 #include "render/mixture_components.hpp"
 
@@ -84,10 +85,11 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
 
   const cpu_visibility visibility = make_cpu_visibility(b, s.visibility);
   const cpu_tracer tracer = make_cpu_tracer(b, s.visibility, s.lit_test);
-  det["visibility"] = to_string(s.meth == method::exact ? visibility_choice::exact : s.visibility);
+  const method_traits& mt = traits(s.meth);
+  det["visibility"] = to_string(mt.exact_rays ? visibility_choice::exact : s.visibility);
   const float depth_tol = gathering_depth_tolerance(s, b.grid.occupancy().view());
   det["depth_tolerance"] = depth_tol;
-  if (s.meth == method::gather || s.meth == method::mis || s.meth == method::mis_as_published)
+  if (mt.gathers)
     det["lit_test"] = to_string(tracer.answers_light_visibility() ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
   det["cdf_search"] = to_string(s.cdf_search);
   const cpu_distributions built = build_distributions_cpu(b, s, timer, progress, det);
@@ -119,11 +121,12 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   // Patch VPLs take the gathering look-up's depth window in every method, so that the VPL methods,
   // gathering and MIS estimate one integral (docs/math.md section 11, "Rejections").
   const vplkit::vpl_mode vmode = library_vpl_mode(s.vpl_mode);
-  if (uses_vpls(s.meth)) det["vpl_mode"] = to_string(s.vpl_mode);
-  if (s.meth == method::reference && vmode == vplkit::vpl_mode::patch) det["reference_strata"] = reference_patch_strata;
+  if (mt.uses_vpls) det["vpl_mode"] = to_string(s.vpl_mode);
+  if (mt.estimator == estimator_kind::reference && vmode == vplkit::vpl_mode::patch)
+    det["reference_strata"] = reference_patch_strata;
   with_distributions(built, b, s, timer, [&](const auto* dists) {
-    switch (s.meth) {
-      case method::reference:
+    switch (mt.estimator) {
+      case estimator_kind::reference:
         if (vmode == vplkit::vpl_mode::patch)
           render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
             return vplkit::exhaustive_vpl_patch_sum(gp, view, rng, reference_patch_strata, visibility, s.dmin,
@@ -134,14 +137,13 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
             return vplkit::exhaustive_vpl_sum(gp, view, visibility, s.dmin);
           });
         break;
-      case method::global:
-      case method::gbg:
+      case estimator_kind::vpl_sampling:
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
           return vplkit::estimate_vpl_sampling(gp, view, dists[0], rng, s.vpls, visibility, s.dmin, vmode,
                                                 depth_tol);
         });
         break;
-      case method::local: {
+      case estimator_kind::local: {
         const int N = static_cast<int>(built.dists.size());
         const vplkit::local_combination comb = s.local_combination == local_combination_choice::average
                                                    ? vplkit::local_combination::average
@@ -152,26 +154,24 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         });
         break;
       }
-      case method::gather:
+      case estimator_kind::gather:
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
           return vplkit::estimate_gathering(gp, view, rng, s.dirs, tracer, depth_tol);
         });
         break;
-      case method::mis:
-      case method::mis_as_published: {
-        const vplkit::mis_mode mode =
-            s.meth == method::mis ? vplkit::mis_mode::solid_angle : vplkit::mis_mode::as_published;
+      case estimator_kind::mis: {
+        const vplkit::mis_mode mode = mt.variant == 1 ? vplkit::mis_mode::as_published : vplkit::mis_mode::solid_angle;
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
           return vplkit::estimate_mis(gp, view, dists[0], rng, s.dirs, s.vpls, tracer, visibility, depth_tol, mode,
                                       vmode);
         });
         break;
       }
-      case method::ris:
+      case estimator_kind::ris:
         render_ris_cpu(f, s, dists, static_cast<int>(built.dists.size()), visibility, depth_tol, vmode,
                        result.image.rgb.data(), timer, progress, det);
         break;
-      case method::exact: {
+      case estimator_kind::exact: {
         const ray_scene& rs = frame_ray_scene(b, "--method exact");
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
           return estimate_exact(rs, view.light, gp, gather_point_geometric_normal(rs, gp), rng, s.dirs);

@@ -4,6 +4,7 @@
 #include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/method_traits.hpp"
 
 #include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
@@ -95,30 +96,22 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
   const int threads = f.threads, W = f.W, H = f.H;
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
   cpu_distributions out;
-  // --method ris draws its candidates from the distributions of --candidate-source: the flux CDF
-  // here, or what the method of that name builds.
-  if (s.meth == method::ris && s.ris_source == ris_source_choice::flux) {
-    std::vector<float> weights;
-    {
-      auto t = timer.scoped("flux weights (cpu)");
-      weights = vplkit::build_flux_weights(view);
-    }
-    auto t = timer.scoped("cdf (cpu)");
-    out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
-    out.weights = std::move(weights);
-    return out;
-  }
-  const method builds = s.meth != method::ris                           ? s.meth
-                        : s.ris_source == ris_source_choice::local ? method::local
-                        : s.ris_source == ris_source_choice::gbg   ? method::gbg
-                                                                   : method::global;
-  switch (builds) {
-    case method::reference:
-    case method::gather:
-    case method::exact:
-    case method::ris:  // mapped to its source's builder above
+  switch (distribution_builder(s)) {
+    case builder_kind::none:
+    case builder_kind::candidate_source:  // resolved to its builder by distribution_builder
       break;
-    case method::global: {
+    case builder_kind::flux: {
+      std::vector<float> weights;
+      {
+        auto t = timer.scoped("flux weights (cpu)");
+        weights = vplkit::build_flux_weights(view);
+      }
+      auto t = timer.scoped("cdf (cpu)");
+      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.weights = std::move(weights);
+      break;
+    }
+    case builder_kind::global: {
       std::vector<float> weights(n_texels, 0.0f);
       int used = 0;
       {
@@ -135,7 +128,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       out.weights = std::move(weights);
       break;
     }
-    case method::local: {
+    case builder_kind::local: {
       const vplkit::image_regions regions(W, H, s.regions_x, s.regions_y);
       const int N = regions.count();
       std::vector<float> flat(static_cast<std::size_t>(N) * n_texels, 0.0f);
@@ -164,9 +157,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       }
       break;
     }
-    case method::gbg:
-    case method::mis:
-    case method::mis_as_published: {
+    case builder_kind::gbg: {
       std::vector<float> weights = build_gbg_weights_cpu(b, s, timer, progress, det);
       auto t = timer.scoped("cdf (cpu)");
       out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));

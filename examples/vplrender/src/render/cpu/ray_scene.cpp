@@ -139,7 +139,7 @@ vplkit::ray_hit<float> ray_scene::trace(vec3 x, vec3 n_x, vec3 dir) const {
   r.hit = h.hit;
   if (h.hit) {
     r.position = h.position;
-    // Both normals (estimate.comp's exact tracer gives the same): the library shades the hit as its
+    // Both normals (the estimate kernels' exact tracer gives the same): the library shades the hit as its
     // own surface with the shading normal's cosine, as the exact method does (on sponza's smoothed
     // arches the geometric normal lights 2.2 % of the one-bounce light that the shading normal
     // turns away from the light).

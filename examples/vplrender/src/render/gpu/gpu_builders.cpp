@@ -4,6 +4,7 @@
 #include "render/gpu/gpu_visibility.hpp"
 #include "render/gpu/loop_budget.hpp"
 #include "render/mixture_components.hpp"
+#include "render/method_traits.hpp"
 
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gather_subset_params.h>
@@ -259,23 +260,21 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   gl::buffer weights;
   int D = 1;
-  switch (s.meth) {
-    case method::global: {
+  switch (traits(s.meth).builder) {
+    case builder_kind::global: {
       gpu_weights w = build_brsm_weights_gpu(b, s, false, timer);
       det["global_subset"] = w.used.front();
       weights = std::move(w.weights);
       break;
     }
-    case method::local: {
+    case builder_kind::local: {
       gpu_weights w = build_brsm_weights_gpu(b, s, true, timer);
       det["local_subsets"] = w.used;
       D = w.regions;
       weights = std::move(w.weights);
       break;
     }
-    case method::gbg:
-    case method::mis:
-    case method::mis_as_published: {
+    case builder_kind::gbg: {
       gbg_gpu_weights w = build_gbg_weights_gpu(b, s, timer, det, false);
       // Into a buffer with room for the fallback's weights (a GPU-side copy).
       weights = gl::buffer::filled(2 * n * 4, 0);
@@ -287,18 +286,18 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
       gl::check_gl("copy of the GBG weights");
       break;
     }
-    case method::reference:
-    case method::gather:
-    case method::exact:
-    case method::ris:  // no GPU kernels yet: run_estimator refuses it
-      throw vplkit::invalid_input("build_distributions_gpu: the method has no builder");
+    case builder_kind::none:
+    case builder_kind::flux:  // ris's candidate sources: no GPU kernels yet (run_estimator refuses ris)
+    case builder_kind::candidate_source:
+      throw vplkit::invalid_input(std::string("build_distributions_gpu: --method ") + to_string(s.meth) +
+                                  " has no GPU builder");
   }
   gpu_mixtures mix = build_mixtures_gpu(weights, D, scene.dprsm, view, s.eps, timer, det);
   if (mixture_components::wanted(s)) {
     auto t = timer.scoped("weights read-back (cpu)");
     mix.weights = weights.read<float>(static_cast<std::size_t>(D) * n);
   }
-  if (s.meth == method::local) {
+  if (traits(s.meth).builder == builder_kind::local) {
     // N_NG rounds of one VPL per region's CDF, as build_distributions_cpu.
     mix.local_rounds = std::max(1, s.vpls / D);
     det["local_rounds"] = mix.local_rounds;

@@ -64,7 +64,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
                                       nlohmann::json& det, bool read_back = true);
 
 // Every builder and CDF of s.meth on the GPU (has_distribution(s.meth) must hold): the mixtures
-// estimate.comp samples, builder facts in `det` under the CPU builder's keys (global_subset;
+// the estimate kernels sample, builder facts in `det` under the CPU builder's keys (global_subset;
 // local_subsets, local_rounds, local_combination; gbg) plus "builders": "gpu".
 gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                      nlohmann::json& det);

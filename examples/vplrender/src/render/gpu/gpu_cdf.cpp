@@ -46,7 +46,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   if (weights.size_bytes() < (static_cast<std::size_t>(D) + 1) * n * sizeof(float))
     throw vplkit::invalid_input("build_mixtures_gpu: weight buffer holds fewer than (D + 1) 2 R^2 floats");
 
-  // One buffer for estimate.comp: all cdfs, then (at an offset the SSBO binding rules allow) all
+  // One buffer for the estimate kernels: all cdfs, then (at an offset the SSBO binding rules allow) all
   // guides; cdf_build.comp writes both through range bindings, so nothing is copied.
   GLint align = 1;
   glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);

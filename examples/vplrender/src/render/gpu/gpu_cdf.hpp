@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The defensive mixtures of the GPU backend built on the GPU (vplkit::make_vpl_distribution /
-// make_local_vpl_distributions in the layout estimate.comp samples), from weights that already
+// make_local_vpl_distributions in the layout the estimate kernels sample), from weights that already
 // live in a GPU buffer (gpu_builders.cpp, build_gbg_weights_gpu).
 //
 // The learned CDFs (one per weight array) and the shared fallback (the uniform distribution over
@@ -9,8 +9,9 @@
 // set of dispatches of the pack's distribution/cdf_build.comp (double accumulation): every value
 // is the C++ discrete_cdf<float> value or a float neighbour (docs/glsl/distribution.md). Only the
 // totals come back to the host (16 bytes per distribution): the mixture scalars (effective eps, the
-// two reciprocals) are then computed by the C++ defensive_mixture constructor's own code, and the
-// 12-uint records + slot table (vr_dist_meta) are uploaded.
+// two reciprocals) are then computed by the C++ defensive_mixture constructor's own code (the
+// estimate kernels get them as estimate_params.h records; the 12-uint records + slot table in
+// `meta` are what renderer_gpu_builders_test reads).
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -25,8 +26,8 @@
 namespace vplrender {
 
 struct gpu_mixtures {
-  vplkit::gl::buffer data;  // estimate.comp binding 3 (vr_dist_data): cdf floats (bits) and guides
-  vplkit::gl::buffer meta;  // binding 4 (vr_dist_meta): 12 uints per mixture, then the slot table
+  vplkit::gl::buffer data;  // VR_ESTIMATE_BINDING_CDF_DATA (vr_cdf_data): cdf floats (bits) and guides
+  vplkit::gl::buffer meta;  // 12 uints per mixture, then the slot table (renderer_gpu_builders_test)
   std::uint32_t slot_base = 0;
   int count = 0;            // D mixtures
   int local_rounds = 0;     // set by the local builder (max(1, vpls / D)), else 0

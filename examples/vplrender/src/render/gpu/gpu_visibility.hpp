@@ -2,7 +2,7 @@
 #pragma once
 // The GPU backend's visibility, chosen by render_settings::visibility: the one place that maps a
 // visibility_choice to what the kernels need: the define that selects the kernel's visibility
-// (estimate.comp's VR_VISIBILITY block; gbg_accumulate.comp's VPLKIT_GBG_TRIANGLE_VOXELS or
+// (the estimate kernels' VR_VISIBILITY, estimate_visibility.glsl; gbg_accumulate.comp's VPLKIT_GBG_TRIANGLE_VOXELS or
 // VPLKIT_GBG_TRACER_BVH), the buffers to bind and the loop iterations one query costs under
 // llvmpipe's budget. A new kind adds a case to each function here and a branch to those define
 // blocks.
@@ -25,7 +25,7 @@ inline const gpu_bvh& gpu_frame_bvh(const gpu_scene_buffers& scene, const char* 
   return scene.bvh;
 }
 
-// estimate.comp's VR_VISIBILITY (0 paper voxels, 1 exact, 2 triangle voxels).
+// The estimate kernels' VR_VISIBILITY (estimate_params.h: 0 paper voxels, 1 exact, 2 triangle voxels).
 inline std::string estimate_visibility_define(visibility_choice v) {
   switch (v) {
     case visibility_choice::paper_voxels: return "#define VR_VISIBILITY 0\n";

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+// vplrender's estimate kernels: the distributions over the VPLs that the pack's estimators sample
+// through their two hooks (vplkit_estimator_distribution_sample / _pmf). Distribution d is the
+// defensive mixture of record d (estimate_params.h's vr_mixture_record, built on the GPU by
+// gpu_cdf.cpp's cdf_build.comp dispatches and described to the kernel by gpu_backend.cpp). How a
+// draw turns u into a texel is the variant's VR_SAMPLER:
+//   VR_SAMPLER_CDF_GUIDE / _CDF_BINARY: the mixture's CDFs, guide table or plain binary search
+//     (both return the same index and pmf);
+//   VR_SAMPLER_ALIAS / _ROULETTE: the mixture's split with its components replaced by alias tables
+//     or face roulettes built on the host (render/mixture_components.hpp, binding 7, packed by
+//     gpu_backend.cpp's pack_components: 12 uints per component k = 2 d + c, c = 0 the learned
+//     part, 1 the fallback, then the arrays they point into).
+// A kernel that samples one mixture only (global, gbg, mis) defines VR_ONE_MIXTURE and calls
+// vr_load_mixtures() once: the record then lives in registers instead of being loaded per draw.
+// A distribution's CDF and guide are addressed by arithmetic on its index (cdf_stride, guide_base,
+// guide_stride): no slot table between a draw and its loads.
+#ifndef VPLRENDER_ESTIMATE_DISTRIBUTIONS_GLSL
+#define VPLRENDER_ESTIMATE_DISTRIBUTIONS_GLSL
+
+#include "estimate_io.glsl"
+#include "vplkit/distribution/alias_table.glsl"
+#include "vplkit/distribution/defensive_mixture.glsl"
+#include "vplkit/distribution/flat_face_roulette.glsl"
+
+layout(std430, binding = VR_ESTIMATE_BINDING_CDF_DATA) restrict readonly buffer VrCdfData { uint vr_cdf_data[]; };
+layout(std430, binding = VR_ESTIMATE_BINDING_MIXTURES) restrict readonly buffer VrMixtures {
+  vr_mixture_record vr_mixture_records[];
+};
+#if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
+layout(std430, binding = VR_ESTIMATE_BINDING_COMPONENTS) restrict readonly buffer VrComponents { uint vr_components[]; };
+#endif
+
+float vplkit_load_cdf(uint id, uint i) {
+#if VR_SAMPLER == VR_SAMPLER_ROULETTE
+  if (id >= VR_COMPONENT_SLOT) {
+    uint record = 12u * ((id - VR_COMPONENT_SLOT) >> 1u) + 3u * (id & 1u);
+    return uintBitsToFloat(vr_components[vr_components[record] + i]);
+  }
+#endif
+  return uintBitsToFloat(vr_cdf_data[id * vr_params.cdf_stride + i]);
+}
+uint vplkit_load_guide(uint id, uint j) {
+#if VR_SAMPLER == VR_SAMPLER_ROULETTE
+  if (id >= VR_COMPONENT_SLOT) {
+    uint record = 12u * ((id - VR_COMPONENT_SLOT) >> 1u) + 3u * (id & 1u);
+    return vr_components[vr_components[record + 1u] + j];
+  }
+#endif
+  return vr_cdf_data[vr_params.guide_base + id * vr_params.guide_stride + j];
+}
+
+vplkit_defensive_mixture vr_unpack_mixture(vr_mixture_record r) {
+  return vplkit_defensive_mixture(
+      vplkit_discrete_cdf(r.learned.x, r.learned.y, r.learned.z, uintBitsToFloat(r.learned.w)),
+      vplkit_discrete_cdf(r.fallback.x, r.fallback.y, r.fallback.z, uintBitsToFloat(r.fallback.w)), r.mix.x, r.mix.y,
+      r.mix.z);
+}
+
+#ifdef VR_ONE_MIXTURE
+vplkit_defensive_mixture vr_mixture0;
+void vr_load_mixtures() { vr_mixture0 = vr_unpack_mixture(vr_mixture_records[0]); }
+vplkit_defensive_mixture vr_mixture(uint d) { return vr_mixture0; }
+#else
+void vr_load_mixtures() {}
+vplkit_defensive_mixture vr_mixture(uint d) { return vr_unpack_mixture(vr_mixture_records[d]); }
+#endif
+
+// Component k as the C++ alias_table / flat_face_roulette (the roulette's scalars as uploaded, so
+// the GPU picks its face bit for bit).
+#if VR_SAMPLER == VR_SAMPLER_ALIAS
+vplkit_alias_bin vplkit_load_alias_bin(uint table, uint j) {
+  uint b = vr_components[12u * table] + 3u * j;
+  return vplkit_alias_bin(uintBitsToFloat(vr_components[b]), uintBitsToFloat(vr_components[b + 1u]),
+                          vr_components[b + 2u]);
+}
+vplkit_alias_table vr_alias(uint k) {
+  return vplkit_alias_table(k, vr_components[12u * k + 10u], uintBitsToFloat(vr_components[12u * k + 2u]));
+}
+vplkit_discrete_sample vr_component_sample(uint k, float u) { return vplkit_alias_table_sample(vr_alias(k), u); }
+float vr_component_pmf(uint k, uint i) { return vplkit_alias_table_pmf(vr_alias(k), i); }
+#else
+vplkit_alias_bin vplkit_load_alias_bin(uint table, uint j) { return vplkit_alias_bin(0.0, 0.0, 0u); }
+#endif
+#if VR_SAMPLER == VR_SAMPLER_ROULETTE
+vplkit_flat_face_roulette vr_roulette(uint k) {
+  uint r = 12u * k;
+  uint n = vr_components[r + 10u], m = vr_components[r + 11u];
+  vplkit_discrete_cdf front = vplkit_discrete_cdf(VR_COMPONENT_SLOT + 2u * k, n, m, uintBitsToFloat(vr_components[r + 2u]));
+  vplkit_discrete_cdf back = vplkit_discrete_cdf(VR_COMPONENT_SLOT + 2u * k + 1u, n, m,
+                                                 uintBitsToFloat(vr_components[r + 5u]));
+  vplkit_face_roulette f = vplkit_face_roulette(front, back, uintBitsToFloat(vr_components[r + 6u]),
+                                                uintBitsToFloat(vr_components[r + 7u]),
+                                                uintBitsToFloat(vr_components[r + 8u]),
+                                                uintBitsToFloat(vr_components[r + 9u]));
+  return vplkit_make_flat_face_roulette(f, vr_params.resolution);
+}
+vplkit_discrete_sample vr_component_sample(uint k, float u) {
+  return vplkit_flat_face_roulette_sample(vr_roulette(k), u);
+}
+float vr_component_pmf(uint k, uint i) { return vplkit_flat_face_roulette_pmf(vr_roulette(k), i); }
+#endif
+
+#if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
+// render/mixture_components.hpp's resampled_mixture: the mixture's split, its components replaced.
+float vr_resampled_pmf(vplkit_defensive_mixture m, uint d, uint i) {
+  return vplkit_defensive_mixture_pmf(m.effective_eps, vr_component_pmf(2u * d, i), vr_component_pmf(2u * d + 1u, i));
+}
+vplkit_discrete_sample vr_resampled_sample(uint d, float u) {
+  vplkit_defensive_mixture m = vr_mixture(d);
+  if (vplkit_defensive_mixture_empty(m)) return vplkit_discrete_sample(0u, 0.0);
+  float e = m.effective_eps;
+  u = vplkit_discrete_clamp_u(u);
+  uint i = u < e ? vr_component_sample(2u * d + 1u, vplkit_discrete_clamp_u(u * m.fallback_scale)).index
+                 : vr_component_sample(2u * d, vplkit_discrete_clamp_u((u - e) * m.learned_scale)).index;
+  return vplkit_discrete_sample(i, vr_resampled_pmf(m, d, i));
+}
+#endif
+
+// The estimators' hooks.
+vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u) {
+#if VR_SAMPLER == VR_SAMPLER_CDF_GUIDE
+  return vplkit_defensive_mixture_sample(vr_mixture(distribution), u);
+#elif VR_SAMPLER == VR_SAMPLER_CDF_BINARY
+  return vplkit_defensive_mixture_sample_binary_search(vr_mixture(distribution), u);
+#else
+  return vr_resampled_sample(distribution, u);
+#endif
+}
+float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
+#if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
+  return vr_resampled_pmf(vr_mixture(distribution), distribution, index);
+#else
+  return vplkit_defensive_mixture_pmf(vr_mixture(distribution), index);
+#endif
+}
+
+#endif  // VPLRENDER_ESTIMATE_DISTRIBUTIONS_GLSL

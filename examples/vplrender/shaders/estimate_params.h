@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+// Interface of vplrender's estimate kernels (estimate_<estimator>.comp and exact.comp beside this
+// file), shared by the kernels (GLSL) and their host (C++, render/gpu/gpu_backend.cpp, namespace
+// vplrender::gpu) in the two-language form of the pack's <kernel>_params.h (vplkit/core/params.h):
+// the bindings, the local size, the specialisation defines and their values, the std140 parameter
+// block and the std430 records of the buffers. tests/renderer/renderer_gpu_estimate_params_test.cpp
+// asks the GL driver where every member lies and checks the C++ offsets against it.
+//
+// Specialisation (docs/renderer.md, "The estimate kernels"): every switch of a render that does
+// not change between its dispatches is a compile-time define, never a uniform, so each variant
+// carries only its own code and state. A GPU runs a uniform branch without divergence, but its
+// register allocation must hold every path's live values (spills to local memory on NVIDIA) and
+// its instruction cache every path's code; llvmpipe runs both sides of every branch under a mask.
+#ifndef VPLRENDER_ESTIMATE_PARAMS_H
+#define VPLRENDER_ESTIMATE_PARAMS_H
+
+#include "vplkit/core/params.h"
+#include "vplkit/vpl/light_params.h"
+
+// ---- bindings: each resource its own number -------------------------------------------------------
+#define VR_ESTIMATE_BINDING_GBUFFER 0     // SSBO, readonly: vr_surfel gbuffer[W H]
+#define VR_ESTIMATE_BINDING_DPRSM 1       // SSBO, readonly: vr_surfel dprsm[2 R^2]
+#define VR_ESTIMATE_BINDING_VOXELS 2      // SSBO, readonly: uint words[] (the occupancy grid)
+#define VR_ESTIMATE_BINDING_CDF_DATA 3    // SSBO, readonly: uint data[] (cdf floats as bits, then guides)
+#define VR_ESTIMATE_BINDING_MIXTURES 4    // SSBO, readonly: vr_mixture_record mixtures[D]
+#define VR_ESTIMATE_BINDING_STATE 5       // SSBO: vr_pixel_state states[W H] (VR_SPLIT 1 only)
+#define VR_ESTIMATE_BINDING_OUT 6         // SSBO, writeonly: vec4 out[W H] (rgb: the estimate)
+#define VR_ESTIMATE_BINDING_COMPONENTS 7  // SSBO, readonly: uint components[] (VR_SAMPLER alias / roulette)
+#define VR_ESTIMATE_BINDING_BVH_NODES 8   // SSBO, readonly: vplkit_bvh_node[] (exact rays)
+#define VR_ESTIMATE_BINDING_BVH_TRIANGLES 9         // SSBO, readonly: vplkit_bvh_triangle[] (exact rays)
+#define VR_ESTIMATE_BINDING_TRIANGLE_SHADING 10     // SSBO, readonly: vr_triangle_shading[] (exact rays)
+#define VR_ESTIMATE_BINDING_SHADING_POOL 11         // SSBO, readonly: uint pool[] (exact.comp's albedos)
+#define VR_ESTIMATE_BINDING_VOXEL_RANK 12           // SSBO, readonly: uint rank[] (triangle voxels)
+#define VR_ESTIMATE_BINDING_VOXEL_OFFSETS 13        // SSBO, readonly: uint offsets[]
+// 14: kept free for the voxel grid's bricks (empty-space skipping of the voxel march).
+#define VR_ESTIMATE_BINDING_VOXEL_ENTRIES 15        // SSBO, readonly: uint entries[]
+#define VR_ESTIMATE_BINDING_VOXEL_TRIANGLES 16      // SSBO, readonly: vec4 triangles[] (4 per triangle)
+#define VR_ESTIMATE_BINDING_PARAMS 17               // uniform block: vr_estimate_params
+#define VR_ESTIMATE_LOCAL_SIZE 64                   // invocations per work group, one per pixel
+
+// ---- specialisation defines (the host writes each into the kernel's preamble) --------------------
+// VR_VISIBILITY: what V(x, y) and the gathering rays are decided against (render/gpu/gpu_visibility.hpp
+// writes it; estimate_visibility.glsl reads it).
+#define VR_VISIBILITY_PAPER_VOXELS 0
+#define VR_VISIBILITY_EXACT 1
+#define VR_VISIBILITY_TRIANGLE_VOXELS 2
+// VR_SAMPLER: how a distribution turns u into a texel (--sampler, --face-selection, --cdf-search).
+#define VR_SAMPLER_CDF_GUIDE 0   // the mixtures' CDFs, guide table (vplkit_defensive_mixture_sample)
+#define VR_SAMPLER_CDF_BINARY 1  // the mixtures' CDFs, plain binary search (same index and pmf)
+#define VR_SAMPLER_ALIAS 2       // the components' alias tables (binding 7)
+#define VR_SAMPLER_ROULETTE 3    // the components' face roulettes (binding 7)
+// VR_VPL_MODE: vplkit_vpl_point (0) or vplkit_vpl_patch (1) (--vpl-mode).
+// VR_LOCAL_COMBINATION: vplkit_local_balance (0) or vplkit_local_average (1) (--local-combination).
+// VR_VARIANT: the method's variant of its estimator (render/method_traits.cpp; mis: the
+//   vplkit_mis_solid_angle (0) or vplkit_mis_as_published (1) weights).
+// VR_SPLIT: 0 one dispatch does every sample (no state buffer); 1 the samples are split into ranges
+//   [begin, end) dispatched one after another (llvmpipe's loop budget, render/gpu/loop_budget.hpp),
+//   the pixel's state kept in the state buffer between them.
+// VR_DIRECT: 1 adds vplkit_direct_light (--direct) to the estimate.
+// VR_LIT_SHADOW_RAY (defined or not): gathering's lit test by a shadow ray (--lit-test shadow-ray).
+#ifndef __cplusplus
+#ifndef VR_SAMPLER
+#define VR_SAMPLER VR_SAMPLER_CDF_GUIDE
+#endif
+#ifndef VR_VPL_MODE
+#define VR_VPL_MODE 1
+#endif
+#ifndef VR_LOCAL_COMBINATION
+#define VR_LOCAL_COMBINATION 0
+#endif
+#ifndef VR_VARIANT
+#define VR_VARIANT 0
+#endif
+#ifndef VR_SPLIT
+#define VR_SPLIT 0
+#endif
+#ifndef VR_DIRECT
+#define VR_DIRECT 0
+#endif
+#endif
+
+// Distribution ids at and above this are the face roulettes' CDFs in the components buffer:
+// VR_COMPONENT_SLOT + 2 k + face (k = 2 d + c: mixture d's learned part c = 0, its fallback c = 1).
+#define VR_COMPONENT_SLOT 0x80000000u
+
+#ifdef __cplusplus
+namespace vplrender::gpu {
+using vplkit::gpu::ivec4;
+using vplkit::gpu::light_params;
+using vplkit::gpu::uint;
+using vplkit::gpu::uvec4;
+using vplkit::gpu::vec4;
+struct estimate_params {
+  light_params light;
+#else
+struct vr_estimate_params {
+  vplkit_light_params light;
+#endif
+  vec4 grid_min;          // xyz: the voxel grid's bounds
+  vec4 grid_max;
+  ivec4 grid_resolution;  // xyz
+  vec4 eye;               // exact.comp: xyz the camera's eye (ray_scene::scene_camera().eye)
+  int width;              // the G-buffer's W, H
+  int height;
+  int resolution;         // the DPRSM's R
+  int n_dirs;             // gathering directions (gather, mis, exact)
+  int n_vpls;             // VPL samples (mis)
+  int n_samples;          // the count the estimate divides by: VPL samples, or local rounds
+  int n_distributions;    // D mixtures (local: one per region)
+  int strata;             // the patch reference's strata per texel side
+  int begin;              // this dispatch's units (samples, rounds, directions, texels) [begin, end)
+  int end;
+  int first_pass;         // VR_SPLIT 1: 1 starts the pixel's state, 0 reads it back
+  int last_pass;          // VR_SPLIT 1: 1 writes the estimate, 0 keeps the state
+  uint seed;              // the pixels' random streams: vplkit_make_counter_rng(seed, pixel)
+  uint bvh_node_count;    // exact rays: the hierarchy's node count (0: empty)
+  uint cdf_stride;        // distribution k's cdf at data[k cdf_stride] (n + 1 floats)
+  uint guide_base;        // ... and its guide at data[guide_base + k guide_stride] (m + 1 uints)
+  uint guide_stride;
+  uint pad0;
+  uint pad1;
+  uint pad2;
+  float dmin;             // the VPL distance clamp
+  float depth_tolerance;  // gathering look-ups and patch VPLs
+  float surface_offset;   // exact.comp: ray_scene::surface_offset()
+  float scene_size;       // exact.comp: ray_scene::size()
+};
+
+// One defensive mixture of the per-frame distributions (std430, 48 bytes: three vector loads, made
+// once per invocation by the kernels that sample one mixture). learned / fallback: the two
+// vplkit_discrete_cdf as (distribution index in the CDF data, size, guide size, total as float
+// bits); mix: (effective eps, fallback scale, learned scale, 0), the host's defensive_mixture values.
+#ifdef __cplusplus
+struct mixture_record {
+#else
+struct vr_mixture_record {
+#endif
+  uvec4 learned;
+  uvec4 fallback;
+  vec4 mix;
+};
+
+// A pixel's state between the dispatches of a split render (VR_SPLIT 1; std430, 48 bytes): the
+// estimators' vplkit_estimator_state (sum, rng key and counter), or the reference's
+// vplkit_vpl_sum_state (sum, compensation).
+#ifdef __cplusplus
+struct pixel_state {
+#else
+struct vr_pixel_state {
+#endif
+  vec4 sum;   // xyz
+  vec4 comp;  // xyz: the reference's compensation
+  uvec4 rng;  // x key, y counter
+};
+
+// A G-buffer pixel or a DPRSM texel (std430, 48 bytes; raster/gpu_scene_buffers.hpp uploads them):
+// xyz used, w ignored (a vec3 array would take 16 bytes per element anyway).
+#ifdef __cplusplus
+struct surfel {
+#else
+struct vr_surfel {
+#endif
+  vec4 position;
+  vec4 normal;
+  vec4 albedo;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(estimate_params) == 240);  // the light, 4 vec4, 24 scalars
+static_assert(sizeof(mixture_record) == 48 && sizeof(pixel_state) == 48 && sizeof(surfel) == 48);
+}  // namespace vplrender::gpu
+#endif
+
+#endif  // VPLRENDER_ESTIMATE_PARAMS_H

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+// vplrender's estimate kernels: what V(x, y) and the gathering rays are decided against
+// (VR_VISIBILITY, written by render/gpu/gpu_visibility.hpp): the one place the kernels choose.
+//   VR_VISIBILITY_PAPER_VOXELS: the paper's binary voxel test on the occupancy words;
+//   VR_VISIBILITY_EXACT: the scene's BVH through the pack's user visibility and tracer hooks;
+//   VR_VISIBILITY_TRIANGLE_VOXELS (the default): the triangles the voxel grid lists (no
+//     self-occlusion at the ends or at junctions, docs/math.md section 7.2).
+// vr_make_visibility and vr_make_tracer are what the kernels use; the kind is a constant of the
+// variant, so after inlining the pack's callables keep only its code. This file comes first in a
+// kernel (it includes estimate_io.glsl): the VPLKIT_* macros must be defined before
+// visibility_callables.glsl is first included.
+// The includes stay outside the #if: the include resolver inlines each file once wherever it first
+// appears and does not evaluate #if.
+#ifndef VPLRENDER_ESTIMATE_VISIBILITY_GLSL
+#define VPLRENDER_ESTIMATE_VISIBILITY_GLSL
+
+#include "estimate_params.h"
+
+#ifndef VR_VISIBILITY
+#define VR_VISIBILITY VR_VISIBILITY_TRIANGLE_VOXELS
+#endif
+#if VR_VISIBILITY == VR_VISIBILITY_EXACT
+#define VPLKIT_USER_VISIBILITY
+#define VPLKIT_USER_TRACER
+#elif VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
+#define VPLKIT_TRIANGLE_VOXELS
+#endif
+#include "ray_scene.glsl"
+#include "vplkit/visibility/bvh_visibility.glsl"
+#include "vplkit/visibility/visibility_callables.glsl"
+#include "estimate_io.glsl"  // after the macros: it includes visibility_callables.glsl too
+
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXELS) restrict readonly buffer VrVoxels { uint vr_voxels[]; };
+uint vplkit_load_voxel_word(uint word_index) { return vr_voxels[word_index]; }
+vplkit_voxel_grid vr_grid() {
+  return vplkit_voxel_grid(vr_params.grid_min.xyz, vr_params.grid_max.xyz, vr_params.grid_resolution.xyz);
+}
+
+#if VR_VISIBILITY == VR_VISIBILITY_EXACT
+layout(std430, binding = VR_ESTIMATE_BINDING_BVH_NODES) restrict readonly buffer VrBvhNodes { vplkit_bvh_node vr_bvh_nodes[]; };
+layout(std430, binding = VR_ESTIMATE_BINDING_BVH_TRIANGLES) restrict readonly buffer VrBvhTriangles {
+  vplkit_bvh_triangle vr_bvh_triangles[];
+};
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vr_bvh_nodes[index]; }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) { return vr_bvh_triangles[slot]; }
+bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) {
+  return vplkit_bvh_visible(vplkit_bvh(vr_params.bvh_node_count), x, n_x, y, n_y);
+}
+// The hits' shading normals (ray_scene.glsl, as render/cpu/ray_scene.cpp's trace gives them): the
+// per-triangle corner normals.
+layout(std430, binding = VR_ESTIMATE_BINDING_TRIANGLE_SHADING) restrict readonly buffer VrTriangleShading {
+  vr_triangle_shading vr_triangle_shadings[];
+};
+vr_triangle_shading vr_load_triangle_shading(uint triangle) { return vr_triangle_shadings[triangle]; }
+uint vr_load_shading_word(uint index) { return 0u; }  // albedos: exact.comp's; not read here
+// vplkit_bvh_trace, with the hit's interpolated shading normal.
+vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
+  vplkit_bvh b = vplkit_bvh(vr_params.bvh_node_count);
+  vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, vplkit_bvh_offset_point(x, n_x, vplkit_bvh_surface_offset(b)), dir);
+  vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+    r.shading_normal = vr_shading_normal(h);
+  }
+  return r;
+}
+vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
+  return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
+}
+// VR_LIT_SHADOW_RAY (--lit-test shadow-ray): gathering's lit test by a BVH shadow ray.
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) {
+  vplkit_voxel_tracer tr = vplkit_voxel_tracer(grid, 0.0, true, false, 0.0, false, vplkit_make_always_visible());
+#ifdef VR_LIT_SHADOW_RAY
+  tr = vplkit_tracer_with_light_visibility(tr, vr_make_visibility(grid));
+#endif
+  return tr;
+}
+#else
+// No BVH buffers: the pack's BVH functions (and ray_scene.glsl's) are compiled but never called.
+vplkit_bvh_node vplkit_load_bvh_node(uint index) { return vplkit_bvh_node(vec3(0.0), 0u, vec3(0.0), 0u); }
+vplkit_bvh_triangle vplkit_load_bvh_triangle(uint slot) {
+  return vplkit_bvh_triangle(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u);
+}
+vr_triangle_shading vr_load_triangle_shading(uint triangle) {
+  return vr_triangle_shading(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec2(0.0), 0u, 0u);
+}
+uint vr_load_shading_word(uint index) { return 0u; }
+#if VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
+// The triangle voxel grid beside the occupancy words (triangle_voxel_grid.glsl's layout).
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
+  uint vr_voxel_offsets[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
+  uint vr_voxel_entries[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
+  vec4 vr_voxel_triangles[];
+};
+uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
+uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
+uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
+vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_visibility(grid); }
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_tracer(grid); }
+#elif VR_VISIBILITY == VR_VISIBILITY_PAPER_VOXELS
+vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_voxel_visibility(grid); }
+vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_voxel_tracer(grid); }
+#else
+#error "VR_VISIBILITY must be VR_VISIBILITY_PAPER_VOXELS, VR_VISIBILITY_EXACT or VR_VISIBILITY_TRIANGLE_VOXELS"
+#endif
+#endif
+
+#endif  // VPLRENDER_ESTIMATE_VISIBILITY_GLSL

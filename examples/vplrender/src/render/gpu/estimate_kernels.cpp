@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+#include "render/gpu/estimate_kernels.hpp"
+
+#include "render/gpu/gpu_visibility.hpp"
+#include "render/gpu/loop_budget.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#ifndef VPLRENDER_SHADER_DIR
+#error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
+#endif
+
+namespace vplrender {
+
+namespace {
+
+// Loop iterations ray_scene.glsl's texture lookup may spend: vr_wrap_integral's doubling loop (at
+// most 104 iterations, only for uv beyond 2^24 / size) for x and for y.
+constexpr long long texture_wrap_cost = 2 * 104;
+
+// One query's loops, doubled for the two-sided voxel test's two marches (a margin for the other
+// kinds).
+long long dda_cost(const shape_inputs& in) { return 2LL * in.query_cost + 32; }
+
+// A guided CDF search (a binary search in the worst bucket), twice.
+long long cdf_cost(const shape_inputs& in) {
+  const long long texels = 2LL * in.dprsm_resolution * in.dprsm_resolution;
+  long long log2n = 1;
+  while ((1LL << log2n) < texels) ++log2n;
+  return 2 * (log2n + 4);
+}
+
+// The exhaustive sum: every texel, each a query (a patch texel: its m x m strata).
+work_shape reference_shape(const render_settings& s, const shape_inputs& in) {
+  const long long strata =
+      s.vpl_mode == vpl_mode_choice::patch ? 1LL * reference_patch_strata * reference_patch_strata : 1;
+  return {strata * (dda_cost(in) + 4), 2LL * in.dprsm_resolution * in.dprsm_resolution, 0};
+}
+work_shape vpl_sampling_shape(const render_settings& s, const shape_inputs& in) {
+  return {dda_cost(in) + cdf_cost(in) + 4, s.vpls, 0};
+}
+// A round: one draw per region, the balance heuristic's pmf of every region.
+work_shape local_shape(const render_settings&, const shape_inputs& in) {
+  return {in.regions * (dda_cost(in) + cdf_cost(in) + in.regions + 4), in.rounds, 0};
+}
+work_shape gather_shape(const render_settings& s, const shape_inputs& in) { return {dda_cost(in) + 4, s.dirs, 0}; }
+// A step: a gathering ray and a VPL draw with its query.
+work_shape mis_shape(const render_settings& s, const shape_inputs& in) {
+  return {2 * dda_cost(in) + cdf_cost(in) + 8, std::max(s.dirs, s.vpls), 0};
+}
+// A direction: its first hit and the hit's shadow ray; a dispatch: the gather point's camera ray.
+work_shape exact_shape(const render_settings& s, const shape_inputs& in) {
+  return {2 * in.query_cost + texture_wrap_cost + 32, s.dirs, in.query_cost};
+}
+
+// One row per estimator kind, in render/method_traits.hpp's order.
+const std::vector<gpu_estimate_kernel> k_kernels = {
+    {estimator_kind::reference, {{"estimate_reference.comp", reference_shape}}},
+    {estimator_kind::vpl_sampling, {{"estimate_vpl_sampling.comp", vpl_sampling_shape}}},
+    {estimator_kind::local, {{"estimate_local.comp", local_shape}}},
+    {estimator_kind::gather, {{"estimate_gather.comp", gather_shape}}},
+    {estimator_kind::mis, {{"estimate_mis.comp", mis_shape}}},
+    {estimator_kind::exact, {{"exact.comp", exact_shape}}},
+};
+
+std::string define(const char* name, int value) { return std::string("#define ") + name + " " + std::to_string(value) + "\n"; }
+
+int sampler_value(const render_settings& s, bool resampled) {
+  if (resampled) return s.sampler == sampler_choice::alias ? 2 : 3;  // VR_SAMPLER_ALIAS, VR_SAMPLER_ROULETTE
+  return s.cdf_search == cdf_search_choice::binary ? 1 : 0;          // VR_SAMPLER_CDF_BINARY, _CDF_GUIDE
+}
+
+}  // namespace
+
+const gpu_estimate_kernel& gpu_kernel_for(method m) {
+  const estimator_kind kind = traits(m).estimator;
+  for (const gpu_estimate_kernel& k : k_kernels)
+    if (k.kind == kind) return k;
+  throw std::logic_error("estimate_kernels.cpp: no GPU kernel for the estimator of --method " + std::string(to_string(m)));
+}
+
+std::string gpu_kernel_path(const gpu_kernel_stage& k) { return std::string("examples/vplrender/shaders/") + k.file; }
+
+const vplkit::gl::program& gpu_kernel_program(const gpu_kernel_stage& k, const std::string& defines) {
+  return vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/" + k.file, defines);
+}
+
+std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,
+                               bool split) {
+  const method_traits& t = traits(s.meth);
+  std::string d;
+  if (t.estimator != estimator_kind::exact)
+    d += estimate_visibility_define(v);
+  if (t.builder != builder_kind::none) d += define("VR_SAMPLER", sampler_value(s, resampled));
+  if (t.uses_vpls) d += define("VR_VPL_MODE", s.vpl_mode == vpl_mode_choice::patch ? 1 : 0);
+  if (t.estimator == estimator_kind::local)
+    d += define("VR_LOCAL_COMBINATION", s.local_combination == local_combination_choice::average ? 1 : 0);
+  d += define("VR_VARIANT", t.variant);
+  d += define("VR_SPLIT", split ? 1 : 0);
+  d += define("VR_DIRECT", s.direct ? 1 : 0);
+  if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
+  return d;
+}
+
+long long units_per_pass(const work_shape& s) { return std::max(1LL, (gpu_loop_budget - s.fixed) / s.cost); }
+
+}  // namespace vplrender

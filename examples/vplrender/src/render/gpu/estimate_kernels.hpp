@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The GPU backend's estimate kernels: for each estimator kind (render/method_traits.hpp) the
+// kernel that runs it (examples/vplrender/shaders/estimate_<kind>.comp, exact.comp), the loop
+// iterations one of its units may spend (llvmpipe's loop budget, loop_budget.hpp), and the
+// specialisation defines of a render (estimate_params.h: every switch that is constant during a
+// render is compiled in, never read from a uniform). gpu_backend.cpp dispatches them.
+#include "render/method_traits.hpp"
+#include "render/settings.hpp"
+
+#include <headless_gl/compute.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace vplrender {
+
+// Loop iterations one unit of work may spend (a texel, sample, round, direction or MIS step), the
+// number of units, and the iterations every dispatch spends besides its units.
+struct work_shape {
+  long long cost = 1;
+  long long units = 0;
+  long long fixed = 0;
+};
+
+// What a kernel's shape depends on: the DPRSM's R, the loop iterations of one visibility query
+// (gpu_query_cost), the region mixtures and the local rounds.
+struct shape_inputs {
+  int dprsm_resolution = 0;
+  long long query_cost = 0;
+  int regions = 1;
+  int rounds = 1;
+};
+
+// One dispatch sequence over the whole image: a kernel file (in examples/vplrender/shaders) and the
+// shape of its units.
+struct gpu_kernel_stage {
+  const char* file;
+  work_shape (*shape)(const render_settings& s, const shape_inputs& in);
+};
+
+// An estimator on the GPU: its stages run in order, each over every pixel and finished before the
+// next starts; the last writes the estimate.
+struct gpu_estimate_kernel {
+  estimator_kind kind;
+  std::vector<gpu_kernel_stage> stages;
+};
+
+// The row of m's estimator (render/method_traits.hpp's estimator kind).
+const gpu_estimate_kernel& gpu_kernel_for(method m);
+
+// A stage's kernel path relative to the repository (the report's "kernel").
+std::string gpu_kernel_path(const gpu_kernel_stage& k);
+
+// The stage's kernel compiled with `defines` as its preamble, once per variant (the process's
+// program cache; needs a current GL context).
+const vplkit::gl::program& gpu_kernel_program(const gpu_kernel_stage& k, const std::string& defines);
+
+// The preamble of s's variant (one "#define NAME VALUE" line per define the kernel reads):
+// VR_VISIBILITY, VR_SAMPLER, VR_VPL_MODE, VR_LOCAL_COMBINATION, VR_VARIANT, VR_SPLIT, VR_DIRECT,
+// VR_LIT_SHADOW_RAY. `resampled`: the mixtures' components were built (--sampler alias,
+// --face-selection roulette); `shadow_ray`: gathering's lit test by a shadow ray; `split`: the
+// units are split over dispatches.
+std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,
+                               bool split);
+
+// Units per dispatch under the loop budget, and dispatches for `units`.
+long long units_per_pass(const work_shape& s);
+
+}  // namespace vplrender

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+#include "render/method_traits.hpp"
+
+#include <stdexcept>
+
+namespace vplrender {
+
+namespace {
+
+using ek = estimator_kind;
+using bk = builder_kind;
+using sc = sweep_count;
+
+// One row per method, in enum order (checked below).
+// clang-format off
+const std::vector<method_traits> k_methods = {
+  //  id                         name                help
+  //  estimator         variant builder   vpls   dirs   gathers exact  swept  default sweep  gpu
+  {method::reference, "reference", "exhaustive VPL sum with visibility",
+   ek::reference,    0, bk::none,   true,  false, false, false, false, false, sc::vpls, true},
+  {method::global, "global", "BRSM global CDF",
+   ek::vpl_sampling, 0, bk::global, true,  false, false, false, true,  true,  sc::vpls, true},
+  {method::local, "local", "per-region CDFs (balance heuristic)",
+   ek::local,        0, bk::local,  true,  false, false, false, true,  true,  sc::vpls, true},
+  {method::gbg, "gbg", "gathering-based global CDF",
+   ek::vpl_sampling, 0, bk::gbg,    true,  true,  false, false, true,  true,  sc::vpls, true},
+  {method::gather, "gather", "cosine gathering only",
+   ek::gather,       0, bk::none,   false, true,  true,  false, true,  true,  sc::dirs, true},
+  {method::mis, "mis", "gathering + GBG CDF with solid-angle balance heuristic",
+   ek::mis,          0, bk::gbg,    true,  true,  true,  false, true,  true,  sc::vpls_and_dirs, true},
+  {method::mis_as_published, "mis-as-published", "the paper's mixed-measure MIS weights (biased, for comparison)",
+   ek::mis,          1, bk::gbg,    true,  true,  true,  false, true,  false, sc::vpls_and_dirs, true},
+  {method::exact, "exact",
+   "ground truth: --dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
+   "light at each hit with an exact shadow ray, no VPLs (Embree on the CPU backend, the GLSL pack's BVH on the GPU "
+   "backend; the two agree per pixel up to ties at creases)",
+   ek::exact,        0, bk::none,   false, true,  false, true,  true,  false, sc::dirs, true},
+  {method::ris, "ris",
+   "resampled importance sampling: per sample --candidates VPLs from --candidate-source, one kept by their "
+   "unshadowed contribution, one visibility query, optionally --spatial reuse (CPU backend only for now)",
+   ek::ris,          0, bk::candidate_source, true, false, false, false, true, false, sc::vpls, false},
+};
+// clang-format on
+
+bool rows_in_enum_order() {
+  for (std::size_t i = 0; i < k_methods.size(); ++i)
+    if (static_cast<std::size_t>(k_methods[i].id) != i) return false;
+  return true;
+}
+
+}  // namespace
+
+const std::vector<method_traits>& all_method_traits() {
+  static const bool ok = rows_in_enum_order();
+  if (!ok) throw std::logic_error("method_traits.cpp: the rows must follow render/settings.hpp's method enum");
+  return k_methods;
+}
+
+const method_traits& traits(method m) {
+  const auto& all = all_method_traits();
+  const auto i = static_cast<std::size_t>(m);
+  if (i >= all.size()) throw std::logic_error("traits: a method without a row in method_traits.cpp");
+  return all[i];
+}
+
+builder_kind distribution_builder(const render_settings& s) {
+  const builder_kind b = traits(s.meth).builder;
+  if (b != builder_kind::candidate_source) return b;
+  switch (s.ris_source) {
+    case ris_source_choice::local: return builder_kind::local;
+    case ris_source_choice::gbg: return builder_kind::gbg;
+    case ris_source_choice::flux: return builder_kind::flux;
+    case ris_source_choice::global: break;
+  }
+  return builder_kind::global;
+}
+
+std::optional<method> method_from_name(const std::string& name) {
+  for (const method_traits& t : all_method_traits())
+    if (name == t.name) return t.id;
+  return std::nullopt;
+}
+
+std::string method_names(const char* separator) {
+  std::string s;
+  for (const method_traits& t : all_method_traits()) s += (s.empty() ? "" : separator) + std::string(t.name);
+  return s;
+}
+
+}  // namespace vplrender
