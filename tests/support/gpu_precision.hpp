@@ -38,4 +38,24 @@ constexpr double rel(double ulps) { return ulps * ulp_rel; }
 // of which may underflow and be flushed, may lose up to k * FLT_MIN in absolute terms.
 inline constexpr double flushed_product_abs = 1.17549435082228750797e-38;  // FLT_MIN
 
+// A cosine between two vectors each normalised by unit_or_zero (C++: 1 ulp per component; GPU:
+// normalize_ulps) and their dot product (3 products, 2 sums, contracted or not): the two sides'
+// cosines differ by at most ~16 ulps of 1, an ABSOLUTE error (relative to a grazing cosine it is
+// large). parity_vpl_test's cosine_bound.
+inline constexpr double cosine_abs = 16 * ulp_rel;
+
+// NOT from the specifications: GLSL leaves sin and cos unbounded ("undefined precision") and
+// Vulkan allows an absolute error of 2^-11 on [-pi, pi]. A gathering ray's direction goes through
+// them, so the bounds that involve one assume 2^-21 absolute: within CUDA's documented maximum for
+// the hardware __sinf/__cosf on [-pi, pi] (2^-21.41), and far above llvmpipe's error. A device
+// at Vulkan's limit would break those bounds while conforming.
+inline constexpr double assumed_sincos_abs = 4.76837158203125e-07;  // 2^-21
+
+// A gathering sample's value (rho_x L_o(y) at the ray's first hit y): about 32 ulps of the table's
+// arithmetic (the normalisations, the DDA's entry distance, L_o's division), plus the assumed
+// sin/cos error of the direction carried to the hit over its distance t (|dy| <= 2
+// assumed_sincos_abs t) and into L_o ~ cos(alpha) / d1^2 (a relative change of about 3 |dy| / d1),
+// for hits with t / d1 <= ratio.
+constexpr double gathering_sample_rel(double ratio) { return rel(32) + 3 * 2 * assumed_sincos_abs * ratio; }
+
 }  // namespace vplkit_test::spec
