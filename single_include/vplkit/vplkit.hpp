@@ -5998,6 +5998,16 @@ inline vec3<T> estimator_finite_or_zero(vec3<T> v) {
   return ok ? v : vec3<T>(T(0));
 }
 
+// A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number
+// (p >= FLT_MIN). The library's distributions never return a pmf in (0, FLT_MIN) (their stored
+// values are >= 2^-103 apart, docs/api/distribution.md); for a user's distribution this is the
+// normal-range contract of docs/math.md section 13: a denormal pmf is 0 on a GPU that flushes
+// and in C++ under DAZ, so it counts as 0 everywhere, and the draw adds 0.
+template <class T>
+inline T estimator_pmf(T p) {
+  return (p >= std::numeric_limits<T>::min() && p <= std::numeric_limits<T>::max()) ? p : T(0);
+}
+
 // L_t(x) V(x, y_t) for texel t: 0 for an index outside the view, a texel without flux, or a
 // back-facing pair; visibility is queried only when the unoccluded contribution is non-zero (so a
 // ray is spent only where it can matter). The per-sample term of every VPL-sampling estimator.
@@ -6155,7 +6165,7 @@ inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T
                                    const Distribution& distribution, T u, const Visibility& visibility,
                                    T dmin) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
   // A denormal pmf can overflow the quotient: such a draw has negligible probability, and an
@@ -6169,7 +6179,7 @@ inline vec3<T> vpl_sampling_patch_sample(const gather_point<T>& gp, const dprsm_
                                          const Distribution& distribution, T u, vec2<T> xi,
                                          const Visibility& visibility, T dmin, T depth_tolerance) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const vec3<T> c = vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance);
   return estimator_finite_or_zero(c / pmf);
@@ -6261,7 +6271,7 @@ enum class local_combination { balance, average };
 template <class T, class Distribution>
 inline T local_mixture_pmf_sum(const Distribution* distributions, int n_distributions, std::size_t t) {
   T s = T(0);
-  for (int j = 0; j < n_distributions; ++j) s += T(distributions[j].pmf(t));
+  for (int j = 0; j < n_distributions; ++j) s += estimator_pmf(T(distributions[j].pmf(t)));
   return s;
 }
 
@@ -6283,7 +6293,7 @@ inline void estimate_local_range(const gather_point<T>& gp, const dprsm_view<T>&
         xi.x = rng_next_unit<T>(state.rng);
         xi.y = rng_next_unit<T>(state.rng);
       }
-      const T pmf_i = T(s.pmf);
+      const T pmf_i = estimator_pmf(T(s.pmf));
       if (!(pmf_i > T(0)) || s.index >= n_texels) continue;
       const vec3<T> c =
           mode == vpl_mode::patch
@@ -6584,7 +6594,7 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
-  const T pmf = T(distribution.pmf(std::size_t(r.texel)));
+  const T pmf = estimator_pmf(T(distribution.pmf(std::size_t(r.texel))));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
     // Hits in front of the surface their texel saw (another surface: the VPL strategy's points lie
@@ -6640,7 +6650,7 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
                               const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
                               mis_mode mode) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   return mis_vpl_value(gp, view, t, view.vpl_at(t), pmf, mis_texel_patch_area(view, t), visibility, n1, n2,
@@ -6655,7 +6665,7 @@ inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<
                                     const Distribution& distribution, T u, vec2<T> xi, const Visibility& visibility,
                                     T n1, T n2, mis_mode mode, T depth_tolerance) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
