@@ -56,8 +56,11 @@ constexpr double required_fraction = 0.99;
 // weights the arrays were identical and this did not show. Measured worst 4.7e-5 (open, gbg);
 // with the GPU-built global/local weights and CDFs 2.1e-5 (open, global) and 1.1e-5 (cornell, local).
 // That is the whole difference: at 2 x 512^2 texels only 61-93 % of the pixels agree within 1e-4,
-// and 100 % within 1e-5 once the GPU's CDFs are built from the CPU's weights (docs/math.md
-// section 13, "Image parity at large DPRSMs", which also says why the sizes here stay small).
+// and 100 % within 1e-5 once the GPU's CDFs are built from the CPU's weights. A flat CDF also
+// turns such weight differences into different sampled indices (its prefix sums collect them), so
+// no CDF precision fixes it; a sampler with local shares would (docs/math.md section 13, "Image
+// parity at large DPRSMs", measured in distribution_perturbation_test). The sizes here stay small
+// until then.
 constexpr double rel_bound_gpu_builders = 2e-4;
 
 struct parity {
