@@ -147,31 +147,35 @@ TEST_CASE("the share tree's pmf is the probability of its draws", "[statistical]
   // probability of leaf i is prod (q or 2^24 - q) / 2^24 along its path, which is what sample()
   // returns (up to the float rounding of the product); zero weights get probability 0 and every
   // positive weight a positive one, however small against the others.
-  const std::vector<float> w = {0.0f, 1e-30f, 3.0f, 0.5f, 0.0f, 2e-7f, 1.0f};
-  const share_tree t(w);
-  double total = 0.0;
-  for (std::size_t i = 0; i < t.leaves; ++i) {
-    // the exact path probability, in double
-    double p = 1.0;
-    std::size_t k = t.leaves + i;
-    while (k > 1) {
-      const std::size_t parent = k / 2;
-      const double share = double(t.q[parent]) / 16777216.0;
-      p *= (k % 2 == 0) ? share : 1.0 - share;
-      k = parent;
+  // The last two: a share whose quotient underflows to 0 (kept at one grid step) and its mirror
+  // (kept one step below 2^24).
+  for (const std::vector<float>& w : {std::vector<float>{0.0f, 1e-30f, 3.0f, 0.5f, 0.0f, 2e-7f, 1.0f},
+                                      std::vector<float>{2e-38f, 3e37f}, std::vector<float>{3e37f, 2e-38f}}) {
+    const share_tree t(w);
+    double total = 0.0;
+    for (std::size_t i = 0; i < t.leaves; ++i) {
+      // the exact path probability, in double
+      double p = 1.0;
+      std::size_t k = t.leaves + i;
+      while (k > 1) {
+        const std::size_t parent = k / 2;
+        const double share = double(t.q[parent]) / 16777216.0;
+        p *= (k % 2 == 0) ? share : 1.0 - share;
+        k = parent;
+      }
+      total += p;
+      const bool positive = i < w.size() && w[i] > 0.0f;
+      CHECK((p > 0.0) == positive);
+      if (p > 0.0) {
+        // the draw that follows leaf i's path: below q at left turns, at q at right turns
+        std::vector<std::uint32_t> path;
+        for (std::size_t m = t.leaves + i; m > 1; m /= 2) path.push_back((m % 2 == 0) ? 0u : t.q[m / 2]);
+        std::reverse(path.begin(), path.end());
+        const auto s = t.sample([&](int level) { return path[std::size_t(level)]; });
+        CHECK(s.first == i);
+        CHECK(std::abs(double(s.second) - p) <= 4.0 * 0x1p-24 * p);
+      }
     }
-    total += p;
-    const bool positive = i < w.size() && w[i] > 0.0f;
-    CHECK((p > 0.0) == positive);
-    if (p > 0.0) {
-      // the draw that follows leaf i's path: below q at left turns, at q at right turns
-      std::vector<std::uint32_t> path;
-      for (std::size_t m = t.leaves + i; m > 1; m /= 2) path.push_back((m % 2 == 0) ? 0u : t.q[m / 2]);
-      std::reverse(path.begin(), path.end());
-      const auto s = t.sample([&](int level) { return path[std::size_t(level)]; });
-      CHECK(s.first == i);
-      CHECK(std::abs(double(s.second) - p) <= 4.0 * 0x1p-24 * p);
-    }
+    CHECK(std::abs(total - 1.0) < 1e-12);
   }
-  CHECK(std::abs(total - 1.0) < 1e-12);
 }
