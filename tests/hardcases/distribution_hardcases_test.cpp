@@ -316,7 +316,7 @@ TEST_CASE("CDF hard case: u = 0, the largest float below 1, exactly 1",
 }
 
 TEST_CASE("CDF hard case: denormal weights count as zero", "[distribution][hardcase]") {
-  // The normal-range contract (weights.hpp, docs/math.md section 13): a GPU may read a denormal
+  // The normal-range contract (weights.hpp, docs/math.md, "GPU arithmetic model"): a GPU may read a denormal
   // weight as 0, so every backend does; the indices are the same with and without FTZ|DAZ.
   SECTION("float: only denormals -> empty") {
     std::vector<float> w;

@@ -345,7 +345,7 @@ TEMPLATE_TEST_CASE("estimators: denormal and out-of-range draws", "[hardcase]", 
     for (mis_mode mode : {mis_mode::solid_angle, mis_mode::as_published})
       CHECK(finite_nonneg(estimate_mis(gp, f.view, dist, rng, 4, 4, exact_tracer<T>{&f.scene}, always_visible{}, T(0.2), mode)));
     if (p < std::numeric_limits<T>::min()) {
-      // the normal-range contract (docs/math.md section 13): a denormal pmf counts as 0, so the draw
+      // the normal-range contract (docs/math.md, "GPU arithmetic model"): a denormal pmf counts as 0, so the draw
       // adds exactly 0 whether or not the arithmetic flushes denormals
       CHECK(estimate_vpl_sampling(gp, f.view, dist, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
       CHECK(estimate_local(gp, f.view, &dist, 1, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));

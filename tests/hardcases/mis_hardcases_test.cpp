@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // docs/math.md section 10, "MIS: both pdfs 0, one infinite, denormal", and more (denormal counts
-// and pdfs count as 0: section 13). Every case in
+// and pdfs count as 0: "GPU arithmetic model"). Every case in
 // float and double; nothing may be NaN or infinite; the weights of the two strategies add up to 1
 // (within 2 ulps) whenever at least one strategy has n > 0 and p > 0, and are both 0 otherwise.
 #include <vplkit/mis/heuristics.hpp>
@@ -80,7 +80,7 @@ template <class T> void both_infinite() {
 }
 
 template <class T> void denormal() {
-  // The normal-range contract (heuristics.hpp, docs/math.md section 13): a denormal count or pdf
+  // The normal-range contract (heuristics.hpp, docs/math.md, "GPU arithmetic model"): a denormal count or pdf
   // counts as 0, as on a GPU that flushes it; tiny normal pdfs are rescaled, not squared.
   const T d = std::numeric_limits<T>::denorm_min();
   const T m = std::numeric_limits<T>::min();  // smallest normal

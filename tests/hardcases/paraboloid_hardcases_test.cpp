@@ -60,7 +60,7 @@ TEMPLATE_TEST_CASE("hard case: d = (0,0,-1) is the back pole without cancellatio
     REQUIRE(p.face == paraboloid_back);
     REQUIRE(p.uv == vec2<T>(0, 0));
   }
-  // A denormal length is no direction (the normal-range contract, docs/math.md section 13): the
+  // A denormal length is no direction (the normal-range contract, docs/math.md, "GPU arithmetic model"): the
   // documented fallback {front, (0,0)}, as on a GPU that flushes it.
   const auto dp = vplkit::paraboloid_from_direction(vec3<T>(0, 0, -std::numeric_limits<T>::denorm_min()));
   REQUIRE(dp.face == paraboloid_front);
@@ -174,7 +174,7 @@ TEMPLATE_TEST_CASE("hard case: zero NaN Inf and extreme-length directions",
   const T big = std::numeric_limits<T>::max(), dn = std::numeric_limits<T>::denorm_min();
   // degenerate: documented fallback {front, (0,0)}
   // (A vector whose components are all below the smallest normal T is zero: docs/math.md
-  // section 13.)
+  // "GPU arithmetic model".)
   for (vec3<T> d : {vec3<T>(0), vec3<T>(nan), vec3<T>(nan, 0, 1), vec3<T>(inf, 0, 0), vec3<T>(-inf, inf, 0),
                     vec3<T>(dn, dn, -dn), vec3<T>(dn, 0, 0)}) {
     const auto p = vplkit::paraboloid_from_direction(d);
@@ -212,7 +212,7 @@ TEMPLATE_TEST_CASE("hard case: light frame with front axis at or near (0,0,-1)",
     REQUIRE(glm::length(glm::cross(f.axis_x, f.axis_y) - f.axis_z) <= tol);
     REQUIRE(f.axis_z.z < T(-0.99));
   }
-  // A denormal axis is zero (docs/math.md section 13): rejected with the error of a zero axis.
+  // A denormal axis is zero (docs/math.md, "GPU arithmetic model"): rejected with the error of a zero axis.
   REQUIRE_THROWS_WITH(vplkit::light_frame<T>(vec3<T>(0), vec3<T>(0, 0, -std::numeric_limits<T>::denorm_min())),
                       Catch::Matchers::Contains("front axis is zero"));
 }

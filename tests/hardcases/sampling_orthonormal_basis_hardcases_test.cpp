@@ -93,7 +93,7 @@ TEST_CASE("ONB hard case: n.z = -0.0 and +0.0 (the sign switch)") {
 }
 
 TEST_CASE("ONB hard case: denormal components count as 0, tiny normal ones keep their direction") {
-  // The normal-range contract (docs/math.md section 13): a component below the smallest normal T
+  // The normal-range contract (docs/math.md, "GPU arithmetic model"): a component below the smallest normal T
   // is 0 (a GPU may flush it), so all-denormal input has no direction: the canonical frame.
   const float d = std::numeric_limits<float>::denorm_min();
   check_frame(vec3<float>(0, 0, -d), vec3<float>(0, 0, 1));

@@ -71,7 +71,7 @@ TEMPLATE_TEST_CASE("hard case: contribution at x == y is 0 also with dmin = 0", 
   const vec3<T> L = vplkit::vpl_contribution(vec3<T>(0), vec3<T>(0, 0, 1), vec3<T>(1), v, T(0));
   REQUIRE(finite_nonneg(L));
   REQUIRE(L.x > T(0));  // head-on: the floor on d2^2 caps it, it does not vanish
-  // a denormal separation has no direction (docs/math.md section 13: a GPU may flush it): 0
+  // a denormal separation has no direction (docs/math.md, "GPU arithmetic model": a GPU may flush it): 0
   const T dn = std::numeric_limits<T>::denorm_min();
   const vplkit::vpl<T> w{vec3<T>(0, 0, dn), vec3<T>(0, 0, -1), vec3<T>(5)};
   REQUIRE(vplkit::vpl_contribution(vec3<T>(0), vec3<T>(0, 0, 1), vec3<T>(1), w, T(0)) == vec3<T>(0));
@@ -109,7 +109,7 @@ TEMPLATE_TEST_CASE("hard case: unnormalised normals are normalised", "[vpl][hard
   REQUIRE(ref.x > T(0));
   const T tiny = std::numeric_limits<T>::min(), dn = std::numeric_limits<T>::denorm_min();
   const T big = std::numeric_limits<T>::max();
-  // A denormal scale is a zero normal (docs/math.md section 13): no contribution.
+  // A denormal scale is a zero normal (docs/math.md, "GPU arithmetic model"): no contribution.
   {
     const vplkit::vpl<T> v{unit.position, unit.normal * dn, unit.flux};
     REQUIRE(vplkit::vpl_contribution(x, vec3<T>(0, 0, dn), rho, v, T(0)) == vec3<T>(0));

@@ -718,7 +718,7 @@ TEST_CASE("estimate_vpl_sampling: every distribution kind, voxel visibility, sam
         const auto flipped = flipped_points(r, pts, 0.0f, 1, &rf, &pf);
         const std::string what = "vpl_sampling [" + cases[d].name + "] N " + std::to_string(n) + " dmin " + show(dmin);
         if (cases[d].name.find("denormal") != std::string::npos) {
-          // The normal-range contract (docs/math.md section 13): a pmf below FLT_MIN counts as 0 on
+          // The normal-range contract (docs/math.md, "GPU arithmetic model"): a pmf below FLT_MIN counts as 0 on
           // both sides (3e-39: a quotient c / pmf that would stay finite, so only the contract
           // gives 0), whether or not the device (or the CPU under DAZ) flushes denormals, so
           // every estimate is exactly 0.

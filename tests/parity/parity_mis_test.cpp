@@ -16,7 +16,7 @@
 // On top of parity, the GPU results themselves must never be NaN, the weights must lie in [0, 1]
 // and the two strategies' weights must add up to 1 (or both be 0).
 //
-// Denormals: the normal-range contract (docs/math.md section 13) counts denormal counts, pdfs and
+// Denormals: the normal-range contract (docs/math.md, "GPU arithmetic model") counts denormal counts, pdfs and
 // results as 0 on both sides, so the plain C++ reference is the answer of a device that flushes
 // them and of one that keeps them (llvmpipe) alike; the FTZ|DAZ variant of this program
 // (docs/testing.md) checks the reference itself under flushing. Only vplkit_mis_div, a GLSL helper

@@ -444,7 +444,7 @@ struct R { vec4 t; vec4 b; vec4 n; vec4 world; vec4 local; };
   std::vector<vplkit::orthonormal_basis<float>> cpu(n);
   std::vector<vplkit::vec3<float>> cpu_world(n), cpu_local(n);
   {
-    // The plain reference: the normal-range contract (docs/math.md section 13) makes it the
+    // The plain reference: the normal-range contract (docs/math.md, "GPU arithmetic model") makes it the
     // answer of a flushing device too (the [ftz-daz] run checks it under flushing).
     for (std::size_t i = 0; i < n; ++i) {
       const vplkit::vec3<float> l(locals[i].x, locals[i].y, locals[i].z);
@@ -508,7 +508,7 @@ struct R { vec4 t; vec4 b; vec4 n; vec4 world; vec4 local; };
         continue;
       }
       // A float component below FLT_MIN counts as 0 (the normal-range contract, docs/math.md
-      // section 13), where double keeps the same (to double, normal) component.
+      // "GPU arithmetic model"), where double keeps the same (to double, normal) component.
       const vplkit::vec3<float> nf(cases[i].x, cases[i].y, cases[i].z);
       const vplkit::vec3<float> ff = vplkit::flush_denormal(nf);
       if (ff.x != nf.x || ff.y != nf.y || ff.z != nf.z) {
@@ -717,7 +717,7 @@ TEST_CASE("cosine_hemisphere.glsl: cosine_hemisphere_pdf over random and special
                                       c.size());
   std::vector<float> cpu(c.size());
   {
-    // The plain reference: the normal-range contract (docs/math.md section 13) makes it the
+    // The plain reference: the normal-range contract (docs/math.md, "GPU arithmetic model") makes it the
     // answer of a flushing device too (the [ftz-daz] run checks it under flushing).
     for (std::size_t i = 0; i < c.size(); ++i) cpu[i] = vplkit::cosine_hemisphere_pdf(c[i]);
   }

@@ -59,7 +59,7 @@ constexpr double required_fraction = 0.99;
 // That is the whole difference: at 2 x 512^2 texels only 61-93 % of the pixels agree within 1e-4,
 // and 100 % within 1e-5 once the GPU's CDFs are built from the CPU's weights. A flat CDF also
 // turns such weight differences into different sampled indices (its prefix sums collect them), so
-// no CDF precision fixes it; a sampler with local shares would (docs/math.md section 13, "Image
+// no CDF precision fixes it; a sampler with local shares would (docs/math.md, "Image
 // parity at large DPRSMs", measured in distribution_perturbation_test). The sizes here stay small
 // until then.
 constexpr double rel_bound_gpu_builders = 2e-4;
@@ -259,7 +259,10 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     stage_timer prep_timer;
     nlohmann::json prep_det;
     std::optional<frame_buffers> exact_frame;
-    if (vis == visibility_choice::exact) exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
+    if (vis == visibility_choice::exact) {
+      exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
+      read_back_host_copies(*exact_frame);  // the CPU builder reads the same frame's arrays
+    }
     const frame_buffers& fb = exact_frame ? *exact_frame : f.b;
     const gbuffer_data& g = fb.gbuf;
     const dprsm_data& d = fb.dprsm;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Why images of two backends disagree at large DPRSMs, measured (docs/math.md section 13, "Image
+// Why images of two backends disagree at large DPRSMs, measured (docs/math.md, "Image
 // parity at large DPRSMs"): two backends that build their weights independently get weights that
 // differ by eps ~ 1e-7 .. 2e-6 relative (division, sqrt, contraction). A flat inverse-transform CDF
 // turns that into different sampled indices and different pmfs, because every stored value is a

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The floating-point mode a C++ reference runs in. A GPU may flush denormal inputs and results to
-// zero (docs/math.md section 13); x86-64 does the same when MXCSR has FTZ (flush-to-zero, bit 15:
+// zero (docs/math.md, "GPU arithmetic model"); x86-64 does the same when MXCSR has FTZ (flush-to-zero, bit 15:
 // denormal results become 0) and DAZ (denormals-are-zero, bit 6: denormal operands read as 0), which
 // is also what a program linked with -ffast-math starts with. The parity and Vulkan tests run their
 // C++ references in both modes (docs/testing.md): with VPLKIT_PARITY_FTZ_DAZ=1 in the environment,

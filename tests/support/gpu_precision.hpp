@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The precision a conforming GPU promises for single-precision arithmetic, as the parity tests'
-// bounds use it (docs/math.md section 13). Sources:
+// bounds use it (docs/math.md, "GPU arithmetic model"). Sources:
 //   [GLSL]   The OpenGL Shading Language 4.60 (and 4.30), section 4.7.1 "Range and Precision";
 //   [VK]     Vulkan specification, appendix "SPIR-V Environment", "Precision and Operation of
 //            SPIR-V Instructions": tables "Precision of Core SPIR-V Instructions" and "Precision of

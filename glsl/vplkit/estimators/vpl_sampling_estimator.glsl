@@ -8,7 +8,7 @@
 //   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
 // usually one line each over the distribution pack (docs/glsl/estimators.md, "Distributions: two
 // hooks"). ACCESSORS: the DPRSM's and vplkit_load_voxel_word. A drawn pmf below FLT_MIN counts as
-// 0 (vplkit_estimator_pmf, the normal-range contract of docs/math.md section 13), as in C++.
+// 0 (vplkit_estimator_pmf, the normal-range contract of docs/math.md, "GPU arithmetic model"), as in C++.
 // VPL MODE: the range and one-shot forms come twice, as in C++ with its defaults: without the last
 // two arguments (vplkit_vpl_point, the paper's point VPLs) and with (int vpl_mode, float
 // depth_tolerance); vplkit_vpl_patch draws two more numbers per sample, u0 then u1, the jitter

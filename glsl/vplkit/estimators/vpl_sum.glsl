@@ -39,7 +39,7 @@ vec3 vplkit_estimator_finite_or_zero(vec3 v) {
 
 // A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number (decided
 // on the bits, so that neither a flushing GPU nor a folded comparison changes it); mirrors
-// estimator_pmf (docs/math.md section 13).
+// estimator_pmf (docs/math.md, "GPU arithmetic model").
 float vplkit_estimator_pmf(float p) {
   uint b = floatBitsToUint(p);
   return (b >= 0x00800000u && b < 0x7F800000u) ? p : 0.0;

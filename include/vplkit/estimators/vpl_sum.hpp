@@ -29,7 +29,7 @@ inline vec3<T> estimator_finite_or_zero(vec3<T> v) {
 // A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number
 // (p >= FLT_MIN). The library's distributions never return a pmf in (0, FLT_MIN) (their stored
 // values are >= 2^-103 apart, docs/api/distribution.md); for a user's distribution this is the
-// normal-range contract of docs/math.md section 13: a denormal pmf is 0 on a GPU that flushes
+// normal-range contract of docs/math.md, "GPU arithmetic model": a denormal pmf is 0 on a GPU that flushes
 // and in C++ under DAZ, so it counts as 0 everywhere, and the draw adds 0.
 template <class T>
 inline T estimator_pmf(T p) {

@@ -46,7 +46,7 @@ inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
 // front one. Rim directions give r2 <= 1 exactly (paraboloid_clamp_to_disk).
 // The face is decided on d.z itself (below the smallest normal T it counts as 0, i.e. front), not
 // on the normalised z: a tiny negative z can normalise to a denormal, which a GPU flushes and a
-// CPU may keep, and the decision must not depend on that (docs/math.md section 13).
+// CPU may keep, and the decision must not depend on that (docs/math.md, "GPU arithmetic model").
 template <class T>
 inline paraboloid_point<T> paraboloid_from_direction(vec3<T> d) {
   const vec3<T> n = unit_or_zero(d);

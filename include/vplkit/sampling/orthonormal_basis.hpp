@@ -31,7 +31,7 @@ template <class T> struct orthonormal_basis {
 };
 
 // Unit vector along n; (0,0,1) when n is zero, NaN or infinite, or has no component of at least
-// the smallest normal T (unit_or_zero: the normal-range contract, docs/math.md section 13).
+// the smallest normal T (unit_or_zero: the normal-range contract, docs/math.md, "GPU arithmetic model").
 template <class T> inline vec3<T> onb_normalize(vec3<T> n) {
   const vec3<T> u = unit_or_zero(n);
   return (u.x == T(0) && u.y == T(0) && u.z == T(0)) ? vec3<T>(T(0), T(0), T(1)) : u;
