@@ -1391,8 +1391,10 @@ private:
 // keeps item i with probability w_i / sum w, independently of the others (the pairs are checked
 // against the product distribution).
 //
-// Weights that are negative, NaN or infinite, and a weight that would carry the sum past the
-// largest finite T, are ignored (as weight 0: the reservoir and its sum are unchanged), so the
+// Weights that are negative, NaN, infinite or below the smallest normal T (the normal-range
+// contract of docs/math.md, "GPU arithmetic model": a GPU may read a denormal weight as 0, so it
+// counts as 0 everywhere), and a weight that would carry the sum past the largest finite T, are
+// ignored (as weight 0: the reservoir and its sum are unchanged), so the
 // sum and every probability stay finite. The decision multiplies (u * S < w) instead of dividing:
 // IEEE and GLSL 4.x round a product correctly, so the GPU mirror
 // (glsl/vplkit/distribution/weighted_reservoir.glsl) decides alike on the same bits.
@@ -1412,10 +1414,11 @@ struct weighted_reservoir {
   T weight = T(0);                        // the kept item's weight (0 while empty)
 };
 
-// True for a weight the reservoir takes into account: finite and > 0 (0 is valid but never kept).
+// True for a weight the reservoir takes into account: finite and at least the smallest normal T
+// (0 and denormals are valid but never kept).
 template <class T>
 inline bool reservoir_weight_usable(T w) noexcept {
-  return w > T(0) && w <= std::numeric_limits<T>::max();  // NaN fails both
+  return w >= std::numeric_limits<T>::min() && w <= std::numeric_limits<T>::max();  // NaN fails both
 }
 
 template <class T>
@@ -6977,7 +6980,7 @@ inline T ris_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, con
     s.xi.y = rng_next_unit<T>(rng);
   }
   const auto d = distribution.sample(u);
-  const T pmf = T(d.pmf);
+  const T pmf = estimator_pmf(T(d.pmf));  // a denormal pmf counts as 0 (vpl_sum.hpp)
   if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
   s.texel = int(d.index);
   target = ris_target(gp, ris_sample_vpl(view, s, mode, depth_tolerance), dmin);
