@@ -57,6 +57,149 @@ public:
 // ---- begin vplkit/core/unit_or_zero.hpp ----
 // Normalisation that cannot produce NaN or Inf, shared by the paraboloid mapping and the VPL
 // model (GLSL: vplkit_unit_or_zero).
+// ---- begin vplkit/core/normal_range.hpp ----
+// Keeping values in the normal range of T, so that the CPU templates and the GLSL pack
+// (glsl/vplkit/core/normal_range.glsl) agree on every conforming GPU (docs/math.md, "GPU
+// arithmetic model"). A GPU may flush any denormal input or result to 0 (GLSL 4.60 section 4.7.1,
+// Vulkan "Precision and Operation of SPIR-V Instructions"), may evaluate a / b as a * (1 / b),
+// whose 1 / b is itself a denormal for |b| > 2^126, and guarantees division only for |b| in
+// [2^-126, 2^126]. So the library
+//  - counts a value below the smallest normal T as 0 wherever a decision or a result depends on
+//    it (flush_denormal: the same answer with IEEE arithmetic and with flush-to-zero /
+//    denormals-are-zero, x86 MXCSR FTZ|DAZ or -ffast-math);
+//  - scales by exact powers of two (binary_exponent, exp2i, scale_by_exp2) before it divides or
+//    squares a quantity of unknown magnitude, so that every division has a divisor in [1, 2) or
+//    another range the specifications cover.
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+#include <utility>
+
+namespace vplkit {
+
+// +0 when |x| is below the smallest normal T (a denormal or a zero), else x (NaN and +-Inf
+// included). Written as two comparisons with a normal constant: a denormal compares like 0 under
+// denormals-are-zero and below min() under IEEE, so both give 0.
+template <class T>
+inline T flush_denormal(T x) noexcept {
+  constexpr T lo = std::numeric_limits<T>::min();
+  return (x < lo && x > -lo) ? T(0) : x;
+}
+
+namespace detail {
+// std::sqrt and std::abs, or those of a float-like T found by argument-dependent lookup: the
+// templates that take them this way also run with a test's GPU model of float arithmetic
+// (tests/support/gpu_model_float.hpp), whose sqrt is not correctly rounded.
+template <class T>
+inline T sqrt_of(T x) {
+  using std::sqrt;
+  return sqrt(x);
+}
+template <class T>
+inline T abs_of(T x) {
+  using std::abs;
+  return abs(x);
+}
+// 1 / sqrt(x), or a float-like T's own inversesqrt (found by argument-dependent lookup): the
+// form the GLSL pack computes with (normalize, vplkit_unit_or_zero), so that a model of GLSL's
+// inversesqrt sees the operation the GPU performs.
+template <class T, class = void>
+struct has_own_inversesqrt : std::false_type {};
+template <class T>
+struct has_own_inversesqrt<T, std::void_t<decltype(inversesqrt(std::declval<T>()))>> : std::true_type {};
+template <class T>
+inline T inversesqrt_of(T x) {
+  if constexpr (has_own_inversesqrt<T>::value) {
+    return inversesqrt(x);
+  } else {
+    return T(1) / sqrt_of(x);
+  }
+}
+}  // namespace detail
+
+// flush_denormal on each component.
+template <class T>
+inline vec3<T> flush_denormal(vec3<T> v) noexcept {
+  return vec3<T>(flush_denormal(v.x), flush_denormal(v.y), flush_denormal(v.z));
+}
+
+namespace detail {
+template <class T>
+struct float_layout;
+template <>
+struct float_layout<float> {
+  using bits = std::uint32_t;
+  static constexpr int mantissa_bits = 23;
+  static constexpr int bias = 127;
+};
+template <>
+struct float_layout<double> {
+  using bits = std::uint64_t;
+  static constexpr int mantissa_bits = 52;
+  static constexpr int bias = 1023;
+};
+}  // namespace detail
+
+// floor(log2(x)) for a normal, finite, positive x (read from the exponent bits: exact, no libm).
+template <class T>
+inline int binary_exponent(T x) noexcept {
+  using L = detail::float_layout<T>;
+  typename L::bits b;
+  std::memcpy(&b, &x, sizeof b);
+  return int((b >> L::mantissa_bits) & typename L::bits(2 * L::bias + 1)) - L::bias;
+}
+
+// 2^k as T, exact, for k in [min_exponent - 1, max_exponent - 1] ([-126, 127] for float): the
+// normal powers of two.
+template <class T>
+inline T exp2i(int k) noexcept {
+  using L = detail::float_layout<T>;
+  const typename L::bits b = typename L::bits(k + L::bias) << L::mantissa_bits;
+  T x;
+  std::memcpy(&x, &b, sizeof x);
+  return x;
+}
+
+// The largest |k| that scale_by_exp2 takes: 378 for float (three factors of at most 2^126), 3066
+// for double. Beyond it every normal x overflows or underflows anyway, and k is clamped.
+template <class T>
+inline constexpr int scale_by_exp2_max = 3 * (std::numeric_limits<T>::max_exponent - 2);
+
+// x * 2^k as three multiplications by normal powers of two (a GPU may flush a single denormal
+// factor 2^k), k clamped to +-scale_by_exp2_max<T>: exact whenever the result is a normal T (each
+// partial product lies between x and the result); a result beyond the largest T overflows to
+// +-Inf (correctly rounded products), one below the smallest normal T is 0 (flush_denormal: what
+// a flushing GPU gives, on every device).
+template <class T>
+inline T scale_by_exp2(T x, int k) noexcept {
+  constexpr int kmax = scale_by_exp2_max<T>;
+  k = k < -kmax ? -kmax : k > kmax ? kmax : k;
+  const int k1 = k / 3;
+  const int k2 = (k - k1) / 2;
+  const int k3 = k - k1 - k2;
+  const T y = x * exp2i<T>(k1);
+  const T z = y * exp2i<T>(k2);
+  return flush_denormal(z * exp2i<T>(k3));
+}
+
+// A positive normal finite x as m * 2^e with m in [1, 2) (exact): the mantissa and exponent that
+// let a quotient of values of any magnitude be formed with a divisor in [1, 4).
+template <class T>
+struct binary_split {
+  T mantissa;
+  int exponent;
+};
+template <class T>
+inline binary_split<T> split_binary(T x) noexcept {
+  const int e = binary_exponent(x);
+  return {scale_by_exp2(x, -e), e};
+}
+
+}  // namespace vplkit
+// ---- end vplkit/core/normal_range.hpp ----
 
 #include <cmath>
 #include <limits>
@@ -68,25 +211,35 @@ namespace vplkit {
 template <class T>
 inline T max_abs_component(vec3<T> v) {
   T m = T(0);
-  if (std::abs(v.x) > m) m = std::abs(v.x);
-  if (std::abs(v.y) > m) m = std::abs(v.y);
-  if (std::abs(v.z) > m) m = std::abs(v.z);
+  if (detail::abs_of(v.x) > m) m = detail::abs_of(v.x);
+  if (detail::abs_of(v.y) > m) m = detail::abs_of(v.y);
+  if (detail::abs_of(v.z) > m) m = detail::abs_of(v.z);
   return m;
 }
 
-// v / |v|, or (0,0,0) when v is zero or has a NaN or infinite component. Dividing by the
-// largest component first keeps dot(v, v) away from underflow (|v| ~ 1e-30 in float squares to
-// 0) and overflow (|v| ~ 1e30 squares to Inf), so any finite non-zero v gives a unit vector.
+// v / |v|, or (0,0,0) when v is zero or has a NaN or infinite component. A component below the
+// smallest normal T counts as 0 (a GPU may flush it on input: docs/math.md, "GPU arithmetic
+// model"), and so does one of the result. v is first scaled by the power of two that brings its
+// largest component into [1, 2) ([2, 4) in the top binade, whose 2^-128 is no normal float): exact,
+// so dot(s, s) neither underflows (|v| ~ 1e-30 in float squares to 0) nor overflows (|v| ~ 1e30,
+// and FLT_MAX, square to Inf), and nothing divides by a huge |v| (a GPU may divide as
+// a * (1 / b), and 1 / b is a denormal for b > 2^126). So any finite v with a normal component
+// gives a unit vector, on every device.
 template <class T>
 inline vec3<T> unit_or_zero(vec3<T> v) {
+  v = flush_denormal(v);
   const T m = max_abs_component(v);
   if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
-  const vec3<T> s = v / m;
-  // len2 is in [1, 3] unless a component of v was NaN. The test uses the looser [0.5, 4] so that
-  // it stays a pure NaN check under GPU division and sqrt, which are not correctly rounded.
+  const int e = binary_exponent(m);
+  const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
+  const vec3<T> s = flush_denormal(v * scale);
+  // len2 is in [1, 48] unless a component of v was NaN. The test uses the looser [0.5, 64] so that
+  // it stays a pure NaN check under GPU arithmetic (FMA contraction of the dot product).
   const T len2 = glm::dot(s, s);
-  if (!(len2 >= T(0.5)) || !(len2 <= T(4))) return vec3<T>(T(0));
-  return s / std::sqrt(len2);
+  if (!(len2 >= T(0.5)) || !(len2 <= T(64))) return vec3<T>(T(0));
+  // s * (1 / sqrt(len2)), the form of the GLSL (s * inversesqrt(len2)): two correctly rounded
+  // operations here, inversesqrt and a product on a GPU.
+  return flush_denormal(s * detail::inversesqrt_of(len2));
 }
 
 }  // namespace vplkit
@@ -232,6 +385,13 @@ struct discrete_sample {
 // ---- begin vplkit/distribution/weights.hpp ----
 // Shared by discrete_cdf and alias_table: weight validation, the sanitizing copy, the accurate
 // running sum, and the clamp of a random number u into [0, 1).
+//
+// The normal-range contract (docs/math.md, "GPU arithmetic model"): a GPU may flush denormals,
+// so every distribution counts a weight below the smallest normal T (FLT_MIN for float) as 0,
+// stores no CDF value, threshold or pmf between 0 and the smallest normal T, and reads a u below
+// it as 0. Each such test compares with a normal constant, which gives the same answer with IEEE
+// arithmetic, with flush-to-zero / denormals-are-zero (x86 MXCSR FTZ|DAZ, -ffast-math) and on a
+// GPU that flushes: zero weights are never picked and pmf(sample) == pmf(index) on every device.
 
 #include <cmath>
 #include <cstddef>
@@ -263,12 +423,25 @@ template <class T> inline constexpr T discrete_u_max();
 template <> inline constexpr float discrete_u_max<float>() { return 0x1.fffffep-1f; }
 template <> inline constexpr double discrete_u_max<double>() { return 0x1.fffffffffffffp-1; }
 
-// u NaN or < 0 -> 0 (written as !(u >= 0) so that NaN takes this branch; GLSL's clamp leaves NaN
-// undefined), u >= 1 -> the largest T below 1. Every sampler applies this first.
+// u NaN, negative or below the smallest normal T -> 0 (written as !(u >= min) so that NaN takes
+// this branch; GLSL's clamp leaves NaN undefined; a denormal u reads as 0 on a GPU that flushes,
+// so it does everywhere), u >= 1 -> the largest T below 1. Every sampler applies this first.
 template <class T>
 inline T discrete_clamp_u(T u) noexcept {
-  if (!(u >= T(0))) return T(0);
+  if (!(u >= std::numeric_limits<T>::min())) return T(0);
   return u < discrete_u_max<T>() ? u : discrete_u_max<T>();
+}
+
+// The smallest non-zero value a stored CDF holds: min() / epsilon() (2^-103 for float, 2^-970
+// for double); a normalised prefix sum below it is stored as 0. Any two distinct stored values
+// then differ by at least min() (their difference is a multiple of the smaller one's ulp, which
+// is >= min()), so every pmf = cdf[i + 1] - cdf[i] is 0 or a normal T: the subtraction and every
+// comparison with it give the same result on a GPU that flushes denormals. A weight whose share
+// of the total is below this never moves the CDF (pmf 0, never sampled): far below the float
+// resolution of any realistic distribution (2^-103 ~ 1e-31).
+template <class T>
+inline constexpr T discrete_cdf_min_value() noexcept {
+  return std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
 }
 
 namespace detail {
@@ -283,10 +456,18 @@ struct is_contiguous_range_of<
                 decltype(std::size(std::declval<const R&>()))>>
     : std::is_convertible<decltype(std::data(std::declval<const R&>())), const T*> {};
 
-// True for negative, NaN and +-Inf; -0 is a valid (zero) weight.
+// True for negative, NaN and +-Inf; -0 and the negative denormals are valid (zero) weights: a
+// denormal counts as 0 whatever its sign, and reads as -0 under denormals-are-zero, so rejecting
+// it would depend on the floating-point mode.
 template <class T>
 inline bool is_bad_weight(T w) noexcept {
-  return !(w >= T(0) && w <= std::numeric_limits<T>::max());
+  return !(w > -std::numeric_limits<T>::min() && w <= std::numeric_limits<T>::max());
+}
+
+// The value a valid weight contributes: w, or 0 below the smallest normal T (see the top).
+template <class T>
+inline T weight_value(T w) noexcept {
+  return w >= std::numeric_limits<T>::min() ? w : T(0);
 }
 
 template <class T>
@@ -405,8 +586,8 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
   bool valid[kLanes];
   for (std::size_t k = 0; k < kLanes; ++k) valid[k] = true;
   for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-    valid[k] &= (w[i] >= T(0)) & (w[i] <= std::numeric_limits<T>::max());  // no branch
-    acc[k].add(w[i]);
+    valid[k] &= (w[i] > -std::numeric_limits<T>::min()) & (w[i] <= std::numeric_limits<T>::max());
+    acc[k].add(weight_value(w[i]));  // no branch: a select
     const double v = acc[k].value();
     lane_max[k] = v > lane_max[k] ? v : lane_max[k];
   });
@@ -435,13 +616,20 @@ inline std::size_t ceil_to_size(double x) noexcept {
   return std::size_t(k + (double(k) < x ? 1 : 0));
 }
 
-// a * b for probabilities a, b >= 0, but the smallest positive T instead of 0 when both are
-// > 0: a product that underflows to 0 would turn a valid sample into a division by zero. Any
-// other product is left alone (1 * p stays p, so eps = 0 reproduces the learned pmf exactly).
+// a * b for probabilities a, b >= 0, but the smallest normal T instead of a product below it
+// when both are > 0: a product that underflows would turn a valid sample into a division by zero
+// (and a denormal one reads as 0 on a GPU). Factors below the smallest normal T count as 0. The
+// result is 0 or a normal T, the same with IEEE arithmetic and with flush-to-zero (a flushed
+// product and a denormal one both become min(); so does one that a GPU flushes because its exact
+// value is below min() although it rounds to min()). Any other product is left alone (1 * p stays
+// p, so eps = 0 reproduces the learned pmf exactly).
 template <class T>
 inline T probability_product(T a, T b) noexcept {
+  a = flush_denormal(a);
+  b = flush_denormal(b);
   const T p = a * b;
-  return (p == T(0) && a > T(0) && b > T(0)) ? std::numeric_limits<T>::denorm_min() : p;
+  return p >= std::numeric_limits<T>::min() ? p
+                                            : (a > T(0) && b > T(0)) ? std::numeric_limits<T>::min() : T(0);
 }
 
 // 1 / p for the rescaling of a reused u (mixture and roulette), computed in double and rounded
@@ -481,8 +669,11 @@ inline std::vector<T> sanitized_weights(const char* who, const T* w, std::size_t
 //
 // Stored arrays (uploadable to a GPU as they are):
 //   cdf   : n + 1 values of T, cdf[0] = 0, cdf[n] = 1 exactly, non-decreasing; a zero weight
-//           gives exactly equal neighbours cdf[i] == cdf[i + 1]. An empty distribution (all
-//           weights 0, or n = 0) stores n + 1 zeros, so cdf[n] == 0 marks it on the GPU too.
+//           (or one below the smallest normal T) gives exactly equal neighbours cdf[i] ==
+//           cdf[i + 1]. Every value is 0 or at least discrete_cdf_min_value<T>() (2^-103 for
+//           float), so every pmf is 0 or normal (weights.hpp, the normal-range contract). An
+//           empty distribution (all weights 0, or n = 0) stores n + 1 zeros, so cdf[n] == 0
+//           marks it on the GPU too.
 //   guide : m + 1 uint32, m = discrete_guide_size(n) a power of two;
 //           guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m.
 // Sampling returns the largest i with cdf[i] <= u. That bin has cdf[i + 1] > u >= cdf[i], so
@@ -597,10 +788,12 @@ public:
   bool empty() const noexcept { return total_ == T(0); }
 
   // Probability that sample() returns i: the width of bin i of the stored CDF, i.e. exactly
-  // the fraction of [0, 1) that maps to i, up to the one rounding of this subtraction. 0 for
-  // i >= size() and for an empty distribution. A positive weight too small to move its CDF
-  // value (w_i / total below half an ulp of cdf[i + 1], e.g. 2^-149 beside 2) gets a bin of
-  // width 0: pmf 0, and sample() never returns it.
+  // the fraction of [0, 1) that maps to i, up to the one rounding of this subtraction (correctly
+  // rounded on every device). 0 for i >= size() and for an empty distribution; otherwise 0 or a
+  // normal T. A positive weight too small to move
+  // its CDF value (w_i / total below half an ulp of cdf[i + 1], e.g. 1e-30 beside 2; or a weight
+  // below the smallest normal T; or a prefix sum below discrete_cdf_min_value of the total) gets a
+  // bin of width 0: pmf 0, and sample() never returns it.
   T pmf(std::size_t i) const noexcept { return i < n_ ? cdf_[i + 1] - cdf_[i] : T(0); }
 
   // Inverse transform with the guide table. u NaN or < 0 is taken as 0, u >= 1 as the largest
@@ -657,7 +850,10 @@ private:
     const double md = double(m_);
     T* c = cdf_.data();
     std::uint32_t* g = guide_.data();
+    // A value below discrete_cdf_min_value is stored as 0 (weights.hpp): every pmf is then 0 or
+    // normal. The test is monotone in the value, so the CDF stays non-decreasing.
     auto store = [&](std::size_t i, T ci) {
+      ci = ci >= discrete_cdf_min_value<T>() ? ci : T(0);
       c[i + 1] = ci;
       ++g[detail::ceil_to_size(double(ci) * md)];
     };
@@ -715,9 +911,13 @@ private:
 //   has threshold exactly 0 (f < 0 never holds) and an alias whose weight is > 0, so it is never
 //   returned, whatever u is. A full bucket has threshold 1 (f < 1 always holds).
 //   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket. A positive
-//   weight whose pmf rounds to 0 in T (w_i / total below 2^-150 for float) is built like a
-//   zero weight: threshold 0, never returned (its threshold n w_i / total could survive as a
-//   denormal and hand out index i with pmf 0, an infinite 1 / pmf). discrete_cdf drops it too.
+//   weight whose pmf is below the smallest normal T (w_i / total < 2^-126 for float, or a weight
+//   that is itself below it) is built like a zero weight: threshold 0, never returned (its
+//   threshold n w_i / total could survive as a denormal and hand out index i with pmf 0, an
+//   infinite 1 / pmf, or read as 0 on a GPU). discrete_cdf drops it too. Every threshold and
+//   pmf is 0 or a normal T (the normal-range contract of weights.hpp): a threshold below the
+//   smallest normal T is stored as 0, which moves less than min() / n of probability to the
+//   bucket's alias.
 // An empty table (all weights 0, or n = 0) stores n bins {0, 0, 0}.
 
 #include <cstddef>
@@ -858,9 +1058,10 @@ private:
     std::size_t small_end = 0, large_begin = n;
     std::uint32_t any_positive = 0;  // an index with pmf > 0 (the largest weight has pmf >= 1/n)
     for (std::size_t i = 0; i < n; ++i) {
-      const double p = divide ? double(w[i]) / total : double(w[i]) * inv;
-      bins_[i].pmf = T(p);
-      q[i] = p * dn;
+      const double p = divide ? double(detail::weight_value(w[i])) / total
+                              : double(detail::weight_value(w[i])) * inv;
+      bins_[i].pmf = flush_denormal(T(p));
+      q[i] = bins_[i].pmf > T(0) ? p * dn : 0.0;
       const bool is_small = q[i] < 1.0;
       work[small_end] = std::uint32_t(i);
       work[large_begin - 1] = std::uint32_t(i);
@@ -872,12 +1073,13 @@ private:
     // small list when it falls below 1. The excess is (q_l - 1) + q_s, exact while q_l <= 2
     // (Sterbenz), rather than (q_l + q_s) - 1. Only indices with q >= 1 (so pmf >= 1/n) ever
     // become aliases; a zero weight keeps threshold exactly q = 0, and so does an index whose pmf
-    // rounded to 0 (its q, below n 2^-150, gives its alias an extra probability below 2^-150).
+    // was flushed (its q was set to 0 above: its alias gains nothing, the leftovers absorb the
+    // missing q below n 2^-126).
     std::size_t small_begin = 0;
     while (small_begin < small_end && large_begin < n) {
       const std::uint32_t s = work[small_begin++];
       const std::uint32_t l = work[large_begin];
-      bins_[s].threshold = bins_[s].pmf > T(0) ? T(q[s]) : T(0);
+      bins_[s].threshold = bins_[s].pmf > T(0) ? flush_denormal(T(q[s])) : T(0);
       bins_[s].alias = l;
       q[l] = (q[l] - 1.0) + q[s];
       const bool demote = q[l] < 1.0;
@@ -931,8 +1133,9 @@ private:
 namespace vplkit {
 
 // The mixture's pmf from its parts; sample() and pmf() both use it, so they agree bit for bit.
-// A term that underflows to 0 while both its factors are > 0 becomes the smallest positive T
-// (see detail::probability_product): an index the mixture can return never reports pmf 0.
+// A term below the smallest normal T while both its factors are > 0 becomes that value (see
+// detail::probability_product): an index the mixture can return never reports pmf 0. Both terms
+// are 0 or normal, so is their sum: the same bits on every device.
 template <class T>
 inline T defensive_mixture_pmf(T eps, T p_learned, T p_fallback) noexcept {
   return detail::probability_product(T(1) - eps, p_learned) +
@@ -961,8 +1164,10 @@ public:
                           std::to_string(learned_.size()) + " entries, fallback has " +
                           std::to_string(fallback_.size()));
     }
+    // An eps below the smallest normal T counts as 0 (the normal-range contract of weights.hpp:
+    // a GPU may read the uploaded value as 0).
     effective_eps_ = learned_.empty() ? (fallback_.empty() ? T(0) : T(1))
-                                      : (fallback_.empty() ? T(0) : eps_);
+                                      : (fallback_.empty() ? T(0) : flush_denormal(eps_));
     fallback_scale_ = detail::reciprocal_or_zero(effective_eps_);
     learned_scale_ = detail::reciprocal_or_zero(T(1) - effective_eps_);
   }
@@ -1051,11 +1256,13 @@ struct face_sample {
   T pmf;              // probability of (face, index); 0 when the roulette is empty
 };
 
-// b_F from the two face totals, in double; 0 when both are 0 (the caller checks emptiness).
+// b_F from the two face totals, in double; 0 when both are 0 (the caller checks emptiness), and
+// 0 when it is below the smallest normal T (the front face's share then counts as 0: the
+// normal-range contract of weights.hpp).
 template <class T>
 inline T face_roulette_front_probability(T v_front, T v_back) noexcept {
   const double sum = double(v_front) + double(v_back);
-  return sum > 0.0 ? T(double(v_front) / sum) : T(0);
+  return sum > 0.0 ? flush_denormal(T(double(v_front) / sum)) : T(0);
 }
 
 template <class T>
@@ -1074,7 +1281,7 @@ public:
     // past FLT_MAX): then from the double sums, which keep the ratio the rounding lost.
     const bool overflowed = front_.total() > std::numeric_limits<T>::max() ||
                             back_.total() > std::numeric_limits<T>::max();
-    b_front_ = overflowed ? T(front_.sum() / (front_.sum() + back_.sum()))
+    b_front_ = overflowed ? flush_denormal(T(front_.sum() / (front_.sum() + back_.sum())))
                           : face_roulette_front_probability(front_.total(), back_.total());
     b_back_ = empty() ? T(0) : T(1) - b_front_;
     front_scale_ = detail::reciprocal_or_zero(b_front_);
@@ -1094,8 +1301,8 @@ public:
   const discrete_cdf<T>& face(int f) const noexcept { return f == front_face ? front_ : back_; }
 
   // b_face * pmf within the face; 0 for a face other than 0 / 1 or an index out of range. A
-  // product that underflows to 0 becomes the smallest positive T (see
-  // detail::probability_product): a (face, index) the roulette can return never has pmf 0.
+  // product below the smallest normal T becomes that value (see detail::probability_product): a
+  // (face, index) the roulette can return never has pmf 0, on any device.
   T pmf(int face, std::size_t index) const noexcept {
     if (face == front_face) return detail::probability_product(b_front_, front_.pmf(index));
     if (face == back_face) return detail::probability_product(b_back_, back_.pmf(index));
@@ -1184,8 +1391,10 @@ private:
 // keeps item i with probability w_i / sum w, independently of the others (the pairs are checked
 // against the product distribution).
 //
-// Weights that are negative, NaN or infinite, and a weight that would carry the sum past the
-// largest finite T, are ignored (as weight 0: the reservoir and its sum are unchanged), so the
+// Weights that are negative, NaN, infinite or below the smallest normal T (the normal-range
+// contract of docs/math.md, "GPU arithmetic model": a GPU may read a denormal weight as 0, so it
+// counts as 0 everywhere), and a weight that would carry the sum past the largest finite T, are
+// ignored (as weight 0: the reservoir and its sum are unchanged), so the
 // sum and every probability stay finite. The decision multiplies (u * S < w) instead of dividing:
 // IEEE and GLSL 4.x round a product correctly, so the GPU mirror
 // (glsl/vplkit/distribution/weighted_reservoir.glsl) decides alike on the same bits.
@@ -1205,10 +1414,11 @@ struct weighted_reservoir {
   T weight = T(0);                        // the kept item's weight (0 while empty)
 };
 
-// True for a weight the reservoir takes into account: finite and > 0 (0 is valid but never kept).
+// True for a weight the reservoir takes into account: finite and at least the smallest normal T
+// (0 and denormals are valid but never kept).
 template <class T>
 inline bool reservoir_weight_usable(T w) noexcept {
-  return w > T(0) && w <= std::numeric_limits<T>::max();  // NaN fails both
+  return w >= std::numeric_limits<T>::min() && w <= std::numeric_limits<T>::max();  // NaN fails both
 }
 
 template <class T>
@@ -1272,7 +1482,7 @@ template <class T>
 inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
   const T r2 = glm::dot(uv, uv);
   if (r2 > T(1)) {
-    const T k = (T(1) / std::sqrt(r2)) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
+    const T k = detail::inversesqrt_of(r2) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
     uv = uv * k;
   }
   return uv;
@@ -1283,12 +1493,16 @@ inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
 // The denominator is 1 + |d.z| >= 1 on whichever face d falls: the map never divides by the
 // cancelling 1 - |d.z| of the opposite face, so the back pole (0,0,-1) is as accurate as the
 // front one. Rim directions give r2 <= 1 exactly (paraboloid_clamp_to_disk).
+// The face is decided on d.z itself (below the smallest normal T it counts as 0, i.e. front), not
+// on the normalised z: a tiny negative z can normalise to a denormal, which a GPU flushes and a
+// CPU may keep, and the decision must not depend on that (docs/math.md, "GPU arithmetic model").
 template <class T>
 inline paraboloid_point<T> paraboloid_from_direction(vec3<T> d) {
   const vec3<T> n = unit_or_zero(d);
   paraboloid_point<T> p;
-  p.face = (n.z >= T(0)) ? paraboloid_front : paraboloid_back;
-  const T denom = T(1) + std::abs(n.z);
+  const bool has_direction = n.x != T(0) || n.y != T(0) || n.z != T(0);
+  p.face = (has_direction && flush_denormal(d.z) < T(0)) ? paraboloid_back : paraboloid_front;
+  const T denom = T(1) + detail::abs_of(n.z);
   p.uv = paraboloid_clamp_to_disk(vec2<T>(n.x, n.y) / denom);
   return p;
 }
@@ -1627,8 +1841,8 @@ template <class T> inline T rng_next_unit(counter_rng& r) { return T(rng_next_fl
 // by 1 + n.z there). Deviation from the paper: s comes from `n.z >= 0` rather than copysign, so
 // n.z = -0.0 takes s = +1; both are exact, and GLSL has no copysign, so CPU and GPU agree.
 //
-// The input is normalised first, after dividing by its largest component magnitude: that keeps
-// the squared length in [1, 3], so denormal or huge components neither underflow nor overflow.
+// The input is normalised first by unit_or_zero (an exact power-of-two scaling, so tiny or huge
+// components neither underflow nor overflow; components below the smallest normal T count as 0).
 // A zero or non-finite input has no direction; it gets the canonical frame (x, y, z) rather than
 // NaN (documented fallback, no exception: this runs per sample).
 
@@ -1643,26 +1857,23 @@ template <class T> struct orthonormal_basis {
   vec3<T> n;  // normal (unit)
 };
 
-// Unit vector along n; (0,0,1) when n is zero, NaN or infinite.
+// Unit vector along n; (0,0,1) when n is zero, NaN or infinite, or has no component of at least
+// the smallest normal T (unit_or_zero: the normal-range contract, docs/math.md, "GPU arithmetic model").
 template <class T> inline vec3<T> onb_normalize(vec3<T> n) {
-  const T big = std::numeric_limits<T>::max();
-  const T ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
-  // Written as `<= big` so NaN fails the test too.
-  if (!(ax <= big && ay <= big && az <= big)) return vec3<T>(T(0), T(0), T(1));
-  const T m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
-  if (!(m > T(0))) return vec3<T>(T(0), T(0), T(1));
-  const vec3<T> s = n / m;  // largest component is exactly +-1
-  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
+  const vec3<T> u = unit_or_zero(n);
+  return (u.x == T(0) && u.y == T(0) && u.z == T(0)) ? vec3<T>(T(0), T(0), T(1)) : u;
 }
 
+// The products that can fall below the smallest normal T are flushed (a GPU may flush them), so
+// the frame is the same with and without denormals.
 template <class T> inline orthonormal_basis<T> make_orthonormal_basis(vec3<T> normal) {
   const vec3<T> n = onb_normalize(normal);
   const T s = n.z >= T(0) ? T(1) : T(-1);
   const T a = T(-1) / (s + n.z);
-  const T c = n.x * n.y * a;
+  const T c = flush_denormal(n.x * n.y * a);
   orthonormal_basis<T> f;
-  f.t = vec3<T>(T(1) + s * n.x * n.x * a, s * c, -s * n.x);
-  f.b = vec3<T>(c, s + n.y * n.y * a, -n.y);
+  f.t = vec3<T>(T(1) + flush_denormal(s * n.x * n.x * a), s * c, -s * n.x);
+  f.b = vec3<T>(c, s + flush_denormal(n.y * n.y * a), -n.y);
   f.n = n;
   return f;
 }
@@ -1694,6 +1905,7 @@ template <class T> inline vec3<T> to_local(const orthonormal_basis<T>& f, vec3<T
 // r is signed (phi covers only [-pi/4, 3pi/4]; the sign of r supplies the other half turn).
 
 #include <cmath>
+#include <limits>
 
 namespace vplkit {
 
@@ -1737,7 +1949,9 @@ template <class T> inline vec3<T> sample_cosine_hemisphere(vec2<T> u) {
 // Solid-angle density of sample_cosine_hemisphere; 0 below the horizon (and for NaN).
 template <class T> inline T cosine_hemisphere_pdf(T cos_theta) {
   const T inv_pi = T(0.318309886183790671537767526745028724);
-  return cos_theta > T(0) ? cos_theta * inv_pi : T(0);
+  // A cosine, or a density, below the smallest normal T is 0 (docs/math.md, "GPU arithmetic
+  // model": the same on a GPU that flushes denormals).
+  return cos_theta >= std::numeric_limits<T>::min() ? flush_denormal(cos_theta * inv_pi) : T(0);
 }
 
 }  // namespace vplkit
@@ -3912,63 +4126,89 @@ struct bvh_tracer {
 // - an infinite pdf (a delta, or a VPL patch seen edge-on) outweighs every finite one (weight 1
 //   against finite, 0 for the finite side); two infinite pdfs are weighed as equal densities, by
 //   their counts: balance n1/(n1+n2), power n1^2/(n1^2+n2^2) (the limit p1 = p2 -> inf);
-// - the terms are rescaled by the larger pdf and then by the larger term before anything is
-//   multiplied or squared, so denormal pdfs (whose squares would flush to 0) and huge ones
-//   (1e38, whose sums or squares would overflow) give the same weights as moderate ones.
+// - counts and pdfs below the smallest normal T count as 0 (the normal-range contract,
+//   docs/math.md "GPU arithmetic model": a GPU may flush them on input);
+// - each count and pdf is split into a mantissa in [1, 2) and a power of two, and the terms are
+//   scaled by exact powers of two so that the larger lies in [1, 4) before anything is added,
+//   squared or divided: tiny pdfs (whose squares would underflow) and huge ones (1e38, whose sums
+//   or squares would overflow) give the same weights as moderate ones, and every division has a
+//   divisor in [1, 32), where GLSL guarantees 2.5 ulp (a GPU may divide as a * (1 / b), whose
+//   1 / b is a denormal for b > 2^126). A term below 2^-126 of the other is 0 (flushed, on every
+//   device).
 // Consequently heuristic(n1,p1,n2,p2) + heuristic(n2,p2,n1,p1) = 1 to within 2 ulps whenever at
 // least one strategy has n > 0 and p > 0 (finite or not), and 0 when neither has.
+
 #include <limits>
 
 namespace vplkit {
 
-// Finite and positive -> n, anything else (0, negative, NaN, inf) -> 0.
-template <class T> inline T mis_clean_count(T n) {
-  return (n > T(0) && n <= std::numeric_limits<T>::max()) ? n : T(0);
+// Finite and at least the smallest normal T -> n, anything else (0, denormal, negative, NaN, inf)
+// -> 0.
+template <class T>
+inline T mis_clean_count(T n) {
+  return (n >= std::numeric_limits<T>::min() && n <= std::numeric_limits<T>::max()) ? n : T(0);
 }
 
-// Positive (+inf included) -> p; 0, negative, NaN -> 0.
-template <class T> inline T mis_clean_pdf(T p) { return p > T(0) ? p : T(0); }
+// At least the smallest normal T (+inf included) -> p; 0, denormal, negative, NaN -> 0.
+template <class T>
+inline T mis_clean_pdf(T p) {
+  return p >= std::numeric_limits<T>::min() ? p : T(0);
+}
 
-// The two MIS terms n1 p1 and n2 p2 scaled by one common positive factor so that the larger is
-// exactly 1, or (0, 0) when both vanish. Infinite pdfs replace the finite ones: the terms become
-// the counts of the infinite strategies.
-template <class T> struct mis_terms {
+// n * p = mantissa * 2^exponent with mantissa in [1, 4), for a cleaned count and a finite pdf;
+// {0, 0} when either is 0. Exact products of mantissas: no over- or underflow whatever n and p.
+template <class T>
+inline binary_split<T> mis_term(T n, T p) {
+  if (!(n > T(0)) || !(p > T(0))) return {T(0), 0};
+  const binary_split<T> sn = split_binary(n), sp = split_binary(p);
+  return {sn.mantissa * sp.mantissa, sn.exponent + sp.exponent};
+}
+
+// The two MIS terms n1 p1 and n2 p2 scaled by one common power of two so that the larger lies in
+// [1, 4) (the other in [0, 4), 0 when it is below 2^-126 of the larger), or (0, 0) when both
+// vanish. Infinite pdfs replace the finite ones: the terms become the counts of the infinite
+// strategies, scaled likewise (the larger in [1, 2)).
+template <class T>
+struct mis_terms {
   T a;  // ~ n1 p1
   T b;  // ~ n2 p2
 };
 
-template <class T> inline mis_terms<T> mis_scaled_terms(T n1, T p1, T n2, T p2) {
+template <class T>
+inline mis_terms<T> mis_scaled_terms(T n1, T p1, T n2, T p2) {
   const T inf = std::numeric_limits<T>::infinity();
   n1 = mis_clean_count(n1);
   n2 = mis_clean_count(n2);
   p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
   p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
-  mis_terms<T> r{T(0), T(0)};
   if (p1 == inf || p2 == inf) {
-    r.a = p1 == inf ? n1 : T(0);
-    r.b = p2 == inf ? n2 : T(0);
-  } else {
-    const T m = p1 > p2 ? p1 : p2;
-    if (!(m > T(0))) return r;
-    r.a = n1 * (p1 / m);  // p/m in [0, 1]: no overflow; a denormal pdf is lifted, not squared
-    r.b = n2 * (p2 / m);
+    const T a = p1 == inf ? n1 : T(0);
+    const T b = p2 == inf ? n2 : T(0);
+    const int k = -binary_exponent(a > b ? a : b);  // the larger count is > 0 here
+    return {scale_by_exp2(a, k), scale_by_exp2(b, k)};
   }
-  const T s = r.a > r.b ? r.a : r.b;  // > 0 here: the larger pdf's strategy has n > 0
-  r.a = r.a / s;
-  r.b = r.b / s;
-  return r;
+  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
+  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return {T(0), T(0)};
+  const int e = !(tb.mantissa > T(0))                       ? ta.exponent
+                : !(ta.mantissa > T(0))                     ? tb.exponent
+                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
+  return {scale_by_exp2(ta.mantissa, ta.exponent - e), scale_by_exp2(tb.mantissa, tb.exponent - e)};
 }
 
-template <class T> inline T balance_heuristic(T n1, T p1, T n2, T p2) {
+template <class T>
+inline T balance_heuristic(T n1, T p1, T n2, T p2) {
   const mis_terms<T> t = mis_scaled_terms(n1, p1, n2, p2);
-  const T d = t.a + t.b;  // 0 or in [1, 2]
+  const T d = t.a + t.b;  // 0 or in [1, 8)
   return d > T(0) ? t.a / d : T(0);
 }
 
-template <class T> inline T power_heuristic(T n1, T p1, T n2, T p2) {
+template <class T>
+inline T power_heuristic(T n1, T p1, T n2, T p2) {
   const mis_terms<T> t = mis_scaled_terms(n1, p1, n2, p2);
-  const T a2 = t.a * t.a, b2 = t.b * t.b;  // squares of numbers in [0, 1]: underflow only to a
-  const T d = a2 + b2;                     // value that cannot matter next to the other's 1
+  // Squares of numbers in [0, 4): the larger's is in [1, 16), the other's is 0 where it falls
+  // below the smallest normal T (a value that cannot matter next to the other's >= 1).
+  const T a2 = flush_denormal(t.a * t.a), b2 = flush_denormal(t.b * t.b);
+  const T d = a2 + b2;  // 0 or in [1, 32)
   return d > T(0) ? a2 / d : T(0);
 }
 
@@ -3976,8 +4216,12 @@ template <class T> inline T power_heuristic(T n1, T p1, T n2, T p2) {
 // 0 when the denominator is 0 (no strategy produces the point) or infinite (a delta pdf: the
 // finite f of a continuous sample has measure zero next to it), and 0 when f is not finite or the
 // quotient overflows — a guard against poisoning an image, reached only for samples of negligible
-// probability. f may be negative.
-template <class T> inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
+// probability. f may be negative (and counts as 0 below the smallest normal T). The denominator is
+// d * 2^e with d in [1, 8) (mis_scaled_terms): one division of f's mantissa by d, then an exact
+// power-of-two scaling, so an intermediate over- or underflows only when the result itself does;
+// a result below the smallest normal T is 0.
+template <class T>
+inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
   const T inf = std::numeric_limits<T>::infinity();
   const T big = std::numeric_limits<T>::max();
   n1 = mis_clean_count(n1);
@@ -3985,14 +4229,21 @@ template <class T> inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
   p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
   p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
   if (p1 == inf || p2 == inf) return T(0);
-  const T m = p1 > p2 ? p1 : p2;
-  if (!(m > T(0))) return T(0);
-  // Denominator = m * d with d in [n of the larger pdf, n1 + n2] (d >= 1 for whole sample
-  // counts). Divide first by whichever factor moves f towards the result: by m first when m < 1
-  // (f/m grows, then shrinks by d), by d first otherwise, so an intermediate over- or underflows
-  // only when the result itself does (a denormal f and m then give f/m = 1, not 0).
-  const T d = n1 * (p1 / m) + n2 * (p2 / m);
-  const T r = m < T(1) ? (f / m) / d : (f / d) / m;
+  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
+  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return T(0);
+  const int e = !(tb.mantissa > T(0))   ? ta.exponent
+                : !(ta.mantissa > T(0)) ? tb.exponent
+                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
+  const T d = scale_by_exp2(ta.mantissa, ta.exponent - e) + scale_by_exp2(tb.mantissa, tb.exponent - e);
+  // f as a mantissa in [1, 2) and a power of two too (an f below the smallest normal T is 0): the
+  // quotient of the mantissas lies in (1/8, 2], so no denormal quotient loses bits before the
+  // exact scaling. NaN and infinite f pass through to the guard below.
+  f = flush_denormal(f);
+  if (f == T(0)) return T(0);
+  const T af = f < T(0) ? -f : f;
+  const binary_split<T> sf = split_binary(af);
+  const T q = scale_by_exp2(sf.mantissa / d, sf.exponent - e);
+  const T r = f < T(0) ? -q : q;
   const T ar = r < T(0) ? -r : r;
   return ar <= big ? r : T(0);
 }
@@ -4024,7 +4275,8 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 
 // Solid-angle density at x with which VPL sampling produces the direction towards a point of
 // texel t's patch. Never NaN:
-// - pmf <= 0: the texel is never drawn -> 0.
+// - pmf <= 0: the texel is never drawn -> 0. A pmf, cosine, distance or area below the smallest
+//   normal T counts as 0 (the normal-range contract, docs/math.md "GPU arithmetic model").
 // - cos_theta1 <= 0: x is behind the patch. VPL emission is one-sided (L_t has the factor
 //   max(cos theta1, 0)), so neither strategy gets a non-zero value there and no weight is ever
 //   applied to one; we return 0, the density of *contributing* VPL samples in that direction.
@@ -4036,14 +4288,20 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 //   cos_theta1 infinite (not a cosine) -> 0.
 template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
   const T inf = std::numeric_limits<T>::infinity();
-  if (!(pmf > T(0)) || !(cos_theta1 > T(0)) || !(d2_squared > T(0))) return T(0);
-  // cos_theta1 = inf is no cosine; without this line an overflowing q gives inf / inf = NaN.
+  constexpr T lo = std::numeric_limits<T>::min();
+  if (!(pmf >= lo) || !(cos_theta1 >= lo) || !(d2_squared >= lo)) return T(0);
+  // cos_theta1 = inf is no cosine.
   if (!(patch_area >= T(0)) || patch_area == inf || cos_theta1 == inf) return T(0);
+  patch_area = flush_denormal(patch_area);
   if (patch_area == T(0) || d2_squared == inf || pmf == inf) return inf;
-  // pmf <= 1 <= 1/cos: the product only over- or underflows when the true density is itself
-  // beyond the range of T. q in [0, inf], pmf finite > 0: no 0 * inf.
-  const T q = d2_squared / patch_area;
-  return pmf * (q / cos_theta1);
+  // The mantissas' quotient (numerator and divisor in [1, 4), where GLSL promises 2.5 ulp: a GPU
+  // divides 1e38 / 1e38 through a denormal reciprocal), then the exact power of two: the result
+  // overflows to +inf, or is 0 below the smallest normal T, exactly where the true density leaves
+  // the range of T, on every device.
+  const binary_split<T> sp = split_binary(pmf), sd = split_binary(d2_squared),
+                        sa = split_binary(patch_area), sc = split_binary(cos_theta1);
+  const T q = (sp.mantissa * sd.mantissa) / (sa.mantissa * sc.mantissa);
+  return scale_by_exp2(q, sp.exponent + sd.exponent - sa.exponent - sc.exponent);
 }
 
 // ---- the paper's mixed-measure forms (as published) -------------------------------------------
@@ -4071,7 +4329,8 @@ template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_are
 
 template <class T> inline T cosine_pdf_as_published(T cos_theta, T sin_theta) {
   const T inv_pi = T(0.318309886183790671537767526745028724);
-  return (cos_theta > T(0) && sin_theta > T(0)) ? cos_theta * sin_theta * inv_pi : T(0);
+  constexpr T lo = std::numeric_limits<T>::min();
+  return (cos_theta >= lo && sin_theta >= lo) ? flush_denormal(cos_theta * sin_theta * inv_pi) : T(0);
 }
 
 template <class T> struct mis_weight_pair {
@@ -4253,13 +4512,15 @@ inline void median_fill_dprsm(const T* in, T* out, int R) {
 
 // vpl: VPL flux and contribution, luminance, DPRSM view and lookup, patch-sampled VPLs, direct light
 // ---- begin vplkit/vpl/luminance.hpp ----
-// Scalar weight of an RGB quantity (paper eq. 6; ITU-R BT.601 luma weights).
+// Scalar weight of an RGB quantity (paper eq. 6; ITU-R BT.601 luma weights). A result below the
+// smallest normal T is 0 (the normal-range contract, docs/math.md "GPU arithmetic model"); a GPU
+// that flushes the denormal products of tiny channels may return up to 3 FLT_MIN less.
 
 namespace vplkit {
 
 template <class T>
 inline T luminance(vec3<T> rgb) {
-  return T(0.299) * rgb.x + T(0.587) * rgb.y + T(0.114) * rgb.z;
+  return flush_denormal(T(0.299) * rgb.x + T(0.587) * rgb.y + T(0.114) * rgb.z);
 }
 
 }  // namespace vplkit
@@ -4279,6 +4540,9 @@ inline T luminance(vec3<T> rgb) {
 //  - Squared distances are raised to at least vpl_distance_sq_floor = sqrt(smallest normal)
 //    (2^-63 in float, 2^-511 in double), so 1 / (pi d^2) <= 2.9e18 in float: the result is
 //    finite whenever |flux| * albedo (resp. |I| * albedo) stays below ~1e19 (float).
+//  - The normal-range contract (docs/math.md, "GPU arithmetic model"): a result, cosine or
+//    flux below the smallest normal T is 0, as a GPU that flushes denormals computes it, so a
+//    flux, a zero/non-zero decision or a patch area is the same on every device.
 
 #include <cmath>
 #include <limits>
@@ -4294,9 +4558,11 @@ struct vpl {
 
 // A texel carries a VPL where its flux is positive in some channel (albedo and intensity are
 // >= 0, so no channel is negative): the one test every builder uses.
+// A flux below the smallest normal T counts as none (a GPU may read it as 0).
 template <class T>
 inline bool vpl_has_flux(const vpl<T>& v) {
-  return v.flux.x > T(0) || v.flux.y > T(0) || v.flux.z > T(0);
+  constexpr T lo = std::numeric_limits<T>::min();
+  return v.flux.x >= lo || v.flux.y >= lo || v.flux.z >= lo;
 }
 
 template <class T>
@@ -4307,12 +4573,13 @@ inline constexpr T vpl_pi = T(3.14159265358979323846);
 // cos(alpha) / d1^2 (docs/math.md section 2; the paper's eq. 1-3 omit Omega_t).
 template <class T>
 inline vec3<T> vpl_flux(vec3<T> albedo, vec3<T> intensity, T solid_angle) {
-  return albedo * intensity * solid_angle;
+  return flush_denormal(albedo * intensity * solid_angle);
 }
 
 template <class T>
 inline T vpl_distance_sq_floor() {
-  return std::sqrt(std::numeric_limits<T>::min());  // exact: min() is an even power of 2
+  // sqrt(min()) exactly: min() = 2^(min_exponent - 1) is an even power of 2 (2^-63 for float).
+  return exp2i<T>((std::numeric_limits<T>::min_exponent - 1) / 2);
 }
 
 // |a - b|_inf below this means "same point". Scale-relative on purpose: coordinates of size s
@@ -4339,13 +4606,15 @@ inline T vpl_geometry_term(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y, T dmi
   if (vpl_points_coincide(x, y)) return T(0);
   const vec3<T> w = y - x;
   const vec3<T> wd = unit_or_zero(w);  // x -> y
-  const T cos2 = glm::max(T(0), glm::dot(unit_or_zero(n_x), wd));
-  const T cos1 = glm::max(T(0), -glm::dot(unit_or_zero(n_y), wd));
+  const T cos2 = glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_x), wd)));
+  const T cos1 = glm::max(T(0), flush_denormal(-glm::dot(unit_or_zero(n_y), wd)));
   // Early out also catches NaN coordinates: unit_or_zero maps them to 0, so the cosines are 0
   // and d2sq (possibly NaN) is never divided into.
-  if (!(cos1 * cos2 > T(0))) return T(0);
+  const T cos12 = flush_denormal(cos1 * cos2);
+  if (!(cos12 > T(0))) return T(0);
   const T d2sq = glm::max(glm::max(glm::dot(w, w), dmin * dmin), vpl_distance_sq_floor<T>());
-  return cos1 * cos2 / (vpl_pi<T> * d2sq);  // d2sq = Inf (huge separation) gives 0
+  // d2sq = Inf (huge separation) gives 0, and so does any d2sq that leaves a denormal.
+  return flush_denormal(cos12 / (vpl_pi<T> * d2sq));
 }
 
 // L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area
@@ -4354,7 +4623,7 @@ template <class T>
 inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl<T>& v, T dmin) {
   const T g = vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
   const T brdf_scale = T(1) / vpl_pi<T>;  // diffuse BRDF rho_x / pi
-  return rho_x * brdf_scale * v.flux * g;
+  return flush_denormal(rho_x * brdf_scale * v.flux * g);
 }
 
 // L_t at a gather point with two normals: theta2 against the shading normal, and 0 where y_t lies
@@ -4375,18 +4644,22 @@ inline constexpr T vpl_min_cos_alpha = T(1e-6);
 template <class T>
 inline T vpl_cos_alpha(vec3<T> light_pos, vec3<T> y, vec3<T> n_y) {
   if (vpl_points_coincide(light_pos, y)) return T(0);
-  return glm::max(T(0), glm::dot(unit_or_zero(n_y), unit_or_zero(light_pos - y)));
+  return glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_y), unit_or_zero(light_pos - y))));
 }
 
 // Area of the surface patch seen through a texel: A_t = Omega_t d1^2 / cos(alpha), with
 // cos(alpha) raised to vpl_min_cos_alpha (also when it is <= 0 or NaN). Needed to turn the VPL pmf
 // into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md
 // section 5).
+// Evaluated as ((Omega_t / c) d1) d1: an intermediate under- or overflows only where the result
+// does (Omega_t / c >= Omega_t; d1 < 1 shrinks, d1 > 1 grows monotonically towards the result),
+// and a result below the smallest normal T is 0: the same area, 0 included, on a GPU that flushes
+// denormal intermediates (vpl_pdf_solid_angle turns a zero area into an infinite density).
 template <class T>
 inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
   // written so that a NaN cos_alpha also takes the floor
   const T c = (cos_alpha > vpl_min_cos_alpha<T>) ? cos_alpha : vpl_min_cos_alpha<T>;
-  return solid_angle * d1 * d1 / c;
+  return flush_denormal(((flush_denormal(solid_angle) / c) * d1) * d1);
 }
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
@@ -4399,10 +4672,10 @@ inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> 
                                   vec3<T> rho_y) {
   if (vpl_points_coincide(light_pos, y)) return vec3<T>(T(0));
   const vec3<T> w = light_pos - y;
-  const T cos_a = glm::max(T(0), glm::dot(unit_or_zero(n_y), unit_or_zero(w)));
+  const T cos_a = glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_y), unit_or_zero(w))));
   if (!(cos_a > T(0))) return vec3<T>(T(0));  // back-facing, zero normal or NaN coordinates
   const T d1sq = glm::max(glm::dot(w, w), vpl_distance_sq_floor<T>());
-  return rho_y * intensity * (cos_a / (vpl_pi<T> * d1sq));
+  return flush_denormal(rho_y * intensity * flush_denormal(cos_a / (vpl_pi<T> * d1sq)));
 }
 
 }  // namespace vplkit
@@ -5842,6 +6115,16 @@ inline vec3<T> estimator_finite_or_zero(vec3<T> v) {
   return ok ? v : vec3<T>(T(0));
 }
 
+// A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number
+// (p >= FLT_MIN). The library's distributions never return a pmf in (0, FLT_MIN) (their stored
+// values are >= 2^-103 apart, docs/api/distribution.md); for a user's distribution this is the
+// normal-range contract of docs/math.md, "GPU arithmetic model": a denormal pmf is 0 on a GPU that flushes
+// and in C++ under DAZ, so it counts as 0 everywhere, and the draw adds 0.
+template <class T>
+inline T estimator_pmf(T p) {
+  return (p >= std::numeric_limits<T>::min() && p <= std::numeric_limits<T>::max()) ? p : T(0);
+}
+
 // L_t(x) V(x, y_t) for texel t: 0 for an index outside the view, a texel without flux, or a
 // back-facing pair; visibility is queried only when the unoccluded contribution is non-zero (so a
 // ray is spent only where it can matter). The per-sample term of every VPL-sampling estimator.
@@ -5999,7 +6282,7 @@ inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T
                                    const Distribution& distribution, T u, const Visibility& visibility,
                                    T dmin) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
   // A denormal pmf can overflow the quotient: such a draw has negligible probability, and an
@@ -6013,7 +6296,7 @@ inline vec3<T> vpl_sampling_patch_sample(const gather_point<T>& gp, const dprsm_
                                          const Distribution& distribution, T u, vec2<T> xi,
                                          const Visibility& visibility, T dmin, T depth_tolerance) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const vec3<T> c = vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance);
   return estimator_finite_or_zero(c / pmf);
@@ -6105,7 +6388,7 @@ enum class local_combination { balance, average };
 template <class T, class Distribution>
 inline T local_mixture_pmf_sum(const Distribution* distributions, int n_distributions, std::size_t t) {
   T s = T(0);
-  for (int j = 0; j < n_distributions; ++j) s += T(distributions[j].pmf(t));
+  for (int j = 0; j < n_distributions; ++j) s += estimator_pmf(T(distributions[j].pmf(t)));
   return s;
 }
 
@@ -6127,7 +6410,7 @@ inline void estimate_local_range(const gather_point<T>& gp, const dprsm_view<T>&
         xi.x = rng_next_unit<T>(state.rng);
         xi.y = rng_next_unit<T>(state.rng);
       }
-      const T pmf_i = T(s.pmf);
+      const T pmf_i = estimator_pmf(T(s.pmf));
       if (!(pmf_i > T(0)) || s.index >= n_texels) continue;
       const vec3<T> c =
           mode == vpl_mode::patch
@@ -6428,7 +6711,7 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
-  const T pmf = T(distribution.pmf(std::size_t(r.texel)));
+  const T pmf = estimator_pmf(T(distribution.pmf(std::size_t(r.texel))));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
     // Hits in front of the surface their texel saw (another surface: the VPL strategy's points lie
@@ -6484,7 +6767,7 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
                               const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
                               mis_mode mode) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   return mis_vpl_value(gp, view, t, view.vpl_at(t), pmf, mis_texel_patch_area(view, t), visibility, n1, n2,
@@ -6499,7 +6782,7 @@ inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<
                                     const Distribution& distribution, T u, vec2<T> xi, const Visibility& visibility,
                                     T n1, T n2, mis_mode mode, T depth_tolerance) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);
@@ -6697,7 +6980,7 @@ inline T ris_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, con
     s.xi.y = rng_next_unit<T>(rng);
   }
   const auto d = distribution.sample(u);
-  const T pmf = T(d.pmf);
+  const T pmf = estimator_pmf(T(d.pmf));  // a denormal pmf counts as 0 (vpl_sum.hpp)
   if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
   s.texel = int(d.index);
   target = ris_target(gp, ris_sample_vpl(view, s, mode, depth_tolerance), dmin);

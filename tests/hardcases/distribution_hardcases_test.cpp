@@ -7,6 +7,7 @@
 #include <vplkit/distribution/face_roulette.hpp>
 
 #include <distribution_checks.hpp>
+#include <fp_mode.hpp>
 #include <special_values.hpp>
 
 #include <catch2/catch.hpp>
@@ -56,8 +57,8 @@ void require_cdf_sampling_consistent(const vplkit::discrete_cdf<T>& d) {
 template <class T>
 void require_alias_sample_valid(const vplkit::alias_table<T>& a, const std::vector<T>& w,
                                 const vplkit::discrete_sample<T>& s) {
-  REQUIRE(w[s.index] > T(0));
-  REQUIRE(s.pmf > T(0));
+  REQUIRE(w[s.index] >= std::numeric_limits<T>::min());
+  REQUIRE(s.pmf >= std::numeric_limits<T>::min());
   REQUIRE(s.pmf == a.pmf(s.index));
 }
 
@@ -72,7 +73,9 @@ void require_alias_never_returns_zero(const vplkit::alias_table<T>& a, const std
     const auto& b = a.bins()[j];
     REQUIRE(finite_nonneg(b.threshold));
     REQUIRE(finite_nonneg(b.pmf));
-    if (w[j] == T(0) || b.pmf == T(0)) REQUIRE(b.threshold == T(0));
+    if (!(w[j] >= std::numeric_limits<T>::min()) || b.pmf == T(0)) REQUIRE(b.threshold == T(0));
+    REQUIRE((b.threshold == T(0) || b.threshold >= std::numeric_limits<T>::min()));
+    REQUIRE((b.pmf == T(0) || b.pmf >= std::numeric_limits<T>::min()));
     if (b.threshold < T(1)) REQUIRE(a.bins()[b.alias].pmf > T(0));
     // Every bucket's edge and its neighbours, with fractions 0 and just below 1.
     const T e = T(j) / T(a.size());
@@ -312,90 +315,124 @@ TEST_CASE("CDF hard case: u = 0, the largest float below 1, exactly 1",
   for (float u : edge_us<float>()) REQUIRE(one.sample(u).pmf == 1.0f);
 }
 
-TEST_CASE("CDF hard case: denormal weights", "[distribution][hardcase]") {
-  SECTION("float: only denormals") {
+TEST_CASE("CDF hard case: denormal weights count as zero", "[distribution][hardcase]") {
+  // The normal-range contract (weights.hpp, docs/math.md, "GPU arithmetic model"): a GPU may read a denormal
+  // weight as 0, so every backend does; the indices are the same with and without FTZ|DAZ.
+  SECTION("float: only denormals -> empty") {
     std::vector<float> w;
     for (int k = 0; k < 100; ++k) w.push_back(float(k) * std::numeric_limits<float>::denorm_min());
-    const vplkit::discrete_cdf<float> d(w);
-    REQUIRE_FALSE(d.empty());
-    REQUIRE(d.total() == 4950.0f * std::numeric_limits<float>::denorm_min());
-    require_cdf_invariants(d, w);
-    require_cdf_sampling_consistent(d);
-    for (int k = 0; k < 100; ++k) REQUIRE(d.pmf(k) == Approx(k / 4950.0).margin(2e-7));
-    const vplkit::alias_table<float> a(w);
-    for (int k = 0; k < 100; ++k) REQUIRE(a.pmf(k) == Approx(k / 4950.0).epsilon(1e-6));
-    require_alias_never_returns_zero(a, w);
+    for (bool ftz : {false, true}) {
+      const vplkit_test::fp_mode_scope mode(ftz);
+      const vplkit::discrete_cdf<float> d(w);
+      REQUIRE(d.empty());
+      REQUIRE(d.total() == 0.0f);
+      REQUIRE(d.cdf().back() == 0.0f);
+      for (float u : edge_us<float>()) REQUIRE(d.sample(u).pmf == 0.0f);
+      const vplkit::alias_table<float> a(w);
+      REQUIRE(a.empty());
+      for (int k = 0; k < 100; ++k) REQUIRE(a.pmf(k) == 0.0f);
+    }
   }
-  SECTION("float: one denormal among normal weights") {
-    const std::vector<float> w = {1.0f, std::numeric_limits<float>::denorm_min(), 1.0f, 0.0f};
-    const vplkit::discrete_cdf<float> d(w);
-    require_cdf_invariants(d, w);
-    require_cdf_sampling_consistent(d);
-    // 2^-150 relative to the total is below float resolution at 0.5: a zero-width bin.
-    REQUIRE(d.pmf(1) == 0.0f);
-    REQUIRE(d.pmf(0) == 0.5f);
-    const vplkit::alias_table<float> a(w);
-    require_alias_never_returns_zero(a, w);
-    REQUIRE(a.pmf(1) >= 0.0f);
+  SECTION("float: denormals among normal weights are never returned") {
+    const float dm = std::numeric_limits<float>::denorm_min();
+    const float below_min = std::nextafter(std::numeric_limits<float>::min(), 0.0f);
+    const std::vector<float> w = {1.0f, dm, 1.0f, 0.0f, below_min, -dm, 2.0f};
+    for (bool ftz : {false, true}) {
+      const vplkit_test::fp_mode_scope mode(ftz);
+      const vplkit::discrete_cdf<float> d(w);
+      require_cdf_invariants(d, w);
+      require_cdf_sampling_consistent(d);
+      for (std::size_t i : {1u, 3u, 4u, 5u}) REQUIRE(d.pmf(i) == 0.0f);
+      REQUIRE(d.pmf(0) == 0.25f);
+      REQUIRE(d.pmf(6) == 0.5f);
+      const vplkit::alias_table<float> a(w);
+      require_alias_never_returns_zero(a, w);
+      for (std::size_t i : {1u, 3u, 4u, 5u}) REQUIRE(a.pmf(i) == 0.0f);
+      for (const auto& bin : a.bins()) REQUIRE(vplkit::flush_denormal(bin.threshold) == bin.threshold);
+    }
   }
-  SECTION("double: only denormals (total has no finite reciprocal)") {
+  SECTION("double: only denormals -> empty") {
     const double dm = std::numeric_limits<double>::denorm_min();
-    REQUIRE_FALSE(std::isfinite(1.0 / (1000.0 * dm)));
     const std::vector<double> w(1000, dm);
     const vplkit::discrete_cdf<double> d(w);
-    REQUIRE(d.total() == 1000.0 * dm);
-    require_cdf_invariants(d, w);
-    require_cdf_sampling_consistent(d);
-    for (std::size_t i = 0; i < w.size(); ++i) REQUIRE(d.pmf(i) == Approx(1e-3).epsilon(1e-12));
-    const vplkit::alias_table<double> a(w);
-    for (std::size_t i = 0; i < w.size(); ++i) REQUIRE(a.pmf(i) == Approx(1e-3).epsilon(1e-12));
-    require_alias_never_returns_zero(a, w);
+    REQUIRE(d.empty());
+    REQUIRE(d.cdf().back() == 0.0);
+    REQUIRE(vplkit::alias_table<double>(w).empty());
   }
 }
 
 TEST_CASE("CDF hard case: a positive weight whose probability underflows float",
           "[distribution][hardcase]") {
-  // w / total = 2^-150 rounds to 0 in float while the alias threshold n w / total = 2^-149
-  // survives as a denormal: before the fix sample(0.5) returned {1, 0} (1 / pmf = Inf).
-  const float dm = std::numeric_limits<float>::denorm_min();
-  for (const std::vector<float>& w : {std::vector<float>{2.0f, dm}, std::vector<float>{dm, 2.0f},
-                                      std::vector<float>{1.0f, dm, 1.0f, 0.0f}}) {
-    const std::size_t tiny = w[0] == dm ? 0 : 1;
-    const vplkit::alias_table<float> a(w);
-    REQUIRE(a.pmf(tiny) == 0.0f);
-    REQUIRE(a.bins()[tiny].threshold == 0.0f);
-    const auto half = a.sample(0.5f);
-    REQUIRE(half.index != tiny);
-    REQUIRE(half.pmf > 0.0f);
-    require_alias_never_returns_zero(a, w);
-    // Every u on the RNG's 2^-24 grid, one-u and two-u (u2 = 0 keeps every bucket it can).
-    std::size_t bad = 0;
-    for (std::uint32_t k = 0; k < (1u << 24); ++k) {
-      const float u = float(k) * 0x1p-24f;
-      const auto s1 = a.sample(u), s2 = a.sample(u, 0.0f);
-      bad += std::size_t(s1.index == tiny || !(s1.pmf > 0.0f) || s1.pmf != a.pmf(s1.index));
-      bad += std::size_t(s2.index == tiny || !(s2.pmf > 0.0f) || s2.pmf != a.pmf(s2.index));
+  // w / total below 2^-126 is flushed to a zero pmf (weights.hpp): its alias threshold n w / total
+  // could otherwise survive as a denormal and hand out the index with pmf 0 (1 / pmf = Inf), or
+  // read as 0 on a GPU. 2^-150 of the total, and 1e-40 of it (a denormal pmf).
+  for (const std::vector<float>& w :
+       {std::vector<float>{2.0f, 0x1p-149f * 2.0f}, std::vector<float>{0x1p-100f, 0x1p+50f},
+        std::vector<float>{1.0f, 0x1p-126f, 1.0f, 0.0f}, std::vector<float>{1e30f, 1e-10f}}) {
+    const std::size_t tiny = w[0] < w[1] ? 0 : 1;
+    for (bool ftz : {false, true}) {
+      const vplkit_test::fp_mode_scope mode(ftz);
+      const vplkit::alias_table<float> a(w);
+      REQUIRE(a.pmf(tiny) == 0.0f);
+      REQUIRE(a.bins()[tiny].threshold == 0.0f);
+      const auto half = a.sample(0.5f);
+      REQUIRE(half.index != tiny);
+      REQUIRE(half.pmf > 0.0f);
+      require_alias_never_returns_zero(a, w);
+      // Every u on the RNG's 2^-24 grid, one-u and two-u (u2 = 0 keeps every bucket it can).
+      std::size_t bad = 0;
+      for (std::uint32_t k = 0; k < (1u << 24); k += ftz ? 13 : 1) {
+        const float u = float(k) * 0x1p-24f;
+        const auto s1 = a.sample(u), s2 = a.sample(u, 0.0f);
+        bad += std::size_t(s1.index == tiny || !(s1.pmf > 0.0f) || s1.pmf != a.pmf(s1.index));
+        bad += std::size_t(s2.index == tiny || !(s2.pmf > 0.0f) || s2.pmf != a.pmf(s2.index));
+      }
+      REQUIRE(bad == 0);
+      // discrete_cdf drops the same weight the same way: a bin of width 0, never returned.
+      const vplkit::discrete_cdf<float> d(w);
+      REQUIRE(d.pmf(tiny) == 0.0f);
+      require_cdf_sampling_consistent(d);
+      for (std::uint32_t k = 0; k < (1u << 24); k += 7) {
+        const auto s = d.sample(float(k) * 0x1p-24f);
+        bad += std::size_t(s.index == tiny || !(s.pmf > 0.0f));
+      }
+      REQUIRE(bad == 0);
     }
-    REQUIRE(bad == 0);
-    // discrete_cdf drops the same weight the same way: a bin of width 0, never returned.
-    const vplkit::discrete_cdf<float> d(w);
-    REQUIRE(d.pmf(tiny) == 0.0f);
-    require_cdf_sampling_consistent(d);
-    for (std::uint32_t k = 0; k < (1u << 24); k += 7) {
-      const auto s = d.sample(float(k) * 0x1p-24f);
-      bad += std::size_t(s.index == tiny || !(s.pmf > 0.0f));
-    }
-    REQUIRE(bad == 0);
   }
-  // A pmf that is itself a (positive) denormal is kept, and its index can be returned.
-  const std::vector<float> w = {1.0f, 1e-40f};
-  const vplkit::alias_table<float> a(w);
-  REQUIRE(a.pmf(1) > 0.0f);
-  REQUIRE(a.pmf(1) < std::numeric_limits<float>::min());
-  const auto s = a.sample(0.5f);  // bucket 1, fraction 0 < its threshold 2e-40
-  REQUIRE(s.index == 1);
-  REQUIRE(s.pmf == a.pmf(1));
-  require_alias_never_returns_zero(a, w);
+}
+
+TEST_CASE("CDF hard case: stored CDF values are 0 or at least 2^-103, every pmf 0 or normal",
+          "[distribution][hardcase]") {
+  // Weights spread over 76 decades: prefix sums far below 2^-103 of the total are stored as 0, so
+  // every difference of two stored values is 0 or normal, and the guide and the indices do not
+  // depend on the denormal mode (the case that picked index 100 instead of 3 on a GPU).
+  std::vector<float> w;
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<float> exponent(-38.0f, 38.0f);
+  for (int i = 0; i < 5000; ++i) w.push_back(std::pow(10.0f, exponent(gen)));
+  w[3] = 1e-38f;
+  w[100] = 3e-31f;
+  const vplkit::discrete_cdf<float> ieee(w);
+  for (std::size_t i = 0; i <= w.size(); ++i) {
+    const float c = ieee.cdf()[i];
+    REQUIRE((c == 0.0f || c >= vplkit::discrete_cdf_min_value<float>()));
+  }
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const float p = ieee.pmf(i);
+    REQUIRE((p == 0.0f || p >= std::numeric_limits<float>::min()));
+  }
+  const vplkit_test::fp_mode_scope mode(true);
+  const vplkit::discrete_cdf<float> ftz(w);
+  REQUIRE(ftz.cdf() == ieee.cdf());
+  REQUIRE(ftz.guide() == ieee.guide());
+  for (float u : edge_us<float>()) {
+    REQUIRE(ftz.sample(u).index == ieee.sample(u).index);
+    REQUIRE(ftz.sample(u).pmf == ieee.sample(u).pmf);
+  }
+  for (std::uint32_t k = 0; k < (1u << 24); k += 101) {
+    const float u = float(k) * 0x1p-24f;
+    REQUIRE(ftz.sample(u).index == ieee.sample(u).index);
+  }
 }
 
 TEST_CASE("CDF hard case: finite float weights whose sum passes FLT_MAX",
@@ -415,7 +452,7 @@ TEST_CASE("CDF hard case: finite float weights whose sum passes FLT_MAX",
   const vplkit::alias_table<float> a(w);
   REQUIRE(std::isinf(a.total()));
   REQUIRE(a.sum() == d.sum());
-  REQUIRE(a.pmf(3) > 0.0f);  // 1 / 9.4e38: a normal float
+  REQUIRE(a.pmf(3) == 0.0f);  // 1 / 9.4e38 = 1.1e-39: below the smallest normal float
   require_alias_never_returns_zero(a, w);
   const std::vector<double> p = realised_alias_pmf(a);
   for (std::size_t i = 0; i < w.size(); ++i) REQUIRE(p[i] == Approx(double(w[i]) / sum).margin(1e-7));
@@ -437,7 +474,8 @@ TEST_CASE("CDF hard case: finite float weights whose sum passes FLT_MAX",
   }
   const vplkit::discrete_cdf<float> small(std::vector<float>{1.0f, 2.0f});
   REQUIRE(vplkit::face_roulette<float>(d, small).front_probability() == 1.0f);
-  REQUIRE(vplkit::face_roulette<float>(small, d).front_probability() == Approx(3.0 / sum));
+  // 3 / 9.4e38 = 3.2e-39 is below the smallest normal float: the small face's share counts as 0.
+  REQUIRE(vplkit::face_roulette<float>(small, d).front_probability() == 0.0f);
 }
 
 TEST_CASE("CDF hard case: NaN, Inf and negative weights", "[distribution][hardcase]") {
@@ -451,7 +489,7 @@ TEST_CASE("CDF hard case: NaN, Inf and negative weights", "[distribution][hardca
   };
   for (const bad_case& c : {bad_case{0, nan, "NaN"}, bad_case{5, inf, "infinite"},
                             bad_case{9, -inf, "infinite"}, bad_case{3, -2.5f, "negative"},
-                            bad_case{7, -std::numeric_limits<float>::denorm_min(), "negative"}}) {
+                            bad_case{7, -std::numeric_limits<float>::min(), "negative"}}) {
     std::vector<float> w(10, 1.0f);
     w[c.index] = c.value;
     if (c.index + 1 < w.size()) w[c.index + 1] = -1.0f;  // a later bad weight is not reported
@@ -463,6 +501,13 @@ TEST_CASE("CDF hard case: NaN, Inf and negative weights", "[distribution][hardca
     const std::vector<double> wd(w.begin(), w.end());
     REQUIRE_THROWS_WITH(vplkit::discrete_cdf<double>(wd), Contains(where) && Contains(c.word));
     REQUIRE_THROWS_WITH(vplkit::alias_table<double>(wd), Contains(where) && Contains(c.word));
+  }
+  // A negative denormal is a zero weight, not a negative one (denormals-are-zero reads it as -0).
+  {
+    const std::vector<float> w = {1.0f, -std::numeric_limits<float>::denorm_min(), 2.0f};
+    REQUIRE(vplkit::discrete_cdf<float>(w).pmf(1) == 0.0f);
+    REQUIRE(vplkit::alias_table<float>(w).pmf(1) == 0.0f);
+    REQUIRE(vplkit::discrete_cdf<float>::sanitized(w).zeroed == 0);
   }
   // The value itself is in the message.
   REQUIRE_THROWS_WITH(vplkit::discrete_cdf<float>(std::vector<float>{1.0f, -2.5f}),

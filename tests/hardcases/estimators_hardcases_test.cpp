@@ -313,7 +313,8 @@ TEMPLATE_TEST_CASE("estimators: background pixels and degenerate counts", "[hard
 }
 
 namespace {
-// A distribution that always draws texel `index` with a chosen (possibly denormal) pmf.
+// A distribution that always draws texel `index` with a chosen (possibly denormal) pmf; the
+// estimators count a pmf below FLT_MIN (DBL_MIN) as 0.
 template <class T>
 struct fixed_draw {
   std::size_t index;
@@ -332,7 +333,8 @@ TEMPLATE_TEST_CASE("estimators: denormal and out-of-range draws", "[hardcase]", 
     if (luminance(vpl_visible_contribution(gp, f.view, i, always_visible{}, T(0))) > T(0)) t = i;
   REQUIRE(t >= 0);
   const T denorm = std::numeric_limits<T>::denorm_min();
-  for (T p : {denorm, T(100) * denorm, std::numeric_limits<T>::min(), T(1e-30)}) {
+  // min / 4: a denormal pmf whose quotient c / p stays finite, so only the contract makes it 0
+  for (T p : {denorm, T(100) * denorm, std::numeric_limits<T>::min() / T(4), std::numeric_limits<T>::min(), T(1e-30)}) {
     const fixed_draw<T> dist{std::size_t(t), p};
     counter_rng rng = make_counter_rng(4u, 4u);
     INFO("pmf " << p);
@@ -342,6 +344,15 @@ TEMPLATE_TEST_CASE("estimators: denormal and out-of-range draws", "[hardcase]", 
     CHECK(finite_nonneg(estimate_local(gp, f.view, two, 2, rng, 4, always_visible{}, T(0), local_combination::average)));
     for (mis_mode mode : {mis_mode::solid_angle, mis_mode::as_published})
       CHECK(finite_nonneg(estimate_mis(gp, f.view, dist, rng, 4, 4, exact_tracer<T>{&f.scene}, always_visible{}, T(0.2), mode)));
+    if (p < std::numeric_limits<T>::min()) {
+      // the normal-range contract (docs/math.md, "GPU arithmetic model"): a denormal pmf counts as 0, so the draw
+      // adds exactly 0 whether or not the arithmetic flushes denormals
+      CHECK(estimate_vpl_sampling(gp, f.view, dist, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
+      CHECK(estimate_local(gp, f.view, &dist, 1, rng, 4, always_visible{}, T(0)) == vec3<T>(T(0)));
+      CHECK(estimate_local(gp, f.view, two, 2, rng, 4, always_visible{}, T(0), local_combination::average) == vec3<T>(T(0)));
+    } else if (p >= T(1e-30)) {  // no overflow: the draw counts
+      CHECK(luminance(estimate_vpl_sampling(gp, f.view, dist, rng, 4, always_visible{}, T(0))) > T(0));
+    }
   }
   // an index beyond the DPRSM (a distribution of the wrong size) adds 0, it is never read
   const fixed_draw<T> outside{std::size_t(f.view.texel_count()) + 5, T(0.5)};

@@ -113,23 +113,35 @@ TEMPLATE_TEST_CASE("ris hard case: NaN and infinite targets and weights are skip
   CHECK_FALSE(reservoir_update(r, 5u, std::numeric_limits<T>::max(), T(0)));  // would overflow the sum
   CHECK(r.index == 4u);
   CHECK(r.weight_sum == std::numeric_limits<T>::max());
-  weighted_reservoir<T> d;  // the smallest weight is kept too, whatever u
-  CHECK(reservoir_update(d, 7u, std::numeric_limits<T>::denorm_min(), T(0.9)));
+  weighted_reservoir<T> d;  // the smallest normal weight is kept too, whatever u
+  CHECK(reservoir_update(d, 7u, std::numeric_limits<T>::min(), T(0.9)));
   CHECK(d.index == 7u);
+  // Denormal weights count as 0 (the normal-range contract, docs/math.md, "GPU arithmetic model"):
+  // a GPU may flush them, so no device keeps them.
+  weighted_reservoir<T> dn;
+  CHECK_FALSE(reservoir_update(dn, 8u, std::numeric_limits<T>::denorm_min(), T(0)));
+  CHECK_FALSE(reservoir_update(dn, 9u, std::numeric_limits<T>::min() / T(4), T(0)));
+  CHECK(reservoir_empty_of(dn));
+  CHECK(dn.weight_sum == T(0));
   weighted_reservoir<T> u;  // u outside [0, 1): NaN, negative and >= 1 are clamped
   CHECK(reservoir_update(u, 0u, T(1), nan));
   CHECK(reservoir_update(u, 1u, T(1), -T(3)));   // u 0: kept
   CHECK_FALSE(reservoir_update(u, 2u, T(1), T(7)));  // u just below 1: 3 (1 - eps) > 1
   CHECK(u.index == 1u);
-  // A denormal pmf: p_hat / p overflows, and the candidate adds nothing.
+  // A denormal pmf counts as 0 (estimator_pmf), so the candidate adds nothing: denorm_min, whose
+  // p_hat / p would overflow, and min / 4, whose p_hat / p would be a finite weight.
   const room<T> f;
   const int t = f.lit_texel();
   const gather_point<T>& gp = f.r.gps[0].gp;
-  const fixed_draw<T> tiny{std::size_t(t), std::numeric_limits<T>::denorm_min()};
+  for (const T p : {std::numeric_limits<T>::denorm_min(), std::numeric_limits<T>::min() / T(4)}) {
+    INFO("pmf " << p);
+    const fixed_draw<T> tiny{std::size_t(t), p};
+    counter_rng rng = make_counter_rng(3u, 0u);
+    const ris_reservoir<T> res = ris_resample(gp, f.r.view, tiny, rng, 8, T(0));
+    CHECK_FALSE(ris_reservoir_has_sample(res));
+    CHECK(finite_nonneg(estimate_ris(gp, f.r.view, tiny, rng, 2, 8, f.r.vis, T(0))));
+  }
   counter_rng rng = make_counter_rng(3u, 0u);
-  const ris_reservoir<T> res = ris_resample(gp, f.r.view, tiny, rng, 8, T(0));
-  CHECK_FALSE(ris_reservoir_has_sample(res));
-  CHECK(finite_nonneg(estimate_ris(gp, f.r.view, tiny, rng, 2, 8, f.r.vis, T(0))));
   // NaN and infinite albedo at the gather point: NaN / infinite targets, skipped.
   for (const T a : {nan, inf}) {
     gather_point<T> g = gp;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// docs/math.md section 10, "MIS: both pdfs 0, one infinite, denormal", and more. Every case in
+// docs/math.md section 10, "MIS: both pdfs 0, one infinite, denormal", and more (denormal counts
+// and pdfs count as 0: "GPU arithmetic model"). Every case in
 // float and double; nothing may be NaN or infinite; the weights of the two strategies add up to 1
 // (within 2 ulps) whenever at least one strategy has n > 0 and p > 0, and are both 0 otherwise.
 #include <vplkit/mis/heuristics.hpp>
@@ -34,8 +35,10 @@ template <class T> T check_all(T n1, T p1, T n2, T p2, T f = T(1)) {
   CHECK(b1 <= T(1));
   CHECK(w1 >= T(0));
   CHECK(w1 <= T(1));
-  const bool live1 = n1 > T(0) && std::isfinite(n1) && p1 > T(0);
-  const bool live2 = n2 > T(0) && std::isfinite(n2) && p2 > T(0);
+  // Counts and pdfs below the smallest normal T count as 0.
+  const T lo = std::numeric_limits<T>::min();
+  const bool live1 = n1 >= lo && std::isfinite(n1) && p1 >= lo;
+  const bool live2 = n2 >= lo && std::isfinite(n2) && p2 >= lo;
   const T tol = T(2) * std::numeric_limits<T>::epsilon();
   if (live1 || live2) {
     CHECK(std::abs(b1 + b2 - T(1)) <= tol);
@@ -77,18 +80,27 @@ template <class T> void both_infinite() {
 }
 
 template <class T> void denormal() {
+  // The normal-range contract (heuristics.hpp, docs/math.md, "GPU arithmetic model"): a denormal count or pdf
+  // counts as 0, as on a GPU that flushes it; tiny normal pdfs are rescaled, not squared.
   const T d = std::numeric_limits<T>::denorm_min();
   const T m = std::numeric_limits<T>::min();  // smallest normal
-  CHECK(check_all(T(1), d, T(1), d) == T(0.5));
-  CHECK(check_all(T(1), T(3) * d, T(1), d) == T(0.75));
-  // squares of 3d and d flush to 0 in a naive power heuristic; rescaled: 9 / 10
-  CHECK(power_heuristic(T(1), T(3) * d, T(1), d) == Approx(T(0.9)));
-  CHECK(power_heuristic(T(1), m, T(2), m) == Approx(T(0.2)));
-  CHECK(check_all(T(1), d, T(1), T(1)) <= T(4) * std::numeric_limits<T>::epsilon());
+  CHECK(check_all(T(1), d, T(1), d) == T(0));
+  CHECK(check_all(T(1), T(3) * d, T(1), d) == T(0));
+  CHECK(check_all(T(1), d, T(1), T(1)) == T(0));
   CHECK(check_all(T(1), T(1), T(1), d) == T(1));
-  // f / (n p) with a denormal denominator overflows: guarded to 0, never inf
+  CHECK(check_all(d, T(1), T(1), T(1)) == T(0));
+  CHECK(check_all(T(1), m, T(1), m) == T(0.5));
+  CHECK(check_all(T(1), T(3) * m, T(1), m) == T(0.75));
+  // squares of 3m and m underflow in a naive power heuristic; rescaled: 9 / 10
+  CHECK(power_heuristic(T(1), T(3) * m, T(1), m) == Approx(T(0.9)));
+  CHECK(power_heuristic(T(1), m, T(2), m) == Approx(T(0.2)));
+  CHECK(check_all(T(1), m, T(1), T(1)) <= T(4) * std::numeric_limits<T>::epsilon());
+  // f / (n p) with a tiny denominator overflows: guarded to 0, never inf
+  CHECK(balance_combined(T(4), T(1), m, T(1), T(0)) == T(0));
   CHECK(balance_combined(T(1), T(1), d, T(1), T(0)) == T(0));
-  CHECK(balance_combined(d, T(1), d, T(1), d) == T(0.5));
+  CHECK(balance_combined(T(1), T(1), m, T(1), T(0)) == T(1) / m);  // 2^126: finite
+  CHECK(balance_combined(d, T(1), m, T(1), m) == T(0));  // a denormal f
+  CHECK(balance_combined(m, T(1), m, T(1), m) == T(0.5));
   CHECK(balance_combined(m, T(1), m, T(1), T(0)) == T(1));
 }
 
@@ -194,7 +206,16 @@ TEST_CASE("MIS hard case: VPL patch facing away, grazing, zero area, zero distan
   CHECK(vpl_pdf_solid_angle(0.1, 4.0, 0.01, -0.3) == 0.0);   // x behind the patch
   CHECK(vpl_pdf_solid_angle(0.1, 4.0, 0.01, 0.0) == 0.0);    // exactly edge-on: no contribution
   CHECK(vpl_pdf_solid_angle(0.1, 4.0, 0.01, 1e-300) == Approx(4e301));  // grazing: huge density
-  CHECK(vpl_pdf_solid_angle(0.1f, 4.0f, 0.01f, 1e-38f) == std::numeric_limits<float>::infinity());
+  CHECK(vpl_pdf_solid_angle(0.1f, 4.0f, 0.01f, 2e-38f) == std::numeric_limits<float>::infinity());
+  // A cosine below the smallest normal float counts as 0 (a GPU may flush it): no contribution.
+  CHECK(vpl_pdf_solid_angle(0.1f, 4.0f, 0.01f, 1e-38f) == 0.0f);
+  // Exactly where the density leaves the float range: +inf above FLT_MAX, 0 below FLT_MIN, with
+  // operands (1e38 areas and distances) whose naive quotients a GPU evaluates through a denormal
+  // reciprocal.
+  CHECK(vpl_pdf_solid_angle(1.0f, 3e38f, 1e38f, 1.0f) == Approx(3.0f));
+  CHECK(vpl_pdf_solid_angle(1e-30f, 3e38f, 1e-31f, 1.0f) == std::numeric_limits<float>::infinity());
+  CHECK(vpl_pdf_solid_angle(1e-30f, 1e-30f, 1e30f, 1.0f) == 0.0f);
+  CHECK(vpl_pdf_solid_angle(0.5f, 3e38f, 1e38f, 0.5f) == Approx(3.0f));
   CHECK(vpl_pdf_solid_angle(0.1, 4.0, 0.0, 0.5) == inf);     // zero area: all mass in no solid angle
   CHECK(vpl_pdf_solid_angle(0.1, 0.0, 0.01, 0.5) == 0.0);    // x on the VPL: gathering takes over
   CHECK(vpl_pdf_solid_angle(0.0, 4.0, 0.01, 0.5) == 0.0);    // never drawn

@@ -54,13 +54,17 @@ TEMPLATE_TEST_CASE("hard case: d = (0,0,+1) is the front pole", "[paraboloid][ha
 TEMPLATE_TEST_CASE("hard case: d = (0,0,-1) is the back pole without cancellation",
                    "[paraboloid][hardcase]", float, double) {
   using T = TestType;
-  for (T s : {T(1), T(1e-30), T(1e30), std::numeric_limits<T>::denorm_min(),
-              std::numeric_limits<T>::max()}) {
+  for (T s : {T(1), T(1e-30), T(1e30), std::numeric_limits<T>::min(), std::numeric_limits<T>::max()}) {
     const auto p = vplkit::paraboloid_from_direction(vec3<T>(0, 0, -s));
     require_valid_point(p);
     REQUIRE(p.face == paraboloid_back);
     REQUIRE(p.uv == vec2<T>(0, 0));
   }
+  // A denormal length is no direction (the normal-range contract, docs/math.md, "GPU arithmetic model"): the
+  // documented fallback {front, (0,0)}, as on a GPU that flushes it.
+  const auto dp = vplkit::paraboloid_from_direction(vec3<T>(0, 0, -std::numeric_limits<T>::denorm_min()));
+  REQUIRE(dp.face == paraboloid_front);
+  REQUIRE(dp.uv == vec2<T>(0, 0));
   REQUIRE(vplkit::paraboloid_to_direction(paraboloid_back, vec2<T>(0)) == vec3<T>(0, 0, -1));
   // Near the back pole the back face divides by 1 + |z| ~ 2 (not 1 + z ~ 0): uv ~ (x, y) / 2
   // to full relative precision even for tiny x.
@@ -117,7 +121,8 @@ TEMPLATE_TEST_CASE("hard case: rim directions with z = +-1 ulp", "[paraboloid][h
       require_valid_point(up);
       require_valid_point(down);
       REQUIRE(up.face == paraboloid_front);
-      REQUIRE(down.face == paraboloid_back);
+      // A z below the smallest normal T counts as 0: the rim's own face, the front.
+      REQUIRE(down.face == (z >= std::numeric_limits<T>::min() ? paraboloid_back : paraboloid_front));
       // one ulp apart in direction, at most a few ulp apart in uv (same uv by the seam rule)
       REQUIRE(glm::length(up.uv - down.uv) <= T(4) * std::numeric_limits<T>::epsilon());
       const vec3<T> du = vplkit::paraboloid_to_direction(up.face, up.uv);
@@ -125,7 +130,7 @@ TEMPLATE_TEST_CASE("hard case: rim directions with z = +-1 ulp", "[paraboloid][h
       REQUIRE(finite3(du));
       REQUIRE(finite3(dd));
       REQUIRE(du.z >= T(0));
-      REQUIRE(dd.z <= T(0));
+      REQUIRE((down.face == paraboloid_back ? dd.z <= T(0) : dd.z >= T(0)));
     }
   }
 }
@@ -168,22 +173,25 @@ TEMPLATE_TEST_CASE("hard case: zero NaN Inf and extreme-length directions",
   const T nan = std::numeric_limits<T>::quiet_NaN(), inf = std::numeric_limits<T>::infinity();
   const T big = std::numeric_limits<T>::max(), dn = std::numeric_limits<T>::denorm_min();
   // degenerate: documented fallback {front, (0,0)}
-  for (vec3<T> d :
-       {vec3<T>(0), vec3<T>(nan), vec3<T>(nan, 0, 1), vec3<T>(inf, 0, 0), vec3<T>(-inf, inf, 0)}) {
+  // (A vector whose components are all below the smallest normal T is zero: docs/math.md
+  // "GPU arithmetic model".)
+  for (vec3<T> d : {vec3<T>(0), vec3<T>(nan), vec3<T>(nan, 0, 1), vec3<T>(inf, 0, 0), vec3<T>(-inf, inf, 0),
+                    vec3<T>(dn, dn, -dn), vec3<T>(dn, 0, 0)}) {
     const auto p = vplkit::paraboloid_from_direction(d);
     require_valid_point(p);
     REQUIRE(p.face == paraboloid_front);
     REQUIRE(p.uv == vec2<T>(0));
   }
-  // extreme but finite lengths behave like their normalisation
-  for (vec3<T> d :
-       {vec3<T>(big, big, -big), vec3<T>(dn, dn, -dn), vec3<T>(dn, 0, 0), vec3<T>(big, 0, dn)}) {
+  // extreme but finite lengths behave like their normalisation (to the rounding of normalising
+  // twice: a few ulps)
+  const T min = std::numeric_limits<T>::min();
+  for (vec3<T> d : {vec3<T>(big, big, -big), vec3<T>(min, min, -min), vec3<T>(min, 0, 0), vec3<T>(big, 0, dn)}) {
     const auto p = vplkit::paraboloid_from_direction(d);
     require_valid_point(p);
     const vec3<T> n = vplkit::unit_or_zero(d);
     const auto q = vplkit::paraboloid_from_direction(n);
     REQUIRE(p.face == q.face);
-    REQUIRE(p.uv == q.uv);
+    REQUIRE(glm::length(p.uv - q.uv) <= T(4) * std::numeric_limits<T>::epsilon());
     REQUIRE(std::abs(glm::length(n) - T(1)) <= T(4) * std::numeric_limits<T>::epsilon());
   }
 }
@@ -194,7 +202,7 @@ TEMPLATE_TEST_CASE("hard case: light frame with front axis at or near (0,0,-1)",
   const T tol = T(8) * std::numeric_limits<T>::epsilon();
   for (vec3<T> axis : {vec3<T>(0, 0, -1), vec3<T>(std::numeric_limits<T>::min(), 0, -1),
                        vec3<T>(T(1e-4), T(-1e-4), -1), vec3<T>(0, T(1e-8), -1),
-                       vec3<T>(0, 0, -std::numeric_limits<T>::denorm_min())}) {
+                       vec3<T>(0, 0, -std::numeric_limits<T>::min())}) {
     const vplkit::light_frame<T> f(vec3<T>(0), axis);
     REQUIRE(finite3(f.axis_x));
     REQUIRE(finite3(f.axis_y));
@@ -204,6 +212,9 @@ TEMPLATE_TEST_CASE("hard case: light frame with front axis at or near (0,0,-1)",
     REQUIRE(glm::length(glm::cross(f.axis_x, f.axis_y) - f.axis_z) <= tol);
     REQUIRE(f.axis_z.z < T(-0.99));
   }
+  // A denormal axis is zero (docs/math.md, "GPU arithmetic model"): rejected with the error of a zero axis.
+  REQUIRE_THROWS_WITH(vplkit::light_frame<T>(vec3<T>(0), vec3<T>(0, 0, -std::numeric_limits<T>::denorm_min())),
+                      Catch::Matchers::Contains("front axis is zero"));
 }
 
 TEST_CASE("hard case: texel validity next to the rim is exact", "[paraboloid][hardcase]") {

@@ -41,12 +41,12 @@ template <class T> void check_frame(vec3<T> input, vec3<T> expected_n) {
 }
 
 template <class T> void south_pole_ulp_perturbations() {
-  const T lo = std::numeric_limits<T>::denorm_min();
+  const T lo = std::numeric_limits<T>::min();  // the smallest normal: a denormal counts as 0
   const T eps = std::numeric_limits<T>::epsilon();
   const T below1 = std::nextafter(T(1), T(0));  // 1 - eps/2
   for (T dx : {T(0), lo, -lo, eps, -eps})
     for (T dy : {T(0), lo, -lo, eps, -eps}) {
-      // x, y one ulp away from 0 (denormal) or from a unit-scale value; z = -1 and -1 + 1 ulp
+      // x, y the smallest normal or one ulp from a unit-scale value; z = -1 and -1 + 1 ulp
       check_frame(vec3<T>(dx, dy, T(-1)), glm::normalize(vec3<T>(dx, dy, T(-1))));
       check_frame(vec3<T>(dx, dy, -below1), glm::normalize(vec3<T>(dx, dy, -below1)));
     }
@@ -92,14 +92,23 @@ TEST_CASE("ONB hard case: n.z = -0.0 and +0.0 (the sign switch)") {
   check_frame(vec3<float>(0.6f, 0.8f, -1e-30f), vec3<float>(0.6f, 0.8f, -1e-30f));
 }
 
-TEST_CASE("ONB hard case: denormal components") {
+TEST_CASE("ONB hard case: denormal components count as 0, tiny normal ones keep their direction") {
+  // The normal-range contract (docs/math.md, "GPU arithmetic model"): a component below the smallest normal T
+  // is 0 (a GPU may flush it), so all-denormal input has no direction: the canonical frame.
   const float d = std::numeric_limits<float>::denorm_min();
-  check_frame(vec3<float>(0, 0, -d), vec3<float>(0, 0, -1));       // all length in a denormal
-  check_frame(vec3<float>(d, 0, 0), vec3<float>(1, 0, 0));
-  check_frame(vec3<float>(3 * d, 0, -4 * d), vec3<float>(0.6f, 0, -0.8f));
-  check_frame(vec3<float>(1e-39f, -1e-39f, -1e-39f), glm::normalize(vec3<float>(1, -1, -1)));
+  check_frame(vec3<float>(0, 0, -d), vec3<float>(0, 0, 1));
+  check_frame(vec3<float>(d, 0, 0), vec3<float>(0, 0, 1));
+  check_frame(vec3<float>(3 * d, 0, -4 * d), vec3<float>(0, 0, 1));
+  check_frame(vec3<float>(1e-39f, -1e-39f, -1e-39f), vec3<float>(0, 0, 1));
+  check_frame(vec3<float>(1, 1e-39f, -1e-39f), vec3<float>(1, 0, 0));
   const double dd = std::numeric_limits<double>::denorm_min();
-  check_frame(vec3<double>(dd, dd, -dd), glm::normalize(vec3<double>(1, 1, -1)));
+  check_frame(vec3<double>(dd, dd, -dd), vec3<double>(0, 0, 1));
+  // All length in components at the bottom of the normal range.
+  const float m = std::numeric_limits<float>::min();
+  check_frame(vec3<float>(0, 0, -m), vec3<float>(0, 0, -1));
+  check_frame(vec3<float>(3 * m, 0, -4 * m), vec3<float>(0.6f, 0, -0.8f));
+  const double md = std::numeric_limits<double>::min();
+  check_frame(vec3<double>(md, md, -md), glm::normalize(vec3<double>(1, 1, -1)));
 }
 
 TEST_CASE("ONB hard case: unnormalised input") {

@@ -4,8 +4,11 @@
 // outputs, uniform blocks, pack kernels driven through their parameter headers).
 #include <parity_harness.hpp>
 
+#include <fp_mode.hpp>
+
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -127,6 +130,38 @@ TEST_CASE("harness: comparison reports name the worst element and its input") {
   const auto ints = compare_exact(got, want, describe, "indices");
   CHECK_FALSE(ints.ok);
   CHECK(ints.report.find("[1] gpu=5 cpu=2  input: x = 10") != std::string::npos);
+}
+
+TEST_CASE("harness: an overflow matches FLT_MAX within the bound, nothing else matches an infinity") {
+  // Vulkan, "Precision and Operation of SPIR-V Instructions" (ULP): where the allowed range passes
+  // the largest finite float, a device may return +-Inf or +-FLT_MAX.
+  const float inf = std::numeric_limits<float>::infinity();
+  const float big = std::numeric_limits<float>::max();
+  const float below = std::nextafter(big, 0.0f);
+  CHECK(compare_floats({inf}, std::vector<float>{big}, within_ulps(1)).ok);
+  CHECK(compare_floats({below}, std::vector<float>{inf}, within_ulps(2)).ok);
+  CHECK_FALSE(compare_floats({below}, std::vector<float>{inf}, within_ulps(1)).ok);
+  CHECK(compare_floats({inf}, std::vector<float>{below}, within_rel(1e-6)).ok);
+  CHECK_FALSE(compare_floats({inf}, std::vector<float>{1e38f}, within_rel(1e-6)).ok);
+  CHECK_FALSE(compare_floats({-inf}, std::vector<float>{big}, within_ulps(4)).ok);
+  CHECK_FALSE(compare_floats({inf}, std::vector<float>{big}, within_abs(1e30)).ok);
+}
+
+TEST_CASE("harness: the reference runs with FTZ|DAZ exactly when VPLKIT_PARITY_FTZ_DAZ=1, the driver in IEEE") {
+  const bool requested = vplkit_test::reference_ftz_daz_requested();
+  CHECK(vplkit_test::ftz_daz_active() == requested);
+  volatile float tiny = std::numeric_limits<float>::min();
+  volatile float half = 0.5f;
+  const float product = tiny * half;  // a denormal, or 0 under FTZ
+  CHECK((product == 0.0f) == requested);
+  // The GL device keeps its own mode (llvmpipe keeps denormals) whatever the reference's.
+  kernel_call k;
+  k.output_glsl = "uint result";
+  k.body = "result[i] = floatBitsToUint(uintBitsToFloat(0x00800000u + i * 0u) * 0.5);";
+  const auto gpu = run_compute<std::uint32_t>(k, 1);
+  REQUIRE(gpu.size() == 1);
+  std::cout << "parity: the device " << (gpu[0] == 0u ? "flushes" : "keeps") << " the denormal FLT_MIN / 2\n";
+  CHECK(vplkit_test::ftz_daz_active() == requested);
 }
 
 TEST_CASE("harness: declared buffers, a per-item body, several outputs and a uniform block") {

@@ -1,4 +1,8 @@
 // SPDX-License-Identifier: MIT
+// Listeners need Catch2's external interfaces, declared before catch.hpp is first included.
+#define CATCH_CONFIG_EXTERNAL_INTERFACES
+#include <fp_mode_listener.hpp>
+
 #include "parity_harness.hpp"
 
 #include <cmath>
@@ -9,9 +13,16 @@
 #include <memory>
 #include <stdexcept>
 
+// Every test case runs its C++ reference in the mode the environment asked for (fp_mode.hpp); the
+// harness itself, the GL driver included, runs in IEEE mode (ieee_scope below).
+CATCH_REGISTER_LISTENER(reference_mode_listener)
+
 namespace vplkit::parity {
 
 gl::headless_context& context() {
+  // Created in IEEE mode: the driver's shader threads inherit the mode of the thread that starts
+  // them, and llvmpipe must stay the IEEE device it is.
+  vplkit_test::ieee_scope ieee;
   static gl::headless_context* const ctx = [] {
     auto* c = new gl::headless_context();
     std::cout << "parity: " << c->describe() << std::endl;
@@ -28,6 +39,7 @@ bool software_renderer() {
 
 const gl::program& pack_kernel(const std::string& file, const std::string& defines) {
   context();
+  vplkit_test::ieee_scope ieee;
   return vplkit_test::pack_kernel(file, defines);
 }
 
@@ -91,6 +103,7 @@ std::string kernel_text(const kernel_call& call) {
 
 kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_t out_element_size) {
   context();
+  vplkit_test::ieee_scope ieee;
   check_call(call);
   const std::string preamble =
       "#define VPLKIT_PARITY_COUNT " + std::to_string(count) + "u\n" + call.defines +
@@ -158,10 +171,26 @@ namespace {
 
 std::string title(const std::string& what) { return what.empty() ? "values" : what; }
 
+// Vulkan "Precision and Operation of SPIR-V Instructions", ULP: where the range a bound allows
+// reaches beyond the largest finite float, a device may return either the infinity of that sign or
+// +-FLT_MAX. So an infinity on one side matches a finite value of the same sign on the other when
+// the value's distance to FLT_MAX, counted as one more ulp for the infinity, is within the bound.
+bool overflow_agrees(float g, double ref, const float_bound& bound) {
+  if (std::isinf(g) == std::isinf(ref) || std::isnan(g) || std::isnan(ref)) return false;
+  if ((g < 0) != (ref < 0)) return false;
+  const float finite = std::isinf(g) ? static_cast<float>(ref) : g;
+  if (std::isinf(finite)) return false;  // a double beyond FLT_MAX
+  const float big = std::numeric_limits<float>::max();
+  const double ulps = ulp_distance(std::fabs(finite), big) + 1.0;
+  const double rel = (static_cast<double>(big) - std::fabs(static_cast<double>(finite))) / static_cast<double>(big);
+  return (bound.ulps >= 0 && ulps <= bound.ulps) || (bound.rel >= 0 && rel <= bound.rel);
+}
+
 template <class R>
 comparison compare_floats_impl(const std::vector<float>& gpu, const std::vector<R>& cpu,
                                const float_bound& bound, const describe_fn& describe,
                                const std::string& what) {
+  vplkit_test::ieee_scope ieee;  // the comparison is not the reference
   comparison c;
   c.count = cpu.size();
   std::ostringstream r;
@@ -187,7 +216,8 @@ comparison compare_floats_impl(const std::vector<float>& gpu, const std::vector<
                        : ref != 0.0 ? diff / std::fabs(ref)
                                     : std::numeric_limits<double>::infinity();
     const bool pass = diff == 0.0 || (bound.ulps >= 0 && ulps <= bound.ulps) ||
-                      (bound.rel >= 0 && rel <= bound.rel) || (bound.abs >= 0 && diff <= bound.abs);
+                      (bound.rel >= 0 && rel <= bound.rel) || (bound.abs >= 0 && diff <= bound.abs) ||
+                      overflow_agrees(g, ref, bound);
     // NaN differences compare false everywhere above; make them the worst explicitly.
     const double ulps_key = std::isnan(diff) ? std::numeric_limits<double>::infinity() : ulps;
     if (!any || ulps_key > c.worst_ulps) {
@@ -248,6 +278,7 @@ namespace {
 
 template <class R>
 comparison with_worst_abs(comparison c, const std::vector<float>& gpu, const std::vector<R>& cpu) {
+  vplkit_test::ieee_scope ieee;
   double worst = 0;
   std::size_t at = 0;
   for (std::size_t i = 0; i < gpu.size() && i < cpu.size(); ++i) {

@@ -47,13 +47,16 @@ inline bool device_flushes_denormals() {
   return flushes;
 }
 
-// While alive, makes the CPU flush denormals like the device (x86 FTZ + DAZ) when `on`.
+// While alive, makes the CPU flush denormals like the device (x86 FTZ + DAZ) when `on`, and keep
+// them when not.
 class cpu_denormals_like_device {
 public:
   explicit cpu_denormals_like_device(bool on) {
 #ifdef VPLKIT_PARITY_HAVE_MXCSR
     saved_ = _mm_getcsr();
-    if (on) _mm_setcsr(saved_ | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+    // FTZ (bit 15) | DAZ (bit 6) exactly when the device flushes, whatever mode the reference of
+    // this process runs in (tests/support/fp_mode.hpp): this reference is the device's.
+    _mm_setcsr(on ? (saved_ | 0x8040u) : (saved_ & ~0x8040u));
 #else
     if (on) WARN("the device flushes denormals but this CPU cannot; denormal cases may differ");
 #endif

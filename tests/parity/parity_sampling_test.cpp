@@ -444,7 +444,8 @@ struct R { vec4 t; vec4 b; vec4 n; vec4 world; vec4 local; };
   std::vector<vplkit::orthonormal_basis<float>> cpu(n);
   std::vector<vplkit::vec3<float>> cpu_world(n), cpu_local(n);
   {
-    cpu_denormals_like_device mode(ftz);
+    // The plain reference: the normal-range contract (docs/math.md, "GPU arithmetic model") makes it the
+    // answer of a flushing device too (the [ftz-daz] run checks it under flushing).
     for (std::size_t i = 0; i < n; ++i) {
       const vplkit::vec3<float> l(locals[i].x, locals[i].y, locals[i].z);
       cpu[i] = vplkit::make_orthonormal_basis(vplkit::vec3<float>(cases[i].x, cases[i].y, cases[i].z));
@@ -495,19 +496,34 @@ struct R { vec4 t; vec4 b; vec4 n; vec4 world; vec4 local; };
   if (!ftz) {
     // Against the double template: how far the GPU frame is from the exact one. Skipped where
     // float and double take different branches s = +-1 (both right): n.z underflows to -0 in
-    // float, e.g. (3e38, 1, -1e-30), and keeps its sign in double.
+    // float, e.g. (3e38, 1, -1e-30), or normalises below FLT_MIN and counts as 0, and keeps its
+    // sign in double.
     std::vector<float> g;
     std::vector<double> e;
     std::vector<std::size_t> at;
+    std::size_t branch_skips = 0, denormal_skips = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if ((cpu[i].n.z >= 0.0f) != (exact[i].n.z >= 0.0)) continue;
+      if ((cpu[i].n.z >= 0.0f) != (exact[i].n.z >= 0.0)) {
+        ++branch_skips;
+        continue;
+      }
+      // A float component below FLT_MIN counts as 0 (the normal-range contract, docs/math.md
+      // "GPU arithmetic model"), where double keeps the same (to double, normal) component.
+      const vplkit::vec3<float> nf(cases[i].x, cases[i].y, cases[i].z);
+      const vplkit::vec3<float> ff = vplkit::flush_denormal(nf);
+      if (ff.x != nf.x || ff.y != nf.y || ff.z != nf.z) {
+        ++denormal_skips;
+        continue;
+      }
       for (std::size_t k = 0; k < 9; ++k) {
         g.push_back(gpu_frame[9 * i + k]);
         e.push_back(exact_frame[9 * i + k]);
         at.push_back(9 * i + k);
       }
     }
-    CHECK(at.size() + 9 * 2 >= 9 * n);  // only a case or two of that kind
+    std::cout << "  vs double: " << branch_skips << " cases with another branch, " << denormal_skips
+              << " with a denormal float component left out\n";
+    CHECK(branch_skips <= 8);  // a few: n.z underflows, or is below FLT_MIN and counts as 0, in float
     VPLKIT_CHECK_PARITY(compare_floats(g, e, frame_bound,
                                        [&](std::size_t j) { return describe(at[j]); },
                                        "vplkit_make_orthonormal_basis (t, b, n) vs C++ double"));
@@ -690,7 +706,7 @@ struct R { vec4 dir; vec4 polar; };
 }
 
 TEST_CASE("cosine_hemisphere.glsl: cosine_hemisphere_pdf over random and special cosines") {
-  const bool ftz = device_flushes_denormals();
+  device_flushes_denormals();  // prints whether it does: the reference is the same either way
   std::vector<float> c = {0.0f, -0.0f, denorm_min, 1e-40f, flt_min, 1e-30f, 0.5f, 1.0f,
                           1.0f - 1.0f / 16777216.0f, -1.0f, 2.0f, flt_max, inf, -inf, qnan};
   input_rng g(8);
@@ -701,7 +717,8 @@ TEST_CASE("cosine_hemisphere.glsl: cosine_hemisphere_pdf over random and special
                                       c.size());
   std::vector<float> cpu(c.size());
   {
-    cpu_denormals_like_device mode(ftz);
+    // The plain reference: the normal-range contract (docs/math.md, "GPU arithmetic model") makes it the
+    // answer of a flushing device too (the [ftz-daz] run checks it under flushing).
     for (std::size_t i = 0; i < c.size(); ++i) cpu[i] = vplkit::cosine_hemisphere_pdf(c[i]);
   }
   // One multiply by the same constant: bit-exact (NaN -> 0 on both sides).

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace vplkit_test {
@@ -46,8 +47,13 @@ void require_cdf_invariants(const vplkit::discrete_cdf<T>& d, const std::vector<
   for (std::size_t i = 0; i < w.size(); ++i) {
     REQUIRE(finite_nonneg(c[i]));
     REQUIRE(c[i] <= c[i + 1]);
-    if (w[i] == T(0)) REQUIRE(c[i] == c[i + 1]);
-    REQUIRE(finite_nonneg(d.pmf(i)));
+    // A weight below the smallest normal T counts as 0 (the normal-range contract, weights.hpp).
+    if (!(w[i] >= std::numeric_limits<T>::min())) REQUIRE(c[i] == c[i + 1]);
+    // Stored values are 0 or at least discrete_cdf_min_value, every pmf 0 or normal.
+    REQUIRE((c[i] == T(0) || c[i] >= vplkit::discrete_cdf_min_value<T>()));
+    const T p = d.pmf(i);
+    REQUIRE(finite_nonneg(p));
+    REQUIRE((p == T(0) || p >= std::numeric_limits<T>::min()));
   }
 }
 

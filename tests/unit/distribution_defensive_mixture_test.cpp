@@ -188,17 +188,16 @@ TEMPLATE_TEST_CASE("defensive_mixture: tiny and denormal eps never produce NaN o
   }
 }
 
-// A learned pmf that is itself denormal: (1 - eps) * pmf underflows, yet u = eps exactly
-// (a grid value) returns that index. Its pmf must not be 0.
-TEST_CASE("defensive_mixture: a product that underflows to 0 is floored", "[distribution]") {
-  const float tiny = std::numeric_limits<float>::denorm_min();
-  const vplkit::discrete_cdf<float> learned(std::vector<float>{tiny, 1.0f});
-  REQUIRE(learned.pmf(0) == tiny);
-  const vplkit::discrete_cdf<float> fallback(std::vector<float>{0.0f, 1.0f});
-  const vplkit::defensive_mixture<float> m(learned, fallback, 0.5f);
-  const auto s = m.sample(0.5f);
+// A fallback pmf and an eps whose product falls below FLT_MIN: u = 0 returns that index, and its
+// pmf is floored to FLT_MIN (never 0, never a denormal that a GPU reads as 0).
+TEST_CASE("defensive_mixture: a product that underflows FLT_MIN is floored", "[distribution]") {
+  const vplkit::discrete_cdf<float> learned(std::vector<float>{0.0f, 1.0f});
+  const vplkit::discrete_cdf<float> fallback(std::vector<float>{0x1p-99f, 1.0f});
+  REQUIRE(fallback.pmf(0) == 0x1p-99f);
+  const vplkit::defensive_mixture<float> m(learned, fallback, 0x1p-30f);  // eps pmf = 2^-129
+  const auto s = m.sample(0.0f);
   REQUIRE(s.index == 0);
-  REQUIRE(s.pmf == tiny);  // 0.5 * 2^-149 rounds to 0 (ties to even): floored
+  REQUIRE(s.pmf == std::numeric_limits<float>::min());
   REQUIRE(m.pmf(0) == s.pmf);
   REQUIRE(m.pmf(1) == Approx(1.0f));
 }

@@ -122,16 +122,20 @@ TEMPLATE_TEST_CASE("face_roulette: u at and around b_F, 0 and 1", "[distribution
   }
 }
 
-TEMPLATE_TEST_CASE("face_roulette: a denormal face share never produces NaN or Inf",
+TEMPLATE_TEST_CASE("face_roulette: a tiny face share never produces NaN or Inf, one below FLT_MIN counts as 0",
                    "[distribution]", float, double) {
   using T = TestType;
-  const T tiny = std::numeric_limits<T>::denorm_min();
-  // b_F = tiny / (tiny + 1): denormal, its reciprocal overflows T.
-  const vplkit::face_roulette<T> r{vplkit::discrete_cdf<T>(std::vector<T>{tiny, 0}),
-                                   vplkit::discrete_cdf<T>(std::vector<T>{0, 1})};
-  REQUIRE(r.front_probability() > T(0));
+  const T lo = std::numeric_limits<T>::min();
+  // b_F = 2^-4 min() / (2^-4 min() + 1): a share just above the smallest normal T; its reciprocal
+  // is finite.
+  const T small = std::ldexp(lo, 100);
+  const T big = std::ldexp(T(1), 96);
+  const vplkit::face_roulette<T> r{vplkit::discrete_cdf<T>(std::vector<T>{small, 0}),
+                                   vplkit::discrete_cdf<T>(std::vector<T>{0, big})};
+  REQUIRE(r.front_probability() >= lo);
   REQUIRE(std::isfinite(r.front_scale()));
-  for (T u : {T(0), tiny, std::nextafter(tiny, T(1)), T(0.5), T(1)}) {
+  for (T u : {T(0), std::numeric_limits<T>::denorm_min(), lo, std::nextafter(r.front_probability(), T(1)),
+              T(0.5), T(1)}) {
     const auto s = r.sample(u);
     REQUIRE(std::isfinite(s.pmf));
     REQUIRE(s.pmf > T(0));
@@ -140,4 +144,18 @@ TEMPLATE_TEST_CASE("face_roulette: a denormal face share never produces NaN or I
   REQUIRE(r.sample(T(0)).face == 0);
   REQUIRE(r.sample(T(0)).index == 0);
   REQUIRE(r.sample(T(0.5)).face == 1);
+  // A share below the smallest normal T counts as 0 (the normal-range contract): the front face
+  // is never picked and reports pmf 0, on every device.
+  const vplkit::face_roulette<T> z{vplkit::discrete_cdf<T>(std::vector<T>{small, 0}),
+                                   vplkit::discrete_cdf<T>(std::vector<T>{0, std::ldexp(T(1), 120)})};
+  REQUIRE(z.front_probability() == T(0));
+  REQUIRE(z.back_probability() == T(1));
+  for (T u : {T(0), lo, T(0.5), T(1)}) REQUIRE(z.sample(u).face == 1);
+  REQUIRE(z.pmf(0, 0) == T(0));
+  // A denormal weight is a zero weight: an empty face.
+  const vplkit::face_roulette<T> d{vplkit::discrete_cdf<T>(std::vector<T>{std::numeric_limits<T>::denorm_min(), 0}),
+                                   vplkit::discrete_cdf<T>(std::vector<T>{0, 1})};
+  REQUIRE(d.front().empty());
+  REQUIRE(d.front_probability() == T(0));
+  REQUIRE(d.sample(T(0)).face == 1);
 }

@@ -156,7 +156,7 @@ TEST_CASE("dprsm_patch_vpl: the depth window is dprsm_lookup's lit test") {
   const dprsm_data<double> d = scene.make_dprsm(32);
   const dprsm_view<double> view = d.view();
   const double inf = std::numeric_limits<double>::infinity();
-  int beyond_former = 0, tested = 0, rejected = 0;
+  int beyond_former = 0, tested = 0, rejected = 0, edge_flips = 0;
   for (double tol : {0.0, 0.02, 0.1}) {
     for (int t = 0; t < view.texel_count(); t += 3) {
       if (!vpl_has_flux(view.vpl_at(t))) continue;
@@ -171,7 +171,19 @@ TEST_CASE("dprsm_patch_vpl: the depth window is dprsm_lookup's lit test") {
         const dprsm_lookup_result lk = dprsm_lookup(view, all.point.position, tol);
         ++tested;
         INFO("texel " << t << " tol " << tol);
-        CHECK(lk.texel == t);
+        // The lookup recomputes uv from the 3D point (a normalisation and a division: a few
+        // ulps); a point whose uv lies within that of an ownership edge may be filed under the
+        // neighbour. Allowed only there (a decision compared with a margin), and counted.
+        if (lk.texel != t) {
+          bool at_edge = false;
+          for (double f : {1.0 - 64 * std::numeric_limits<double>::epsilon(), 1.0 + 64 * std::numeric_limits<double>::epsilon()})
+            for (double g : {-1.0, 1.0})
+              at_edge = at_edge || texel_owner_from_uv(vec2<double>(all.uv.x * f, all.uv.y * (g > 0 ? f : 2.0 - f)),
+                                                       view.resolution) != texel_coords(t, view.resolution);
+          CHECK(at_edge);
+          ++edge_flips;
+          continue;
+        }
         CHECK(lk.lit == vpl_has_flux(s.point));
         if (!vpl_has_flux(s.point)) ++rejected;
         else CHECK(same_bits(s.point.position, all.point.position));
@@ -181,9 +193,11 @@ TEST_CASE("dprsm_patch_vpl: the depth window is dprsm_lookup's lit test") {
       }
     }
   }
-  std::printf("depth window: %d points tested, %d rejected, %d kept beyond the former window\n", tested, rejected,
-              beyond_former);
+  std::printf("depth window: %d points tested, %d rejected, %d kept beyond the former window, %d at an ownership "
+              "edge filed under the neighbour\n",
+              tested, rejected, beyond_former, edge_flips);
   CHECK(tested > 1000);
+  CHECK(edge_flips <= tested / 1000);
   CHECK(beyond_former > tested / 10);
 }
 

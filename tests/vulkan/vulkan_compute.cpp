@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vulkan_compute.hpp"
 
+#include <fp_mode.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -79,6 +81,9 @@ int device_rank(VkPhysicalDeviceType t) {  // lower is preferred
 // ---- context ------------------------------------------------------------------------------------
 
 context::context(validation_log& log) : log_(&log) {
+  // IEEE mode: lavapipe's threads inherit the mode of the thread that creates them, and the
+  // C++ reference may be running with FTZ|DAZ (fp_mode.hpp).
+  vplkit_test::ieee_scope ieee;
   try {
     create_instance();
     pick_device();
@@ -299,6 +304,7 @@ void buffer::release() noexcept {
 
 kernel::kernel(context& ctx, const std::string& name, std::vector<slot> slots)
     : device_(ctx.device()), name_(name), slots_(std::move(slots)) {
+  vplkit_test::ieee_scope ieee;
   const std::string path = std::string(VPLKIT_VULKAN_SPIRV_DIR) + "/" + name + ".spv";
   std::ifstream file(path, std::ios::binary);
   if (!file) throw vk_error("vulkan: cannot read " + path);
@@ -365,6 +371,7 @@ void kernel::release() noexcept {
 // ---- dispatch -----------------------------------------------------------------------------------
 
 void run(context& ctx, const std::vector<dispatch_step>& steps) {
+  vplkit_test::ieee_scope ieee;
   const VkDevice dev = ctx.device();
   std::uint32_t storage = 0, uniform = 0;
   for (const dispatch_step& s : steps) {

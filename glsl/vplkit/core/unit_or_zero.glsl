@@ -5,6 +5,7 @@
 #define VPLKIT_CORE_UNIT_OR_ZERO_GLSL
 
 #include "vplkit/core/constants.glsl"
+#include "vplkit/core/normal_range.glsl"
 
 // Largest absolute component (the L-infinity norm). NaN components are skipped by the
 // comparisons on the CPU; GPU compilers may assume NaN never occurs, so that is a CPU guarantee.
@@ -16,18 +17,26 @@ float vplkit_max_abs_component(vec3 v) {
   return m;
 }
 
-// v / |v|, or (0,0,0) when v is zero or has an infinite (CPU: or NaN) component. Dividing by the
-// largest component first keeps dot(v, v) away from underflow and overflow, so any finite
-// non-zero v gives a unit vector.
+// v / |v|, or (0,0,0) when v is zero or has an infinite (CPU: or NaN) component. Components below
+// the smallest normal float count as 0, in v and in the result (C++: the same flushes), so a
+// device that flushes denormals and one that keeps them agree. v is scaled by the power of two
+// that brings its largest component into [1, 2) ([2, 4) in the top binade) first: exact, so
+// dot(v, v) neither under- nor overflows, and no division by a huge |v| (a / b may be computed as
+// a * (1 / b), and 1 / b is a denormal for b > 2^126). The length is applied as
+// s * inversesqrt(len2) (2 ulp in GLSL) where the C++ divides by sqrt(len2) (correctly rounded):
+// the pack's sqrt is itself 1 / inversesqrt, and a division adds 2.5 ulp.
 vec3 vplkit_unit_or_zero(vec3 v) {
+  v = vplkit_flush_denormal(v);
   float m = vplkit_max_abs_component(v);
   if (!(m > 0.0) || !(m <= vplkit_FLT_MAX)) return vec3(0.0);
-  vec3 s = v / m;
-  // len2 is in [1, 3] unless a component was NaN; [0.5, 4] keeps the test a pure NaN check under
-  // GPU division and sqrt, which are not correctly rounded.
+  int e = vplkit_binary_exponent(m);
+  float scale = vplkit_exp2i(e < 126 ? -e : -126);
+  vec3 s = vplkit_flush_denormal(v * scale);
+  // len2 is in [1, 48] unless a component was NaN; [0.5, 64] keeps the test a pure NaN check
+  // under GPU arithmetic.
   float len2 = dot(s, s);
-  if (!(len2 >= 0.5) || !(len2 <= 4.0)) return vec3(0.0);
-  return s / sqrt(len2);
+  if (!(len2 >= 0.5) || !(len2 <= 64.0)) return vec3(0.0);
+  return vplkit_flush_denormal(s * inversesqrt(len2));
 }
 
 #endif  // VPLKIT_CORE_UNIT_OR_ZERO_GLSL

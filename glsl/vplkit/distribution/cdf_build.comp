@@ -8,10 +8,11 @@
 // pass per program), VPLKIT_CDF_BUILD_FLOAT_FLOAT (float pairs instead of double, without fp64).
 // Dispatch the passes vplkit::gpu::cdf_build_pass_needed names (1, 3, 5 up to 2^20 weights with the
 // defaults; 1 to 5 above) in order with a shader-storage barrier between them, or all six: the
-// same output. Nothing needs clearing first. Output: what discrete_cdf<float> stores (cdf[0] = 0, cdf[n] = 1, a zero weight
-// never sampled, the C++ guide for the stored cdf); info[d] gets the float total and the count of
-// rejected (negative, NaN, infinite) weights, which count as 0. Every cdf value is the C++ value
-// or a float neighbour. Passes, group counts, how and why, the accuracy bound and measurements:
+// same output. Nothing needs clearing first. Output: what discrete_cdf<float> stores (cdf[0] = 0,
+// cdf[n] = 1, a zero weight never sampled, the C++ guide for the stored cdf, no value between 0
+// and 2^-103); info[d] gets the float total and the count of rejected (negative, NaN, infinite)
+// weights, which count as 0, as do weights below the smallest normal float. Every cdf value is the
+// C++ value or a float neighbour. Passes, group counts, how and why, the accuracy bound and measurements:
 // docs/glsl/distribution.md, "cdf_build.comp".
 #include "vplkit/distribution/cdf_build_params.h"
 #include "vplkit/distribution/discrete_cdf.glsl"
@@ -217,16 +218,28 @@ uint vplkit_cdf_build_block_count(uint n) {
 }
 
 // Weight i of distribution d; negative, NaN and infinite weights (C++: rejected) count as 0.
-// -0 is a valid zero. Tested on the bits: no dependence on the driver's NaN comparisons.
+// -0 and every weight below the smallest normal float (of either sign) are valid zeros (C++
+// detail::weight_value, the normal-range contract: a device may flush them on input, so every
+// device counts them as 0). Tested on the bits: no dependence on the driver's NaN comparisons or
+// on its denormal mode.
 float vplkit_cdf_build_weight(uint d, uint i, inout uint zeroed) {
   float w = vplkit_cdf_build_weights[d * vplkit_cdf_build.n + i];
   uint bits = floatBitsToUint(w);
-  if (bits == 0x80000000u) return 0.0;
+  if ((bits & 0x7FFFFFFFu) < 0x00800000u) return 0.0;  // +-0 and the denormals
   if (bits >= 0x7F800000u) {  // sign set, Inf or NaN
     zeroed += 1u;
     return 0.0;
   }
   return w;
+}
+
+// A normalised prefix sum as stored: 0 below discrete_cdf_min_value<float>() = 2^-103 (C++
+// discrete_cdf build), so that every stored value is 0 or normal, every pmf (a difference of two
+// stored values) is 0 or normal, and the guide table's ceil(cdf * m) is the same on a device that
+// flushes denormals. Returned as bits, the form the prefix max works on.
+uint vplkit_cdf_build_stored_bits(float q) {
+  uint bits = floatBitsToUint(q);
+  return bits >= 0x0C000000u ? bits : 0u;  // 0x0C000000: 2^-103
 }
 
 // ---- cross-block scans --------------------------------------------------------------------------
@@ -392,7 +405,7 @@ void vplkit_cdf_build_pass_normalise(uint d) {
     for (uint k = 0u; k < uint(VPLKIT_CDF_BUILD_ITEMS); ++k) {
       p = vplkit_cdf_build_acc_add(p, vplkit_cdf_build_acc_from(w[k]));
       // A zero weight contributes nothing to the max: it repeats its left neighbour exactly.
-      uint bits = (w[k] > 0.0 && !empty) ? floatBitsToUint(vplkit_cdf_build_ratio(p, norm)) : 0u;
+      uint bits = (w[k] > 0.0 && !empty) ? vplkit_cdf_build_stored_bits(vplkit_cdf_build_ratio(p, norm)) : 0u;
       running = max(running, bits);
       q[k] = running;
     }

@@ -45,7 +45,9 @@ vplkit_defensive_mixture vplkit_make_defensive_mixture(vplkit_discrete_cdf learn
   vplkit_defensive_mixture m;
   m.learned = learned;
   m.fallback = fallback;
-  m.effective_eps = learned_empty ? (fallback_empty ? 0.0 : 1.0) : (fallback_empty ? 0.0 : eps);
+  // An eps below the smallest normal float counts as 0, as in the C++.
+  m.effective_eps = learned_empty ? (fallback_empty ? 0.0 : 1.0)
+                                  : (fallback_empty ? 0.0 : vplkit_flush_denormal(eps));
   // reciprocal_or_zero of 0 is 0 and of 1 is 1; otherwise the host's reciprocals.
   m.fallback_scale = m.effective_eps == 0.0 ? 0.0 : (m.effective_eps == 1.0 ? 1.0 : eps_scale);
   m.learned_scale = m.effective_eps == 1.0 ? 0.0 : (m.effective_eps == 0.0 ? 1.0 : one_minus_eps_scale);
@@ -62,7 +64,8 @@ vplkit_defensive_mixture vplkit_make_defensive_mixture(vplkit_discrete_cdf learn
 }
 
 // The mixture's pmf from its parts (C++ defensive_mixture_pmf); sampling and the pmf of an index
-// both use it. A term that underflows to 0 while both factors are > 0 becomes 2^-149.
+// both use it. A term below 2^-126 while both factors are > 0 becomes 2^-126: 0 or normal terms,
+// so the sum has the C++ bits on every device.
 // precise: the sum must not absorb a product into an FMA (one rounding fewer than the C++).
 float vplkit_defensive_mixture_pmf(float eps, float p_learned, float p_fallback) {
   precise float a = vplkit_probability_product(1.0 - eps, p_learned);

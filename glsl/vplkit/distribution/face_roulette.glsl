@@ -41,18 +41,24 @@ struct vplkit_face_roulette {
   float back_scale;
 };
 
-// b_F from the two face totals; 0 when both are 0. The C++ divides in double and rounds once;
-// GLSL is float only: the sum is formed at half scale when it would overflow, and the division is
-// GLSL's (within 2.5 ulp), so b_F may differ from the C++ value in its last bits. A total of +Inf
-// (float weights summing past FLT_MAX) has lost its size: an infinite face takes b = 1 against a
-// finite one and 0.5 against an infinite one, never NaN; the C++ uses its double sums there, so
-// upload its b_F (and scales) for such faces.
+// b_F from the two face totals; 0 when both are 0, and 0 below the smallest normal float (C++:
+// flushed, the normal-range contract). The C++ divides in double and rounds once; GLSL is float
+// only: both totals are scaled by the power of two that brings the larger into [1, 2), so the sum
+// cannot overflow and the division has a divisor in [1, 4), inside the range where GLSL promises
+// 2.5 ulp; b_F may still differ from the C++ value in its last bits. A total of +Inf (float
+// weights summing past FLT_MAX) has lost its size: an infinite face takes b = 1 against a finite
+// one and 0.5 against an infinite one, never NaN; the C++ uses its double sums there, so upload
+// its b_F (and scales) for such faces.
 float vplkit_face_roulette_front_probability(float v_front, float v_back) {
-  float sum = v_front + v_back;
-  if (!(sum > 0.0)) return 0.0;
   if (isinf(v_front) || isinf(v_back)) return isinf(v_back) ? (isinf(v_front) ? 0.5 : 0.0) : 1.0;
-  if (sum > uintBitsToFloat(0x7F7FFFFFu)) return (0.5 * v_front) / (0.5 * v_front + 0.5 * v_back);
-  return min(v_front / sum, 1.0);
+  float f = vplkit_flush_denormal(v_front);
+  float b = vplkit_flush_denormal(v_back);
+  float m = max(f, b);
+  if (!(m > 0.0)) return 0.0;
+  int k = -vplkit_binary_exponent(m);
+  f = vplkit_scale_by_exp2(f, k);
+  b = vplkit_scale_by_exp2(b, k);
+  return vplkit_flush_denormal(min(f / (f + b), 1.0));
 }
 
 bool vplkit_face_roulette_empty(vplkit_face_roulette r) {
@@ -81,7 +87,7 @@ float vplkit_face_roulette_face_probability(vplkit_face_roulette r, int face) {
 }
 
 // b_face * pmf within the face; 0 for a face other than 0 / 1 or an index out of range. A product
-// that underflows to 0 becomes 2^-149 (vplkit_probability_product).
+// below the smallest normal float becomes 2^-126 (vplkit_probability_product).
 float vplkit_face_roulette_pmf(vplkit_face_roulette r, int face, uint index) {
   if (face == vplkit_front_face) {
     return vplkit_probability_product(r.b_front, vplkit_discrete_cdf_pmf(r.front, index));

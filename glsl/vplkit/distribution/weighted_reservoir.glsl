@@ -26,9 +26,11 @@ vplkit_weighted_reservoir vplkit_make_weighted_reservoir() {
   return vplkit_weighted_reservoir(vplkit_reservoir_empty, 0.0, 0.0);
 }
 
-// Finite and > 0 (NaN fails both comparisons).
+// Finite and at least FLT_MIN (the normal-range contract: a denormal weight counts as 0 whether
+// or not the device flushes it); decided on the bits, so NaN, -0 and negatives fail too.
 bool vplkit_reservoir_weight_usable(float w) {
-  return w > 0.0 && w <= vplkit_FLT_MAX;
+  uint b = floatBitsToUint(w);
+  return b >= 0x00800000u && b < 0x7F800000u;
 }
 
 bool vplkit_reservoir_empty_of(vplkit_weighted_reservoir r) {

@@ -31,7 +31,7 @@ const int vplkit_local_average = 1;
 // sum_j pmf_j(t) over the N distributions: the (unnormalised) mixture density at t.
 float vplkit_local_mixture_pmf_sum(uint first_distribution, int n_distributions, uint t) {
   float s = 0.0;
-  for (int j = 0; j < n_distributions; ++j) s += vplkit_estimator_distribution_pmf(first_distribution + uint(j), t);
+  for (int j = 0; j < n_distributions; ++j) s += vplkit_estimator_pmf(vplkit_estimator_distribution_pmf(first_distribution + uint(j), t));
   return s;
 }
 
@@ -51,7 +51,7 @@ void vplkit_estimate_local_range(vplkit_gather_point gp, vplkit_dprsm_view view,
         xi.x = vplkit_rng_next_unit(state.rng);
         xi.y = vplkit_rng_next_unit(state.rng);
       }
-      float pmf_i = s.pmf;
+      float pmf_i = vplkit_estimator_pmf(s.pmf);
       if (!(pmf_i > 0.0) || s.index >= n_texels) continue;
       vec3 c = vpl_mode == vplkit_vpl_patch
                    ? vplkit_vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin,

@@ -107,7 +107,7 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
   vplkit_gathering_ray_result r = vplkit_trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3(0.0);
   vec3 f = gp.albedo * r.radiance * (cos2 / vplkit_vpl_pi);
-  float pmf = vplkit_estimator_distribution_pmf(distribution, uint(r.texel));
+  float pmf = vplkit_estimator_pmf(vplkit_estimator_distribution_pmf(distribution, uint(r.texel)));
   if (mode == vplkit_mis_solid_angle) {
     float p1 = vplkit_cosine_pdf_solid_angle(cos2);
     // Hits in front of their texel's surface and the parts of patches whose points sit at the
@@ -165,7 +165,7 @@ vec3 vplkit_mis_vpl_value(vplkit_gather_point gp, vplkit_dprsm_view view, int t,
 vec3 vplkit_mis_vpl_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution, float u,
                            vplkit_visibility visibility, float n1, float n2, int mode) {
   vplkit_discrete_sample s = vplkit_estimator_distribution_sample(distribution, u);
-  float pmf = s.pmf;
+  float pmf = vplkit_estimator_pmf(s.pmf);
   if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
   int t = int(s.index);
   return vplkit_mis_vpl_value(gp, view, t, vplkit_dprsm_view_vpl_at(view, t), pmf,
@@ -177,7 +177,7 @@ vec3 vplkit_mis_vpl_patch_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
                                  vec2 xi, vplkit_visibility visibility, float n1, float n2, int mode,
                                  float depth_tolerance) {
   vplkit_discrete_sample s = vplkit_estimator_distribution_sample(distribution, u);
-  float pmf = s.pmf;
+  float pmf = vplkit_estimator_pmf(s.pmf);
   if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
   int t = int(s.index);
   vplkit_dprsm_patch_sample p = vplkit_dprsm_patch_vpl(view, t, xi, depth_tolerance);

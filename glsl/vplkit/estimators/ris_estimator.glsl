@@ -61,10 +61,11 @@ float vplkit_ris_candidate(vplkit_gather_point gp, vplkit_dprsm_view view, uint 
     s.xi.y = vplkit_rng_next_unit(rng);
   }
   vplkit_discrete_sample d = vplkit_estimator_distribution_sample(distribution, u);
-  if (!(d.pmf > 0.0) || d.index >= uint(vplkit_dprsm_view_texel_count(view))) return 0.0;
+  float pmf = vplkit_estimator_pmf(d.pmf);  // a denormal pmf counts as 0 (vpl_sum.glsl)
+  if (!(pmf > 0.0) || d.index >= uint(vplkit_dprsm_view_texel_count(view))) return 0.0;
   s.texel = int(d.index);
   target = vplkit_ris_target(gp, vplkit_ris_sample_vpl(view, s, vpl_mode, depth_tolerance), dmin);
-  return vplkit_mis_div(target, d.pmf);  // an overflow is not a usable weight: the reservoir skips it
+  return vplkit_mis_div(target, pmf);  // an overflow is not a usable weight: the reservoir skips it
 }
 
 // n_candidates candidates from `distribution`, one kept in each of reservoirs[0 .. n_kept)

@@ -7,8 +7,8 @@
 //   vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
 //   float vplkit_estimator_distribution_pmf(uint distribution, uint index);
 // usually one line each over the distribution pack (docs/glsl/estimators.md, "Distributions: two
-// hooks"). ACCESSORS: the DPRSM's and vplkit_load_voxel_word. Divisions by a pmf go through
-// vplkit_mis_div, so a denormal pmf divides as in C++ where denormals are kept.
+// hooks"). ACCESSORS: the DPRSM's and vplkit_load_voxel_word. A drawn pmf below FLT_MIN counts as
+// 0 (vplkit_estimator_pmf, the normal-range contract of docs/math.md, "GPU arithmetic model"), as in C++.
 // VPL MODE: the range and one-shot forms come twice, as in C++ with its defaults: without the last
 // two arguments (vplkit_vpl_point, the paper's point VPLs) and with (int vpl_mode, float
 // depth_tolerance); vplkit_vpl_patch draws two more numbers per sample, u0 then u1, the jitter
@@ -38,7 +38,7 @@ vec3 vplkit_estimator_div(vec3 c, float p) {
 vec3 vplkit_vpl_sampling_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution, float u,
                                 vplkit_visibility visibility, float dmin) {
   vplkit_discrete_sample s = vplkit_estimator_distribution_sample(distribution, u);
-  float pmf = s.pmf;
+  float pmf = vplkit_estimator_pmf(s.pmf);
   if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
   vec3 c = vplkit_vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
   // A denormal pmf can overflow the quotient: such a draw has negligible probability, and an Inf
@@ -50,7 +50,7 @@ vec3 vplkit_vpl_sampling_sample(vplkit_gather_point gp, vplkit_dprsm_view view, 
 vec3 vplkit_vpl_sampling_patch_sample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution, float u,
                                       vec2 xi, vplkit_visibility visibility, float dmin, float depth_tolerance) {
   vplkit_discrete_sample s = vplkit_estimator_distribution_sample(distribution, u);
-  float pmf = s.pmf;
+  float pmf = vplkit_estimator_pmf(s.pmf);
   if (!(pmf > 0.0) || s.index >= uint(vplkit_dprsm_view_texel_count(view))) return vec3(0.0);
   vec3 c = vplkit_vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance);
   return vplkit_estimator_finite_or_zero(vplkit_estimator_div(c, pmf));

@@ -37,6 +37,14 @@ vec3 vplkit_estimator_finite_or_zero(vec3 v) {
   return any(bad) ? vec3(0.0) : v;
 }
 
+// A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number (decided
+// on the bits, so that neither a flushing GPU nor a folded comparison changes it); mirrors
+// estimator_pmf (docs/math.md, "GPU arithmetic model").
+float vplkit_estimator_pmf(float p) {
+  uint b = floatBitsToUint(p);
+  return (b >= 0x00800000u && b < 0x7F800000u) ? p : 0.0;
+}
+
 // L_t(x) V(x, y_t) for texel t: 0 for an index outside the view, a texel without flux, or a
 // back-facing pair; visibility is queried only when the unoccluded contribution is non-zero.
 vec3 vplkit_vpl_visible_contribution(vplkit_gather_point gp, vplkit_dprsm_view view, int t,

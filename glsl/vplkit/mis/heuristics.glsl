@@ -8,22 +8,27 @@
 //   vplkit_balance_combined(f,n1,p1,n2,p2)  = f / (n1 p1 + n2 p2)
 // Never NaN: invalid counts (not finite and > 0) and pdfs (NaN, <= 0) count as 0; a strategy with
 // n = 0 has no term; both terms 0 -> 0; an infinite pdf outweighs every finite one; two infinite
-// pdfs are weighed by their counts; the terms are rescaled so that the larger is exactly 1 before
-// anything is added or squared (denormal and huge pdfs give the weights of moderate ones).
-// +inf is uintBitsToFloat(0x7F800000u) and is tested with `==`, as in the C++.
+// pdfs are weighed by their counts; counts and pdfs below the smallest normal float count as 0;
+// each term is formed from the mantissas and exponents of its count and pdf and scaled by exact
+// powers of two so that the larger lies in [1, 4) before anything is added, squared or divided
+// (tiny and huge pdfs give the weights of moderate ones, and every division has a divisor in
+// [1, 32), where GLSL promises 2.5 ulp). +inf is uintBitsToFloat(0x7F800000u) and is tested with
+// `==`, as in the C++.
 //
 // GLSL-only additions (the rest reads line for line like the C++):
 // - vplkit_mis_is_nan(x) decides NaN on the bits, and guards every place where the C++ relies on
 //   a comparison being false for NaN: compilers may fold such comparisons into min/max, which drop
 //   a NaN (docs/glsl.md, "NaN, FMA and compiler rewrites"), so the C++ form alone lets NaN through.
-// - vplkit_mis_div(x, y) stands where the C++ writes x / y with a divisor that may lie outside
-//   [2^-126, 2^126]; on an IEEE device it gives the bits of x / y.
-// On a GPU that flushes denormals to zero, denormal inputs and results read as 0 (see
-// docs/glsl/mis.md); the results are still never NaN.
+// - vplkit_mis_div(x, y): x / y for a divisor that may lie outside [2^-126, 2^126] (the
+//   heuristics no longer need it: their divisors lie in [1, 32); kept for callers).
+// Every input and result below the smallest normal float is 0 on both sides (the normal-range
+// contract, docs/math.md "GPU arithmetic model"), so a GPU that flushes denormals computes what
+// the C++ computes.
 #ifndef VPLKIT_MIS_HEURISTICS_GLSL
 #define VPLKIT_MIS_HEURISTICS_GLSL
 
 #include "vplkit/core/constants.glsl"
+#include "vplkit/core/normal_range.glsl"
 
 // x / y for any y. GLSL 4.30 (section 4.7.1) specifies x / y (to 2.5 ulp) only for |y| in
 // [2^-126, 2^126]: GPUs divide through a reciprocal, which flushes to 0 above 2^126 (there
@@ -50,19 +55,37 @@ bool vplkit_mis_is_nan(float x) {
   return (floatBitsToUint(x) & 0x7FFFFFFFu) > 0x7F800000u;
 }
 
-// Finite and positive -> n, anything else (0, negative, NaN, inf) -> 0.
+// Finite and at least the smallest normal float -> n, anything else (0, denormal, negative, NaN,
+// inf) -> 0.
 float vplkit_mis_clean_count(float n) {
-  return (n > 0.0 && n <= vplkit_FLT_MAX && !vplkit_mis_is_nan(n)) ? n : 0.0;
+  return (n >= vplkit_FLT_MIN && n <= vplkit_FLT_MAX && !vplkit_mis_is_nan(n)) ? n : 0.0;
 }
 
-// Positive (+inf included) -> p; 0, negative, NaN -> 0.
+// At least the smallest normal float (+inf included) -> p; 0, denormal, negative, NaN -> 0.
 float vplkit_mis_clean_pdf(float p) {
-  return (p > 0.0 && !vplkit_mis_is_nan(p)) ? p : 0.0;
+  return (p >= vplkit_FLT_MIN && !vplkit_mis_is_nan(p)) ? p : 0.0;
 }
 
-// The two MIS terms n1 p1 and n2 p2 scaled by one common positive factor so that the larger is
-// exactly 1, or (0, 0) when both vanish. Infinite pdfs replace the finite ones: the terms become
-// the counts of the infinite strategies.
+// n * p = mantissa * 2^exponent, mantissa in [1, 4), for a cleaned count and a finite pdf;
+// mantissa 0 when either is 0 (C++ mis_term).
+vplkit_binary_split vplkit_mis_term(float n, float p) {
+  if (!(n > 0.0) || !(p > 0.0)) return vplkit_binary_split(0.0, 0);
+  vplkit_binary_split sn = vplkit_split_binary(n);
+  vplkit_binary_split sp = vplkit_split_binary(p);
+  precise float m = sn.mantissa * sp.mantissa;
+  return vplkit_binary_split(m, sn.exponent + sp.exponent);
+}
+
+// The exponent both terms are scaled by: the larger term's (C++ mis_scaled_terms).
+int vplkit_mis_common_exponent(vplkit_binary_split ta, vplkit_binary_split tb) {
+  if (!(tb.mantissa > 0.0)) return ta.exponent;
+  if (!(ta.mantissa > 0.0)) return tb.exponent;
+  return max(ta.exponent, tb.exponent);
+}
+
+// The two MIS terms n1 p1 and n2 p2 scaled by one common power of two so that the larger lies in
+// [1, 4) (the other 0 below 2^-126 of it), or (0, 0) when both vanish. Infinite pdfs replace the
+// finite ones: the terms become the counts of the infinite strategies, scaled likewise.
 struct vplkit_mis_terms {
   float a;  // ~ n1 p1
   float b;  // ~ n2 p2
@@ -74,42 +97,41 @@ vplkit_mis_terms vplkit_mis_scaled_terms(float n1, float p1, float n2, float p2)
   n2 = vplkit_mis_clean_count(n2);
   p1 = n1 > 0.0 ? vplkit_mis_clean_pdf(p1) : 0.0;
   p2 = n2 > 0.0 ? vplkit_mis_clean_pdf(p2) : 0.0;
-  vplkit_mis_terms r = vplkit_mis_terms(0.0, 0.0);
   if (p1 == inf || p2 == inf) {
-    r.a = p1 == inf ? n1 : 0.0;
-    r.b = p2 == inf ? n2 : 0.0;
-  } else {
-    float m = p1 > p2 ? p1 : p2;
-    if (!(m > 0.0)) return r;
-    r.a = n1 * vplkit_mis_div(p1, m);  // p/m in [0, 1]: no overflow; a denormal pdf is lifted
-    r.b = n2 * vplkit_mis_div(p2, m);
+    float a = p1 == inf ? n1 : 0.0;
+    float b = p2 == inf ? n2 : 0.0;
+    int k = -vplkit_binary_exponent(max(a, b));  // the larger count is > 0 here
+    return vplkit_mis_terms(vplkit_scale_by_exp2(a, k), vplkit_scale_by_exp2(b, k));
   }
-  float s = r.a > r.b ? r.a : r.b;  // > 0 here: the larger pdf's strategy has n > 0
-  // GLSL-only: never taken on an IEEE device; where denormals flush, a denormal count times 1
-  // can give s = 0, and then there is no term.
-  if (!(s > 0.0)) return vplkit_mis_terms(0.0, 0.0);
-  r.a = vplkit_mis_div(r.a, s);
-  r.b = vplkit_mis_div(r.b, s);
-  return r;
+  vplkit_binary_split ta = vplkit_mis_term(n1, p1);
+  vplkit_binary_split tb = vplkit_mis_term(n2, p2);
+  if (!(ta.mantissa > 0.0) && !(tb.mantissa > 0.0)) return vplkit_mis_terms(0.0, 0.0);
+  int e = vplkit_mis_common_exponent(ta, tb);
+  return vplkit_mis_terms(vplkit_scale_by_exp2(ta.mantissa, ta.exponent - e),
+                          vplkit_scale_by_exp2(tb.mantissa, tb.exponent - e));
 }
 
 float vplkit_balance_heuristic(float n1, float p1, float n2, float p2) {
   vplkit_mis_terms t = vplkit_mis_scaled_terms(n1, p1, n2, p2);
-  float d = t.a + t.b;  // 0 or in [1, 2]
+  float d = t.a + t.b;  // 0 or in [1, 8)
   return d > 0.0 ? t.a / d : 0.0;
 }
 
 float vplkit_power_heuristic(float n1, float p1, float n2, float p2) {
   vplkit_mis_terms t = vplkit_mis_scaled_terms(n1, p1, n2, p2);
-  float a2 = t.a * t.a, b2 = t.b * t.b;  // squares of numbers in [0, 1]: underflow only to a
-  float d = a2 + b2;                     // value that cannot matter next to the other's 1
+  // precise: each square is rounded (and flushed below FLT_MIN) before the sum, as in the C++.
+  precise float a2 = vplkit_flush_denormal(t.a * t.a);
+  precise float b2 = vplkit_flush_denormal(t.b * t.b);
+  precise float d = a2 + b2;  // 0 or in [1, 32)
   return d > 0.0 ? a2 / d : 0.0;
 }
 
 // f / (n1 p1 + n2 p2), the balance-heuristic estimator's value for one sample of either strategy.
 // 0 when the denominator is 0 or infinite, and 0 when f is not finite or the quotient overflows
 // (a guard against poisoning an image, reached only for samples of negligible probability).
-// f may be negative.
+// f may be negative (0 below the smallest normal float). The denominator is d * 2^e with d in
+// [1, 8): one division of f's mantissa by d, then an exact scaling; a result below the smallest
+// normal float is 0.
 float vplkit_balance_combined(float f, float n1, float p1, float n2, float p2) {
   float inf = uintBitsToFloat(0x7F800000u);
   float big = vplkit_FLT_MAX;
@@ -118,14 +140,18 @@ float vplkit_balance_combined(float f, float n1, float p1, float n2, float p2) {
   p1 = n1 > 0.0 ? vplkit_mis_clean_pdf(p1) : 0.0;
   p2 = n2 > 0.0 ? vplkit_mis_clean_pdf(p2) : 0.0;
   if (p1 == inf || p2 == inf) return 0.0;
-  float m = p1 > p2 ? p1 : p2;
-  if (!(m > 0.0)) return 0.0;
-  // Denominator = m * d with d in [n of the larger pdf, n1 + n2]. Divide first by whichever
-  // factor moves f towards the result, so an intermediate over- or underflows only when the
-  // result itself does.
-  float d = n1 * vplkit_mis_div(p1, m) + n2 * vplkit_mis_div(p2, m);
-  float r = m < 1.0 ? vplkit_mis_div(vplkit_mis_div(f, m), d)
-                    : vplkit_mis_div(vplkit_mis_div(f, d), m);
+  vplkit_binary_split ta = vplkit_mis_term(n1, p1);
+  vplkit_binary_split tb = vplkit_mis_term(n2, p2);
+  if (!(ta.mantissa > 0.0) && !(tb.mantissa > 0.0)) return 0.0;
+  int e = vplkit_mis_common_exponent(ta, tb);
+  precise float d = vplkit_scale_by_exp2(ta.mantissa, ta.exponent - e) +
+                    vplkit_scale_by_exp2(tb.mantissa, tb.exponent - e);
+  // f's mantissa over d (in (1/8, 2]), then the exact power of two, as in the C++.
+  f = vplkit_flush_denormal(f);
+  if (f == 0.0) return 0.0;
+  vplkit_binary_split sf = vplkit_split_binary(abs(f));
+  float q = vplkit_scale_by_exp2(sf.mantissa / d, sf.exponent - e);
+  float r = f < 0.0 ? -q : q;
   float ar = r < 0.0 ? -r : r;
   return (ar <= big && !vplkit_mis_is_nan(r)) ? r : 0.0;  // GLSL: NaN (from f) by its bits
 }

@@ -30,31 +30,32 @@ float vplkit_vpl_pdf_solid_angle(float pmf, float d2_squared, float patch_area, 
       vplkit_mis_is_nan(cos_theta1)) {
     return 0.0;
   }
-  if (!(pmf > 0.0) || !(cos_theta1 > 0.0) || !(d2_squared > 0.0)) return 0.0;
-  // cos_theta1 = inf is no cosine; without this line an overflowing q gives inf / inf = NaN.
+  if (!(pmf >= vplkit_FLT_MIN) || !(cos_theta1 >= vplkit_FLT_MIN) || !(d2_squared >= vplkit_FLT_MIN)) return 0.0;
+  // cos_theta1 = inf is no cosine.
   if (!(patch_area >= 0.0) || patch_area == inf || cos_theta1 == inf) return 0.0;
+  patch_area = vplkit_flush_denormal(patch_area);
   if (patch_area == 0.0 || d2_squared == inf || pmf == inf) return inf;
-  // pmf <= 1 <= 1/cos: the product only over- or underflows when the true density is itself
-  // beyond the float range. q in [0, inf], pmf finite > 0: no 0 * inf.
-  float q = vplkit_mis_div(d2_squared, patch_area);
-  return pmf * vplkit_mis_div(q, cos_theta1);
+  // pmf d2^2 / (A cos): the mantissas' quotient (numerator and divisor in [1, 4): inside the range
+  // where GLSL promises 2.5 ulp), then the exact power of two (C++ vpl_pdf_solid_angle).
+  vplkit_binary_split sp = vplkit_split_binary(pmf);
+  vplkit_binary_split sd = vplkit_split_binary(d2_squared);
+  vplkit_binary_split sa = vplkit_split_binary(patch_area);
+  vplkit_binary_split sc = vplkit_split_binary(cos_theta1);
+  precise float num = sp.mantissa * sd.mantissa;
+  precise float den = sa.mantissa * sc.mantissa;
+  return vplkit_scale_by_exp2(num / den, sp.exponent + sd.exponent - sa.exponent - sc.exponent);
 }
-
-// ---- the paper's mixed-measure forms (as published) -------------------------------------------
-// Eq. 10 / 15: p1 = cos(theta) sin(theta) / pi, a density over (theta, phi); eq. 11: alpha, the
-// discrete pmf of the texel; eq. 8 / 9: balance heuristic without counts. Pass
-// sin_theta = sqrt(max(0, 1 - cos^2)). The VPL weight has alpha in its numerator (eq. 9).
 
 float vplkit_cosine_pdf_as_published(float cos_theta, float sin_theta) {
   const float inv_pi = 0.318309886183790671537767526745028724;
   // GLSL: NaN excluded on the bits (see vplkit_mis_is_nan).
-  bool ok = cos_theta > 0.0 && sin_theta > 0.0 && !vplkit_mis_is_nan(cos_theta) &&
+  bool ok = cos_theta >= vplkit_FLT_MIN && sin_theta >= vplkit_FLT_MIN && !vplkit_mis_is_nan(cos_theta) &&
             !vplkit_mis_is_nan(sin_theta);
   // GLSL: `precise` keeps the C++ order (cos * sin) * inv_pi. Without it GLSL allows
   // reassociation, and Mesa computes (cos * inv_pi) * sin: 2 ulps off, and 0 * inf = NaN for a
   // denormal cos times an infinite sin, where the C++ gives inf.
   precise float p = cos_theta * sin_theta * inv_pi;
-  return ok ? p : 0.0;
+  return ok ? vplkit_flush_denormal(p) : 0.0;
 }
 
 struct vplkit_mis_weight_pair {

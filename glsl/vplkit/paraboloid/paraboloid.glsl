@@ -9,6 +9,7 @@
 #ifndef VPLKIT_PARABOLOID_PARABOLOID_GLSL
 #define VPLKIT_PARABOLOID_PARABOLOID_GLSL
 
+#include "vplkit/core/normal_range.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 
 const int vplkit_paraboloid_front = 0;
@@ -23,13 +24,13 @@ struct vplkit_paraboloid_point {
 const float vplkit_paraboloid_clamp_scale = 0.999999761581420898437500;
 
 // Pulls a uv that rounding left just outside the unit disk back inside. On the CPU dot(uv, uv) <= 1
-// then holds exactly; GPU sqrt and division are not correctly rounded (GLSL allows ~3 and 2.5 ulp),
-// so on a GPU the result may still be 1 ulp outside: texel_from_uv clamps and texel_is_valid is
+// then holds exactly; GPU inversesqrt is not correctly rounded (GLSL allows 2 ulp), so on a GPU the
+// result may still be 1 ulp outside: texel_from_uv clamps and texel_is_valid is
 // integer, so that is harmless. Leaves uv untouched when r2 <= 1.
 vec2 vplkit_paraboloid_clamp_to_disk(vec2 uv) {
   float r2 = dot(uv, uv);
   if (r2 > 1.0) {
-    float k = (1.0 / sqrt(r2)) * vplkit_paraboloid_clamp_scale;
+    float k = inversesqrt(r2) * vplkit_paraboloid_clamp_scale;
     uv = uv * k;
   }
   return uv;
@@ -38,10 +39,13 @@ vec2 vplkit_paraboloid_clamp_to_disk(vec2 uv) {
 // Direction (light space, any length) -> face and uv. d is normalised first; a zero or infinite d
 // gives {front, (0,0)} (NaN too on the CPU). The denominator is 1 + |d.z| >= 1 on whichever face
 // d falls: no cancellation, the back pole is as accurate as the front one.
+// The face is decided on d.z itself (0 below the smallest normal float), as in the C++: a tiny
+// negative z can normalise to a denormal, which a GPU flushes.
 vplkit_paraboloid_point vplkit_paraboloid_from_direction(vec3 d) {
   vec3 n = vplkit_unit_or_zero(d);
   vplkit_paraboloid_point p;
-  p.face = (n.z >= 0.0) ? vplkit_paraboloid_front : vplkit_paraboloid_back;
+  bool has_direction = n.x != 0.0 || n.y != 0.0 || n.z != 0.0;
+  p.face = (has_direction && vplkit_flush_denormal(d.z) < 0.0) ? vplkit_paraboloid_back : vplkit_paraboloid_front;
   float denom = 1.0 + abs(n.z);
   p.uv = vplkit_paraboloid_clamp_to_disk(vec2(n.x, n.y) / denom);
   return p;

@@ -14,6 +14,8 @@
 #ifndef VPLKIT_SAMPLING_COSINE_HEMISPHERE_GLSL
 #define VPLKIT_SAMPLING_COSINE_HEMISPHERE_GLSL
 
+#include "vplkit/core/normal_range.glsl"
+
 struct vplkit_concentric_polar {
   float r;    // signed radius, |r| <= 1
   float phi;  // angle in [-pi/4, 3pi/4]
@@ -54,7 +56,8 @@ vec3 vplkit_sample_cosine_hemisphere(vec2 u) {
 // Solid-angle density of vplkit_sample_cosine_hemisphere; 0 below the horizon (and for NaN).
 float vplkit_cosine_hemisphere_pdf(float cos_theta) {
   const float inv_pi = 0.318309886183790671537767526745028724;
-  return cos_theta > 0.0 ? cos_theta * inv_pi : 0.0;
+  // A cosine, or a density, below the smallest normal float is 0, as in the C++.
+  return cos_theta >= vplkit_FLT_MIN ? vplkit_flush_denormal(cos_theta * inv_pi) : 0.0;
 }
 
 #endif  // VPLKIT_SAMPLING_COSINE_HEMISPHERE_GLSL

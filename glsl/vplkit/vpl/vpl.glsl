@@ -10,11 +10,16 @@
 //  - Squared distances are raised to at least vplkit_vpl_distance_sq_floor() = 2^-63, so
 //    1 / (pi d^2) <= 2.9e18.
 //  - NaN inputs give 0 on the CPU; GPU compilers may assume NaN never occurs (CPU guarantee).
+//  - A result, cosine or flux below the smallest normal float is 0 (the normal-range contract,
+//    docs/math.md "GPU arithmetic model"): the same on a device that flushes denormals and on one
+//    that keeps them. Products that feed a result are written `precise` where the order decides
+//    whether an intermediate underflows.
 #ifndef VPLKIT_VPL_VPL_GLSL
 #define VPLKIT_VPL_VPL_GLSL
 
 #include "vplkit/core/constants.glsl"
 #include "vplkit/core/gather_point.glsl"
+#include "vplkit/core/normal_range.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 
 struct vplkit_vpl {
@@ -24,9 +29,9 @@ struct vplkit_vpl {
 };
 
 // A texel carries a VPL where its flux is positive in some channel: the one test every builder
-// uses.
+// uses. A flux below the smallest normal float counts as none.
 bool vplkit_vpl_has_flux(vplkit_vpl v) {
-  return v.flux.x > 0.0 || v.flux.y > 0.0 || v.flux.z > 0.0;
+  return v.flux.x >= vplkit_FLT_MIN || v.flux.y >= vplkit_FLT_MIN || v.flux.z >= vplkit_FLT_MIN;
 }
 
 // vpl_pi<float>: the same float as vplkit_PI.
@@ -37,7 +42,7 @@ const float vplkit_vpl_coincidence_factor = 1.9073486328125e-6;
 
 // Phi_t = rho_t * I_s * Omega_t (RGB), independent of the distance and of the incidence angle.
 vec3 vplkit_vpl_flux(vec3 albedo, vec3 intensity, float solid_angle) {
-  return albedo * intensity * solid_angle;
+  return vplkit_flush_denormal(albedo * intensity * solid_angle);
 }
 
 // sqrt(FLT_MIN) = 2^-63 (exact).
@@ -60,11 +65,13 @@ float vplkit_vpl_geometry_term(vec3 x, vec3 n_x, vec3 y, vec3 n_y, float dmin) {
   if (vplkit_vpl_points_coincide(x, y)) return 0.0;
   vec3 w = y - x;
   vec3 wd = vplkit_unit_or_zero(w);  // x -> y
-  float cos2 = max(0.0, dot(vplkit_unit_or_zero(n_x), wd));
-  float cos1 = max(0.0, -dot(vplkit_unit_or_zero(n_y), wd));
-  if (!(cos1 * cos2 > 0.0)) return 0.0;
+  float cos2 = max(0.0, vplkit_flush_denormal(dot(vplkit_unit_or_zero(n_x), wd)));
+  float cos1 = max(0.0, vplkit_flush_denormal(-dot(vplkit_unit_or_zero(n_y), wd)));
+  float cos12 = vplkit_flush_denormal(cos1 * cos2);
+  if (!(cos12 > 0.0)) return 0.0;
   float d2sq = max(max(dot(w, w), dmin * dmin), vplkit_vpl_distance_sq_floor());
-  return cos1 * cos2 / (vplkit_vpl_pi * d2sq);  // d2sq = Inf (huge separation) gives 0
+  // d2sq = Inf (huge separation) gives 0, and so does any d2sq that leaves a denormal.
+  return vplkit_flush_denormal(cos12 / (vplkit_vpl_pi * d2sq));
 }
 
 // L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area
@@ -72,7 +79,7 @@ float vplkit_vpl_geometry_term(vec3 x, vec3 n_x, vec3 y, vec3 n_y, float dmin) {
 vec3 vplkit_vpl_contribution(vec3 x, vec3 n_x, vec3 rho_x, vplkit_vpl v, float dmin) {
   float g = vplkit_vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
   float brdf_scale = 1.0 / vplkit_vpl_pi;  // diffuse BRDF rho_x / pi
-  return rho_x * brdf_scale * v.flux * g;
+  return vplkit_flush_denormal(rho_x * brdf_scale * v.flux * g);
 }
 
 // L_t at a gather point with two normals: theta2 against the shading normal, 0 on or below the
@@ -89,14 +96,20 @@ const float vplkit_vpl_min_cos_alpha = 1e-6;
 // coincide or n_y is zero.
 float vplkit_vpl_cos_alpha(vec3 light_pos, vec3 y, vec3 n_y) {
   if (vplkit_vpl_points_coincide(light_pos, y)) return 0.0;
-  return max(0.0, dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(light_pos - y)));
+  return max(0.0, vplkit_flush_denormal(dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(light_pos - y))));
 }
 
 // A_t = Omega_t d1^2 / cos(alpha), cos(alpha) raised to vplkit_vpl_min_cos_alpha. Written with
-// ?: rather than max() as in the C++ (a NaN cos takes the floor there).
+// ?: rather than max() as in the C++ (a NaN cos takes the floor there). Evaluated as
+// ((Omega_t / c) d1) d1, `precise` so that the compiler keeps that order: an intermediate under- or
+// overflows only where the result does, and a result below the smallest normal float is 0, as in
+// the C++.
 float vplkit_vpl_patch_area(float solid_angle, float d1, float cos_alpha) {
   float c = (cos_alpha > vplkit_vpl_min_cos_alpha) ? cos_alpha : vplkit_vpl_min_cos_alpha;
-  return solid_angle * d1 * d1 / c;
+  precise float a = vplkit_flush_denormal(solid_angle) / c;
+  precise float b = a * d1;
+  precise float area = b * d1;
+  return vplkit_flush_denormal(area);
 }
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
@@ -104,10 +117,10 @@ float vplkit_vpl_patch_area(float solid_angle, float d1, float cos_alpha) {
 vec3 vplkit_reflected_radiance(vec3 light_pos, vec3 intensity, vec3 y, vec3 n_y, vec3 rho_y) {
   if (vplkit_vpl_points_coincide(light_pos, y)) return vec3(0.0);
   vec3 w = light_pos - y;
-  float cos_a = max(0.0, dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(w)));
+  float cos_a = max(0.0, vplkit_flush_denormal(dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(w))));
   if (!(cos_a > 0.0)) return vec3(0.0);  // back-facing or zero normal
   float d1sq = max(dot(w, w), vplkit_vpl_distance_sq_floor());
-  return rho_y * intensity * (cos_a / (vplkit_vpl_pi * d1sq));
+  return vplkit_flush_denormal(rho_y * intensity * vplkit_flush_denormal(cos_a / (vplkit_vpl_pi * d1sq)));
 }
 
 #endif  // VPLKIT_VPL_VPL_GLSL

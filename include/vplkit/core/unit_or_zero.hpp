@@ -2,6 +2,7 @@
 #pragma once
 // Normalisation that cannot produce NaN or Inf, shared by the paraboloid mapping and the VPL
 // model (GLSL: vplkit_unit_or_zero).
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/vector.hpp>
 
 #include <cmath>
@@ -14,25 +15,35 @@ namespace vplkit {
 template <class T>
 inline T max_abs_component(vec3<T> v) {
   T m = T(0);
-  if (std::abs(v.x) > m) m = std::abs(v.x);
-  if (std::abs(v.y) > m) m = std::abs(v.y);
-  if (std::abs(v.z) > m) m = std::abs(v.z);
+  if (detail::abs_of(v.x) > m) m = detail::abs_of(v.x);
+  if (detail::abs_of(v.y) > m) m = detail::abs_of(v.y);
+  if (detail::abs_of(v.z) > m) m = detail::abs_of(v.z);
   return m;
 }
 
-// v / |v|, or (0,0,0) when v is zero or has a NaN or infinite component. Dividing by the
-// largest component first keeps dot(v, v) away from underflow (|v| ~ 1e-30 in float squares to
-// 0) and overflow (|v| ~ 1e30 squares to Inf), so any finite non-zero v gives a unit vector.
+// v / |v|, or (0,0,0) when v is zero or has a NaN or infinite component. A component below the
+// smallest normal T counts as 0 (a GPU may flush it on input: docs/math.md, "GPU arithmetic
+// model"), and so does one of the result. v is first scaled by the power of two that brings its
+// largest component into [1, 2) ([2, 4) in the top binade, whose 2^-128 is no normal float): exact,
+// so dot(s, s) neither underflows (|v| ~ 1e-30 in float squares to 0) nor overflows (|v| ~ 1e30,
+// and FLT_MAX, square to Inf), and nothing divides by a huge |v| (a GPU may divide as
+// a * (1 / b), and 1 / b is a denormal for b > 2^126). So any finite v with a normal component
+// gives a unit vector, on every device.
 template <class T>
 inline vec3<T> unit_or_zero(vec3<T> v) {
+  v = flush_denormal(v);
   const T m = max_abs_component(v);
   if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
-  const vec3<T> s = v / m;
-  // len2 is in [1, 3] unless a component of v was NaN. The test uses the looser [0.5, 4] so that
-  // it stays a pure NaN check under GPU division and sqrt, which are not correctly rounded.
+  const int e = binary_exponent(m);
+  const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
+  const vec3<T> s = flush_denormal(v * scale);
+  // len2 is in [1, 48] unless a component of v was NaN. The test uses the looser [0.5, 64] so that
+  // it stays a pure NaN check under GPU arithmetic (FMA contraction of the dot product).
   const T len2 = glm::dot(s, s);
-  if (!(len2 >= T(0.5)) || !(len2 <= T(4))) return vec3<T>(T(0));
-  return s / std::sqrt(len2);
+  if (!(len2 >= T(0.5)) || !(len2 <= T(64))) return vec3<T>(T(0));
+  // s * (1 / sqrt(len2)), the form of the GLSL (s * inversesqrt(len2)): two correctly rounded
+  // operations here, inversesqrt and a product on a GPU.
+  return flush_denormal(s * detail::inversesqrt_of(len2));
 }
 
 }  // namespace vplkit

@@ -13,10 +13,15 @@
 //   has threshold exactly 0 (f < 0 never holds) and an alias whose weight is > 0, so it is never
 //   returned, whatever u is. A full bucket has threshold 1 (f < 1 always holds).
 //   pmf = w_i / total (rounded once to T): the pmf of the index i, not of the bucket. A positive
-//   weight whose pmf rounds to 0 in T (w_i / total below 2^-150 for float) is built like a
-//   zero weight: threshold 0, never returned (its threshold n w_i / total could survive as a
-//   denormal and hand out index i with pmf 0, an infinite 1 / pmf). discrete_cdf drops it too.
+//   weight whose pmf is below the smallest normal T (w_i / total < 2^-126 for float, or a weight
+//   that is itself below it) is built like a zero weight: threshold 0, never returned (its
+//   threshold n w_i / total could survive as a denormal and hand out index i with pmf 0, an
+//   infinite 1 / pmf, or read as 0 on a GPU). discrete_cdf drops it too. Every threshold and
+//   pmf is 0 or a normal T (the normal-range contract of weights.hpp): a threshold below the
+//   smallest normal T is stored as 0, which moves less than min() / n of probability to the
+//   bucket's alias.
 // An empty table (all weights 0, or n = 0) stores n bins {0, 0, 0}.
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
 
@@ -158,9 +163,10 @@ private:
     std::size_t small_end = 0, large_begin = n;
     std::uint32_t any_positive = 0;  // an index with pmf > 0 (the largest weight has pmf >= 1/n)
     for (std::size_t i = 0; i < n; ++i) {
-      const double p = divide ? double(w[i]) / total : double(w[i]) * inv;
-      bins_[i].pmf = T(p);
-      q[i] = p * dn;
+      const double p = divide ? double(detail::weight_value(w[i])) / total
+                              : double(detail::weight_value(w[i])) * inv;
+      bins_[i].pmf = flush_denormal(T(p));
+      q[i] = bins_[i].pmf > T(0) ? p * dn : 0.0;
       const bool is_small = q[i] < 1.0;
       work[small_end] = std::uint32_t(i);
       work[large_begin - 1] = std::uint32_t(i);
@@ -172,12 +178,13 @@ private:
     // small list when it falls below 1. The excess is (q_l - 1) + q_s, exact while q_l <= 2
     // (Sterbenz), rather than (q_l + q_s) - 1. Only indices with q >= 1 (so pmf >= 1/n) ever
     // become aliases; a zero weight keeps threshold exactly q = 0, and so does an index whose pmf
-    // rounded to 0 (its q, below n 2^-150, gives its alias an extra probability below 2^-150).
+    // was flushed (its q was set to 0 above: its alias gains nothing, the leftovers absorb the
+    // missing q below n 2^-126).
     std::size_t small_begin = 0;
     while (small_begin < small_end && large_begin < n) {
       const std::uint32_t s = work[small_begin++];
       const std::uint32_t l = work[large_begin];
-      bins_[s].threshold = bins_[s].pmf > T(0) ? T(q[s]) : T(0);
+      bins_[s].threshold = bins_[s].pmf > T(0) ? flush_denormal(T(q[s])) : T(0);
       bins_[s].alias = l;
       q[l] = (q[l] - 1.0) + q[s];
       const bool demote = q[l] < 1.0;

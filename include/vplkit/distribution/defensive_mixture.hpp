@@ -13,6 +13,7 @@
 // 4.x for highp) round correctly: a GPU mirror gets the same index bit for bit, where a GLSL
 // division (2.5 ulp) would not. The rescaling is monotone, so stratification survives within
 // each component. It costs the low bits of u (as any reuse of u does).
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
@@ -24,8 +25,9 @@
 namespace vplkit {
 
 // The mixture's pmf from its parts; sample() and pmf() both use it, so they agree bit for bit.
-// A term that underflows to 0 while both its factors are > 0 becomes the smallest positive T
-// (see detail::probability_product): an index the mixture can return never reports pmf 0.
+// A term below the smallest normal T while both its factors are > 0 becomes that value (see
+// detail::probability_product): an index the mixture can return never reports pmf 0. Both terms
+// are 0 or normal, so is their sum: the same bits on every device.
 template <class T>
 inline T defensive_mixture_pmf(T eps, T p_learned, T p_fallback) noexcept {
   return detail::probability_product(T(1) - eps, p_learned) +
@@ -54,8 +56,10 @@ public:
                           std::to_string(learned_.size()) + " entries, fallback has " +
                           std::to_string(fallback_.size()));
     }
+    // An eps below the smallest normal T counts as 0 (the normal-range contract of weights.hpp:
+    // a GPU may read the uploaded value as 0).
     effective_eps_ = learned_.empty() ? (fallback_.empty() ? T(0) : T(1))
-                                      : (fallback_.empty() ? T(0) : eps_);
+                                      : (fallback_.empty() ? T(0) : flush_denormal(eps_));
     fallback_scale_ = detail::reciprocal_or_zero(effective_eps_);
     learned_scale_ = detail::reciprocal_or_zero(T(1) - effective_eps_);
   }

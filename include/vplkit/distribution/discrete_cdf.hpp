@@ -6,8 +6,11 @@
 //
 // Stored arrays (uploadable to a GPU as they are):
 //   cdf   : n + 1 values of T, cdf[0] = 0, cdf[n] = 1 exactly, non-decreasing; a zero weight
-//           gives exactly equal neighbours cdf[i] == cdf[i + 1]. An empty distribution (all
-//           weights 0, or n = 0) stores n + 1 zeros, so cdf[n] == 0 marks it on the GPU too.
+//           (or one below the smallest normal T) gives exactly equal neighbours cdf[i] ==
+//           cdf[i + 1]. Every value is 0 or at least discrete_cdf_min_value<T>() (2^-103 for
+//           float), so every pmf is 0 or normal (weights.hpp, the normal-range contract). An
+//           empty distribution (all weights 0, or n = 0) stores n + 1 zeros, so cdf[n] == 0
+//           marks it on the GPU too.
 //   guide : m + 1 uint32, m = discrete_guide_size(n) a power of two;
 //           guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m.
 // Sampling returns the largest i with cdf[i] <= u. That bin has cdf[i + 1] > u >= cdf[i], so
@@ -124,10 +127,12 @@ public:
   bool empty() const noexcept { return total_ == T(0); }
 
   // Probability that sample() returns i: the width of bin i of the stored CDF, i.e. exactly
-  // the fraction of [0, 1) that maps to i, up to the one rounding of this subtraction. 0 for
-  // i >= size() and for an empty distribution. A positive weight too small to move its CDF
-  // value (w_i / total below half an ulp of cdf[i + 1], e.g. 2^-149 beside 2) gets a bin of
-  // width 0: pmf 0, and sample() never returns it.
+  // the fraction of [0, 1) that maps to i, up to the one rounding of this subtraction (correctly
+  // rounded on every device). 0 for i >= size() and for an empty distribution; otherwise 0 or a
+  // normal T. A positive weight too small to move
+  // its CDF value (w_i / total below half an ulp of cdf[i + 1], e.g. 1e-30 beside 2; or a weight
+  // below the smallest normal T; or a prefix sum below discrete_cdf_min_value of the total) gets a
+  // bin of width 0: pmf 0, and sample() never returns it.
   T pmf(std::size_t i) const noexcept { return i < n_ ? cdf_[i + 1] - cdf_[i] : T(0); }
 
   // Inverse transform with the guide table. u NaN or < 0 is taken as 0, u >= 1 as the largest
@@ -184,7 +189,10 @@ private:
     const double md = double(m_);
     T* c = cdf_.data();
     std::uint32_t* g = guide_.data();
+    // A value below discrete_cdf_min_value is stored as 0 (weights.hpp): every pmf is then 0 or
+    // normal. The test is monotone in the value, so the CDF stays non-decreasing.
     auto store = [&](std::size_t i, T ci) {
+      ci = ci >= discrete_cdf_min_value<T>() ? ci : T(0);
       c[i + 1] = ci;
       ++g[detail::ceil_to_size(double(ci) * md)];
     };

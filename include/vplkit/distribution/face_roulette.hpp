@@ -13,6 +13,7 @@
 // would. The reciprocals are computed once in double and rounded to T, so a sample uses only
 // -, * and comparisons (correctly rounded in IEEE and in GLSL 4.x highp): a GPU mirror picks
 // the same face and index bit for bit, which a GLSL division (2.5 ulp) would not promise.
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/weights.hpp>
 
@@ -29,11 +30,13 @@ struct face_sample {
   T pmf;              // probability of (face, index); 0 when the roulette is empty
 };
 
-// b_F from the two face totals, in double; 0 when both are 0 (the caller checks emptiness).
+// b_F from the two face totals, in double; 0 when both are 0 (the caller checks emptiness), and
+// 0 when it is below the smallest normal T (the front face's share then counts as 0: the
+// normal-range contract of weights.hpp).
 template <class T>
 inline T face_roulette_front_probability(T v_front, T v_back) noexcept {
   const double sum = double(v_front) + double(v_back);
-  return sum > 0.0 ? T(double(v_front) / sum) : T(0);
+  return sum > 0.0 ? flush_denormal(T(double(v_front) / sum)) : T(0);
 }
 
 template <class T>
@@ -52,7 +55,7 @@ public:
     // past FLT_MAX): then from the double sums, which keep the ratio the rounding lost.
     const bool overflowed = front_.total() > std::numeric_limits<T>::max() ||
                             back_.total() > std::numeric_limits<T>::max();
-    b_front_ = overflowed ? T(front_.sum() / (front_.sum() + back_.sum()))
+    b_front_ = overflowed ? flush_denormal(T(front_.sum() / (front_.sum() + back_.sum())))
                           : face_roulette_front_probability(front_.total(), back_.total());
     b_back_ = empty() ? T(0) : T(1) - b_front_;
     front_scale_ = detail::reciprocal_or_zero(b_front_);
@@ -72,8 +75,8 @@ public:
   const discrete_cdf<T>& face(int f) const noexcept { return f == front_face ? front_ : back_; }
 
   // b_face * pmf within the face; 0 for a face other than 0 / 1 or an index out of range. A
-  // product that underflows to 0 becomes the smallest positive T (see
-  // detail::probability_product): a (face, index) the roulette can return never has pmf 0.
+  // product below the smallest normal T becomes that value (see detail::probability_product): a
+  // (face, index) the roulette can return never has pmf 0, on any device.
   T pmf(int face, std::size_t index) const noexcept {
     if (face == front_face) return detail::probability_product(b_front_, front_.pmf(index));
     if (face == back_face) return detail::probability_product(b_back_, back_.pmf(index));

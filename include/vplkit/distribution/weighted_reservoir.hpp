@@ -14,8 +14,10 @@
 // keeps item i with probability w_i / sum w, independently of the others (the pairs are checked
 // against the product distribution).
 //
-// Weights that are negative, NaN or infinite, and a weight that would carry the sum past the
-// largest finite T, are ignored (as weight 0: the reservoir and its sum are unchanged), so the
+// Weights that are negative, NaN, infinite or below the smallest normal T (the normal-range
+// contract of docs/math.md, "GPU arithmetic model": a GPU may read a denormal weight as 0, so it
+// counts as 0 everywhere), and a weight that would carry the sum past the largest finite T, are
+// ignored (as weight 0: the reservoir and its sum are unchanged), so the
 // sum and every probability stay finite. The decision multiplies (u * S < w) instead of dividing:
 // IEEE and GLSL 4.x round a product correctly, so the GPU mirror
 // (glsl/vplkit/distribution/weighted_reservoir.glsl) decides alike on the same bits.
@@ -35,10 +37,11 @@ struct weighted_reservoir {
   T weight = T(0);                        // the kept item's weight (0 while empty)
 };
 
-// True for a weight the reservoir takes into account: finite and > 0 (0 is valid but never kept).
+// True for a weight the reservoir takes into account: finite and at least the smallest normal T
+// (0 and denormals are valid but never kept).
 template <class T>
 inline bool reservoir_weight_usable(T w) noexcept {
-  return w > T(0) && w <= std::numeric_limits<T>::max();  // NaN fails both
+  return w >= std::numeric_limits<T>::min() && w <= std::numeric_limits<T>::max();  // NaN fails both
 }
 
 template <class T>

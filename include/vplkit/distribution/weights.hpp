@@ -2,7 +2,15 @@
 #pragma once
 // Shared by discrete_cdf and alias_table: weight validation, the sanitizing copy, the accurate
 // running sum, and the clamp of a random number u into [0, 1).
+//
+// The normal-range contract (docs/math.md, "GPU arithmetic model"): a GPU may flush denormals,
+// so every distribution counts a weight below the smallest normal T (FLT_MIN for float) as 0,
+// stores no CDF value, threshold or pmf between 0 and the smallest normal T, and reads a u below
+// it as 0. Each such test compares with a normal constant, which gives the same answer with IEEE
+// arithmetic, with flush-to-zero / denormals-are-zero (x86 MXCSR FTZ|DAZ, -ffast-math) and on a
+// GPU that flushes: zero weights are never picked and pmf(sample) == pmf(index) on every device.
 #include <vplkit/core/error.hpp>
+#include <vplkit/core/normal_range.hpp>
 
 #include <cmath>
 #include <cstddef>
@@ -34,12 +42,25 @@ template <class T> inline constexpr T discrete_u_max();
 template <> inline constexpr float discrete_u_max<float>() { return 0x1.fffffep-1f; }
 template <> inline constexpr double discrete_u_max<double>() { return 0x1.fffffffffffffp-1; }
 
-// u NaN or < 0 -> 0 (written as !(u >= 0) so that NaN takes this branch; GLSL's clamp leaves NaN
-// undefined), u >= 1 -> the largest T below 1. Every sampler applies this first.
+// u NaN, negative or below the smallest normal T -> 0 (written as !(u >= min) so that NaN takes
+// this branch; GLSL's clamp leaves NaN undefined; a denormal u reads as 0 on a GPU that flushes,
+// so it does everywhere), u >= 1 -> the largest T below 1. Every sampler applies this first.
 template <class T>
 inline T discrete_clamp_u(T u) noexcept {
-  if (!(u >= T(0))) return T(0);
+  if (!(u >= std::numeric_limits<T>::min())) return T(0);
   return u < discrete_u_max<T>() ? u : discrete_u_max<T>();
+}
+
+// The smallest non-zero value a stored CDF holds: min() / epsilon() (2^-103 for float, 2^-970
+// for double); a normalised prefix sum below it is stored as 0. Any two distinct stored values
+// then differ by at least min() (their difference is a multiple of the smaller one's ulp, which
+// is >= min()), so every pmf = cdf[i + 1] - cdf[i] is 0 or a normal T: the subtraction and every
+// comparison with it give the same result on a GPU that flushes denormals. A weight whose share
+// of the total is below this never moves the CDF (pmf 0, never sampled): far below the float
+// resolution of any realistic distribution (2^-103 ~ 1e-31).
+template <class T>
+inline constexpr T discrete_cdf_min_value() noexcept {
+  return std::numeric_limits<T>::min() / std::numeric_limits<T>::epsilon();
 }
 
 namespace detail {
@@ -54,10 +75,18 @@ struct is_contiguous_range_of<
                 decltype(std::size(std::declval<const R&>()))>>
     : std::is_convertible<decltype(std::data(std::declval<const R&>())), const T*> {};
 
-// True for negative, NaN and +-Inf; -0 is a valid (zero) weight.
+// True for negative, NaN and +-Inf; -0 and the negative denormals are valid (zero) weights: a
+// denormal counts as 0 whatever its sign, and reads as -0 under denormals-are-zero, so rejecting
+// it would depend on the floating-point mode.
 template <class T>
 inline bool is_bad_weight(T w) noexcept {
-  return !(w >= T(0) && w <= std::numeric_limits<T>::max());
+  return !(w > -std::numeric_limits<T>::min() && w <= std::numeric_limits<T>::max());
+}
+
+// The value a valid weight contributes: w, or 0 below the smallest normal T (see the top).
+template <class T>
+inline T weight_value(T w) noexcept {
+  return w >= std::numeric_limits<T>::min() ? w : T(0);
 }
 
 template <class T>
@@ -176,8 +205,8 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
   bool valid[kLanes];
   for (std::size_t k = 0; k < kLanes; ++k) valid[k] = true;
   for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-    valid[k] &= (w[i] >= T(0)) & (w[i] <= std::numeric_limits<T>::max());  // no branch
-    acc[k].add(w[i]);
+    valid[k] &= (w[i] > -std::numeric_limits<T>::min()) & (w[i] <= std::numeric_limits<T>::max());
+    acc[k].add(weight_value(w[i]));  // no branch: a select
     const double v = acc[k].value();
     lane_max[k] = v > lane_max[k] ? v : lane_max[k];
   });
@@ -206,13 +235,20 @@ inline std::size_t ceil_to_size(double x) noexcept {
   return std::size_t(k + (double(k) < x ? 1 : 0));
 }
 
-// a * b for probabilities a, b >= 0, but the smallest positive T instead of 0 when both are
-// > 0: a product that underflows to 0 would turn a valid sample into a division by zero. Any
-// other product is left alone (1 * p stays p, so eps = 0 reproduces the learned pmf exactly).
+// a * b for probabilities a, b >= 0, but the smallest normal T instead of a product below it
+// when both are > 0: a product that underflows would turn a valid sample into a division by zero
+// (and a denormal one reads as 0 on a GPU). Factors below the smallest normal T count as 0. The
+// result is 0 or a normal T, the same with IEEE arithmetic and with flush-to-zero (a flushed
+// product and a denormal one both become min(); so does one that a GPU flushes because its exact
+// value is below min() although it rounds to min()). Any other product is left alone (1 * p stays
+// p, so eps = 0 reproduces the learned pmf exactly).
 template <class T>
 inline T probability_product(T a, T b) noexcept {
+  a = flush_denormal(a);
+  b = flush_denormal(b);
   const T p = a * b;
-  return (p == T(0) && a > T(0) && b > T(0)) ? std::numeric_limits<T>::denorm_min() : p;
+  return p >= std::numeric_limits<T>::min() ? p
+                                            : (a > T(0) && b > T(0)) ? std::numeric_limits<T>::min() : T(0);
 }
 
 // 1 / p for the rescaling of a reused u (mixture and roulette), computed in double and rounded

@@ -40,7 +40,7 @@ enum class local_combination { balance, average };
 template <class T, class Distribution>
 inline T local_mixture_pmf_sum(const Distribution* distributions, int n_distributions, std::size_t t) {
   T s = T(0);
-  for (int j = 0; j < n_distributions; ++j) s += T(distributions[j].pmf(t));
+  for (int j = 0; j < n_distributions; ++j) s += estimator_pmf(T(distributions[j].pmf(t)));
   return s;
 }
 
@@ -62,7 +62,7 @@ inline void estimate_local_range(const gather_point<T>& gp, const dprsm_view<T>&
         xi.x = rng_next_unit<T>(state.rng);
         xi.y = rng_next_unit<T>(state.rng);
       }
-      const T pmf_i = T(s.pmf);
+      const T pmf_i = estimator_pmf(T(s.pmf));
       if (!(pmf_i > T(0)) || s.index >= n_texels) continue;
       const vec3<T> c =
           mode == vpl_mode::patch

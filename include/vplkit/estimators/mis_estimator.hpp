@@ -120,7 +120,7 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   const gathering_ray_result<T> r = trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo * r.radiance * (cos2 / vpl_pi<T>);
-  const T pmf = T(distribution.pmf(std::size_t(r.texel)));
+  const T pmf = estimator_pmf(T(distribution.pmf(std::size_t(r.texel))));
   if (mode == mis_mode::solid_angle) {
     const T p1 = cosine_pdf_solid_angle(cos2);
     // Hits in front of the surface their texel saw (another surface: the VPL strategy's points lie
@@ -176,7 +176,7 @@ inline vec3<T> mis_vpl_sample(const gather_point<T>& gp, const dprsm_view<T>& vi
                               const Distribution& distribution, T u, const Visibility& visibility, T n1, T n2,
                               mis_mode mode) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   return mis_vpl_value(gp, view, t, view.vpl_at(t), pmf, mis_texel_patch_area(view, t), visibility, n1, n2,
@@ -191,7 +191,7 @@ inline vec3<T> mis_vpl_patch_sample(const gather_point<T>& gp, const dprsm_view<
                                     const Distribution& distribution, T u, vec2<T> xi, const Visibility& visibility,
                                     T n1, T n2, mis_mode mode, T depth_tolerance) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const int t = int(s.index);
   const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, t, xi, depth_tolerance);

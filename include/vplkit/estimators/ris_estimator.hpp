@@ -84,7 +84,7 @@ inline T ris_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, con
     s.xi.y = rng_next_unit<T>(rng);
   }
   const auto d = distribution.sample(u);
-  const T pmf = T(d.pmf);
+  const T pmf = estimator_pmf(T(d.pmf));  // a denormal pmf counts as 0 (vpl_sum.hpp)
   if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
   s.texel = int(d.index);
   target = ris_target(gp, ris_sample_vpl(view, s, mode, depth_tolerance), dmin);

@@ -38,7 +38,7 @@ inline vec3<T> vpl_sampling_sample(const gather_point<T>& gp, const dprsm_view<T
                                    const Distribution& distribution, T u, const Visibility& visibility,
                                    T dmin) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const vec3<T> c = vpl_visible_contribution(gp, view, int(s.index), visibility, dmin);
   // A denormal pmf can overflow the quotient: such a draw has negligible probability, and an
@@ -52,7 +52,7 @@ inline vec3<T> vpl_sampling_patch_sample(const gather_point<T>& gp, const dprsm_
                                          const Distribution& distribution, T u, vec2<T> xi,
                                          const Visibility& visibility, T dmin, T depth_tolerance) {
   const auto s = distribution.sample(u);
-  const T pmf = T(s.pmf);
+  const T pmf = estimator_pmf(T(s.pmf));
   if (!(pmf > T(0)) || s.index >= std::size_t(view.texel_count())) return vec3<T>(T(0));
   const vec3<T> c = vpl_patch_visible_contribution(gp, view, int(s.index), xi, visibility, dmin, depth_tolerance);
   return estimator_finite_or_zero(c / pmf);

@@ -26,6 +26,16 @@ inline vec3<T> estimator_finite_or_zero(vec3<T> v) {
   return ok ? v : vec3<T>(T(0));
 }
 
+// A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number
+// (p >= FLT_MIN). The library's distributions never return a pmf in (0, FLT_MIN) (their stored
+// values are >= 2^-103 apart, docs/api/distribution.md); for a user's distribution this is the
+// normal-range contract of docs/math.md, "GPU arithmetic model": a denormal pmf is 0 on a GPU that flushes
+// and in C++ under DAZ, so it counts as 0 everywhere, and the draw adds 0.
+template <class T>
+inline T estimator_pmf(T p) {
+  return (p >= std::numeric_limits<T>::min() && p <= std::numeric_limits<T>::max()) ? p : T(0);
+}
+
 // L_t(x) V(x, y_t) for texel t: 0 for an index outside the view, a texel without flux, or a
 // back-facing pair; visibility is queried only when the unoccluded contribution is non-zero (so a
 // ray is spent only where it can matter). The per-sample term of every VPL-sampling estimator.

@@ -18,63 +18,90 @@
 // - an infinite pdf (a delta, or a VPL patch seen edge-on) outweighs every finite one (weight 1
 //   against finite, 0 for the finite side); two infinite pdfs are weighed as equal densities, by
 //   their counts: balance n1/(n1+n2), power n1^2/(n1^2+n2^2) (the limit p1 = p2 -> inf);
-// - the terms are rescaled by the larger pdf and then by the larger term before anything is
-//   multiplied or squared, so denormal pdfs (whose squares would flush to 0) and huge ones
-//   (1e38, whose sums or squares would overflow) give the same weights as moderate ones.
+// - counts and pdfs below the smallest normal T count as 0 (the normal-range contract,
+//   docs/math.md "GPU arithmetic model": a GPU may flush them on input);
+// - each count and pdf is split into a mantissa in [1, 2) and a power of two, and the terms are
+//   scaled by exact powers of two so that the larger lies in [1, 4) before anything is added,
+//   squared or divided: tiny pdfs (whose squares would underflow) and huge ones (1e38, whose sums
+//   or squares would overflow) give the same weights as moderate ones, and every division has a
+//   divisor in [1, 32), where GLSL guarantees 2.5 ulp (a GPU may divide as a * (1 / b), whose
+//   1 / b is a denormal for b > 2^126). A term below 2^-126 of the other is 0 (flushed, on every
+//   device).
 // Consequently heuristic(n1,p1,n2,p2) + heuristic(n2,p2,n1,p1) = 1 to within 2 ulps whenever at
 // least one strategy has n > 0 and p > 0 (finite or not), and 0 when neither has.
+#include <vplkit/core/normal_range.hpp>
+
 #include <limits>
 
 namespace vplkit {
 
-// Finite and positive -> n, anything else (0, negative, NaN, inf) -> 0.
-template <class T> inline T mis_clean_count(T n) {
-  return (n > T(0) && n <= std::numeric_limits<T>::max()) ? n : T(0);
+// Finite and at least the smallest normal T -> n, anything else (0, denormal, negative, NaN, inf)
+// -> 0.
+template <class T>
+inline T mis_clean_count(T n) {
+  return (n >= std::numeric_limits<T>::min() && n <= std::numeric_limits<T>::max()) ? n : T(0);
 }
 
-// Positive (+inf included) -> p; 0, negative, NaN -> 0.
-template <class T> inline T mis_clean_pdf(T p) { return p > T(0) ? p : T(0); }
+// At least the smallest normal T (+inf included) -> p; 0, denormal, negative, NaN -> 0.
+template <class T>
+inline T mis_clean_pdf(T p) {
+  return p >= std::numeric_limits<T>::min() ? p : T(0);
+}
 
-// The two MIS terms n1 p1 and n2 p2 scaled by one common positive factor so that the larger is
-// exactly 1, or (0, 0) when both vanish. Infinite pdfs replace the finite ones: the terms become
-// the counts of the infinite strategies.
-template <class T> struct mis_terms {
+// n * p = mantissa * 2^exponent with mantissa in [1, 4), for a cleaned count and a finite pdf;
+// {0, 0} when either is 0. Exact products of mantissas: no over- or underflow whatever n and p.
+template <class T>
+inline binary_split<T> mis_term(T n, T p) {
+  if (!(n > T(0)) || !(p > T(0))) return {T(0), 0};
+  const binary_split<T> sn = split_binary(n), sp = split_binary(p);
+  return {sn.mantissa * sp.mantissa, sn.exponent + sp.exponent};
+}
+
+// The two MIS terms n1 p1 and n2 p2 scaled by one common power of two so that the larger lies in
+// [1, 4) (the other in [0, 4), 0 when it is below 2^-126 of the larger), or (0, 0) when both
+// vanish. Infinite pdfs replace the finite ones: the terms become the counts of the infinite
+// strategies, scaled likewise (the larger in [1, 2)).
+template <class T>
+struct mis_terms {
   T a;  // ~ n1 p1
   T b;  // ~ n2 p2
 };
 
-template <class T> inline mis_terms<T> mis_scaled_terms(T n1, T p1, T n2, T p2) {
+template <class T>
+inline mis_terms<T> mis_scaled_terms(T n1, T p1, T n2, T p2) {
   const T inf = std::numeric_limits<T>::infinity();
   n1 = mis_clean_count(n1);
   n2 = mis_clean_count(n2);
   p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
   p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
-  mis_terms<T> r{T(0), T(0)};
   if (p1 == inf || p2 == inf) {
-    r.a = p1 == inf ? n1 : T(0);
-    r.b = p2 == inf ? n2 : T(0);
-  } else {
-    const T m = p1 > p2 ? p1 : p2;
-    if (!(m > T(0))) return r;
-    r.a = n1 * (p1 / m);  // p/m in [0, 1]: no overflow; a denormal pdf is lifted, not squared
-    r.b = n2 * (p2 / m);
+    const T a = p1 == inf ? n1 : T(0);
+    const T b = p2 == inf ? n2 : T(0);
+    const int k = -binary_exponent(a > b ? a : b);  // the larger count is > 0 here
+    return {scale_by_exp2(a, k), scale_by_exp2(b, k)};
   }
-  const T s = r.a > r.b ? r.a : r.b;  // > 0 here: the larger pdf's strategy has n > 0
-  r.a = r.a / s;
-  r.b = r.b / s;
-  return r;
+  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
+  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return {T(0), T(0)};
+  const int e = !(tb.mantissa > T(0))                       ? ta.exponent
+                : !(ta.mantissa > T(0))                     ? tb.exponent
+                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
+  return {scale_by_exp2(ta.mantissa, ta.exponent - e), scale_by_exp2(tb.mantissa, tb.exponent - e)};
 }
 
-template <class T> inline T balance_heuristic(T n1, T p1, T n2, T p2) {
+template <class T>
+inline T balance_heuristic(T n1, T p1, T n2, T p2) {
   const mis_terms<T> t = mis_scaled_terms(n1, p1, n2, p2);
-  const T d = t.a + t.b;  // 0 or in [1, 2]
+  const T d = t.a + t.b;  // 0 or in [1, 8)
   return d > T(0) ? t.a / d : T(0);
 }
 
-template <class T> inline T power_heuristic(T n1, T p1, T n2, T p2) {
+template <class T>
+inline T power_heuristic(T n1, T p1, T n2, T p2) {
   const mis_terms<T> t = mis_scaled_terms(n1, p1, n2, p2);
-  const T a2 = t.a * t.a, b2 = t.b * t.b;  // squares of numbers in [0, 1]: underflow only to a
-  const T d = a2 + b2;                     // value that cannot matter next to the other's 1
+  // Squares of numbers in [0, 4): the larger's is in [1, 16), the other's is 0 where it falls
+  // below the smallest normal T (a value that cannot matter next to the other's >= 1).
+  const T a2 = flush_denormal(t.a * t.a), b2 = flush_denormal(t.b * t.b);
+  const T d = a2 + b2;  // 0 or in [1, 32)
   return d > T(0) ? a2 / d : T(0);
 }
 
@@ -82,8 +109,12 @@ template <class T> inline T power_heuristic(T n1, T p1, T n2, T p2) {
 // 0 when the denominator is 0 (no strategy produces the point) or infinite (a delta pdf: the
 // finite f of a continuous sample has measure zero next to it), and 0 when f is not finite or the
 // quotient overflows — a guard against poisoning an image, reached only for samples of negligible
-// probability. f may be negative.
-template <class T> inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
+// probability. f may be negative (and counts as 0 below the smallest normal T). The denominator is
+// d * 2^e with d in [1, 8) (mis_scaled_terms): one division of f's mantissa by d, then an exact
+// power-of-two scaling, so an intermediate over- or underflows only when the result itself does;
+// a result below the smallest normal T is 0.
+template <class T>
+inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
   const T inf = std::numeric_limits<T>::infinity();
   const T big = std::numeric_limits<T>::max();
   n1 = mis_clean_count(n1);
@@ -91,14 +122,21 @@ template <class T> inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
   p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
   p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
   if (p1 == inf || p2 == inf) return T(0);
-  const T m = p1 > p2 ? p1 : p2;
-  if (!(m > T(0))) return T(0);
-  // Denominator = m * d with d in [n of the larger pdf, n1 + n2] (d >= 1 for whole sample
-  // counts). Divide first by whichever factor moves f towards the result: by m first when m < 1
-  // (f/m grows, then shrinks by d), by d first otherwise, so an intermediate over- or underflows
-  // only when the result itself does (a denormal f and m then give f/m = 1, not 0).
-  const T d = n1 * (p1 / m) + n2 * (p2 / m);
-  const T r = m < T(1) ? (f / m) / d : (f / d) / m;
+  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
+  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return T(0);
+  const int e = !(tb.mantissa > T(0))   ? ta.exponent
+                : !(ta.mantissa > T(0)) ? tb.exponent
+                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
+  const T d = scale_by_exp2(ta.mantissa, ta.exponent - e) + scale_by_exp2(tb.mantissa, tb.exponent - e);
+  // f as a mantissa in [1, 2) and a power of two too (an f below the smallest normal T is 0): the
+  // quotient of the mantissas lies in (1/8, 2], so no denormal quotient loses bits before the
+  // exact scaling. NaN and infinite f pass through to the guard below.
+  f = flush_denormal(f);
+  if (f == T(0)) return T(0);
+  const T af = f < T(0) ? -f : f;
+  const binary_split<T> sf = split_binary(af);
+  const T q = scale_by_exp2(sf.mantissa / d, sf.exponent - e);
+  const T r = f < T(0) ? -q : q;
   const T ar = r < T(0) ? -r : r;
   return ar <= big ? r : T(0);
 }

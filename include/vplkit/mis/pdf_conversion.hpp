@@ -13,6 +13,7 @@
 // gathering strategy.
 //
 // The paper's forms (eq. 10, 11, 15) are kept as `_as_published`; see mis_weights_as_published.
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/mis/heuristics.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 
@@ -26,7 +27,8 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 
 // Solid-angle density at x with which VPL sampling produces the direction towards a point of
 // texel t's patch. Never NaN:
-// - pmf <= 0: the texel is never drawn -> 0.
+// - pmf <= 0: the texel is never drawn -> 0. A pmf, cosine, distance or area below the smallest
+//   normal T counts as 0 (the normal-range contract, docs/math.md "GPU arithmetic model").
 // - cos_theta1 <= 0: x is behind the patch. VPL emission is one-sided (L_t has the factor
 //   max(cos theta1, 0)), so neither strategy gets a non-zero value there and no weight is ever
 //   applied to one; we return 0, the density of *contributing* VPL samples in that direction.
@@ -38,14 +40,20 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 //   cos_theta1 infinite (not a cosine) -> 0.
 template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
   const T inf = std::numeric_limits<T>::infinity();
-  if (!(pmf > T(0)) || !(cos_theta1 > T(0)) || !(d2_squared > T(0))) return T(0);
-  // cos_theta1 = inf is no cosine; without this line an overflowing q gives inf / inf = NaN.
+  constexpr T lo = std::numeric_limits<T>::min();
+  if (!(pmf >= lo) || !(cos_theta1 >= lo) || !(d2_squared >= lo)) return T(0);
+  // cos_theta1 = inf is no cosine.
   if (!(patch_area >= T(0)) || patch_area == inf || cos_theta1 == inf) return T(0);
+  patch_area = flush_denormal(patch_area);
   if (patch_area == T(0) || d2_squared == inf || pmf == inf) return inf;
-  // pmf <= 1 <= 1/cos: the product only over- or underflows when the true density is itself
-  // beyond the range of T. q in [0, inf], pmf finite > 0: no 0 * inf.
-  const T q = d2_squared / patch_area;
-  return pmf * (q / cos_theta1);
+  // The mantissas' quotient (numerator and divisor in [1, 4), where GLSL promises 2.5 ulp: a GPU
+  // divides 1e38 / 1e38 through a denormal reciprocal), then the exact power of two: the result
+  // overflows to +inf, or is 0 below the smallest normal T, exactly where the true density leaves
+  // the range of T, on every device.
+  const binary_split<T> sp = split_binary(pmf), sd = split_binary(d2_squared),
+                        sa = split_binary(patch_area), sc = split_binary(cos_theta1);
+  const T q = (sp.mantissa * sd.mantissa) / (sa.mantissa * sc.mantissa);
+  return scale_by_exp2(q, sp.exponent + sd.exponent - sa.exponent - sc.exponent);
 }
 
 // ---- the paper's mixed-measure forms (as published) -------------------------------------------
@@ -73,7 +81,8 @@ template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_are
 
 template <class T> inline T cosine_pdf_as_published(T cos_theta, T sin_theta) {
   const T inv_pi = T(0.318309886183790671537767526745028724);
-  return (cos_theta > T(0) && sin_theta > T(0)) ? cos_theta * sin_theta * inv_pi : T(0);
+  constexpr T lo = std::numeric_limits<T>::min();
+  return (cos_theta >= lo && sin_theta >= lo) ? flush_denormal(cos_theta * sin_theta * inv_pi) : T(0);
 }
 
 template <class T> struct mis_weight_pair {

@@ -7,6 +7,7 @@
 // rim direction (d.z = 0) has the same uv on either face and the two maps join continuously
 // along the rim. Consequence for a rasteriser: the back projection is a reflection (z -> -z) of
 // the front one, so triangle winding flips on the back face.
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 
@@ -32,7 +33,7 @@ template <class T>
 inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
   const T r2 = glm::dot(uv, uv);
   if (r2 > T(1)) {
-    const T k = (T(1) / std::sqrt(r2)) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
+    const T k = detail::inversesqrt_of(r2) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
     uv = uv * k;
   }
   return uv;
@@ -43,12 +44,16 @@ inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
 // The denominator is 1 + |d.z| >= 1 on whichever face d falls: the map never divides by the
 // cancelling 1 - |d.z| of the opposite face, so the back pole (0,0,-1) is as accurate as the
 // front one. Rim directions give r2 <= 1 exactly (paraboloid_clamp_to_disk).
+// The face is decided on d.z itself (below the smallest normal T it counts as 0, i.e. front), not
+// on the normalised z: a tiny negative z can normalise to a denormal, which a GPU flushes and a
+// CPU may keep, and the decision must not depend on that (docs/math.md, "GPU arithmetic model").
 template <class T>
 inline paraboloid_point<T> paraboloid_from_direction(vec3<T> d) {
   const vec3<T> n = unit_or_zero(d);
   paraboloid_point<T> p;
-  p.face = (n.z >= T(0)) ? paraboloid_front : paraboloid_back;
-  const T denom = T(1) + std::abs(n.z);
+  const bool has_direction = n.x != T(0) || n.y != T(0) || n.z != T(0);
+  p.face = (has_direction && flush_denormal(d.z) < T(0)) ? paraboloid_back : paraboloid_front;
+  const T denom = T(1) + detail::abs_of(n.z);
   p.uv = paraboloid_clamp_to_disk(vec2<T>(n.x, n.y) / denom);
   return p;
 }

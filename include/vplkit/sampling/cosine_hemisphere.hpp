@@ -13,9 +13,11 @@
 // z is taken from r rather than from the disk point: 1 - |r| is exact near the rim, so the
 // direction is unit to a few ulps and z >= 0 always, also at u = 0 or u = 1 (the rim, z = 0).
 // r is signed (phi covers only [-pi/4, 3pi/4]; the sign of r supplies the other half turn).
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/vector.hpp>
 
 #include <cmath>
+#include <limits>
 
 namespace vplkit {
 
@@ -59,7 +61,9 @@ template <class T> inline vec3<T> sample_cosine_hemisphere(vec2<T> u) {
 // Solid-angle density of sample_cosine_hemisphere; 0 below the horizon (and for NaN).
 template <class T> inline T cosine_hemisphere_pdf(T cos_theta) {
   const T inv_pi = T(0.318309886183790671537767526745028724);
-  return cos_theta > T(0) ? cos_theta * inv_pi : T(0);
+  // A cosine, or a density, below the smallest normal T is 0 (docs/math.md, "GPU arithmetic
+  // model": the same on a GPU that flushes denormals).
+  return cos_theta >= std::numeric_limits<T>::min() ? flush_denormal(cos_theta * inv_pi) : T(0);
 }
 
 }  // namespace vplkit

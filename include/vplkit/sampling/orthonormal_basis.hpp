@@ -11,10 +11,12 @@
 // by 1 + n.z there). Deviation from the paper: s comes from `n.z >= 0` rather than copysign, so
 // n.z = -0.0 takes s = +1; both are exact, and GLSL has no copysign, so CPU and GPU agree.
 //
-// The input is normalised first, after dividing by its largest component magnitude: that keeps
-// the squared length in [1, 3], so denormal or huge components neither underflow nor overflow.
+// The input is normalised first by unit_or_zero (an exact power-of-two scaling, so tiny or huge
+// components neither underflow nor overflow; components below the smallest normal T count as 0).
 // A zero or non-finite input has no direction; it gets the canonical frame (x, y, z) rather than
 // NaN (documented fallback, no exception: this runs per sample).
+#include <vplkit/core/normal_range.hpp>
+#include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 
 #include <cmath>
@@ -28,26 +30,23 @@ template <class T> struct orthonormal_basis {
   vec3<T> n;  // normal (unit)
 };
 
-// Unit vector along n; (0,0,1) when n is zero, NaN or infinite.
+// Unit vector along n; (0,0,1) when n is zero, NaN or infinite, or has no component of at least
+// the smallest normal T (unit_or_zero: the normal-range contract, docs/math.md, "GPU arithmetic model").
 template <class T> inline vec3<T> onb_normalize(vec3<T> n) {
-  const T big = std::numeric_limits<T>::max();
-  const T ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
-  // Written as `<= big` so NaN fails the test too.
-  if (!(ax <= big && ay <= big && az <= big)) return vec3<T>(T(0), T(0), T(1));
-  const T m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
-  if (!(m > T(0))) return vec3<T>(T(0), T(0), T(1));
-  const vec3<T> s = n / m;  // largest component is exactly +-1
-  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
+  const vec3<T> u = unit_or_zero(n);
+  return (u.x == T(0) && u.y == T(0) && u.z == T(0)) ? vec3<T>(T(0), T(0), T(1)) : u;
 }
 
+// The products that can fall below the smallest normal T are flushed (a GPU may flush them), so
+// the frame is the same with and without denormals.
 template <class T> inline orthonormal_basis<T> make_orthonormal_basis(vec3<T> normal) {
   const vec3<T> n = onb_normalize(normal);
   const T s = n.z >= T(0) ? T(1) : T(-1);
   const T a = T(-1) / (s + n.z);
-  const T c = n.x * n.y * a;
+  const T c = flush_denormal(n.x * n.y * a);
   orthonormal_basis<T> f;
-  f.t = vec3<T>(T(1) + s * n.x * n.x * a, s * c, -s * n.x);
-  f.b = vec3<T>(c, s + n.y * n.y * a, -n.y);
+  f.t = vec3<T>(T(1) + flush_denormal(s * n.x * n.x * a), s * c, -s * n.x);
+  f.b = vec3<T>(c, s + flush_denormal(n.y * n.y * a), -n.y);
   f.n = n;
   return f;
 }

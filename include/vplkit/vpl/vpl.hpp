@@ -14,7 +14,11 @@
 //  - Squared distances are raised to at least vpl_distance_sq_floor = sqrt(smallest normal)
 //    (2^-63 in float, 2^-511 in double), so 1 / (pi d^2) <= 2.9e18 in float: the result is
 //    finite whenever |flux| * albedo (resp. |I| * albedo) stays below ~1e19 (float).
+//  - The normal-range contract (docs/math.md, "GPU arithmetic model"): a result, cosine or
+//    flux below the smallest normal T is 0, as a GPU that flushes denormals computes it, so a
+//    flux, a zero/non-zero decision or a patch area is the same on every device.
 #include <vplkit/core/gather_point.hpp>
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 
@@ -32,9 +36,11 @@ struct vpl {
 
 // A texel carries a VPL where its flux is positive in some channel (albedo and intensity are
 // >= 0, so no channel is negative): the one test every builder uses.
+// A flux below the smallest normal T counts as none (a GPU may read it as 0).
 template <class T>
 inline bool vpl_has_flux(const vpl<T>& v) {
-  return v.flux.x > T(0) || v.flux.y > T(0) || v.flux.z > T(0);
+  constexpr T lo = std::numeric_limits<T>::min();
+  return v.flux.x >= lo || v.flux.y >= lo || v.flux.z >= lo;
 }
 
 template <class T>
@@ -45,12 +51,13 @@ inline constexpr T vpl_pi = T(3.14159265358979323846);
 // cos(alpha) / d1^2 (docs/math.md section 2; the paper's eq. 1-3 omit Omega_t).
 template <class T>
 inline vec3<T> vpl_flux(vec3<T> albedo, vec3<T> intensity, T solid_angle) {
-  return albedo * intensity * solid_angle;
+  return flush_denormal(albedo * intensity * solid_angle);
 }
 
 template <class T>
 inline T vpl_distance_sq_floor() {
-  return std::sqrt(std::numeric_limits<T>::min());  // exact: min() is an even power of 2
+  // sqrt(min()) exactly: min() = 2^(min_exponent - 1) is an even power of 2 (2^-63 for float).
+  return exp2i<T>((std::numeric_limits<T>::min_exponent - 1) / 2);
 }
 
 // |a - b|_inf below this means "same point". Scale-relative on purpose: coordinates of size s
@@ -77,13 +84,15 @@ inline T vpl_geometry_term(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y, T dmi
   if (vpl_points_coincide(x, y)) return T(0);
   const vec3<T> w = y - x;
   const vec3<T> wd = unit_or_zero(w);  // x -> y
-  const T cos2 = glm::max(T(0), glm::dot(unit_or_zero(n_x), wd));
-  const T cos1 = glm::max(T(0), -glm::dot(unit_or_zero(n_y), wd));
+  const T cos2 = glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_x), wd)));
+  const T cos1 = glm::max(T(0), flush_denormal(-glm::dot(unit_or_zero(n_y), wd)));
   // Early out also catches NaN coordinates: unit_or_zero maps them to 0, so the cosines are 0
   // and d2sq (possibly NaN) is never divided into.
-  if (!(cos1 * cos2 > T(0))) return T(0);
+  const T cos12 = flush_denormal(cos1 * cos2);
+  if (!(cos12 > T(0))) return T(0);
   const T d2sq = glm::max(glm::max(glm::dot(w, w), dmin * dmin), vpl_distance_sq_floor<T>());
-  return cos1 * cos2 / (vpl_pi<T> * d2sq);  // d2sq = Inf (huge separation) gives 0
+  // d2sq = Inf (huge separation) gives 0, and so does any d2sq that leaves a denormal.
+  return flush_denormal(cos12 / (vpl_pi<T> * d2sq));
 }
 
 // L_t(x) = (rho_x / pi) * Phi_t * G (docs/math.md section 2, paper eq. 5 with the patch area
@@ -92,7 +101,7 @@ template <class T>
 inline vec3<T> vpl_contribution(vec3<T> x, vec3<T> n_x, vec3<T> rho_x, const vpl<T>& v, T dmin) {
   const T g = vpl_geometry_term(x, n_x, v.position, v.normal, dmin);
   const T brdf_scale = T(1) / vpl_pi<T>;  // diffuse BRDF rho_x / pi
-  return rho_x * brdf_scale * v.flux * g;
+  return flush_denormal(rho_x * brdf_scale * v.flux * g);
 }
 
 // L_t at a gather point with two normals: theta2 against the shading normal, and 0 where y_t lies
@@ -113,18 +122,22 @@ inline constexpr T vpl_min_cos_alpha = T(1e-6);
 template <class T>
 inline T vpl_cos_alpha(vec3<T> light_pos, vec3<T> y, vec3<T> n_y) {
   if (vpl_points_coincide(light_pos, y)) return T(0);
-  return glm::max(T(0), glm::dot(unit_or_zero(n_y), unit_or_zero(light_pos - y)));
+  return glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_y), unit_or_zero(light_pos - y))));
 }
 
 // Area of the surface patch seen through a texel: A_t = Omega_t d1^2 / cos(alpha), with
 // cos(alpha) raised to vpl_min_cos_alpha (also when it is <= 0 or NaN). Needed to turn the VPL pmf
 // into a solid-angle pdf at the gather point: p2 = p(t) d2^2 / (A_t cos(theta1)) (docs/math.md
 // section 5).
+// Evaluated as ((Omega_t / c) d1) d1: an intermediate under- or overflows only where the result
+// does (Omega_t / c >= Omega_t; d1 < 1 shrinks, d1 > 1 grows monotonically towards the result),
+// and a result below the smallest normal T is 0: the same area, 0 included, on a GPU that flushes
+// denormal intermediates (vpl_pdf_solid_angle turns a zero area into an infinite density).
 template <class T>
 inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
   // written so that a NaN cos_alpha also takes the floor
   const T c = (cos_alpha > vpl_min_cos_alpha<T>) ? cos_alpha : vpl_min_cos_alpha<T>;
-  return solid_angle * d1 * d1 / c;
+  return flush_denormal(((flush_denormal(solid_angle) / c) * d1) * d1);
 }
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
@@ -137,10 +150,10 @@ inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> 
                                   vec3<T> rho_y) {
   if (vpl_points_coincide(light_pos, y)) return vec3<T>(T(0));
   const vec3<T> w = light_pos - y;
-  const T cos_a = glm::max(T(0), glm::dot(unit_or_zero(n_y), unit_or_zero(w)));
+  const T cos_a = glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_y), unit_or_zero(w))));
   if (!(cos_a > T(0))) return vec3<T>(T(0));  // back-facing, zero normal or NaN coordinates
   const T d1sq = glm::max(glm::dot(w, w), vpl_distance_sq_floor<T>());
-  return rho_y * intensity * (cos_a / (vpl_pi<T> * d1sq));
+  return flush_denormal(rho_y * intensity * flush_denormal(cos_a / (vpl_pi<T> * d1sq)));
 }
 
 }  // namespace vplkit
