@@ -16,6 +16,7 @@
 #include <vplkit/distribution/weights.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/alias_table.hpp>
+#include <vplkit/distribution/mixture_split.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
 #include <vplkit/distribution/flat_face_roulette.hpp>

@@ -1111,20 +1111,123 @@ private:
 
 }  // namespace vplkit
 // ---- end vplkit/distribution/alias_table.hpp ----
+// ---- begin vplkit/distribution/mixture_split.hpp ----
+// The split of one u between the two components of a defensive mixture (docs/math.md, "Defensive
+// mixing"): p(i) = (1 - eps) p_learned(i) + eps p_fallback(i). It is the part of
+// defensive_mixture that does not depend on what the components are, so that a mixture over any
+// sampler (discrete_cdf, alias_table, flat_face_roulette, or one that lives only on a GPU) picks
+// the same component, with the same remapped u, and reports the same pmf, bit for bit.
+//
+// One u serves both decisions: u < eps picks the fallback and is remapped to u * (1 / eps),
+// otherwise the learned component gets (u - eps) * (1 / (1 - eps)) (pbrt-v4's SampleDiscrete and
+// Mitsuba 3's sample_reuse hand back a remapped u the same way). The reciprocals are computed
+// once, in double, and rounded to T, so choose() uses only -, * and comparisons, which IEEE (and
+// GLSL 4.x for highp) round correctly: a GPU given fallback_scale() and learned_scale() picks the
+// same component and the same remapped u, where a GLSL division (2.5 ulp) would not. The
+// remapping is monotone within each component, so stratification survives; it costs the low bits
+// of u, as any reuse of u does.
+
+#include <string>
+
+namespace vplkit {
+
+// The mixture's pmf from its parts. sample() and pmf() of every mixture use it, so they agree bit
+// for bit. A term below the smallest normal T while both its factors are > 0 becomes that value
+// (see detail::probability_product): an index the mixture can return never reports pmf 0. Both
+// terms are 0 or normal, so is their sum: the same bits on every device.
+template <class T>
+inline T defensive_mixture_pmf(T eps, T p_learned, T p_fallback) noexcept {
+  return detail::probability_product(T(1) - eps, p_learned) +
+         detail::probability_product(eps, p_fallback);
+}
+
+// Which component of a two-component mixture serves a u: mixture_learned or mixture_fallback.
+enum mixture_component : unsigned { mixture_learned = 0u, mixture_fallback = 1u };
+
+// The answer of mixture_split::choose: the component, and the u it is to be sampled with, in
+// [0, 1) (the "sample_reuse" form: the part of u that the choice did not use, stretched back to
+// the unit interval).
+template <class T>
+struct mixture_choice {
+  mixture_component component = mixture_learned;
+  T u = T(0);
+};
+
+namespace detail {
+
+// eps must lie in [0, 1]; NaN is rejected. `who` names the caller in the message.
+template <class T>
+inline void check_mixture_eps(const char* who, T eps) {
+  if (!(eps >= T(0) && eps <= T(1)))
+    throw invalid_input(std::string(who) + ": eps = " + std::to_string(eps) + " is outside [0, 1]");
+}
+
+}  // namespace detail
+
+template <class T>
+class mixture_split {
+public:
+  using value_type = T;
+
+  // No components: everything to the (empty) learned side, eps 0.
+  mixture_split() = default;
+
+  // eps in [0, 1] (NaN rejected: throws invalid_input). The effective eps, the weight actually
+  // given to the fallback, is eps, except that an empty learned component sends all mass to the
+  // fallback (1), an empty fallback all mass to the learned one (0; both empty gives 0), and an eps
+  // below the smallest normal T counts as 0 (the normal-range contract of weights.hpp: a GPU may
+  // read the uploaded value as 0).
+  mixture_split(T eps, bool learned_empty, bool fallback_empty) {
+    detail::check_mixture_eps("mixture_split", eps);
+    effective_eps_ = learned_empty ? (fallback_empty ? T(0) : T(1))
+                                   : (fallback_empty ? T(0) : flush_denormal(eps));
+    fallback_scale_ = detail::reciprocal_or_zero(effective_eps_);
+    learned_scale_ = detail::reciprocal_or_zero(T(1) - effective_eps_);
+  }
+
+  // The weight given to the fallback (see the constructor).
+  T effective_eps() const noexcept { return effective_eps_; }
+  // 1 / eps and 1 / (1 - eps) of the effective eps, as T (0 where undefined), for a GPU mirror.
+  T fallback_scale() const noexcept { return fallback_scale_; }
+  T learned_scale() const noexcept { return learned_scale_; }
+
+  // The component that serves u, and the remapped u to sample it with. u is clamped to [0, 1)
+  // first (discrete_clamp_u), and so is the remapped u. Effective eps 0: the learned component
+  // with u itself ((u - 0) * 1 == u exactly), so eps = 0 is the learned component bit for bit;
+  // effective eps 1: the fallback with u itself (u < 1 always holds and u * 1 == u). A zero scale
+  // is never used. Within each component the remapped u is non-decreasing in u.
+  mixture_choice<T> choose(T u) const noexcept {
+    u = discrete_clamp_u(u);
+    if (u < effective_eps_) return {mixture_fallback, discrete_clamp_u(u * fallback_scale_)};
+    return {mixture_learned, discrete_clamp_u((u - effective_eps_) * learned_scale_)};
+  }
+
+  // The mixture's pmf of an index from its components' pmfs of it (defensive_mixture_pmf).
+  T pmf(T p_learned, T p_fallback) const noexcept {
+    return defensive_mixture_pmf(effective_eps_, p_learned, p_fallback);
+  }
+
+private:
+  T effective_eps_ = T(0);
+  T fallback_scale_ = T(0);
+  T learned_scale_ = T(1);
+};
+
+}  // namespace vplkit
+// ---- end vplkit/distribution/mixture_split.hpp ----
 // ---- begin vplkit/distribution/defensive_mixture.hpp ----
-// Defensive sampling (docs/math.md section 3, defensive mixing):
+// Defensive sampling (docs/math.md, "Defensive mixing"):
 //     p(i) = (1 - eps) p_learned(i) + eps p_fallback(i).
 // With a fallback that covers every index that may contribute (typically uniform over the valid
-// paraboloid texels: a discrete_cdf of 0/1 weights), p(i) > 0 wherever the learned CDF left a
-// hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned CDF exactly
-// (same index, same pmf for every u).
+// paraboloid texels: a discrete_cdf of 0/1 weights), p(i) > 0 wherever the learned distribution
+// left a hole, so the estimator L_t / p(t) stays unbiased. eps = 0 reproduces the learned
+// distribution exactly (same index, same pmf for every u).
 //
-// One u serves both decisions: u < eps picks the fallback and is rescaled to u * (1 / eps),
-// otherwise the learned CDF gets (u - eps) * (1 / (1 - eps)). The reciprocals are computed once
-// in double and rounded to T, so a sample uses only -, * and comparisons, which IEEE (and GLSL
-// 4.x for highp) round correctly: a GPU mirror gets the same index bit for bit, where a GLSL
-// division (2.5 ulp) would not. The rescaling is monotone, so stratification survives within
-// each component. It costs the low bits of u (as any reuse of u does).
+// The mixture is generic over its component type: any sampler with size(), empty(), pmf(i) and
+// sample(u) -> discrete_sample<T> (discrete_cdf, the default; alias_table; flat_face_roulette).
+// How one u is shared between the two components, and the pmf of the mixture, are the
+// mixture_split's (mixture_split.hpp): every mixture over the same totals and eps picks its
+// component with the same remapped u, whatever the components are.
 
 #include <cstddef>
 #include <string>
@@ -1132,98 +1235,78 @@ private:
 
 namespace vplkit {
 
-// The mixture's pmf from its parts; sample() and pmf() both use it, so they agree bit for bit.
-// A term below the smallest normal T while both its factors are > 0 becomes that value (see
-// detail::probability_product): an index the mixture can return never reports pmf 0. Both terms
-// are 0 or normal, so is their sum: the same bits on every device.
-template <class T>
-inline T defensive_mixture_pmf(T eps, T p_learned, T p_fallback) noexcept {
-  return detail::probability_product(T(1) - eps, p_learned) +
-         detail::probability_product(eps, p_fallback);
-}
-
-template <class T>
+template <class T, class Component = discrete_cdf<T>>
 class defensive_mixture {
 public:
   using value_type = T;
+  using component_type = Component;
 
   defensive_mixture() = default;
 
-  // eps in [0, 1] (NaN rejected). The two distributions must have the same size, except that
-  // either may be default-constructed (size 0). An empty learned distribution sends all mass to
-  // the fallback (effective eps = 1), an empty fallback all mass to the learned one (effective
-  // eps = 0); both empty gives an empty mixture.
-  defensive_mixture(discrete_cdf<T> learned, discrete_cdf<T> fallback, T eps)
+  // eps in [0, 1] (NaN rejected: throws invalid_input). The two components must have the same
+  // size, except that either may have size 0 (default-constructed). An empty learned component
+  // sends all mass to the fallback (effective eps = 1), an empty fallback all mass to the learned
+  // one (effective eps = 0); both empty gives an empty mixture (see mixture_split).
+  defensive_mixture(Component learned, Component fallback, T eps)
       : learned_(std::move(learned)), fallback_(std::move(fallback)), eps_(eps) {
-    if (!(eps >= T(0) && eps <= T(1))) {
-      throw invalid_input("defensive_mixture: eps = " + std::to_string(eps) +
-                          " is outside [0, 1]");
-    }
+    detail::check_mixture_eps("defensive_mixture", eps);
     if (learned_.size() != fallback_.size() && learned_.size() != 0 && fallback_.size() != 0) {
       throw invalid_input("defensive_mixture: learned distribution has " +
                           std::to_string(learned_.size()) + " entries, fallback has " +
                           std::to_string(fallback_.size()));
     }
-    // An eps below the smallest normal T counts as 0 (the normal-range contract of weights.hpp:
-    // a GPU may read the uploaded value as 0).
-    effective_eps_ = learned_.empty() ? (fallback_.empty() ? T(0) : T(1))
-                                      : (fallback_.empty() ? T(0) : flush_denormal(eps_));
-    fallback_scale_ = detail::reciprocal_or_zero(effective_eps_);
-    learned_scale_ = detail::reciprocal_or_zero(T(1) - effective_eps_);
+    split_ = mixture_split<T>(eps_, learned_.empty(), fallback_.empty());
   }
 
   std::size_t size() const noexcept {
     return learned_.size() > fallback_.size() ? learned_.size() : fallback_.size();
   }
   bool empty() const noexcept { return learned_.empty() && fallback_.empty(); }
+  // The eps asked for.
   T eps() const noexcept { return eps_; }
   // The weight actually given to the fallback (see the constructor).
-  T effective_eps() const noexcept { return effective_eps_; }
-  const discrete_cdf<T>& learned() const noexcept { return learned_; }
-  const discrete_cdf<T>& fallback() const noexcept { return fallback_; }
+  T effective_eps() const noexcept { return split_.effective_eps(); }
+  const Component& learned() const noexcept { return learned_; }
+  const Component& fallback() const noexcept { return fallback_; }
+  // The split of u and the pmf rule; with it, a mixture can be rebuilt elsewhere (a GPU, other
+  // components) that makes the same choices.
+  const mixture_split<T>& split() const noexcept { return split_; }
 
-  T pmf(std::size_t i) const noexcept {
-    return defensive_mixture_pmf(effective_eps_, learned_.pmf(i), fallback_.pmf(i));
-  }
+  T pmf(std::size_t i) const noexcept { return split_.pmf(learned_.pmf(i), fallback_.pmf(i)); }
 
-  // Returns the index and the mixture pmf (not the pmf of the component that produced it).
+  // Returns the index and the mixture pmf (not the pmf of the component that produced it);
+  // {0, 0} when empty.
   discrete_sample<T> sample(T u) const noexcept {
     if (empty()) return {0, T(0)};
-    const T e = effective_eps_;
-    u = discrete_clamp_u(u);
-    // e = 0: u < 0 never holds and (u - 0) * 1 == u exactly, so eps = 0 is the learned CDF bit
-    // for bit. e = 1: u < 1 always holds and u * 1 == u. A zero scale is never used.
-    const std::size_t i =
-        u < e ? fallback_.sample(discrete_clamp_u(u * fallback_scale_)).index
-              : learned_.sample(discrete_clamp_u((u - e) * learned_scale_)).index;
+    const mixture_choice<T> c = split_.choose(u);
+    const std::size_t i = component(c.component).sample(c.u).index;
     return {i, pmf(i)};
   }
 
-  // The same index and pmf as sample(u), with each component searched by a plain binary search
-  // over its whole CDF (discrete_cdf::sample_binary_search) instead of the guide table: the
-  // guided search returns exactly the binary search's index, so this exists to measure the guide
-  // table's cost, not to change any result.
+  // discrete_cdf components only: the same index and pmf as sample(u), with each component
+  // searched by a plain binary search over its whole CDF (discrete_cdf::sample_binary_search)
+  // instead of the guide table: the guided search returns exactly the binary search's index, so
+  // this exists to measure the guide table's cost, not to change any result.
   discrete_sample<T> sample_binary_search(T u) const noexcept {
     if (empty()) return {0, T(0)};
-    const T e = effective_eps_;
-    u = discrete_clamp_u(u);
-    const std::size_t i =
-        u < e ? fallback_.sample_binary_search(discrete_clamp_u(u * fallback_scale_)).index
-              : learned_.sample_binary_search(discrete_clamp_u((u - e) * learned_scale_)).index;
+    const mixture_choice<T> c = split_.choose(u);
+    const std::size_t i = component(c.component).sample_binary_search(c.u).index;
     return {i, pmf(i)};
   }
 
-  // 1 / eps and 1 / (1 - eps) as T (0 where undefined), for a GPU mirror.
-  T fallback_scale() const noexcept { return fallback_scale_; }
-  T learned_scale() const noexcept { return learned_scale_; }
+  // 1 / eps and 1 / (1 - eps) of the effective eps as T (0 where undefined), for a GPU mirror.
+  T fallback_scale() const noexcept { return split_.fallback_scale(); }
+  T learned_scale() const noexcept { return split_.learned_scale(); }
 
 private:
-  discrete_cdf<T> learned_;
-  discrete_cdf<T> fallback_;
+  const Component& component(mixture_component c) const noexcept {
+    return c == mixture_fallback ? fallback_ : learned_;
+  }
+
+  Component learned_;
+  Component fallback_;
   T eps_ = T(0);
-  T effective_eps_ = T(0);
-  T fallback_scale_ = T(0);
-  T learned_scale_ = T(1);
+  mixture_split<T> split_;
 };
 
 }  // namespace vplkit

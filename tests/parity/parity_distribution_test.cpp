@@ -2,7 +2,8 @@
 // Parity of the sampling side of glsl/vplkit/distribution/*.glsl with
 // include/vplkit/distribution/*.hpp (T = float): discrete CDF sampling by the guide table and by
 // plain binary search, pmf from the stored CDF, the clamp of u, the alias table, the defensive
-// mixture and the face roulette. (The GPU CDF build kernel: parity_distribution_build_test.cpp.)
+// mixture, the face roulette, the mixture split and mixtures over alias tables and flat
+// roulettes. (The GPU CDF build kernel: parity_distribution_build_test.cpp.)
 //
 // Why exact answers are expected: given the same stored arrays, every sampler uses only float
 // comparisons, u * 2^k (exact), u * n and x - j (one rounding each, `precise` where a fused
@@ -17,6 +18,8 @@
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
+#include <vplkit/distribution/flat_face_roulette.hpp>
+#include <vplkit/distribution/mixture_split.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -590,4 +593,264 @@ struct R { int face; uint index; float pmf; float pmf_of; float b_made; uint mad
   VPLKIT_CHECK_PARITY(compare_floats(gb, within_ulps(3), describe,
                                      "vplkit_make_face_roulette b_front vs C++"));
   VPLKIT_CHECK_PARITY(compare_exact(gflags, describe, "vplkit_make_face_roulette zero flags"));
+}
+
+// =================================================================================================
+// mixture_split.glsl, and defensive mixtures over alias_table.glsl and flat_face_roulette.glsl
+// =================================================================================================
+
+namespace {
+
+// std430 of vplkit_mixture_split (three floats).
+struct gpu_split {
+  float effective_eps, fallback_scale, learned_scale;
+};
+static_assert(sizeof(gpu_split) == 12, "std430 vplkit_mixture_split");
+
+gpu_split to_gpu(const vplkit::mixture_split<float>& s) {
+  return {s.effective_eps(), s.fallback_scale(), s.learned_scale()};
+}
+
+}  // namespace
+
+TEST_CASE("mixture_split.glsl: component, remapped u and pmf bit for bit; the GPU constructor field for field") {
+  // Every eps the rule treats apart, with each emptiness of the two components.
+  const std::vector<float> eps_list = {0.0f, 1e-40f, std::numeric_limits<float>::min(), 1e-7f, 0.05f,
+                                       1.0f / 3.0f, 0.5f, std::nextafter(1.0f, 0.0f), 1.0f};
+  struct case_t {
+    float eps;
+    u32 learned_empty, fallback_empty;
+  };
+  std::vector<case_t> cases;
+  std::vector<vplkit::mixture_split<float>> splits;
+  for (float e : eps_list)
+    for (u32 flags = 0; flags < 4; ++flags) {
+      cases.push_back({e, flags & 1u, flags >> 1});
+      splits.emplace_back(e, (flags & 1u) != 0, (flags >> 1) != 0);
+    }
+  std::vector<gpu_split> gs;
+  std::vector<float> host_scales;  // per case: C++ reciprocal_or_zero of eps and of 1 - eps
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    gs.push_back(to_gpu(splits[c]));
+    host_scales.push_back(host_reciprocal(cases[c].eps));
+    host_scales.push_back(host_reciprocal(1.0f - cases[c].eps));
+  }
+  struct q4 {
+    float u, p_learned, p_fallback;
+    u32 c;
+  };
+  std::vector<q4> q;
+  splitmix_rng g(71);
+  const std::vector<float> ps = {0.0f, 1e-40f, std::numeric_limits<float>::min(), 1e-30f, 0.25f, 1.0f};
+  for (u32 c = 0; c < cases.size(); ++c) {
+    const float e = splits[c].effective_eps();
+    for (int k = 0; k < 20000; ++k) q.push_back({g.grid_float(), g.grid_float(), g.any_unit_float(), c});
+    for (int k = 0; k < 2000; ++k) q.push_back({g.any_unit_float(), g.any_unit_float(), g.grid_float(), c});
+    for (float u : {e, std::nextafter(e, 0.0f), std::nextafter(e, 1.0f)})
+      for (float p : ps) q.push_back({u, p, ps[std::size_t(g.next() % ps.size())], c});
+    for (float s : special_us()) q.push_back({s, s, s, c});
+  }
+  const kernel_call call = per_item(R"(
+#include "vplkit/distribution/mixture_split.glsl"
+struct Q { float u; float p_learned; float p_fallback; uint c; };
+struct C { float eps; uint learned_empty; uint fallback_empty; };
+struct R { uint component; float u; float pmf; uint made_equal; float fallback_scale3; float learned_scale3; };
+)",
+      {input(0, q, "Q queries"), input(6, gs, "vplkit_mixture_split splits"), input(7, cases, "C cases"),
+       input(8, host_scales, "float host_scales")},
+      "R results", R"(
+  uint c = queries[i].c;
+  vplkit_mixture_split s = splits[c];
+  vplkit_mixture_choice ch = vplkit_mixture_split_choose(s, queries[i].u);
+  float p = vplkit_mixture_split_pmf(s, queries[i].p_learned, queries[i].p_fallback);
+  // The constructor's logic on the GPU, with the host's reciprocals ...
+  bool le = cases[c].learned_empty != 0u, fe = cases[c].fallback_empty != 0u;
+  vplkit_mixture_split made = vplkit_make_mixture_split(cases[c].eps, le, fe, host_scales[2u * c],
+                                                        host_scales[2u * c + 1u]);
+  uint same = uint(floatBitsToUint(made.effective_eps) == floatBitsToUint(s.effective_eps)) +
+              2u * uint(floatBitsToUint(made.fallback_scale) == floatBitsToUint(s.fallback_scale)) +
+              4u * uint(floatBitsToUint(made.learned_scale) == floatBitsToUint(s.learned_scale));
+  // ... and with its own (GLSL division).
+  vplkit_mixture_split made3 = vplkit_make_mixture_split(cases[c].eps, le, fe);
+  results[i] = R(ch.component, ch.u, p, same, made3.fallback_scale, made3.learned_scale);)");
+  struct r6 {
+    u32 component;
+    float u, pmf;
+    u32 same;
+    float fallback_scale3, learned_scale3;
+  };
+  const auto gpu = run_compute<r6>(call, q.size());
+  series<u32> gc, gu, gp, gsame;
+  series<float> g3;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const auto& s = splits[q[k].c];
+    const auto ch = s.choose(q[k].u);
+    gc.add(gpu[k].component, u32(ch.component));
+    gu.add(bits_of(gpu[k].u), bits_of(ch.u));
+    gp.add(bits_of(gpu[k].pmf), bits_of(s.pmf(q[k].p_learned, q[k].p_fallback)));
+    gsame.add(gpu[k].same, 7u);
+    g3.add(gpu[k].fallback_scale3, s.fallback_scale());
+    g3.add(gpu[k].learned_scale3, s.learned_scale());
+  }
+  auto describe = [&](std::size_t k) {
+    const case_t& c = cases[q[k].c];
+    return "eps = " + show(c.eps) + (c.learned_empty ? ", learned empty" : "") +
+           (c.fallback_empty ? ", fallback empty" : "") + ", u = " + show(q[k].u) +
+           ", p = (" + show(q[k].p_learned) + ", " + show(q[k].p_fallback) + ")";
+  };
+  std::cout << "parity: " << q.size() << " mixture-split queries" << std::endl;
+  VPLKIT_CHECK_PARITY(compare_exact(gc, describe, "split component"));
+  VPLKIT_CHECK_PARITY(compare_exact(gu, describe, "split remapped u bits"));
+  // Both products are 0 or normal and the sum `precise`: the C++ bits on every device.
+  VPLKIT_CHECK_PARITY(compare_exact(gp, describe, "split pmf bits"));
+  VPLKIT_CHECK_PARITY(compare_exact(gsame, describe, "vplkit_make_mixture_split fields == C++ (bit mask 7)"));
+  // GLSL division (<= 2.5 ulp) against the C++ double quotient rounded once: 3 ulps.
+  VPLKIT_CHECK_PARITY(compare_floats(
+      g3, within_ulps(3), [&](std::size_t k) { return describe(k / 2); },
+      "vplkit_make_mixture_split(eps, ...) scales vs C++"));
+}
+
+TEST_CASE("mixture_split.glsl over alias_table.glsl and flat_face_roulette.glsl: the C++ generic "
+          "defensive_mixture's index and pmf") {
+  const int R = 64;  // faces of R^2 texels
+  const u32 n = 2u * u32(R) * u32(R), face = n / 2;
+  splitmix_rng g(81);
+  const std::vector<float> learned_w = zero_run_weights(n, 300, 82);
+  std::vector<float> valid(n), front_empty = learned_w;
+  for (float& v : valid) v = (g.next_u32() % 100u) < 78u ? 1.0f : 0.0f;
+  for (u32 i = 0; i < face; ++i) front_empty[i] = 0.0f;
+  const std::vector<float> zeros(n, 0.0f);
+  struct spec {
+    std::string name;
+    const std::vector<float>* learned;
+    const std::vector<float>* fallback;
+    float eps;
+  };
+  std::vector<spec> specs;
+  for (float e : {0.0f, 1e-7f, 0.05f, 0.5f, 1.0f}) specs.push_back({"eps = " + show(e), &learned_w, &valid, e});
+  specs.push_back({"front face empty, eps = 0.1", &front_empty, &valid, 0.1f});
+  specs.push_back({"learned empty, eps = 0.1", &zeros, &valid, 0.1f});
+  specs.push_back({"fallback empty, eps = 0.1", &learned_w, &zeros, 0.1f});
+  specs.push_back({"both empty", &zeros, &zeros, 0.3f});
+
+  using alias_mixture = vplkit::defensive_mixture<float, vplkit::alias_table<float>>;
+  using flat_mixture = vplkit::defensive_mixture<float, vplkit::flat_face_roulette<float>>;
+  std::vector<vplkit::face_roulette<float>> roulettes;
+  roulettes.reserve(2 * specs.size());  // the flat views point into it
+  std::vector<alias_mixture> alias;
+  std::vector<flat_mixture> flat;
+  packed_cdfs packed;
+  struct alias_desc {
+    u32 id, size;
+    float total;
+  };
+  struct bin {
+    float threshold, pmf;
+    u32 alias;
+  };
+  static_assert(sizeof(bin) == 12, "std430 vplkit_alias_bin");
+  std::vector<bin> bins;
+  std::vector<u32> bin_offsets;
+  std::vector<alias_desc> alias_descs;  // table 2d + c
+  std::vector<gpu_roulette> gpu_roulettes;  // roulette 2d + c
+  std::vector<gpu_split> gsplits;
+  for (const spec& s : specs) {
+    alias.emplace_back(vplkit::alias_table<float>(*s.learned), vplkit::alias_table<float>(*s.fallback), s.eps);
+    for (const std::vector<float>* w : {s.learned, s.fallback}) {
+      roulettes.emplace_back(vplkit::discrete_cdf<float>(w->data(), face),
+                             vplkit::discrete_cdf<float>(w->data() + face, face));
+      gpu_roulettes.push_back(packed.add(roulettes.back()));
+    }
+    flat.emplace_back(vplkit::flat_face_roulette<float>(roulettes[roulettes.size() - 2], R),
+                      vplkit::flat_face_roulette<float>(roulettes.back(), R), s.eps);
+    for (const vplkit::alias_table<float>* t : {&alias.back().learned(), &alias.back().fallback()}) {
+      bin_offsets.push_back(u32(bins.size()));
+      for (const auto& b : t->bins()) bins.push_back({b.threshold, b.pmf, b.alias});
+      alias_descs.push_back({u32(alias_descs.size()), u32(t->size()), t->total()});
+    }
+    const vplkit::defensive_mixture<float> joint(vplkit::discrete_cdf<float>(*s.learned),
+                                                 vplkit::discrete_cdf<float>(*s.fallback), s.eps);
+    // All three mixtures split u alike: the split uploaded is the joint CDF mixture's.
+    REQUIRE(bits_of(alias.back().effective_eps()) == bits_of(joint.effective_eps()));
+    REQUIRE(bits_of(flat.back().learned_scale()) == bits_of(joint.learned_scale()));
+    REQUIRE(bits_of(flat.back().fallback_scale()) == bits_of(joint.fallback_scale()));
+    gsplits.push_back(to_gpu(joint.split()));
+  }
+  bins.push_back({0, 0, 0});  // keep the buffer non-empty
+  struct q3 {
+    float u;
+    u32 i, d;
+  };
+  std::vector<q3> q;
+  for (u32 d = 0; d < specs.size(); ++d) {
+    const float e = alias[d].effective_eps();
+    for (int k = 0; k < 30000; ++k) q.push_back({g.grid_float(), u32(g.next() % (n + 2)), d});
+    for (int k = 0; k < 3000; ++k) q.push_back({g.any_unit_float(), u32(g.next() % n), d});
+    for (float u : {e, std::nextafter(e, 0.0f), std::nextafter(e, 1.0f)}) q.push_back({u, 0, d});
+    for (float s : special_us()) q.push_back({s, n - 1, d});
+  }
+  const kernel_call call = cdf_kernel(packed, "vplkit/distribution/flat_face_roulette.glsl", R"(
+#include "vplkit/distribution/alias_table.glsl"
+#include "vplkit/distribution/mixture_split.glsl"
+struct Q { float u; uint i; uint d; };
+struct R { uint alias_index; float alias_pmf; float alias_pmf_of_i; uint flat_index; float flat_pmf; float flat_pmf_of_i; };
+layout(std430, binding = 8) readonly buffer Bins { vplkit_alias_bin bins[]; };
+layout(std430, binding = 9) readonly buffer BinOffsets { uint bin_offsets[]; };
+vplkit_alias_bin vplkit_load_alias_bin(uint t, uint j) { return bins[bin_offsets[t] + j]; }
+)",
+      {input(0, q, "Q queries"), input(6, gsplits, "vplkit_mixture_split splits"),
+       input(7, alias_descs, "vplkit_alias_table tables"), input(8, bins), input(9, bin_offsets),
+       input(10, gpu_roulettes, "vplkit_face_roulette roulettes")},
+      "R results", R"(
+  uint d = queries[i].d;
+  vplkit_mixture_split s = splits[d];
+  vplkit_mixture_choice c = vplkit_mixture_split_choose(s, queries[i].u);
+  // The pattern of mixture_split.glsl: component 2d + c.component sampled with c.u, the pmf from
+  // both components' pmfs. Both empty: the C++ returns {0, 0} before choosing.
+  bool empty = vplkit_alias_table_empty(tables[2u * d]) && vplkit_alias_table_empty(tables[2u * d + 1u]);
+  uint ai = empty ? 0u : vplkit_alias_table_sample(tables[2u * d + c.component], c.u).index;
+  uint j = queries[i].i;
+  float ap = vplkit_mixture_split_pmf(s, vplkit_alias_table_pmf(tables[2u * d], ai),
+                                      vplkit_alias_table_pmf(tables[2u * d + 1u], ai));
+  float apj = vplkit_mixture_split_pmf(s, vplkit_alias_table_pmf(tables[2u * d], j),
+                                       vplkit_alias_table_pmf(tables[2u * d + 1u], j));
+  vplkit_flat_face_roulette fl = vplkit_make_flat_face_roulette(roulettes[2u * d], )" + std::to_string(R) + R"();
+  vplkit_flat_face_roulette ff = vplkit_make_flat_face_roulette(roulettes[2u * d + 1u], )" + std::to_string(R) + R"();
+  uint fi = empty ? 0u : vplkit_flat_face_roulette_sample(c.component == VPLKIT_MIXTURE_FALLBACK ? ff : fl, c.u).index;
+  float fp = vplkit_mixture_split_pmf(s, vplkit_flat_face_roulette_pmf(fl, fi), vplkit_flat_face_roulette_pmf(ff, fi));
+  float fpj = vplkit_mixture_split_pmf(s, vplkit_flat_face_roulette_pmf(fl, j), vplkit_flat_face_roulette_pmf(ff, j));
+  results[i] = R(ai, empty ? 0.0 : ap, apj, fi, empty ? 0.0 : fp, fpj);)");
+  struct r6 {
+    u32 alias_index;
+    float alias_pmf, alias_pmf_of_i;
+    u32 flat_index;
+    float flat_pmf, flat_pmf_of_i;
+  };
+  const auto gpu = run_compute<r6>(call, q.size());
+  series<u32> gai, gfi, gap, gfp;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const auto& a = alias[q[k].d];
+    const auto& f = flat[q[k].d];
+    const auto sa = a.sample(q[k].u), sf = f.sample(q[k].u);
+    gai.add(gpu[k].alias_index, u32(sa.index));
+    gfi.add(gpu[k].flat_index, u32(sf.index));
+    gap.add(bits_of(gpu[k].alias_pmf), bits_of(sa.pmf));
+    gap.add(bits_of(gpu[k].alias_pmf_of_i), bits_of(a.pmf(q[k].i)));
+    gfp.add(bits_of(gpu[k].flat_pmf), bits_of(sf.pmf));
+    gfp.add(bits_of(gpu[k].flat_pmf_of_i), bits_of(f.pmf(q[k].i)));
+    if (!a.empty()) {
+      CHECK(sa.pmf > 0.0f);
+      CHECK(sf.pmf > 0.0f);
+    }
+  }
+  auto describe = [&](std::size_t k) {
+    return specs[q[k].d].name + ", u = " + show(q[k].u) + ", i = " + show(q[k].i);
+  };
+  std::cout << "parity: " << q.size() << " component-mixture queries (alias and flat roulette)" << std::endl;
+  VPLKIT_CHECK_PARITY(compare_exact(gai, describe, "alias mixture index"));
+  VPLKIT_CHECK_PARITY(compare_exact(gfi, describe, "flat-roulette mixture index"));
+  // Components' pmfs are exact (their parity tests) and the mixture's sum is `precise`: the C++
+  // bits on every device.
+  VPLKIT_CHECK_PARITY(compare_exact(gap, [&](std::size_t k) { return describe(k / 2); }, "alias mixture pmf bits"));
+  VPLKIT_CHECK_PARITY(compare_exact(gfp, [&](std::size_t k) { return describe(k / 2); }, "flat-roulette mixture pmf bits"));
 }

@@ -24,6 +24,7 @@
 #include <vplkit/builders/global_weights.hpp>
 #include <vplkit/builders/local_weights.hpp>
 #include <vplkit/builders/vpl_distribution.hpp>
+#include <vplkit/core/float_bits.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 
 #include <catch2/catch.hpp>
@@ -48,13 +49,8 @@ fixture make_fixture(const char* scene_name, int dprsm = 16) {
   return vplrender_test::make_gl_fixture(o);
 }
 
-std::uint32_t bits(float x) {
-  std::uint32_t u;
-  std::memcpy(&u, &x, sizeof u);
-  return u;
-}
 long long ulp_distance(float a, float b) {  // both >= 0
-  return std::llabs(static_cast<long long>(bits(a)) - static_cast<long long>(bits(b)));
+  return std::llabs(static_cast<long long>(vplkit::float_bits(a)) - static_cast<long long>(vplkit::float_bits(b)));
 }
 
 // Per texel: both sides evaluate luminance(vpl_contribution) in float (the GPU's length / sqrt /
@@ -227,10 +223,10 @@ TEST_CASE("GPU-built CDFs equal vplkit::discrete_cdf of the same weights within 
           CHECK(ulp_distance(gm.totals[static_cast<std::size_t>(d)], ref.learned().total()) <= 1);
           CHECK(rec[5] == ref.fallback().size());
           CHECK(rec[6] == ref.fallback().guide_size());
-          CHECK(rec[7] == bits(ref.fallback().total()));
-          CHECK(rec[8] == bits(ref.effective_eps()));
-          CHECK(rec[9] == bits(ref.fallback_scale()));
-          CHECK(rec[10] == bits(ref.learned_scale()));
+          CHECK(rec[7] == vplkit::float_bits(ref.fallback().total()));
+          CHECK(rec[8] == vplkit::float_bits(ref.effective_eps()));
+          CHECK(rec[9] == vplkit::float_bits(ref.fallback_scale()));
+          CHECK(rec[10] == vplkit::float_bits(ref.learned_scale()));
         }
         if (eps > 0.0f) CHECK(gm.totals.back() == fb.total());
         std::cout << scene_name << (local ? " local" : " global") << " eps " << eps << ": " << s.differing << " of "

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Floats as bits (not part of the library): the float limits the hard cases use, exact
+// Floats as bits for the tests (vplkit::float_bits underneath): the float limits the hard cases use, exact
 // comparisons of GPU and C++ results, and the ordered ulp distance the parity bounds are stated in.
+#include <vplkit/core/float_bits.hpp>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -20,11 +22,7 @@ constexpr float flt_inf = std::numeric_limits<float>::infinity();
 constexpr float flt_nan = std::numeric_limits<float>::quiet_NaN();
 constexpr double pi = 3.14159265358979323846;
 
-inline std::uint32_t bits_of(float f) {
-  std::uint32_t u = 0;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
+inline std::uint32_t bits_of(float f) { return vplkit::float_bits(f); }
 
 inline std::vector<std::uint32_t> bits_of(const std::vector<float>& v) {
   std::vector<std::uint32_t> out(v.size());
@@ -40,11 +38,7 @@ bool same_bits(const V& a, const V& b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-inline float float_of(std::uint32_t u) {
-  float f = 0;
-  std::memcpy(&f, &u, sizeof f);
-  return f;
-}
+inline float float_of(std::uint32_t u) { return vplkit::float_from_bits(u); }
 
 // Ordered distance in float ulps (+0 and -0 are 0 apart); infinite when one side is NaN or the
 // two differ in infinity.

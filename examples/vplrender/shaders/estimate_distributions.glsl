@@ -101,17 +101,17 @@ float vr_component_pmf(uint k, uint i) { return vplkit_flat_face_roulette_pmf(vr
 #endif
 
 #if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
-// render/mixture_components.hpp's resampled_mixture: the mixture's split, its components replaced.
+// The C++ vplkit::defensive_mixture<float, Component> of render/mixture_components.hpp: mixture d
+// over components 2d (learned) and 2d + 1 (fallback), with the split of the joint mixture d.
 float vr_resampled_pmf(vplkit_defensive_mixture m, uint d, uint i) {
-  return vplkit_defensive_mixture_pmf(m.effective_eps, vr_component_pmf(2u * d, i), vr_component_pmf(2u * d + 1u, i));
+  return vplkit_mixture_split_pmf(vplkit_defensive_mixture_split(m), vr_component_pmf(2u * d, i),
+                                  vr_component_pmf(2u * d + 1u, i));
 }
 vplkit_discrete_sample vr_resampled_sample(uint d, float u) {
   vplkit_defensive_mixture m = vr_mixture(d);
   if (vplkit_defensive_mixture_empty(m)) return vplkit_discrete_sample(0u, 0.0);
-  float e = m.effective_eps;
-  u = vplkit_discrete_clamp_u(u);
-  uint i = u < e ? vr_component_sample(2u * d + 1u, vplkit_discrete_clamp_u(u * m.fallback_scale)).index
-                 : vr_component_sample(2u * d, vplkit_discrete_clamp_u((u - e) * m.learned_scale)).index;
+  vplkit_mixture_choice c = vplkit_mixture_split_choose(vplkit_defensive_mixture_split(m), u);
+  uint i = vr_component_sample(2u * d + c.component, c.u).index;
   return vplkit_discrete_sample(i, vr_resampled_pmf(m, d, i));
 }
 #endif

@@ -3,9 +3,10 @@
 
 #include "io/color.hpp"
 
+#include <vplkit/core/float_bits.hpp>
+
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 namespace vplrender {
@@ -21,12 +22,6 @@ struct triangle_shading {
   std::uint32_t unused;
 };
 static_assert(sizeof(triangle_shading) == 80, "vr_triangle_shading is 80 bytes in std430");
-
-std::uint32_t bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
 
 std::size_t texel_words(const scene& s) {
   std::size_t n = 0;
@@ -80,7 +75,7 @@ gpu_scene_shading upload_scene_shading(const scene& s) {
   }
   std::vector<std::uint32_t> pool(words, 0u);
   for (int i = 0; i < 256; ++i)
-    pool[static_cast<std::size_t>(i)] = bits(srgb_to_linear(static_cast<float>(i) / 255.0f));
+    pool[static_cast<std::size_t>(i)] = vplkit::float_bits(srgb_to_linear(static_cast<float>(i) / 255.0f));
   std::size_t texel_at = gpu_shading_material_base + 8 * s.materials.size();
   std::vector<std::size_t> first(s.textures.size());
   for (std::size_t k = 0; k < s.textures.size(); ++k) {
@@ -95,9 +90,9 @@ gpu_scene_shading upload_scene_shading(const scene& s) {
   for (std::size_t m = 0; m < s.materials.size(); ++m) {
     const material& mat = s.materials[m];
     std::uint32_t* rec = &pool[gpu_shading_material_base + 8 * m];
-    rec[0] = bits(mat.kd.x);
-    rec[1] = bits(mat.kd.y);
-    rec[2] = bits(mat.kd.z);
+    rec[0] = vplkit::float_bits(mat.kd.x);
+    rec[1] = vplkit::float_bits(mat.kd.y);
+    rec[2] = vplkit::float_bits(mat.kd.z);
     if (mat.texture >= 0) {
       const std::size_t k = static_cast<std::size_t>(mat.texture);
       rec[3] = static_cast<std::uint32_t>(first[k]);

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // --face-selection roulette and --sampler alias: the defensive mixtures of both backends, sampled
-// through other components than their discrete CDFs. A mixture keeps its split (docs/math.md
-// section 3, defensive mixing: u < eps picks the fallback, the rest goes to the learned part, one
-// u, the effective eps and reciprocals of vplkit::defensive_mixture); each part is sampled by
+// through other components than their discrete CDFs. A mixture keeps its split (docs/math.md,
+// "Defensive mixing": vplkit::mixture_split, the same for every component type); each part is
+// sampled by
 //   roulette: vplkit::face_roulette over the two paraboloids' halves of its weights, seen through
 //             vplkit::flat_face_roulette (the paper's Alg. 1);
 //   alias:    vplkit::alias_table over its weights.
@@ -17,10 +17,14 @@
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
 #include <vplkit/distribution/flat_face_roulette.hpp>
+#include <vplkit/distribution/mixture_split.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
 #include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace vplrender {
@@ -66,26 +70,30 @@ inline mixture_components build_mixture_components(const float* weights, int D, 
   return out;
 }
 
-// A defensive mixture's split over two components with sample(u) / pmf(i) (alias_table,
-// flat_face_roulette): the index and pmf of vplkit::defensive_mixture::sample, with its
-// components replaced. The estimators' Distribution interface.
+// The D mixtures over `components` (learned 2d, fallback 2d + 1), each with the eps of the joint
+// mixture joint[d]: vplkit::defensive_mixture over alias_table or flat_face_roulette, the
+// estimators' Distribution interface. The components' totals are the joint CDFs' (the same
+// sanitised weights), so each mixture's split is joint[d]'s (checked): both pick the same component
+// with the same remapped u for every u, as estimate.comp does with the joint mixture's split.
+// Components are taken by value: move alias tables in; flat_face_roulette is a view.
 template <class Component>
-struct resampled_mixture {
-  const vplkit::defensive_mixture<float>* mixture = nullptr;  // its effective eps and reciprocals
-  const Component* learned = nullptr;
-  const Component* fallback = nullptr;
-
-  float pmf(std::size_t i) const noexcept {
-    return vplkit::defensive_mixture_pmf(mixture->effective_eps(), learned->pmf(i), fallback->pmf(i));
+std::vector<vplkit::defensive_mixture<float, Component>> component_mixtures(
+    const std::vector<vplkit::defensive_mixture<float>>& joint, std::vector<Component> components) {
+  if (components.size() != 2 * joint.size())
+    throw std::logic_error("component_mixtures: " + std::to_string(components.size()) + " components for " +
+                           std::to_string(joint.size()) + " mixtures");
+  std::vector<vplkit::defensive_mixture<float, Component>> out;
+  out.reserve(joint.size());
+  for (std::size_t d = 0; d < joint.size(); ++d) {
+    out.emplace_back(std::move(components[2 * d]), std::move(components[2 * d + 1]), joint[d].eps());
+    const vplkit::mixture_split<float>& a = out.back().split();
+    const vplkit::mixture_split<float>& b = joint[d].split();
+    if (a.effective_eps() != b.effective_eps() || a.fallback_scale() != b.fallback_scale() ||
+        a.learned_scale() != b.learned_scale())
+      throw std::logic_error("component_mixtures: mixture " + std::to_string(d) +
+                             " splits u otherwise than its joint CDF mixture");
   }
-  vplkit::discrete_sample<float> sample(float u) const noexcept {
-    if (mixture->empty()) return {0, 0.0f};
-    const float e = mixture->effective_eps();
-    u = vplkit::discrete_clamp_u(u);
-    const std::size_t i = u < e ? fallback->sample(vplkit::discrete_clamp_u(u * mixture->fallback_scale())).index
-                                : learned->sample(vplkit::discrete_clamp_u((u - e) * mixture->learned_scale())).index;
-    return {i, pmf(i)};
-  }
-};
+  return out;
+}
 
 }  // namespace vplrender

@@ -21,6 +21,7 @@
 
 #include <glm/common.hpp>
 
+#include <utility>
 #include <vector>
 
 namespace vplrender {
@@ -38,14 +39,6 @@ struct binary_searched_mixture {
   float pmf(std::size_t i) const noexcept { return m->pmf(i); }
 };
 
-// The mixtures with their components replaced (mixture_components.hpp), one per mixture.
-template <class Component>
-std::vector<resampled_mixture<Component>> resampled(const cpu_distributions& built, const std::vector<Component>& c) {
-  std::vector<resampled_mixture<Component>> out;
-  for (std::size_t d = 0; d < built.dists.size(); ++d) out.push_back({&built.dists[d], &c[2 * d], &c[2 * d + 1]});
-  return out;
-}
-
 // Calls body(dists) with the distributions the estimators sample: the mixtures themselves; for
 // --cdf-search binary, adaptors that search them by plain binary search; for --sampler alias or
 // --face-selection roulette, the mixtures sampled through those components.
@@ -58,8 +51,8 @@ void with_distributions(const cpu_distributions& built, const frame_buffers& b, 
       auto t = timer.scoped("sampler tables (cpu)");
       c = build_mixture_components(built.weights.data(), static_cast<int>(built.dists.size()), b.dprsm.view(), s);
     }
-    if (s.sampler == sampler_choice::alias) body(resampled(built, c.alias).data());
-    else body(resampled(built, c.flat).data());
+    if (s.sampler == sampler_choice::alias) body(component_mixtures(built.dists, std::move(c.alias)).data());
+    else body(component_mixtures(built.dists, c.flat).data());
   } else if (s.cdf_search == cdf_search_choice::binary) {
     std::vector<binary_searched_mixture> binary;
     for (const auto& m : built.dists) binary.push_back({&m});

@@ -15,6 +15,7 @@
 
 #include <headless_gl/compute.hpp>
 
+#include <vplkit/core/float_bits.hpp>
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
@@ -43,11 +44,6 @@ namespace {
 std::vector<std::uint32_t> pack_components(const mixture_components& c) {
   const std::size_t k_count = std::max(c.alias.size(), c.roulette.size());
   std::vector<std::uint32_t> out(12 * std::max<std::size_t>(k_count, 1), 0u);
-  auto bits = [](float f) {
-    std::uint32_t u;
-    std::memcpy(&u, &f, 4);
-    return u;
-  };
   auto append = [&](const auto& v) {
     const std::size_t at = out.size();
     out.resize(at + v.size() * sizeof(v[0]) / 4);
@@ -57,7 +53,7 @@ std::vector<std::uint32_t> pack_components(const mixture_components& c) {
   for (std::size_t k = 0; k < c.alias.size(); ++k) {
     const std::uint32_t bins = append(c.alias[k].bins());
     out[12 * k] = bins;
-    out[12 * k + 2] = bits(c.alias[k].total());
+    out[12 * k + 2] = vplkit::float_bits(c.alias[k].total());
     out[12 * k + 10] = static_cast<std::uint32_t>(c.alias[k].size());
   }
   for (std::size_t k = 0; k < c.roulette.size(); ++k) {
@@ -101,12 +97,6 @@ nlohmann::json define_list(const std::string& preamble) {
   return out;
 }
 
-std::uint32_t float_bits(float f) {
-  std::uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
-
 // The mixtures of gm as estimate_params.h's records, and the CDF addressing: distribution k's cdf
 // at data[k cdf_stride], its guide at data[guide_base + k guide_stride] (gpu_cdf.cpp's layout,
 // checked here: the kernel reads it by that arithmetic, with no slot table).
@@ -126,12 +116,12 @@ std::vector<gpu::mixture_record> mixture_records(const gpu_mixtures& gm, gpu::es
   const vplkit::discrete_cdf<float> no_fallback;  // eps = 0: size 0 (make_vpl_distribution)
   const glm::uvec4 fallback =
       with_fallback ? glm::uvec4(static_cast<std::uint32_t>(D), static_cast<std::uint32_t>(gm.n),
-                                 static_cast<std::uint32_t>(gm.m), float_bits(gm.totals[D]))
-                    : glm::uvec4(0u, 0u, static_cast<std::uint32_t>(no_fallback.guide_size()), float_bits(0.0f));
+                                 static_cast<std::uint32_t>(gm.m), vplkit::float_bits(gm.totals[D]))
+                    : glm::uvec4(0u, 0u, static_cast<std::uint32_t>(no_fallback.guide_size()), vplkit::float_bits(0.0f));
   std::vector<gpu::mixture_record> out(std::max<std::size_t>(D, 1));
   for (std::size_t d = 0; d < D; ++d) {
     out[d].learned = glm::uvec4(static_cast<std::uint32_t>(d), static_cast<std::uint32_t>(gm.n),
-                                static_cast<std::uint32_t>(gm.m), float_bits(gm.totals[d]));
+                                static_cast<std::uint32_t>(gm.m), vplkit::float_bits(gm.totals[d]));
     out[d].fallback = fallback;
     out[d].mix = glm::vec4(gm.effective_eps[d], gm.fallback_scale[d], gm.learned_scale[d], 0.0f);
   }

@@ -4,12 +4,12 @@
 #include "render/gpu/dprsm_view_uniforms.hpp"
 
 #include <vplkit/core/error.hpp>
+#include <vplkit/core/float_bits.hpp>
 #include <vplkit/distribution/cdf_build_params.h>
-#include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/mixture_split.hpp>
 
 #include <algorithm>
-#include <cstring>
 #include <string>
 
 #ifndef VPLRENDER_SHADER_DIR
@@ -21,12 +21,6 @@ namespace vplrender {
 namespace {
 
 namespace gl = vplkit::gl;
-
-std::uint32_t float_bits(float x) {
-  std::uint32_t u;
-  std::memcpy(&u, &x, sizeof u);
-  return u;
-}
 
 constexpr std::size_t cdf_block = VPLKIT_CDF_BUILD_BLOCK;  // weights per block (the kernel's defaults)
 
@@ -123,25 +117,23 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   for (int d = 0; d < D; ++d) {
     const float total = info[static_cast<std::size_t>(d)].total;
     zeroed += info[static_cast<std::size_t>(d)].zeroed;
-    // The defensive_mixture constructor's choice, on the totals (empty() is total == 0).
-    const bool learned_empty = total == 0.0f, fallback_empty = fb_total == 0.0f;
-    const float e = learned_empty ? (fallback_empty ? 0.0f : 1.0f) : (fallback_empty ? 0.0f : eps);
-    const float fs = vplkit::detail::reciprocal_or_zero(e);
-    const float ls = vplkit::detail::reciprocal_or_zero(1.0f - e);
+    // The defensive_mixture constructor's split, on the totals (empty() is total == 0).
+    const vplkit::mixture_split<float> split(eps, total == 0.0f, fb_total == 0.0f);
+    const float e = split.effective_eps(), fs = split.fallback_scale(), ls = split.learned_scale();
     out.effective_eps.push_back(e);
     out.fallback_scale.push_back(fs);
     out.learned_scale.push_back(ls);
     const std::uint32_t rec[12] = {static_cast<std::uint32_t>(2 * d),
                                    static_cast<std::uint32_t>(n),
                                    static_cast<std::uint32_t>(m),
-                                   float_bits(total),
+                                   vplkit::float_bits(total),
                                    static_cast<std::uint32_t>(2 * d + 1),
                                    fb_size,
                                    fb_m,
-                                   float_bits(fb_total),
-                                   float_bits(e),
-                                   float_bits(fs),
-                                   float_bits(ls),
+                                   vplkit::float_bits(fb_total),
+                                   vplkit::float_bits(e),
+                                   vplkit::float_bits(fs),
+                                   vplkit::float_bits(ls),
                                    0u};
     meta.insert(meta.end(), rec, rec + 12);
     const std::size_t fb = with_fallback ? static_cast<std::size_t>(D) : 0u;  // eps = 0: never read
