@@ -77,4 +77,5 @@
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
+#include <vplkit/estimators/clamp_compensation.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
