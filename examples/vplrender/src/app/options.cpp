@@ -26,7 +26,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test;
+      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation;
   bool paper = false, direct = false, window = false;
 };
 
@@ -142,6 +142,13 @@ void build_app(CLI::App& app, raw_values& v) {
                    "integral as gather and exact; point = the paper's VPL at the texel centre, whose VPL sum is "
                    "a midpoint rule of it (docs/math.md section 11). --paper selects point."))
       ->type_name("point|patch");
+  app.add_option("--clamp-compensation", v.clamp_compensation,
+                 d("Add back what the VPL clamp --dmin removes, for reference, global, local and gbg (default on "
+                   "with --backend cpu; the GPU backend does not have it yet: off there, and on is refused): a "
+                   "short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
+                   "estimate converges to the unclamped integral without its fireflies (docs/math.md section 13). "
+                   "off = the clamped estimate, a documented bias near surfaces."))
+      ->type_name("off|on");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -361,6 +368,13 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (given("--vpl-mode"))
     o.vpl_mode = parse_choice<vpl_mode_choice>("--vpl-mode", v.vpl_mode,
                                                {{"point", vpl_mode_choice::point}, {"patch", vpl_mode_choice::patch}});
+  if (given("--clamp-compensation")) {
+    o.clamp_compensation = parse_choice<clamp_compensation_choice>(
+        "--clamp-compensation", v.clamp_compensation,
+        {{"off", clamp_compensation_choice::off}, {"on", clamp_compensation_choice::on}});
+    if (*o.clamp_compensation == clamp_compensation_choice::on && o.back == backend::gpu)
+      bad("--clamp-compensation", "on needs --backend cpu (the GPU backend's estimate kernel does not have it yet)");
+  }
   if (given("--size")) parse_size(v.size, o.width, o.height);
   if (given("--vpls")) o.vpls = static_cast<int>(parse_integer("--vpls", v.vpls, 1, limits::max_vpls));
   if (given("--seed")) o.seed = static_cast<std::uint32_t>(parse_integer("--seed", v.seed, 0, 4294967295LL));

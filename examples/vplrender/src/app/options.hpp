@@ -60,6 +60,8 @@ struct options {
   visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
   lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)
+  // Absent: on with --backend cpu, off with gpu (whose estimate kernel does not have it yet).
+  std::optional<clamp_compensation_choice> clamp_compensation;
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

@@ -30,6 +30,8 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.visibility = o.visibility;
   e.lit_test = o.lit_test;
   e.vpl_mode = o.vpl_mode;
+  e.clamp_compensation = o.clamp_compensation.value_or(o.back == backend::cpu ? clamp_compensation_choice::on
+                                                                               : clamp_compensation_choice::off);
   e.seed = o.seed;
   e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: --dmin (default 1%) of the scene diagonal (a documented,

@@ -39,9 +39,22 @@ const char* to_string(visibility_choice v) {
 }
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
 const char* to_string(lit_test_choice l) { return l == lit_test_choice::shadow_ray ? "shadow-ray" : "shadow-map"; }
+const char* to_string(clamp_compensation_choice c) { return c == clamp_compensation_choice::on ? "on" : "off"; }
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
   return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;
+}
+
+bool uses_clamp_compensation(const render_settings& s) {
+  const bool clamped = s.meth == method::reference || s.meth == method::global || s.meth == method::local ||
+                       s.meth == method::gbg;
+  return s.clamp_compensation == clamp_compensation_choice::on && s.dmin > 0.0f && clamped;
+}
+
+int clamp_compensation_dirs(const render_settings& s) {
+  if (s.meth == method::reference) return reference_compensation_dirs;
+  const int k = clamp_compensation_vpls_per_dir;
+  return s.vpls > k ? (s.vpls + k - 1) / k : 1;
 }
 
 bool has_distribution(method m) { return m != method::reference && m != method::gather && m != method::exact; }

@@ -43,6 +43,10 @@ enum class lit_test_choice { shadow_map, shadow_ray };
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
 // estimate the same continuous integral.
 enum class vpl_mode_choice { point, patch };
+// Whether the VPL methods (reference, global, local, gbg) add back what the distance clamp dmin
+// removes (vplkit::estimate_clamp_compensation, docs/math.md section 13): on = clamped estimate +
+// near-field gathering, converging to the unclamped integral; off = the clamped estimate alone.
+enum class clamp_compensation_choice { off, on };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -54,6 +58,7 @@ const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
+const char* to_string(clamp_compensation_choice c);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
 // mis-as-published): they have builders and CDFs; reference, gather and exact have none.
@@ -77,6 +82,7 @@ struct render_settings {
   visibility_choice visibility = visibility_choice::voxels;
   lit_test_choice lit_test = lit_test_choice::shadow_map;
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;
+  clamp_compensation_choice clamp_compensation = clamp_compensation_choice::off;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   float scene_diagonal = 0.0f;  // of the scene's box (world units): the gathering depth tolerance
   std::uint32_t seed = 1;
@@ -96,6 +102,17 @@ std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
 constexpr int reference_patch_strata = 1;
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v);
+
+// Is the clamp compensation added to this run's estimate? On, a clamp (dmin > 0), and a method
+// whose VPLs are clamped (reference, global, local, gbg; mis has no clamp).
+bool uses_clamp_compensation(const render_settings& s);
+
+// Its directions per gather point: reference_compensation_dirs for the reference (a converged
+// estimand), else one per clamp_compensation_vpls_per_dir VPL samples, at least one
+// (docs/results.md section 12 measured the ratio).
+constexpr int reference_compensation_dirs = 256;
+constexpr int clamp_compensation_vpls_per_dir = 4;
+int clamp_compensation_dirs(const render_settings& s);
 
 // Depth tolerance of the gathering look-ups (gather, mis; GBG rays): the error of a hit's position,
 // to which dprsm_lookup adds its own slack (a fraction of the texel's footprint). voxels and
