@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The junction band (docs/results.md section 12): the pixels whose gather point lies within a
+// The junction band (docs/results/clamp_compensation.md): the pixels whose gather point lies within a
 // given distance of another surface, where the VPL clamp and the patch VPLs' edge texels act. One
 // mask per frame, the same for every method and reference, and reproducible: pixel p is in the band
 // when one of the 32 x 32 midpoint directions of the cosine hemisphere around its geometric normal

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// CPU/GPU parity of the clamp compensation (docs/math.md section 13): glsl/vplkit/estimators/
+// CPU/GPU parity of the clamp compensation (docs/math.md, "The clamp's compensation"): glsl/vplkit/estimators/
 // clamp_compensation.glsl against include/vplkit/estimators/clamp_compensation.hpp (T = float) on the
 // synthetic room of tests/support/synthetic_scene.hpp through parity_estimators_support.hpp (DPRSM
 // R = 32, 32^3 voxels), with three tracers on both sides: the paper's voxel tracer (voxel-entry

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// --clamp-compensation in the renderer (docs/math.md section 13, docs/renderer.md): its defaults
+// --clamp-compensation in the renderer (docs/math.md, "The clamp's compensation", docs/renderer.md): its defaults
 // and its refusal on the GPU backend, which methods take it and how many rays, and on the built-in
 // cornell with exact rays (CPU backend, global, patch VPLs, the default dmin):
 // - where no other surface lies within dmin of a gather point (the clamp is inactive there) the
@@ -172,7 +172,7 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   REQUIRE(band_count > 100);
   // Measured (one seed, 256 VPLs, exact at 512 directions): clamped 0.968, compensated 0.983 of
   // exact's band mean; image mean 0.992 (at 256 VPLs the VPL estimate's mean is still a few 0.1 %
-  // low: results.md section 12).
+  // low: results/clamp_compensation.md).
   CHECK(std::abs(band_on / band_exact - 1.0) < 0.03);
   CHECK(band_on / band_exact - band_off / band_exact > 0.01);
   CHECK(std::abs(mean_on / mean_exact - 1.0) < 0.015);

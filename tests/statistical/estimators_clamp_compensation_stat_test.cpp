@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// What the clamp compensation converges to (docs/math.md section 13). A VPL sample divides by
+// What the clamp compensation converges to (docs/math.md, "The clamp's compensation"). A VPL sample divides by
 // max(d^2, dmin^2): the clamped estimate misses the near field weighted by 1 - d^2 / dmin^2, and
 // estimate_clamp_compensation gathers exactly that back. Fixed seeds, K independent estimates per
 // gather point (streams 0..K-1), criterion: the mean within 4 standard errors of its reference

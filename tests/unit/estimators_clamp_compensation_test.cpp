@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The clamp compensation (estimators/clamp_compensation.hpp, docs/math.md section 13): what each
+// The clamp compensation (estimators/clamp_compensation.hpp, docs/math.md, "The clamp's compensation"): what each
 // direction adds, that its weight and the clamp's sum to 1, that it is exactly 0 where the clamp is
 // inactive, that short rays (trace_within) change nothing, its range forms and its stream. The
 // statistical tests (tests/statistical/estimators_clamp_compensation_stat_test.cpp) show what it

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// vplkit GLSL pack: bias compensation for the VPL distance clamp (docs/math.md section 13; Kollig &
+// vplkit GLSL pack: bias compensation for the VPL distance clamp (docs/math.md, "The clamp's compensation"; Kollig &
 // Keller 2004); mirrors include/vplkit/estimators/clamp_compensation.hpp (T = float), random numbers
 // included. Each direction omega ~ cos(theta2)/pi is traced to its first hit y; where y lies closer
 // than dmin it adds rho_x L_o(y) (1 - d^2 / dmin^2) (the lit test and L_o of gathering,

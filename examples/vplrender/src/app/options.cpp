@@ -146,7 +146,7 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("Add back what the VPL clamp --dmin removes, for reference, global, local and gbg (default on "
                    "with --backend cpu; the GPU backend does not have it yet: off there, and on is refused): a "
                    "short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
-                   "estimate converges to the unclamped integral without its fireflies (docs/math.md section 13). "
+                   "estimate converges to the unclamped integral without its fireflies (docs/math.md, "The clamp's compensation"). "
                    "off = the clamped estimate, a documented bias near surfaces."))
       ->type_name("off|on");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))

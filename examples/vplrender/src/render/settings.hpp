@@ -44,7 +44,7 @@ enum class lit_test_choice { shadow_map, shadow_ray };
 // estimate the same continuous integral.
 enum class vpl_mode_choice { point, patch };
 // Whether the VPL methods (reference, global, local, gbg) add back what the distance clamp dmin
-// removes (vplkit::estimate_clamp_compensation, docs/math.md section 13): on = clamped estimate +
+// removes (vplkit::estimate_clamp_compensation, docs/math.md, "The clamp's compensation"): on = clamped estimate +
 // near-field gathering, converging to the unclamped integral; off = the clamped estimate alone.
 enum class clamp_compensation_choice { off, on };
 
@@ -109,7 +109,7 @@ bool uses_clamp_compensation(const render_settings& s);
 
 // Its directions per gather point: reference_compensation_dirs for the reference (a converged
 // estimand), else one per clamp_compensation_vpls_per_dir VPL samples, at least one
-// (docs/results.md section 12 measured the ratio).
+// (docs/results/clamp_compensation.md measured the ratio).
 constexpr int reference_compensation_dirs = 256;
 constexpr int clamp_compensation_vpls_per_dir = 4;
 int clamp_compensation_dirs(const render_settings& s);

@@ -95,7 +95,7 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   // Patch VPLs take the gathering look-up's depth window in every method, so that the VPL methods,
   // gathering and MIS estimate one integral (docs/math.md section 11, "Rejections").
   const vplkit::vpl_mode vmode = library_vpl_mode(s.vpl_mode);
-  // What the VPL clamp removed (docs/math.md section 13), from a stream of its own: the clamped
+  // What the VPL clamp removed (docs/math.md, "The clamp's compensation"), from a stream of its own: the clamped
   // estimate stays what it is without it.
   const bool compensate = uses_clamp_compensation(s);
   const int compensation_dirs = clamp_compensation_dirs(s);
