@@ -56,14 +56,15 @@ Usage: speed_vs_error [options] [vplrender scene options]
 
 Sweep options:
   --methods LIST     comma-separated methods (default global,local,gbg,gather,mis);
-                     any of global local gbg gather mis mis-as-published exact
+                     any of global local gbg gather mis mis-as-published exact ris
+                     (ris: --backend cpu only for now)
   --samples LIST     comma-separated sample counts (default 1,4,16,64). A count n means:
-                     global/local/gbg: --vpls n; gather, exact: --dirs n; mis and
+                     global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis and
                      mis-as-published: --vpls n and --dirs n
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
   --clamp-compensation LIST
-                     off, on or off,on: the VPL clamp's compensation for global, local and
-                     gbg (vplrender --clamp-compensation; default: vplrender's, on with
+                     off, on or off,on: the VPL clamp's compensation for global, local,
+                     gbg and ris (vplrender --clamp-compensation; default: vplrender's, on with
                      --backend cpu). With both, each of these methods runs twice and its
                      clamped runs are labelled METHOD-clamped (column clamp_compensation)
   --ref-dirs N       directions of the converged-gathering reference (default 4096)
@@ -89,7 +90,7 @@ Sweep options:
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
-  --paper --direct.
+  --candidates --candidate-source --spatial (ris) --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
@@ -139,7 +140,7 @@ long long to_int(const std::string& flag, const std::string& t, long long lo, lo
 
 method parse_method(const std::string& t) {
   for (method m : {method::global, method::local, method::gbg, method::gather, method::mis, method::mis_as_published,
-                   method::exact})
+                   method::exact, method::ris})
     if (t == to_string(m)) return m;
   if (t == "reference") bad("--methods: 'reference' is the reference (always computed), not a swept method");
   bad("--methods: unknown method '" + t + "'");
@@ -231,6 +232,8 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
   if (so.base.back == backend::gpu &&
       std::find(so.compensations.begin(), so.compensations.end(), clamp_compensation_choice::on) != so.compensations.end())
     bad("--clamp-compensation: on needs --backend cpu (the GPU backend's estimate kernel does not have it yet)");
+  if (so.base.back == backend::gpu && std::find(so.methods.begin(), so.methods.end(), method::ris) != so.methods.end())
+    bad("--methods ris: runs on --backend cpu only for now (its GPU kernels are not written yet)");
   return true;
 }
 
@@ -356,10 +359,10 @@ struct run_row {
   speed_vs_error::image_error vs_vpl, vs_gather, vs_exact;
 };
 
-// A run's series: the method's name, or METHOD-clamped for the clamped runs of global, local and gbg
-// when both settings of the clamp compensation are swept.
+// A run's series: the method's name, or METHOD-clamped for the clamped runs of global, local, gbg
+// and ris when both settings of the clamp compensation are swept.
 std::string series_label(method m, clamp_compensation_choice c, bool both) {
-  const bool clamped = m == method::global || m == method::local || m == method::gbg;
+  const bool clamped = m != method::reference && method_has_clamp(m);
   return std::string(to_string(m)) + (both && clamped && c == clamp_compensation_choice::off ? "-clamped" : "");
 }
 
@@ -637,7 +640,7 @@ int main(int argc, char** argv) {
     std::vector<bias_variance_row> bv_rows;
     std::vector<std::string> labels;
     const bool both = so.compensations.size() > 1;
-    // (method, clamp compensation) pairs: global, local and gbg once per listed setting, the others once.
+    // (method, clamp compensation) pairs: global, local, gbg and ris once per listed setting, the others once.
     std::vector<std::pair<method, std::optional<clamp_compensation_choice>>> sweep;
     for (method m : so.methods)
       for (std::size_t ci = 0; ci < std::max<std::size_t>(1, so.compensations.size()); ++ci)
@@ -757,6 +760,9 @@ int main(int argc, char** argv) {
        << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
        << ". Visibility `" << to_string(base.visibility) << "`, lit test `" << to_string(base.lit_test)
        << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
+    if (std::find(so.methods.begin(), so.methods.end(), method::ris) != so.methods.end())
+      md << ", ris: " << base.candidates << " candidates per sample from `" << to_string(base.candidate_source)
+         << "`, spatial reuse " << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
     md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
        << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
        << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");
@@ -776,7 +782,7 @@ int main(int argc, char** argv) {
     md << ". Clamp compensation ";
     if (so.compensations.empty()) md << "`" << to_string(make_render_settings(base, p.s).clamp_compensation) << "`";
     else md << "`" << to_string(so.compensations.front()) << (both ? "` and `" + std::string(to_string(so.compensations.back())) : "") << "`";
-    md << " (for global, local, gbg" << (both ? "; METHOD-clamped: without it)" : ")");
+    md << " (for global, local, gbg, ris" << (both ? "; METHOD-clamped: without it)" : ")");
     md << ". Times: the median of " << so.repeats << " repeat(s) of each run.\n\n";
     md << "| method | samples | seed | build ms | estimate ms | total ms | mean | band mean | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
           "gathering | relMSE vs gathering | RMSE vs exact | relMSE vs exact |\n"

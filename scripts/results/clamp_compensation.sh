@@ -3,7 +3,7 @@
 # docs/results/clamp_compensation.md: the VPL clamp's compensation (docs/math.md, "The clamp's compensation"), before and
 # after, against the ground truth (c) = --method exact. CPU backend (Embree), --visibility exact,
 # 96x96, DPRSM 2x128^2, 64^3 voxels (the junction band's voxels), patch VPLs, the default dmin (1 %
-# of the scene's diagonal) and lit test (the shadow ray); global, local and gbg with
+# of the scene's diagonal) and lit test (the shadow ray); global, local, gbg and ris with
 # --clamp-compensation off,on in one process each, so both settings see the same buffers and (c):
 #  1. accuracy: 1024 samples, seeds 1-8: each image's mean and its mean over the junction band
 #     (pixels within 2 voxels of another surface: examples/speed_vs_error/junction_band.hpp);
@@ -18,8 +18,11 @@
 # band mean relative to (c), with the standard error of that mean (from the seeds' spread), the
 # mean relMSE and estimate time; and clamp_<scene>_cost.md. SCENES_LIST picks scenes.
 source "$(dirname "$0")/common.sh"
-FRAME=(--backend cpu --visibility exact --size 96x96 --dprsm 128 --voxels 64)
-COMMON=("${FRAME[@]}" --references exact --ref-exact-dirs 4096 --methods global,local,gbg --clamp-compensation off,on)
+# Smaller runs for a busy machine: SIZE (default 96x96), REF_DIRS (4096), ACC_SAMPLES and ACC_SEEDS
+# (1024; 1-8), SWEEP_SAMPLES and SWEEP_SEEDS (16,64,256; 1-4), REPEATS.
+FRAME=(--backend cpu --visibility exact --size "${SIZE:-96x96}" --dprsm 128 --voxels 64)
+COMMON=("${FRAME[@]}" --references exact --ref-exact-dirs "${REF_DIRS:-4096}" --methods global,local,gbg,ris
+        --clamp-compensation off,on)
 REPEATS=${REPEATS:-5}
 
 # summarize CSV MD: the summary table for one sweep (columns found by name).
@@ -32,7 +35,7 @@ summarize() {
   awk -F, -v em="$exact_mean" -v eb="$exact_band" '
     NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
     {
-      k = $col["method"] (($col["method"] ~ /^(global|local|gbg)$/ && $col["clamp_compensation"] == "off") ? "-clamped" : "") "|" $col["samples"]
+      k = $col["method"] (($col["method"] ~ /^(global|local|gbg|ris)$/ && $col["clamp_compensation"] == "off") ? "-clamped" : "") "|" $col["samples"]
       if (!(k in n)) order[++nk] = k
       n[k]++; m = $col["mean"] / em - 1; b = $col["band_mean"] / eb - 1
       sm[k] += m; sm2[k] += m * m; sb[k] += b; sb2[k] += b * b
@@ -103,14 +106,14 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for s in ${SCENES_LIST:-cornell open sponza}; do
   mapfile -t sa < <(scene_args "$s")
-  "$SVE" "${sa[@]}" "${COMMON[@]}" --samples 1024 --seeds 1,2,3,4,5,6,7,8 --cache-dir "$CACHE" \
+  "$SVE" "${sa[@]}" "${COMMON[@]}" --samples "${ACC_SAMPLES:-1024}" --seeds "${ACC_SEEDS:-1,2,3,4,5,6,7,8}" --cache-dir "$CACHE" \
     --out "$OUT/clamp_${s}"
   summarize "$OUT/clamp_${s}.csv" "$OUT/clamp_${s}.md" > "$OUT/clamp_${s}_summary.md"
-  "$SVE" "${sa[@]}" "${COMMON[@]}" --samples 16,64,256 --seeds 1,2,3,4 --cache-dir "$CACHE" \
+  "$SVE" "${sa[@]}" "${COMMON[@]}" --samples "${SWEEP_SAMPLES:-16,64,256}" --seeds "${SWEEP_SEEDS:-1,2,3,4}" --cache-dir "$CACHE" \
     --out "$OUT/clamp_${s}_sweep"
   summarize "$OUT/clamp_${s}_sweep.csv" "$OUT/clamp_${s}_sweep.md" > "$OUT/clamp_${s}_sweep_summary.md"
   costs=""
-  for m in global local gbg; do costs+="$m=$(cost "$s" "$m") "; done
+  for m in global local gbg ris; do costs+="$m=$(cost "$s" "$m") "; done
   {
     echo "Compensation's share of the estimate's CPU time at 256 VPLs (median of $REPEATS pairs): $costs"
     echo

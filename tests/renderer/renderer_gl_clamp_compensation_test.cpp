@@ -6,7 +6,8 @@
 //   pixel is the clamped image's, bit for bit; the pixels it changes all lie within dmin of one;
 // - over the gather points within 2 voxels of another surface (as renderer_gl_junction_test) the
 //   compensated image's mean is within 3 % of --method exact's and more than 1 % above the clamped
-//   one's (which is 3.2 % below), and the image mean within 1.5 %.
+//   one's (which is 3.2 % below), and the image mean within 1.5 %;
+// - the same for --method ris (64 samples of 8 candidates), whose estimand is the clamped sum too.
 #include "app/options.hpp"
 #include "app/render_options.hpp"
 #include "app/scene_setup.hpp"
@@ -77,7 +78,7 @@ TEST_CASE("renderer clamp compensation: on by default with the CPU backend, off 
   render_settings s;
   s.clamp_compensation = clamp_compensation_choice::on;
   s.dmin = 0.05f;
-  for (method m : {method::reference, method::global, method::local, method::gbg}) {
+  for (method m : {method::reference, method::global, method::local, method::gbg, method::ris}) {
     s.meth = m;
     CHECK(uses_clamp_compensation(s));
   }
@@ -118,9 +119,11 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   const frame_buffers b = prepare_buffers(o, p, timer, det);
   const float dmin = make_render_settings(o, p.s).dmin;
 
-  auto render = [&](method m, clamp_compensation_choice c, nlohmann::json* d = nullptr) {
+  auto render = [&](method m, clamp_compensation_choice c, nlohmann::json* d = nullptr, int vpls = 0) {
     options om = o;
     om.meth = m;
+    if (vpls > 0) om.vpls = vpls;
+    om.candidates = 8;
     om.clamp_compensation = c;
     stage_timer t;
     nlohmann::json j;
@@ -132,6 +135,11 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   const image_rgb on = render(method::global, clamp_compensation_choice::on, &d_on);
   const image_rgb off = render(method::global, clamp_compensation_choice::off, &d_off);
   const image_rgb exact = render(method::exact, clamp_compensation_choice::off);
+  nlohmann::json d_ris;
+  const image_rgb ris_on = render(method::ris, clamp_compensation_choice::on, &d_ris, 64);
+  const image_rgb ris_off = render(method::ris, clamp_compensation_choice::off, nullptr, 64);
+  CHECK(d_ris["estimator"]["clamp_compensation"] == "on");
+  CHECK(d_ris["estimator"]["clamp_compensation_dirs"] == 16);
   CHECK(d_on["estimator"]["clamp_compensation"] == "on");
   CHECK(d_on["estimator"]["clamp_compensation_dirs"] == 64);
   CHECK(d_off["estimator"]["clamp_compensation"] == "off");
@@ -140,11 +148,13 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   const double voxel = double(occ.voxel_length());
   const double diag = double(glm::length(occ.bounds_max() - occ.bounds_min()));
   const std::size_t n = b.gbuf.position.size();
-  int inactive = 0, changed = 0, changed_far = 0, band_count = 0;
+  int inactive = 0, changed = 0, changed_far = 0, band_count = 0, ris_changed_far = 0;
   double band_on = 0.0, band_off = 0.0, band_exact = 0.0, mean_on = 0.0, mean_exact = 0.0;
+  double ris_band_on = 0.0, ris_band_off = 0.0, ris_mean_on = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     mean_on += luminance(on, i);
     mean_exact += luminance(exact, i);
+    ris_mean_on += luminance(ris_on, i);
     if (!vplkit::gather_point_valid(b.gbuf.view().at(static_cast<int>(i)))) continue;
     const double dist = distance_to_other_surface(p.s, glm::dvec3(b.gbuf.position[i]),
                                                   glm::normalize(glm::dvec3(b.gbuf.normal[i])), 1e-5 * diag);
@@ -152,6 +162,7 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
     if (dist > double(dmin)) {
       ++inactive;
       if (!same) ++changed_far;
+      if (std::memcmp(&ris_on.rgb[3 * i], &ris_off.rgb[3 * i], 3 * sizeof(float)) != 0) ++ris_changed_far;
     }
     if (!same) ++changed;
     if (dist < 2.0 * voxel) {
@@ -159,6 +170,8 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
       band_on += luminance(on, i);
       band_off += luminance(off, i);
       band_exact += luminance(exact, i);
+      ris_band_on += luminance(ris_on, i);
+      ris_band_off += luminance(ris_off, i);
     }
   }
   std::cout << "cornell 96x96, DPRSM 2x128^2, global 256 VPLs + 64 compensation rays, dmin " << dmin << ": "
@@ -177,9 +190,18 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   CHECK(band_on / band_exact - band_off / band_exact > 0.01);
   CHECK(std::abs(mean_on / mean_exact - 1.0) < 0.015);
 
+  std::cout << "ris 64 x 8 candidates + 16 compensation rays: " << ris_changed_far
+            << " pixels farther than dmin changed; band clamped " << ris_band_off / band_exact << ", compensated "
+            << ris_band_on / band_exact << " of exact; image mean compensated " << ris_mean_on / mean_exact
+            << " of exact\n";
+  CHECK(ris_changed_far == 0);
+  CHECK(std::abs(ris_band_on / band_exact - 1.0) < 0.03);
+  CHECK(ris_band_on / band_exact - ris_band_off / band_exact > 0.01);
+  CHECK(std::abs(ris_mean_on / mean_exact - 1.0) < 0.015);
+
   // Programmatic callers that ask the GPU backend for it get a clear error, not a silent image.
   render_settings gs = make_render_settings(o, p.s);
   gs.meth = method::global;
-  frame_buffers gb{backend::gpu, "", b.gbuf, b.dprsm, b.grid, nullptr, nullptr};
+  frame_buffers gb{backend::gpu, "", b.gbuf, b.dprsm, b.grid, nullptr, nullptr, b.facts};
   CHECK_THROWS_AS(run_estimator(gb, gs, timer, {}, det), input_error);
 }

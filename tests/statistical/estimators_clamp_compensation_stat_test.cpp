@@ -6,7 +6,7 @@
 // (plus the reference's own error), and the clamped estimate alone far from it (z > 8), so that the
 // test can tell the two apart.
 //  1. Planar scene (tests/support/planar_scene.hpp: a light over an infinite floor, gather points
-//     0.05 to 0.6 above it), dmin = 0.2: patch VPL sampling and local CDFs + the compensation are
+//     0.05 to 0.6 above it), dmin = 0.2: patch VPL sampling, local CDFs and RIS (4 samples of 8 candidates) + the compensation are
 //     unbiased for the continuous integral I (Gauss-Legendre, ~1e-12), which is also what the
 //     exhaustive unclamped patch sum estimates (checked here too); clamped, VPL sampling misses I
 //     by 24 to 76 % at the three gather points within dmin of the floor.
@@ -28,6 +28,7 @@
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/estimators/clamp_compensation.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
+#include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/visibility/light_visibility.hpp>
@@ -62,7 +63,7 @@ vec3<double> compensated(const gather_point<double>& gp, const dprsm_view<double
 
 }  // namespace
 
-TEST_CASE("planar scene: clamped VPL sampling and local CDFs + the compensation are unbiased for the continuous integral") {
+TEST_CASE("planar scene: clamped VPL sampling, local CDFs and RIS + the compensation are unbiased for the continuous integral") {
   constexpr int R = 32;
   const planar_scene<double> scene;
   const dprsm_data<double> dprsm = scene.make_dprsm(R);
@@ -79,7 +80,10 @@ TEST_CASE("planar scene: clamped VPL sampling and local CDFs + the compensation 
   const int runs = 3000, n = 16, n_comp = 4;
   std::printf("planar scene R = %d, dmin %.2f: VPL sampling (%d patch samples) and local (2 CDFs x %d rounds), "
               "+ the compensation (%d directions), %d runs\n", R, dmin, n, n / 2, n_comp, runs);
-  int biased = 0;
+  // RIS: its target and its shading take the clamped contribution, so its estimand is the clamped
+  // sum as for the others: n / 4 samples of 8 candidates each from the same CDF.
+  const int ris_samples = n / 4, ris_candidates = 8;
+  int biased = 0, ris_biased = 0;
   for (const auto& g : gps) {
     const vec3<double> I = continuous_integral(scene, g.gp);
     const vec3<double> slack = excluded_bound(scene, g.gp, R) + 1e-12 * I;
@@ -97,6 +101,14 @@ TEST_CASE("planar scene: clamped VPL sampling and local CDFs + the compensation 
                               vpl_mode::patch, inf);
       }, n_comp, tracer, dmin, inf);
     });
+    const run_stats ris_clamped = repeat_estimates(runs, 304u, [&](counter_rng& rng) {
+      return estimate_ris(g.gp, view, cdf, rng, ris_samples, ris_candidates, vis, dmin, vpl_mode::patch, inf);
+    });
+    const run_stats ris = repeat_estimates(runs, 304u, [&](counter_rng& rng) {
+      return compensated(g.gp, view, rng, [&](counter_rng& r) {
+        return estimate_ris(g.gp, view, cdf, r, ris_samples, ris_candidates, vis, dmin, vpl_mode::patch, inf);
+      }, n_comp, tracer, dmin, inf);
+    });
     // The unclamped patch sum (9 strata per texel) estimates I too: what the compensated estimators
     // converge to, sampled independently.
     const run_stats unclamped = repeat_estimates(runs / 10, 303u, [&](counter_rng& rng) {
@@ -105,17 +117,22 @@ TEST_CASE("planar scene: clamped VPL sampling and local CDFs + the compensation 
     row("VPL sampling, clamped", g.name, clamped, I);
     row("VPL sampling + compensation", g.name, sampling, I);
     row("local + compensation", g.name, local, I);
+    row("RIS, clamped", g.name, ris_clamped, I);
+    row("RIS + compensation", g.name, ris, I);
     row("unclamped patch sum", g.name, unclamped, I);
     INFO(g.name);
     CHECK(within_sigma(sampling, I, 4.0, slack));
     CHECK(within_sigma(local, I, 4.0, slack));
+    CHECK(within_sigma(ris, I, 4.0, slack));
     CHECK(within_sigma(unclamped, I, 4.0, slack));
     for (int c = 0; c < 3; ++c)
       CHECK(std::abs(sampling.mean[c] - unclamped.mean[c]) < 4.0 * std::hypot(sampling.sem[c], unclamped.sem[c]));
     if (z_score(clamped, I) > 8.0) ++biased;
+    if (z_score(ris_clamped, I) > 8.0) ++ris_biased;
   }
   // the three gather points within dmin of the floor are where the clamp bites
   CHECK(biased >= 3);
+  CHECK(ris_biased >= 3);
 }
 
 TEST_CASE("room junctions: clamped + the compensation converges to its hybrid, and to the physical integral where the VPLs model the surfaces") {

@@ -6,6 +6,7 @@
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/exact_estimator.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/cpu/ris_render.hpp"
 #include "render/mixture_components.hpp"
 
 #include <vplkit/estimators/clamp_compensation.hpp>
@@ -101,6 +102,16 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   const int compensation_dirs = clamp_compensation_dirs(s);
   if (compensate) det["clamp_compensation_dirs"] = compensation_dirs;
 
+  // The compensation of pixel p: its stream derives from the pixel's own (the key only), so the
+  // estimate before it keeps every sample it had.
+  const auto compensation = [&](const gather_point<float>& gp, int p) {
+    if (!compensate) return vec3f(0.0f);
+    vplkit::counter_rng compensation_rng =
+        vplkit::clamp_compensation_stream(vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p)));
+    return vplkit::estimate_clamp_compensation(gp, view, compensation_rng, compensation_dirs, tracer, s.dmin, depth_tol,
+                                               vmode);
+  };
+
   // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
   auto render_pixels = [&](auto&& est) {
     auto t = timer.scoped("estimate (cpu)");
@@ -111,11 +122,7 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         vec3f c(0.0f);
         if (vplkit::gather_point_valid(gp)) {
           vplkit::counter_rng rng = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
-          vplkit::counter_rng compensation_rng = vplkit::clamp_compensation_stream(rng);
-          c = est(gp, rng);
-          if (compensate)
-            c += vplkit::estimate_clamp_compensation(gp, view, compensation_rng, compensation_dirs, tracer, s.dmin,
-                                                     depth_tol, vmode);
+          c = est(gp, rng) + compensation(gp, p);
           if (s.direct) c += vplkit::direct_light(gp, view);
           c = vplkit::estimator_finite_or_zero(glm::max(c, vec3f(0.0f)));
         }
@@ -177,6 +184,10 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         });
         break;
       }
+      case method::ris:
+        render_ris_cpu(f, s, dists, static_cast<int>(built.dists.size()), visibility, depth_tol, vmode, compensation,
+                       result.image.rgb.data(), timer, progress, det);
+        break;
       case method::exact: {
         const ray_scene& rs = frame_ray_scene(b, "--method exact");
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
