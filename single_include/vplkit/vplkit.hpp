@@ -6431,7 +6431,7 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 }  // namespace vplkit
 // ---- end vplkit/estimators/gathering_estimator.hpp ----
 // ---- begin vplkit/estimators/clamp_compensation.hpp ----
-// Bias compensation for the VPL distance clamp (docs/math.md section 13; Kollig & Keller 2004).
+// Bias compensation for the VPL distance clamp (docs/math.md, "The clamp's compensation"; Kollig & Keller 2004).
 // A VPL sample divides by max(d^2, dmin^2): in solid angle at x it carries the unclamped integrand
 // times min(1, d^2 / dmin^2), d the distance from x to the VPL's point. What the clamp removes is
 // the near field weighted by (1 - d^2 / dmin^2) where d < dmin. This estimator adds it back by
@@ -6441,8 +6441,8 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 // with the lit test and L_o of gathering (evaluate_gathering_hit: dprsm_hit_radiance, the DPRSM's
 // plane test or the tracer's shadow ray). The two weights sum to 1 at every distance, so
 //     clamped VPL estimate + this  ->  the far field of the VPL estimand + the near field of gathering,
-// which is the unclamped integral wherever the two estimands agree within dmin of x (math.md
-// section 13 says where they do not). Zero, exactly, where no surface lies within dmin of x along
+// which is the unclamped integral wherever the two estimands agree within dmin of x (math.md,
+// "The clamp's compensation" says where they do not). Zero, exactly, where no surface lies within dmin of x along
 // a traced direction; zero for dmin = 0 or NaN (no clamp). A negative dmin acts as |dmin|, as
 // in the clamp (dmin * dmin); an infinite one turns every VPL off (vpl_geometry_term gives 0) and
 // this into plain gathering.
