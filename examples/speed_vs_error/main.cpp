@@ -5,6 +5,7 @@
 // (docs/math.md section 8): (a) the exhaustive VPL sum (method reference), (b) converged
 // gathering (method gather at --ref-dirs directions) and (c) the ground truth (method exact at
 // --ref-exact-dirs directions: exact visibility, no VPLs). Writes PREFIX.csv, PREFIX.md and PREFIX.svg.
+#include "junction_band.hpp"
 #include "metrics.hpp"
 #include "pareto.hpp"
 #include "svg_plot.hpp"
@@ -47,6 +48,8 @@ constexpr std::uint32_t k_gather_reference_seed = 0x5EED0F1Eu;
 constexpr std::uint32_t k_exact_reference_seed = 0x5EED0E4Au;
 // The patch VPL sum's seed (its jitter; --vpl-mode point draws nothing), for the same reason.
 constexpr std::uint32_t k_vplsum_reference_seed = 0x5EED0A50u;
+// The junction band's width in voxels of the frame's grid (junction_band.hpp).
+constexpr float k_band_voxels = 2.0f;
 
 const char* k_help = R"(speed_vs_error: error against time for each method on one scene, in one process.
 
@@ -60,6 +63,11 @@ Sweep options:
                      global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis and
                      mis-as-published: --vpls n and --dirs n
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
+  --clamp-compensation LIST
+                     off, on or off,on: the VPL clamp's compensation for global, local,
+                     gbg and ris (vplrender --clamp-compensation; default: vplrender's, on with
+                     --backend cpu). With both, each of these methods runs twice and its
+                     clamped runs are labelled METHOD-clamped (column clamp_compensation)
   --ref-dirs N       directions of the converged-gathering reference (default 4096)
   --ref-exact-dirs N directions of the exact reference (default 4096)
   --references LIST  which references to compute: any of vplsum, gather, exact; all
@@ -92,7 +100,8 @@ Error metrics, on linear HDR values, over all pixels p and channels c (x = run, 
   relMSE = mean_{p,c} (x_pc - r_pc)^2 / (r_pc^2 + 1e-2)
 Reported against (a) the exhaustive VPL sum (method reference with the runs' --vpl-mode: the
 estimand of global, local, gbg; with patch one jittered point per texel, seed 0x5EED0A50, an
-unbiased estimate of the continuous integral that (b) estimates) and (b) converged gathering
+unbiased estimate of the continuous integral that (b) estimates; with the clamp compensation
+(the last listed setting) plus 256 of its directions) and (b) converged gathering
 (gather at --ref-dirs, seed 0x5EED0F1E: the estimand of gather and mis; with point VPLs it
 differs from (a) by the VPL discretisation; with either by the distance clamp), both with the
 chosen --visibility, and (c) the ground truth (exact at --ref-exact-dirs, seed 0x5EED0E4A: cosine
@@ -148,6 +157,7 @@ struct sweep_options {
   std::vector<method> methods = default_methods();
   std::vector<int> samples{1, 4, 16, 64};
   std::vector<std::uint32_t> seeds{1};
+  std::vector<clamp_compensation_choice> compensations;  // empty: vplrender's default
   int ref_dirs = 4096;
   int ref_exact_dirs = 4096;
   bool ref_vplsum = true, ref_gather = true, ref_exact = true;
@@ -177,6 +187,14 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
     } else if (a == "--seeds") {
       so.seeds.clear();
       for (const std::string& t : split(value())) so.seeds.push_back(static_cast<std::uint32_t>(to_int(a, t, 0, 4294967295LL)));
+    } else if (a == "--clamp-compensation") {
+      so.compensations.clear();
+      for (const std::string& t : split(value())) {
+        if (t != "off" && t != "on") bad("--clamp-compensation: unknown value '" + t + "' (off, on or off,on)");
+        const clamp_compensation_choice c = t == "on" ? clamp_compensation_choice::on : clamp_compensation_choice::off;
+        if (std::find(so.compensations.begin(), so.compensations.end(), c) == so.compensations.end())
+          so.compensations.push_back(c);
+      }
     } else if (a == "--ref-dirs") {
       so.ref_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
     } else if (a == "--ref-exact-dirs") {
@@ -215,6 +233,12 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
   if (r.what == parse_result::action::help) return false;
   so.base = r.opts;
   so.base.progress = progress_mode::never;
+  // The exhaustive VPL sum follows the last listed setting (on for off,on): the estimand of the
+  // runs it labels with the method's own name.
+  if (!so.compensations.empty()) so.base.clamp_compensation = so.compensations.back();
+  if (so.base.back == backend::gpu &&
+      std::find(so.compensations.begin(), so.compensations.end(), clamp_compensation_choice::on) != so.compensations.end())
+    bad("--clamp-compensation: on needs --backend cpu (the GPU backend's estimate kernel does not have it yet)");
   if (so.base.back == backend::gpu)
     for (method m : so.methods)
       if (!traits(m).gpu)
@@ -266,6 +290,14 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   // (ties the two ray tracers break differently), and "backend=gpu" entries written before it had a
   // GPU kernel hold CPU images: a key of their own.
   if (kind == "exact" && o.back == backend::gpu) k += "|exact_estimator=gpu";
+  // Only with the clamp compensation (the reference adds it as the VPL methods do), so the keys of
+  // clamped sums stay what they were.
+  if (kind == "vplsum") {
+    options r = o;
+    r.meth = method::reference;
+    const render_settings rs = make_render_settings(r, p.s);
+    if (uses_clamp_compensation(rs)) k += "|clamp_compensation_dirs=" + std::to_string(clamp_compensation_dirs(rs));
+  }
   // Only for patch VPLs, so the keys of point VPL sums stay what they were.
   if (kind == "vplsum" && o.vpl_mode == vpl_mode_choice::patch)
     k += "|vpl_mode=patch|strata=" + std::to_string(reference_patch_strata) + "|seed=" + std::to_string(seed);
@@ -322,6 +354,8 @@ reference_image get_reference(const options& base, const prepared_scene& p, cons
 
 struct run_row {
   method meth;
+  std::string label;  // the method's name, or METHOD-clamped (its clamped runs when both are swept)
+  clamp_compensation_choice compensation = clamp_compensation_choice::off;  // as the run used it
   int samples = 0;
   std::uint32_t seed = 0;
   double build_ms = 0, estimate_ms = 0, total_ms = 0, wall_ms = 0;
@@ -330,11 +364,21 @@ struct run_row {
   long long gpu_peak_bytes = 0;  // GPU buffers the estimator held at its peak (docs/results.md, memory)
   std::string stages;
   double mean = 0;  // the image's mean over pixels and channels (linear HDR)
+  double band_mean = std::numeric_limits<double>::quiet_NaN();  // over the junction band's pixels
   speed_vs_error::image_error vs_vpl, vs_gather, vs_exact;
 };
 
+// A run's series: the method's name, or METHOD-clamped for the clamped runs of global, local, gbg
+// and ris when both settings of the clamp compensation are swept.
+std::string series_label(method m, clamp_compensation_choice c, bool both) {
+  const bool clamped = m != method::reference && method_has_clamp(m);
+  return std::string(to_string(m)) + (both && clamped && c == clamp_compensation_choice::off ? "-clamped" : "");
+}
+
 struct bias_variance_row {
   method meth;
+  std::string label;
+  clamp_compensation_choice compensation = clamp_compensation_choice::off;
   int samples = 0, seeds = 0;
   double variance = 0, bias2_vpl = 0, bias2_gather = 0, bias2_exact = 0;
 };
@@ -362,7 +406,7 @@ std::string sci(double v) {
 // Per reference and method, the mean over seeds of time and error at each sample count; from
 // these: PREFIX.svg (error against time), PREFIX_samples.svg (error against samples: the paper's
 // Fig. 8) and PREFIX_pareto.md (Pareto front, equal-error table). Returns the files written.
-std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const std::vector<method>& methods,
+std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const std::vector<std::string>& labels,
                                         const std::vector<int>& samples, bool has_vplsum, bool has_gather,
                                         bool has_exact, int ref_dirs,
                                         const std::string& caption, const std::string& scene_line,
@@ -390,17 +434,17 @@ std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const 
     ps.x_label = "samples per pixel (VPLs; directions for gather; both for mis)";
     pt.y_label = ps.y_label = "RMSE (linear HDR)";
     std::vector<speed_vs_error::cost_error_point> points;
-    for (method m : methods) {
-      speed_vs_error::series lt{to_string(m), {}, {}}, ls{to_string(m), {}, {}};
+    for (const std::string& l : labels) {
+      speed_vs_error::series lt{l, {}, {}}, ls{l, {}, {}};
       for (int n : samples) {
         double t = 0, e = 0;
         int c = 0;
         for (const run_row& r : rows)
-          if (r.meth == m && r.samples == n) t += r.total_ms, e += (r.*ref.err).rmse, ++c;
+          if (r.label == l && r.samples == n) t += r.total_ms, e += (r.*ref.err).rmse, ++c;
         if (c == 0) continue;
         lt.x.push_back(t / c), lt.y.push_back(e / c);
         ls.x.push_back(n), ls.y.push_back(e / c);
-        points.push_back({to_string(m), n, t / c, e / c});
+        points.push_back({l, n, t / c, e / c});
       }
       pt.lines.push_back(lt);
       ps.lines.push_back(ls);
@@ -414,21 +458,21 @@ std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const 
       pareto << "| " << q.method << " | " << q.samples << " | " << fixed(q.ms, 1) << " | " << sci(q.error) << " |\n";
     pareto << "\nEqual error: time (ms) each method needs to reach the RMSE of the row (log-log interpolation "
               "between measured points; '-' = not reached in this sweep):\n\n| RMSE |";
-    for (method m : methods) pareto << " " << to_string(m) << " |";
+    for (const std::string& l : labels) pareto << " " << l << " |";
     pareto << " fastest |\n|---:|";
-    for (std::size_t i = 0; i < methods.size(); ++i) pareto << "---:|";
+    for (std::size_t i = 0; i < labels.size(); ++i) pareto << "---:|";
     pareto << "---|\n";
     for (double target : speed_vs_error::error_targets(points, 4)) {
       pareto << "| " << sci(target) << " |";
       std::string best;
       double best_ms = 0;
-      for (method m : methods) {
+      for (const std::string& l : labels) {
         std::vector<speed_vs_error::cost_error_point> mine;
         for (const auto& q : points)
-          if (q.method == to_string(m)) mine.push_back(q);
+          if (q.method == l) mine.push_back(q);
         const std::optional<double> t = speed_vs_error::time_to_error(mine, target);
         pareto << " " << (t ? fixed(*t, 1) : std::string("-")) << " |";
-        if (t && (best.empty() || *t < best_ms)) best = to_string(m), best_ms = *t;
+        if (t && (best.empty() || *t < best_ms)) best = l, best_ms = *t;
       }
       pareto << " " << (best.empty() ? "-" : best) << " |\n";
     }
@@ -475,6 +519,7 @@ std::vector<std::string> replot(const sweep_options& so) {
     return header.size();
   };
   const std::size_t c_re = optional_col("rmse_exact"), c_le = optional_col("relmse_exact");
+  const std::size_t c_cc = optional_col("clamp_compensation");  // since the clamp compensation exists
   const auto number = [&](const std::string& t, int line_no) {
     if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
     char* end = nullptr;
@@ -484,7 +529,6 @@ std::vector<std::string> replot(const sweep_options& so) {
     return v;
   };
   std::vector<run_row> rows;
-  std::vector<method> methods;
   std::vector<int> samples;
   std::string scene, backend, size;
   bool has_vpl = false, has_gather = false, has_exact = false;
@@ -511,15 +555,25 @@ std::vector<std::string> replot(const sweep_options& so) {
     has_exact = has_exact || !std::isnan(r.vs_exact.rmse);
     has_vpl = has_vpl || !std::isnan(r.vs_vpl.rmse);
     has_gather = has_gather || !std::isnan(r.vs_gather.rmse);
-    if (std::find(methods.begin(), methods.end(), r.meth) == methods.end()) methods.push_back(r.meth);
+    if (c_cc < v.size() && v[c_cc] == "on") r.compensation = clamp_compensation_choice::on;
     if (std::find(samples.begin(), samples.end(), r.samples) == samples.end()) samples.push_back(r.samples);
     scene = v[c_scene], backend = v[c_backend], size = v[c_width] + "x" + v[c_height];
     rows.push_back(r);
   }
   if (rows.empty()) throw input_error("--replot: '" + so.replot + "' has no rows");
   std::sort(samples.begin(), samples.end());
+  bool any_on = false, any_off = false;
+  for (const run_row& r : rows) {
+    if (series_label(r.meth, clamp_compensation_choice::off, true) == to_string(r.meth)) continue;  // no clamp
+    (r.compensation == clamp_compensation_choice::on ? any_on : any_off) = true;
+  }
+  std::vector<std::string> labels;
+  for (run_row& r : rows) {
+    r.label = series_label(r.meth, r.compensation, any_on && any_off);
+    if (std::find(labels.begin(), labels.end(), r.label) == labels.end()) labels.push_back(r.label);
+  }
   const std::string caption = scene + " " + size + ", backend " + backend + " (from " + base_name(so.replot) + ".csv)";
-  return write_analysis(rows, methods, samples, has_vpl, has_gather, has_exact, 0, caption,
+  return write_analysis(rows, labels, samples, has_vpl, has_gather, has_exact, 0, caption,
                         "Scene `" + scene + "`, " + size + ", backend `" + backend + "`.", so.out);
 }
 
@@ -566,6 +620,11 @@ int main(int argc, char** argv) {
     const frame_buffers b = prepare_buffers(prep, p, prep_timer, prep_det);
     double prepare_ms = 0.0;
     for (const stage_time& st : prep_timer.stages()) prepare_ms += st.ms;
+    // The junction band (junction_band.hpp): within k_band_voxels voxels of another surface, where
+    // the exact rays can tell.
+    const std::vector<std::uint8_t> band =
+        b.rays ? speed_vs_error::junction_band(b, k_band_voxels * b.grid.occupancy().voxel_length())
+               : std::vector<std::uint8_t>{};
     std::cout << "scene " << p.s.name << ", " << base.width << "x" << base.height << ", DPRSM 2x" << base.dprsm << "^2, "
               << base.voxels << "^3 voxels, backend " << to_string(base.back) << "\nGL: " << b.gl_renderer
               << "\nprepare (G-buffer, DPRSM, voxels): " << num(prepare_ms) << " ms" << std::endl;
@@ -589,13 +648,22 @@ int main(int argc, char** argv) {
 
     std::vector<run_row> rows;
     std::vector<bias_variance_row> bv_rows;
+    std::vector<std::string> labels;
+    const bool both = so.compensations.size() > 1;
+    // (method, clamp compensation) pairs: global, local, gbg and ris once per listed setting, the others once.
+    std::vector<std::pair<method, std::optional<clamp_compensation_choice>>> sweep;
     for (method m : so.methods)
+      for (std::size_t ci = 0; ci < std::max<std::size_t>(1, so.compensations.size()); ++ci)
+        if (ci == 0 || series_label(m, clamp_compensation_choice::off, true) != to_string(m))
+          sweep.push_back({m, so.compensations.empty() ? std::nullopt : std::optional(so.compensations[ci])});
+    for (const auto& [m, compensation] : sweep)
       for (int n : so.samples) {
         std::vector<image_rgb> group;  // this (method, samples) over the seeds
         for (std::uint32_t seed : so.seeds) {
           options o = base;
           o.meth = m;
           o.seed = seed;
+          if (compensation) o.clamp_compensation = compensation;
           const sweep_count what = traits(m).sweep;
           if (what != sweep_count::dirs) o.vpls = n;
           if (what != sweep_count::vpls) o.dirs = n;
@@ -626,11 +694,16 @@ int main(int argc, char** argv) {
           r.meth = m;
           r.samples = n;
           r.seed = seed;
+          r.compensation = uses_clamp_compensation(make_render_settings(o, p.s)) ? clamp_compensation_choice::on
+                                                                                  : clamp_compensation_choice::off;
+          r.label = series_label(m, r.compensation, both);
+          if (std::find(labels.begin(), labels.end(), r.label) == labels.end()) labels.push_back(r.label);
           r.vs_vpl = against(img, ref_vpl);
           r.vs_gather = against(img, ref_gather);
           r.vs_exact = against(img, ref_exact);
           r.mean = image_mean(img);
-          std::cout << to_string(m) << " samples " << n << " seed " << seed << ": " << fixed(r.total_ms, 1)
+          if (!band.empty()) r.band_mean = speed_vs_error::band_mean(img, band);
+          std::cout << r.label << " samples " << n << " seed " << seed << ": " << fixed(r.total_ms, 1)
                     << " ms, RMSE vs VPL sum " << sci(r.vs_vpl.rmse) << ", vs gathering " << sci(r.vs_gather.rmse)
                     << ", vs exact " << sci(r.vs_exact.rmse) << std::endl;
           rows.push_back(r);
@@ -647,7 +720,9 @@ int main(int argc, char** argv) {
                                                       ? speed_vs_error::bias_variance{nan, nan}
                                                       : speed_vs_error::split(group, ref_exact.img);
           const double variance = !std::isnan(a.variance) ? a.variance : !std::isnan(g.variance) ? g.variance : e.variance;
-          bv_rows.push_back({m, n, static_cast<int>(group.size()), variance, a.bias2, g.bias2, e.bias2});
+          const run_row& last = rows.back();
+          bv_rows.push_back({m, last.label, last.compensation, n, static_cast<int>(group.size()), variance, a.bias2,
+                             g.bias2, e.bias2});
         }
       }
 
@@ -655,7 +730,8 @@ int main(int argc, char** argv) {
     std::ostringstream csv;
     csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,eps,local_combination,gbg_accumulator,"
            "cdf_search,visibility,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
-           "relmse_gather,rmse_exact,relmse_exact,total_ms_min,repeats,gpu_peak_bytes,stages\n";
+           "relmse_gather,rmse_exact,relmse_exact,total_ms_min,repeats,gpu_peak_bytes,clamp_compensation,mean,band_mean,"
+           "stages\n";
     for (const run_row& r : rows)
       csv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
           << r.seed << "," << base.width << "," << base.height << "," << base.dprsm << "," << base.voxels << ","
@@ -663,19 +739,20 @@ int main(int argc, char** argv) {
           << to_string(base.cdf_search) << "," << to_string(base.visibility) << "," << num(prepare_ms) << "," << num(r.build_ms) << "," << num(r.estimate_ms) << "," << num(r.total_ms) << ","
           << num(r.wall_ms) << "," << num(r.vs_vpl.rmse) << "," << num(r.vs_vpl.relmse) << "," << num(r.vs_gather.rmse)
           << "," << num(r.vs_gather.relmse) << "," << num(r.vs_exact.rmse) << "," << num(r.vs_exact.relmse) << ","
-          << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes
-          << "," << r.stages << "\n";
+          << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes << ","
+          << to_string(r.compensation) << "," << num(r.mean) << ","
+          << num(r.band_mean) << "," << r.stages << "\n";
     write_text(so.out + ".csv", csv.str());
 
     if (!bv_rows.empty()) {
       std::ostringstream bv;
       bv << "scene,backend,method,samples,seeds,eps,local_combination,gbg_accumulator,cdf_search,variance,"
-            "bias2_vplsum,bias2_gather,bias2_exact\n";
+            "bias2_vplsum,bias2_gather,bias2_exact,clamp_compensation\n";
       for (const bias_variance_row& r : bv_rows)
         bv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
            << r.seeds << "," << num(base.eps) << "," << to_string(base.local_combination) << ","
            << to_string(base.gbg_accumulator) << "," << to_string(base.cdf_search) << "," << num(r.variance) << "," << num(r.bias2_vpl) << "," << num(r.bias2_gather) << ","
-           << num(r.bias2_exact) << "\n";
+           << num(r.bias2_exact) << "," << to_string(r.compensation) << "\n";
       write_text(so.out + "_bias_variance.csv", bv.str());
     }
 
@@ -704,13 +781,25 @@ int main(int argc, char** argv) {
     if (so.ref_exact && so.ref_vplsum) md << "; VPL sum vs exact " << sci(speed_vs_error::compare(ref_vpl.img, ref_exact.img).rmse);
     if (so.ref_exact && so.ref_gather)
       md << "; gathering vs exact " << sci(speed_vs_error::compare(ref_gather.img, ref_exact.img).rmse);
+    if (!band.empty()) {
+      std::size_t n = 0;
+      for (std::uint8_t m : band) n += m;
+      md << ". Junction band (" << num(k_band_voxels) << " voxels): " << n << " pixels, means: VPL sum "
+         << (so.ref_vplsum ? sci(speed_vs_error::band_mean(ref_vpl.img, band)) : "-") << ", gathering "
+         << (so.ref_gather ? sci(speed_vs_error::band_mean(ref_gather.img, band)) : "-") << ", exact "
+         << (so.ref_exact ? sci(speed_vs_error::band_mean(ref_exact.img, band)) : "-");
+    }
+    md << ". Clamp compensation ";
+    if (so.compensations.empty()) md << "`" << to_string(make_render_settings(base, p.s).clamp_compensation) << "`";
+    else md << "`" << to_string(so.compensations.front()) << (both ? "` and `" + std::string(to_string(so.compensations.back())) : "") << "`";
+    md << " (for global, local, gbg, ris" << (both ? "; METHOD-clamped: without it)" : ")");
     md << ". Times: the median of " << so.repeats << " repeat(s) of each run.\n\n";
-    md << "| method | samples | seed | build ms | estimate ms | total ms | mean | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
+    md << "| method | samples | seed | build ms | estimate ms | total ms | mean | band mean | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
           "gathering | relMSE vs gathering | RMSE vs exact | relMSE vs exact |\n"
-          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const run_row& r : rows)
-      md << "| " << to_string(r.meth) << " | " << r.samples << " | " << r.seed << " | " << fixed(r.build_ms, 1) << " | "
-         << fixed(r.estimate_ms, 1) << " | " << fixed(r.total_ms, 1) << " | " << sci(r.mean) << " | " << sci(r.vs_vpl.rmse) << " | "
+      md << "| " << r.label << " | " << r.samples << " | " << r.seed << " | " << fixed(r.build_ms, 1) << " | "
+         << fixed(r.estimate_ms, 1) << " | " << fixed(r.total_ms, 1) << " | " << sci(r.mean) << " | " << sci(r.band_mean) << " | " << sci(r.vs_vpl.rmse) << " | "
          << sci(r.vs_vpl.relmse) << " | " << sci(r.vs_gather.rmse) << " | " << sci(r.vs_gather.relmse) << " | "
          << sci(r.vs_exact.rmse) << " | " << sci(r.vs_exact.relmse) << " |\n";
     write_text(so.out + ".md", md.str());
@@ -720,7 +809,7 @@ int main(int argc, char** argv) {
     const std::string scene_line = "Scene `" + p.s.name + "`, " + std::to_string(base.width) + "x" +
                                    std::to_string(base.height) + ", backend `" + to_string(base.back) + "`.";
     const std::vector<std::string> plots =
-        write_analysis(rows, so.methods, so.samples, so.ref_vplsum, so.ref_gather, so.ref_exact, so.ref_dirs, caption,
+        write_analysis(rows, labels, so.samples, so.ref_vplsum, so.ref_gather, so.ref_exact, so.ref_dirs, caption,
                        scene_line, so.out);
     std::cout << "wrote " << so.out << ".csv, " << so.out << ".md";
     for (const std::string& f : plots) std::cout << ", " << f;

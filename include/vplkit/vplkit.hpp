@@ -82,6 +82,7 @@
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
+#include <vplkit/estimators/clamp_compensation.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/ris_reservoir.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>

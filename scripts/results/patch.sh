@@ -9,7 +9,8 @@
 #  - the references' own noise: gather and exact at 4096 directions over 2 seeds (their per-run
 #    variance), and the patch VPL sum at two seeds rendered by vplrender (OUT/ref_patch_<scene>_<seed>.exr).
 source "$(dirname "$0")/common.sh"
-COMMON=(--backend cpu --visibility exact --size 96x96 --dprsm 64 --voxels 64)
+# Measured before the clamp compensation existed (results/clamp_compensation.md measures it): pinned off.
+COMMON=(--backend cpu --visibility exact --size 96x96 --dprsm 64 --voxels 64 --clamp-compensation off)
 for scene in cornell open; do
   for mode in point patch; do
     "$SVE" --scene "$scene" "${COMMON[@]}" --vpl-mode "$mode" --methods global,mis --samples 64 --seeds 1,2,3,4 \

@@ -3173,6 +3173,66 @@ inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<
 //   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
 //   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
 // Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
+// A tracer may also offer trace_within(x, n_x, dir, reach) -> ray_hit<T>: the same first hit
+// whenever it lies within `reach` of x, and no hit or some hit beyond reach otherwise, at the cost
+// of a ray of about that length; and surface_within(x, n_x, reach, plane_tolerance) -> bool, false
+// only when every surface point within reach of x lies in a plane through x (within
+// plane_tolerance): then no ray from x meets anything else within reach. Both serve the clamp
+// compensation's short rays (clamp_compensation.hpp).
+// ---- begin vplkit/visibility/triangle_voxel_near.hpp ----
+// Is another surface near a point? The question the clamp compensation asks before it traces any
+// ray (estimators/clamp_compensation.hpp): its directions add something only where a surface other
+// than the gather point's own plane lies within dmin, and on most pixels none does. One look at
+// the triangle voxel grid (triangle_voxel_grid.hpp) answers it for every direction at once.
+//
+// triangle_voxel_surface_within(g, x, reach, plane_tolerance) is conservative: it returns false
+// only when every triangle listed by a voxel that meets the box of half-size reach (plus a small
+// slack) around x either has its plane within plane_tolerance of x (a plane through x: x's own
+// surface, a coplanar neighbour, a crease through x) or farther than reach from x (then none of its
+// points is within reach). Every point of a triangle lies in a voxel that lists it, so false
+// guarantees that every surface point within reach of x lies in a plane through x. True is
+// returned as well when it cannot look (a box of more than voxel_near_max_side voxels per axis, a
+// non-finite x or reach, a negative reach): the caller then traces.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+// The widest box looked at, in voxels per axis: beyond it the answer is "maybe" (true).
+constexpr int voxel_near_max_side = 8;
+
+template <class T>
+inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
+  if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
+      !(plane_tolerance >= T(0)))
+    return true;
+  // Voxels meeting [x - reach, x + reach], widened by a thousandth of a voxel against the rounding
+  // of the coordinates (a triangle on a voxel face is listed by the voxels on both sides).
+  const T slack = T(1e-3);
+  const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
+  const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
+  const ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
+  const ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
+  if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
+    return true;
+  for (int z = a.z; z <= b.z; ++z)
+    for (int y = a.y; y <= b.y; ++y)
+      for (int xi = a.x; xi <= b.x; ++xi) {
+        const std::int64_t r = voxel_occupied_index(g.grid, g.rank, ivec3(xi, y, z));
+        if (r < 0) continue;
+        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e) {
+          const voxel_plane<T>& p = g.triangles[g.entries[e]].plane;
+          const T s = std::abs(glm::dot(p.normal, x) - p.offset);
+          if (s > plane_tolerance && s <= reach) return true;  // NaN s (a bad triangle): not near
+        }
+      }
+  return false;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/triangle_voxel_near.hpp ----
 
 #include <limits>
 
@@ -3219,7 +3279,14 @@ struct voxel_tracer {
   voxel_grid_view<T> grid;
   T offset_voxels = T(voxel_surface_offset_default);
   ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
-    const dda_trace_result<T> r = dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir);
+    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
+  }
+  // The march stops reach + the lift beyond the lifted origin: a hit within reach of x lies
+  // within that distance of the origin.
+  ray_hit<T> trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const {
+    const T lift = offset_voxels * voxel_length(grid);
+    const dda_trace_result<T> r =
+        dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir, reach + lift);
     ray_hit<T> h;
     h.hit = r.hit;
     if (r.hit) h.position = r.point;
@@ -3254,9 +3321,15 @@ template <class T>
 struct triangle_voxel_tracer {
   triangle_voxel_view<T> grid;
   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
-  ray_hit<T> operator()(vec3<T> x, vec3<T>, vec3<T> dir) const {
-    const triangle_voxel_hit<T> r =
-        triangle_voxel_first_hit(grid, x, dir, std::numeric_limits<T>::infinity(), end_tolerance_voxels);
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
+    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
+  }
+  // triangle_voxel_surface_within (triangle_voxel_near.hpp) over the listed triangles.
+  bool surface_within(vec3<T> x, vec3<T>, T reach, T plane_tolerance) const {
+    return triangle_voxel_surface_within(grid, x, reach, plane_tolerance);
+  }
+  ray_hit<T> trace_within(vec3<T> x, vec3<T>, vec3<T> dir, T reach) const {
+    const triangle_voxel_hit<T> r = triangle_voxel_first_hit(grid, x, dir, reach, end_tolerance_voxels);
     ray_hit<T> h;
     h.hit = r.hit;
     if (r.hit) {
@@ -5139,6 +5212,22 @@ inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> u
   return false;
 }
 
+// Does the light direction towards the surface point y fall where texel t's patch moves its points
+// to the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter
+// decides it from uv: the plane point of t in that direction, hidden by a neighbour's plane. For a
+// gathering hit y in texel t (MIS, the clamp compensation).
+template <class T>
+inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
+  const vec3<T> c = view.light.position;
+  const vec3<T> w = unit_or_zero(y - c);
+  const vec3<T> n = unit_or_zero(view.normal[t]);
+  const T h = glm::dot(n, c - view.position[t]);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > T(0))) return false;
+  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
+  return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+}
+
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
 // depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
 // patch, NaN or a negative value rejects every point.
@@ -6581,6 +6670,17 @@ struct tracer_with_light_visibility {
   ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
     return tracer(x, n_x, dir);
   }
+  // The wrapped tracer's short rays and near-surface test, where it has them (visibility_callables.hpp).
+  template <class T, class Tr = Tracer>
+  auto trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const
+      -> decltype(std::declval<const Tr&>().trace_within(x, n_x, dir, reach)) {
+    return tracer.trace_within(x, n_x, dir, reach);
+  }
+  template <class T, class Tr = Tracer>
+  auto surface_within(vec3<T> x, vec3<T> n_x, T reach, T plane_tolerance) const
+      -> decltype(std::declval<const Tr&>().surface_within(x, n_x, reach, plane_tolerance)) {
+    return tracer.surface_within(x, n_x, reach, plane_tolerance);
+  }
   bool answers_light_visibility() const { return true; }
   template <class T>
   bool light_visible(vec3<T> y, vec3<T> n_y, vec3<T> c) const {
@@ -6626,12 +6726,12 @@ inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const
   return lk;
 }
 
-// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+// What the hit h of a ray leaving x sends towards x: the lookup and L_o (no hit: nothing). Shared by
+// trace_gathering_ray and the clamp compensation (clamp_compensation.hpp), which traces its own rays.
 template <class T, class Tracer>
-inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
-                                                   vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
+inline gathering_ray_result<T> evaluate_gathering_hit(const dprsm_view<T>& view, vec3<T> x, const ray_hit<T>& h,
+                                                      const Tracer& tracer, T depth_tolerance) {
   gathering_ray_result<T> r;
-  const ray_hit<T> h = tracer(x, n_x, dir);
   if (!h.hit) return r;
   const dprsm_lookup_result lk = gathering_hit_lookup(view, h, tracer, depth_tolerance);
   r.texel = lk.texel;
@@ -6641,6 +6741,13 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
   r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
   r.in_front = r.lit && lk.in_front;
   return r;
+}
+
+// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+template <class T, class Tracer>
+inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
+                                                   vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
+  return evaluate_gathering_hit(view, x, tracer(x, n_x, dir), tracer, depth_tolerance);
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
@@ -6689,6 +6796,169 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 
 }  // namespace vplkit
 // ---- end vplkit/estimators/gathering_estimator.hpp ----
+// ---- begin vplkit/estimators/clamp_compensation.hpp ----
+// Bias compensation for the VPL distance clamp (docs/math.md, "The clamp's compensation"; Kollig & Keller 2004).
+// A VPL sample divides by max(d^2, dmin^2): in solid angle at x it carries the unclamped integrand
+// times min(1, d^2 / dmin^2), d the distance from x to the VPL's point. What the clamp removes is
+// the near field weighted by (1 - d^2 / dmin^2) where d < dmin. This estimator adds it back by
+// cosine gathering: each direction omega ~ cos(theta2)/pi is traced to its first hit y, and where
+// y lies closer than dmin the direction adds
+//     f / p1 * (1 - d^2 / dmin^2) = rho_x L_o(y) (1 - d^2 / dmin^2),   d = |y - x|,
+// with the lit test and L_o of gathering (evaluate_gathering_hit: dprsm_hit_radiance, the DPRSM's
+// plane test or the tracer's shadow ray). The two weights sum to 1 at every distance, so
+//     clamped VPL estimate + this  ->  the far field of the VPL estimand + the near field of gathering,
+// which is the unclamped integral wherever the two estimands agree within dmin of x (math.md,
+// "The clamp's compensation" says where they do not). Zero, exactly, where no surface lies within dmin of x along
+// a traced direction; zero for dmin = 0 or NaN (no clamp). A negative dmin acts as |dmin|, as
+// in the clamp (dmin * dmin); an infinite one turns every VPL off (vpl_geometry_term gives 0) and
+// this into plain gathering.
+//
+// Only the near field is needed, so the rays are short: a tracer with trace_within(x, n_x, dir,
+// reach) (visibility_callables.hpp) is asked for hits within |dmin| only; any other tracer traces
+// the whole ray, with the same result. Only hits within dmin are looked up (and shadow-tested).
+// And most gather points have no other surface within dmin: a tracer with surface_within (the
+// triangle voxels) says so once per gather point, and then no direction is traced at all (the
+// result is the same 0; the directions' numbers are skipped, not drawn).
+// Random numbers: per direction u0, then u1, always (whatever dmin and the hit), as
+// estimate_gathering; an invalid gather point gives 0 and draws nothing. The renderer draws them
+// from a stream of their own (clamp_compensation_stream), so that turning the compensation on
+// leaves the VPL estimator's samples as they were. Never NaN or Inf.
+
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+#include <utility>
+
+namespace vplkit {
+
+// Does Tracer offer trace_within(x, n_x, dir, reach) for vectors of T?
+template <class Tracer, class T, class = void>
+struct tracer_has_trace_within : std::false_type {};
+template <class Tracer, class T>
+struct tracer_has_trace_within<
+    Tracer, T,
+    std::void_t<decltype(ray_hit<T>(std::declval<const Tracer&>().trace_within(vec3<T>(), vec3<T>(), vec3<T>(), T())))>>
+    : std::true_type {};
+
+// Does Tracer offer surface_within(x, n_x, reach, plane_tolerance) for vectors of T?
+template <class Tracer, class T, class = void>
+struct tracer_has_surface_within : std::false_type {};
+template <class Tracer, class T>
+struct tracer_has_surface_within<
+    Tracer, T,
+    std::void_t<decltype(bool(std::declval<const Tracer&>().surface_within(vec3<T>(), vec3<T>(), T(), T())))>>
+    : std::true_type {};
+
+// May a ray from x meet anything within dmin that the compensation counts? False (from the
+// tracer's surface_within, where it has one) only when every surface point within |dmin| lies in
+// a plane through x, within a quarter of the on-plane rule's tolerance: every direction would add
+// 0 (the rule, or no hit within dmin), so none is traced. True otherwise.
+template <class T, class Tracer>
+inline bool clamp_compensation_may_add(const Tracer& tracer, const gather_point<T>& gp, T dmin) {
+  if (!(dmin * dmin > T(0))) return false;
+  if constexpr (tracer_has_surface_within<Tracer, T>::value)
+    return tracer.surface_within(gp.position, gp.normal, std::abs(dmin),
+                                 vpl_coincidence_tolerance(gp.position, gp.position) / T(4));
+  else return true;
+}
+
+// The first hit of the ray leaving x along dir when it lies within reach of x (else no hit or a
+// farther one): trace_within where the tracer has it, else the whole ray.
+template <class T, class Tracer>
+inline ray_hit<T> trace_ray_within(const Tracer& tracer, vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) {
+  if constexpr (tracer_has_trace_within<Tracer, T>::value) return tracer.trace_within(x, n_x, dir, reach);
+  else return tracer(x, n_x, dir);
+}
+
+// The compensation's weight at distance^2 d_sq from x: 1 - d^2 / dmin^2 where the clamp is active
+// (d^2 < dmin^2), else 0; 0 for dmin^2 = 0 or NaN. The VPL strategy's weight is the clamp itself,
+// d^2 / max(d^2, dmin^2): the two sum to 1.
+template <class T>
+inline T clamp_compensation_weight(T d_sq, T dmin) {
+  const T dmin_sq = dmin * dmin;
+  if (!(d_sq < dmin_sq)) return T(0);  // also NaN d_sq, dmin^2 = 0 or NaN
+  return T(1) - d_sq / dmin_sq;        // dmin^2 = Inf: 1
+}
+
+// The compensation's stream for a pixel whose estimator draws from `estimator` (its key only):
+// independent of the estimator's numbers, so the clamped estimate is the same with or without it.
+inline counter_rng clamp_compensation_stream(const counter_rng& estimator) {
+  return counter_rng{rng_key(estimator.key, 0xC1A3C0u), 0u};
+}
+
+// Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
+// rho_x L_o(y) (1 - d^2 / dmin^2) when the first hit y lies within dmin of x, else 0; 0 at or
+// below the horizon and below the geometric surface, as gathering_sample. With vpl_mode::patch, d
+// is the distance of the VPL strategy's point for y's light direction: y itself, except where that
+// direction falls in the part of its texel whose plane points move to the texel centre
+// (dprsm_patch_direction_at_centre): there the clamp weighed the centre, so the centre's
+// distance decides, and the two weights still sum to 1 per light direction.
+template <class T, class Tracer>
+inline vec3<T> clamp_compensation_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                         const orthonormal_basis<T>& frame, vec3<T> local, const Tracer& tracer,
+                                         T dmin, T depth_tolerance, vpl_mode vmode = vpl_mode::point) {
+  if (!(dmin * dmin > T(0)) || !(local.z > T(0))) return vec3<T>(T(0));
+  const vec3<T> dir = to_world(frame, local);
+  if (!gather_point_accepts_direction(gp, dir)) return vec3<T>(T(0));
+  const ray_hit<T> h = trace_ray_within(tracer, gp.position, gp.normal, dir, std::abs(dmin));
+  if (!h.hit) return vec3<T>(T(0));
+  const vec3<T> w = h.position - gp.position;
+  const T weight = clamp_compensation_weight(glm::dot(w, w), dmin);
+  if (!(weight > T(0))) return vec3<T>(T(0));  // beyond dmin: the VPLs carry it unclamped
+  // x on the hit's own plane (within its coordinates' rounding: a crease through x, coincident
+  // surfaces) sees that surface edge-on, cos(theta1) = 0 for the VPL strategy: it sends nothing.
+  if (ray_hit_has_normal(h) &&
+      !(std::abs(glm::dot(unit_or_zero(h.normal), w)) > vpl_coincidence_tolerance(gp.position, h.position)))
+    return vec3<T>(T(0));
+  const gathering_ray_result<T> r = evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
+  if (!r.lit) return vec3<T>(T(0));
+  if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {
+    const vec3<T> wc = view.position[r.texel] - gp.position;
+    return estimator_finite_or_zero(gp.albedo * r.radiance * clamp_compensation_weight(glm::dot(wc, wc), dmin));
+  }
+  return estimator_finite_or_zero(gp.albedo * r.radiance * weight);
+}
+
+// Directions [begin, end) of estimate_clamp_compensation (estimator_state.hpp).
+template <class T, class Tracer>
+inline void estimate_clamp_compensation_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                              estimator_state<T>& state, int begin, int end, const Tracer& tracer,
+                                              T dmin, T depth_tolerance, vpl_mode vmode = vpl_mode::point) {
+  if (!gather_point_valid(gp)) return;
+  if (begin < end && !clamp_compensation_may_add(tracer, gp, dmin)) {
+    state.rng.counter += 2u * std::uint32_t(end - begin);  // the numbers the directions would draw
+    return;
+  }
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
+  for (int k = begin; k < end; ++k) {
+    const T u0 = rng_next_unit<T>(state.rng);
+    const T u1 = rng_next_unit<T>(state.rng);
+    state.sum += clamp_compensation_sample(gp, view, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), tracer, dmin,
+                                           depth_tolerance, vmode);
+  }
+}
+
+template <class T>
+inline vec3<T> estimate_clamp_compensation_finish(const estimator_state<T>& state, int n_dirs) {
+  return n_dirs > 0 ? state.sum / T(n_dirs) : vec3<T>(T(0));
+}
+
+// What the clamp at dmin removed from the VPL estimate at gp, estimated with n_dirs directions;
+// add it to the clamped estimate of any VPL method (global, local, GBG: vpl_sampling_estimator,
+// local_estimator), with that estimate's vpl_mode. depth_tolerance: that of gathering (dprsm_lookup).
+template <class T, class Tracer>
+inline vec3<T> estimate_clamp_compensation(const gather_point<T>& gp, const dprsm_view<T>& view, counter_rng& rng,
+                                           int n_dirs, const Tracer& tracer, T dmin, T depth_tolerance,
+                                           vpl_mode vmode = vpl_mode::point) {
+  if (!gather_point_valid(gp) || n_dirs <= 0) return vec3<T>(T(0));
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_clamp_compensation_range(gp, view, state, 0, n_dirs, tracer, dmin, depth_tolerance, vmode);
+  rng = state.rng;
+  return estimate_clamp_compensation_finish(state, n_dirs);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/clamp_compensation.hpp ----
 // ---- begin vplkit/estimators/mis_estimator.hpp ----
 // Multiple importance sampling of cosine gathering (strategy 1, n_dirs samples) and VPL sampling
 // from a distribution (strategy 2, n_vpls samples) at one gather point (docs/math.md section 5,
@@ -6760,18 +7030,10 @@ inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, v
 }
 
 // Does the light direction of the gathering hit y fall where texel t's patch moves its points to
-// the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter decides
-// it from uv: the plane point of t in that direction, hidden by a neighbour's plane.
+// the centre? (dprsm_patch_direction_at_centre: MIS gives those directions to gathering alone.)
 template <class T>
 inline bool mis_patch_hit_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
-  const vec3<T> c = view.light.position;
-  const vec3<T> w = unit_or_zero(y - c);
-  const vec3<T> n = unit_or_zero(view.normal[t]);
-  const T h = glm::dot(n, c - view.position[t]);
-  const T cos_a = -glm::dot(n, w);
-  if (!(h > T(0)) || !(cos_a > T(0))) return false;
-  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
-  return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+  return dprsm_patch_direction_at_centre(view, t, y);
 }
 
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)).

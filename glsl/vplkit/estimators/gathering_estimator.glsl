@@ -43,11 +43,11 @@ vplkit_dprsm_lookup_result vplkit_gathering_hit_lookup(vplkit_dprsm_view view, v
   return lk;
 }
 
-// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
-vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, vec3 x, vec3 n_x, vec3 dir,
-                                                       vplkit_voxel_tracer tracer, float depth_tolerance) {
+// What the hit h of a ray leaving x sends towards x: the lookup and L_o (no hit: nothing). Shared by
+// vplkit_trace_gathering_ray and the clamp compensation (clamp_compensation.glsl).
+vplkit_gathering_ray_result vplkit_evaluate_gathering_hit(vplkit_dprsm_view view, vec3 x, vplkit_ray_hit h,
+                                                          vplkit_voxel_tracer tracer, float depth_tolerance) {
   vplkit_gathering_ray_result r = vplkit_gathering_ray_result(false, false, -1, vec3(0.0), vec3(0.0));
-  vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, x, n_x, dir);
   if (!h.hit) return r;
   vplkit_dprsm_lookup_result lk = vplkit_gathering_hit_lookup(view, h, tracer, depth_tolerance);
   r.texel = lk.texel;
@@ -57,6 +57,13 @@ vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, v
   r.lit = r.radiance.x > 0.0 || r.radiance.y > 0.0 || r.radiance.z > 0.0;
   r.in_front = r.lit && lk.in_front;
   return r;
+}
+
+// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, vec3 x, vec3 n_x, vec3 dir,
+                                                       vplkit_voxel_tracer tracer, float depth_tolerance) {
+  return vplkit_evaluate_gathering_hit(view, x, vplkit_voxel_tracer_trace(tracer, x, n_x, dir), tracer,
+                                       depth_tolerance);
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):

@@ -77,16 +77,9 @@ float vplkit_mis_patch_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x,
 }
 
 // Does the light direction of the gathering hit y fall where texel t's patch moves its points to
-// the centre (vplkit_dprsm_patch_vpl, at_centre)? Decided from y's direction alone.
+// the centre? (vplkit_dprsm_patch_direction_at_centre.)
 bool vplkit_mis_patch_hit_at_centre(vplkit_dprsm_view view, int t, vec3 y) {
-  vec3 c = view.light.position;
-  vec3 w = vplkit_unit_or_zero(y - c);
-  vec3 n = vplkit_unit_or_zero(vplkit_load_dprsm_normal(t));
-  float h = dot(n, c - vplkit_load_dprsm_position(t));
-  float cos_a = -dot(n, w);
-  if (!(h > 0.0) || !(cos_a > 0.0)) return false;
-  vplkit_paraboloid_point q = vplkit_paraboloid_from_direction(vplkit_light_frame_to_light(view.light.frame, w));
-  return vplkit_dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+  return vplkit_dprsm_patch_direction_at_centre(view, t, y);
 }
 
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)). `precise`: 1 - c * c

@@ -19,6 +19,7 @@
 #include "vplkit/visibility/voxel_grid.glsl"
 #include "vplkit/visibility/voxel_visible.glsl"
 #ifdef VPLKIT_TRIANGLE_VOXELS
+#include "vplkit/visibility/triangle_voxel_near.glsl"
 #include "vplkit/visibility/triangle_voxel_query.glsl"
 #endif
 
@@ -120,16 +121,29 @@ vplkit_voxel_tracer vplkit_make_triangle_voxel_tracer(vplkit_voxel_grid grid) {
 }
 #endif
 
-// First occupied voxel along the ray from x lifted offset_voxels along n_x, reported at the point
-// where the ray enters that voxel (up to a voxel diagonal from the true surface).
-vplkit_ray_hit vplkit_voxel_tracer_trace(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, vec3 dir) {
+// tracer.surface_within(x, n_x, reach, plane_tolerance): false only when every surface point within
+// reach of x lies in a plane through x; the triangle voxels look (vplkit_triangle_voxel_surface_within),
+// the other kinds answer true (they cannot say).
+bool vplkit_voxel_tracer_surface_within(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, float reach, float plane_tolerance) {
+#ifdef VPLKIT_USER_TRACER
+  if (tr.user) return true;
+#endif
+#ifdef VPLKIT_TRIANGLE_VOXELS
+  if (tr.triangles) return vplkit_triangle_voxel_surface_within(tr.grid, x, reach, plane_tolerance);
+#endif
+  return true;
+}
+
+// tracer.trace_within(x, n_x, dir, reach): the first hit as vplkit_voxel_tracer_trace gives it
+// whenever it lies within reach of x; beyond, no hit or a farther one. The voxel kinds stop their
+// march there (reach plus the lift for the voxel DDA); vplkit_user_trace traces the whole ray.
+vplkit_ray_hit vplkit_voxel_tracer_trace_within(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, vec3 dir, float reach) {
 #ifdef VPLKIT_USER_TRACER
   if (tr.user) return vplkit_user_trace(x, n_x, dir);
 #endif
 #ifdef VPLKIT_TRIANGLE_VOXELS
   if (tr.triangles) {
-    vplkit_triangle_voxel_hit t = vplkit_triangle_voxel_first_hit(tr.grid, x, dir, vplkit_dda_infinity(),
-                                                                  tr.end_tolerance_voxels);
+    vplkit_triangle_voxel_hit t = vplkit_triangle_voxel_first_hit(tr.grid, x, dir, reach, tr.end_tolerance_voxels);
     vplkit_ray_hit th = vplkit_ray_hit(t.hit, vec3(0.0), vec3(0.0), vec3(0.0));
     if (t.hit) {
       th.position = t.point;
@@ -138,11 +152,18 @@ vplkit_ray_hit vplkit_voxel_tracer_trace(vplkit_voxel_tracer tr, vec3 x, vec3 n_
     return th;
   }
 #endif
-  vplkit_dda_trace_result r =
-      vplkit_dda_trace_hit_point(tr.grid, vplkit_surface_ray_origin(tr.grid, x, n_x, tr.offset_voxels), dir);
+  float lift = tr.offset_voxels * vplkit_voxel_length(tr.grid);
+  vplkit_dda_trace_result r = vplkit_dda_trace_hit_point(
+      tr.grid, vplkit_surface_ray_origin(tr.grid, x, n_x, tr.offset_voxels), dir, reach + lift);
   vplkit_ray_hit h = vplkit_ray_hit(r.hit, vec3(0.0), vec3(0.0), vec3(0.0));
   if (r.hit) h.position = r.point;
   return h;
+}
+
+// First occupied voxel along the ray from x lifted offset_voxels along n_x, reported at the point
+// where the ray enters that voxel (up to a voxel diagonal from the true surface).
+vplkit_ray_hit vplkit_voxel_tracer_trace(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, vec3 dir) {
+  return vplkit_voxel_tracer_trace_within(tr, x, n_x, dir, vplkit_dda_infinity());
 }
 
 // Depth tolerance matching a voxel tracer: one voxel diagonal, sqrt(3) * voxel_length (the same

@@ -68,6 +68,20 @@ bool vplkit_dprsm_patch_point_hidden(vplkit_dprsm_view view, int t, vec2 uv, vec
   return false;
 }
 
+// Does the light direction towards the surface point y fall where texel t's patch moves its points
+// to the centre (vplkit_dprsm_patch_vpl, at_centre)? Decided from y's direction alone (MIS, the
+// clamp compensation).
+bool vplkit_dprsm_patch_direction_at_centre(vplkit_dprsm_view view, int t, vec3 y) {
+  vec3 c = view.light.position;
+  vec3 w = vplkit_unit_or_zero(y - c);
+  vec3 n = vplkit_unit_or_zero(vplkit_load_dprsm_normal(t));
+  float h = dot(n, c - vplkit_load_dprsm_position(t));
+  float cos_a = -dot(n, w);
+  if (!(h > 0.0) || !(cos_a > 0.0)) return false;
+  vplkit_paraboloid_point q = vplkit_paraboloid_from_direction(vplkit_light_frame_to_light(view.light.frame, w));
+  return vplkit_dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+}
+
 // The point of texel t (0 <= t < texel count, not checked) that xi in [0, 1]^2 selects;
 // depth_tolerance that of vplkit_dprsm_lookup (+inf: the whole patch).
 vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, vec2 xi, float depth_tolerance) {

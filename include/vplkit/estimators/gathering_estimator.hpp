@@ -51,12 +51,12 @@ inline dprsm_lookup_result gathering_hit_lookup(const dprsm_view<T>& view, const
   return lk;
 }
 
-// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+// What the hit h of a ray leaving x sends towards x: the lookup and L_o (no hit: nothing). Shared by
+// trace_gathering_ray and the clamp compensation (clamp_compensation.hpp), which traces its own rays.
 template <class T, class Tracer>
-inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
-                                                   vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
+inline gathering_ray_result<T> evaluate_gathering_hit(const dprsm_view<T>& view, vec3<T> x, const ray_hit<T>& h,
+                                                      const Tracer& tracer, T depth_tolerance) {
   gathering_ray_result<T> r;
-  const ray_hit<T> h = tracer(x, n_x, dir);
   if (!h.hit) return r;
   const dprsm_lookup_result lk = gathering_hit_lookup(view, h, tracer, depth_tolerance);
   r.texel = lk.texel;
@@ -66,6 +66,13 @@ inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, ve
   r.lit = r.radiance.x > T(0) || r.radiance.y > T(0) || r.radiance.z > T(0);
   r.in_front = r.lit && lk.in_front;
   return r;
+}
+
+// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+template <class T, class Tracer>
+inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
+                                                   vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
+  return evaluate_gathering_hit(view, x, tracer(x, n_x, dir), tracer, depth_tolerance);
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):

@@ -86,18 +86,10 @@ inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, v
 }
 
 // Does the light direction of the gathering hit y fall where texel t's patch moves its points to
-// the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter decides
-// it from uv: the plane point of t in that direction, hidden by a neighbour's plane.
+// the centre? (dprsm_patch_direction_at_centre: MIS gives those directions to gathering alone.)
 template <class T>
 inline bool mis_patch_hit_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
-  const vec3<T> c = view.light.position;
-  const vec3<T> w = unit_or_zero(y - c);
-  const vec3<T> n = unit_or_zero(view.normal[t]);
-  const T h = glm::dot(n, c - view.position[t]);
-  const T cos_a = -glm::dot(n, w);
-  if (!(h > T(0)) || !(cos_a > T(0))) return false;
-  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
-  return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+  return dprsm_patch_direction_at_centre(view, t, y);
 }
 
 // sin(theta) from cos(theta) as the paper computes it (theta = acos(cos)).

@@ -41,6 +41,17 @@ struct tracer_with_light_visibility {
   ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
     return tracer(x, n_x, dir);
   }
+  // The wrapped tracer's short rays and near-surface test, where it has them (visibility_callables.hpp).
+  template <class T, class Tr = Tracer>
+  auto trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const
+      -> decltype(std::declval<const Tr&>().trace_within(x, n_x, dir, reach)) {
+    return tracer.trace_within(x, n_x, dir, reach);
+  }
+  template <class T, class Tr = Tracer>
+  auto surface_within(vec3<T> x, vec3<T> n_x, T reach, T plane_tolerance) const
+      -> decltype(std::declval<const Tr&>().surface_within(x, n_x, reach, plane_tolerance)) {
+    return tracer.surface_within(x, n_x, reach, plane_tolerance);
+  }
   bool answers_light_visibility() const { return true; }
   template <class T>
   bool light_visible(vec3<T> y, vec3<T> n_y, vec3<T> c) const {

@@ -5,10 +5,17 @@
 //   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
 //   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
 // Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
+// A tracer may also offer trace_within(x, n_x, dir, reach) -> ray_hit<T>: the same first hit
+// whenever it lies within `reach` of x, and no hit or some hit beyond reach otherwise, at the cost
+// of a ray of about that length; and surface_within(x, n_x, reach, plane_tolerance) -> bool, false
+// only when every surface point within reach of x lies in a plane through x (within
+// plane_tolerance): then no ray from x meets anything else within reach. Both serve the clamp
+// compensation's short rays (clamp_compensation.hpp).
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/dda.hpp>
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
+#include <vplkit/visibility/triangle_voxel_near.hpp>
 #include <vplkit/visibility/triangle_voxel_query.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
@@ -58,7 +65,14 @@ struct voxel_tracer {
   voxel_grid_view<T> grid;
   T offset_voxels = T(voxel_surface_offset_default);
   ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
-    const dda_trace_result<T> r = dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir);
+    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
+  }
+  // The march stops reach + the lift beyond the lifted origin: a hit within reach of x lies
+  // within that distance of the origin.
+  ray_hit<T> trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const {
+    const T lift = offset_voxels * voxel_length(grid);
+    const dda_trace_result<T> r =
+        dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir, reach + lift);
     ray_hit<T> h;
     h.hit = r.hit;
     if (r.hit) h.position = r.point;
@@ -93,9 +107,15 @@ template <class T>
 struct triangle_voxel_tracer {
   triangle_voxel_view<T> grid;
   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
-  ray_hit<T> operator()(vec3<T> x, vec3<T>, vec3<T> dir) const {
-    const triangle_voxel_hit<T> r =
-        triangle_voxel_first_hit(grid, x, dir, std::numeric_limits<T>::infinity(), end_tolerance_voxels);
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
+    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
+  }
+  // triangle_voxel_surface_within (triangle_voxel_near.hpp) over the listed triangles.
+  bool surface_within(vec3<T> x, vec3<T>, T reach, T plane_tolerance) const {
+    return triangle_voxel_surface_within(grid, x, reach, plane_tolerance);
+  }
+  ray_hit<T> trace_within(vec3<T> x, vec3<T>, vec3<T> dir, T reach) const {
+    const triangle_voxel_hit<T> r = triangle_voxel_first_hit(grid, x, dir, reach, end_tolerance_voxels);
     ray_hit<T> h;
     h.hit = r.hit;
     if (r.hit) {

@@ -93,6 +93,22 @@ inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> u
   return false;
 }
 
+// Does the light direction towards the surface point y fall where texel t's patch moves its points
+// to the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter
+// decides it from uv: the plane point of t in that direction, hidden by a neighbour's plane. For a
+// gathering hit y in texel t (MIS, the clamp compensation).
+template <class T>
+inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
+  const vec3<T> c = view.light.position;
+  const vec3<T> w = unit_or_zero(y - c);
+  const vec3<T> n = unit_or_zero(view.normal[t]);
+  const T h = glm::dot(n, c - view.position[t]);
+  const T cos_a = -glm::dot(n, w);
+  if (!(h > T(0)) || !(cos_a > T(0))) return false;
+  const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
+  return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+}
+
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
 // depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
 // patch, NaN or a negative value rejects every point.

@@ -28,7 +28,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test, candidates, candidate_source, spatial;
+      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, candidates, candidate_source, spatial;
   bool paper = false, direct = false, window = false;
 };
 
@@ -142,6 +142,13 @@ void build_app(CLI::App& app, raw_values& v) {
                    "integral as gather and exact; point = the paper's VPL at the texel centre, whose VPL sum is "
                    "a midpoint rule of it (docs/math.md section 11). --paper selects point."))
       ->type_name("point|patch");
+  app.add_option("--clamp-compensation", v.clamp_compensation,
+                 d("Add back what the VPL clamp --dmin removes, for reference, global, local, gbg and ris (default on "
+                   "with --backend cpu; the GPU backend does not have it yet: off there, and on is refused): a "
+                   "short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
+                   "estimate converges to the unclamped integral without its fireflies (docs/math.md, \"The clamp's compensation\"). "
+                   "off = the clamped estimate, a documented bias near surfaces."))
+      ->type_name("off|on");
   app.add_option("--candidates", v.candidates,
                  d("--method ris: candidate VPLs per sample (default 32; 1..65536), each weighed by its unshadowed "
                    "contribution; --vpls samples per pixel, one visibility query each."))
@@ -379,6 +386,13 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (given("--vpl-mode"))
     o.vpl_mode = parse_choice<vpl_mode_choice>("--vpl-mode", v.vpl_mode,
                                                {{"point", vpl_mode_choice::point}, {"patch", vpl_mode_choice::patch}});
+  if (given("--clamp-compensation")) {
+    o.clamp_compensation = parse_choice<clamp_compensation_choice>(
+        "--clamp-compensation", v.clamp_compensation,
+        {{"off", clamp_compensation_choice::off}, {"on", clamp_compensation_choice::on}});
+    if (*o.clamp_compensation == clamp_compensation_choice::on && o.back == backend::gpu)
+      bad("--clamp-compensation", "on needs --backend cpu (the GPU backend's estimate kernel does not have it yet)");
+  }
   if (given("--candidates"))
     o.candidates = static_cast<int>(parse_integer("--candidates", v.candidates, 1, limits::max_candidates));
   if (given("--candidate-source"))

@@ -64,6 +64,8 @@ struct options {
   visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
   lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)
+  // Absent: on with --backend cpu, off with gpu (whose estimate kernel does not have it yet).
+  std::optional<clamp_compensation_choice> clamp_compensation;
   int candidates = 32;            // --method ris: candidates per sample
   ris_source_choice candidate_source = ris_source_choice::flux;  // --method ris: where they come from
   int spatial = 0;                // --method ris: spatial-reuse neighbours (0 = off)

@@ -15,30 +15,30 @@ using sc = sweep_count;
 // clang-format off
 const std::vector<method_traits> k_methods = {
   //  id                         name                help
-  //  estimator         variant builder   vpls   dirs   gathers exact  swept  default sweep  gpu
+  //  estimator         variant builder   vpls   dirs   gathers exact  swept  default sweep  gpu  clamped
   {method::reference, "reference", "exhaustive VPL sum with visibility",
-   ek::reference,    0, bk::none,   true,  false, false, false, false, false, sc::vpls, true},
+   ek::reference,    0, bk::none,   true,  false, false, false, false, false, sc::vpls, true, true},
   {method::global, "global", "BRSM global CDF",
-   ek::vpl_sampling, 0, bk::global, true,  false, false, false, true,  true,  sc::vpls, true},
+   ek::vpl_sampling, 0, bk::global, true,  false, false, false, true,  true,  sc::vpls, true, true},
   {method::local, "local", "per-region CDFs (balance heuristic)",
-   ek::local,        0, bk::local,  true,  false, false, false, true,  true,  sc::vpls, true},
+   ek::local,        0, bk::local,  true,  false, false, false, true,  true,  sc::vpls, true, true},
   {method::gbg, "gbg", "gathering-based global CDF",
-   ek::vpl_sampling, 0, bk::gbg,    true,  true,  false, false, true,  true,  sc::vpls, true},
+   ek::vpl_sampling, 0, bk::gbg,    true,  true,  false, false, true,  true,  sc::vpls, true, true},
   {method::gather, "gather", "cosine gathering only",
-   ek::gather,       0, bk::none,   false, true,  true,  false, true,  true,  sc::dirs, true},
+   ek::gather,       0, bk::none,   false, true,  true,  false, true,  true,  sc::dirs, true, false},
   {method::mis, "mis", "gathering + GBG CDF with solid-angle balance heuristic",
-   ek::mis,          0, bk::gbg,    true,  true,  true,  false, true,  true,  sc::vpls_and_dirs, true},
+   ek::mis,          0, bk::gbg,    true,  true,  true,  false, true,  true,  sc::vpls_and_dirs, true, false},
   {method::mis_as_published, "mis-as-published", "the paper's mixed-measure MIS weights (biased, for comparison)",
-   ek::mis,          1, bk::gbg,    true,  true,  true,  false, true,  false, sc::vpls_and_dirs, true},
+   ek::mis,          1, bk::gbg,    true,  true,  true,  false, true,  false, sc::vpls_and_dirs, true, false},
   {method::exact, "exact",
    "ground truth: --dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
    "light at each hit with an exact shadow ray, no VPLs (Embree on the CPU backend, the GLSL pack's BVH on the GPU "
    "backend; the two agree per pixel up to ties at creases)",
-   ek::exact,        0, bk::none,   false, true,  false, true,  true,  false, sc::dirs, true},
+   ek::exact,        0, bk::none,   false, true,  false, true,  true,  false, sc::dirs, true, false},
   {method::ris, "ris",
    "resampled importance sampling: per sample --candidates VPLs from --candidate-source, one kept by their "
    "unshadowed contribution, one visibility query, optionally --spatial reuse (CPU backend only for now)",
-   ek::ris,          0, bk::candidate_source, true, false, false, false, true, false, sc::vpls, false},
+   ek::ris,          0, bk::candidate_source, true, false, false, false, true, false, sc::vpls, false, true},
 };
 // clang-format on
 

@@ -43,6 +43,7 @@ struct method_traits {
   bool swept_by_default;    // in speed_vs_error's default --methods
   sweep_count sweep;        // what the sweep's sample count sets
   bool gpu;                 // the GPU backend runs it (else run_estimator refuses --backend gpu)
+  bool clamped;             // divides a VPL's contribution by max(d^2, dmin^2): --clamp-compensation applies
 };
 
 // The table, in the order of the help text and of the window's keys.

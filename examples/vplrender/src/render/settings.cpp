@@ -37,6 +37,8 @@ const char* to_string(loop_budget_choice l) {
   }
   return "automatic";
 }
+
+const char* to_string(clamp_compensation_choice c) { return c == clamp_compensation_choice::on ? "on" : "off"; }
 const char* to_string(ris_source_choice r) {
   switch (r) {
     case ris_source_choice::local: return "local";
@@ -53,6 +55,19 @@ vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
 
 bool has_distribution(method m) { return traits(m).builder != builder_kind::none; }
 bool uses_vpls(method m) { return traits(m).uses_vpls; }
+
+bool method_has_clamp(method m) { return traits(m).clamped; }
+
+bool uses_clamp_compensation(const render_settings& s) {
+  return s.clamp_compensation == clamp_compensation_choice::on && s.dmin > 0.0f && method_has_clamp(s.meth);
+}
+
+int clamp_compensation_dirs(const render_settings& s) {
+  if (s.meth == method::reference) return reference_compensation_dirs;
+  const int k = clamp_compensation_vpls_per_dir;
+  return s.vpls > k ? (s.vpls + k - 1) / k : 1;
+}
+
 
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);

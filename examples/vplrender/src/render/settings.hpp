@@ -52,6 +52,11 @@ enum class vpl_mode_choice { point, patch };
 // always = on every driver (the split path, tested anywhere); never = one dispatch per stage on
 // every driver (on llvmpipe right only for work well below its budget: the tests compare the two).
 enum class loop_budget_choice { automatic, always, never };
+
+// Whether the VPL methods (reference, global, local, gbg, ris) add back what the distance clamp dmin
+// removes (vplkit::estimate_clamp_compensation, docs/math.md, "The clamp's compensation"): on = clamped estimate +
+// near-field gathering, converging to the unclamped integral; off = the clamped estimate alone.
+enum class clamp_compensation_choice { off, on };
 // Where --method ris draws its candidates: a builder's defensive mixture (global; local: the
 // pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent).
 enum class ris_source_choice { global, local, gbg, flux };
@@ -67,6 +72,8 @@ const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
 const char* to_string(loop_budget_choice l);
+
+const char* to_string(clamp_compensation_choice c);
 const char* to_string(ris_source_choice r);
 
 // The methods that sample a distribution over the VPLs (traits(m).builder is not none: global,
@@ -93,6 +100,7 @@ struct render_settings {
   visibility_choice visibility = visibility_choice::voxels;
   lit_test_choice lit_test = lit_test_choice::shadow_map;
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;
+  clamp_compensation_choice clamp_compensation = clamp_compensation_choice::off;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   float scene_diagonal = 0.0f;  // of the scene's box (world units): the gathering depth tolerance
   std::uint32_t seed = 1;
@@ -120,6 +128,21 @@ std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
 constexpr int reference_patch_strata = 1;
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v);
+
+// Does the method divide by the clamp max(d^2, dmin^2)? reference, global, local, gbg and ris
+// (its target and its shading use the clamped contribution); mis, gather and exact have no clamp.
+bool method_has_clamp(method m);
+
+// Is the clamp compensation added to this run's estimate? On, a clamp (dmin > 0), and a method
+// whose VPLs are clamped (method_has_clamp).
+bool uses_clamp_compensation(const render_settings& s);
+
+// Its directions per gather point: reference_compensation_dirs for the reference (a converged
+// estimand), else one per clamp_compensation_vpls_per_dir VPL samples, at least one
+// (docs/results/clamp_compensation.md measured the ratio).
+constexpr int reference_compensation_dirs = 256;
+constexpr int clamp_compensation_vpls_per_dir = 4;
+int clamp_compensation_dirs(const render_settings& s);
 
 // Depth tolerance of the gathering look-ups (gather, mis; GBG rays): the error of a hit's position,
 // to which dprsm_lookup adds its own slack (a fraction of the texel's footprint). voxels and

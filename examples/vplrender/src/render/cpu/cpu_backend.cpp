@@ -10,6 +10,7 @@
 #include "render/cpu/ris_render.hpp"
 #include "render/mixture_components.hpp"
 
+#include <vplkit/estimators/clamp_compensation.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
@@ -87,6 +88,25 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   det["cdf_search"] = to_string(s.cdf_search);
   const cpu_distributions built = build_distributions_cpu(b, s, timer, progress, det);
 
+  // Patch VPLs take the gathering look-up's depth window in every method, so that the VPL methods,
+  // gathering and MIS estimate one integral (docs/math.md section 11, "Rejections").
+  const vplkit::vpl_mode vmode = library_vpl_mode(s.vpl_mode);
+  // What the VPL clamp removed (docs/math.md, "The clamp's compensation"), from a stream of its own: the clamped
+  // estimate stays what it is without it.
+  const bool compensate = uses_clamp_compensation(s);
+  const int compensation_dirs = clamp_compensation_dirs(s);
+  if (compensate) det["clamp_compensation_dirs"] = compensation_dirs;
+
+  // The compensation of pixel p: its stream derives from the pixel's own (the key only), so the
+  // estimate before it keeps every sample it had.
+  const auto compensation = [&](const gather_point<float>& gp, int p) {
+    if (!compensate) return vec3f(0.0f);
+    vplkit::counter_rng compensation_rng =
+        vplkit::clamp_compensation_stream(vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p)));
+    return vplkit::estimate_clamp_compensation(gp, view, compensation_rng, compensation_dirs, tracer, s.dmin, depth_tol,
+                                               vmode);
+  };
+
   // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
   auto render_pixels = [&](auto&& est) {
     auto t = timer.scoped("estimate (cpu)");
@@ -97,7 +117,7 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         vec3f c(0.0f);
         if (vplkit::gather_point_valid(gp)) {
           vplkit::counter_rng rng = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
-          c = est(gp, rng);
+          c = est(gp, rng) + compensation(gp, p);
           if (s.direct) c += vplkit::direct_light(gp, view);
           c = vplkit::estimator_finite_or_zero(glm::max(c, vec3f(0.0f)));
         }
@@ -111,9 +131,6 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
 
   det["face_selection"] = to_string(s.face_selection);
   det["sampler"] = to_string(s.sampler);
-  // Patch VPLs take the gathering look-up's depth window in every method, so that the VPL methods,
-  // gathering and MIS estimate one integral (docs/math.md section 11, "Rejections").
-  const vplkit::vpl_mode vmode = library_vpl_mode(s.vpl_mode);
   if (mt.uses_vpls) det["vpl_mode"] = to_string(s.vpl_mode);
   if (mt.estimator == estimator_kind::reference && vmode == vplkit::vpl_mode::patch)
     det["reference_strata"] = reference_patch_strata;
@@ -161,7 +178,7 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         break;
       }
       case estimator_kind::ris:
-        render_ris_cpu(f, s, dists, static_cast<int>(built.dists.size()), visibility, depth_tol, vmode,
+        render_ris_cpu(f, s, dists, static_cast<int>(built.dists.size()), visibility, depth_tol, vmode, compensation,
                        result.image.rgb.data(), timer, progress, det);
         break;
       case estimator_kind::exact: {

@@ -14,6 +14,8 @@
 #include <vplkit/core/error.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 
+#include <limits>
+
 namespace vplrender {
 
 struct cpu_visibility {
@@ -37,16 +39,29 @@ struct cpu_tracer {
   vplkit::voxel_tracer<float> paper_voxels;
   const ray_scene* exact = nullptr;
   vplkit::ray_hit<float> operator()(vec3 x, vec3 n_x, vec3 dir) const {
+    return trace_within(x, n_x, dir, std::numeric_limits<float>::infinity());
+  }
+  // Is a surface other than x's own plane within reach (vplkit's surface_within protocol: the
+  // clamp compensation traces nothing where none is)? The triangle voxels list the same triangles
+  // as the exact rays see; the paper's voxel-entry points lie up to a voxel diagonal off their
+  // surfaces, so that kind cannot say.
+  bool surface_within(vec3 x, vec3 n_x, float reach, float plane_tolerance) const {
+    if (kind == visibility_choice::paper_voxels) return true;
+    return voxels.surface_within(x, n_x, reach, plane_tolerance);
+  }
+  // The first hit when it lies within reach of x (vplkit's trace_within protocol: the clamp
+  // compensation's short rays); every kind stops its ray about there.
+  vplkit::ray_hit<float> trace_within(vec3 x, vec3 n_x, vec3 dir, float reach) const {
     switch (kind) {
       case visibility_choice::exact: {
-        vplkit::ray_hit<float> h = exact->trace(x, n_x, dir);
+        vplkit::ray_hit<float> h = exact->trace(x, n_x, dir, reach);
         if (!shading_normals) h.shading_normal = vec3(0.0f);
         return h;
       }
-      case visibility_choice::paper_voxels: return paper_voxels(x, n_x, dir);
+      case visibility_choice::paper_voxels: return paper_voxels.trace_within(x, n_x, dir, reach);
       case visibility_choice::voxels: break;
     }
-    return voxels(x, n_x, dir);
+    return voxels.trace_within(x, n_x, dir, reach);
   }
   // Gathering's lit test (vplkit/visibility/light_visibility.hpp): a shadow ray through Embree
   // (lit_test_choice::shadow_ray, exact visibility only), else the DPRSM's shadow map.

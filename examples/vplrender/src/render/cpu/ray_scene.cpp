@@ -132,10 +132,12 @@ bool ray_scene::visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) const {
   return !occluded(o, p - o, 1.0f);
 }
 
-vplkit::ray_hit<float> ray_scene::trace(vec3 x, vec3 n_x, vec3 dir) const {
+vplkit::ray_hit<float> ray_scene::trace(vec3 x, vec3 n_x, vec3 dir, float reach) const {
   vplkit::ray_hit<float> r;
-  if (!finite3(x) || !finite3(dir)) return r;
-  const hit h = intersect(vplkit::bvh_offset_point(x, n_x, offset_), dir);
+  if (!finite3(x) || !finite3(dir) || !(reach >= 0.0f)) return r;
+  // A hit within reach of x lies within reach + offset of the moved origin (t in units of |dir|).
+  const float t_max = std::isinf(reach) ? reach : (reach + offset_) / std::sqrt(glm::dot(dir, dir));
+  const hit h = intersect(vplkit::bvh_offset_point(x, n_x, offset_), dir, t_max);
   r.hit = h.hit;
   if (h.hit) {
     r.position = h.position;

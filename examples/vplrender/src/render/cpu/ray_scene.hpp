@@ -50,8 +50,9 @@ class ray_scene {
   // visible? Non-finite x or y: no.
   bool visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y) const;
   // vplkit::bvh_trace's contract: the first hit of the ray leaving surface x (normal n_x) along dir,
-  // with the triangle's geometric normal and the interpolated shading normal there.
-  vplkit::ray_hit<float> trace(vec3 x, vec3 n_x, vec3 dir) const;
+  // with the triangle's geometric normal and the interpolated shading normal there. A finite reach
+  // (world distance from x) stops the ray beyond it: every hit within reach of x still comes back.
+  vplkit::ray_hit<float> trace(vec3 x, vec3 n_x, vec3 dir, float reach = std::numeric_limits<float>::infinity()) const;
 
   // The shading normal at a hit (corner normals interpolated, unit) and the albedo there (the
   // material's Kd or its texture at the interpolated uv, as the rasteriser shades it).

@@ -40,10 +40,14 @@ inline vplkit::ris_spatial_settings<float> ris_spatial_settings_for(int width, i
 }
 
 // Renders --method ris into `image` (pixels row-major, background left 0): `dists` the candidate
-// source's distributions (one, or one per region of s.regions_x x s.regions_y for local).
-template <class Dist, class Visibility>
+// source's distributions (one, or one per region of s.regions_x x s.regions_y for local);
+// `compensation(gp, p)` what the clamp removed at pixel p (vec3 0 when off; docs/math.md, "The
+// clamp's compensation"): RIS's target and shading use the clamped contribution, so its estimand is
+// the clamped VPL sum as for the other VPL methods.
+template <class Dist, class Visibility, class Compensation>
 void render_ris_cpu(const cpu_frame& f, const render_settings& s, const Dist* dists, int n_dists,
-                    const Visibility& visibility, float depth_tol, vplkit::vpl_mode vmode, float* image,
+                    const Visibility& visibility, float depth_tol, vplkit::vpl_mode vmode,
+                    const Compensation& compensation, float* image,
                     stage_timer& timer, const progress_fn& progress, nlohmann::json& det) {
   const vplkit::gbuffer_view<float>& g = f.g;
   const vplkit::dprsm_view<float>& view = f.view;
@@ -60,7 +64,9 @@ void render_ris_cpu(const cpu_frame& f, const render_settings& s, const Dist* di
                        {"max_plane_slope", spatial.max_plane_slope}, {"mis", "pairwise"}});
   // The pixel's value as every method finishes it (render_cpu's render_pixels).
   const auto finish = [&](int p, vplkit::vec3<float> c) {
-    if (s.direct) c += vplkit::direct_light(g.at(p), view);
+    const vplkit::gather_point<float> gp = g.at(p);
+    c += compensation(gp, p);
+    if (s.direct) c += vplkit::direct_light(gp, view);
     c = vplkit::estimator_finite_or_zero(glm::max(c, vplkit::vec3<float>(0.0f)));
     for (int k = 0; k < 3; ++k) image[3 * std::size_t(p) + std::size_t(k)] = c[k];
   };
@@ -109,8 +115,10 @@ void render_ris_cpu(const cpu_frame& f, const render_settings& s, const Dist* di
     });
   }
   if (progress) progress("render", static_cast<std::uint64_t>(N), static_cast<std::uint64_t>(N));
-  for (int p = 0; p < n_pixels; ++p)
-    if (vplkit::gather_point_valid(g.at(p))) finish(p, sum[std::size_t(p)] / float(N));
+  parallel_items(H, f.threads, "", {}, [&](int y, int) {
+    for (int p = y * W; p < (y + 1) * W; ++p)
+      if (vplkit::gather_point_valid(g.at(p))) finish(p, sum[std::size_t(p)] / float(N));
+  });
 }
 
 }  // namespace vplrender

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+// vplkit GLSL pack: is another surface near a point? Mirrors
+// include/vplkit/visibility/triangle_voxel_near.hpp (T = float): conservative, false only when every
+// triangle listed by the voxels around x within reach lies in a plane through x (within
+// plane_tolerance) or farther than reach; true also when the box is wider than
+// vplkit_voxel_near_max_side voxels or x, reach are not finite. The clamp compensation asks it
+// before tracing (estimators/clamp_compensation.glsl). ACCESSORS: those of triangle_voxel_grid.glsl.
+// The plane distances are `precise` and in the C++ order (vplkit_voxel_dot: glm::dot's).
+#ifndef VPLKIT_VISIBILITY_TRIANGLE_VOXEL_NEAR_GLSL
+#define VPLKIT_VISIBILITY_TRIANGLE_VOXEL_NEAR_GLSL
+
+#include "vplkit/visibility/triangle_voxel_grid.glsl"
+#include "vplkit/visibility/voxel_grid.glsl"
+
+const int vplkit_voxel_near_max_side = 8;
+
+bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float reach, float plane_tolerance) {
+  if (!vplkit_voxel_vec3_finite(x) || !(reach >= 0.0) || !(reach <= 3.4028234663852886e38) ||
+      !(plane_tolerance >= 0.0))
+    return true;
+  float slack = 1e-3;
+  precise vec3 c = vplkit_world_to_voxel_coord(g, x);
+  precise vec3 r = reach / vplkit_voxel_size(g);
+  precise vec3 lo = c - r - vec3(slack);
+  precise vec3 hi = c + r + vec3(slack);
+  ivec3 a = ivec3(vplkit_voxel_floor_to_int(lo.x), vplkit_voxel_floor_to_int(lo.y), vplkit_voxel_floor_to_int(lo.z));
+  ivec3 b = ivec3(vplkit_voxel_floor_to_int(hi.x), vplkit_voxel_floor_to_int(hi.y), vplkit_voxel_floor_to_int(hi.z));
+  if (b.x - a.x >= vplkit_voxel_near_max_side || b.y - a.y >= vplkit_voxel_near_max_side ||
+      b.z - a.z >= vplkit_voxel_near_max_side)
+    return true;
+  for (int z = a.z; z <= b.z; ++z)
+    for (int y = a.y; y <= b.y; ++y)
+      for (int xi = a.x; xi <= b.x; ++xi) {
+        int o = vplkit_voxel_occupied_index(g, ivec3(xi, y, z));
+        if (o < 0) continue;
+        uint end = vplkit_load_voxel_offset(uint(o) + 1u);
+        for (uint e = vplkit_load_voxel_offset(uint(o)); e < end; ++e) {
+          vec4 plane = vplkit_load_voxel_triangle(4u * vplkit_load_voxel_entry(e));
+          precise float s = abs(vplkit_voxel_dot(plane.xyz, x) - plane.w);
+          if (s > plane_tolerance && s <= reach) return true;
+        }
+      }
+  return false;
+}
+
+#endif  // VPLKIT_VISIBILITY_TRIANGLE_VOXEL_NEAR_GLSL
