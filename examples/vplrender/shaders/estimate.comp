@@ -29,7 +29,7 @@
 // what V(x, y) and the gathering rays are decided against. 0: the paper's binary voxel test on the
 // occupancy words (binding 2). 1: exact, the scene's BVH (bindings 8 and 9, u_bvh_node_count)
 // through the pack's user visibility and tracer hooks. 2 (the default): the triangles the voxel
-// grid lists (the words at binding 2, rank, offsets, entries and triangles at 10-13; no
+// grid lists (the words at binding 2, rank, offsets, entries and triangles at 10-13, bricks at 14; no
 // self-occlusion at the ends or at junctions, docs/math.md section 7.2). This block is the only
 // place the kernel chooses; vr_make_visibility and vr_make_tracer are what main() uses. The
 // includes stay outside the #if: the include resolver inlines each file once wherever it first
@@ -45,6 +45,7 @@
 #define VPLKIT_USER_TRACER
 #elif VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
 #define VPLKIT_TRIANGLE_VOXELS
+#define VPLKIT_VOXEL_BRICKS
 #endif
 #include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
@@ -106,6 +107,9 @@ uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index];
 uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
 uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
 vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+// The brick level the marches skip empty space with (voxel_bricks.glsl).
+layout(std430, binding = 14) readonly buffer VrVoxelBricks { uint vr_voxel_bricks[]; };
+uint vplkit_load_voxel_brick_word(uint word_index) { return vr_voxel_bricks[word_index]; }
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_visibility(grid); }
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_tracer(grid); }
 #elif VR_VISIBILITY == VR_VISIBILITY_PAPER_VOXELS

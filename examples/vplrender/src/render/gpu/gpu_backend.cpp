@@ -266,7 +266,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   b_out.bind(6);
   b_components.bind(7);
   glUniform1ui(prog.uniform_location("u_bvh_node_count"),
-               bind_visibility_buffers(scene, vis, visibility_bindings{8, 9, 10, 11, 12, 13}));
+               bind_visibility_buffers(scene, vis, visibility_bindings{8, 9, 10, 11, 12, 13, 14}));
   if (kind != k_exact && vis == visibility_choice::exact) {
     // estimate.comp's exact tracer gives its hits' shading normals (ray_scene.glsl): the corner
     // normals at binding 10, as exact.comp reads them.
