@@ -7,7 +7,7 @@
 // counters are the two estimates' smallest times over the run and
 //   voxels_over_exact = min(voxel estimate) / min(exact estimate),
 // the ratio the voxel march has to keep at or below 1 to earn its place beside the BVH (docs/
-// results.md, "Visibility on the GPU"). The smallest time is the least disturbed by other work on
+// results/visibility_gpu.md). The smallest time is the least disturbed by other work on
 // a shared machine; run with --benchmark_min_time=20 (or more) for a stable ratio.
 // Scenes: cornell and open (built in); Sponza when VPLKIT_BENCH_SPONZA names its OBJ file (the
 // camera and light of docs/results.md). Each kernel variant runs once before timing (llvmpipe
