@@ -53,9 +53,10 @@ Usage: speed_vs_error [options] [vplrender scene options]
 
 Sweep options:
   --methods LIST     comma-separated methods (default global,local,gbg,gather,mis);
-                     any of global local gbg gather mis mis-as-published exact
+                     any of global local gbg gather mis mis-as-published exact ris
+                     (ris: --backend cpu only for now)
   --samples LIST     comma-separated sample counts (default 1,4,16,64). A count n means:
-                     global/local/gbg: --vpls n; gather, exact: --dirs n; mis and
+                     global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis and
                      mis-as-published: --vpls n and --dirs n
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
   --ref-dirs N       directions of the converged-gathering reference (default 4096)
@@ -81,7 +82,7 @@ Sweep options:
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
-  --paper --direct.
+  --candidates --candidate-source --spatial (ris) --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
@@ -130,7 +131,7 @@ long long to_int(const std::string& flag, const std::string& t, long long lo, lo
 
 method parse_method(const std::string& t) {
   for (method m : {method::global, method::local, method::gbg, method::gather, method::mis, method::mis_as_published,
-                   method::exact})
+                   method::exact, method::ris})
     if (t == to_string(m)) return m;
   if (t == "reference") bad("--methods: 'reference' is the reference (always computed), not a swept method");
   bad("--methods: unknown method '" + t + "'");
@@ -207,6 +208,8 @@ bool parse(const std::vector<std::string>& args, sweep_options& so) {
   if (r.what == parse_result::action::help) return false;
   so.base = r.opts;
   so.base.progress = progress_mode::never;
+  if (so.base.back == backend::gpu && std::find(so.methods.begin(), so.methods.end(), method::ris) != so.methods.end())
+    bad("--methods ris: runs on --backend cpu only for now (its GPU kernels are not written yet)");
   return true;
 }
 
@@ -680,6 +683,9 @@ int main(int argc, char** argv) {
        << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
        << ". Visibility `" << to_string(base.visibility) << "`, lit test `" << to_string(base.lit_test)
        << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
+    if (std::find(so.methods.begin(), so.methods.end(), method::ris) != so.methods.end())
+      md << ", ris: " << base.candidates << " candidates per sample from `" << to_string(base.candidate_source)
+         << "`, spatial reuse " << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
     md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
        << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
        << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");

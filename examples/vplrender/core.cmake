@@ -77,7 +77,10 @@ add_library(vplrender_core STATIC
   ${_vr}/render/cpu/cpu_builders.cpp
   ${_vr}/render/cpu/exact_estimator.cpp
   ${_vr}/render/cpu/ray_scene.cpp
+  ${_vr}/render/frame_buffers.cpp
+  ${_vr}/render/light_path.cpp
   ${_vr}/render/light_range.cpp
+  ${_vr}/render/lighting_facts.cpp
   ${_vr}/render/running_stage.cpp
   ${_vr}/render/settings.cpp
   ${_vr}/scene/builtin_scenes.cpp
@@ -114,6 +117,7 @@ if(TARGET vplkit_headless_gl)
     ${_vr}/render/gpu/gpu_backend.cpp
     ${_vr}/render/gpu/gpu_builders.cpp
     ${_vr}/render/gpu/gpu_cdf.cpp
+    ${_vr}/render/frames.cpp
     ${_vr}/render/pipeline.cpp)
   target_link_libraries(vplrender_pipeline PUBLIC vplrender_core vplkit::headless_gl PRIVATE vplkit_project_options)
   # The estimator kernel is read at run time from the source tree (like the pack's kernels).

@@ -10,7 +10,8 @@
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/gather_point.hpp>
 
-// distribution: discrete CDF (inverse transform), alias table, defensive mixing, face roulette
+// distribution: discrete CDF (inverse transform), alias table, defensive mixing, face roulette,
+// weighted reservoir
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
@@ -18,6 +19,7 @@
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/face_roulette.hpp>
 #include <vplkit/distribution/flat_face_roulette.hpp>
+#include <vplkit/distribution/weighted_reservoir.hpp>
 
 // paraboloid: dual paraboloid mapping, texel grid, texel solid angle
 #include <vplkit/paraboloid/paraboloid.hpp>
@@ -64,17 +66,22 @@
 #include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/direct_light.hpp>
 
-// builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
+// builders: per-texel weights (global, local, gathering-based, flux), then the distribution over VPLs
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_weights.hpp>
 #include <vplkit/builders/local_weights.hpp>
 #include <vplkit/builders/gbg_weights.hpp>
+#include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/vpl_distribution.hpp>
 
-// estimators: per-gather-point estimators and the exhaustive VPL sum
+// estimators: per-gather-point estimators and the exhaustive VPL sum; resampled (RIS) selection and
+// its spatial reuse
 #include <vplkit/estimators/estimator_state.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/local_estimator.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/ris_reservoir.hpp>
+#include <vplkit/estimators/ris_estimator.hpp>
+#include <vplkit/estimators/ris_spatial_reuse.hpp>

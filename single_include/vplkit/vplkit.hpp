@@ -210,7 +210,8 @@ inline vec3<T> ray_hit_shading_normal(const ray_hit<T>& h, vec3<T> n_g) {
 }  // namespace vplkit
 // ---- end vplkit/core/gather_point.hpp ----
 
-// distribution: discrete CDF (inverse transform), alias table, defensive mixing, face roulette
+// distribution: discrete CDF (inverse transform), alias table, defensive mixing, face roulette,
+// weighted reservoir
 // ---- begin vplkit/distribution/discrete_sample.hpp ----
 // What a discrete sampler returns: the chosen index and the probability of choosing it. The pmf is
 // the value the estimator divides by, so every sampler returns exactly what its pmf(index) would
@@ -1168,6 +1169,76 @@ private:
 
 }  // namespace vplkit
 // ---- end vplkit/distribution/flat_face_roulette.hpp ----
+// ---- begin vplkit/distribution/weighted_reservoir.hpp ----
+// Streaming weighted reservoir sampling, keep one (Chao 1982; the selection step of resampled
+// importance sampling, Talbot et al. 2005, and of ReSTIR, Bitterli et al. 2020). Items arrive one
+// at a time with weights w_i >= 0; after any prefix of the stream the kept item is item i with
+// probability exactly
+//     P(kept = i) = w_i / sum_j w_j                                   (docs/math.md section 13)
+// with O(1) memory: the running sum and the kept item. Item i replaces the kept one when
+// u_i * S_i < w_i, S_i = w_1 + ... + w_i, u_i uniform in [0, 1): probability w_i / S_i, and
+// induction over the stream gives the closed form above (tests/statistical/ris_reservoir_test.cpp
+// checks it by chi-square, one kept item and k kept items).
+//
+// Keep k (with replacement): feed the same items to k reservoirs, each with its own u. Each one
+// keeps item i with probability w_i / sum w, independently of the others (the pairs are checked
+// against the product distribution).
+//
+// Weights that are negative, NaN or infinite, and a weight that would carry the sum past the
+// largest finite T, are ignored (as weight 0: the reservoir and its sum are unchanged), so the
+// sum and every probability stay finite. The decision multiplies (u * S < w) instead of dividing:
+// IEEE and GLSL 4.x round a product correctly, so the GPU mirror
+// (glsl/vplkit/distribution/weighted_reservoir.glsl) decides alike on the same bits.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+// The index of a reservoir that has kept nothing (no item with a weight > 0 seen yet).
+inline constexpr std::uint32_t reservoir_empty = 0xffffffffu;
+
+template <class T>
+struct weighted_reservoir {
+  std::uint32_t index = reservoir_empty;  // the kept item, or reservoir_empty
+  T weight_sum = T(0);                    // sum of the valid weights seen so far
+  T weight = T(0);                        // the kept item's weight (0 while empty)
+};
+
+// True for a weight the reservoir takes into account: finite and > 0 (0 is valid but never kept).
+template <class T>
+inline bool reservoir_weight_usable(T w) noexcept {
+  return w > T(0) && w <= std::numeric_limits<T>::max();  // NaN fails both
+}
+
+template <class T>
+inline bool reservoir_empty_of(const weighted_reservoir<T>& r) noexcept {
+  return r.index == reservoir_empty;
+}
+
+// Offers item `index` with weight w and the uniform number u in [0, 1) (any other u is clamped
+// into it: NaN and negative to 0, >= 1 to just below 1). Returns true when the item is kept (it
+// replaced the previous one). A weight that is not usable, or whose addition would overflow the
+// sum, leaves the reservoir unchanged and returns false.
+template <class T>
+inline bool reservoir_update(weighted_reservoir<T>& r, std::uint32_t index, T w, T u) noexcept {
+  if (!reservoir_weight_usable(w)) return false;
+  const T sum = r.weight_sum + w;
+  if (!(sum <= std::numeric_limits<T>::max())) return false;
+  r.weight_sum = sum;
+  const T uc = !(u >= T(0)) ? T(0) : (u < T(1) ? u : T(1) - std::numeric_limits<T>::epsilon() / T(2));
+  // u * sum < w: probability w / sum for u uniform; the first usable item is always kept
+  // (u * w < w for u < 1; u = 0 too).
+  if (uc * sum < w || reservoir_empty_of(r)) {
+    r.index = index;
+    r.weight = w;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/distribution/weighted_reservoir.hpp ----
 
 // paraboloid: dual paraboloid mapping, texel grid, texel solid angle
 // ---- begin vplkit/paraboloid/paraboloid.hpp ----
@@ -2066,6 +2137,9 @@ inline void voxelize(voxel_grid<T>& grid, const vec3<T>* positions, std::size_t 
                      double margin_voxels = voxelize_default_margin) {
   validate_triangle_mesh(positions, vertex_count, indices, index_count, "voxelize");
   detail::check_voxelize_margin(margin_voxels, "voxelize");
+  // Unreachable after the validation (it throws on null arrays), but GCC's -O3 array-bounds
+  // analysis cannot see that through it and warns at a call with a literal nullptr.
+  if (positions == nullptr || indices == nullptr) return;
   const vec3<double> bmin(grid.bounds_min());
   const ivec3 res = grid.resolution();
   const vec3<double> size = (vec3<double>(grid.bounds_max()) - bmin) / vec3<double>(res);
@@ -4998,7 +5072,7 @@ inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view
 }  // namespace vplkit
 // ---- end vplkit/vpl/direct_light.hpp ----
 
-// builders: per-texel weights (global, local, gathering-based), then the distribution over VPLs
+// builders: per-texel weights (global, local, gathering-based, flux), then the distribution over VPLs
 // ---- begin vplkit/builders/gather_subset.hpp ----
 // Stratified (jittered-grid) choice of gather pixels inside a rectangle of the image: the subset S
 // of the global CDF (Ritschel et al. 2011) and the S_i of the local CDF (docs/math.md section 4).
@@ -5704,6 +5778,45 @@ inline std::vector<T> build_gbg_weights(const gbuffer_view<T>& gbuffer, const dp
 
 }  // namespace vplkit
 // ---- end vplkit/builders/gbg_weights.hpp ----
+// ---- begin vplkit/builders/flux_weights.hpp ----
+// Flux weights: every texel weighted by the luminance of its VPL's flux,
+//     w_t = luminance(Phi_t),   Phi_t = rho_t I_s Omega_t (vpl_at, docs/math.md section 2),
+// the light-power sampling of many-light renderers (RTXDI's local-light PDF samples lights by their
+// power). It knows nothing of the view: the baseline candidate source of the resampled estimator
+// (estimators/ris_estimator.hpp) against which the view-dependent CDFs (global, local, gbg) are
+// measured. Feed the weights to make_vpl_distribution (builders/vpl_distribution.hpp) like any
+// builder's.
+//
+// Every texel that carries a VPL has w_t > 0 (the luminance coefficients are positive and a VPL has
+// a positive channel), so the flux CDF alone already covers every VPL that can contribute; a texel
+// without one gets exactly 0.
+
+#include <cstddef>
+#include <vector>
+
+namespace vplkit {
+
+// w_t for one texel (0 where the texel carries no VPL): the per-invocation function of a GPU
+// pass; never throws.
+template <class T>
+inline T flux_weight_texel(const dprsm_view<T>& view, int texel) {
+  const vpl<T> v = view.vpl_at(texel);
+  if (!vpl_has_flux(v)) return T(0);
+  const T w = luminance(v.flux);
+  return w > T(0) ? w : T(0);  // written so that NaN gives 0
+}
+
+// The 2 R^2 flux weights of a DPRSM (throws invalid_input for a bad view).
+template <class T>
+inline std::vector<T> build_flux_weights(const dprsm_view<T>& view) {
+  view.validate();
+  std::vector<T> w(std::size_t(view.texel_count()), T(0));
+  for (int t = 0; t < view.texel_count(); ++t) w[std::size_t(t)] = flux_weight_texel(view, t);
+  return w;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/builders/flux_weights.hpp ----
 // ---- begin vplkit/builders/vpl_distribution.hpp ----
 // From builder weights to the distribution the estimators sample (docs/math.md section 3):
 //     p(t) = (1 - eps) w_t / sum w  +  eps / |F|    for t in F, the texels carrying a VPL,
@@ -5832,7 +5945,8 @@ inline std::vector<defensive_mixture<T>> make_local_vpl_distributions(
 }  // namespace vplkit
 // ---- end vplkit/builders/vpl_distribution.hpp ----
 
-// estimators: per-gather-point estimators and the exhaustive VPL sum
+// estimators: per-gather-point estimators and the exhaustive VPL sum; resampled (RIS) selection and
+// its spatial reuse
 // ---- begin vplkit/estimators/estimator_state.hpp ----
 // What a per-pixel estimate carries from one range of its samples to the next: the running sum
 // and the random-number stream. Every estimator comes in three parts (docs/api/estimators.md,
@@ -6611,4 +6725,466 @@ inline vec3<T> estimate_mis(const gather_point<T>& gp, const dprsm_view<T>& view
 
 }  // namespace vplkit
 // ---- end vplkit/estimators/mis_estimator.hpp ----
+// ---- begin vplkit/estimators/ris_reservoir.hpp ----
+// What the resampled estimators keep (docs/math.md section 13): a sample (a texel and its patch
+// jitter) and a reservoir holding one with its weights. Plain types with no behaviour beyond their
+// accessors, so a buffer record (glsl/vplkit/estimators/ris_params.h) converts to and from them and
+// a shader that only moves reservoirs needs none of the estimators' accessors.
+
+#include <limits>
+
+namespace vplkit {
+
+// A texel and, for vpl_mode::patch, the jitter of its point (dprsm_patch_vpl); texel -1: none.
+template <class T>
+struct ris_sample {
+  int texel = -1;
+  vec2<T> xi{T(0)};
+};
+
+template <class T>
+inline bool ris_same_sample(const ris_sample<T>& a, const ris_sample<T>& b) {
+  return a.texel == b.texel && a.xi.x == b.xi.x && a.xi.y == b.xi.y;
+}
+
+// What a gather point keeps of its candidates (or, after spatial reuse, of its and its
+// neighbours' reservoirs). W = weight_sum / target is the kept sample's unbiased contribution
+// weight: E[f(y) W] = the integral of f over {p_hat > 0} for every f.
+template <class T>
+struct ris_reservoir {
+  ris_sample<T> kept{};    // the kept sample y (texel -1: none)
+  T weight_sum = T(0);     // (1/M) sum of p_hat / p over the candidates; after reuse sum_i m_i p_hat W_i
+  T target = T(0);         // p_hat of the kept sample at the owner's gather point
+  T confidence = T(0);     // M: the candidates behind the reservoir (summed over a reuse's inputs)
+};
+
+template <class T>
+inline bool ris_reservoir_has_sample(const ris_reservoir<T>& r) {
+  return r.kept.texel >= 0 && r.target > T(0) && r.weight_sum > T(0);
+}
+
+// W = weight_sum / target, 0 for a reservoir without a sample (and where the quotient overflows).
+template <class T>
+inline T ris_contribution_weight(const ris_reservoir<T>& r) {
+  if (!ris_reservoir_has_sample(r)) return T(0);
+  const T w = r.weight_sum / r.target;
+  return w <= std::numeric_limits<T>::max() ? w : T(0);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/ris_reservoir.hpp ----
+// ---- begin vplkit/estimators/ris_estimator.hpp ----
+// Resampled importance sampling of VPLs (Talbot et al. 2005; docs/math.md section 13). Per
+// gather point x:
+//   1. draw M candidates x_1..x_M from a distribution p over the texels (any distribution the
+//      estimators take: a builder's defensive mixture, a region's CDF, the flux CDF of
+//      builders/flux_weights.hpp), with vpl_mode::patch each with its jitter xi;
+//   2. weigh each by w_i = p_hat(x_i) / p(x_i), where the target p_hat is the luminance of the
+//      unshadowed contribution at x (ris_target: vpl_contribution, no visibility);
+//   3. keep one with a streaming weighted reservoir (distribution/weighted_reservoir.hpp):
+//      y = x_i with probability w_i / sum_j w_j;
+//   4. test visibility for y only, and return
+//          f(y) W,   W = (1 / p_hat(y)) (1/M) sum_i w_i,   f(y) = L_y(x) V(x, y).
+// E[f(y) W] is the VPL sum (point) or the patch integral (patch) wherever p(t) > 0 for every t
+// with p_hat > 0 (a defensive mixture, the flux CDF), and p_hat > 0 wherever f is: the estimand of
+// estimate_vpl_sampling, for one visibility query per sample instead of one per candidate. The
+// candidates cost a distribution draw and one unshadowed contribution each.
+//
+// Samples and reservoirs. A sample is a texel and its jitter (ris_sample); a reservoir keeps one
+// with the generalized-RIS normalisation (Lin et al. 2022): weight_sum = (1/M) sum w_i, the kept
+// sample's target, and its confidence M, so that W = weight_sum / target; spatial reuse
+// (ris_spatial_reuse.hpp) combines reservoirs of this form. glsl/vplkit/estimators/ris_params.h
+// stores one in a 32-byte record for a buffer.
+//
+// Random numbers, per candidate (the GLSL mirror follows them): u for distribution.sample(u);
+// with vpl_mode::patch u0 then u1, the jitter; then one u per kept reservoir (the selection). All of
+// them always, also when the draw is empty, so the layout does not depend on the scene: a round of
+// estimate_ris takes M (2 or 4) numbers. An invalid gather point, M <= 0 or k <= 0 consumes none.
+//
+// Keep k: ris_resample_candidates fills k reservoirs from the same candidates (k selections with
+// replacement, each its own u); ris_shade_kept averages their k values and tests visibility once
+// per distinct sample. Each value is unbiased, so their mean is.
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+// The most reservoirs ris_resample_candidates fills from one set of candidates (the GLSL mirror's
+// VPLKIT_RIS_MAX_KEPT: a shader keeps them in a fixed array).
+inline constexpr int ris_max_kept = 8;
+
+// The VPL a sample stands for: the texel's (point) or its jittered patch point (patch, with the
+// patch's depth window); zero flux for a texel outside the view or a rejected patch point.
+template <class T>
+inline vpl<T> ris_sample_vpl(const dprsm_view<T>& view, const ris_sample<T>& s, vpl_mode mode, T depth_tolerance) {
+  if (s.texel < 0 || s.texel >= view.texel_count()) return vpl<T>{vec3<T>(T(0)), vec3<T>(T(0)), vec3<T>(T(0))};
+  if (mode == vpl_mode::patch) return dprsm_patch_vpl(view, s.texel, s.xi, depth_tolerance).point;
+  return view.vpl_at(s.texel);
+}
+
+// The target function p_hat: the luminance of the VPL's unshadowed contribution at gp (no
+// visibility); 0 where it is not a usable weight (0, negative, NaN, infinite).
+template <class T>
+inline T ris_target(const gather_point<T>& gp, const vpl<T>& v, T dmin) {
+  const T p = luminance(vpl_contribution(gp, v, dmin));
+  return reservoir_weight_usable(p) ? p : T(0);
+}
+
+// One candidate: draws u (and with vpl_mode::patch u0, u1), sets its sample s and target, and
+// returns its weight p_hat / p: 0 where the draw is empty (pmf 0), its index lies outside the view
+// or its target is 0; an overflow (a pmf so small that the draw has negligible probability) is not
+// a usable weight, and the reservoir skips it.
+template <class T, class Distribution>
+inline T ris_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                       counter_rng& rng, T dmin, vpl_mode mode, T depth_tolerance, ris_sample<T>& s, T& target) {
+  s = ris_sample<T>{};
+  target = T(0);
+  const T u = rng_next_unit<T>(rng);
+  if (mode == vpl_mode::patch) {
+    s.xi.x = rng_next_unit<T>(rng);
+    s.xi.y = rng_next_unit<T>(rng);
+  }
+  const auto d = distribution.sample(u);
+  const T pmf = T(d.pmf);
+  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
+  s.texel = int(d.index);
+  target = ris_target(gp, ris_sample_vpl(view, s, mode, depth_tolerance), dmin);
+  return target / pmf;
+}
+
+// Draws n_candidates candidates from `distribution` and keeps one in each of reservoirs[0 .. n_kept)
+// (n_kept clamped to ris_max_kept). Every reservoir gets confidence M = n_candidates and the same
+// weight_sum. Random numbers: see the header.
+template <class T, class Distribution>
+inline void ris_resample_candidates(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                    const Distribution& distribution, counter_rng& rng, int n_candidates,
+                                    ris_reservoir<T>* reservoirs, int n_kept, T dmin,
+                                    vpl_mode mode = vpl_mode::point,
+                                    T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  const int k = n_kept < ris_max_kept ? n_kept : ris_max_kept;
+  for (int j = 0; j < k; ++j) reservoirs[j] = ris_reservoir<T>{};
+  if (!gather_point_valid(gp) || n_candidates <= 0 || k <= 0) return;
+  weighted_reservoir<T> res[ris_max_kept];
+  for (int i = 0; i < n_candidates; ++i) {
+    ris_sample<T> s;
+    T target;
+    const T w = ris_candidate(gp, view, distribution, rng, dmin, mode, depth_tolerance, s, target);
+    for (int j = 0; j < k; ++j)
+      if (reservoir_update(res[j], std::uint32_t(i), w, rng_next_unit<T>(rng))) {
+        reservoirs[j].kept = s;
+        reservoirs[j].target = target;
+      }
+  }
+  const T m = T(n_candidates);
+  for (int j = 0; j < k; ++j) {
+    reservoirs[j].confidence = m;
+    if (!reservoir_empty_of(res[j])) reservoirs[j].weight_sum = res[j].weight_sum / m;
+  }
+}
+
+// One reservoir from n_candidates candidates (ris_resample_candidates with k = 1).
+template <class T, class Distribution>
+inline ris_reservoir<T> ris_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                     const Distribution& distribution, counter_rng& rng, int n_candidates, T dmin,
+                                     vpl_mode mode = vpl_mode::point,
+                                     T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  ris_reservoir<T> r;
+  ris_resample_candidates(gp, view, distribution, rng, n_candidates, &r, 1, dmin, mode, depth_tolerance);
+  return r;
+}
+
+// f(y) W for the reservoir's sample y at gp: the unshadowed contribution times V(x, y) (queried
+// only when the contribution is non-zero), times W = weight_sum / target. The reservoir's target
+// must be p_hat(y) at this gp (a reservoir of gp's candidates, or the output of a reuse at gp).
+// 0 for an invalid gather point or a reservoir without a sample; never NaN or Inf.
+template <class T, class Visibility>
+inline vec3<T> ris_shade(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_reservoir<T>& r,
+                         const Visibility& visibility, T dmin, vpl_mode mode = vpl_mode::point,
+                         T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  if (!gather_point_valid(gp) || !ris_reservoir_has_sample(r)) return vec3<T>(T(0));
+  const vpl<T> v = ris_sample_vpl(view, r.kept, mode, depth_tolerance);
+  const vec3<T> c = vpl_contribution(gp, v, dmin);
+  if (!(c.x > T(0) || c.y > T(0) || c.z > T(0))) return vec3<T>(T(0));
+  if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
+  return estimator_finite_or_zero(c * (r.weight_sum / r.target));
+}
+
+// The mean of ris_shade over reservoirs[0 .. n_kept): a sample kept by several reservoirs is shaded
+// (and its visibility queried) once. 0 for n_kept <= 0.
+template <class T, class Visibility>
+inline vec3<T> ris_shade_kept(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_reservoir<T>* reservoirs,
+                              int n_kept, const Visibility& visibility, T dmin, vpl_mode mode = vpl_mode::point,
+                              T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  const int k = n_kept < ris_max_kept ? n_kept : ris_max_kept;
+  if (k <= 0) return vec3<T>(T(0));
+  vec3<T> value[ris_max_kept];
+  vec3<T> sum(T(0));
+  for (int j = 0; j < k; ++j) {
+    int same = -1;
+    // The same sample with the same weights (reservoirs of one candidate set share weight_sum and
+    // the target of a sample) has the same value.
+    for (int i = 0; i < j && same < 0; ++i)
+      if (ris_same_sample(reservoirs[i].kept, reservoirs[j].kept) &&
+          reservoirs[i].weight_sum == reservoirs[j].weight_sum && reservoirs[i].target == reservoirs[j].target)
+        same = i;
+    value[j] = same >= 0 ? value[same] : ris_shade(gp, view, reservoirs[j], visibility, dmin, mode, depth_tolerance);
+    sum += value[j];
+  }
+  return sum / T(k);
+}
+
+// Samples [begin, end) of estimate_ris (estimator_state.hpp): each sample one reservoir of
+// n_candidates candidates and one ris_shade.
+template <class T, class Distribution, class Visibility>
+inline void estimate_ris_range(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                               estimator_state<T>& state, int begin, int end, int n_candidates,
+                               const Visibility& visibility, T dmin, vpl_mode mode = vpl_mode::point,
+                               T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  if (!gather_point_valid(gp) || n_candidates <= 0) return;
+  for (int k = begin; k < end; ++k) {
+    const ris_reservoir<T> r = ris_resample(gp, view, distribution, state.rng, n_candidates, dmin, mode, depth_tolerance);
+    state.sum += ris_shade(gp, view, r, visibility, dmin, mode, depth_tolerance);
+  }
+}
+
+template <class T>
+inline vec3<T> estimate_ris_finish(const estimator_state<T>& state, int n_samples) {
+  return n_samples > 0 ? state.sum / T(n_samples) : vec3<T>(T(0));
+}
+
+// (1/N) sum over N independent RIS samples, each from its own n_candidates candidates: N
+// visibility queries, N M candidates. N = 1, M = 1 is one VPL sample of estimate_vpl_sampling
+// (f / p, up to the rounding of p_hat / p_hat).
+template <class T, class Distribution, class Visibility>
+inline vec3<T> estimate_ris(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                            counter_rng& rng, int n_samples, int n_candidates, const Visibility& visibility, T dmin,
+                            vpl_mode mode = vpl_mode::point,
+                            T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  if (!gather_point_valid(gp) || n_samples <= 0 || n_candidates <= 0) return vec3<T>(T(0));
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_ris_range(gp, view, distribution, state, 0, n_samples, n_candidates, visibility, dmin, mode,
+                     depth_tolerance);
+  rng = state.rng;
+  return estimate_ris_finish(state, n_samples);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/ris_estimator.hpp ----
+// ---- begin vplkit/estimators/ris_spatial_reuse.hpp ----
+// Unbiased spatial reuse of RIS reservoirs (docs/math.md section 13.2): a pixel q combines its own
+// reservoir (the canonical one, c) with those of up to K neighbours j, picked at random in a
+// square of the image around q and rejected where their surface differs (normal, distance from
+// q's tangent plane). Each input i brings its sample y_i and its contribution weight W_i; the
+// combination is generalized RIS (Lin et al. 2022): input i gets the resampling weight
+//     w_i = m_i(y_i) p_hat_q(y_i) W_i,
+// one is kept by a weighted reservoir, and the output has W = (sum_i w_i) / p_hat_q(y). It is
+// unbiased for every choice of neighbours as long as the MIS weights m_i sum to 1 over the inputs
+// that can produce a sample and vanish where input i cannot (p_hat_i = 0). The target has no
+// visibility, so nothing but the target is re-evaluated at q: no ray is traced by the reuse. The
+// sample is a texel and a jitter, the same at every pixel (the shift map is the identity).
+//
+// The MIS weights, with confidences M_i (candidates behind each input), M = M_c + sum_j M_j:
+//  - pairwise (default; Bitterli 2022, Wyman et al. 2023, the defensive form with confidence
+//    weights): the canonical competes with each neighbour in a pair, and keeps M_c / M for itself,
+//        m_c(y) = M_c / M + sum_j (M_j / M) M_c p_hat_c(y) / (M_c p_hat_c(y) + (M - M_c) p_hat_j(y))
+//        m_j(y) = (M_j / M) (M - M_c) p_hat_j(y) / ((M - M_c) p_hat_j(y) + M_c p_hat_c(y)).
+//    For every y the terms sum to 1. Costs 2K target evaluations (p_hat_q at each neighbour's
+//    sample, each neighbour's p_hat at the canonical sample; p_hat_j(y_j) is stored).
+//  - balance (the generalized balance heuristic): m_i(y) = M_i p_hat_i(y) / sum_s M_s p_hat_s(y),
+//    K (K + 1) target evaluations. Kept for comparison (docs/math.md says what each costs).
+//
+// Random numbers, in this order (the GLSL mirror follows it): the canonical's selection u, then per
+// attempt a < K: u0, u1 (the neighbour's pixel) and its selection u: 1 + 3K numbers, also for
+// rejected attempts. An invalid gather point consumes none and returns an empty reservoir.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+// The most neighbours one reuse takes (the GLSL mirror's VPLKIT_RIS_MAX_NEIGHBOURS).
+inline constexpr int ris_max_neighbours = 16;
+
+enum class ris_reuse_mis { pairwise, balance };
+
+// How a pixel picks its neighbours.
+template <class T>
+struct ris_spatial_settings {
+  int neighbours = 4;          // K attempts (at most ris_max_neighbours)
+  int radius = 16;             // pixels: a neighbour lies in the (2 radius + 1)^2 square around q
+  T min_normal_cos = T(0.9);   // reject where the geometric normals differ by more (25.8 degrees)
+  T max_plane_slope = T(0.1);  // reject where |n_q . (x_j - x_q)| > this |x_j - x_q|
+  ris_reuse_mis mis = ris_reuse_mis::pairwise;
+};
+
+// What a pixel offers its neighbours: its gather point and its reservoir (of its own candidates).
+template <class T>
+struct ris_neighbour {
+  gather_point<T> gp{};
+  ris_reservoir<T> reservoir{};
+};
+
+// The neighbour picked by (u0, u1) for the pixel `pixel` of a width x height image: uniform in the
+// (2 radius + 1)^2 square around it (u0 across, u1 down; one product and a floor each, so the GPU
+// picks the same pixel). -1 for the pixel itself, a pixel outside the image, radius <= 0.
+template <class T>
+inline int ris_neighbour_pixel(int pixel, int width, int height, int radius, T u0, T u1) {
+  if (radius <= 0 || width <= 0 || height <= 0 || pixel < 0 || pixel >= width * height) return -1;
+  const int side = 2 * radius + 1;
+  const auto offset = [&](T u) {
+    const T s = !(u >= T(0)) ? T(0) : u * T(side);  // NaN and negative: 0
+    const int k = s < T(side) ? int(std::floor(s)) : side - 1;
+    return k - radius;
+  };
+  const int dx = offset(u0), dy = offset(u1);
+  const int x = pixel % width + dx, y = pixel / width + dy;
+  if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= width || y >= height) return -1;
+  return y * width + x;
+}
+
+// Does the neighbour's surface resemble the receiver's? Both valid, the geometric normals within
+// acos(min_normal_cos), and the neighbour near the receiver's tangent plane: |n_q . (x_j - x_q)| <=
+// max_plane_slope |x_j - x_q| (the "depth difference" seen along the receiver's normal, which
+// needs no camera: a neighbour across a depth edge lies far off the plane). Only variance depends
+// on this test; the reuse is unbiased whatever it decides.
+template <class T>
+inline bool ris_neighbour_similar(const gather_point<T>& receiver, const gather_point<T>& neighbour, T min_normal_cos,
+                                  T max_plane_slope) {
+  if (!gather_point_valid(receiver) || !gather_point_valid(neighbour)) return false;
+  const vec3<T> nq = unit_or_zero(receiver.normal), nj = unit_or_zero(neighbour.normal);
+  if (!(glm::dot(nq, nj) >= min_normal_cos)) return false;
+  const vec3<T> d = neighbour.position - receiver.position;
+  return std::abs(glm::dot(nq, d)) <= max_plane_slope * std::sqrt(glm::dot(d, d));
+}
+
+namespace detail {
+
+// a / (a + b) for a, b >= 0; 0 when both are 0.
+template <class T>
+inline T ris_pair_share(T a, T b) {
+  const T s = a + b;
+  return s > T(0) ? a / s : T(0);
+}
+
+}  // namespace detail
+
+// Combines the canonical reservoir of gp (its own candidates' reservoir: its target is p_hat_q)
+// with the reservoirs of the neighbours at neighbour_pixels[0 .. n) (at most ris_max_neighbours;
+// load(pixel) -> ris_neighbour<T> gives each one's gather point and reservoir), with the MIS
+// weights of `mis` and one selection number per input: u[0] the canonical's, u[1 + j] neighbour
+// j's (offered in the order neighbours, then canonical). The output's target is p_hat_q of its
+// sample and its confidence the inputs' sum.
+template <class T, class Load>
+inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                    const ris_reservoir<T>& canonical, const int* neighbour_pixels, int n,
+                                    const Load& load, const T* u, ris_reuse_mis mis, T dmin,
+                                    vpl_mode mode = vpl_mode::point,
+                                    T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  ris_reservoir<T> out;
+  if (!gather_point_valid(gp)) return out;
+  if (n > ris_max_neighbours) n = ris_max_neighbours;
+  if (n < 0) n = 0;
+  const bool has_c = ris_reservoir_has_sample(canonical);
+  const vpl<T> v_c = ris_sample_vpl(view, canonical.kept, mode, depth_tolerance);
+  const T m_c_conf = canonical.confidence;
+  T m_sum = m_c_conf, m_n = T(0);
+  for (int j = 0; j < n; ++j) m_n += load(neighbour_pixels[j]).reservoir.confidence;
+  m_sum += m_n;
+  if (!(m_sum > T(0))) return out;
+
+  // One pass over the neighbours: each one's resampling weight goes into the reservoir at once,
+  // while the canonical's MIS weight accumulates; the canonical is offered last (the order of the
+  // offers does not change the probabilities), so nothing per neighbour is kept but the kept one's
+  // target: no arrays, which a GPU would hold in local memory.
+  weighted_reservoir<T> res;
+  int kept = -1;  // -1: the canonical (or none yet); j: neighbour j
+  T kept_target = T(0);
+  T m_c = mis == ris_reuse_mis::pairwise ? m_c_conf / m_sum : T(0);
+  T balance_c = m_c_conf * canonical.target;  // balance: sum_s M_s p_hat_s(y_c)
+  for (int j = 0; j < n; ++j) {
+    const ris_neighbour<T> nb = load(neighbour_pixels[j]);
+    const T m_j = nb.reservoir.confidence;
+    const T p_j_at_c = has_c ? ris_target(nb.gp, v_c, dmin) : T(0);  // p_hat_j(y_c)
+    if (mis == ris_reuse_mis::pairwise)
+      m_c += (m_j / m_sum) * detail::ris_pair_share(m_c_conf * canonical.target, m_n * p_j_at_c);
+    else
+      balance_c += m_j * p_j_at_c;
+    if (!ris_reservoir_has_sample(nb.reservoir)) continue;
+    const vpl<T> v_j = ris_sample_vpl(view, nb.reservoir.kept, mode, depth_tolerance);
+    const T target_q = ris_target(gp, v_j, dmin);  // p_hat_q(y_j)
+    if (!(target_q > T(0))) continue;
+    // w_j = m_j(y_j) p_hat_q(y_j) W_j with W_j = weight_sum_j / p_hat_j(y_j).
+    T w = T(0);
+    if (mis == ris_reuse_mis::pairwise) {
+      const T share = detail::ris_pair_share(m_n * nb.reservoir.target, m_c_conf * target_q);
+      w = (m_j / m_sum) * share * target_q * (nb.reservoir.weight_sum / nb.reservoir.target);
+    } else {
+      // sum_s M_s p_hat_s(y_j): the canonical's (at q), j's own (stored) and every other one's.
+      T denominator = m_c_conf * target_q + m_j * nb.reservoir.target;
+      for (int s = 0; s < n; ++s) {
+        if (s == j) continue;
+        const ris_neighbour<T> other = load(neighbour_pixels[s]);
+        denominator += other.reservoir.confidence * ris_target(other.gp, v_j, dmin);
+      }
+      // m_j p_hat_q W_j = M_j p_hat_j / denominator * p_hat_q * weight_sum_j / p_hat_j.
+      w = denominator > T(0) ? m_j * target_q * nb.reservoir.weight_sum / denominator : T(0);
+    }
+    if (reservoir_update(res, std::uint32_t(j + 1), w, u[j + 1])) {
+      kept = j;
+      kept_target = target_q;
+    }
+  }
+  if (mis == ris_reuse_mis::balance)
+    m_c = balance_c > T(0) ? m_c_conf * canonical.target / balance_c : T(0);
+  const T w_c = has_c ? m_c * canonical.weight_sum : T(0);  // m_c p_hat_q(y_c) W_c
+  if (reservoir_update(res, 0u, w_c, u[0])) kept = -1;
+  out.confidence = m_sum;
+  if (reservoir_empty_of(res)) return out;
+  if (kept < 0) {
+    out.kept = canonical.kept;
+    out.target = canonical.target;
+  } else {
+    out.kept = load(neighbour_pixels[kept]).reservoir.kept;
+    out.target = kept_target;
+  }
+  out.weight_sum = res.weight_sum;
+  return out;
+}
+
+// Picks up to settings.neighbours neighbours of `pixel` (ris_neighbour_pixel, kept where
+// ris_neighbour_similar) and combines their reservoirs with gp's canonical one (ris_combine).
+// load(pixel) -> ris_neighbour<T>: the neighbour's gather point and reservoir of its own candidates
+// (the same pass's, not an output of this function). Random numbers: see the header.
+template <class T, class Load>
+inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, int width, int height,
+                                          const dprsm_view<T>& view, const ris_reservoir<T>& canonical,
+                                          const Load& load, const ris_spatial_settings<T>& settings,
+                                          counter_rng& rng, T dmin, vpl_mode mode = vpl_mode::point,
+                                          T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  if (!gather_point_valid(gp)) return ris_reservoir<T>{};
+  const int attempts = settings.neighbours < 0 ? 0
+                       : settings.neighbours > ris_max_neighbours ? ris_max_neighbours
+                                                                  : settings.neighbours;
+  int pixels[ris_max_neighbours];
+  T u[ris_max_neighbours + 1];
+  int n = 0;
+  u[0] = rng_next_unit<T>(rng);
+  for (int a = 0; a < attempts; ++a) {
+    const T u0 = rng_next_unit<T>(rng);
+    const T u1 = rng_next_unit<T>(rng);
+    const T us = rng_next_unit<T>(rng);
+    const int p = ris_neighbour_pixel(pixel, width, height, settings.radius, u0, u1);
+    if (p < 0 || !ris_neighbour_similar(gp, load(p).gp, settings.min_normal_cos, settings.max_plane_slope)) continue;
+    pixels[n] = p;
+    u[n + 1] = us;
+    ++n;
+  }
+  return ris_combine(gp, view, canonical, pixels, n, load, u, settings.mis, dmin, mode, depth_tolerance);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/ris_spatial_reuse.hpp ----
 #endif  // VPLKIT_SINGLE_INCLUDE_VPLKIT_HPP

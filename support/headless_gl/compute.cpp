@@ -230,8 +230,15 @@ buffer buffer::from_bytes(const void* data, std::size_t bytes) {
 }
 
 buffer buffer::filled(std::size_t bytes, unsigned char fill_byte) {
-  const std::vector<unsigned char> data(bytes, fill_byte);
-  return from_bytes(data.data(), bytes);
+  // Filled by the GL (glClearBufferData), not uploaded from a host array: a GPU frame allocates
+  // tens of MB of state and scratch, which would otherwise cross the bus every frame.
+  buffer b = from_bytes(nullptr, bytes);  // storage only (an empty buffer's one word is 0 already)
+  if (bytes == 0) return b;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, b.id_);
+  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &fill_byte);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  check_gl("filling a shader storage buffer");
+  return b;
 }
 
 void buffer::bind(GLuint binding) const {

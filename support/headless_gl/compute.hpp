@@ -115,7 +115,7 @@ public:
   // `bytes` of storage filled with `fill_byte` (0xFF makes unwritten floats NaN and uints ~0u, so
   // a kernel that skips an element is caught).
   static buffer filled(std::size_t bytes, unsigned char fill_byte = 0);
-  static buffer from_bytes(const void* data, std::size_t bytes);
+  static buffer from_bytes(const void* data, std::size_t bytes);  // data null: storage only, contents undefined
   // The element type must match the GLSL std430 layout: scalars, vec2/vec4-sized structs, or
   // structs padded by hand (a vec3 array element has a 16-byte stride in std430).
   template <class T>

@@ -5,8 +5,12 @@
 // UseManualTime: a GL_TIME_ELAPSED query on a GPU, glFinish + steady_clock on Mesa's software
 // renderers (whose GL_TIME_ELAPSED does not cover compute; see compute.hpp). Uploads, clears and
 // read-backs are outside the timed region; the per-pass uniform updates of cdf_build are inside.
-//  - cdf_build.comp: the 6-pass CDF + guide build of one distribution of 2 x 512 x 512 float
-//    weights (exponential, fixed seed), local size 256 x 4 items (items = weights);
+//  - cdf_build.comp: the CDF + guide build of one distribution of 2 x 512 x 512 float weights
+//    (exponential, fixed seed), local size 256 x 4 items (items = weights), driven two ways:
+//    dispatches:3 as the renderer drives it (gpu_cdf.cpp: one program per pass, the parameter
+//    block written once, the passes vplkit::gpu::cdf_build_pass_needed names: 1, 3, 5) and
+//    dispatches:6 as a host that runs all six passes of one program, rewriting the pass number
+//    in the parameter block between them (the kernel's older protocol, still valid);
 //  - gbg_accumulate.comp + gbg_finish.comp: GBG weights of the synthetic room, 64 x 64 G-buffer,
 //    16 directions, DPRSM 2 x R x R, voxel grid 64^3, gathering accumulator, hole fill on
 //    (items = rays = 4096 x 16); accumulate alone and finish alone are listed too;
@@ -71,9 +75,14 @@ void BM_gpu_cdf_build(benchmark::State& state) {
   std::mt19937 g(61u);
   std::exponential_distribution<float> ex(1.0f);
   for (float& x : w) x = ex(g);
+  const bool all_six = state.range(1) == 6;
   const unsigned local = 256, items = 4;
-  const auto& prog = vplkit_test::pack_kernel("vplkit/distribution/cdf_build.comp",
-                            "#define VPLKIT_CDF_BUILD_LOCAL_SIZE 256\n#define VPLKIT_CDF_BUILD_ITEMS 4\n");
+  const std::string sizes = "#define VPLKIT_CDF_BUILD_LOCAL_SIZE 256\n#define VPLKIT_CDF_BUILD_ITEMS 4\n";
+  const auto& prog = vplkit_test::pack_kernel("vplkit/distribution/cdf_build.comp", sizes);
+  std::vector<const gl::program*> per_pass;
+  for (int pass = 1; pass <= 6; ++pass)
+    per_pass.push_back(&vplkit_test::pack_kernel("vplkit/distribution/cdf_build.comp",
+                                                 sizes + "#define VPLKIT_CDF_BUILD_PASS " + std::to_string(pass) + "\n"));
   const std::uint32_t m = std::uint32_t(vplkit::discrete_guide_size(n));
   const std::size_t block = std::size_t(local) * items;
   const std::uint32_t blocks = std::uint32_t((n + block - 1) / block);
@@ -89,13 +98,18 @@ void BM_gpu_cdf_build(benchmark::State& state) {
   timed(
       state, [] {},
       [&] {
+        vplkit::gpu::cdf_build_params p{};
+        p.n = n;
+        if (!all_six) params.write_bytes(&p, 0, sizeof p);
         for (std::uint32_t pass = 1; pass <= 6; ++pass) {
-          vplkit::gpu::cdf_build_params p{};
-          p.n = n;
-          p.pass = pass;
-          params.write_bytes(&p, 0, sizeof p);
           const std::uint32_t gx = pass == 2 || pass == 4 ? 1u : pass == 6 ? guide_groups : groups;
-          gl::dispatch(prog, gx, 1, 1);
+          if (all_six) {
+            p.pass = pass;
+            params.write_bytes(&p, 0, sizeof p);
+            gl::dispatch(prog, gx, 1, 1);
+          } else if (vplkit::gpu::cdf_build_pass_needed(pass, n, local * items)) {
+            gl::dispatch(*per_pass[pass - 1], gx, 1, 1);
+          }
         }
       });
   const std::vector<float> c = cdf.read<float>();
@@ -208,7 +222,7 @@ void BM_gpu_voxelize(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_gpu_cdf_build)->Arg(2 * 512 * 512)->UseManualTime()->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_gpu_cdf_build)->ArgNames({"", "dispatches"})->Args({2 * 512 * 512, 3})->Args({2 * 512 * 512, 6})->UseManualTime()->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_gpu_gbg_accumulate_finish)->ArgName("R")->Arg(64)->Arg(256)->UseManualTime()->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_gpu_gbg_accumulate)->ArgName("R")->Arg(64)->UseManualTime()->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_gpu_gbg_finish)->ArgName("R")->Arg(64)->Arg(256)->UseManualTime()->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);

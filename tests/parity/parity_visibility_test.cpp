@@ -265,8 +265,8 @@ void check_dda(const vplkit::voxel_grid<float>& g, const std::vector<dda_ray>& r
 // A random grid: resolution 1..40 per axis, bounds anywhere in [-10, 10] with extents 0.5..20,
 // occupancy 1..20 %.
 vplkit::voxel_grid<float> random_grid(random_source& rnd) {
-  ivec3 res;
-  v3f bmin, bmax;
+  ivec3 res(0);
+  v3f bmin(0.0f), bmax(0.0f);  // every component is set below; GCC -O3 cannot see it
   for (int a = 0; a < 3; ++a) {
     res[a] = rnd.unit() < 0.1 ? rnd.integer(1, 3) : rnd.integer(4, 40);
     bmin[a] = float(rnd.uniform(-10.0, 10.0));

@@ -105,7 +105,8 @@ TEST_CASE("at cornell's junctions the default visibility matches exact visibilit
   const prepared_scene p = prepare_scene(o);
   stage_timer timer;
   nlohmann::json det;
-  const frame_buffers b = prepare_buffers(o, p, timer, det);
+  frame_buffers b = prepare_buffers(o, p, timer, det);
+  read_back_host_copies(b);  // the band is measured on the host
 
   // The band: gather points within 2 voxels of another surface.
   const auto& occ = b.grid.occupancy();

@@ -32,10 +32,7 @@ using vplrender_test::scene_direct_light;
 
 namespace {
 
-std::string test_file(const char* name) {
-  const std::string here = __FILE__;
-  return here.substr(0, here.find_last_of("/\\") + 1) + name;
-}
+std::string test_file(const char* name) { return std::string(VPLRENDER_TEST_DATA_DIR) + "/" + name; }
 
 // The former normal rule's one normal: the shading normal turned to the eye by the interpolated
 // position (the sign of the stored shading normal does not matter: it is turned again).

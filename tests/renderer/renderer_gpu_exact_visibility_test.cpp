@@ -81,7 +81,8 @@ void run_scene(const std::string& name, const bounds& bound) {
   const prepared_scene p = prepare_scene(o);
   stage_timer t;
   nlohmann::json det;
-  const frame_buffers b = prepare_buffers(o, p, t, det);  // GPU frame with the BVH and the Embree scene
+  frame_buffers b = prepare_buffers(o, p, t, det);  // GPU frame with the BVH and the Embree scene
+  read_back_host_copies(b);                          // the CPU backend reads the same frame's arrays
   REQUIRE(b.rays);
   REQUIRE(b.gpu);
   REQUIRE(b.gpu->bvh.node_count > 0);
@@ -141,7 +142,8 @@ TEST_CASE("exact visibility needs a frame prepared with exact rays, and says so"
   const prepared_scene p = prepare_scene(o);
   stage_timer t;
   nlohmann::json det;
-  const frame_buffers b = prepare_buffers(o, p, t, det);  // voxels only
+  frame_buffers b = prepare_buffers(o, p, t, det);  // voxels only
+  read_back_host_copies(b);
   REQUIRE_FALSE(b.rays);
   render_settings es = make_render_settings(o, p.s);
   es.visibility = visibility_choice::exact;

@@ -111,9 +111,10 @@ run render_both(options o, method m = method::exact) {
   const prepared_scene p = prepare_scene(o);
   stage_timer t;
   nlohmann::json det;
-  const frame_buffers b = prepare_buffers(o, p, t, det);
+  frame_buffers b = prepare_buffers(o, p, t, det);
   REQUIRE(b.rays);
   REQUIRE(b.gpu);
+  read_back_host_copies(b);  // the CPU backend reads the same frame's arrays
   render_settings es = make_render_settings(o, p.s);
   es.threads = 2;
   run r;

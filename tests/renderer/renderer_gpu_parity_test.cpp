@@ -241,7 +241,10 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     stage_timer prep_timer;
     nlohmann::json prep_det;
     std::optional<frame_buffers> exact_frame;
-    if (vis == visibility_choice::exact) exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
+    if (vis == visibility_choice::exact) {
+      exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
+      read_back_host_copies(*exact_frame);  // the CPU builder reads the same frame's arrays
+    }
     const frame_buffers& fb = exact_frame ? *exact_frame : f.b;
     const gbuffer_data& g = fb.gbuf;
     const dprsm_data& d = fb.dprsm;

@@ -269,16 +269,30 @@ TEST_CASE("the --window flag needs the GPU backend") {
 TEST_CASE("the --frames and --window-script flags go with --window and are checked") {
   const options o = parse({"--window", "--frames", "5", "--window-script", "2,+,M,-,7,q"});
   CHECK(o.frames == 5);
+  CHECK_FALSE(o.headless_frames());
   CHECK(o.window_script == std::vector<std::string>{"2", "+", "m", "-", "7", "q"});
   CHECK(parse({"--window"}).frames == 0);
   CHECK(parse({"--window"}).window_script.empty());
-  CHECK(error_of({"--frames", "5"}) == "--frames: needs --window");
   CHECK(error_of({"--window-script", "1"}) == "--window-script: needs --window");
   CHECK(error_of({"--window", "--frames", "0"}) == "--frames: value 0 is outside 1..1000000");
+  CHECK(parse({"--window", "--frames", "1000000"}).frames == 1000000);
   CHECK(error_of({"--window", "--window-script", "1,9"}) ==
         "--window-script: unknown key action '9' (expected 1-8, m, +, -, q)");
   CHECK(error_of({"--window", "--window-script", "1,,2"}) ==
         "--window-script: unknown key action '' (expected 1-8, m, +, -, q)");
+}
+
+TEST_CASE("frames without a window (--frames alone): the headless frames benchmark, 1..10000 frames") {
+  const options o = parse({"--frames", "5"});
+  CHECK(o.frames == 5);
+  CHECK(o.headless_frames());
+  CHECK_FALSE(parse({}).headless_frames());
+  CHECK(parse({"--frames", "10000", "--backend", "cpu"}).frames == 10000);
+  CHECK(error_of({"--frames", "0"}) == "--frames: value 0 is outside 1..10000");
+  CHECK(error_of({"--frames", "10001"}) == "--frames: value 10001 is outside 1..10000");
+  CHECK(error_of({"--frames", "-1"}).find("--frames") == 0);
+  CHECK(error_of({"--frames", "1.5"}) == "--frames: expected a whole number in 1..10000, got '1.5'");
+  CHECK(error_of({"--frames", ""}) == "--frames: expected a whole number in 1..10000, got ''");
 }
 
 TEST_CASE("the --help flag returns the help text, which documents every flag") {

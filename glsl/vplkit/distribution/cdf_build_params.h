@@ -85,6 +85,19 @@ struct vplkit_cdf_build_info {
 static_assert(sizeof(cdf_build_params) == 16);
 static_assert(sizeof(cdf_build_block) == 32);
 static_assert(sizeof(cdf_build_info) == 16);
+
+// Whether the host must dispatch `pass` (1..6) for n weights with `block` = LOCAL_SIZE x ITEMS
+// weights per block. Passes 1, 3 and 5 always. Passes 2 and 4 scan the block records only when
+// there are more blocks than one chunk of `block` of them (n > 2^20 with the defaults); otherwise
+// passes 3 and 5 do that work themselves and 2 and 4 return at once. Pass 5 writes the guide, so
+// pass 6 (the same guide again) is never needed: 3 dependent dispatches up to 2^20 weights, 5
+// above. Dispatching every pass gives the same output.
+inline bool cdf_build_pass_needed(uint pass, uint n, uint block = VPLKIT_CDF_BUILD_BLOCK) {
+  if (pass == 6) return false;
+  if (pass != 2 && pass != 4) return true;
+  const std::uint64_t blocks = (std::uint64_t(n) + block - 1) / block;
+  return blocks > block;
+}
 }  // namespace vplkit::gpu
 #endif
 

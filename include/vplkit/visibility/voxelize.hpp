@@ -102,6 +102,9 @@ inline void voxelize(voxel_grid<T>& grid, const vec3<T>* positions, std::size_t 
                      double margin_voxels = voxelize_default_margin) {
   validate_triangle_mesh(positions, vertex_count, indices, index_count, "voxelize");
   detail::check_voxelize_margin(margin_voxels, "voxelize");
+  // Unreachable after the validation (it throws on null arrays), but GCC's -O3 array-bounds
+  // analysis cannot see that through it and warns at a call with a literal nullptr.
+  if (positions == nullptr || indices == nullptr) return;
   const vec3<double> bmin(grid.bounds_min());
   const ivec3 res = grid.resolution();
   const vec3<double> size = (vec3<double>(grid.bounds_max()) - bmin) / vec3<double>(res);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // vplrender: the example renderer's command line. Parses the options, builds or loads the scene,
-// frames and lights it, checks the output location, runs the pipeline (render/pipeline.hpp) and writes
-// the EXR, the PNG preview and the JSON report.
+// frames and lights it, checks the output location, runs the pipeline (render/pipeline.hpp; with
+// --frames and no window, N frames with a moving light: render/frames.hpp) and writes the EXR, the
+// PNG preview and the JSON report.
 #include "app/lighting_check.hpp"
 #include "app/options.hpp"
 #include "app/progress.hpp"
@@ -14,6 +15,8 @@
 #include "io/json_file.hpp"
 #include "io/output_set.hpp"
 #include "io/png_preview.hpp"
+#include "render/frames.hpp"
+#include "render/light_path.hpp"
 #include "render/running_stage.hpp"
 #include "render/stage_timer.hpp"
 
@@ -48,6 +51,21 @@ void check_output_location(const options& o) {
 }
 
 std::string stage_or_setup(const std::string& stage) { return stage.empty() ? "setup" : stage; }
+
+// Every position of the light's path must be a valid light (not inside a solid or on a surface),
+// checked before the first frame; the message names --frames and the frame.
+void check_light_path(const scene& s, const light_path& path) {
+  scene moved = s;
+  for (int k = 0; k < path.count; ++k) {
+    moved.light.position = path.at(k);
+    try {
+      check_light_position(moved, "light of frame " + std::to_string(k));
+    } catch (const input_error& e) {
+      throw input_error(std::string("--frames: the light's path (") + path.rule() + ") leaves the free space: " + e.what() +
+                        "; move the light with --light");
+    }
+  }
+}
 
 }  // namespace
 
@@ -104,7 +122,26 @@ int main(int argc, char** argv) {
       }
       bar->update(done);
     };
-    pipeline_result res = win ? win->first_render(timer, progress) : run_pipeline(o, p, timer, progress);
+    pipeline_result res;
+    nlohmann::json frames;  // --frames without --window: the per-frame times
+    if (o.headless_frames()) {
+      const light_path path = make_light_path(p.s, o.frames);
+      check_light_path(p.s, path);
+      const frames_run fr = run_frames(p.s, make_frame_settings(o), make_render_settings(o, p.s), path, timer);
+      double sum = 0.0;
+      for (double ms : fr.frame_ms) sum += ms;
+      timer.add("frames (" + std::to_string(fr.frame_ms.size()) + " timed)", sum, "cpu-wall");
+      res.image = fr.last_image;
+      res.details = fr.last_details;
+      res.gl_renderer = fr.gl_renderer;
+      frames = frames_report(fr, path);
+      std::cout << "frames    " << fr.frame_ms.size() << " timed after 1 warm-up, median "
+                << frames["median_ms"].get<double>() << " ms (" << frames["fps"].get<double>()
+                << " frames/s), light on a circle of radius " << path.radius << "; writing frame "
+                << path.count - 1 << "'s image\n";
+    } else {
+      res = win ? win->first_render(timer, progress) : run_pipeline(o, p, timer, progress);
+    }
     if (bar) bar->finish();
     bar.reset();
 
@@ -134,6 +171,7 @@ int main(int argc, char** argv) {
     run.stages = timer.stages();
     nlohmann::json report = make_report(o, p, run);
     report["pipeline"] = res.details;
+    if (!frames.is_null()) report["frames"] = frames;
     report["host_peak_rss_bytes"] = host_peak_rss_bytes();
     write_json(outputs, o.json_path(), report);
     outputs.publish();

@@ -26,7 +26,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test;
+      face_selection, sampler, visibility, vpl_mode, lit_test, candidates, candidate_source, spatial;
   bool paper = false, direct = false, window = false;
 };
 
@@ -47,7 +47,7 @@ std::string wrap(const std::string& text, std::size_t width = 62) {
   return out + line;
 }
 
-constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published|exact";
+constexpr const char* kMethods = "reference|global|local|gbg|gather|mis|mis-as-published|exact|ris";
 
 void build_app(CLI::App& app, raw_values& v) {
   app.description(wrap(
@@ -65,7 +65,10 @@ void build_app(CLI::App& app, raw_values& v) {
                  "mis-as-published = the paper's mixed-measure MIS weights (biased, for comparison); exact = ground truth: "
                  "--dirs cosine-distributed rays per gather point traced against the triangles, the light's direct "
                  "light at each hit with an exact shadow ray, no VPLs (Embree on the CPU backend, the GLSL "
-                 "pack's BVH on the GPU backend; the two agree per pixel up to ties at creases)."))
+                 "pack's BVH on the GPU backend; the two agree per pixel up to ties at creases); ris = resampled "
+                 "importance sampling: per sample --candidates VPLs from --candidate-source, one kept by their "
+                 "unshadowed contribution, one visibility query, optionally --spatial reuse (CPU backend only "
+                 "for now)."))
       ->type_name(kMethods);
   app.add_option("--backend", v.back, d("gpu (default) or cpu. Both rasterise the G-buffer and the DPRSM on OpenGL "
                                       "(headless). gpu: everything after that runs as compute shaders from the GLSL "
@@ -119,7 +122,7 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
                    "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
                    "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
-                   "docs/results.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
+                   "docs/results/notes/2026-11-21-paper-analogues.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
       ->type_name("cdf|alias");
   app.add_option("--visibility", v.visibility,
                  d("What visibility and the gathering rays are decided against, for every method (default "
@@ -138,11 +141,24 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("shadow-map|shadow-ray");
   app.add_option("--vpl-mode", v.vpl_mode,
                  d("What a VPL is, for every method that uses VPLs (reference, global, local, gbg, mis, "
-                   "mis-as-published; default patch): patch = a point drawn uniformly over its texel's patch "
+                   "mis-as-published, ris; default patch): patch = a point drawn uniformly over its texel's patch "
                    "with that point's own solid angle, so every method estimates the same continuous one-bounce "
                    "integral as gather and exact; point = the paper's VPL at the texel centre, whose VPL sum is "
                    "a midpoint rule of it (docs/math.md section 11). --paper selects point."))
       ->type_name("point|patch");
+  app.add_option("--candidates", v.candidates,
+                 d("--method ris: candidate VPLs per sample (default 32; 1..65536), each weighed by its unshadowed "
+                   "contribution; --vpls samples per pixel, one visibility query each."))
+      ->type_name("M");
+  app.add_option("--candidate-source", v.candidate_source,
+                 d("--method ris: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
+                   "flux: light-power sampling, no view, nothing to build), or what global, local (the CDF of the "
+                   "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them)."))
+      ->type_name("global|local|gbg|flux");
+  app.add_option("--spatial", v.spatial,
+                 d("--method ris: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = off; "
+                   "0..16; docs/math.md section 13)."))
+      ->type_name("K");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -164,7 +180,12 @@ void build_app(CLI::App& app, raw_values& v) {
                                      "method, + / - double / halve --vpls (and --dirs for gbg, gather, mis, exact), "
                                      "Esc or Q close. Each change re-renders; the title shows method, samples and "
                                      "the last render time."));
-  app.add_option("--frames", v.frames, d("With --window: close after N frames (default 0: when closed by the user)."))
+  app.add_option("--frames", v.frames,
+                 d("With --window: close after N frames (default 0: when closed by the user; 1..1000000). Without "
+                   "--window: render N frames headless in one process (1..10000) with the light moving once around "
+                   "a horizontal circle through its position (radius 0.05 of the scene's diagonal; frame 0 is the "
+                   "scene's light), after one untimed warm-up frame; the JSON report gets \"frames\" (count, "
+                   "median_ms, per-stage medians). Only the last frame's image is written."))
       ->type_name("N");
   app.add_option("--window-script", v.window_script,
                  d("With --window: key actions injected one per frame from the second frame on, comma-separated "
@@ -305,7 +326,8 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.meth = parse_choice<method>("--method", v.meth,
                                   {{"reference", method::reference}, {"global", method::global}, {"local", method::local},
                                    {"gbg", method::gbg}, {"gather", method::gather}, {"mis", method::mis},
-                                   {"mis-as-published", method::mis_as_published}, {"exact", method::exact}});
+                                   {"mis-as-published", method::mis_as_published}, {"exact", method::exact},
+                                   {"ris", method::ris}});
   if (given("--backend")) o.back = parse_choice<backend>("--backend", v.back, {{"gpu", backend::gpu}, {"cpu", backend::cpu}});
   if (given("--progress"))
     o.progress = parse_choice<progress_mode>("--progress", v.progress,
@@ -365,6 +387,17 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (given("--vpl-mode"))
     o.vpl_mode = parse_choice<vpl_mode_choice>("--vpl-mode", v.vpl_mode,
                                                {{"point", vpl_mode_choice::point}, {"patch", vpl_mode_choice::patch}});
+  if (given("--candidates"))
+    o.candidates = static_cast<int>(parse_integer("--candidates", v.candidates, 1, limits::max_candidates));
+  if (given("--candidate-source"))
+    o.candidate_source = parse_choice<ris_source_choice>("--candidate-source", v.candidate_source,
+                                                         {{"global", ris_source_choice::global},
+                                                          {"local", ris_source_choice::local},
+                                                          {"gbg", ris_source_choice::gbg},
+                                                          {"flux", ris_source_choice::flux}});
+  if (given("--spatial")) o.spatial = static_cast<int>(parse_integer("--spatial", v.spatial, 0, limits::max_spatial));
+  if (o.meth == method::ris && o.back == backend::gpu)
+    bad("--method ris", "runs on --backend cpu only for now (its GPU kernels are not written yet); add --backend cpu");
   if (given("--size")) parse_size(v.size, o.width, o.height);
   if (given("--vpls")) o.vpls = static_cast<int>(parse_integer("--vpls", v.vpls, 1, limits::max_vpls));
   if (given("--seed")) o.seed = static_cast<std::uint32_t>(parse_integer("--seed", v.seed, 0, 4294967295LL));
@@ -425,10 +458,8 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   }
   o.direct = v.direct;
   o.window = v.window;
-  if (given("--frames")) {
-    if (!o.window) bad("--frames", "needs --window");
-    o.frames = static_cast<int>(parse_integer("--frames", v.frames, 1, 1000000));
-  }
+  if (given("--frames"))
+    o.frames = static_cast<int>(parse_integer("--frames", v.frames, 1, o.window ? limits::max_window_frames : limits::max_frames));
   if (given("--window-script")) {
     if (!o.window) bad("--window-script", "needs --window");
     std::size_t i = 0;

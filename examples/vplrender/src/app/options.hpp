@@ -26,7 +26,11 @@ struct limits {
   static constexpr int max_regions = 1024;               // --regions
   static constexpr int min_voxels = 4, max_voxels = 1024;  // --voxels (per axis)
   static constexpr int min_dprsm = 8, max_dprsm = 4096;  // --dprsm (per face, per side)
+  static constexpr int max_candidates = 1 << 16;         // --candidates (RIS candidates per sample)
+  static constexpr int max_spatial = 16;                 // --spatial (vplkit::ris_max_neighbours)
   static constexpr double max_exposure = 1e6;
+  static constexpr int max_frames = 10000;           // --frames without --window (headless frames)
+  static constexpr int max_window_frames = 1000000;  // --frames with --window
 };
 
 struct camera_option {
@@ -61,6 +65,9 @@ struct options {
   visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
   lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)
+  int candidates = 32;            // --method ris: candidates per sample
+  ris_source_choice candidate_source = ris_source_choice::flux;  // --method ris: where they come from
+  int spatial = 0;                // --method ris: spatial-reuse neighbours (0 = off)
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;
@@ -68,11 +75,13 @@ struct options {
   bool paper = false;
   bool direct = false;            // add direct lighting (default: one-bounce indirect only)
   bool window = false;            // show the result in a GLFW window (GPU backend)
-  int frames = 0;                 // --window: close after this many frames (0 = when the user closes it)
+  int frames = 0;                 // --window: close after this many frames (0 = when the user closes it);
+                                  // without --window: render this many frames headless (0 = one render)
   std::vector<std::string> window_script;  // --window: key actions injected one per frame (1-7, m, +, -, q)
   float exposure = 1.0f;          // PNG preview only
   progress_mode progress = progress_mode::automatic;
 
+  bool headless_frames() const { return frames > 0 && !window; }  // the frames benchmark (render/frames.hpp)
   std::string png_path() const;   // out with .exr replaced by .png
   std::string json_path() const;  // out with .exr replaced by .json
 };

@@ -30,6 +30,9 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.visibility = o.visibility;
   e.lit_test = o.lit_test;
   e.vpl_mode = o.vpl_mode;
+  e.ris_candidates = o.candidates;
+  e.ris_source = o.candidate_source;
+  e.ris_spatial = o.spatial;
   e.seed = o.seed;
   e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: --dmin (default 1%) of the scene diagonal (a documented,

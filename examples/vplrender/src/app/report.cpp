@@ -39,6 +39,7 @@ nlohmann::json options_to_json(const options& o) {
   j["paper"] = o.paper;
   j["direct"] = o.direct;
   j["window"] = o.window;
+  j["frames"] = o.frames;
   j["exposure"] = o.exposure;
   j["progress"] = to_string(o.progress);
   j["camera"] = nullptr;

@@ -10,7 +10,11 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -333,6 +337,9 @@ struct target {
     for (int i = 0; i < attachments; ++i) {
       glBindTexture(GL_TEXTURE_2D, color[i]);
       glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, w, h);
+      // Read by texelFetch in surfels_from_targets.comp: one level, no filtering.
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
       glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), GL_TEXTURE_2D, color[i], 0);
     }
     glGenRenderbuffers(1, &depth);
@@ -385,8 +392,13 @@ struct gl_rasterizer::impl {
   GLuint gbuffer_program = 0, dprsm_program = 0;
   std::vector<GLuint> textures;  // per scene texture
   mesh scene_mesh;               // the scene as is (G-buffer)
+  mesh light_mesh;               // the scene tessellated for the last DPRSM's light
   long long texture_bytes = 0;   // RGB8 is padded to 4 bytes per texel by most drivers
+  target gbuffer_rt, dprsm_rt;   // kept for the next call of the same size
   ~impl() {
+    gbuffer_rt.release();
+    dprsm_rt.release();
+    light_mesh.release();
     scene_mesh.release();
     if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
     vplkit::gl::track_gpu_bytes(-texture_bytes);
@@ -410,6 +422,10 @@ struct gl_rasterizer::impl {
     }
     glBindVertexArray(0);
   }
+
+  void draw_gbuffer(const camera& cam, int width, int height);
+  void tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess, tessellation_stats* ts);
+  void draw_dprsm_face(const vplkit::point_light<float>& light, int R, int face);  // light_mesh into dprsm_rt
 
   // Distance beyond every vertex from p (depth range of the DPRSM).
   float far_from(vec3 p) const {
@@ -448,10 +464,98 @@ gl_rasterizer::gl_rasterizer(const scene& s) : impl_(std::make_unique<impl>()) {
 
 gl_rasterizer::~gl_rasterizer() = default;
 
-gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int height, raster_timing* timing) {
-  target rt;
-  rt.create(width, height, 4);
-  const aabb b = bounds(*impl_->s);
+
+namespace {
+
+#ifndef VPLRENDER_SHADER_DIR
+#error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
+#endif
+
+// The same render target as last time when the size matches (frames reuse them), else a new one.
+void ensure_target(target& rt, int width, int height, int attachments) {
+  if (rt.fbo != 0 && rt.w == width && rt.h == height && rt.attachments == attachments) return;
+  rt.create(width, height, attachments);
+}
+
+// tessellate_for_light over the triangles in chunks on all cores, concatenated in order: each
+// triangle is split on its own, so this is the serial output, once min_edge is fixed from the
+// whole mesh as the serial call fixes it. A moving light re-tessellates every frame (cornell at
+// R = 512: 36 -> 22,742 triangles), which one core does in milliseconds.
+std::vector<triangle> tessellate_on_all_cores(const std::vector<triangle>& tris, vec3 light, tessellation_params tess,
+                                              tessellation_stats* ts) {
+  if (!(tess.min_edge > 0.0)) tess.min_edge = tessellation_min_edge(tris);
+  const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
+  // Several chunks per thread (the split is uneven: triangles near the light yield the most),
+  // taken in turn; a scene of few large triangles (cornell: 36) goes one triangle per chunk.
+  const std::size_t chunk = tris.size() / (4 * threads) + 1;
+  const std::size_t chunks = (tris.size() + chunk - 1) / chunk;
+  if (chunks <= 1 || threads == 1) return tessellate_for_light(tris, light, tess, ts);
+  std::vector<std::vector<triangle>> parts(chunks);
+  std::vector<tessellation_stats> stats(chunks);
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto work = [&] {
+    for (std::size_t c = next++; c < chunks; c = next++) {
+      try {
+        const std::vector<triangle> in(tris.begin() + std::ptrdiff_t(c * chunk),
+                                       tris.begin() + std::ptrdiff_t(std::min(tris.size(), (c + 1) * chunk)));
+        parts[c] = tessellate_for_light(in, light, tess, &stats[c]);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t k = 1; k < std::min(threads, chunks); ++k) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+  std::vector<triangle> out;
+  tessellation_stats total;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    out.insert(out.end(), parts[c].begin(), parts[c].end());
+    total.input += stats[c].input;
+    total.output += stats[c].output;
+    total.capped += stats[c].capped;
+  }
+  if (ts) *ts = total;
+  return out;
+}
+
+// surfels_from_targets.comp over `rt`: kind 0 the G-buffer (rows flipped, four targets), kind 1 a
+// DPRSM face (three targets, surfels from `first`).
+void copy_to_surfels(const target& rt, int kind, std::uint32_t first, const vplkit::gl::buffer& surfels) {
+  const std::size_t texels = static_cast<std::size_t>(rt.w) * static_cast<std::size_t>(rt.h);
+  if (surfels.size_bytes() < 48 * (first + texels))
+    throw gl_error("vplrender: the surfel buffer holds fewer than " + std::to_string(first + texels) + " surfels");
+  const vplkit::gl::program& prog =
+      vplkit::gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/surfels_from_targets.comp");
+  prog.use();
+  glUniform1i(prog.uniform_location("u_width"), rt.w);
+  glUniform1i(prog.uniform_location("u_height"), rt.h);
+  glUniform1i(prog.uniform_location("u_kind"), kind);
+  glUniform1ui(prog.uniform_location("u_first"), first);
+  for (int i = 0; i < 4; ++i) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
+    // The DPRSM has no fourth target: its sampler is never read, bind the first one.
+    glBindTexture(GL_TEXTURE_2D, rt.color[i < rt.attachments ? i : 0]);
+  }
+  surfels.bind(0);
+  vplkit::gl::dispatch(prog, vplkit::gl::groups_for(texels, 64));
+  for (int i = 3; i >= 0; --i) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
+  check_gl("vplrender: surfels_from_targets.comp");
+}
+
+}  // namespace
+
+void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height) {
+  ensure_target(gbuffer_rt, width, height, 4);
+  const aabb b = bounds(*s);
   double far = 0.0;
   for (int k = 0; k < 8; ++k) {
     const glm::dvec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
@@ -462,20 +566,54 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
   const glm::mat4 proj = glm::perspective(glm::radians(cam.vfov_deg), float(width) / float(height), znear, zfar);
   const glm::mat4 view = glm::lookAt(cam.eye, cam.target, cam.up);
   const glm::mat4 vp = proj * view;
-
-  vplkit::gl::timer_query tq;
-  tq.begin();
-  rt.clear();
+  gbuffer_rt.clear();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
-  glUseProgram(impl_->gbuffer_program);
-  glUniformMatrix4fv(glGetUniformLocation(impl_->gbuffer_program, "u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
-  glUniform3f(glGetUniformLocation(impl_->gbuffer_program, "u_eye"), cam.eye.x, cam.eye.y, cam.eye.z);
-  glUniform1f(glGetUniformLocation(impl_->gbuffer_program, "u_far"), zfar);
-  impl_->draw(impl_->gbuffer_program, impl_->scene_mesh);
-  tq.end();
+  glUseProgram(gbuffer_program);
+  glUniformMatrix4fv(glGetUniformLocation(gbuffer_program, "u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
+  glUniform3f(glGetUniformLocation(gbuffer_program, "u_eye"), cam.eye.x, cam.eye.y, cam.eye.z);
+  glUniform1f(glGetUniformLocation(gbuffer_program, "u_far"), zfar);
+  draw(gbuffer_program, scene_mesh);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   check_gl("vplrender: G-buffer pass");
+}
+
+void gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess,
+                                         tessellation_stats* ts) {
+  upload(light_mesh, tessellate_on_all_cores(s->triangles, light.position, tess, ts));
+}
+
+void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& light, int R, int f) {
+  ensure_target(dprsm_rt, R, R, 3);
+  const GLuint prog = dprsm_program;
+  dprsm_rt.clear();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_CLIP_DISTANCE0);
+  glUseProgram(prog);
+  glUniform3f(glGetUniformLocation(prog, "u_light"), light.position.x, light.position.y, light.position.z);
+  const vplkit::light_frame<float>& fr = light.frame;
+  glUniform3f(glGetUniformLocation(prog, "u_axis_x"), fr.axis_x.x, fr.axis_x.y, fr.axis_x.z);
+  glUniform3f(glGetUniformLocation(prog, "u_axis_y"), fr.axis_y.x, fr.axis_y.y, fr.axis_y.z);
+  glUniform3f(glGetUniformLocation(prog, "u_axis_z"), fr.axis_z.x, fr.axis_z.y, fr.axis_z.z);
+  glUniform1i(glGetUniformLocation(prog, "u_face"), f);
+  glUniform1f(glGetUniformLocation(prog, "u_resolution"), static_cast<float>(R));
+  glUniform1f(glGetUniformLocation(prog, "u_rim_margin"), 4.0f / static_cast<float>(R));
+  glUniform1f(glGetUniformLocation(prog, "u_far"), far_from(light.position));
+  draw(prog, light_mesh);
+  glDisable(GL_CLIP_DISTANCE0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  check_gl("vplrender: DPRSM pass");
+}
+
+gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int height, raster_timing* timing) {
+  ensure_target(impl_->gbuffer_rt, width, height, 4);  // allocated outside the timed draws
+  vplkit::gl::timer_query tq;
+  tq.begin();
+  impl_->draw_gbuffer(cam, width, height);
+  tq.end();
 
   const auto read_start = std::chrono::steady_clock::now();
   gbuffer_data g;
@@ -488,7 +626,7 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
   g.shading_normal.assign(n, vec3(0.0f));
   std::vector<vec3>* outs[4] = {&g.position, &g.normal, &g.albedo, &g.shading_normal};
   for (int a = 0; a < 4; ++a) {
-    const std::vector<float> px = rt.read(a);
+    const std::vector<float> px = impl_->gbuffer_rt.read(a);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         const std::size_t src = (static_cast<std::size_t>(height - 1 - y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4u;
@@ -496,24 +634,36 @@ gbuffer_data gl_rasterizer::render_gbuffer(const camera& cam, int width, int hei
         if (px[src + 3] > 0.0f) (*outs[a])[dst] = vec3(px[src], px[src + 1], px[src + 2]);
       }
   }
-  const double read_ms = ms_since(read_start);
-  rt.release();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (timing) {
     timing->ms = tq.milliseconds();
     timing->clock = "gpu";
-    timing->readback_ms = read_ms;
+    timing->readback_ms = ms_since(read_start);
   }
   return g;
 }
 
+void gl_rasterizer::render_gbuffer_surfels(const camera& cam, int width, int height, const vplkit::gl::buffer& surfels,
+                                           raster_timing* timing) {
+  ensure_target(impl_->gbuffer_rt, width, height, 4);  // allocated outside the timed draws
+  vplkit::gl::timer_query tq;
+  tq.begin();
+  impl_->draw_gbuffer(cam, width, height);
+  copy_to_surfels(impl_->gbuffer_rt, 0, 0u, surfels);
+  tq.end();
+  if (timing) {
+    timing->ms = tq.milliseconds();
+    timing->clock = "gpu";
+    timing->readback_ms = 0.0;
+  }
+}
+
 dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
                                        raster_timing* timing, tessellation_stats* ts) {
-  mesh m;
-  upload(m, tessellate_for_light(impl_->s->triangles, light.position, tess, ts));
-  target rt;
-  rt.create(R, R, 3);
-  const GLuint prog = impl_->dprsm_program;
+  const auto tess_start = std::chrono::steady_clock::now();
+  impl_->tessellate_for(light, tess, ts);
+  const double tess_ms = ms_since(tess_start);
+  ensure_target(impl_->dprsm_rt, R, R, 3);
   dprsm_data d;
   d.resolution = R;
   d.light = light;
@@ -525,37 +675,18 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
   for (int f = 0; f < 2; ++f) {
     vplkit::gl::timer_query tq;
     tq.begin();
-    rt.clear();
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_CLIP_DISTANCE0);
-    glUseProgram(prog);
-    glUniform3f(glGetUniformLocation(prog, "u_light"), light.position.x, light.position.y, light.position.z);
-    const vplkit::light_frame<float>& fr = light.frame;
-    glUniform3f(glGetUniformLocation(prog, "u_axis_x"), fr.axis_x.x, fr.axis_x.y, fr.axis_x.z);
-    glUniform3f(glGetUniformLocation(prog, "u_axis_y"), fr.axis_y.x, fr.axis_y.y, fr.axis_y.z);
-    glUniform3f(glGetUniformLocation(prog, "u_axis_z"), fr.axis_z.x, fr.axis_z.y, fr.axis_z.z);
-    glUniform1i(glGetUniformLocation(prog, "u_face"), f);
-    glUniform1f(glGetUniformLocation(prog, "u_resolution"), static_cast<float>(R));
-    glUniform1f(glGetUniformLocation(prog, "u_rim_margin"), 4.0f / static_cast<float>(R));
-    glUniform1f(glGetUniformLocation(prog, "u_far"), impl_->far_from(light.position));
-    impl_->draw(prog, m);
-    glDisable(GL_CLIP_DISTANCE0);
+    impl_->draw_dprsm_face(light, R, f);
     tq.end();
-    check_gl("vplrender: DPRSM pass");
     ms += tq.milliseconds();
     const auto read_start = std::chrono::steady_clock::now();
     std::vector<vec3>* outs[3] = {&d.position, &d.normal, &d.albedo};
     for (int a = 0; a < 3; ++a) {
-      const std::vector<float> px = rt.read(a);
+      const std::vector<float> px = impl_->dprsm_rt.read(a);
       for (std::size_t i = 0; i < face; ++i)
         if (px[i * 4 + 3] > 0.0f) (*outs[a])[static_cast<std::size_t>(f) * face + i] = vec3(px[i * 4], px[i * 4 + 1], px[i * 4 + 2]);
     }
     read_ms += ms_since(read_start);
   }
-  rt.release();
-  m.release();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   // Texels outside the unit disk carry no VPL: keep them exactly empty.
   for (int i = 0; i < 2 * R * R; ++i) {
@@ -568,8 +699,32 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
     timing->ms = ms;
     timing->clock = "gpu";
     timing->readback_ms = read_ms;
+    timing->tessellation_ms = tess_ms;
   }
   return d;
+}
+
+void gl_rasterizer::render_dprsm_surfels(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
+                                         const vplkit::gl::buffer& surfels, raster_timing* timing,
+                                         tessellation_stats* ts) {
+  const auto tess_start = std::chrono::steady_clock::now();
+  impl_->tessellate_for(light, tess, ts);
+  const double tess_ms = ms_since(tess_start);
+  ensure_target(impl_->dprsm_rt, R, R, 3);
+  const std::uint32_t face = static_cast<std::uint32_t>(R) * static_cast<std::uint32_t>(R);
+  vplkit::gl::timer_query tq;
+  tq.begin();
+  for (int f = 0; f < 2; ++f) {
+    impl_->draw_dprsm_face(light, R, f);
+    copy_to_surfels(impl_->dprsm_rt, 1, static_cast<std::uint32_t>(f) * face, surfels);
+  }
+  tq.end();
+  if (timing) {
+    timing->ms = tq.milliseconds();
+    timing->clock = "gpu";
+    timing->readback_ms = 0.0;
+    timing->tessellation_ms = tess_ms;
+  }
 }
 
 }  // namespace vplrender

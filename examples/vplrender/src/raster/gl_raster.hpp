@@ -2,11 +2,16 @@
 #pragma once
 // The GPU rasterisation stages on a headless OpenGL 4.3+ context (vplkit::gl::headless_context
 // must be current): the camera G-buffer and the two paraboloid maps of the DPRSM, rendered into
-// float render targets and read back. See docs/renderer.md for the projection, the clipping at
-// the paraboloid rim and the tessellation rule.
+// float render targets, then either read back into CPU arrays (the CPU backend, the tests) or
+// copied on the GPU into the surfel buffers the GPU backend's kernels read (nothing comes back).
+// See docs/renderer.md for the projection, the clipping at the paraboloid rim and the
+// tessellation rule. The render targets are kept from one call to the next (frames of one size
+// reuse them).
 #include "raster/render_data.hpp"
 #include "raster/tessellate.hpp"
 #include "scene/scene.hpp"
+
+#include <headless_gl/compute.hpp>
 
 #include <memory>
 #include <string>
@@ -14,9 +19,11 @@
 namespace vplrender {
 
 struct raster_timing {
-  double ms = 0.0;           // GPU time of the draws (timer query; glFinish + wall on llvmpipe)
+  double ms = 0.0;           // GPU time of the draws, and of the copy into the surfels (timer query;
+                             // glFinish + wall on llvmpipe)
   std::string clock = "gpu";
-  double readback_ms = 0.0;  // wall time of reading the targets back into the CPU arrays
+  double readback_ms = 0.0;  // wall time of reading the targets back into the CPU arrays (0 for surfels)
+  double tessellation_ms = 0.0;  // DPRSM: wall time of tessellating for the light and uploading the mesh
 };
 
 class gl_rasterizer {
@@ -32,6 +39,16 @@ public:
   // tess.max_angle <= 0: the triangles as they are (for the error measurement).
   dprsm_data render_dprsm(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
                           raster_timing* t = nullptr, tessellation_stats* ts = nullptr);
+
+  // The same G-buffer and DPRSM written on the GPU into `surfels` (at least W H, resp. 2 R^2
+  // surfels: raster/gpu_scene_buffers.hpp's layout), bit for bit what upload_surfels makes of
+  // render_gbuffer's and render_dprsm's arrays; nothing is read back. The shader is
+  // examples/vplrender/shaders/surfels_from_targets.comp.
+  void render_gbuffer_surfels(const camera& cam, int width, int height, const vplkit::gl::buffer& surfels,
+                              raster_timing* t = nullptr);
+  void render_dprsm_surfels(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
+                            const vplkit::gl::buffer& surfels, raster_timing* t = nullptr,
+                            tessellation_stats* ts = nullptr);
 
   struct impl;
 

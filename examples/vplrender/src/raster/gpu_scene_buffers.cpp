@@ -81,6 +81,44 @@ gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v) {
   return g;
 }
 
+namespace {
+
+// Three vec4 per surfel back into arrays (a G-buffer pixel's w: its shading normal).
+void read_surfels(const vplkit::gl::buffer& b, std::size_t count, std::vector<vec3>& position, std::vector<vec3>& normal,
+                  std::vector<vec3>& albedo, std::vector<vec3>* shading_normal) {
+  const std::vector<glm::vec4> s = b.read<glm::vec4>(3 * count);
+  position.resize(count);
+  normal.resize(count);
+  albedo.resize(count);
+  if (shading_normal) shading_normal->resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    position[i] = vec3(s[3 * i]);
+    normal[i] = vec3(s[3 * i + 1]);
+    albedo[i] = vec3(s[3 * i + 2]);
+    if (shading_normal) (*shading_normal)[i] = vec3(s[3 * i].w, s[3 * i + 1].w, s[3 * i + 2].w);
+  }
+}
+
+}  // namespace
+
+gbuffer_data read_back_gbuffer(const gpu_scene_buffers& b, int width, int height) {
+  gbuffer_data g;
+  g.width = width;
+  g.height = height;
+  read_surfels(b.gbuffer, static_cast<std::size_t>(width) * static_cast<std::size_t>(height), g.position, g.normal,
+               g.albedo, &g.shading_normal);
+  return g;
+}
+
+dprsm_data read_back_dprsm(const gpu_scene_buffers& b, int resolution, const vplkit::point_light<float>& light) {
+  dprsm_data d;
+  d.resolution = resolution;
+  d.light = light;
+  read_surfels(b.dprsm, 2 * static_cast<std::size_t>(resolution) * static_cast<std::size_t>(resolution), d.position,
+               d.normal, d.albedo, nullptr);
+  return d;
+}
+
 gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d, const scene_voxels_view& grid) {
   gpu_scene_buffers b;
   b.gbuffer = upload_surfels(g.position, g.normal, g.albedo, &g.shading_normal);

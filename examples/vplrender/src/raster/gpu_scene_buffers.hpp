@@ -60,6 +60,11 @@ gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v);
 // Bytes upload_triangle_voxels asks for.
 std::size_t triangle_voxels_bytes(const scene_voxels_view& v);
 
+// A GPU frame's G-buffer (W H surfels) and DPRSM (2 R^2 surfels, `light` its light) read back into
+// arrays: for a CPU-side consumer of a GPU frame (needs the current GL context).
+gbuffer_data read_back_gbuffer(const gpu_scene_buffers& b, int width, int height);
+dprsm_data read_back_dprsm(const gpu_scene_buffers& b, int resolution, const vplkit::point_light<float>& light);
+
 // All of them from the CPU copies (needs the current GL context).
 gpu_scene_buffers upload_scene_buffers(const gbuffer_data& g, const dprsm_data& d, const scene_voxels_view& grid);
 

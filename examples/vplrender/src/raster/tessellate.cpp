@@ -12,6 +12,17 @@ namespace vplrender {
 
 double tessellation_angle_for_resolution(int R) { return std::sqrt(2.0 / static_cast<double>(R > 0 ? R : 1)); }
 
+double tessellation_min_edge(const std::vector<triangle>& tris) {
+  if (tris.empty()) return 0.0;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const triangle& t : tris)
+    for (const vec3& p : t.p) {
+      lo = glm::min(lo, glm::dvec3(p));
+      hi = glm::max(hi, glm::dvec3(p));
+    }
+  return 1e-7 * glm::length(hi - lo);
+}
+
 namespace {
 
 // Angle between two directions from the light, by atan2 (accurate for small and large angles).
@@ -45,15 +56,7 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
   st.input = tris.size();
   const glm::dvec3 c(light);
   double min_edge = params.min_edge;
-  if (!(min_edge > 0.0) && !tris.empty()) {
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const triangle& t : tris)
-      for (const vec3& p : t.p) {
-        lo = glm::min(lo, glm::dvec3(p));
-        hi = glm::max(hi, glm::dvec3(p));
-      }
-    min_edge = 1e-7 * glm::length(hi - lo);
-  }
+  if (!(min_edge > 0.0) && !tris.empty()) min_edge = tessellation_min_edge(tris);
   // Angle the edge subtends if it must be split, else -1 (depends on the two end points only).
   // The end points are put in a fixed (lexicographic) order first, so the result cannot depend on
   // the edge's direction even if the compiler contracts the cross product into FMAs.

@@ -45,8 +45,14 @@ struct tessellation_stats {
   std::size_t capped = 0;  // output triangles left with an edge over max_angle (min_edge or max_depth)
 };
 
+// 1e-7 of the bounding diagonal of the triangles' corners: the min_edge tessellate_for_light uses
+// when params.min_edge <= 0.
+double tessellation_min_edge(const std::vector<triangle>& tris);
+
 // Sub-triangles with linearly interpolated normals (renormalised) and texcoords, same material and
-// winding. The sub-triangles lie in the plane of their parent and tile it exactly.
+// winding. The sub-triangles lie in the plane of their parent and tile it exactly. Each input
+// triangle is split on its own (given min_edge), so the output of a list is the concatenation of
+// its parts' outputs: gl_raster.cpp splits the work over all cores that way.
 std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, vec3 light,
                                            const tessellation_params& params,
                                            tessellation_stats* stats = nullptr);

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // vplrender's pipeline, stage by stage (docs/renderer.md, docs/architecture.md "Renderer data
-// flow"): headless GL context -> G-buffer and DPRSM rasterised on the GPU and read back -> voxel
-// grid -> (GPU backend) the scene buffers on the GPU, once -> the estimator of the method, on the
-// backend the buffers were prepared for.
+// flow"): headless GL context -> voxel grid and (GPU backend) the scene's buffers on the GPU, once
+// per scene -> per frame, the G-buffer and the DPRSM rasterised on the GPU (kept there for the GPU
+// backend, read back for the CPU backend) -> the estimator of the method, on the backend the
+// buffers were prepared for.
 #include "render/frame_buffers.hpp"
 #include "render/result.hpp"
 #include "render/settings.hpp"
@@ -14,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <string>
 
 namespace vplrender {
@@ -35,11 +37,43 @@ struct frame_settings {
   bool exact_rays = false;
 };
 
-// "Prepare once, estimate many" (examples/speed_vs_error, the window): the method-independent
-// stages (GL context, G-buffer, DPRSM, voxel grid, and for the GPU backend the scene buffers on the
-// GPU). Stages go to `timer`, facts to `det` (keys gbuffer, dprsm, voxels, scene_buffers). Throws
-// vplkit::gl::gl_error when no GL context can be made.
+// The method-independent stages, split into what depends on the scene's geometry only (made once:
+// GL context, the rasteriser's programs, mesh and textures, the voxel grid, the exact-ray
+// structures, and for the GPU backend the buffers of all of them on the GPU) and what depends on
+// the camera and the light (per frame: the G-buffer and the DPRSM). A GPU frame keeps the G-buffer
+// and the DPRSM on the GPU: nothing is read back (frame_buffers.hpp). `s` must outlive this.
+class frame_pipeline {
+public:
+  // Stages "gl context", "raster setup (cpu)", "voxelize (gpu|cpu)", (GPU) "scene upload (cpu)",
+  // (exact rays) "embree scene (cpu)", "bvh build and upload (cpu)"; facts under det keys voxels,
+  // exact_rays. Throws vplkit::gl::gl_error when no GL context can be made.
+  frame_pipeline(const scene& s, const frame_settings& f, stage_timer& timer, nlohmann::json& det);
+  ~frame_pipeline();
+  frame_pipeline(const frame_pipeline&) = delete;
+  frame_pipeline& operator=(const frame_pipeline&) = delete;
+
+  // The frame of s's camera and the light `light` (its frame as dprsm_light's: front face down):
+  // stages "gbuffer (gpu)", "dprsm tessellation (cpu)", "dprsm (gpu)", (CPU backend) "gbuffer
+  // read-back (cpu)", "dprsm read-back (cpu)", and "frame facts (gpu|cpu)"; facts under det keys
+  // gbuffer, dprsm, scene_buffers. The buffers are overwritten by the next call.
+  const frame_buffers& render(const vplkit::point_light<float>& light, stage_timer& timer, nlohmann::json& det);
+  const frame_buffers& buffers() const;
+  // The buffers, moved out (the pipeline is done with them).
+  frame_buffers release();
+
+private:
+  struct impl;
+  std::unique_ptr<impl> impl_;
+};
+
+// "Prepare once, estimate many" (examples/speed_vs_error, the window): frame_pipeline's stages for
+// s's light, once. Stages go to `timer`, facts to `det` (keys gbuffer, dprsm, voxels,
+// scene_buffers). Throws vplkit::gl::gl_error when no GL context can be made.
 frame_buffers prepare_buffers(const scene& s, const frame_settings& f, stage_timer& timer, nlohmann::json& det);
+
+// Reads a GPU frame's G-buffer and DPRSM back into b.gbuf and b.dprsm (nothing to do when
+// b.has_host_copies()): for a CPU-side consumer of a GPU frame.
+void read_back_host_copies(frame_buffers& b);
 
 // The estimator of s.meth on the backend `b` was prepared for (its builders, CDFs and estimate
 // stages go to `timer`; facts to `det`: keys estimator, estimator_backend, builders_backend,

@@ -17,6 +17,7 @@ const char* to_string(method m) {
     case method::mis: return "mis";
     case method::mis_as_published: return "mis-as-published";
     case method::exact: return "exact";
+    case method::ris: return "ris";
   }
   return "?";
 }
@@ -39,6 +40,15 @@ const char* to_string(visibility_choice v) {
 }
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
 const char* to_string(lit_test_choice l) { return l == lit_test_choice::shadow_ray ? "shadow-ray" : "shadow-map"; }
+const char* to_string(ris_source_choice r) {
+  switch (r) {
+    case ris_source_choice::local: return "local";
+    case ris_source_choice::gbg: return "gbg";
+    case ris_source_choice::flux: return "flux";
+    case ris_source_choice::global: break;
+  }
+  return "global";
+}
 
 vplkit::vpl_mode library_vpl_mode(vpl_mode_choice v) {
   return v == vpl_mode_choice::patch ? vplkit::vpl_mode::patch : vplkit::vpl_mode::point;

@@ -14,7 +14,9 @@ namespace vplrender {
 
 // exact: one-bounce indirect light by cosine gathering against the scene's triangles with exact
 // visibility and no VPLs (render/cpu/exact_estimator.hpp), the ground truth of the others.
-enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact };
+// ris: resampled importance sampling of VPLs (vplkit/estimators/ris_estimator.hpp), candidates from
+// the distribution of ris_source_choice, optionally with spatial reuse; CPU backend only for now.
+enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact, ris };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
 // accumulator and the CDF search; and how a distribution is sampled (face selection, sampler).
@@ -43,6 +45,9 @@ enum class lit_test_choice { shadow_map, shadow_ray };
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
 // estimate the same continuous integral.
 enum class vpl_mode_choice { point, patch };
+// Where --method ris draws its candidates: a builder's defensive mixture (global; local: the
+// pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent).
+enum class ris_source_choice { global, local, gbg, flux };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -54,9 +59,10 @@ const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
+const char* to_string(ris_source_choice r);
 
 // The methods that sample a distribution over the VPLs (global, local, gbg, mis,
-// mis-as-published): they have builders and CDFs; reference, gather and exact have none.
+// mis-as-published, ris): they have builders and CDFs; reference, gather and exact have none.
 bool has_distribution(method m);
 
 // The methods whose samples are VPLs (every one but gather and exact): --vpl-mode applies to them.
@@ -84,6 +90,10 @@ struct render_settings {
   int local_subset = 256;     // |S_i| per region of the local CDFs
   bool direct = false;
   int threads = 0;            // CPU backend: 0 = std::thread::hardware_concurrency()
+  // --method ris: candidates per sample (M), their source, spatial-reuse neighbours (K, 0 = off).
+  int ris_candidates = 32;
+  ris_source_choice ris_source = ris_source_choice::flux;
+  int ris_spatial = 0;
 };
 
 // Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed

@@ -6,6 +6,7 @@
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/exact_estimator.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/cpu/ris_render.hpp"
 #include "render/mixture_components.hpp"
 
 #include <vplkit/estimators/gathering_estimator.hpp>
@@ -166,6 +167,10 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
         });
         break;
       }
+      case method::ris:
+        render_ris_cpu(f, s, dists, static_cast<int>(built.dists.size()), visibility, depth_tol, vmode,
+                       result.image.rgb.data(), timer, progress, det);
+        break;
       case method::exact: {
         const ray_scene& rs = frame_ray_scene(b, "--method exact");
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {

@@ -5,6 +5,7 @@
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/parallel.hpp"
 
+#include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/builders/global_weights.hpp>
@@ -94,10 +95,28 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
   const int threads = f.threads, W = f.W, H = f.H;
   const std::size_t n_texels = static_cast<std::size_t>(view.texel_count());
   cpu_distributions out;
-  switch (s.meth) {
+  // --method ris draws its candidates from the distributions of --candidate-source: the flux CDF
+  // here, or what the method of that name builds.
+  if (s.meth == method::ris && s.ris_source == ris_source_choice::flux) {
+    std::vector<float> weights;
+    {
+      auto t = timer.scoped("flux weights (cpu)");
+      weights = vplkit::build_flux_weights(view);
+    }
+    auto t = timer.scoped("cdf (cpu)");
+    out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+    out.weights = std::move(weights);
+    return out;
+  }
+  const method builds = s.meth != method::ris                           ? s.meth
+                        : s.ris_source == ris_source_choice::local ? method::local
+                        : s.ris_source == ris_source_choice::gbg   ? method::gbg
+                                                                   : method::global;
+  switch (builds) {
     case method::reference:
     case method::gather:
     case method::exact:
+    case method::ris:  // mapped to its source's builder above
       break;
     case method::global: {
       std::vector<float> weights(n_texels, 0.0f);
@@ -139,8 +158,10 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       // N_NG rounds of one VPL per region's CDF: vpls / N rounds (at least one), so a pixel gets
       // about --vpls samples whatever N is.
       out.local_rounds = std::max(1, s.vpls / N);
-      det["local_rounds"] = out.local_rounds;
-      det["local_combination"] = to_string(s.local_combination);
+      if (s.meth == method::local) {
+        det["local_rounds"] = out.local_rounds;
+        det["local_combination"] = to_string(s.local_combination);
+      }
       break;
     }
     case method::gbg:

@@ -16,7 +16,8 @@
 namespace vplrender {
 
 // One defensive mixture for global, gbg, mis and mis-as-published, one per region for local
-// (region-major), none for reference and gather. local_rounds: max(1, vpls / regions) for local,
+// (region-major), none for reference and gather; for ris those of its --candidate-source (flux: the
+// flux CDF, with --eps). local_rounds: max(1, vpls / regions) for local,
 // else 0.
 struct cpu_distributions {
   std::vector<vplkit::defensive_mixture<float>> dists;

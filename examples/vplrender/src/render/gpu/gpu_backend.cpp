@@ -91,6 +91,7 @@ kernel_kind kernel_of(method m) {
     case method::mis:
     case method::mis_as_published: return k_mis;
     case method::exact: return k_exact;
+    case method::ris: throw vplkit::invalid_input("--method ris: no GPU kernel yet (run_estimator refuses it)");
   }
   return k_reference;
 }
@@ -165,11 +166,10 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
 render_result render_gpu(const frame_buffers& b, const render_settings& es, stage_timer& timer,
                          const progress_fn& progress) {
   namespace gl = vplkit::gl;
+  // A GPU frame's G-buffer and DPRSM live on the GPU: the views give their sizes and the light.
+  const gpu_scene_buffers& scene = scene_on_gpu(b, "render_gpu");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   const vplkit::dprsm_view<float> view = b.dprsm.view();
-  g.validate();
-  view.validate();
-  const gpu_scene_buffers& scene = scene_on_gpu(b, "render_gpu");
   const vplkit::voxel_grid_view<float> grid = b.grid.occupancy().view();
   const int W = g.width, H = g.height;
   const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
@@ -211,8 +211,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   gl::buffer b_components = gl::buffer::filled(4, 0);
   if (components) {
     auto t = timer.scoped("sampler tables (cpu)");
+    const dprsm_data host = host_dprsm(b);  // the fallback's texels (read back for a GPU frame)
     b_components = gl::buffer::from_vector(
-        pack_components(build_mixture_components(gm.weights.data(), gm.count, view, es)));
+        pack_components(build_mixture_components(gm.weights.data(), gm.count, host.view(), es)));
   }
   det["face_selection"] = to_string(es.face_selection);
   det["sampler"] = to_string(es.sampler);
@@ -323,16 +324,14 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   }
   {
     auto t = timer.scoped("read-back (cpu)");
+    // The only read-back of the frame: the image. The kernels write 0 where there is no gather
+    // point, so no G-buffer is needed here.
     const std::vector<glm::vec4> out = b_out.read<glm::vec4>(n_pixels);
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         const int p = y * W + x;
-        const vplkit::gather_point<float> gp = g.at(p);
-        glm::vec3 c(0.0f);
-        if (vplkit::gather_point_valid(gp)) {
-          c = glm::vec3(out[static_cast<std::size_t>(p)]);  // direct light included (estimate.comp)
-          c = vplkit::estimator_finite_or_zero(glm::max(c, glm::vec3(0.0f)));
-        }
+        glm::vec3 c = glm::vec3(out[static_cast<std::size_t>(p)]);  // direct light included (estimate.comp)
+        c = vplkit::estimator_finite_or_zero(glm::max(c, glm::vec3(0.0f)));
         float* o = result.image.at(x, y);
         o[0] = c.x;
         o[1] = c.y;

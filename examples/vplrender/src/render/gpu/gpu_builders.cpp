@@ -31,16 +31,24 @@ const gpu_scene_buffers& scene_on_gpu(const frame_buffers& b, const char* who) {
   if (!b.gpu)
     throw vplkit::invalid_input(std::string(who) + ": the frame's buffers are not on the GPU (prepared for --backend " +
                                 to_string(b.back) + ")");
+  // The arrays may be absent (a GPU frame keeps them on the GPU): only the sizes are checked.
+  if (b.gbuf.width <= 0 || b.gbuf.height <= 0 || b.dprsm.resolution <= 0)
+    throw vplkit::invalid_input(std::string(who) + ": the frame has an empty G-buffer (" + std::to_string(b.gbuf.width) +
+                                "x" + std::to_string(b.gbuf.height) + ") or DPRSM (resolution " +
+                                std::to_string(b.dprsm.resolution) + ")");
   return *b.gpu;
+}
+
+dprsm_data host_dprsm(const frame_buffers& b) {
+  if (b.has_host_copies()) return b.dprsm;
+  return read_back_dprsm(scene_on_gpu(b, "host_dprsm"), b.dprsm.resolution, b.dprsm.light);
 }
 
 gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings& s, bool local, stage_timer& timer) {
   auto running = stage_timer::running(local ? "local weights (gpu)" : "global weights (gpu)");
-  const vplkit::gbuffer_view<float> g = b.gbuf.view();
-  const vplkit::dprsm_view<float> view = b.dprsm.view();
-  g.validate();
-  view.validate();
   const gpu_scene_buffers& scene = scene_on_gpu(b, "build_brsm_weights_gpu");
+  const vplkit::gbuffer_view<float> g = b.gbuf.view();  // sizes (the pixels are on the GPU)
+  const vplkit::dprsm_view<float> view = b.dprsm.view();  // resolution and light
   const int count = local ? s.local_subset : s.global_subset;
   if (count < 0) throw vplkit::invalid_input("build_brsm_weights_gpu: negative subset size");
   // The same rectangles, seeds and streams as build_distributions_cpu (stratified_gather_subset
@@ -110,20 +118,18 @@ gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings
 gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                                       nlohmann::json& det, bool read_back) {
   auto running = stage_timer::running("gbg weights + hole fill (gpu)");
-  const vplkit::gbuffer_view<float> g = b.gbuf.view();
-  const vplkit::dprsm_view<float> view = b.dprsm.view();
-  g.validate();
-  view.validate();
   const gpu_scene_buffers& scene = scene_on_gpu(b, "build_gbg_weights_gpu");
+  const vplkit::gbuffer_view<float> g = b.gbuf.view();  // sizes (the pixels are on the GPU)
+  const vplkit::dprsm_view<float> view = b.dprsm.view();  // resolution and light
   if (s.dirs < 1) throw vplkit::invalid_input("build_gbg_weights_gpu: --dirs must be >= 1");
   const vplkit::voxel_grid_view<float> grid = b.grid.occupancy().view();
   const int W = g.width, H = g.height, R = view.resolution;
   const std::size_t n_pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   const float depth_tol = gathering_depth_tolerance(s, grid);
-  int gather_points = 0;
-  for (std::size_t p = 0; p < n_pixels; ++p)
-    if (vplkit::gather_point_valid(g.at(static_cast<int>(p)))) ++gather_points;
+  // The frame's facts (counted on the GPU for a GPU frame): gather points and the nearest lit texel.
+  const frame_facts facts = facts_of(b);
+  const int gather_points = static_cast<int>(facts.gather_points);
 
   // Fixed point as gbg_weights.glsl recommends: max_units = 2^(63 - ceil(log2(|G| n_dirs))) keeps any
   // texel's sum below 2^63; scale = 2^floor(log2(max_units / v_bound)) with v_bound the gathering
@@ -131,10 +137,7 @@ gbg_gpu_weights build_gbg_weights_gpu(const frame_buffers& b, const render_setti
   // texel's distance to the light less the depth tolerance. A power of two, so 1 / scale is exact.
   const double hits_max = std::max(1.0, double(std::max(gather_points, 1)) * s.dirs);
   const double max_units = std::ldexp(1.0, 63 - static_cast<int>(std::ceil(std::log2(hits_max))));
-  double d1min = 1e30;
-  for (std::size_t t = 0; t < n; ++t)
-    if (b.dprsm.albedo[t] != glm::vec3(0.0f))
-      d1min = std::min(d1min, double(glm::length(b.dprsm.position[t] - view.light.position)));
+  double d1min = std::isinf(facts.nearest_lit_distance) ? 1e30 : double(facts.nearest_lit_distance);
   d1min = std::max(d1min - double(depth_tol), 1e-3);
   // The paper accumulator (luminance of eq. 5 clamped at dmin) is bounded instead by
   // luminance(I) Omega_max / (pi^2 dmin^2), Omega_max = 4 (2/R)^2 (gbg_weights.glsl). With --dmin 0
@@ -287,6 +290,7 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
     case method::reference:
     case method::gather:
     case method::exact:
+    case method::ris:  // no GPU kernels yet: run_estimator refuses it
       throw vplkit::invalid_input("build_distributions_gpu: the method has no builder");
   }
   gpu_mixtures mix = build_mixtures_gpu(weights, D, scene.dprsm, view, s.eps, timer, det);

@@ -29,6 +29,10 @@ namespace vplrender {
 // prepared for the CPU backend (b.gpu is null).
 const gpu_scene_buffers& scene_on_gpu(const frame_buffers& b, const char* who);
 
+// The frame's DPRSM with its arrays, for a host-side consumer (--sampler alias, --face-selection
+// roulette): b.dprsm when the frame has host copies, else read back from the GPU.
+dprsm_data host_dprsm(const frame_buffers& b);
+
 // BRSM weights on the GPU: N = 1 (global: whole image, s.global_subset strata, seed
 // builder_seed(s.seed, 0)) or N = regions (local: s.regions_x x s.regions_y regions,
 // s.local_subset strata each, seed builder_seed(s.seed, 1), stream offset i * count).

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "render/gpu/gpu_cdf.hpp"
 
+#include "render/gpu/dprsm_view_uniforms.hpp"
+
 #include <vplkit/core/error.hpp>
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/defensive_mixture.hpp>
@@ -67,22 +69,13 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   gl::buffer b_params = gl::buffer::filled(sizeof(vplkit::gpu::cdf_build_params), 0);
   if (with_fallback) {
     const gl::program& fp = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/vpl_fallback_weights.comp");
-    fp.use();
-    const auto& L = view.light;
-    glUniform1i(fp.uniform_location("u_dprsm_res"), view.resolution);
-    glUniform3f(fp.uniform_location("u_light_pos"), L.position.x, L.position.y, L.position.z);
-    glUniform3f(fp.uniform_location("u_light_int"), L.intensity.x, L.intensity.y, L.intensity.z);
-    glUniform3f(fp.uniform_location("u_frame_pos"), L.frame.position.x, L.frame.position.y, L.frame.position.z);
-    glUniform3f(fp.uniform_location("u_axis_x"), L.frame.axis_x.x, L.frame.axis_x.y, L.frame.axis_x.z);
-    glUniform3f(fp.uniform_location("u_axis_y"), L.frame.axis_y.x, L.frame.axis_y.y, L.frame.axis_y.z);
-    glUniform3f(fp.uniform_location("u_axis_z"), L.frame.axis_z.x, L.frame.axis_z.y, L.frame.axis_z.z);
+    set_dprsm_view_uniforms(fp, view.resolution, view.light);
     glUniform1ui(fp.uniform_location("u_offset"), static_cast<GLuint>(static_cast<std::size_t>(D) * n));
     gl::check_gl("vpl_fallback_weights.comp uniforms");
     dprsm.bind(0);
     weights.bind(1);
     gl::dispatch_linear(fp, gl::groups_for(n, 64));
   }
-  const gl::program& cp = gl::cached_kernel("vplkit/distribution/cdf_build.comp");
   weights.bind(VPLKIT_CDF_BUILD_BINDING_WEIGHTS);
   glBindBufferRange(GL_SHADER_STORAGE_BUFFER, VPLKIT_CDF_BUILD_BINDING_CDF, out.data.id(), 0,
                     static_cast<GLsizeiptr>(cdf_words * 4));
@@ -96,11 +89,17 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   const std::size_t max_x = gl::max_work_group_count(0);
   const GLuint groups = static_cast<GLuint>(std::min<std::size_t>(std::max<std::size_t>(blocks, 1), max_x));
   const GLuint guide_groups = static_cast<GLuint>(std::min<std::size_t>((m + 1 + cdf_block - 1) / cdf_block, max_x));
+  // One program per pass (VPLKIT_CDF_BUILD_PASS): the parameter block is written once, and each
+  // program holds one pass's code only (fewer registers on a GPU). The passes
+  // cdf_build_pass_needed names: 1, 3, 5 (5 writes the guide), and 2 and 4 only when the blocks
+  // span several chunks (n > 2^20): three dependent dispatches for a 2 x 512^2 DPRSM.
+  vplkit::gpu::cdf_build_params params{};
+  params.n = static_cast<std::uint32_t>(n);
+  b_params.write_bytes(&params, 0, sizeof params);
   for (std::uint32_t pass = 1; pass <= 6; ++pass) {
-    vplkit::gpu::cdf_build_params p{};
-    p.n = static_cast<std::uint32_t>(n);
-    p.pass = pass;
-    b_params.write_bytes(&p, 0, sizeof p);
+    if (!vplkit::gpu::cdf_build_pass_needed(pass, params.n)) continue;
+    const gl::program& cp = gl::cached_kernel("vplkit/distribution/cdf_build.comp",
+                                              "#define VPLKIT_CDF_BUILD_PASS " + std::to_string(pass) + "\n");
     gl::dispatch(cp, pass == 2 || pass == 4 ? 1 : pass == 6 ? guide_groups : groups, 1, static_cast<GLuint>(dists));
   }
   // The only read-back: the totals (16 bytes per distribution).
@@ -157,7 +156,7 @@ gpu_mixtures build_mixtures_gpu(const gl::buffer& weights, int D, const gl::buff
   tq.end();
   timer.add("cdf (gpu)", tq.milliseconds(), "gpu");
   det["cdf"] = {{"backend", "gpu"},
-                {"kernel", "vplkit/distribution/cdf_build.comp (double accumulation)"},
+                {"kernel", "vplkit/distribution/cdf_build.comp (double accumulation, one program per pass)"},
                 {"distributions", dists},
                 {"fallback", with_fallback ? "gpu (vpl_fallback_weights.comp + cdf_build.comp)" : "none (eps = 0)"},
                 {"zeroed_weights", zeroed}};

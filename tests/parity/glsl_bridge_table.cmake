@@ -1,0 +1,128 @@
+# SPDX-License-Identifier: MIT
+# Checks that docs/glsl.md's bridge table ("The bridge: every accessor and hook a host shader
+# provides") lists everything a shader including the pack must or may provide:
+#   cmake -DPACK=<glsl/vplkit> -DDOC=<docs/glsl.md> -P glsl_bridge_table.cmake
+#  - every function the pack declares without a body (a prototype at column 0, one or several
+#    lines, ending in ");"): the accessors and hooks the including shader defines;
+#  - every macro the pack tests with #ifdef / #ifndef: the hooks and options a shader or host
+#    defines -- except include guards (names ending in _GLSL or _H) and __cplusplus; the default
+#    bindings and local sizes (VPLKIT_<KERNEL>_BINDING_<NAME>, VPLKIT_<KERNEL>_LOCAL_SIZE) are
+#    covered by one row that names the pattern.
+# Both ways: a name of the pack without a row fails, and so does a row (its first cell) naming a
+# function or macro the pack no longer declares or tests. The pack writes top-level declarations at
+# column 0 (glsl_rules.cmake checks the prefix of every one), so a prototype is a line that starts
+# with a type name.
+cmake_policy(SET CMP0057 NEW)  # if(IN_LIST)
+if(NOT PACK OR NOT DOC)
+  message(FATAL_ERROR "glsl_bridge_table.cmake needs -DPACK=<glsl/vplkit> and -DDOC=<docs/glsl.md>")
+endif()
+
+# ';', '[' and ']' would split or glue CMake list elements: replaced before anything is matched.
+function(read_plain path out)
+  file(READ "${path}" text)
+  string(REPLACE ";" "@SEMI@" text "${text}")
+  string(REPLACE "[" "@LB@" text "${text}")
+  string(REPLACE "]" "@RB@" text "${text}")
+  string(REPLACE "\\" "@BS@" text "${text}")
+  string(REPLACE "\r" "" text "${text}")
+  set(${out} "${text}" PARENT_SCOPE)
+endfunction()
+
+file(GLOB_RECURSE files "${PACK}/*.glsl" "${PACK}/*.h" "${PACK}/*.comp")
+if(NOT files)
+  message(FATAL_ERROR "no pack files under ${PACK}")
+endif()
+set(functions "")
+set(macros "")
+foreach(file ${files})
+  read_plain("${file}" text)
+  string(REGEX REPLACE "//[^\n]*" "" text "${text}")  # the pack writes no block comments
+  set(text "\n${text}")
+  string(REGEX MATCHALL "\n[A-Za-z_][A-Za-z0-9_]*[ \t]+vplkit_[A-Za-z0-9_]+\\([^@{}]*\\)[ \t]*@SEMI@" protos "${text}")
+  foreach(p ${protos})
+    string(REGEX MATCH "vplkit_[A-Za-z0-9_]+\\(" name "${p}")
+    string(REPLACE "(" "" name "${name}")
+    list(APPEND functions "${name}")
+  endforeach()
+  string(REGEX MATCHALL "\n[ \t]*#[ \t]*ifn?def[ \t]+VPLKIT_[A-Z0-9_]+" tests "${text}")
+  foreach(t ${tests})
+    string(REGEX MATCH "VPLKIT_[A-Z0-9_]+" name "${t}")
+    if(NOT name MATCHES "_(GLSL|H)$")
+      list(APPEND macros "${name}")
+    endif()
+  endforeach()
+endforeach()
+list(REMOVE_DUPLICATES functions)
+list(REMOVE_DUPLICATES macros)
+list(LENGTH functions n_functions)
+if(n_functions LESS 10)
+  message(FATAL_ERROR "found only ${n_functions} prototypes under ${PACK}: the scan is broken (${functions})")
+endif()
+
+# The bridge section of the doc: from its heading to the next level-2 heading.
+read_plain("${DOC}" doc)
+string(FIND "${doc}" "\n## The bridge" begin)
+if(begin EQUAL -1)
+  message(FATAL_ERROR "${DOC}: no section \"## The bridge\"")
+endif()
+string(SUBSTRING "${doc}" ${begin} -1 section)
+string(SUBSTRING "${section}" 1 -1 rest)
+string(FIND "${rest}" "\n## " end)
+if(NOT end EQUAL -1)
+  string(SUBSTRING "${rest}" 0 ${end} section)
+endif()
+# The first cell of every table row.
+string(REGEX MATCHALL "\n\\| [^|\n]*" cells "${section}")
+set(first_cells "")
+foreach(c ${cells})
+  string(APPEND first_cells "${c}")
+endforeach()
+
+set(problems "")
+foreach(name ${functions})
+  string(FIND "${first_cells}" "${name}(" at)
+  if(at EQUAL -1)
+    list(APPEND problems "the pack declares ${name}() without a body, the bridge table has no row for it")
+  endif()
+endforeach()
+set(pattern_row FALSE)
+if(first_cells MATCHES "VPLKIT_<KERNEL>_BINDING_<NAME>" AND first_cells MATCHES "VPLKIT_<KERNEL>_LOCAL_SIZE")
+  set(pattern_row TRUE)
+endif()
+foreach(name ${macros})
+  if(name MATCHES "^VPLKIT_[A-Z0-9_]+_(BINDING_[A-Z0-9_]+|LOCAL_SIZE)$")
+    if(NOT pattern_row)
+      list(APPEND problems "no row names VPLKIT_<KERNEL>_BINDING_<NAME> and VPLKIT_<KERNEL>_LOCAL_SIZE (for ${name})")
+    endif()
+    continue()
+  endif()
+  string(REGEX MATCH "${name}[^A-Z0-9_]" found "${first_cells}")
+  if(NOT found)
+    list(APPEND problems "the pack tests #ifdef/#ifndef ${name}, the bridge table has no row for it")
+  endif()
+endforeach()
+# Rows for names that are gone.
+string(REPLACE "VPLKIT_<KERNEL>_BINDING_<NAME>" "" rows "${first_cells}")
+string(REPLACE "VPLKIT_<KERNEL>_LOCAL_SIZE" "" rows "${rows}")
+string(REGEX MATCHALL "vplkit_[A-Za-z0-9_]+\\(" named_functions "${rows}")
+foreach(f ${named_functions})
+  string(REPLACE "(" "" f "${f}")
+  if(NOT f IN_LIST functions)
+    list(APPEND problems "the bridge table has a row for ${f}(), which the pack does not declare without a body")
+  endif()
+endforeach()
+string(REGEX MATCHALL "VPLKIT_[A-Z0-9_]+" named_macros "${rows}")
+foreach(m ${named_macros})
+  if(NOT m IN_LIST macros)
+    list(APPEND problems "the bridge table has a row for ${m}, which the pack never tests with #ifdef/#ifndef")
+  endif()
+endforeach()
+
+list(LENGTH macros n_macros)
+if(problems)
+  foreach(p ${problems})
+    message("${p}")
+  endforeach()
+  message(FATAL_ERROR "${DOC}: the bridge table does not match the pack")
+endif()
+message(STATUS "bridge table: ${n_functions} functions and ${n_macros} macros of the pack, each with its row")

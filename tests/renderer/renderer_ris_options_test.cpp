@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+// The command line of --method ris: its three flags (--candidates, --candidate-source, --spatial),
+// their defaults, limits and errors, and the refusal of the GPU backend
+// until the method has GPU kernels.
+#include <catch2/catch.hpp>
+
+#include "app/options.hpp"
+#include "io/errors.hpp"
+#include "render/settings.hpp"
+
+#include <string>
+#include <vector>
+
+using namespace vplrender;
+
+namespace {
+
+parse_result parse_all(std::vector<std::string> args) {
+  args.insert(args.begin(), "vplrender");
+  return parse_command_line(args);
+}
+
+options parse(std::vector<std::string> args) {
+  const parse_result r = parse_all(std::move(args));
+  REQUIRE(r.what == parse_result::action::run);
+  return r.opts;
+}
+
+std::string error_of(std::vector<std::string> args) {
+  try {
+    parse_all(std::move(args));
+  } catch (const usage_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
+
+}  // namespace
+
+TEST_CASE("ris options: the method, its defaults and its three flags") {
+  const options d = parse({"--method", "ris", "--backend", "cpu"});
+  CHECK(d.meth == method::ris);
+  CHECK(std::string(to_string(method::ris)) == "ris");
+  CHECK(d.candidates == 32);
+  CHECK(d.candidate_source == ris_source_choice::flux);
+  CHECK(d.spatial == 0);
+  CHECK(has_distribution(method::ris));
+  CHECK(uses_vpls(method::ris));
+  const std::pair<const char*, ris_source_choice> sources[] = {{"global", ris_source_choice::global},
+                                                               {"local", ris_source_choice::local},
+                                                               {"gbg", ris_source_choice::gbg},
+                                                               {"flux", ris_source_choice::flux}};
+  for (const auto& [name, value] : sources) {
+    const options o = parse({"--method", "ris", "--backend", "cpu", "--candidate-source", name, "--candidates", "7",
+                             "--spatial", "5"});
+    CHECK(o.candidate_source == value);
+    CHECK(std::string(to_string(value)) == name);
+    CHECK(o.candidates == 7);
+    CHECK(o.spatial == 5);
+  }
+  // The flags are accepted with other methods too (speed_vs_error passes them for a sweep).
+  CHECK(parse({"--candidates", "4"}).candidates == 4);
+}
+
+TEST_CASE("ris options: limits and bad values name the flag") {
+  CHECK(starts_with(error_of({"--candidates", "0"}), "--candidates: value 0 is outside 1..65536"));
+  CHECK(starts_with(error_of({"--candidates", "65537"}), "--candidates: value 65537 is outside 1..65536"));
+  CHECK(starts_with(error_of({"--candidates", "x"}), "--candidates: expected a whole number"));
+  CHECK(starts_with(error_of({"--spatial", "17"}), "--spatial: value 17 is outside 0..16"));
+  CHECK(starts_with(error_of({"--spatial", "-1"}), "--spatial: expected a whole number"));
+  CHECK(parse({"--spatial", "0"}).spatial == 0);
+  CHECK(parse({"--spatial", "16"}).spatial == 16);
+  CHECK(starts_with(error_of({"--candidate-source", "mis"}),
+                    "--candidate-source: unknown value 'mis' (expected global|local|gbg|flux)"));
+}
+
+TEST_CASE("ris options: the GPU backend is refused with a clear message until its kernels exist") {
+  const std::string e = error_of({"--method", "ris"});  // the default backend is gpu
+  CHECK(starts_with(e, "--method ris: runs on --backend cpu only for now"));
+  CHECK(e.find("--backend cpu") != std::string::npos);
+  CHECK(starts_with(error_of({"--method", "ris", "--backend", "gpu"}), "--method ris: runs on --backend cpu only"));
+}
+
+TEST_CASE("ris options: --help documents the method and its flags") {
+  const std::string h = help_text();
+  for (const char* s : {"--candidates", "--candidate-source", "--spatial", "global|local|gbg|flux", "|ris"}) {
+    INFO(s);
+    CHECK(h.find(s) != std::string::npos);
+  }
+}
