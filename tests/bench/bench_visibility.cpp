@@ -9,7 +9,8 @@
 //    point of a 64 x 64 G-buffer and a VPL of the R = 64 DPRSM;
 //  - the triangle voxel grid: voxelize_triangles of the dense mesh (counters: entries, bytes of
 //    the whole grid and of the occupancy alone), triangle_voxel_visible on the same queries as the
-//    two-sided test, triangle_voxel_first_hit on the same rays as dda_first_hit ("long").
+//    two-sided test, triangle_voxel_first_hit on the same rays as dda_first_hit ("long"), each
+//    with the brick level (bricks:1, empty 4^3 bricks jumped) and without it (bricks:0).
 #include "bench_common.hpp"
 
 #include <vplkit/visibility/dda.hpp>
@@ -155,9 +156,11 @@ const vplkit::triangle_voxel_grid<float>& room_triangle_grid(int res) {
   return *p;
 }
 
+// range(1) = 0: without the brick level (every brick stepped through), 1: jumping empty bricks.
 void BM_triangle_voxel_visible(benchmark::State& state) {
   const auto& grid = room_triangle_grid(int(state.range(0)));
-  const auto view = grid.view();
+  auto view = grid.view();
+  if (state.range(1) == 0) view.bricks = nullptr;
   const auto& q = queries();
   int acc = 0;
   for (auto _ : state) {
@@ -171,7 +174,8 @@ void BM_triangle_voxel_visible(benchmark::State& state) {
 
 void BM_triangle_voxel_first_hit(benchmark::State& state) {
   const int res = int(state.range(0));
-  const auto view = room_triangle_grid(res).view();
+  auto view = room_triangle_grid(res).view();
+  if (state.range(1) == 0) view.bricks = nullptr;
   const rays_t rays(room_grid(res));
   int hits = 0;
   float acc = 0;
@@ -195,7 +199,7 @@ BENCHMARK(BM_dda_first_hit)->ArgNames({"res", "short"})->Args({64, 1})->Args({64
 BENCHMARK(BM_voxel_visible_one_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxel_visible_two_sided)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_voxelize_triangles_dense_mesh)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->Apply(vplkit_bench::standard);
-BENCHMARK(BM_triangle_voxel_visible)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
-BENCHMARK(BM_triangle_voxel_first_hit)->ArgName("res")->Arg(64)->Arg(128)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_triangle_voxel_visible)->ArgNames({"res", "bricks"})->ArgsProduct({{64, 128}, {0, 1}})->Apply(vplkit_bench::standard);
+BENCHMARK(BM_triangle_voxel_first_hit)->ArgNames({"res", "bricks"})->ArgsProduct({{64, 128}, {0, 1}})->Apply(vplkit_bench::standard);
 
 VPLKIT_BENCH_MAIN()

@@ -11,7 +11,8 @@
 //   voxel of the margin shell (flip margin by bisection), and there may be a handful. Every other
 //   voxel lists the same triangles (as sets: the GPU's order is the atomics').
 // - queries: bit for bit where division and sqrt are correctly rounded (software renderers; this
-//   machine): visible, hit, triangle, t and point all equal. Elsewhere an answer may differ only
+//   machine): visible, hit, triangle, t and point all equal; with the brick level
+//   (VPLKIT_VOXEL_BRICKS, voxel_bricks.glsl) and without it against the C++ with its bricks. Elsewhere an answer may differ only
 //   at a near-tie (an end within 1e-4 voxel of the end tolerance, a crossing within 1e-4 voxel of
 //   a grown edge), counted and printed.
 #include "parity_harness.hpp"
@@ -197,7 +198,8 @@ struct query_out {  // std430, 8 scalars
 };
 static_assert(sizeof(query_out) == 32, "std430 layout");
 
-const std::string query_kernel = R"(
+// With bricks: VPLKIT_VOXEL_BRICKS defined first and the brick words at binding 8.
+const std::string query_kernel_body = R"(
 #include "vplkit/visibility/triangle_voxel_query.glsl"
 struct query { vec4 x_mode; vec4 y_tmax; vec4 params; };
 struct query_out { uint visible; uint hit; uint triangle; float t; float px; float py; float pz; float pad; };
@@ -210,6 +212,10 @@ layout(std430, binding = 5) readonly buffer Offsets { uint offsets[]; };
 layout(std430, binding = 6) readonly buffer Entries { uint entries[]; };
 layout(std430, binding = 7) readonly buffer Triangles { vec4 triangles[]; };
 uint vplkit_load_voxel_word(uint i) { return words[i]; }
+#ifdef VPLKIT_VOXEL_BRICKS
+layout(std430, binding = 8) readonly buffer Bricks { uint bricks[]; };
+uint vplkit_load_voxel_brick_word(uint i) { return bricks[i]; }
+#endif
 uint vplkit_load_voxel_rank(uint i) { return rank_words[i]; }
 uint vplkit_load_voxel_offset(uint i) { return offsets[i]; }
 uint vplkit_load_voxel_entry(uint i) { return entries[i]; }
@@ -237,7 +243,9 @@ query_out cpu_query(const vplkit::triangle_voxel_view<float>& v, const query& k)
   return {vis ? 1u : 0u, h.hit ? 1u : 0u, h.triangle, h.t, h.point.x, h.point.y, h.point.z, 0.0f};
 }
 
-void check_queries(const mesh& m, v3f bmin, v3f bmax, ivec3 res, std::uint32_t seed, const std::string& what) {
+void check_queries(const mesh& m, v3f bmin, v3f bmax, ivec3 res, std::uint32_t seed, const std::string& what_grid,
+                   bool bricks) {
+  const std::string what = what_grid + (bricks ? ", with bricks" : ", without bricks");
   const auto grid = vplkit::voxelize_triangles(bmin, bmax, res, m.p.data(), m.p.size(), m.idx.data(), m.idx.size());
   const auto v = grid.view();
   const auto tris = vplkit_test::ref_triangles(m.p, m.idx);
@@ -275,11 +283,13 @@ void check_queries(const mesh& m, v3f bmin, v3f bmax, ivec3 res, std::uint32_t s
   } gp{f4(bmin), f4(bmax), {res.x, res.y, res.z, 0}};
   std::vector<std::uint32_t> offsets = grid.offsets(), entries = grid.entries();
   if (entries.empty()) entries.push_back(0u);
+  REQUIRE(v.bricks != nullptr);  // the C++ side always jumps over empty bricks
   const auto gpu = vplkit::parity::run_compute<query_out>(
-      query_kernel, {64, 1, 1},
+      (bricks ? "#define VPLKIT_VOXEL_BRICKS\n" : "") + query_kernel_body, {64, 1, 1},
       {vplkit::parity::input(0, qs), vplkit::parity::input(2, grid.occupancy().words()),
        vplkit::parity::input(3, std::vector<grid_params>{gp}), vplkit::parity::input(4, grid.rank()),
-       vplkit::parity::input(5, offsets), vplkit::parity::input(6, entries), vplkit::parity::input(7, tri_rows)},
+       vplkit::parity::input(5, offsets), vplkit::parity::input(6, entries), vplkit::parity::input(7, tri_rows),
+       vplkit::parity::input(8, grid.bricks())},
       1, qs.size());
   const bool exact = vplkit::gl::is_software_renderer();
   const double L = double(grid.occupancy().voxel_length());
@@ -348,7 +358,9 @@ TEST_CASE("voxelize.comp modes 1 and 2: triangle lists equal voxelize_triangles"
 TEST_CASE("triangle_voxel_query.glsl: visibility and first hits equal the C++") {
   const mesh room = room_mesh();
   const auto b = vplkit::fit_voxel_bounds(room.p.data(), room.p.size());
-  check_queries(room, b.min, b.max, ivec3(48), 5, "room + blocks, 48^3");
-  check_queries(random_mesh(43, 300, 0.0, 1.0), v3f(-0.1f, -0.2f, -0.05f), v3f(1.1f, 1.05f, 1.2f), ivec3(30, 26, 33),
-                6, "300 random triangles, 30x26x33");
+  for (bool bricks : {false, true}) {
+    check_queries(room, b.min, b.max, ivec3(48), 5, "room + blocks, 48^3", bricks);
+    check_queries(random_mesh(43, 300, 0.0, 1.0), v3f(-0.1f, -0.2f, -0.05f), v3f(1.1f, 1.05f, 1.2f), ivec3(30, 26, 33),
+                  6, "300 random triangles, 30x26x33", bricks);
+  }
 }

@@ -25,6 +25,7 @@
 #include <voxel_cells.hpp>
 
 #include <vplkit/visibility/dda.hpp>
+#include <vplkit/visibility/voxel_bricks.hpp>
 #include <vplkit/visibility/triangle_box_overlap.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/voxel_visible.hpp>
@@ -699,6 +700,120 @@ TEST_CASE("dda: lattice rays along voxel planes and through edges and corners (t
   std::cout << "  lattice rays: " << ties << " of " << (rays.size() + 9) / 10 << " sampled are near-ties\n";
   CHECK(ties > 0);
   check_dda(g, rays, "lattice rays");
+}
+
+namespace {
+
+// The walk's state after `steps` dda_walk_next calls and then one dda_walk_leave_brick (jump), and
+// after stepping on out of the same brick (step): std430, 2 x 8 scalars.
+struct walk_state {
+  std::uint32_t running;
+  std::int32_t x, y, z;
+  float t, nx, ny, nz;
+};
+struct brick_out {
+  walk_state jump, step;
+};
+static_assert(sizeof(brick_out) == 64, "std430 layout of brick_out");
+
+walk_state state_of(const vplkit::dda_walk<float>& w) {
+  if (!w.running) return {0u, 0, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f};
+  return {1u, w.voxel.x, w.voxel.y, w.voxel.z, w.t, w.t_next.x, w.t_next.y, w.t_next.z};
+}
+
+brick_out cpu_leave_brick(const vplkit::voxel_grid<float>& g, const dda_ray& r, int steps) {
+  const auto v = g.view();
+  vplkit::dda_walk<float> w = vplkit::dda_walk_begin(
+      v, v3f(r.origin_tmax.x, r.origin_tmax.y, r.origin_tmax.z), v3f(r.dir.x, r.dir.y, r.dir.z), r.origin_tmax.w);
+  for (int k = 0; k < steps && w.running; ++k) vplkit::dda_walk_next(v, w);
+  vplkit::dda_walk<float> jump = w, step = w;
+  if (jump.running) vplkit::dda_walk_leave_brick(v, jump);
+  const ivec3 b = w.voxel / vplkit::voxel_brick_edge;
+  while (step.running && step.voxel / vplkit::voxel_brick_edge == b) vplkit::dda_walk_next(v, step);
+  return {state_of(jump), state_of(step)};
+}
+
+bool same_state(const walk_state& a, const walk_state& b) { return std::memcmp(&a, &b, sizeof(walk_state)) == 0; }
+
+// Equal values: llvmpipe's walk may carry t = -0 where the C++ has +0 (a crossing at an origin on a
+// plane, max() for the select), which no comparison tells apart.
+bool equal_state(const walk_state& a, const walk_state& b) {
+  return a.running == b.running && a.x == b.x && a.y == b.y && a.z == b.z && a.t == b.t && a.nx == b.nx &&
+         a.ny == b.ny && a.nz == b.nz;
+}
+
+std::string show_state(const walk_state& s) {
+  if (s.running == 0u) return "ended";
+  return "voxel " + showi3(ivec3(s.x, s.y, s.z)) + " t " + show(s.t) + " t_next " + show3(v3f(s.nx, s.ny, s.nz));
+}
+
+}  // namespace
+
+TEST_CASE("voxel_bricks: leaving a brick in one move, lattice and random rays (ties, partial bricks)") {
+  // The GLSL jump must equal the GLSL steps on any device (the exactness of the skipping), and the
+  // C++ bit for bit where division is correctly rounded (software renderers).
+  const auto g = lattice_grid(71, 0.0);
+  random_source rnd(72);
+  std::vector<dda_ray> rays;
+  std::vector<std::int32_t> steps;
+  const v3f size = g.voxel_size(), bmin = g.bounds_min();
+  for (int i = 0; i < 20000; ++i) {
+    v3f o, d;
+    if (i % 2 == 0) {  // lattice: exact ties
+      for (int a = 0; a < 3; ++a) o[a] = bmin[a] + float(rnd.integer(-4, 2 * g.resolution()[a] + 4)) * 0.5f * size[a];
+      do
+        for (int a = 0; a < 3; ++a) d[a] = float(rnd.integer(-2, 2)) * size[a];
+      while (d == v3f(0.0f));
+    } else {
+      for (int a = 0; a < 3; ++a) o[a] = bmin[a] + float(rnd.unit() * 1.2 - 0.1) * float(g.resolution()[a]) * size[a];
+      for (int a = 0; a < 3; ++a) d[a] = float(rnd.unit() * 2.0 - 1.0);
+      if (i % 5 == 1) d.y = 0.0f;
+    }
+    const float t_max = i % 3 == 0 ? float(rnd.integer(0, 60)) * 0.25f : flt_inf;
+    rays.push_back({f4(o, t_max), f4(d)});
+    steps.push_back(std::int32_t(rnd.integer(0, 40)));
+  }
+  const auto gpu = run_compute<brick_out>(grid_kernel(g, R"(
+#include "vplkit/visibility/voxel_bricks.glsl"
+struct dda_ray { vec4 origin_tmax; vec4 dir; };
+struct walk_state { uint running; int x, y, z; float t, nx, ny, nz; };
+struct brick_out { walk_state jump; walk_state step; };
+walk_state state_of(vplkit_dda_walk w) {
+  if (!w.running) return walk_state(0u, 0, 0, 0, 0.0, 0.0, 0.0, 0.0);
+  return walk_state(1u, w.voxel.x, w.voxel.y, w.voxel.z, w.t, w.t_next.x, w.t_next.y, w.t_next.z);
+}
+)",
+                                                      {input(0, rays, "dda_ray rays"), input(4, steps, "int steps")},
+                                                      "brick_out result", R"(
+  vplkit_dda_walk w = vplkit_dda_walk_begin(grid(), rays[i].origin_tmax.xyz, rays[i].dir.xyz, rays[i].origin_tmax.w);
+  for (int k = 0; k < steps[i] && w.running; ++k) vplkit_dda_walk_next(grid(), w);
+  vplkit_dda_walk jump = w;
+  vplkit_dda_walk stepped = w;
+  if (jump.running) vplkit_dda_walk_leave_brick(grid(), jump);
+  ivec3 b = w.voxel / vplkit_voxel_brick_edge;
+  for (int k = 0; k < 64 && stepped.running && stepped.voxel / vplkit_voxel_brick_edge == b; ++k)
+    vplkit_dda_walk_next(grid(), stepped);
+  result[i] = brick_out(state_of(jump), state_of(stepped));)"),
+                                          rays.size());
+  const bool exact = vplkit::gl::is_software_renderer();
+  std::size_t jumps = 0, ended = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const brick_out c = cpu_leave_brick(g, rays[i], steps[i]);
+    INFO("ray " << i << ": origin " << show3(v3f(rays[i].origin_tmax.x, rays[i].origin_tmax.y, rays[i].origin_tmax.z))
+                << " dir " << show3(v3f(rays[i].dir.x, rays[i].dir.y, rays[i].dir.z)) << " t_max "
+                << show(rays[i].origin_tmax.w) << " steps " << steps[i] << " | gpu " << show_state(gpu[i].jump)
+                << " | cpu " << show_state(c.jump));
+    REQUIRE(same_state(c.jump, c.step));
+    REQUIRE(same_state(gpu[i].jump, gpu[i].step));
+    if (exact) REQUIRE(equal_state(gpu[i].jump, c.jump));
+    jumps += c.jump.running;
+    ended += c.jump.running ? 0u : 1u;
+  }
+  std::cout << "  brick exits: " << rays.size() << " walks, " << jumps << " continue in the next brick, " << ended
+            << " end (" << (exact ? "bit-identical to the C++ required on this software renderer" : "own steps only")
+            << ")\n";
+  CHECK(jumps > rays.size() / 10);
+  CHECK(ended > rays.size() / 10);
 }
 
 TEST_CASE("dda: hard cases (axis-parallel, outside hit/miss, zero length, boundaries, corners, far)") {

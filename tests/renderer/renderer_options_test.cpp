@@ -375,8 +375,15 @@ TEST_CASE("the estimator switches (local combination, GBG accumulator, CDF searc
   }
 }
 
-TEST_CASE("the visibility flag is voxels (default), paper-voxels (--paper) or exact, and the window offers the exact method") {
-  CHECK(parse({}).visibility == visibility_choice::voxels);
+TEST_CASE("the visibility flag is exact (GPU default), voxels (CPU default), paper-voxels (--paper), and the window offers the exact method") {
+  // The default follows the backend: exact on the GPU (the BVH costs less than the voxel march
+  // there), voxels on the CPU; the shadow-ray lit test comes with exact.
+  CHECK(parse({}).visibility == visibility_choice::exact);
+  CHECK(parse({}).lit_test == lit_test_choice::shadow_ray);
+  CHECK(parse({"--backend", "gpu"}).visibility == visibility_choice::exact);
+  CHECK(parse({"--backend", "cpu"}).visibility == visibility_choice::voxels);
+  CHECK(parse({"--backend", "cpu"}).lit_test == lit_test_choice::shadow_map);
+  CHECK(parse({"--backend", "gpu", "--paper"}).visibility == visibility_choice::paper_voxels);
   CHECK(parse({"--visibility", "exact"}).visibility == visibility_choice::exact);
   CHECK(parse({"--visibility", "voxels"}).visibility == visibility_choice::voxels);
   CHECK(parse({"--visibility", "paper-voxels"}).visibility == visibility_choice::paper_voxels);
@@ -417,14 +424,17 @@ TEST_CASE("the VPL mode flag is patch (default) or point, --paper selects point,
 }
 
 TEST_CASE("the lit test flag follows --visibility (shadow ray with exact) and a shadow ray needs exact visibility") {
-  CHECK(parse({}).lit_test == lit_test_choice::shadow_map);
+  CHECK(parse({"--visibility", "voxels"}).lit_test == lit_test_choice::shadow_map);
   CHECK(parse({"--visibility", "exact"}).lit_test == lit_test_choice::shadow_ray);
   CHECK(parse({"--visibility", "exact", "--lit-test", "shadow-map"}).lit_test == lit_test_choice::shadow_map);
   CHECK(parse({"--lit-test", "shadow-ray", "--visibility", "exact"}).lit_test == lit_test_choice::shadow_ray);
   CHECK(parse({"--paper"}).lit_test == lit_test_choice::shadow_map);
   CHECK(std::string(to_string(lit_test_choice::shadow_map)) == "shadow-map");
   CHECK(std::string(to_string(lit_test_choice::shadow_ray)) == "shadow-ray");
-  CHECK(starts_with(error_of({"--lit-test", "shadow-ray"}), "--lit-test shadow-ray: needs --visibility exact"));
+  CHECK(starts_with(error_of({"--backend", "cpu", "--lit-test", "shadow-ray"}),
+                    "--lit-test shadow-ray: needs --visibility exact"));
+  CHECK(starts_with(error_of({"--visibility", "voxels", "--lit-test", "shadow-ray"}),
+                    "--lit-test shadow-ray: needs --visibility exact"));
   CHECK(starts_with(error_of({"--lit-test", "ray"}), "--lit-test: unknown value 'ray' (expected shadow-map|shadow-ray)"));
   CHECK(help_text().find("--lit-test") != std::string::npos);
 }

@@ -2,10 +2,14 @@
 # `vplrender --frames 3` on BACKEND in WORKDIR: the JSON report's "frames" object (count, median,
 # per-stage medians, the light's path), then a single render with --light at the path's last
 # position, whose EXR must equal the frames run's (the last frame's image, bit for bit).
+# VISIBILITY (optional) is passed as --visibility, and the report must name it.
 cmake_minimum_required(VERSION 3.19)  # string(JSON), IN_LIST
 file(REMOVE_RECURSE ${WORKDIR})
 file(MAKE_DIRECTORY ${WORKDIR})
 set(_common --backend ${BACKEND} --method global --size 24x16 --dprsm 16 --voxels 16 --vpls 4 --progress never)
+if(DEFINED VISIBILITY)
+  list(APPEND _common --visibility ${VISIBILITY})
+endif()
 execute_process(COMMAND ${EXE} ${_common} --frames 3 --out frames.exr WORKING_DIRECTORY ${WORKDIR}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
@@ -21,6 +25,10 @@ string(JSON nstages LENGTH "${j}" frames stages)
 string(JSON warm GET "${j}" frames warmup_frames)
 string(JSON image GET "${j}" frames image)
 string(JSON param GET "${j}" parameters frames)
+string(JSON visibility GET "${j}" parameters visibility)
+if(DEFINED VISIBILITY AND NOT visibility STREQUAL VISIBILITY)
+  message(FATAL_ERROR "parameters.visibility ${visibility}, expected ${VISIBILITY}")
+endif()
 if(NOT count EQUAL 3 OR NOT warm EQUAL 1 OR NOT param EQUAL 3)
   message(FATAL_ERROR "frames.count ${count}, warmup_frames ${warm}, parameters.frames ${param}")
 endif()

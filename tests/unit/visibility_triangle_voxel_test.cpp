@@ -107,7 +107,10 @@ TEMPLATE_TEST_CASE("triangle voxels: lists equal the overlap test, rank and offs
     REQUIRE(vplkit::voxel_occupied_index(v.grid, v.rank, ivec3(-1, 0, 0)) == -1);
     REQUIRE(vplkit::voxel_occupied_index(v.grid, v.rank, res) == -1);
     REQUIRE(g.memory_bytes() == 4 * (g.occupancy().word_count() + g.rank().size() + g.offsets().size() +
-                                     g.entries().size()) + sizeof(vplkit::voxel_triangle<T>) * g.triangles().size());
+                                     g.entries().size() + g.bricks().size()) +
+                                    sizeof(vplkit::voxel_triangle<T>) * g.triangles().size());
+    REQUIRE(g.bricks() == vplkit::voxel_brick_words(v.grid));
+    REQUIRE(v.bricks == g.bricks().data());
   }
 }
 

@@ -32,7 +32,7 @@
 #define VR_ESTIMATE_BINDING_SHADING_POOL 11         // SSBO, readonly: uint pool[] (exact.comp's albedos)
 #define VR_ESTIMATE_BINDING_VOXEL_RANK 12           // SSBO, readonly: uint rank[] (triangle voxels)
 #define VR_ESTIMATE_BINDING_VOXEL_OFFSETS 13        // SSBO, readonly: uint offsets[]
-// 14: kept free for the voxel grid's bricks (empty-space skipping of the voxel march).
+#define VR_ESTIMATE_BINDING_VOXEL_BRICKS 14          // SSBO, readonly: uint bricks[] (triangle voxels' brick level)
 #define VR_ESTIMATE_BINDING_VOXEL_ENTRIES 15        // SSBO, readonly: uint entries[]
 #define VR_ESTIMATE_BINDING_VOXEL_TRIANGLES 16      // SSBO, readonly: vec4 triangles[] (4 per triangle)
 #define VR_ESTIMATE_BINDING_PARAMS 17               // uniform block: vr_estimate_params

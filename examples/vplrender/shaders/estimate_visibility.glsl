@@ -24,6 +24,7 @@
 #define VPLKIT_USER_TRACER
 #elif VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
 #define VPLKIT_TRIANGLE_VOXELS
+#define VPLKIT_VOXEL_BRICKS
 #endif
 #include "ray_scene.glsl"
 #include "vplkit/visibility/bvh_visibility.glsl"
@@ -102,6 +103,11 @@ uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index];
 uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
 uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
 vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+// The brick level the marches skip empty space with (voxel_bricks.glsl).
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_BRICKS) restrict readonly buffer VrVoxelBricks {
+  uint vr_voxel_bricks[];
+};
+uint vplkit_load_voxel_brick_word(uint word_index) { return vr_voxel_bricks[word_index]; }
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_visibility(grid); }
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) { return vplkit_make_triangle_voxel_tracer(grid); }
 #elif VR_VISIBILITY == VR_VISIBILITY_PAPER_VOXELS

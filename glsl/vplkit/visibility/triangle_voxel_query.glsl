@@ -9,9 +9,13 @@
 //   vplkit_triangle_voxel_first_hit(g, origin, dir[, t_max[, end_tolerance_voxels]]): the first
 //     triangle met, t > 0; in each occupied voxel the nearest crossing no farther than the voxel's
 //     exit (+ slack) wins.
-// See docs/api/visibility.md ("Triangle voxels") for the rules and their measurements.
+// See docs/api/visibility.md ("Triangle voxels") for the rules and their measurements. Both
+// marches test a crossing against a triangle's edges only within the voxel's stretch of the segment
+// grown by the edge slack (the local crossing rule of triangle_voxel_query.hpp) and, with
+// VPLKIT_VOXEL_BRICKS, jump over empty bricks (voxel_bricks.glsl; the same answers).
 //
-// ACCESSORS: those of triangle_voxel_grid.glsl (word, rank, offset, entry, triangle).
+// ACCESSORS: those of triangle_voxel_grid.glsl (word, rank, offset, entry, triangle), and with
+// VPLKIT_VOXEL_BRICKS vplkit_load_voxel_brick_word (voxel_bricks.glsl).
 //
 // Parity: every value that decides an answer is `precise` and evaluated in the C++ order
 // (vplkit_voxel_dot is glm::dot's order); with IEEE add/mul/div/sqrt the answer is the C++ float
@@ -22,6 +26,7 @@
 
 #include "vplkit/visibility/dda.glsl"
 #include "vplkit/visibility/triangle_voxel_grid.glsl"
+#include "vplkit/visibility/voxel_bricks.glsl"
 #include "vplkit/visibility/voxel_grid.glsl"
 
 const float vplkit_triangle_voxel_default_end_tolerance = 0.01;  // voxels
@@ -39,8 +44,17 @@ bool vplkit_triangle_voxel_visible(vplkit_voxel_grid g, vec3 x, vec3 y, float en
   vplkit_dda_walk w = vplkit_dda_walk_begin(g, x, dir, len);
   int max_iterations = vplkit_dda_max_iterations(g.resolution);
   for (int it = 0; w.running && it < max_iterations; ++it) {
+#ifdef VPLKIT_VOXEL_BRICKS
+    if (!vplkit_voxel_brick_occupied(g.resolution, w.voxel)) {
+      vplkit_dda_walk_leave_brick(g, w);
+      continue;
+    }
+#endif
     int r = vplkit_voxel_occupied_index(g, w.voxel);
     if (r >= 0) {
+      // The voxel's stretch of the segment, in the fraction s of x -> y (the local crossing rule).
+      precise float s_in = (w.t - slack) / len;
+      precise float s_out = (vplkit_dda_walk_exit(w) + slack) / len;
       uint end = vplkit_load_voxel_offset(uint(r) + 1u);
       for (uint e = vplkit_load_voxel_offset(uint(r)); e < end; ++e) {
         // The plane first: most listed triangles are rejected by it (llvmpipe pays for every load).
@@ -50,6 +64,7 @@ bool vplkit_triangle_voxel_visible(vplkit_voxel_grid g, vec3 x, vec3 y, float en
         precise float d1 = vplkit_voxel_dot(plane.xyz, y) - plane.w;
         if (!(abs(d0) > eps) || !(abs(d1) > eps) || (d0 > 0.0) == (d1 > 0.0)) continue;
         precise float s = d0 / (d0 - d1);
+        if (s < s_in || s > s_out) continue;
         precise vec3 p = x + s * dir;
         if (vplkit_voxel_triangle_contains_at(id, p, slack)) return false;
       }
@@ -80,6 +95,12 @@ vplkit_triangle_voxel_hit vplkit_triangle_voxel_first_hit(vplkit_voxel_grid g, v
   precise float slack = vplkit_triangle_voxel_edge_slack * L;
   int max_iterations = vplkit_dda_max_iterations(g.resolution);
   for (int it = 0; w.running && it < max_iterations; ++it) {
+#ifdef VPLKIT_VOXEL_BRICKS
+    if (!vplkit_voxel_brick_occupied(g.resolution, w.voxel)) {
+      vplkit_dda_walk_leave_brick(g, w);
+      continue;
+    }
+#endif
     int r = vplkit_voxel_occupied_index(g, w.voxel);
     if (r >= 0) {
       precise float t_out = vplkit_dda_walk_exit(w) + slack;

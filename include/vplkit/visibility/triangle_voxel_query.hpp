@@ -47,14 +47,22 @@ inline bool triangle_voxel_visible(const triangle_voxel_view<T>& g, vec3<T> x, v
   dda_walk<T> w = dda_walk_begin(g.grid, x, dir, len);
   const int max_iterations = dda_max_iterations(g.grid.resolution);
   for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
+      dda_walk_leave_brick(g.grid, w);
+      continue;
+    }
     const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
     if (r >= 0) {
+      // The voxel's stretch of the segment, in the fraction s of x -> y (the local crossing rule).
+      const T s_in = (w.t - slack) / len, s_out = (dda_walk_exit(w) + slack) / len;
       for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
         const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
         const T d0 = glm::dot(tri.plane.normal, x) - tri.plane.offset;
         const T d1 = glm::dot(tri.plane.normal, y) - tri.plane.offset;
         if (!(std::abs(d0) > eps) || !(std::abs(d1) > eps) || (d0 > T(0)) == (d1 > T(0))) continue;
-        if (voxel_triangle_contains(tri, x + (d0 / (d0 - d1)) * dir, slack)) return false;
+        const T s = d0 / (d0 - d1);
+        if (s < s_in || s > s_out) continue;
+        if (voxel_triangle_contains(tri, x + s * dir, slack)) return false;
       }
     }
     dda_walk_next(g.grid, w);
@@ -85,6 +93,10 @@ inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<
   const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
   const int max_iterations = dda_max_iterations(g.grid.resolution);
   for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
+      dda_walk_leave_brick(g.grid, w);
+      continue;
+    }
     const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
     if (r >= 0) {
       const T t_out = dda_walk_exit(w) + slack;

@@ -61,6 +61,7 @@ struct options {
   cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
   face_selection_choice face_selection = face_selection_choice::joint;  // paper: roulette
   sampler_choice sampler = sampler_choice::cdf;
+  // The parser's default: exact for the GPU backend, voxels for the CPU backend (--paper: paper_voxels).
   visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
   lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)

@@ -57,7 +57,8 @@ vplkit::gl::buffer upload_uints(const std::uint32_t* p, std::size_t n) {
 
 std::size_t triangle_voxels_bytes(const scene_voxels_view& v) {
   const std::size_t words = vplkit::voxel_word_count(v.grid.resolution);
-  return 4 * (at_least_one(words) + at_least_one(v.occupied + 1) + at_least_one(v.entry_count())) +
+  return 4 * (at_least_one(words) + at_least_one(v.occupied + 1) + at_least_one(v.entry_count()) +
+              at_least_one(vplkit::voxel_brick_word_count(v.grid.resolution))) +
          sizeof(vplkit::voxel_triangle<float>) * at_least_one(v.triangle_count);
 }
 
@@ -70,6 +71,12 @@ gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v) {
   if (v.triangle_count > 0)
     std::memcpy(tris.data(), v.triangles, v.triangle_count * sizeof(vplkit::voxel_triangle<float>));
   g.triangles = vplkit::gl::buffer::from_vector(tris);
+  if (v.bricks != nullptr) {
+    g.bricks = upload_uints(v.bricks, vplkit::voxel_brick_word_count(v.grid.resolution));
+  } else {  // a view without its brick level: every brick occupied, so the marches step as before
+    const std::vector<std::uint32_t> all(vplkit::voxel_brick_word_count(v.grid.resolution), ~0u);
+    g.bricks = upload_uints(all.data(), all.size());
+  }
   g.march_tests = march_triangle_tests(v);
   return g;
 }

@@ -19,12 +19,14 @@ namespace vplrender {
 
 // The triangle voxel grid beside the occupancy words: the four arrays of
 // glsl/vplkit/visibility/triangle_voxel_grid.glsl (rank, offsets, entries, triangles as four vec4
-// each), each at least one element, and the loop bound of one march over them.
+// each) and the brick level the marches skip empty space with (glsl/vplkit/visibility/
+// voxel_bricks.glsl), each at least one element, and the loop bound of one march over them.
 struct gpu_triangle_voxels {
-  vplkit::gl::buffer rank, offsets, entries, triangles;
+  vplkit::gl::buffer rank, offsets, entries, triangles, bricks;
   long long march_tests = 0;  // march_triangle_tests of the grid
   std::size_t size_bytes() const {
-    return rank.size_bytes() + offsets.size_bytes() + entries.size_bytes() + triangles.size_bytes();
+    return rank.size_bytes() + offsets.size_bytes() + entries.size_bytes() + triangles.size_bytes() +
+           bricks.size_bytes();
   }
 };
 

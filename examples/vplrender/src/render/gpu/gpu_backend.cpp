@@ -242,7 +242,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
       scene, vis,
       visibility_bindings{VR_ESTIMATE_BINDING_BVH_NODES, VR_ESTIMATE_BINDING_BVH_TRIANGLES, VR_ESTIMATE_BINDING_VOXEL_RANK,
                           VR_ESTIMATE_BINDING_VOXEL_OFFSETS, VR_ESTIMATE_BINDING_VOXEL_ENTRIES,
-                          VR_ESTIMATE_BINDING_VOXEL_TRIANGLES});
+                          VR_ESTIMATE_BINDING_VOXEL_TRIANGLES, VR_ESTIMATE_BINDING_VOXEL_BRICKS});
   // Exact rays give their hits' shading normals (ray_scene.glsl) from the corner normals; exact.comp
   // also shades its hits' albedos from the pool.
   if (vis == visibility_choice::exact) scene.shading.triangles.bind(VR_ESTIMATE_BINDING_TRIANGLE_SHADING);

@@ -60,14 +60,18 @@ inline long long gpu_query_cost(const gpu_scene_buffers* scene, visibility_choic
 }
 
 // The bindings of the buffers a kind reads beyond the G-buffer, DPRSM and occupancy words.
+// voxel_bricks: the brick level of the voxels' marches (VPLKIT_VOXEL_BRICKS in the kernel);
+// no_binding for a kernel that steps through empty space voxel by voxel.
+constexpr unsigned no_binding = ~0u;
 struct visibility_bindings {
   unsigned bvh_nodes, bvh_triangles;                                         // exact
   unsigned voxel_rank, voxel_offsets, voxel_entries, voxel_triangles;        // voxels
+  unsigned voxel_bricks = no_binding;                                        // voxels
 };
 
 // Binds the buffers the kind reads beyond the G-buffer, DPRSM and occupancy words (exact: the
-// BVH's nodes and triangles; voxels: the triangle voxel grid's four arrays); returns the BVH's
-// node count for the kernel (0 for the voxel kinds).
+// BVH's nodes and triangles; voxels: the triangle voxel grid's four arrays and, when bound, its
+// brick level); returns the BVH's node count for the kernel (0 for the voxel kinds).
 inline std::uint32_t bind_visibility_buffers(const gpu_scene_buffers& scene, visibility_choice v,
                                              const visibility_bindings& at) {
   switch (v) {
@@ -84,6 +88,7 @@ inline std::uint32_t bind_visibility_buffers(const gpu_scene_buffers& scene, vis
       t.offsets.bind(at.voxel_offsets);
       t.entries.bind(at.voxel_entries);
       t.triangles.bind(at.voxel_triangles);
+      if (at.voxel_bricks != no_binding) t.bricks.bind(at.voxel_bricks);
       break;
     }
   }
