@@ -10,9 +10,9 @@
 #include "pareto.hpp"
 #include "svg_plot.hpp"
 
-#include "app/options.hpp"
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"
 #include "render/method_traits.hpp"

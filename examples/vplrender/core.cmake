@@ -57,10 +57,10 @@ endforeach()
 set(_vr ${CMAKE_CURRENT_LIST_DIR}/src)
 add_library(vplrender_core STATIC
   ${_vr}/app/lighting_check.cpp
-  ${_vr}/app/options.cpp
+  ${_vr}/cli/options.cpp
   ${_vr}/app/progress.cpp
   ${_vr}/app/report.cpp
-  ${_vr}/app/scene_setup.cpp
+  ${_vr}/cli/scene_setup.cpp
   ${_vr}/app/window_update.cpp
   ${_vr}/io/atomic_file.cpp
   ${_vr}/io/cleanup_on_signal.cpp
@@ -109,7 +109,7 @@ set(VPLRENDER_CORE_AVAILABLE ON)
 # (support/, built when examples or GL tests are on).
 if(TARGET vplkit_headless_gl)
   add_library(vplrender_pipeline STATIC
-    ${_vr}/app/render_options.cpp
+    ${_vr}/cli/render_options.cpp
     ${_vr}/raster/gl_mesh.cpp
     ${_vr}/raster/gl_raster.cpp
     ${_vr}/raster/gl_target.cpp

@@ -25,9 +25,9 @@
 // 1 open). DPRSM 2 x 128^2, 64^3 voxels: the builders stay cheap beside the estimate.
 #include "bench_common.hpp"
 
-#include <app/options.hpp>
-#include <app/render_options.hpp>
-#include <app/scene_setup.hpp>
+#include <cli/options.hpp>
+#include <cli/render_options.hpp>
+#include <cli/scene_setup.hpp>
 #include <render/gpu/gpu_backend.hpp>
 #include <render/pipeline.hpp>
 

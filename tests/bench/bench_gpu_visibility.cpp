@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// What visibility costs the GPU estimator: vplrender's estimate.comp (`--method global`, 64 x 64
+// What visibility costs the GPU estimator: vplrender's estimate kernels (`--method global`, 64 x 64
 // pixels, 16 VPLs per pixel, DPRSM 2 x 128^2, 128^3 voxels) with the triangle voxels (the voxel
 // march, --visibility voxels) and with the exact BVH (--visibility exact) on one prepared frame,
 // in turn within each iteration, so both see the same machine load. The time of an iteration is
@@ -12,9 +12,9 @@
 // Scenes: cornell and open (built in); Sponza when VPLKIT_BENCH_SPONZA names its OBJ file (the
 // camera and light of docs/results.md). Each kernel variant runs once before timing (llvmpipe
 // compiles on first use).
-#include <app/options.hpp>
-#include <app/render_options.hpp>
-#include <app/scene_setup.hpp>
+#include <cli/options.hpp>
+#include <cli/render_options.hpp>
+#include <cli/scene_setup.hpp>
 #include <render/frame_buffers.hpp>
 #include <render/pipeline.hpp>
 

@@ -5,7 +5,7 @@
 // and the direct light a backend renders.
 #include "renderer_gl_fixture.hpp"
 
-#include "app/render_options.hpp"
+#include "cli/render_options.hpp"
 #include "render/cpu/cpu_backend.hpp"
 #include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_backend.hpp"

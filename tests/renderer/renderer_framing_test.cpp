@@ -3,7 +3,7 @@
 // position checks of prepare_scene.
 #include <catch2/catch.hpp>
 
-#include "app/scene_setup.hpp"
+#include "cli/scene_setup.hpp"
 #include "io/errors.hpp"
 #include "renderer_test_util.hpp"
 #include "scene/builtin_scenes.hpp"

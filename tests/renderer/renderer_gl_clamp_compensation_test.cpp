@@ -8,9 +8,9 @@
 //   compensated image's mean is within 3 % of --method exact's and more than 1 % above the clamped
 //   one's (which is 3.2 % below), and the image mean within 1.5 %;
 // - the same for --method ris (64 samples of 8 candidates), whose estimand is the clamped sum too.
-#include "app/options.hpp"
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "io/errors.hpp"
 #include "render/frame_buffers.hpp"
 #include "render/pipeline.hpp"
@@ -202,6 +202,6 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   // Programmatic callers that ask the GPU backend for it get a clear error, not a silent image.
   render_settings gs = make_render_settings(o, p.s);
   gs.meth = method::global;
-  frame_buffers gb{backend::gpu, "", b.gbuf, b.dprsm, b.grid, nullptr, nullptr, b.facts};
+  frame_buffers gb{backend::gpu, "", b.gbuf, b.dprsm, b.grid, nullptr, nullptr, {}, b.facts};
   CHECK_THROWS_AS(run_estimator(gb, gs, timer, {}, det), input_error);
 }

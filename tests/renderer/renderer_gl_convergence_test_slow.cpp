@@ -14,8 +14,8 @@
 // a room's corners see the gather points beside them, whose 1/d^2 terms (clamped at dmin) give
 // the CDF methods' point estimates a heavy tail at these tiny sizes (global at 32 VPLs met a
 // firefly: RMSE 0.13 -> 0.69); the 4x-samples rate is a property of the estimators, not of V.
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 
 #include <catch2/catch.hpp>
 

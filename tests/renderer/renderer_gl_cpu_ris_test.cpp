@@ -6,7 +6,7 @@
 // thread count; the flags reach the settings; and the GPU backend is refused until it has kernels.
 #include "renderer_gl_fixture.hpp"
 
-#include "app/render_options.hpp"
+#include "cli/render_options.hpp"
 #include "io/errors.hpp"
 #include "render/cpu/cpu_backend.hpp"
 #include "render/pipeline.hpp"
@@ -139,7 +139,7 @@ TEST_CASE("ris: the flags reach the settings, and the GPU backend is refused") {
   CHECK(r.ris_source == ris_source_choice::flux);
   CHECK(r.ris_spatial == 3);
   CHECK(r.vpls == 2);
-  frame_buffers gpu_frame{backend::gpu, "", f.b.gbuf, f.b.dprsm, f.b.grid, f.b.gpu, nullptr, f.b.facts};
+  frame_buffers gpu_frame{backend::gpu, "", f.b.gbuf, f.b.dprsm, f.b.grid, f.b.gpu, nullptr, {}, f.b.facts};
   stage_timer t;
   nlohmann::json det;
   try {

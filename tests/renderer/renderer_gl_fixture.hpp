@@ -4,9 +4,9 @@
 // prepared from `o`, its G-buffer and its DPRSM (tessellated for o.dprsm) rasterised on the
 // pipeline's GL context, the CPU voxel grid, and the same buffers uploaded to the GPU: a frame that
 // both backends take. The tests then run builders or estimators on it with both backends.
-#include "app/options.hpp"
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/gpu_scene_buffers.hpp"
 #include "raster/tessellate.hpp"
@@ -52,7 +52,7 @@ inline gl_fixture make_gl_fixture(const vplrender::options& o) {
   vplrender::scene_voxels grid = vplrender::voxelize_cpu(p.s, o.voxels);
   auto gpu = std::make_shared<vplrender::gpu_scene_buffers>(vplrender::upload_scene_buffers(g, d, grid.view()));
   vplrender::frame_buffers b{vplrender::backend::gpu, "", std::move(g), std::move(d), std::move(grid), std::move(gpu), nullptr,
-                            vplrender::frame_facts{}};  // facts: counted from the arrays when needed (facts_of)
+                            vplrender::exact_ray_frame{}, vplrender::frame_facts{}};  // facts: counted from the arrays when needed (facts_of)
   return {o, std::move(p), std::move(b)};
 }
 

@@ -3,9 +3,9 @@
 // DPRSM on the GPU and still gives what the read-back gave, bit for bit; frame k of `--frames N`
 // is, bit for bit, the single render with the light at the path's position k, on both backends;
 // the "frames" report has its fields.
-#include "app/options.hpp"
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/gpu_scene_buffers.hpp"
 #include "render/frames.hpp"
 #include "render/light_path.hpp"

@@ -7,8 +7,8 @@
 // - no pixel is exactly 0 where the exact image is above 3 % of its mean;
 // - over the gather points within 2 voxels of another surface, the mean is within 10 % of exact's.
 // The paper's test fails both here (shown, so that the test can tell them apart).
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "render/frame_buffers.hpp"
 #include "render/pipeline.hpp"
 #include "scene/raycast.hpp"

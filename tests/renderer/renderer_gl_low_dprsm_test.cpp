@@ -6,8 +6,8 @@
 // wrapped over the FRONT face's pole: the whole downward face showed the ceiling at depth 0.1.
 // Every gathering hit on the floor or walls then failed the depth test or met a texel facing away,
 // and the image was all zero on both backends (the VPL methods silently got ceiling-only VPLs).
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/dprsm_check.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/tessellate.hpp"

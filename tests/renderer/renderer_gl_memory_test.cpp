@@ -3,8 +3,8 @@
 // the `buffer` class and what the rasteriser allocates; run_estimator reports what a method's
 // builders, CDFs and estimator held at their peak, per texel and per pixel, and nothing on the CPU
 // backend.
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 
 #include <headless_gl/compute.hpp>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The rendering pipeline end to end on headless GL (llvmpipe here): G-buffer, DPRSM against a CPU
 // ray cast, the voxel grid, and every method on both built-in scenes at tiny sizes.
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/dprsm_check.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/voxels.hpp"

@@ -6,9 +6,9 @@
 // other GBG weights (different image). Small images, DPRSM 2x16x16, 32^3 voxels.
 #include "renderer_gl_fixture.hpp"
 
-#include "app/render_options.hpp"
+#include "cli/render_options.hpp"
 #include "app/report.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"

@@ -8,8 +8,8 @@
 //    against vplkit::make_vpl_distribution's.
 #include "renderer_gl_fixture.hpp"
 
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"

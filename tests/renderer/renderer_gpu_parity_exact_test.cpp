@@ -20,7 +20,7 @@
 #include "renderer_gl_fixture.hpp"
 #include "renderer_test_util.hpp"
 
-#include "app/render_options.hpp"
+#include "cli/render_options.hpp"
 #include "render/cpu/cpu_backend.hpp"
 #include "render/gpu/gpu_backend.hpp"
 #include "render/pipeline.hpp"

@@ -16,8 +16,8 @@
 // pixel finite and non-negative on both sides.
 #include "renderer_gl_fixture.hpp"
 
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/gl_raster.hpp"
 #include "raster/tessellate.hpp"
 #include "raster/voxels.hpp"
@@ -138,7 +138,7 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
       std::cout << scene_name << " " << to_string(v) << " " << to_string(m) << " --vpl-mode " << to_string(vm) << ": " << 100.0 * r.within
                 << "% of pixels within " << bound << " relative; worst inside " << r.worst_rel << ", worst overall "
                 << r.worst_any << " at pixel (" << r.worst_x << ", " << r.worst_y << ")\n";
-      // Wall times: on a real GPU the first render of each estimate.comp variant (VR_METHOD x
+      // Wall times: on a real GPU the first render of each estimate kernel variant (estimator x
       // visibility x shadow ray) includes the driver's compile; the H200 did not finish these test
       // cases in 55 s (docs/testing.md, "Image parity: time").
       std::cout << "    wall: cpu " << std::chrono::duration<double>(t1 - t0).count() << " s, gpu "

@@ -6,8 +6,8 @@
 // perform exactly the float operations and draws of the one loop. Checked for every estimate
 // kernel on small frames, the split forced on any driver (loop_budget_choice::always with a few
 // units per dispatch) against one dispatch (never; the work here is far below llvmpipe's budget).
-#include "app/render_options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/render_options.hpp"
+#include "cli/scene_setup.hpp"
 #include "render/gpu/gpu_backend.hpp"
 #include "render/gpu/loop_budget.hpp"
 #include "render/pipeline.hpp"

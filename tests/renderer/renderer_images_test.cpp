@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/report.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/scene_setup.hpp"
 #include "io/atomic_file.hpp"
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"

@@ -3,7 +3,7 @@
 // name every method once, and agree with what the rest of the renderer derives from them: the
 // command line accepts exactly the table's names (and its help lists them), the window cycles
 // through the GPU backend's rows in table order, and each trait matches the estimator it names.
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "app/window_update.hpp"
 #include "render/method_traits.hpp"
 #include "render/settings.hpp"

@@ -3,7 +3,7 @@
 // anything.
 #include <catch2/catch.hpp>
 
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "io/errors.hpp"
 
 #include <string>

@@ -4,7 +4,7 @@
 // until the method has GPU kernels.
 #include <catch2/catch.hpp>
 
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "io/errors.hpp"
 #include "render/settings.hpp"
 

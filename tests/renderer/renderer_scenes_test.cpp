@@ -3,7 +3,7 @@
 // ray casting and camera geometry they are checked with.
 #include <catch2/catch.hpp>
 
-#include "app/scene_setup.hpp"
+#include "cli/scene_setup.hpp"
 #include "io/errors.hpp"
 #include "scene/builtin_scenes.hpp"
 #include "scene/camera.hpp"

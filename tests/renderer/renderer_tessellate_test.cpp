@@ -3,8 +3,8 @@
 // next to the light (the sub-triangle that wrapped over the DPRSM's front face at R = 8, see
 // tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike; the
 // split over all cores equals the serial one.
-#include "app/options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/scene_setup.hpp"
 #include "raster/render_data.hpp"
 #include "raster/tessellate.hpp"
 

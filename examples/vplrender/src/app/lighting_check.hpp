@@ -2,8 +2,8 @@
 #pragma once
 // After a render: warnings for an image that shows nothing lit, each saying what to try. The facts
 // come from the frame (render/lighting_facts.hpp).
-#include "app/options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/scene_setup.hpp"
 #include "render/lighting_facts.hpp"
 
 #include <string>

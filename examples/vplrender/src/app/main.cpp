@@ -4,11 +4,11 @@
 // --frames and no window, N frames with a moving light: render/frames.hpp) and writes the EXR, the
 // PNG preview and the JSON report.
 #include "app/lighting_check.hpp"
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "app/progress.hpp"
-#include "app/render_options.hpp"
+#include "cli/render_options.hpp"
 #include "app/report.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/scene_setup.hpp"
 #include "app/window.hpp"
 #include "io/errors.hpp"
 #include "io/exr_io.hpp"

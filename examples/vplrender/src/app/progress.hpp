@@ -4,7 +4,7 @@
 // default), so short runs print nothing, and redraws at most ten times a second. With
 // progress_mode::automatic it is shown only when stderr is a terminal: a log file gets no
 // carriage-return noise.
-#include "app/options.hpp"
+#include "cli/options.hpp"
 
 #include <chrono>
 #include <cstdint>

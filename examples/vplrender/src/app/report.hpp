@@ -2,8 +2,8 @@
 #pragma once
 // The JSON report written beside every image: what was asked (all parameters), what scene it
 // became, where it ran (GL renderer string), and how long each stage took.
-#include "app/options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/scene_setup.hpp"
 #include "render/stage_timer.hpp"
 
 #include <nlohmann/json.hpp>

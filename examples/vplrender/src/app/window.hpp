@@ -4,10 +4,10 @@
 // The pipeline keeps its own headless GL context on a worker thread (a context is current on one
 // thread only, and keeping one per thread avoids switching between EGL and GLX on one thread);
 // the window's context on the main thread only displays the tone-mapped image.
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "app/progress.hpp"
-#include "app/scene_setup.hpp"
-#include "app/render_options.hpp"
+#include "cli/scene_setup.hpp"
+#include "cli/render_options.hpp"
 #include "render/stage_timer.hpp"
 
 #include <memory>

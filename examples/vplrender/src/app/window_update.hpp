@@ -3,7 +3,7 @@
 // The --window loop's decisions, apart from GLFW so they can be tested: what the key actions of one
 // pass of the event loop change, and whether that pass re-renders, only redraws, or does nothing.
 // The window renders on demand: a pass with no change and no damage to the window touches nothing.
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "render/settings.hpp"
 
 #include <string>

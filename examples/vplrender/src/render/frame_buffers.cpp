@@ -32,4 +32,11 @@ frame_facts facts_of(const frame_buffers& b) {
   return host_frame_facts(b.gbuf, b.dprsm);
 }
 
+const exact_ray_frame& frame_exact_rays(const frame_buffers& b, const char* who) {
+  if (!b.rays)
+    throw vplkit::invalid_input(std::string(who) +
+                                ": exact visibility needs a frame prepared with exact rays (frame_settings::exact_rays)");
+  return b.ray_frame;
+}
+
 }  // namespace vplrender

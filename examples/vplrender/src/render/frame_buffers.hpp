@@ -35,6 +35,16 @@ struct frame_facts {
   float nearest_lit_distance = std::numeric_limits<float>::infinity();
 };
 
+// The numbers both backends' exact rays share (render/cpu/ray_scene.hpp computes them): how far a
+// ray's ends move off their surfaces, the scene's size and the camera's eye, so the GPU's exact
+// kernels move the same points by the same amounts as Embree's rays without including the CPU
+// backend.
+struct exact_ray_frame {
+  float surface_offset = 0.0f;
+  float scene_size = 0.0f;
+  vec3 eye{0.0f};
+};
+
 struct frame_buffers {
   backend back = backend::gpu;  // the backend whose estimators these buffers serve
   std::string gl_renderer;      // the headless context's description
@@ -46,6 +56,7 @@ struct frame_buffers {
   // The scene's triangles in Embree (--visibility exact on the CPU, --method exact); null unless
   // the frame was prepared with frame_settings::exact_rays.
   std::shared_ptr<const ray_scene> rays;
+  exact_ray_frame ray_frame;  // rays' numbers; meaningful when rays is set
   frame_facts facts;  // set by the pipeline; a frame made from arrays leaves it to host_frame_facts
 
   // The G-buffer and the DPRSM are on the host as arrays.
@@ -61,5 +72,9 @@ frame_facts host_frame_facts(const gbuffer_data& g, const dprsm_data& d);
 // b.facts when known, else host_frame_facts of b's arrays (a frame made from arrays by hand);
 // throws vplkit::invalid_input when it has neither.
 frame_facts facts_of(const frame_buffers& b);
+
+// b.ray_frame; throws vplkit::invalid_input naming `who` when the frame was prepared without exact
+// rays (frame_settings::exact_rays).
+const exact_ray_frame& frame_exact_rays(const frame_buffers& b, const char* who);
 
 }  // namespace vplrender

@@ -74,7 +74,7 @@ inline mixture_components build_mixture_components(const float* weights, int D, 
 // mixture joint[d]: vplkit::defensive_mixture over alias_table or flat_face_roulette, the
 // estimators' Distribution interface. The components' totals are the joint CDFs' (the same
 // sanitised weights), so each mixture's split is joint[d]'s (checked): both pick the same component
-// with the same remapped u for every u, as estimate.comp does with the joint mixture's split.
+// with the same remapped u for every u, as the estimate kernels do with the joint mixture's split.
 // Components are taken by value: move alias tables in; flat_face_roulette is a view.
 template <class Component>
 std::vector<vplkit::defensive_mixture<float, Component>> component_mixtures(

@@ -2,7 +2,7 @@
 #pragma once
 // The render vocabulary that both backends and the pipeline share: the method and its switches,
 // the numbers derived from the scene (dmin), the builders' seeds and the progress callback. The
-// command line fills it (app/render_options.hpp); nothing here knows about flags.
+// command line fills it (cli/render_options.hpp); nothing here knows about flags.
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/vpl/dprsm_patch.hpp>
 

@@ -2,7 +2,6 @@
 #include "render/gpu/gpu_backend.hpp"
 
 #include "raster/gpu_scene_buffers.hpp"
-#include "render/cpu/cpu_visibility.hpp"
 #include "render/gpu/estimate_kernels.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_builders.hpp"
@@ -175,7 +174,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const int local_rounds = with_dists ? gm.local_rounds : 0;
   // --method exact: the host's ray scene gives the offsets (checked first: its error names the method).
   const bool exact_kernel = mt.estimator == estimator_kind::exact;
-  const ray_scene* exact_rays = exact_kernel ? &frame_ray_scene(b, "--method exact") : nullptr;
+  const exact_ray_frame* exact_rays = exact_kernel ? &frame_exact_rays(b, "--method exact") : nullptr;
   if (exact_kernel && !scene.shading.unavailable.empty())
     throw vplkit::invalid_input("--method exact on the GPU: " + scene.shading.unavailable);
   const int n_dists = with_dists ? gm.count : 0;
@@ -198,9 +197,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   P.dmin = es.dmin;
   P.depth_tolerance = depth_tol;
   if (exact_rays != nullptr) {
-    P.eye = glm::vec4(exact_rays->scene_camera().eye, 0.0f);
-    P.surface_offset = exact_rays->surface_offset();
-    P.scene_size = exact_rays->size();
+    P.eye = glm::vec4(exact_rays->eye, 0.0f);
+    P.surface_offset = exact_rays->surface_offset;
+    P.scene_size = exact_rays->scene_size;
   }
   // The mixtures' records (one per mixture, three vector loads each) and the CDF data as built.
   // Without distributions the kernels still bind both buffers: one zero record and word.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "app/scene_setup.hpp"
+#include "cli/scene_setup.hpp"
 
 #include "io/errors.hpp"
 #include "scene/builtin_scenes.hpp"

@@ -2,7 +2,7 @@
 #pragma once
 // From options to a ready scene: build or load it, frame it, light it, apply --camera/--light,
 // validate it, and check the light's position.
-#include "app/options.hpp"
+#include "cli/options.hpp"
 #include "scene/scene.hpp"
 
 #include <string>

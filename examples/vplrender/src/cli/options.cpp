@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "app/options.hpp"
+#include "cli/options.hpp"
 
 #include "io/errors.hpp"
 #include "render/method_traits.hpp"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "app/render_options.hpp"
+#include "cli/render_options.hpp"
 
 #include "render/method_traits.hpp"
 

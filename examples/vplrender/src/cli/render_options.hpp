@@ -2,8 +2,8 @@
 #pragma once
 // The command line's options turned into the pipeline's settings, and the pipeline driven by them:
 // what vplrender, the window, examples/speed_vs_error and the tests run.
-#include "app/options.hpp"
-#include "app/scene_setup.hpp"
+#include "cli/options.hpp"
+#include "cli/scene_setup.hpp"
 #include "render/pipeline.hpp"
 
 namespace vplrender {
