@@ -61,14 +61,14 @@ std::vector<std::uint32_t> pack_components(const mixture_components& c) {
     const std::uint32_t back_cdf = append(f.back().cdf()), back_guide = append(f.back().guide());
     const std::uint32_t rec[12] = {front_cdf,
                                    front_guide,
-                                   bits(f.front().total()),
+                                   vplkit::float_bits(f.front().total()),
                                    back_cdf,
                                    back_guide,
-                                   bits(f.back().total()),
-                                   bits(f.front_probability()),
-                                   bits(f.back_probability()),
-                                   bits(f.front_scale()),
-                                   bits(f.back_scale()),
+                                   vplkit::float_bits(f.back().total()),
+                                   vplkit::float_bits(f.front_probability()),
+                                   vplkit::float_bits(f.back_probability()),
+                                   vplkit::float_bits(f.front_scale()),
+                                   vplkit::float_bits(f.back_scale()),
                                    static_cast<std::uint32_t>(f.front().size()),
                                    static_cast<std::uint32_t>(f.front().guide_size())};
     std::memcpy(&out[12 * k], rec, sizeof(rec));
