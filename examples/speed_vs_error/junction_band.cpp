@@ -4,6 +4,7 @@
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/cpu/ray_scene.hpp"
 
+#include <vplkit/core/error.hpp>
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
@@ -19,6 +20,8 @@ constexpr int k_side = 32;  // directions per side of the midpoint grid
 
 std::vector<std::uint8_t> junction_band(const vplrender::frame_buffers& b, float radius) {
   const vplrender::ray_scene& rays = vplrender::frame_ray_scene(b, "the junction band");
+  if (!b.has_host_copies())
+    throw vplkit::invalid_input("the junction band: the frame's G-buffer is not on the host (read_back_host_copies)");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();
   std::vector<std::uint8_t> band(static_cast<std::size_t>(g.pixel_count()), 0);
   for (int p = 0; p < g.pixel_count(); ++p) {

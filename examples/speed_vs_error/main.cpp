@@ -622,9 +622,18 @@ int main(int argc, char** argv) {
     for (const stage_time& st : prep_timer.stages()) prepare_ms += st.ms;
     // The junction band (junction_band.hpp): within k_band_voxels voxels of another surface, where
     // the exact rays can tell.
-    const std::vector<std::uint8_t> band =
-        b.rays ? speed_vs_error::junction_band(b, k_band_voxels * b.grid.occupancy().voxel_length())
-               : std::vector<std::uint8_t>{};
+    // A GPU frame keeps its G-buffer on the GPU: the band reads a host copy of it.
+    std::vector<std::uint8_t> band;
+    if (b.rays) {
+      const float radius = k_band_voxels * b.grid.occupancy().voxel_length();
+      if (b.has_host_copies()) {
+        band = speed_vs_error::junction_band(b, radius);
+      } else {
+        frame_buffers host = b;
+        read_back_host_copies(host);
+        band = speed_vs_error::junction_band(host, radius);
+      }
+    }
     std::cout << "scene " << p.s.name << ", " << base.width << "x" << base.height << ", DPRSM 2x" << base.dprsm << "^2, "
               << base.voxels << "^3 voxels, backend " << to_string(base.back) << "\nGL: " << b.gl_renderer
               << "\nprepare (G-buffer, DPRSM, voxels): " << num(prepare_ms) << " ms" << std::endl;
