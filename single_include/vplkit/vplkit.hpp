@@ -586,7 +586,9 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
   bool valid[kLanes];
   for (std::size_t k = 0; k < kLanes; ++k) valid[k] = true;
   for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-    valid[k] &= (w[i] > -std::numeric_limits<T>::min()) & (w[i] <= std::numeric_limits<T>::max());
+    // Both comparisons always evaluated (an int &, not &&): no branch in the lane loop.
+    valid[k] &= (static_cast<int>(w[i] > -std::numeric_limits<T>::min()) &
+                 static_cast<int>(w[i] <= std::numeric_limits<T>::max())) != 0;
     acc[k].add(weight_value(w[i]));  // no branch: a select
     const double v = acc[k].value();
     lane_max[k] = v > lane_max[k] ? v : lane_max[k];
@@ -866,7 +868,7 @@ private:
       // every one of them exactly 1.
       const double inv = 1.0 / total;  // finite: a float total is >= 2^-149
       detail::for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-        acc[k].add(w[i]);
+        acc[k].add(detail::weight_value(w[i]));  // as checked_lane_sums added it
         const double q = (sums.offset[k] + acc[k].value()) * inv;
         store(i, T(q < 1.0 ? q : 1.0));
       });
@@ -875,7 +877,7 @@ private:
       // monotonicity that fl(sum + compensation) does not promise by itself.
       double lane_max[detail::kLanes] = {};
       detail::for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-        acc[k].add(w[i]);
+        acc[k].add(detail::weight_value(w[i]));  // as checked_lane_sums added it
         const double v = acc[k].value();
         lane_max[k] = v > lane_max[k] ? v : lane_max[k];
         const double p = sums.offset[k] + lane_max[k];

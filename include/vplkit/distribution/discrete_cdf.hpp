@@ -205,7 +205,7 @@ private:
       // every one of them exactly 1.
       const double inv = 1.0 / total;  // finite: a float total is >= 2^-149
       detail::for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-        acc[k].add(w[i]);
+        acc[k].add(detail::weight_value(w[i]));  // as checked_lane_sums added it
         const double q = (sums.offset[k] + acc[k].value()) * inv;
         store(i, T(q < 1.0 ? q : 1.0));
       });
@@ -214,7 +214,7 @@ private:
       // monotonicity that fl(sum + compensation) does not promise by itself.
       double lane_max[detail::kLanes] = {};
       detail::for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-        acc[k].add(w[i]);
+        acc[k].add(detail::weight_value(w[i]));  // as checked_lane_sums added it
         const double v = acc[k].value();
         lane_max[k] = v > lane_max[k] ? v : lane_max[k];
         const double p = sums.offset[k] + lane_max[k];

@@ -205,7 +205,9 @@ inline lane_sums<T> checked_lane_sums(const char* who, const T* w, const lane_pa
   bool valid[kLanes];
   for (std::size_t k = 0; k < kLanes; ++k) valid[k] = true;
   for_each_in_lanes(lanes, [&](std::size_t k, std::size_t i) {
-    valid[k] &= (w[i] > -std::numeric_limits<T>::min()) & (w[i] <= std::numeric_limits<T>::max());
+    // Both comparisons always evaluated (an int &, not &&): no branch in the lane loop.
+    valid[k] &= (static_cast<int>(w[i] > -std::numeric_limits<T>::min()) &
+                 static_cast<int>(w[i] <= std::numeric_limits<T>::max())) != 0;
     acc[k].add(weight_value(w[i]));  // no branch: a select
     const double v = acc[k].value();
     lane_max[k] = v > lane_max[k] ? v : lane_max[k];
