@@ -225,7 +225,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (mt.uses_vpls) det["vpl_mode"] = to_string(es.vpl_mode);
   if (mt.estimator == estimator_kind::reference && es.vpl_mode == vpl_mode_choice::patch)
     det["reference_strata"] = reference_patch_strata;
-  const bool shadow_ray = mt.gathers && es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact;
+  // The clamp's compensation traces gathering rays in the VPL kernels too (estimate_clamp_compensation.glsl),
+  // with the gathering lit test the CPU backend's tracer gives them.
+  const bool compensate = gpu_clamp_compensation(es);
+  const bool shadow_ray =
+      (mt.gathers || compensate) && es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact;
+  if (compensate) det["clamp_compensation_dirs"] = clamp_compensation_dirs(es);
   if (mt.gathers)
     det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
 
@@ -270,6 +275,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
     const int n = static_cast<int>((units + chunk - 1) / chunk);
     plans.push_back({&st, units, chunk, n, n > 1});
+    if (compensate) {  // the directions are the last units (with_clamp_compensation)
+      P.clamp_dirs = clamp_compensation_dirs(es);
+      P.clamp_first_unit = static_cast<int>(units - P.clamp_dirs);
+    }
     passes += n;
     any_split = any_split || n > 1;
   }
