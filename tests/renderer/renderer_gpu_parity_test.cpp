@@ -133,6 +133,10 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
         CHECK(cr.details["vpl_mode"] == to_string(vm));
         CHECK(gr.details["vpl_mode"] == to_string(vm));
       }
+      // The clamp's compensation is on by default on both backends (reference, global, local, gbg):
+      // the same directions from the same stream on both sides.
+      CHECK(gr.details.value("clamp_compensation_dirs", 0) == cr.details.value("clamp_compensation_dirs", 0));
+      CHECK(gr.details.contains("clamp_compensation_dirs") == method_has_clamp(m));
       const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
       const parity r = compare(cr.image, gr.image, bound);
       std::cout << scene_name << " " << to_string(v) << " " << to_string(m) << " --vpl-mode " << to_string(vm) << ": " << 100.0 * r.within
@@ -160,6 +164,9 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
     CHECK(compare(point_img, patch_img, 1e-3).within < 0.5);
   }
   o.vpl_mode = vpl_mode_choice::patch;
+  // The sections below check the clamped estimate (--clamp-compensation off), the loop above the
+  // compensated one.
+  o.clamp_compensation = clamp_compensation_choice::off;
   // --sampler alias and --face-selection roulette: both sides build the components on the host with
   // the same C++ code (render/mixture_components.hpp) from their own weights, and sample them with
   // the same float operations (the roulette's b_F and reciprocals are uploaded, not recomputed), so
@@ -218,11 +225,61 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
   o.direct = false;
 }
 
+// The clamp's compensation on the GPU (estimate_clamp_compensation.glsl): where the clamp is
+// inactive it adds exactly nothing (dmin far below every distance between the scene's surfaces:
+// the image is the clamped one bit for bit); where it is active it adds light (the default dmin);
+// and with the compensation the GPU image is the CPU's within the parity bounds above.
+void check_clamp_compensation(const std::string& scene_name) {
+  const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene_name));
+  options o = f.o;
+  for (method m : {method::reference, method::global, method::local, method::gbg}) {
+    o.meth = m;
+    render_settings es = make_render_settings(o, f.p.s);
+    es.threads = 2;
+    REQUIRE(es.clamp_compensation == clamp_compensation_choice::on);
+    REQUIRE(uses_clamp_compensation(es));
+    render_settings off = es;
+    off.clamp_compensation = clamp_compensation_choice::off;
+    stage_timer t0, t1, t2, t3, t4;
+    const render_result on_gpu = render_gpu(f.b, es, t0);
+    const image_rgb off_gpu = render_gpu(f.b, off, t1).image;
+    const image_rgb on_cpu = render_cpu(f.b, es, t2).image;
+    CHECK(on_gpu.details["clamp_compensation_dirs"] == clamp_compensation_dirs(es));
+    double sum_on = 0.0, sum_off = 0.0;
+    for (float v : on_gpu.image.rgb) sum_on += v;
+    for (float v : off_gpu.rgb) sum_off += v;
+    const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
+    const parity r = compare(on_cpu, on_gpu.image, bound);
+    std::cout << scene_name << " " << to_string(m) << " --clamp-compensation on: " << 100.0 * r.within
+              << "% of pixels within " << bound << " of the CPU's; the compensation adds "
+              << (sum_on - sum_off) / std::max(sum_off, 1e-30) << " of the clamped image\n";
+    INFO(scene_name << " " << to_string(m) << ": worst pixel (" << r.worst_x << ", " << r.worst_y << ") rel "
+                    << r.worst_any);
+    CHECK(r.within >= required_fraction);
+    CHECK(sum_on > sum_off);  // the clamp is active near the box's junctions at the default dmin
+
+    // dmin 1e-6 of the diagonal: no surface that counts lies that close, so the compensation is +0.
+    es.dmin = off.dmin = 1e-6f * es.scene_diagonal;
+    REQUIRE(uses_clamp_compensation(es));
+    const image_rgb tiny_on = render_gpu(f.b, es, t3).image;
+    const render_result tiny_off = render_gpu(f.b, off, t4);
+    CHECK(tiny_off.details.contains("clamp_compensation_dirs") == false);
+    CHECK(tiny_on.rgb == tiny_off.image.rgb);
+    double tiny_sum = 0.0;
+    for (float v : tiny_on.rgb) tiny_sum += v;
+    CHECK(tiny_sum > 0.0);  // a black image would agree with anything
+  }
+}
+
 }  // namespace
 
 TEST_CASE("GPU estimators match the CPU backend on the cornell scene") { run_scene("cornell"); }
 
 TEST_CASE("GPU estimators match the CPU backend on the open scene") { run_scene("open"); }
+
+TEST_CASE("GPU clamp compensation: the CPU's image, exactly zero where the clamp is inactive, light where it is active") {
+  check_clamp_compensation("cornell");
+}
 
 // The default above is the triangle voxel grid; the paper's binary voxel test is still selectable.
 TEST_CASE("GPU estimators match the CPU backend on the cornell scene with --visibility paper-voxels") {
