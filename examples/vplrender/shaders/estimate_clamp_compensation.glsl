@@ -9,7 +9,8 @@
 // clamp_dirs) after the estimator's, so a split render (VR_SPLIT 1) cuts them with the same
 // [begin, end) and keeps their state between dispatches in the lanes of vr_pixel_state the
 // estimators leave free (estimate_params.h). Without the define this file adds nothing.
-// Included after estimate_visibility.glsl (its tracer and accessors).
+// Included after estimate_visibility.glsl (its tracer and accessors; with exact rays also the
+// triangle voxel lists and their near-surface test).
 #ifndef VPLRENDER_ESTIMATE_CLAMP_COMPENSATION_GLSL
 #define VPLRENDER_ESTIMATE_CLAMP_COMPENSATION_GLSL
 
@@ -34,9 +35,20 @@ vplkit_estimator_state vr_begin_clamp_compensation(uint p) {
 void vr_clamp_compensation_range(vplkit_gather_point gp, inout vplkit_estimator_state c) {
   int begin = max(vr_params.begin - vr_params.clamp_first_unit, 0);
   int end = min(max(vr_params.end - vr_params.clamp_first_unit, 0), vr_params.clamp_dirs);
-  if (begin < end)
-    vplkit_estimate_clamp_compensation_range(gp, vr_view(), c, begin, end, vr_make_tracer(vr_grid()), vr_params.dmin,
-                                             vr_params.depth_tolerance, VR_VPL_MODE);
+  if (!(begin < end)) return;
+#if VR_VISIBILITY == VR_VISIBILITY_EXACT
+  // The BVH tracer answers vplkit_voxel_tracer_surface_within with true (it cannot say), so every
+  // gather point would trace; the CPU backend's exact tracer asks the triangle voxel grid (the same
+  // triangles), and so does this: no other surface within dmin, no direction traced, the numbers
+  // they would draw skipped (vplkit_clamp_compensation_may_add's test, with the grid's answer).
+  if (!vplkit_triangle_voxel_surface_within(vr_grid(), gp.position, abs(vr_params.dmin),
+                                            vplkit_vpl_coincidence_tolerance(gp.position, gp.position) / 4.0)) {
+    c.rng.counter += 2u * uint(end - begin);
+    return;
+  }
+#endif
+  vplkit_estimate_clamp_compensation_range(gp, vr_view(), c, begin, end, vr_make_tracer(vr_grid()), vr_params.dmin,
+                                           vr_params.depth_tolerance, VR_VPL_MODE);
 }
 
 // Its state into the free lanes, after vr_keep_estimate / vr_keep_sum wrote the estimator's.

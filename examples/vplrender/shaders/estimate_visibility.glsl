@@ -26,6 +26,14 @@
 #define VPLKIT_TRIANGLE_VOXELS
 #define VPLKIT_VOXEL_BRICKS
 #endif
+// The triangle voxel lists' near-surface test (triangle_voxel_near.glsl) serves the triangle voxel
+// tracer and, with exact rays, the clamp's compensation (estimate_clamp_compensation.glsl). The
+// resolver inlines a file where it first appears: here, under the condition of both users (its
+// dependency voxel_grid.glsl first, outside it, as every kernel needs that).
+#include "vplkit/visibility/voxel_grid.glsl"
+#if defined(VPLKIT_TRIANGLE_VOXELS) || (defined(VR_CLAMP_COMPENSATION) && VR_VISIBILITY == VR_VISIBILITY_EXACT)
+#include "vplkit/visibility/triangle_voxel_near.glsl"
+#endif
 #include "ray_scene.glsl"
 #include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
@@ -69,6 +77,24 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
 }
+#ifdef VR_CLAMP_COMPENSATION
+// The clamp's compensation asks the triangle voxel grid whether any other surface lies within dmin
+// (estimate_clamp_compensation.glsl): the BVH tracer cannot say.
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
+  uint vr_voxel_offsets[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
+  uint vr_voxel_entries[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
+  vec4 vr_voxel_triangles[];
+};
+uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
+uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
+uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
+vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+#endif
 // VR_LIT_SHADOW_RAY (--lit-test shadow-ray): gathering's lit test by a BVH shadow ray.
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) {
   vplkit_voxel_tracer tr = vplkit_voxel_tracer(grid, 0.0, true, false, 0.0, false, vplkit_make_always_visible());

@@ -250,6 +250,15 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // Exact rays give their hits' shading normals (ray_scene.glsl) from the corner normals; exact.comp
   // also shades its hits' albedos from the pool.
   if (vis == visibility_choice::exact) scene.shading.triangles.bind(VR_ESTIMATE_BINDING_TRIANGLE_SHADING);
+  // The compensation's near-surface test asks the triangle voxel lists with exact rays too
+  // (estimate_clamp_compensation.glsl); with --visibility voxels they are bound already.
+  if (compensate && vis == visibility_choice::exact) {
+    const gpu_triangle_voxels& t = scene.voxel_triangles;
+    t.rank.bind(VR_ESTIMATE_BINDING_VOXEL_RANK);
+    t.offsets.bind(VR_ESTIMATE_BINDING_VOXEL_OFFSETS);
+    t.entries.bind(VR_ESTIMATE_BINDING_VOXEL_ENTRIES);
+    t.triangles.bind(VR_ESTIMATE_BINDING_VOXEL_TRIANGLES);
+  }
   if (exact_kernel) scene.shading.pool.bind(VR_ESTIMATE_BINDING_SHADING_POOL);
   gl::buffer b_params = gl::buffer::filled(sizeof P, 0);
   glBindBufferBase(GL_UNIFORM_BUFFER, VR_ESTIMATE_BINDING_PARAMS, b_params.id());
