@@ -45,6 +45,26 @@ vplkit_voxel_grid vr_grid() {
   return vplkit_voxel_grid(vr_params.grid_min.xyz, vr_params.grid_max.xyz, vr_params.grid_resolution.xyz);
 }
 
+// The triangle voxel grid beside the occupancy words (triangle_voxel_grid.glsl's layout): the
+// triangle voxel visibility's, and with exact rays the clamp compensation's near-surface test
+// (estimate_clamp_compensation.glsl; the BVH tracer cannot say what lies within dmin).
+#if VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS || (defined(VR_CLAMP_COMPENSATION) && VR_VISIBILITY == VR_VISIBILITY_EXACT)
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
+  uint vr_voxel_offsets[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
+  uint vr_voxel_entries[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
+  vec4 vr_voxel_triangles[];
+};
+uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
+uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
+uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
+vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+#endif
+
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT
 layout(std430, binding = VR_ESTIMATE_BINDING_BVH_NODES) restrict readonly buffer VrBvhNodes { vplkit_bvh_node vr_bvh_nodes[]; };
 layout(std430, binding = VR_ESTIMATE_BINDING_BVH_TRIANGLES) restrict readonly buffer VrBvhTriangles {
@@ -77,24 +97,6 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
 }
-#ifdef VR_CLAMP_COMPENSATION
-// The clamp's compensation asks the triangle voxel grid whether any other surface lies within dmin
-// (estimate_clamp_compensation.glsl): the BVH tracer cannot say.
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
-  uint vr_voxel_offsets[];
-};
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
-  uint vr_voxel_entries[];
-};
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
-  vec4 vr_voxel_triangles[];
-};
-uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
-uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
-uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
-vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
-#endif
 // VR_LIT_SHADOW_RAY (--lit-test shadow-ray): gathering's lit test by a BVH shadow ray.
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) {
   vplkit_voxel_tracer tr = vplkit_voxel_tracer(grid, 0.0, true, false, 0.0, false, vplkit_make_always_visible());
@@ -114,21 +116,6 @@ vr_triangle_shading vr_load_triangle_shading(uint triangle) {
 }
 uint vr_load_shading_word(uint index) { return 0u; }
 #if VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
-// The triangle voxel grid beside the occupancy words (triangle_voxel_grid.glsl's layout).
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
-  uint vr_voxel_offsets[];
-};
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
-  uint vr_voxel_entries[];
-};
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
-  vec4 vr_voxel_triangles[];
-};
-uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
-uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
-uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
-vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
 // The brick level the marches skip empty space with (voxel_bricks.glsl).
 layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_BRICKS) restrict readonly buffer VrVoxelBricks {
   uint vr_voxel_bricks[];
