@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // --clamp-compensation in the renderer (docs/math.md, "The clamp's compensation", docs/renderer.md): its defaults
-// and its refusal on the GPU backend, which methods take it and how many rays, and on the built-in
+// (on with either backend), which methods take it and how many rays, and on the built-in
 // cornell with exact rays (CPU backend, global, patch VPLs, the default dmin):
 // - where no other surface lies within dmin of a gather point (the clamp is inactive there) the
 //   pixel is the clamped image's, bit for bit; the pixels it changes all lie within dmin of one;
@@ -56,13 +56,13 @@ double luminance(const image_rgb& img, std::size_t p) {
 
 }  // namespace
 
-TEST_CASE("renderer clamp compensation: on by default with the CPU backend, off with the GPU's, refused there") {
+TEST_CASE("renderer clamp compensation: on by default with either backend") {
   options o;
   const prepared_scene p = prepare_scene(o);
   o.back = backend::cpu;
   CHECK(make_render_settings(o, p.s).clamp_compensation == clamp_compensation_choice::on);
   o.back = backend::gpu;
-  CHECK(make_render_settings(o, p.s).clamp_compensation == clamp_compensation_choice::off);
+  CHECK(make_render_settings(o, p.s).clamp_compensation == clamp_compensation_choice::on);
   const auto parsed = [](std::vector<std::string> args) {
     args.insert(args.begin(), "vplrender");
     return parse_command_line(args).opts;
@@ -70,8 +70,8 @@ TEST_CASE("renderer clamp compensation: on by default with the CPU backend, off 
   CHECK(*parsed({"--backend", "cpu", "--clamp-compensation", "off"}).clamp_compensation == clamp_compensation_choice::off);
   CHECK(*parsed({"--clamp-compensation", "off"}).clamp_compensation == clamp_compensation_choice::off);
   CHECK(!parsed({"--backend", "cpu"}).clamp_compensation.has_value());
-  CHECK_THROWS_AS(parsed({"--backend", "gpu", "--clamp-compensation", "on"}), usage_error);
-  CHECK_THROWS_AS(parsed({"--clamp-compensation", "on"}), usage_error);  // the default backend is gpu
+  CHECK(*parsed({"--backend", "gpu", "--clamp-compensation", "on"}).clamp_compensation == clamp_compensation_choice::on);
+  CHECK(*parsed({"--clamp-compensation", "on"}).clamp_compensation == clamp_compensation_choice::on);
   CHECK_THROWS_AS(parsed({"--backend", "cpu", "--clamp-compensation", "yes"}), usage_error);
 
   // Which methods add it, with how many directions.

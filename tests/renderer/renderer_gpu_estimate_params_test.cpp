@@ -63,7 +63,9 @@ std::vector<member> params_members() {
       VR_MEMBER(P, cdf_stride),     VR_MEMBER(P, guide_base),   VR_MEMBER(P, guide_stride),
       VR_MEMBER(P, pad0),           VR_MEMBER(P, pad1),         VR_MEMBER(P, pad2),
       VR_MEMBER(P, dmin),           VR_MEMBER(P, depth_tolerance), VR_MEMBER(P, surface_offset),
-      VR_MEMBER(P, scene_size)};
+      VR_MEMBER(P, scene_size),
+      VR_MEMBER(P, clamp_dirs),     VR_MEMBER(P, clamp_first_unit), VR_MEMBER(P, clamp_pad0),
+      VR_MEMBER(P, clamp_pad1)};
   return v;
 }
 
@@ -96,10 +98,15 @@ void check_records(GLuint prog, const std::string& block, int binding, const std
 
 TEST_CASE("estimate_params.h: the C++ parameter block has every kernel's std140 layout") {
   // One variant of every kernel (the block is the same text in all; each compiles it).
-  CHECK(sizeof(gpu::estimate_params) == 240);
+  CHECK(sizeof(gpu::estimate_params) == 256);
   for (method m : {method::reference, method::global, method::local, method::gather, method::mis, method::exact}) {
     INFO(to_string(m));
     check_params_block(program(m, "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n"));
+  }
+  // The kernels that add the clamp's compensation, with it.
+  for (method m : {method::reference, method::global, method::local}) {
+    INFO(to_string(m) << " with VR_CLAMP_COMPENSATION");
+    check_params_block(program(m, "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n#define VR_VPL_MODE 1\n#define VR_CLAMP_COMPENSATION\n"));
   }
 }
 

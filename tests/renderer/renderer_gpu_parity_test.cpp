@@ -133,6 +133,10 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
         CHECK(cr.details["vpl_mode"] == to_string(vm));
         CHECK(gr.details["vpl_mode"] == to_string(vm));
       }
+      // The clamp's compensation is on by default on both backends (reference, global, local, gbg):
+      // the same directions from the same stream on both sides.
+      CHECK(gr.details.value("clamp_compensation_dirs", 0) == cr.details.value("clamp_compensation_dirs", 0));
+      CHECK(gr.details.contains("clamp_compensation_dirs") == method_has_clamp(m));
       const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
       const parity r = compare(cr.image, gr.image, bound);
       std::cout << scene_name << " " << to_string(v) << " " << to_string(m) << " --vpl-mode " << to_string(vm) << ": " << 100.0 * r.within
@@ -160,6 +164,9 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
     CHECK(compare(point_img, patch_img, 1e-3).within < 0.5);
   }
   o.vpl_mode = vpl_mode_choice::patch;
+  // The sections below check the clamped estimate (--clamp-compensation off), the loop above the
+  // compensated one.
+  o.clamp_compensation = clamp_compensation_choice::off;
   // --sampler alias and --face-selection roulette: both sides build the components on the host with
   // the same C++ code (render/mixture_components.hpp) from their own weights, and sample them with
   // the same float operations (the roulette's b_F and reciprocals are uploaded, not recomputed), so
@@ -218,11 +225,73 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
   o.direct = false;
 }
 
+// The clamp's compensation on the GPU (estimate_clamp_compensation.glsl): where the clamp is
+// inactive it adds exactly nothing (dmin far below every distance between the scene's surfaces:
+// the image is the clamped one bit for bit); where it is active it adds light; with it the GPU
+// image is the CPU's within the parity bounds above, and the term itself (image on - image off)
+// is the CPU's: the same directions from the same stream, so its image sum agrees within 1e-3
+// relative (a flipped decision moves one direction of one pixel). dmin is 5 % of the diagonal
+// here (default 1 %): at 24x16 pixels the default's term is ~1e-4 of the image, below what the
+// per-pixel rule above could tell from a term twice too large.
+void check_clamp_compensation(const std::string& scene_name) {
+  const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene_name));
+  options o = f.o;
+  for (method m : {method::reference, method::global, method::local, method::gbg}) {
+    o.meth = m;
+    render_settings es = make_render_settings(o, f.p.s);
+    es.threads = 2;
+    es.dmin *= 5.0f;
+    REQUIRE(es.clamp_compensation == clamp_compensation_choice::on);
+    REQUIRE(uses_clamp_compensation(es));
+    render_settings off = es;
+    off.clamp_compensation = clamp_compensation_choice::off;
+    stage_timer t0, t1, t2, t3, t4, t5;
+    const render_result on_gpu = render_gpu(f.b, es, t0);
+    const image_rgb off_gpu = render_gpu(f.b, off, t1).image;
+    const image_rgb on_cpu = render_cpu(f.b, es, t2).image;
+    const image_rgb off_cpu = render_cpu(f.b, off, t5).image;
+    CHECK(on_gpu.details["clamp_compensation_dirs"] == clamp_compensation_dirs(es));
+    double sum_on = 0.0, sum_off = 0.0, cpu_on = 0.0, cpu_off = 0.0;
+    for (float v : on_gpu.image.rgb) sum_on += v;
+    for (float v : off_gpu.rgb) sum_off += v;
+    for (float v : on_cpu.rgb) cpu_on += v;
+    for (float v : off_cpu.rgb) cpu_off += v;
+    const double term_gpu = sum_on - sum_off, term_cpu = cpu_on - cpu_off;
+    std::cout << "    the term: gpu " << term_gpu << ", cpu " << term_cpu << " (relative difference "
+              << (term_gpu - term_cpu) / std::max(std::abs(term_cpu), 1e-30) << ")\n";
+    CHECK(std::abs(term_gpu - term_cpu) <= 1e-3 * std::abs(term_cpu));
+    const double bound = has_distribution(m) ? rel_bound_gpu_builders : rel_bound;
+    const parity r = compare(on_cpu, on_gpu.image, bound);
+    std::cout << scene_name << " " << to_string(m) << " --clamp-compensation on: " << 100.0 * r.within
+              << "% of pixels within " << bound << " of the CPU's; the compensation adds "
+              << (sum_on - sum_off) / std::max(sum_off, 1e-30) << " of the clamped image\n";
+    INFO(scene_name << " " << to_string(m) << ": worst pixel (" << r.worst_x << ", " << r.worst_y << ") rel "
+                    << r.worst_any);
+    CHECK(r.within >= required_fraction);
+    CHECK(sum_on > 1.001 * sum_off);  // the clamp is active near the box's junctions
+
+    // dmin 1e-6 of the diagonal: no surface that counts lies that close, so the compensation is +0.
+    es.dmin = off.dmin = 1e-6f * es.scene_diagonal;  // both sides' clamped image changes with dmin
+    REQUIRE(uses_clamp_compensation(es));
+    const image_rgb tiny_on = render_gpu(f.b, es, t3).image;
+    const render_result tiny_off = render_gpu(f.b, off, t4);
+    CHECK(tiny_off.details.contains("clamp_compensation_dirs") == false);
+    CHECK(tiny_on.rgb == tiny_off.image.rgb);
+    double tiny_sum = 0.0;
+    for (float v : tiny_on.rgb) tiny_sum += v;
+    CHECK(tiny_sum > 0.0);  // a black image would agree with anything
+  }
+}
+
 }  // namespace
 
 TEST_CASE("GPU estimators match the CPU backend on the cornell scene") { run_scene("cornell"); }
 
 TEST_CASE("GPU estimators match the CPU backend on the open scene") { run_scene("open"); }
+
+TEST_CASE("GPU clamp compensation: the CPU's image, exactly zero where the clamp is inactive, light where it is active") {
+  check_clamp_compensation("cornell");
+}
 
 // The default above is the triangle voxel grid; the paper's binary voxel test is still selectable.
 TEST_CASE("GPU estimators match the CPU backend on the cornell scene with --visibility paper-voxels") {

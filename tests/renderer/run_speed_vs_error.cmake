@@ -176,16 +176,12 @@ list(GET lines4 1 row)
 if(NOT row MATCHES "^cornell,${BACKEND},gbg,4,1,24,16,16,16,0.05,balance,gathering,guide,${default_visibility},[0-9.eE+-]+,[0-9.eE+-]+,[0-9.eE+-]+,[0-9.eE+-]+,[0-9.eE+-]+,,,[0-9.eE+-]+,[0-9.eE+-]+,,,[0-9.eE+-]+,2,[0-9]+,")
   message(FATAL_ERROR "rep.csv row: '${row}'")
 endif()
-# The clamp compensation's default (on with the CPU backend, off with the GPU's) in the CSV, and on
+# The clamp compensation's default (on with both backends) in the CSV, and on
 # the CPU both settings in one sweep: global twice (global-clamped in the table), gather once.
 list(GET lines4 1 row)
 string(REPLACE "," ";" f "${row}")
 list(GET f 28 cc)
-if(BACKEND STREQUAL "cpu")
-  set(expected_cc on)
-else()
-  set(expected_cc off)
-endif()
+set(expected_cc on)
 if(NOT cc STREQUAL expected_cc)
   message(FATAL_ERROR "rep.csv: clamp_compensation '${cc}', expected '${expected_cc}' on ${BACKEND}")
 endif()

@@ -49,9 +49,15 @@ vplkit_dprsm_view vr_view() {
   return vplkit_dprsm_view(vr_params.resolution, vplkit_light_params_point_light(vr_params.light));
 }
 
-// The units of this dispatch.
+// The estimator's units of this dispatch (with VR_CLAMP_COMPENSATION the units from
+// clamp_first_unit on are the compensation's directions: estimate_clamp_compensation.glsl).
+#ifdef VR_CLAMP_COMPENSATION
+int vr_begin() { return min(vr_params.begin, vr_params.clamp_first_unit); }
+int vr_end() { return min(vr_params.end, vr_params.clamp_first_unit); }
+#else
 int vr_begin() { return vr_params.begin; }
 int vr_end() { return vr_params.end; }
+#endif
 
 // True in the dispatch that writes the estimate.
 bool vr_last_pass() {

@@ -58,6 +58,7 @@
 //   the pixel's state kept in the state buffer between them.
 // VR_DIRECT: 1 adds vplkit_direct_light (--direct) to the estimate.
 // VR_LIT_SHADOW_RAY (defined or not): gathering's lit test by a shadow ray (--lit-test shadow-ray).
+// VR_CLAMP_COMPENSATION (defined or not): the clamp's compensation (see its block below).
 #ifndef __cplusplus
 #ifndef VR_SAMPLER
 #define VR_SAMPLER VR_SAMPLER_CDF_GUIDE
@@ -124,6 +125,16 @@ struct vr_estimate_params {
   float depth_tolerance;  // gathering look-ups and patch VPLs
   float surface_offset;   // exact.comp: ray_scene::surface_offset()
   float scene_size;       // exact.comp: ray_scene::size()
+
+  // ---- the clamp's compensation (VR_CLAMP_COMPENSATION; --clamp-compensation on) ----------------
+  // docs/math.md, "The clamp's compensation": clamp_dirs cosine directions per gather point from
+  // vplkit_clamp_compensation_stream, as the CPU backend draws them. They are the kernel's units
+  // [clamp_first_unit, clamp_first_unit + clamp_dirs), after the estimator's own [0, clamp_first_unit),
+  // so a split render cuts both with one [begin, end). 0 without the define.
+  int clamp_dirs;
+  int clamp_first_unit;
+  int clamp_pad0;
+  int clamp_pad1;
 };
 
 // One defensive mixture of the per-frame distributions (std430, 48 bytes: three vector loads, made
@@ -142,7 +153,9 @@ struct vr_mixture_record {
 
 // A pixel's state between the dispatches of a split render (VR_SPLIT 1; std430, 48 bytes): the
 // estimators' vplkit_estimator_state (sum, rng key and counter), or the reference's
-// vplkit_vpl_sum_state (sum, compensation).
+// vplkit_vpl_sum_state (sum, compensation). With VR_CLAMP_COMPENSATION the clamp compensation's
+// estimator state takes the lanes neither uses (estimate_clamp_compensation.glsl): its sum in
+// (sum.w, comp.w, rng.z as float bits), its stream's counter in rng.w.
 #ifdef __cplusplus
 struct pixel_state {
 #else
@@ -166,7 +179,7 @@ struct vr_surfel {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(estimate_params) == 240);  // the light, 4 vec4, 24 scalars
+static_assert(sizeof(estimate_params) == 256);  // the light, 4 vec4, 24 scalars, the compensation's 4
 static_assert(sizeof(mixture_record) == 48 && sizeof(pixel_state) == 48 && sizeof(surfel) == 48);
 }  // namespace vplrender::gpu
 #endif

@@ -26,6 +26,14 @@
 #define VPLKIT_TRIANGLE_VOXELS
 #define VPLKIT_VOXEL_BRICKS
 #endif
+// The triangle voxel lists' near-surface test (triangle_voxel_near.glsl) serves the triangle voxel
+// tracer and, with exact rays, the clamp's compensation (estimate_clamp_compensation.glsl). The
+// resolver inlines a file where it first appears: here, under the condition of both users (its
+// dependency voxel_grid.glsl first, outside it, as every kernel needs that).
+#include "vplkit/visibility/voxel_grid.glsl"
+#if defined(VPLKIT_TRIANGLE_VOXELS) || (defined(VR_CLAMP_COMPENSATION) && VR_VISIBILITY == VR_VISIBILITY_EXACT)
+#include "vplkit/visibility/triangle_voxel_near.glsl"
+#endif
 #include "ray_scene.glsl"
 #include "vplkit/visibility/bvh_visibility.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
@@ -36,6 +44,26 @@ uint vplkit_load_voxel_word(uint word_index) { return vr_voxels[word_index]; }
 vplkit_voxel_grid vr_grid() {
   return vplkit_voxel_grid(vr_params.grid_min.xyz, vr_params.grid_max.xyz, vr_params.grid_resolution.xyz);
 }
+
+// The triangle voxel grid beside the occupancy words (triangle_voxel_grid.glsl's layout): the
+// triangle voxel visibility's, and with exact rays the clamp compensation's near-surface test
+// (estimate_clamp_compensation.glsl; the BVH tracer cannot say what lies within dmin).
+#if VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS || (defined(VR_CLAMP_COMPENSATION) && VR_VISIBILITY == VR_VISIBILITY_EXACT)
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
+  uint vr_voxel_offsets[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
+  uint vr_voxel_entries[];
+};
+layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
+  vec4 vr_voxel_triangles[];
+};
+uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
+uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
+uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
+vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+#endif
 
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT
 layout(std430, binding = VR_ESTIMATE_BINDING_BVH_NODES) restrict readonly buffer VrBvhNodes { vplkit_bvh_node vr_bvh_nodes[]; };
@@ -88,21 +116,6 @@ vr_triangle_shading vr_load_triangle_shading(uint triangle) {
 }
 uint vr_load_shading_word(uint index) { return 0u; }
 #if VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
-// The triangle voxel grid beside the occupancy words (triangle_voxel_grid.glsl's layout).
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_RANK) restrict readonly buffer VrVoxelRank { uint vr_voxel_rank[]; };
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_OFFSETS) restrict readonly buffer VrVoxelOffsets {
-  uint vr_voxel_offsets[];
-};
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_ENTRIES) restrict readonly buffer VrVoxelEntries {
-  uint vr_voxel_entries[];
-};
-layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_TRIANGLES) restrict readonly buffer VrVoxelTriangles {
-  vec4 vr_voxel_triangles[];
-};
-uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index]; }
-uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
-uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
-vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
 // The brick level the marches skip empty space with (voxel_bricks.glsl).
 layout(std430, binding = VR_ESTIMATE_BINDING_VOXEL_BRICKS) restrict readonly buffer VrVoxelBricks {
   uint vr_voxel_bricks[];

@@ -144,9 +144,8 @@ void build_app(CLI::App& app, raw_values& v) {
                    "a midpoint rule of it (docs/math.md section 11). --paper selects point."))
       ->type_name("point|patch");
   app.add_option("--clamp-compensation", v.clamp_compensation,
-                 d("Add back what the VPL clamp --dmin removes, for reference, global, local, gbg and ris (default on "
-                   "with --backend cpu; the GPU backend does not have it yet: off there, and on is refused): a "
-                   "short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
+                 d("Add back what the VPL clamp --dmin removes, for reference, global, local, gbg and ris (default on; "
+                   "both backends, ris on the CPU backend only): a short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
                    "estimate converges to the unclamped integral without its fireflies (docs/math.md, \"The clamp's compensation\"). "
                    "off = the clamped estimate, a documented bias near surfaces."))
       ->type_name("off|on");
@@ -394,8 +393,6 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.clamp_compensation = parse_choice<clamp_compensation_choice>(
         "--clamp-compensation", v.clamp_compensation,
         {{"off", clamp_compensation_choice::off}, {"on", clamp_compensation_choice::on}});
-    if (*o.clamp_compensation == clamp_compensation_choice::on && o.back == backend::gpu)
-      bad("--clamp-compensation", "on needs --backend cpu (the GPU backend's estimate kernel does not have it yet)");
   }
   if (given("--candidates"))
     o.candidates = static_cast<int>(parse_integer("--candidates", v.candidates, 1, limits::max_candidates));

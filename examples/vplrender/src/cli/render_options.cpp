@@ -32,8 +32,7 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.visibility = o.visibility;
   e.lit_test = o.lit_test;
   e.vpl_mode = o.vpl_mode;
-  e.clamp_compensation = o.clamp_compensation.value_or(o.back == backend::cpu ? clamp_compensation_choice::on
-                                                                               : clamp_compensation_choice::off);
+  e.clamp_compensation = o.clamp_compensation.value_or(clamp_compensation_choice::on);
   e.ris_candidates = o.candidates;
   e.ris_source = o.candidate_source;
   e.ris_spatial = o.spatial;

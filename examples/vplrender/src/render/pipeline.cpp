@@ -269,8 +269,6 @@ render_result run_estimator(const frame_buffers& b, const render_settings& s, st
   // buffers; the prepare stages' peak is kept as gpu_peak_bytes_prepare).
   const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();
   vplkit::gl::reset_gpu_memory_peak();
-  if (gpu && s.clamp_compensation == clamp_compensation_choice::on)
-    throw input_error("clamp compensation: not on the GPU backend yet (use the CPU backend, or turn it off)");
   render_result r;
   try {
     r = gpu ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);

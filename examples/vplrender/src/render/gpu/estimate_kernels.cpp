@@ -54,11 +54,23 @@ work_shape exact_shape(const render_settings& s, const shape_inputs& in) {
   return {2 * in.query_cost + texture_wrap_cost + 32, s.dirs, in.query_cost};
 }
 
+// The clamp's compensation (VR_CLAMP_COMPENSATION, estimate_clamp_compensation.glsl): its
+// directions follow the estimator's units, each a short trace and the hit's lit test (a shadow ray
+// with --lit-test shadow-ray); a unit's cost is the larger of the two kinds.
+template <work_shape (*estimator)(const render_settings&, const shape_inputs&)>
+work_shape with_clamp_compensation(const render_settings& s, const shape_inputs& in) {
+  work_shape w = estimator(s, in);
+  if (!uses_clamp_compensation(s)) return w;
+  w.cost = std::max(w.cost, 2 * dda_cost(in) + 8);
+  w.units += clamp_compensation_dirs(s);
+  return w;
+}
+
 // One row per estimator kind, in render/method_traits.hpp's order.
 const std::vector<gpu_estimate_kernel> k_kernels = {
-    {estimator_kind::reference, {{"estimate_reference.comp", reference_shape}}},
-    {estimator_kind::vpl_sampling, {{"estimate_vpl_sampling.comp", vpl_sampling_shape}}},
-    {estimator_kind::local, {{"estimate_local.comp", local_shape}}},
+    {estimator_kind::reference, {{"estimate_reference.comp", with_clamp_compensation<reference_shape>}}},
+    {estimator_kind::vpl_sampling, {{"estimate_vpl_sampling.comp", with_clamp_compensation<vpl_sampling_shape>}}},
+    {estimator_kind::local, {{"estimate_local.comp", with_clamp_compensation<local_shape>}}},
     {estimator_kind::gather, {{"estimate_gather.comp", gather_shape}}},
     {estimator_kind::mis, {{"estimate_mis.comp", mis_shape}}},
     {estimator_kind::exact, {{"exact.comp", exact_shape}}},
@@ -100,7 +112,16 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
   d += define("VR_SPLIT", split ? 1 : 0);
   d += define("VR_DIRECT", s.direct ? 1 : 0);
   if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
+  if (gpu_clamp_compensation(s)) d += "#define VR_CLAMP_COMPENSATION\n";
   return d;
+}
+
+bool gpu_clamp_compensation(const render_settings& s) {
+  if (!uses_clamp_compensation(s)) return false;
+  const estimator_kind k = traits(s.meth).estimator;
+  if (k == estimator_kind::reference || k == estimator_kind::vpl_sampling || k == estimator_kind::local) return true;
+  throw std::logic_error("estimate_kernels.cpp: --method " + std::string(to_string(s.meth)) +
+                         " takes the clamp compensation but its GPU kernel does not add it");
 }
 
 long long units_per_pass(const work_shape& s) { return std::max(1LL, (gpu_loop_budget - s.fixed) / s.cost); }

@@ -57,9 +57,13 @@ std::string gpu_kernel_path(const gpu_kernel_stage& k);
 // program cache; needs a current GL context).
 const vplkit::gl::program& gpu_kernel_program(const gpu_kernel_stage& k, const std::string& defines);
 
+// Whether s's kernel adds the clamp's compensation (uses_clamp_compensation: reference, global,
+// local, gbg; a method that takes it without a kernel that adds it is a logic_error).
+bool gpu_clamp_compensation(const render_settings& s);
+
 // The preamble of s's variant (one "#define NAME VALUE" line per define the kernel reads):
 // VR_VISIBILITY, VR_SAMPLER, VR_VPL_MODE, VR_LOCAL_COMBINATION, VR_VARIANT, VR_SPLIT, VR_DIRECT,
-// VR_LIT_SHADOW_RAY. `resampled`: the mixtures' components were built (--sampler alias,
+// VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION. `resampled`: the mixtures' components were built (--sampler alias,
 // --face-selection roulette); `shadow_ray`: gathering's lit test by a shadow ray; `split`: the
 // units are split over dispatches.
 std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,

@@ -225,7 +225,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (mt.uses_vpls) det["vpl_mode"] = to_string(es.vpl_mode);
   if (mt.estimator == estimator_kind::reference && es.vpl_mode == vpl_mode_choice::patch)
     det["reference_strata"] = reference_patch_strata;
-  const bool shadow_ray = mt.gathers && es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact;
+  // The clamp's compensation traces gathering rays in the VPL kernels too (estimate_clamp_compensation.glsl),
+  // with the gathering lit test the CPU backend's tracer gives them.
+  const bool compensate = gpu_clamp_compensation(es);
+  const bool shadow_ray =
+      (mt.gathers || compensate) && es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact;
+  if (compensate) det["clamp_compensation_dirs"] = clamp_compensation_dirs(es);
   if (mt.gathers)
     det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
 
@@ -245,6 +250,15 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // Exact rays give their hits' shading normals (ray_scene.glsl) from the corner normals; exact.comp
   // also shades its hits' albedos from the pool.
   if (vis == visibility_choice::exact) scene.shading.triangles.bind(VR_ESTIMATE_BINDING_TRIANGLE_SHADING);
+  // The compensation's near-surface test asks the triangle voxel lists with exact rays too
+  // (estimate_clamp_compensation.glsl); with --visibility voxels they are bound already.
+  if (compensate && vis == visibility_choice::exact) {
+    const gpu_triangle_voxels& t = scene.voxel_triangles;
+    t.rank.bind(VR_ESTIMATE_BINDING_VOXEL_RANK);
+    t.offsets.bind(VR_ESTIMATE_BINDING_VOXEL_OFFSETS);
+    t.entries.bind(VR_ESTIMATE_BINDING_VOXEL_ENTRIES);
+    t.triangles.bind(VR_ESTIMATE_BINDING_VOXEL_TRIANGLES);
+  }
   if (exact_kernel) scene.shading.pool.bind(VR_ESTIMATE_BINDING_SHADING_POOL);
   gl::buffer b_params = gl::buffer::filled(sizeof P, 0);
   glBindBufferBase(GL_UNIFORM_BUFFER, VR_ESTIMATE_BINDING_PARAMS, b_params.id());
@@ -270,6 +284,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
     const int n = static_cast<int>((units + chunk - 1) / chunk);
     plans.push_back({&st, units, chunk, n, n > 1});
+    if (compensate) {  // the directions are the last units (with_clamp_compensation)
+      P.clamp_dirs = clamp_compensation_dirs(es);
+      P.clamp_first_unit = static_cast<int>(units - P.clamp_dirs);
+    }
     passes += n;
     any_split = any_split || n > 1;
   }
