@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 using namespace vplrender;
@@ -146,6 +147,10 @@ TEST_CASE("ris on the GPU: candidates whose targets are all 0 leave the direct l
 }
 
 TEST_CASE("ris on the GPU: the image mean converges to the exhaustive VPL sum, with and without reuse") {
+  // Point VPLs: the exhaustive VPL sum (--method reference) is the exact estimand. The image mean
+  // of 4 seeds, each 48 samples of 16 candidates per pixel, against it: within 4 standard errors
+  // (estimated from the 4 seeds' means) plus 0.5 % (the GPU reference's own float rounding and
+  // the seeds' small count), so a bias of a few percent fails while noise does not.
   const fixture& f = shared_fixture();
   options ref_o = f.o;
   ref_o.meth = method::reference;
@@ -154,18 +159,27 @@ TEST_CASE("ris on the GPU: the image mean converges to the exhaustive VPL sum, w
   REQUIRE(ref > 0.0);
   for (const ris_source_choice source : {ris_source_choice::flux, ris_source_choice::gbg})
     for (const int spatial : {0, 4}) {
-      options o = f.o;
-      o.meth = method::ris;
-      o.vpl_mode = vpl_mode_choice::point;
-      o.candidate_source = source;
-      o.spatial = spatial;
-      o.candidates = 16;
-      o.vpls = 48;
-      o.eps = 0.1;
-      const double m = mean_of(gpu_image(f, settings_of(f, o)));
-      std::printf("ris on the GPU, %s --spatial %d: mean %+.2f %% of the VPL sum\n", to_string(source), spatial,
-                  100.0 * (m / ref - 1.0));
-      INFO(to_string(source) << " --spatial " << spatial);
-      CHECK(std::abs(m / ref - 1.0) < 0.015);
+      double sum = 0.0, sum2 = 0.0;
+      const int seeds = 4;
+      for (int seed = 1; seed <= seeds; ++seed) {
+        options o = f.o;
+        o.meth = method::ris;
+        o.vpl_mode = vpl_mode_choice::point;
+        o.candidate_source = source;
+        o.spatial = spatial;
+        o.candidates = 16;
+        o.vpls = 48;
+        o.eps = 0.1;
+        o.seed = static_cast<std::uint32_t>(seed);
+        const double m = mean_of(gpu_image(f, settings_of(f, o))) / ref;
+        sum += m;
+        sum2 += m * m;
+      }
+      const double mean = sum / seeds;
+      const double se = std::sqrt(std::max(0.0, (sum2 - seeds * mean * mean) / (seeds - 1)) / seeds);
+      std::printf("ris on the GPU, %s --spatial %d: mean %+.2f %% of the VPL sum, standard error %.2f %%\n",
+                  to_string(source), spatial, 100.0 * (mean - 1.0), 100.0 * se);
+      INFO(to_string(source) << " --spatial " << spatial << ": mean/ref " << mean << ", standard error " << se);
+      CHECK(std::abs(mean - 1.0) <= 4.0 * se + 0.005);
     }
 }
