@@ -9,10 +9,11 @@
 //    weighted reservoir and the kept sample): per candidate a CDF draw and an unshadowed
 //    contribution, no storage traffic; only the kept sample pays a visibility query, so the
 //    divergent, memory-bound part (the ray march) runs once per sample whatever M is.
-//  - The reservoir record (vplkit_ris_reservoir_record, ris_params.h) is 32 bytes, 16-byte
-//    aligned: a pixel's record is two 16-byte vector accesses and the 64 invocations of a group
-//    (consecutive pixels) touch 2 KiB contiguous, fully coalesced. It is written once per round
-//    and read by the reuse pass: the only round trip RIS adds.
+//  - The reservoir record (vplkit_ris_reservoir_record, ris_params.h) is 32 bytes at a 32-byte
+//    stride: the compiler may load or store it as two 16-byte vectors, and the 64 invocations of a
+//    group (consecutive pixels) touch 2 KiB contiguous, so a warp's accesses coalesce into full
+//    cache lines whatever the compiler does. It is written once per round and read by the reuse
+//    pass: the only storage round trip RIS adds besides the split state (sum and stream, 48 bytes).
 //  - The reuse pass reads the G-buffer and the reservoirs, nothing else per neighbour: no
 //    candidate is redrawn, no ray is traced for a neighbour (the target has no visibility). The
 //    neighbours of nearby pixels overlap, so their loads hit the caches. It holds K pixel indices
