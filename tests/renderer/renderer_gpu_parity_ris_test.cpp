@@ -183,3 +183,28 @@ TEST_CASE("ris on the GPU: the image mean converges to the exhaustive VPL sum, w
       CHECK(std::abs(mean - 1.0) <= 4.0 * se + 0.005);
     }
 }
+
+TEST_CASE("ris on the GPU: the samples split over dispatches give the image of one dispatch") {
+  // Without reuse the samples are the kernel's units (VR_SPLIT 1: sum and stream in the state
+  // buffer between dispatches); with reuse every round is its own pair of dispatches whatever the
+  // budget. Either way the image is the one of a single dispatch, bit for bit.
+  const fixture& f = shared_fixture();
+  for (const int spatial : {0, 2}) {
+    options o = f.o;
+    o.meth = method::ris;
+    o.candidates = 4;
+    o.vpls = 5;
+    o.spatial = spatial;
+    render_settings es = settings_of(f, o);
+    es.loop_budget = loop_budget_choice::never;
+    stage_timer t1, t2;
+    const render_result one = render_gpu(f.b, es, t1);
+    es.loop_budget = loop_budget_choice::always;
+    es.max_units_per_pass = 2;
+    const render_result split = render_gpu(f.b, es, t2);
+    INFO("--spatial " << spatial);
+    CHECK(split.details["gpu"]["passes"] == (spatial > 0 ? 10 : 3));
+    CHECK(mean_of(one.image) > 0.0);
+    CHECK(one.image.rgb == split.image.rgb);
+  }
+}
