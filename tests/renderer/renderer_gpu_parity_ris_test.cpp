@@ -208,3 +208,22 @@ TEST_CASE("ris on the GPU: the samples split over dispatches give the image of o
     CHECK(one.image.rgb == split.image.rgb);
   }
 }
+
+TEST_CASE("ris on the GPU: candidates beyond the software driver's loop limit are refused with a message") {
+  // Under llvmpipe's loop budget a sample's M candidates cannot be split over dispatches; a
+  // silently shortened loop would bias the image, so the backend refuses, naming the flag.
+  const fixture& f = shared_fixture();
+  for (const int spatial : {0, 2}) {
+    options o = f.o;
+    o.meth = method::ris;
+    o.candidates = 60000;
+    o.vpls = 1;
+    o.spatial = spatial;
+    render_settings es = settings_of(f, o);
+    es.loop_budget = loop_budget_choice::always;
+    stage_timer t;
+    INFO("--spatial " << spatial);
+    CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("--candidates 60000") &&
+                                                  Catch::Contains("exceed the software GL driver's loop limit"));
+  }
+}

@@ -324,6 +324,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   for (const gpu_kernel_stage& st : kern.stages) {
     if (ris_reuse) break;
     const work_shape shape = st.shape(es, in);
+    // A ris sample (its M candidates) is one unit: the split cannot shorten it.
+    if (ris && budget && shape.cost > gpu_loop_budget)
+      throw vplkit::invalid_input("--method ris --candidates " + std::to_string(es.ris_candidates) +
+                                  ": one sample's candidates exceed the software GL driver's loop limit; use fewer "
+                                  "--candidates");
     const long long units = std::max(1LL, shape.units);
     long long chunk = budget ? std::min(units, units_per_pass(shape)) : units;
     if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
