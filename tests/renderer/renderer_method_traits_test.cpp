@@ -128,8 +128,9 @@ TEST_CASE("method traits: the window's keys 1-8 follow the table's GPU rows, exa
       if (v.meth != method::reference || k == 0) seen.push_back(v.meth);
     }
     std::vector<method> expected;
+    // ris is not on the keys yet (app/window_update.cpp says why).
     for (const method_traits& t : all_method_traits())
-      if (t.gpu && (!t.exact_rays || exact)) expected.push_back(t.id);
+      if (t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || exact)) expected.push_back(t.id);
     CHECK(seen == expected);
   }
 }
