@@ -49,8 +49,8 @@ TEST_CASE("method traits: each row's traits agree with its estimator and builder
     // is their own.
     CHECK((t.estimator == estimator_kind::ris) == (t.builder == builder_kind::candidate_source));
     CHECK(t.builder != builder_kind::flux);
-    // The GPU backend has a kernel for every estimator but RIS (CPU only for now).
-    CHECK(t.gpu == (t.estimator != estimator_kind::ris));
+    // The GPU backend has a kernel for every estimator (RIS: estimate_ris.comp).
+    CHECK(t.gpu);
     // VPLs: every estimator but gathering and the ground truth.
     CHECK(uses_vpls(t.id) == (t.estimator != estimator_kind::gather && t.estimator != estimator_kind::exact));
     CHECK(t.uses_vpls == uses_vpls(t.id));
@@ -128,8 +128,9 @@ TEST_CASE("method traits: the window's keys 1-8 follow the table's GPU rows, exa
       if (v.meth != method::reference || k == 0) seen.push_back(v.meth);
     }
     std::vector<method> expected;
+    // ris is not on the keys yet (app/window_update.cpp says why).
     for (const method_traits& t : all_method_traits())
-      if (t.gpu && (!t.exact_rays || exact)) expected.push_back(t.id);
+      if (t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || exact)) expected.push_back(t.id);
     CHECK(seen == expected);
   }
 }

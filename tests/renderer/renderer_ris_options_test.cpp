@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The command line of --method ris: its three flags (--candidates, --candidate-source, --spatial),
-// their defaults, limits and errors, and the refusal of the GPU backend
-// until the method has GPU kernels.
+// their defaults, limits and errors, and the GPU backend's acceptance (clamp compensation refused
+// there as for every method).
 #include <catch2/catch.hpp>
 
 #include "cli/options.hpp"
@@ -76,11 +76,12 @@ TEST_CASE("ris options: limits and bad values name the flag") {
                     "--candidate-source: unknown value 'mis' (expected global|local|gbg|flux)"));
 }
 
-TEST_CASE("ris options: the GPU backend is refused with a clear message until its kernels exist") {
-  const std::string e = error_of({"--method", "ris"});  // the default backend is gpu
-  CHECK(starts_with(e, "--method ris: runs on --backend cpu only for now"));
-  CHECK(e.find("--backend cpu") != std::string::npos);
-  CHECK(starts_with(error_of({"--method", "ris", "--backend", "gpu"}), "--method ris: runs on --backend cpu only"));
+TEST_CASE("ris options: the GPU backend runs it, without clamp compensation as every method there") {
+  const options o = parse({"--method", "ris", "--spatial", "2"});  // the default backend is gpu
+  CHECK(o.back == backend::gpu);
+  CHECK(o.meth == method::ris);
+  CHECK(o.spatial == 2);
+  CHECK(starts_with(error_of({"--method", "ris", "--clamp-compensation", "on"}), "--clamp-compensation: on needs --backend cpu"));
 }
 
 TEST_CASE("ris options: --help documents the method and its flags") {

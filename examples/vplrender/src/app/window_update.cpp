@@ -12,11 +12,13 @@ namespace {
 
 // Keys 1-8: the methods the GPU backend runs (the window's), in the order of
 // render/method_traits.cpp, those that trace the scene's triangles (exact) only on a frame with
-// exact rays (window_view::exact).
+// exact rays (window_view::exact). ris is not among them yet: after exact in the table, it would
+// take key 8 on a frame without exact rays, so that key would mean two methods; a fixed key of
+// its own (9) needs the keys to follow the table with gaps.
 std::vector<method> window_methods(const window_view& v) {
   std::vector<method> out;
   for (const method_traits& t : all_method_traits())
-    if (t.gpu && (!t.exact_rays || v.exact)) out.push_back(t.id);
+    if (t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || v.exact)) out.push_back(t.id);
   return out;
 }
 

@@ -37,8 +37,8 @@ const std::vector<method_traits> k_methods = {
    ek::exact,        0, bk::none,   false, true,  false, true,  true,  false, sc::dirs, true, false},
   {method::ris, "ris",
    "resampled importance sampling: per sample --candidates VPLs from --candidate-source, one kept by their "
-   "unshadowed contribution, one visibility query, optionally --spatial reuse (CPU backend only for now)",
-   ek::ris,          0, bk::candidate_source, true, false, false, false, true, false, sc::vpls, false, true},
+   "unshadowed contribution, one visibility query, optionally --spatial reuse",
+   ek::ris,          0, bk::candidate_source, true, false, false, false, true, false, sc::vpls, true, true},
 };
 // clang-format on
 

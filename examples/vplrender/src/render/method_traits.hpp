@@ -17,7 +17,7 @@ namespace vplrender {
 
 // The estimator a method runs: one C++ template family of the library on the CPU backend, one
 // kernel (examples/vplrender/shaders/estimate_<kind>.comp, exact.comp) on the GPU backend.
-// ris: the CPU backend only (render/cpu/ris_render.hpp); no GPU kernel yet.
+// ris: render/cpu/ris_render.hpp on the CPU, estimate_ris.comp on the GPU.
 enum class estimator_kind { reference, vpl_sampling, local, gather, mis, exact, ris };
 
 // What builds a method's distribution over the VPLs (none: it samples no distribution). flux: the

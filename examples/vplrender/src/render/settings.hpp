@@ -17,7 +17,7 @@ namespace vplrender {
 // gathering against the scene's triangles with exact visibility and no VPLs
 // (render/cpu/exact_estimator.hpp), the ground truth of the others. ris: resampled importance
 // sampling of VPLs (vplkit/estimators/ris_estimator.hpp), candidates from the distribution of
-// ris_source_choice, optionally with spatial reuse; CPU backend only for now.
+// ris_source_choice, optionally with spatial reuse; both backends.
 enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact, ris };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG

@@ -9,6 +9,7 @@
 // record per pixel whatever the sample count: the rounds reuse it.
 #include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/parallel.hpp"
+#include "render/ris_spatial.hpp"
 #include "render/settings.hpp"
 #include "render/stage_timer.hpp"
 
@@ -28,16 +29,6 @@
 #include <vector>
 
 namespace vplrender {
-
-// The neighbourhood of the spatial reuse: a square of 1/16 of the image's shorter side on each
-// side of the pixel (at least 2 pixels), so that it covers the same part of the view at every
-// image size; the rejection thresholds are the library's defaults.
-inline vplkit::ris_spatial_settings<float> ris_spatial_settings_for(int width, int height, int neighbours) {
-  vplkit::ris_spatial_settings<float> s;
-  s.neighbours = neighbours;
-  s.radius = std::max(2, std::min(width, height) / 16);
-  return s;
-}
 
 // Renders --method ris into `image` (pixels row-major, background left 0): `dists` the candidate
 // source's distributions (one, or one per region of s.regions_x x s.regions_y for local);

@@ -66,6 +66,15 @@ work_shape with_clamp_compensation(const render_settings& s, const shape_inputs&
   return w;
 }
 
+// RIS: a sample is M candidates (a CDF draw and an unshadowed contribution each) and the kept one's
+// query.
+long long ris_candidates_cost(const render_settings& s, const shape_inputs& in) {
+  return static_cast<long long>(std::max(1, s.ris_candidates)) * (cdf_cost(in) + 8);
+}
+work_shape ris_shape(const render_settings& s, const shape_inputs& in) {
+  return {ris_candidates_cost(s, in) + dda_cost(in) + 4, s.vpls, 0};
+}
+
 // One row per estimator kind, in render/method_traits.hpp's order.
 const std::vector<gpu_estimate_kernel> k_kernels = {
     {estimator_kind::reference, {{"estimate_reference.comp", with_clamp_compensation<reference_shape>}}},
@@ -74,6 +83,7 @@ const std::vector<gpu_estimate_kernel> k_kernels = {
     {estimator_kind::gather, {{"estimate_gather.comp", gather_shape}}},
     {estimator_kind::mis, {{"estimate_mis.comp", mis_shape}}},
     {estimator_kind::exact, {{"exact.comp", exact_shape}}},
+    {estimator_kind::ris, {{"estimate_ris.comp", ris_shape}}},
 };
 
 std::string define(const char* name, int value) { return std::string("#define ") + name + " " + std::to_string(value) + "\n"; }
@@ -99,7 +109,7 @@ const vplkit::gl::program& gpu_kernel_program(const gpu_kernel_stage& k, const s
 }
 
 std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,
-                               bool split) {
+                               bool split, int ris_pass) {
   const method_traits& t = traits(s.meth);
   std::string d;
   if (t.estimator != estimator_kind::exact)
@@ -113,6 +123,10 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
   d += define("VR_DIRECT", s.direct ? 1 : 0);
   if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
   if (gpu_clamp_compensation(s)) d += "#define VR_CLAMP_COMPENSATION\n";
+  if (t.estimator == estimator_kind::ris) {
+    d += define("VR_RIS_PASS", ris_pass);
+    if (s.ris_source == ris_source_choice::local) d += "#define VR_RIS_PER_REGION\n";
+  }
   return d;
 }
 
@@ -122,6 +136,12 @@ bool gpu_clamp_compensation(const render_settings& s) {
   if (k == estimator_kind::reference || k == estimator_kind::vpl_sampling || k == estimator_kind::local) return true;
   throw std::logic_error("estimate_kernels.cpp: --method " + std::string(to_string(s.meth)) +
                          " takes the clamp compensation but its GPU kernel does not add it");
+}
+
+long long ris_round_cost(const render_settings& s, const shape_inputs& in, int ris_pass) {
+  if (ris_pass == ris_pass_candidates) return ris_candidates_cost(s, in) + 4;
+  // The reuse: per attempt a similarity test and (pairwise MIS) two targets; the shade's query.
+  return 8LL * std::max(0, s.ris_spatial) + dda_cost(in) + 8;
 }
 
 long long units_per_pass(const work_shape& s) { return std::max(1LL, (gpu_loop_budget - s.fixed) / s.cost); }

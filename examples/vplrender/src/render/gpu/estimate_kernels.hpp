@@ -8,6 +8,8 @@
 #include "render/method_traits.hpp"
 #include "render/settings.hpp"
 
+#include "estimate_ris_params.h"
+
 #include <headless_gl/compute.hpp>
 
 #include <cstddef>
@@ -63,11 +65,20 @@ bool gpu_clamp_compensation(const render_settings& s);
 
 // The preamble of s's variant (one "#define NAME VALUE" line per define the kernel reads):
 // VR_VISIBILITY, VR_SAMPLER, VR_VPL_MODE, VR_LOCAL_COMBINATION, VR_VARIANT, VR_SPLIT, VR_DIRECT,
-// VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION. `resampled`: the mixtures' components were built (--sampler alias,
+// VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION, and for ris VR_RIS_PASS (`ris_pass`,
+// estimate_ris_params.h) and VR_RIS_PER_REGION. `resampled`: the mixtures' components were built (--sampler alias,
 // --face-selection roulette); `shadow_ray`: gathering's lit test by a shadow ray; `split`: the
 // units are split over dispatches.
 std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,
-                               bool split);
+                               bool split, int ris_pass = 0);
+
+// --method ris with --spatial K > 0 runs --vpls rounds of two dispatches over the image (a
+// candidate pass and a reuse pass, estimate_ris_params.h's VR_RIS_PASS_CANDIDATES / _REUSE); a
+// round cannot be split, so its loop iterations per invocation must fit the loop budget.
+constexpr int ris_pass_estimate = VR_RIS_PASS_ESTIMATE;
+constexpr int ris_pass_candidates = VR_RIS_PASS_CANDIDATES;
+constexpr int ris_pass_reuse = VR_RIS_PASS_REUSE;
+long long ris_round_cost(const render_settings& s, const shape_inputs& in, int ris_pass);
 
 // Units per dispatch under the loop budget, and dispatches for `units`.
 long long units_per_pass(const work_shape& s);

@@ -9,14 +9,17 @@
 #include "render/gpu/loop_budget.hpp"
 #include "render/method_traits.hpp"
 #include "render/mixture_components.hpp"
+#include "render/ris_spatial.hpp"
 
 #include "estimate_params.h"
+#include "estimate_ris_params.h"
 
 #include <headless_gl/compute.hpp>
 
 #include <vplkit/core/float_bits.hpp>
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/estimators/ris_params.h>
 #include <vplkit/estimators/vpl_sum.hpp>
 
 #include <glm/common.hpp>
@@ -127,6 +130,26 @@ std::vector<gpu::mixture_record> mixture_records(const gpu_mixtures& gm, gpu::es
   return out;
 }
 
+// --method ris with spatial reuse: rounds of a candidate and a reuse dispatch (estimate_ris_params.h).
+bool ris_reuses(const render_settings& es) {
+  return traits(es.meth).estimator == estimator_kind::ris && es.ris_spatial > 0;
+}
+
+// estimate_ris_params.h's block for es on a W x H image.
+gpu::ris_params ris_params_for(const render_settings& es, int W, int H) {
+  const vplkit::ris_spatial_settings<float> sp = ris_spatial_settings_for(W, H, es.ris_spatial);
+  gpu::ris_params R{};
+  R.candidates = es.ris_candidates;
+  R.neighbours = sp.neighbours;
+  R.radius = sp.radius;
+  R.mis = sp.mis == vplkit::ris_reuse_mis::balance ? 1 : 0;
+  R.regions_x = es.regions_x;
+  R.regions_y = es.regions_y;
+  R.min_normal_cos = sp.min_normal_cos;
+  R.max_plane_slope = sp.max_plane_slope;
+  return R;
+}
+
 }  // namespace
 
 int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit::ivec3& voxel_resolution,
@@ -134,6 +157,7 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
   const shape_inputs in{dprsm_resolution, gpu_query_cost(nullptr, visibility_of(es), voxel_resolution), regions,
                         rounds};
+  if (ris_reuses(es)) return 2 * std::max(1, es.vpls);  // a candidate and a reuse dispatch per round
   int passes = 0;
   for (const gpu_kernel_stage& stage : gpu_kernel_for(es.meth).stages) {
     const work_shape s = stage.shape(es, in);
@@ -262,6 +286,26 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (exact_kernel) scene.shading.pool.bind(VR_ESTIMATE_BINDING_SHADING_POOL);
   gl::buffer b_params = gl::buffer::filled(sizeof P, 0);
   glBindBufferBase(GL_UNIFORM_BUFFER, VR_ESTIMATE_BINDING_PARAMS, b_params.id());
+  // --method ris: its block (estimate_ris_params.h), constant over the render, and with spatial
+  // reuse the reservoirs between a round's two dispatches (ris_params.h's 32-byte records).
+  const bool ris = mt.estimator == estimator_kind::ris;
+  const bool ris_reuse = ris_reuses(es);
+  gl::buffer b_ris_params, b_reservoirs;
+  if (ris) {
+    const gpu::ris_params R = ris_params_for(es, W, H);
+    b_ris_params = gl::buffer::filled(sizeof R, 0);
+    b_ris_params.write_bytes(&R, 0, sizeof R);
+    glBindBufferBase(GL_UNIFORM_BUFFER, VR_RIS_BINDING_PARAMS, b_ris_params.id());
+    det["ris"] = {{"candidates", es.ris_candidates}, {"candidate_source", to_string(es.ris_source)},
+                  {"spatial", es.ris_spatial}};
+    if (ris_reuse) {
+      det["ris"].update({{"radius", R.radius}, {"min_normal_cos", R.min_normal_cos},
+                         {"max_plane_slope", R.max_plane_slope}, {"mis", "pairwise"}});
+      const std::size_t bytes = sizeof(vplkit::gpu::ris_reservoir_record) * std::max<std::size_t>(n_pixels, 1);
+      b_reservoirs = gpu_allocating(bytes, "the per-pixel reservoirs", [&] { return gl::buffer::filled(bytes, 0); });
+      b_reservoirs.bind(VR_RIS_BINDING_RESERVOIRS);
+    }
+  }
   gl::check_gl("estimate kernel bindings");
 
   // llvmpipe's loop budget (loop_budget.hpp): only there (or when forced) are the units split.
@@ -277,8 +321,28 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   std::vector<stage_plan> plans;
   int passes = 0;
   bool any_split = false;
+  if (ris_reuse) {
+    // Rounds of a candidate and a reuse dispatch, in the order of render/cpu/ris_render.hpp: a
+    // round is not split (its reservoir is one unit), so each must fit the loop budget.
+    for (int pass : {ris_pass_candidates, ris_pass_reuse})
+      if (budget && ris_round_cost(es, in, pass) > gpu_loop_budget)
+        throw vplkit::invalid_input("--method ris --spatial " + std::to_string(es.ris_spatial) + " --candidates " +
+                                    std::to_string(es.ris_candidates) + ": a round's " +
+                                    (pass == ris_pass_candidates ? "candidates" : "reuse") +
+                                    " exceed the software GL driver's loop limit; use fewer --candidates");
+    const int rounds = std::max(1, es.vpls);
+    plans.push_back({&kern.stages.front(), rounds, 1, rounds, true});
+    passes = 2 * rounds;
+    any_split = true;  // the sum and the random stream live in the state buffer between the passes
+  }
   for (const gpu_kernel_stage& st : kern.stages) {
+    if (ris_reuse) break;
     const work_shape shape = st.shape(es, in);
+    // A ris sample (its M candidates) is one unit: the split cannot shorten it.
+    if (ris && budget && shape.cost > gpu_loop_budget)
+      throw vplkit::invalid_input("--method ris --candidates " + std::to_string(es.ris_candidates) +
+                                  ": one sample's candidates exceed the software GL driver's loop limit; use fewer "
+                                  "--candidates");
     const long long units = std::max(1LL, shape.units);
     long long chunk = budget ? std::min(units, units_per_pass(shape)) : units;
     if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
@@ -300,10 +364,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   }
   nlohmann::json kernels = nlohmann::json::array();
   for (const stage_plan& sp : plans)
-    kernels.push_back({{"kernel", gpu_kernel_path(*sp.stage)},
-                       {"passes", sp.passes},
-                       {"units_per_pass", sp.chunk},
-                       {"defines", define_list(gpu_kernel_defines(es, vis, components, shadow_ray, sp.split))}});
+    for (int pass : ris_reuse ? std::vector<int>{ris_pass_candidates, ris_pass_reuse} : std::vector<int>{ris_pass_estimate})
+      kernels.push_back({{"kernel", gpu_kernel_path(*sp.stage)},
+                         {"passes", sp.passes},
+                         {"units_per_pass", sp.chunk},
+                         {"defines", define_list(gpu_kernel_defines(es, vis, components, shadow_ray, sp.split, pass))}});
   det["gpu"] = {{"kernel", gpu_kernel_path(*plans.back().stage)},
                 {"stages", kernels},
                 {"passes", passes},
@@ -317,7 +382,35 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     gl::timer_query tq;
     tq.begin();
     int done = 0;
+    if (ris_reuse) {
+      const gl::program& cand = gpu_kernel_program(*plans.front().stage,
+                                                   gpu_kernel_defines(es, vis, components, shadow_ray, true, ris_pass_candidates));
+      const gl::program& reuse = gpu_kernel_program(*plans.front().stage,
+                                                    gpu_kernel_defines(es, vis, components, shadow_ray, true, ris_pass_reuse));
+      const GLuint groups = gl::groups_for(n_pixels, cand.local_size()[0]);
+      const int rounds = plans.front().passes;
+      P.begin = 0;
+      P.end = 1;
+      for (int r = 0; r < rounds; ++r) {
+        // Candidates: a fresh stream in round 0, then the state's; the state is kept.
+        P.first_pass = r == 0 ? 1 : 0;
+        P.last_pass = 0;
+        b_params.write_bytes(&P, 0, sizeof P);
+        gl::dispatch_linear(cand, groups);
+        // Reuse: reads the state and the reservoirs; the last round writes the estimate.
+        P.first_pass = 0;
+        P.last_pass = r == rounds - 1 ? 1 : 0;
+        b_params.write_bytes(&P, 0, sizeof P);
+        gl::dispatch_linear(reuse, groups);
+        done += 2;
+        if (progress && passes > 1) {
+          glFinish();
+          progress("render (gpu)", static_cast<std::uint64_t>(done), static_cast<std::uint64_t>(passes));
+        }
+      }
+    }
     for (const stage_plan& sp : plans) {
+      if (ris_reuse) break;
       const gl::program& prog = gpu_kernel_program(*sp.stage, gpu_kernel_defines(es, vis, components, shadow_ray, sp.split));
       const GLuint groups = gl::groups_for(n_pixels, prog.local_size()[0]);
       for (int k = 0; k < sp.passes; ++k) {

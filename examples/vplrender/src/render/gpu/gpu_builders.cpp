@@ -6,6 +6,7 @@
 #include "render/mixture_components.hpp"
 #include "render/method_traits.hpp"
 
+#include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gather_subset_params.h>
 #include <vplkit/builders/gbg_accumulate_params.h>
@@ -260,7 +261,8 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   gl::buffer weights;
   int D = 1;
-  switch (traits(s.meth).builder) {
+  const builder_kind builder = distribution_builder(s);  // ris: its candidate source's builder
+  switch (builder) {
     case builder_kind::global: {
       gpu_weights w = build_brsm_weights_gpu(b, s, false, timer);
       det["global_subset"] = w.used.front();
@@ -286,9 +288,23 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
       gl::check_gl("copy of the GBG weights");
       break;
     }
+    case builder_kind::flux: {
+      // --candidate-source flux: each texel's power, a per-texel product on the DPRSM that the host
+      // computes from the texels read back (vplkit::build_flux_weights, the CPU backend's very
+      // weights), uploaded with room for the fallback's weights; a frame's one read-back of the
+      // DPRSM, small next to the estimate.
+      std::vector<float> w;
+      {
+        auto t = timer.scoped("flux weights (cpu)");
+        const dprsm_data host = host_dprsm(b);
+        w = vplkit::build_flux_weights(host.view());
+      }
+      w.resize(2 * n, 0.0f);
+      weights = gl::buffer::from_vector(w);
+      break;
+    }
     case builder_kind::none:
-    case builder_kind::flux:  // ris's candidate sources: no GPU kernels yet (run_estimator refuses ris)
-    case builder_kind::candidate_source:
+    case builder_kind::candidate_source:  // resolved to its builder by distribution_builder
       throw vplkit::invalid_input(std::string("build_distributions_gpu: --method ") + to_string(s.meth) +
                                   " has no GPU builder");
   }
@@ -297,11 +313,13 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
     auto t = timer.scoped("weights read-back (cpu)");
     mix.weights = weights.read<float>(static_cast<std::size_t>(D) * n);
   }
-  if (traits(s.meth).builder == builder_kind::local) {
+  if (builder == builder_kind::local) {
     // N_NG rounds of one VPL per region's CDF, as build_distributions_cpu.
     mix.local_rounds = std::max(1, s.vpls / D);
-    det["local_rounds"] = mix.local_rounds;
-    det["local_combination"] = to_string(s.local_combination);
+    if (s.meth == method::local) {
+      det["local_rounds"] = mix.local_rounds;
+      det["local_combination"] = to_string(s.local_combination);
+    }
   }
   det["builders"] = "gpu";
   return mix;

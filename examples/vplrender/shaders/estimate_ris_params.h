@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// Interface of vplrender's --method ris kernel (estimate_ris.comp beside this file) on top of
+// estimate_params.h: its own bindings, pass define and std140 block, in the two-language form of
+// the pack's <kernel>_params.h (vplkit/core/params.h), so that estimate_params.h stays the same for
+// every other kernel. tests/renderer/renderer_gpu_estimate_params_test.cpp asks the GL driver where
+// every member lies and checks the C++ offsets against it.
+//
+// Passes (VR_RIS_PASS, a specialisation define; docs/renderer.md, "The estimate kernels"):
+//   VR_RIS_PASS_ESTIMATE 0: no spatial reuse; per pixel --vpls samples [begin, end), each a
+//     reservoir of M candidates and one visibility query (vplkit_estimate_ris_range). Splits over
+//     dispatches like the other estimators (VR_SPLIT). No reservoir buffer.
+//   VR_RIS_PASS_CANDIDATES 1: one round's reservoir of M candidates per pixel, written to the
+//     reservoir buffer (the only thing a neighbour needs from this pass).
+//   VR_RIS_PASS_REUSE 2: the round's reuse: each pixel combines its reservoir with K neighbours'
+//     (vplkit_ris_spatial_reuse, pairwise MIS), shades the result with one visibility query and
+//     adds it to its sum. Reads the G-buffer and the reservoirs only: no candidate is redrawn.
+//   With reuse, each of the --vpls rounds is a candidate dispatch and a reuse dispatch; the
+//   pixel's sum and random stream live in the state buffer (VR_SPLIT 1) between them, in the order
+//   of render/cpu/ris_render.hpp, so the two backends draw the same numbers.
+#ifndef VPLRENDER_ESTIMATE_RIS_PARAMS_H
+#define VPLRENDER_ESTIMATE_RIS_PARAMS_H
+
+#include "vplkit/core/params.h"
+
+// Numbers above estimate_params.h's (0..17), each resource its own (core/params.h).
+#define VR_RIS_BINDING_RESERVOIRS 24  // SSBO: vplkit_ris_reservoir_record reservoirs[W H] (ris_params.h)
+#define VR_RIS_BINDING_PARAMS 25      // uniform block: vr_ris_params
+
+#define VR_RIS_PASS_ESTIMATE 0
+#define VR_RIS_PASS_CANDIDATES 1
+#define VR_RIS_PASS_REUSE 2
+// VR_RIS_PER_REGION (defined or not): --candidate-source local, each pixel draws from its region's
+//   mixture; else every pixel from mixture 0, which then lives in registers (VR_ONE_MIXTURE).
+#ifndef __cplusplus
+#ifndef VR_RIS_PASS
+#define VR_RIS_PASS VR_RIS_PASS_ESTIMATE
+#endif
+#endif
+
+#ifdef __cplusplus
+namespace vplrender::gpu {
+using vplkit::gpu::uint;
+struct ris_params {
+#else
+struct vr_ris_params {
+#endif
+  int candidates;         // M per reservoir (--candidates)
+  int neighbours;         // K reuse attempts (--spatial)
+  int radius;             // the reuse square's half side in pixels (ris_spatial_settings_for)
+  int mis;                // vplkit_ris_reuse_pairwise (0) or _balance (1)
+  int regions_x;          // VR_RIS_PER_REGION: the image regions of --candidate-source local
+  int regions_y;          //   (vplkit_image_regions; region r samples mixture r)
+  uint pad0;
+  uint pad1;
+  float min_normal_cos;   // the reuse's rejection thresholds (ris_spatial_settings)
+  float max_plane_slope;
+  uint pad2;
+  uint pad3;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(ris_params) == 48);  // 12 scalars: three std140 rows
+}  // namespace vplrender::gpu
+#endif
+
+#endif  // VPLRENDER_ESTIMATE_RIS_PARAMS_H

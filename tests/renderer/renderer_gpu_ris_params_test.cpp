@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+// --method ris's kernel interface (examples/vplrender/shaders/estimate_ris_params.h and the pack's
+// vplkit/estimators/ris_params.h record) against the GL driver: in every pass of estimate_ris.comp
+// the RIS block and the reservoir records lie where the C++ structs put them, at the bindings the
+// header names, and the shared estimate block keeps its layout (renderer_gpu_estimate_params_test).
+#include "render/gpu/estimate_kernels.hpp"
+#include "render/pipeline.hpp"
+
+#include "estimate_params.h"
+#include "estimate_ris_params.h"
+
+#include <vplkit/estimators/ris_params.h>
+
+#include <headless_gl/compute.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+using namespace vplrender;
+namespace gl = vplkit::gl;
+
+namespace {
+
+struct member {
+  std::string name;
+  std::size_t offset;
+};
+
+#define VR_MEMBER(type, field) member{#field, offsetof(type, field)}
+
+GLint resource_value(GLuint prog, GLenum interface, const std::string& name, GLenum property) {
+  const GLuint index = glGetProgramResourceIndex(prog, interface, name.c_str());
+  INFO(name);
+  REQUIRE(index != GL_INVALID_INDEX);
+  GLint value = -1;
+  glGetProgramResourceiv(prog, interface, index, 1, &property, 1, nullptr, &value);
+  gl::check_gl("glGetProgramResourceiv");
+  return value;
+}
+
+GLuint ris_program(int pass, bool per_region) {
+  pipeline_gl_context();
+  std::string d = "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n#define VR_RIS_PASS " + std::to_string(pass) + "\n";
+  if (per_region) d += "#define VR_RIS_PER_REGION\n";
+  return gpu_kernel_program(gpu_kernel_for(method::ris).stages.front(), d).id();
+}
+
+}  // namespace
+
+TEST_CASE("estimate_ris_params.h: the C++ RIS block has the kernel's std140 layout in every pass") {
+  using R = gpu::ris_params;
+  const std::vector<member> members = {
+      VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
+      VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pad0),            VR_MEMBER(R, pad1),
+      VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
+  for (int pass : {ris_pass_estimate, ris_pass_candidates, ris_pass_reuse})
+    for (bool per_region : {false, true}) {
+      INFO("VR_RIS_PASS " << pass << (per_region ? " VR_RIS_PER_REGION" : ""));
+      const GLuint prog = ris_program(pass, per_region);
+      CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_DATA_SIZE)) == sizeof(R));
+      CHECK(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_BINDING) == VR_RIS_BINDING_PARAMS);
+      CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_NUM_ACTIVE_VARIABLES)) ==
+            members.size());
+      for (const member& m : members) {
+        INFO("vr_ris." << m.name);
+        CHECK(std::size_t(resource_value(prog, GL_UNIFORM, "vr_ris." + m.name, GL_OFFSET)) == m.offset);
+      }
+      CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_DATA_SIZE)) ==
+            sizeof(gpu::estimate_params));
+    }
+}
+
+TEST_CASE("estimate_ris_params.h: the reservoir records have the C++ layout in the passes that use them") {
+  using Q = vplkit::gpu::ris_reservoir_record;
+  const std::vector<member> members = {VR_MEMBER(Q, texel),  VR_MEMBER(Q, xi_x),       VR_MEMBER(Q, xi_y),
+                                       VR_MEMBER(Q, weight_sum), VR_MEMBER(Q, target), VR_MEMBER(Q, confidence),
+                                       VR_MEMBER(Q, pad0),   VR_MEMBER(Q, pad1)};
+  for (int pass : {ris_pass_candidates, ris_pass_reuse}) {
+    INFO("VR_RIS_PASS " << pass);
+    const GLuint prog = ris_program(pass, false);
+    CHECK(resource_value(prog, GL_SHADER_STORAGE_BLOCK, "VrRisReservoirs", GL_BUFFER_BINDING) ==
+          VR_RIS_BINDING_RESERVOIRS);
+    for (const member& m : members) {
+      const std::string name = "vr_reservoirs[0]." + m.name;
+      // The reuse pass never reads the padding: the driver may drop it from the active variables.
+      if (m.name.rfind("pad", 0) == 0) continue;
+      CHECK(std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_OFFSET)) == m.offset);
+      CHECK(std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_TOP_LEVEL_ARRAY_STRIDE)) == sizeof(Q));
+    }
+  }
+  // Without reuse the kernel has no reservoir buffer at all.
+  const GLuint estimate = ris_program(ris_pass_estimate, false);
+  CHECK(glGetProgramResourceIndex(estimate, GL_SHADER_STORAGE_BLOCK, "VrRisReservoirs") == GL_INVALID_INDEX);
+}
