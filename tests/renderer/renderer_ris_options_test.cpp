@@ -76,12 +76,14 @@ TEST_CASE("ris options: limits and bad values name the flag") {
                     "--candidate-source: unknown value 'mis' (expected global|local|gbg|flux)"));
 }
 
-TEST_CASE("ris options: the GPU backend runs it, without clamp compensation as every method there") {
+TEST_CASE("ris options: the GPU backend runs it, without the clamp compensation (its kernel does not add it)") {
   const options o = parse({"--method", "ris", "--spatial", "2"});  // the default backend is gpu
   CHECK(o.back == backend::gpu);
   CHECK(o.meth == method::ris);
   CHECK(o.spatial == 2);
-  CHECK(starts_with(error_of({"--method", "ris", "--clamp-compensation", "on"}), "--clamp-compensation: on needs --backend cpu"));
+  CHECK(starts_with(error_of({"--method", "ris", "--clamp-compensation", "on"}),
+                    "--clamp-compensation: on with --method ris needs --backend cpu"));
+  CHECK(error_of({"--method", "global", "--clamp-compensation", "on"}).empty());
 }
 
 TEST_CASE("ris options: --help documents the method and its flags") {
