@@ -188,22 +188,28 @@ TEST_CASE("ris on the GPU: the samples split over dispatches give the image of o
   // Without reuse the samples are the kernel's units (VR_SPLIT 1: sum and stream in the state
   // buffer between dispatches); with reuse every round is its own pair of dispatches whatever the
   // budget. Either way the image is the one of a single dispatch, bit for bit.
+  // With the clamp's compensation its directions (ceil(5 / 4) = 2 here) are further units.
   const fixture& f = shared_fixture();
-  for (const int spatial : {0, 2}) {
+  for (const int spatial : {0, 2})
+  for (const bool compensated : {false, true}) {
     options o = f.o;
     o.meth = method::ris;
     o.candidates = 4;
     o.vpls = 5;
     o.spatial = spatial;
     render_settings es = settings_of(f, o);
+    if (compensated) {
+      es.clamp_compensation = clamp_compensation_choice::on;
+      es.dmin *= 5.0f;
+    }
     es.loop_budget = loop_budget_choice::never;
     stage_timer t1, t2;
     const render_result one = render_gpu(f.b, es, t1);
     es.loop_budget = loop_budget_choice::always;
     es.max_units_per_pass = 2;
     const render_result split = render_gpu(f.b, es, t2);
-    INFO("--spatial " << spatial);
-    CHECK(split.details["gpu"]["passes"] == (spatial > 0 ? 10 : 3));
+    INFO("--spatial " << spatial << (compensated ? " --clamp-compensation on" : ""));
+    CHECK(split.details["gpu"]["passes"] == (spatial > 0 ? 10 : compensated ? 4 : 3));
     CHECK(mean_of(one.image) > 0.0);
     CHECK(one.image.rgb == split.image.rgb);
   }
@@ -225,5 +231,39 @@ TEST_CASE("ris on the GPU: candidates beyond the software driver's loop limit ar
     INFO("--spatial " << spatial);
     CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("--candidates 60000") &&
                                                   Catch::Contains("exceed the software GL driver's loop limit"));
+  }
+}
+
+// The clamp's compensation in estimate_ris.comp: without reuse its directions are units after the
+// samples (split like them), with reuse the last round adds all of it. The GPU image is the CPU's
+// and the term (image on - image off) is the CPU's: the same directions from the same stream, so
+// the image sums agree within 1e-3 relative. dmin is 5 % of the diagonal so the term is large
+// enough to tell a wrong one (at the default it is ~1e-4 of a 24x16 image).
+TEST_CASE("ris on the GPU: the clamp compensation is the CPU's, with and without reuse") {
+  const fixture& f = shared_fixture();
+  for (int spatial : {0, 3}) {
+    options o = f.o;
+    o.meth = method::ris;
+    o.candidate_source = ris_source_choice::global;
+    o.spatial = spatial;
+    o.candidates = 8;
+    o.vpls = 3;
+    render_settings off = settings_of(f, o);
+    off.dmin *= 5.0f;
+    render_settings on = off;
+    on.clamp_compensation = clamp_compensation_choice::on;
+    REQUIRE(uses_clamp_compensation(on));
+    const image_rgb c_on = cpu_image(f, on), g_on = gpu_image(f, on);
+    const image_rgb c_off = cpu_image(f, off), g_off = gpu_image(f, off);
+    const double term_cpu = mean_of(c_on) - mean_of(c_off), term_gpu = mean_of(g_on) - mean_of(g_off);
+    const double within = agreeing(c_on, g_on);
+    std::printf("ris --spatial %d --clamp-compensation on: %.1f %% of pixels within %g; the term cpu %.6g gpu %.6g "
+                "(%.3g of the clamped image)\n",
+                spatial, 100.0 * within, rel_bound, term_cpu, term_gpu, term_cpu / std::max(mean_of(c_off), 1e-30));
+    INFO("--spatial " << spatial);
+    CHECK(finite_non_negative(g_on));
+    CHECK(term_cpu > 1e-3 * mean_of(c_off));  // the clamp is active near the box's junctions
+    CHECK(std::abs(term_gpu - term_cpu) <= 1e-3 * std::abs(term_cpu));
+    CHECK(within >= required_fraction);
   }
 }

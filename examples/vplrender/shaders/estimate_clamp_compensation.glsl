@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // vplrender's estimate kernels with VR_CLAMP_COMPENSATION (--clamp-compensation on; reference,
-// global, gbg, local): what the VPL clamp max(d^2, dmin^2) removed, added back to the pixel's
+// global, gbg, local, ris): what the VPL clamp max(d^2, dmin^2) removed, added back to the pixel's
 // estimate (docs/math.md, "The clamp's compensation"; vplkit_estimate_clamp_compensation), as the
 // CPU backend adds it: clamp_dirs cosine directions per gather point from the pixel's
 // vplkit_clamp_compensation_stream, traced by vr_make_tracer (the gathering rays' visibility and
@@ -31,10 +31,8 @@ vplkit_estimator_state vr_begin_clamp_compensation(uint p) {
   return vplkit_make_estimator_state(rng);
 }
 
-// This dispatch's directions of the compensation at gp (a valid gather point).
-void vr_clamp_compensation_range(vplkit_gather_point gp, inout vplkit_estimator_state c) {
-  int begin = max(vr_params.begin - vr_params.clamp_first_unit, 0);
-  int end = min(max(vr_params.end - vr_params.clamp_first_unit, 0), vr_params.clamp_dirs);
+// Directions [begin, end) of the compensation at gp (a valid gather point).
+void vr_clamp_compensation_dirs(vplkit_gather_point gp, inout vplkit_estimator_state c, int begin, int end) {
   if (!(begin < end)) return;
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT
   // The BVH tracer answers vplkit_voxel_tracer_surface_within with true (it cannot say), so every
@@ -49,6 +47,13 @@ void vr_clamp_compensation_range(vplkit_gather_point gp, inout vplkit_estimator_
 #endif
   vplkit_estimate_clamp_compensation_range(gp, vr_view(), c, begin, end, vr_make_tracer(vr_grid()), vr_params.dmin,
                                            vr_params.depth_tolerance, VR_VPL_MODE);
+}
+
+// This dispatch's directions of the compensation at gp: the units of [begin, end) at or after
+// clamp_first_unit.
+void vr_clamp_compensation_range(vplkit_gather_point gp, inout vplkit_estimator_state c) {
+  vr_clamp_compensation_dirs(gp, c, max(vr_params.begin - vr_params.clamp_first_unit, 0),
+                             min(max(vr_params.end - vr_params.clamp_first_unit, 0), vr_params.clamp_dirs));
 }
 
 // Its state into the free lanes, after vr_keep_estimate / vr_keep_sum wrote the estimator's.
@@ -66,6 +71,16 @@ void vr_keep_clamp_compensation(uint p, vplkit_estimator_state c) {
 // What the last dispatch adds to the finished estimate.
 vec3 vr_finish_clamp_compensation(vplkit_estimator_state c) {
   return vplkit_estimate_clamp_compensation_finish(c, vr_params.clamp_dirs);
+}
+
+// All of the compensation at pixel p, in one dispatch (ris's reuse rounds, whose units are rounds
+// and not split): 0 at an invalid gather point.
+vec3 vr_clamp_compensation_whole(uint p, vplkit_gather_point gp, bool valid) {
+  if (!valid) return vec3(0.0);
+  vplkit_estimator_state c =
+      vplkit_make_estimator_state(vplkit_clamp_compensation_stream(vplkit_make_counter_rng(vr_params.seed, p)));
+  vr_clamp_compensation_dirs(gp, c, 0, vr_params.clamp_dirs);
+  return vr_finish_clamp_compensation(c);
 }
 #endif
 

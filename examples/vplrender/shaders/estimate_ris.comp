@@ -27,6 +27,7 @@
 #include "vplkit/builders/local_weights.glsl"
 #include "vplkit/estimators/ris_estimator.glsl"
 #include "vplkit/estimators/ris_params.h"
+#include "estimate_clamp_compensation.glsl"
 #if VR_RIS_PASS == VR_RIS_PASS_REUSE
 #include "vplkit/estimators/ris_spatial_reuse.glsl"
 #endif
@@ -63,11 +64,26 @@ void main() {
   vplkit_estimator_state est = vr_begin_estimate(p);
   if (valid) vr_load_mixtures();
 #if VR_RIS_PASS == VR_RIS_PASS_ESTIMATE
-  if (valid)
+#ifdef VR_CLAMP_COMPENSATION
+  // The compensation's directions follow the samples as units (estimate_clamp_compensation.glsl).
+  vplkit_estimator_state clamp_comp = vr_begin_clamp_compensation(p);
+#endif
+  if (valid) {
     vplkit_estimate_ris_range(gp, vr_view(), vr_ris_distribution(p), est, vr_begin(), vr_end(), vr_ris.candidates,
                               vr_make_visibility(vr_grid()), vr_params.dmin, VR_VPL_MODE, vr_params.depth_tolerance);
+#ifdef VR_CLAMP_COMPENSATION
+    vr_clamp_compensation_range(gp, clamp_comp);
+#endif
+  }
   vr_keep_estimate(p, est);
+#ifdef VR_CLAMP_COMPENSATION
+  vr_keep_clamp_compensation(p, clamp_comp);
+  if (vr_last_pass())
+    vr_write_estimate(p, gp, valid,
+                      vplkit_estimate_ris_finish(est, vr_params.n_samples) + vr_finish_clamp_compensation(clamp_comp));
+#else
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_finish(est, vr_params.n_samples));
+#endif
 #elif VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
   // An invalid pixel's record is the empty reservoir (the CPU leaves its initial empty record):
   // the buffer is not cleared between frames, and a neighbour's test rejects the pixel anyway.
@@ -89,6 +105,13 @@ void main() {
                                 vr_params.depth_tolerance);
   }
   vr_keep_estimate(p, est);
+#ifdef VR_CLAMP_COMPENSATION
+  // The rounds are the units here, so the last round's reuse adds the whole compensation.
+  if (vr_last_pass())
+    vr_write_estimate(p, gp, valid,
+                      vplkit_estimate_ris_finish(est, vr_params.n_samples) + vr_clamp_compensation_whole(p, gp, valid));
+#else
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_finish(est, vr_params.n_samples));
+#endif
 #endif
 }

@@ -145,7 +145,7 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("point|patch");
   app.add_option("--clamp-compensation", v.clamp_compensation,
                  d("Add back what the VPL clamp --dmin removes, for reference, global, local, gbg and ris (default on; "
-                   "both backends; ris: on with --backend cpu, off and not available with --backend gpu): a short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
+                   "both backends): a short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
                    "estimate converges to the unclamped integral without its fireflies (docs/math.md, \"The clamp's compensation\"). "
                    "off = the clamped estimate, a documented bias near surfaces."))
       ->type_name("off|on");
@@ -393,10 +393,6 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.clamp_compensation = parse_choice<clamp_compensation_choice>(
         "--clamp-compensation", v.clamp_compensation,
         {{"off", clamp_compensation_choice::off}, {"on", clamp_compensation_choice::on}});
-    if (*o.clamp_compensation == clamp_compensation_choice::on && o.back == backend::gpu &&
-        traits(o.meth).estimator == estimator_kind::ris)
-      bad("--clamp-compensation", "on with --method ris needs --backend cpu (the GPU's ris kernel does not add the "
-                                  "compensation yet)");
   }
   if (given("--candidates"))
     o.candidates = static_cast<int>(parse_integer("--candidates", v.candidates, 1, limits::max_candidates));

@@ -32,10 +32,7 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.visibility = o.visibility;
   e.lit_test = o.lit_test;
   e.vpl_mode = o.vpl_mode;
-  // On wherever the backend's kernel adds it: everywhere but the GPU's ris kernel (not ported yet).
-  e.clamp_compensation = o.clamp_compensation.value_or(
-      o.back == backend::gpu && traits(o.meth).estimator == estimator_kind::ris ? clamp_compensation_choice::off
-                                                                               : clamp_compensation_choice::on);
+  e.clamp_compensation = o.clamp_compensation.value_or(clamp_compensation_choice::on);
   e.ris_candidates = o.candidates;
   e.ris_source = o.candidate_source;
   e.ris_spatial = o.spatial;

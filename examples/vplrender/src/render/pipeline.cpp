@@ -269,8 +269,6 @@ render_result run_estimator(const frame_buffers& b, const render_settings& s, st
   // buffers; the prepare stages' peak is kept as gpu_peak_bytes_prepare).
   const vplkit::gl::gpu_memory before = vplkit::gl::gpu_memory_usage();
   vplkit::gl::reset_gpu_memory_peak();
-  if (gpu && uses_clamp_compensation(s) && traits(s.meth).estimator == estimator_kind::ris)
-    throw input_error("clamp compensation: not in the GPU's ris kernel yet (use the CPU backend, or turn it off)");
   render_result r;
   try {
     r = gpu ? render_gpu(b, s, timer, progress) : render_cpu(b, s, timer, progress);

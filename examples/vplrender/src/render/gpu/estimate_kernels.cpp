@@ -83,7 +83,7 @@ const std::vector<gpu_estimate_kernel> k_kernels = {
     {estimator_kind::gather, {{"estimate_gather.comp", gather_shape}}},
     {estimator_kind::mis, {{"estimate_mis.comp", mis_shape}}},
     {estimator_kind::exact, {{"exact.comp", exact_shape}}},
-    {estimator_kind::ris, {{"estimate_ris.comp", ris_shape}}},
+    {estimator_kind::ris, {{"estimate_ris.comp", with_clamp_compensation<ris_shape>}}},
 };
 
 std::string define(const char* name, int value) { return std::string("#define ") + name + " " + std::to_string(value) + "\n"; }
@@ -133,15 +133,19 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
 bool gpu_clamp_compensation(const render_settings& s) {
   if (!uses_clamp_compensation(s)) return false;
   const estimator_kind k = traits(s.meth).estimator;
-  if (k == estimator_kind::reference || k == estimator_kind::vpl_sampling || k == estimator_kind::local) return true;
+  if (k == estimator_kind::reference || k == estimator_kind::vpl_sampling || k == estimator_kind::local ||
+      k == estimator_kind::ris)
+    return true;
   throw std::logic_error("estimate_kernels.cpp: --method " + std::string(to_string(s.meth)) +
                          " takes the clamp compensation but its GPU kernel does not add it");
 }
 
 long long ris_round_cost(const render_settings& s, const shape_inputs& in, int ris_pass) {
   if (ris_pass == ris_pass_candidates) return ris_candidates_cost(s, in) + 4;
-  // The reuse: per attempt a similarity test and (pairwise MIS) two targets; the shade's query.
-  return 8LL * std::max(0, s.ris_spatial) + dda_cost(in) + 8;
+  // The reuse: per attempt a similarity test and (pairwise MIS) two targets; the shade's query;
+  // in the last round the whole clamp compensation (its directions are not split there).
+  const long long compensation = uses_clamp_compensation(s) ? clamp_compensation_dirs(s) * (2 * dda_cost(in) + 8) : 0;
+  return 8LL * std::max(0, s.ris_spatial) + dda_cost(in) + 8 + compensation;
 }
 
 long long units_per_pass(const work_shape& s) { return std::max(1LL, (gpu_loop_budget - s.fixed) / s.cost); }

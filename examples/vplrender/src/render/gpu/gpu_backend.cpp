@@ -332,6 +332,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
                                     " exceed the software GL driver's loop limit; use fewer --candidates");
     const int rounds = std::max(1, es.vpls);
     plans.push_back({&kern.stages.front(), rounds, 1, rounds, true});
+    if (compensate) {  // all of it in the last round's reuse (estimate_ris.comp)
+      P.clamp_dirs = clamp_compensation_dirs(es);
+      P.clamp_first_unit = rounds;
+    }
     passes = 2 * rounds;
     any_split = true;  // the sum and the random stream live in the state buffer between the passes
   }
