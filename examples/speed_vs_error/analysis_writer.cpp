@@ -18,17 +18,12 @@ namespace speed_vs_error {
 
 using namespace vplrender;
 
-void write_sweep_outputs(const sweep_options& so, const prepared_scene& p, const sweep_frame& f,
-                         const sweep_references& refs, const sweep_result& result) {
+namespace {
+
+// PREFIX.csv: one row per run.
+void write_runs_csv(const sweep_options& so, const prepared_scene& p, const sweep_frame& f,
+                    const std::vector<run_row>& rows) {
   const options& base = so.base;
-  const std::vector<run_row>& rows = result.rows;
-  const std::vector<bias_variance_row>& bv_rows = result.bias_variance;
-  const std::vector<std::string>& labels = result.labels;
-  const reference_image& ref_vpl = refs.vplsum;
-  const reference_image& ref_gather = refs.gather;
-  const reference_image& ref_exact = refs.exact;
-  const bool both = so.compensations.size() > 1;
-  // CSV
   std::ostringstream csv;
   csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,eps,local_combination,gbg_accumulator,"
          "cdf_search,visibility,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
@@ -45,7 +40,12 @@ void write_sweep_outputs(const sweep_options& so, const prepared_scene& p, const
         << to_string(r.compensation) << "," << num(r.mean) << ","
         << num(r.band_mean) << "," << r.stages << "\n";
   write_text(so.out + ".csv", csv.str());
+}
 
+// PREFIX_bias_variance.csv, only when there are rows (2 or more seeds): per method and sample count.
+void write_bias_variance_csv(const sweep_options& so, const prepared_scene& p,
+                             const std::vector<bias_variance_row>& bv_rows) {
+  const options& base = so.base;
   if (!bv_rows.empty()) {
     std::ostringstream bv;
     bv << "scene,backend,method,samples,seeds,eps,local_combination,gbg_accumulator,cdf_search,variance,"
@@ -57,8 +57,16 @@ void write_sweep_outputs(const sweep_options& so, const prepared_scene& p, const
          << num(r.bias2_exact) << "," << to_string(r.compensation) << "\n";
     write_text(so.out + "_bias_variance.csv", bv.str());
   }
+}
 
-  // Markdown
+// PREFIX.md: the frame, the references and the runs' table.
+void write_summary_md(const sweep_options& so, const prepared_scene& p, const sweep_frame& f,
+                      const sweep_references& refs, const std::vector<run_row>& rows) {
+  const options& base = so.base;
+  const reference_image& ref_vpl = refs.vplsum;
+  const reference_image& ref_gather = refs.gather;
+  const reference_image& ref_exact = refs.exact;
+  const bool both = so.compensations.size() > 1;
   std::ostringstream md;
   md << "Scene `" << p.s.name << "`, " << base.width << "x" << base.height << ", DPRSM 2x" << base.dprsm << "x"
      << base.dprsm << ", " << base.voxels << "^3 voxels, backend `" << to_string(base.back) << "`, GL `"
@@ -105,7 +113,19 @@ void write_sweep_outputs(const sweep_options& so, const prepared_scene& p, const
        << sci(r.vs_vpl.relmse) << " | " << sci(r.vs_gather.rmse) << " | " << sci(r.vs_gather.relmse) << " | "
        << sci(r.vs_exact.rmse) << " | " << sci(r.vs_exact.relmse) << " |\n";
   write_text(so.out + ".md", md.str());
+}
 
+}  // namespace
+
+void write_sweep_outputs(const sweep_options& so, const prepared_scene& p, const sweep_frame& f,
+                         const sweep_references& refs, const sweep_result& result) {
+  const options& base = so.base;
+  const std::vector<run_row>& rows = result.rows;
+  const std::vector<bias_variance_row>& bv_rows = result.bias_variance;
+  write_runs_csv(so, p, f, rows);
+  write_bias_variance_csv(so, p, bv_rows);
+  write_summary_md(so, p, f, refs, rows);
+  const std::vector<std::string>& labels = result.labels;
   const std::string caption = base_name(p.s.name) + " " + std::to_string(base.width) + "x" +
                               std::to_string(base.height) + ", backend " + to_string(base.back) + ", " + f.buffers.gl_renderer;
   const std::string scene_line = "Scene `" + p.s.name + "`, " + std::to_string(base.width) + "x" +
@@ -114,7 +134,7 @@ void write_sweep_outputs(const sweep_options& so, const prepared_scene& p, const
       write_analysis(rows, labels, so.samples, so.ref_vplsum, so.ref_gather, so.ref_exact, so.ref_dirs, caption,
                      scene_line, so.out);
   std::cout << "wrote " << so.out << ".csv, " << so.out << ".md";
-  for (const std::string& f : plots) std::cout << ", " << f;
+  for (const std::string& file : plots) std::cout << ", " << file;
   std::cout << (bv_rows.empty() ? "" : ", " + so.out + "_bias_variance.csv") << "\n";
 }
 
