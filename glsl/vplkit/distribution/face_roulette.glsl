@@ -16,6 +16,7 @@
 #define VPLKIT_DISTRIBUTION_FACE_ROULETTE_GLSL
 
 #include "vplkit/distribution/discrete_cdf.glsl"
+#include "vplkit/distribution/mixture_split.glsl"
 #include "vplkit/distribution/weights.glsl"
 
 const int vplkit_front_face = 0;  // d.z >= 0
@@ -100,14 +101,16 @@ float vplkit_face_roulette_pmf(vplkit_face_roulette r, int face, uint index) {
 
 vplkit_face_sample vplkit_face_roulette_sample(vplkit_face_roulette r, float u) {
   if (vplkit_face_roulette_empty(r)) return vplkit_face_sample(vplkit_front_face, 0u, 0.0);
-  u = vplkit_discrete_clamp_u(u);
-  if (u < r.b_front) {
-    uint i = vplkit_discrete_cdf_sample(r.front, vplkit_discrete_clamp_u(u * r.front_scale)).index;
+  // The library's split of u (mixture_split.glsl) with eps = b_front: the front face is its
+  // fallback side, the back face its learned side, the scales as the host rounded them.
+  vplkit_mixture_choice c =
+      vplkit_mixture_split_choose(vplkit_mixture_split(r.b_front, r.front_scale, r.back_scale), u);
+  if (c.component == VPLKIT_MIXTURE_FALLBACK) {
+    uint i = vplkit_discrete_cdf_sample(r.front, c.u).index;
     return vplkit_face_sample(vplkit_front_face, i, vplkit_face_roulette_pmf(r, vplkit_front_face, i));
   }
   // Here b_back > 0 (u < 1 and u >= b_front = 1 - b_back), so back_scale is set.
-  uint i = vplkit_discrete_cdf_sample(r.back,
-                                      vplkit_discrete_clamp_u((u - r.b_front) * r.back_scale)).index;
+  uint i = vplkit_discrete_cdf_sample(r.back, c.u).index;
   return vplkit_face_sample(vplkit_back_face, i, vplkit_face_roulette_pmf(r, vplkit_back_face, i));
 }
 

@@ -6,7 +6,9 @@
 // b_F * w_t / v_F = w_t / (v_F + v_B): the same as one CDF over both faces' weights.
 //
 // One u serves both decisions, as in the paper: u < b_F picks the front face and is rescaled to
-// u * (1 / b_F), otherwise the back face gets (u - b_F) * (1 / b_B) with b_B = 1 - b_F. Written
+// u * (1 / b_F), otherwise the back face gets (u - b_F) * (1 / b_B) with b_B = 1 - b_F. That is
+// mixture_split with eps = b_F: the front face is the split's `fallback` side (u < eps), the back
+// face its `learned` side, so the split of u is the library's one, not a copy. Written
 // that way, b_F = 1 (back face empty) always picks the front, b_F = 0 always the back, and a
 // back face whose share rounds away (b_B = 0) is never picked and reports pmf 0. The rescaling
 // is monotone, so (up to its rounding) u maps to the same (face, index) as the concatenated CDF
@@ -15,6 +17,7 @@
 // the same face and index bit for bit, which a GLSL division (2.5 ulp) would not promise.
 #include <vplkit/core/normal_range.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/distribution/mixture_split.hpp>
 #include <vplkit/distribution/weights.hpp>
 
 #include <cstddef>
@@ -58,8 +61,9 @@ public:
     b_front_ = overflowed ? flush_denormal(T(front_.sum() / (front_.sum() + back_.sum())))
                           : face_roulette_front_probability(front_.total(), back_.total());
     b_back_ = empty() ? T(0) : T(1) - b_front_;
-    front_scale_ = detail::reciprocal_or_zero(b_front_);
-    back_scale_ = detail::reciprocal_or_zero(b_back_);
+    // b_F is already 0 for an empty front face, 1 for an empty back one, and flushed: the split's
+    // effective eps is b_F itself, its scales 1 / b_F and 1 / (1 - b_F) (0 where never used).
+    split_ = mixture_split<T>(b_front_, false, false);
   }
 
   // v_F + v_B == 0: sample() returns {0, 0, 0} and every pmf is 0.
@@ -85,27 +89,26 @@ public:
 
   face_sample<T> sample(T u) const noexcept {
     if (empty()) return {front_face, 0, T(0)};
-    u = discrete_clamp_u(u);
-    if (u < b_front_) {
-      const std::size_t i = front_.sample(discrete_clamp_u(u * front_scale_)).index;
+    const mixture_choice<T> c = split_.choose(u);
+    if (c.component == mixture_fallback) {
+      const std::size_t i = front_.sample(c.u).index;
       return {front_face, i, pmf(front_face, i)};
     }
-    // Here b_back_ > 0 (u < 1 and u >= b_front_ = 1 - b_back_), so back_scale_ is set.
-    const std::size_t i = back_.sample(discrete_clamp_u((u - b_front_) * back_scale_)).index;
+    // Here b_back_ > 0 (u < 1 and u >= b_front_ = 1 - b_back_), so the learned scale is set.
+    const std::size_t i = back_.sample(c.u).index;
     return {back_face, i, pmf(back_face, i)};
   }
 
   // 1 / b_F and 1 / b_B as T (0 where the face is never chosen), for a GPU mirror.
-  T front_scale() const noexcept { return front_scale_; }
-  T back_scale() const noexcept { return back_scale_; }
+  T front_scale() const noexcept { return split_.fallback_scale(); }
+  T back_scale() const noexcept { return empty() ? T(0) : split_.learned_scale(); }
 
 private:
   discrete_cdf<T> front_;
   discrete_cdf<T> back_;
   T b_front_ = T(0);
   T b_back_ = T(0);
-  T front_scale_ = T(0);
-  T back_scale_ = T(0);
+  mixture_split<T> split_;  // eps = b_F: fallback = the front face, learned = the back face
 };
 
 }  // namespace vplkit

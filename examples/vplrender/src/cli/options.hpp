@@ -43,28 +43,17 @@ struct light_option {
   std::optional<glm::vec3> intensity;  // W/sr; absent: keep the scene's (or the automatic) one
 };
 
-struct options {
+// The shared choices (render_choices: meth, vpls, dirs, regions_x/y, the switches, seed, direct)
+// are the render settings' own, with their defaults; the rest is the command line's.
+struct options : render_choices {
   std::string scene = "cornell";  // "cornell", "open" or an OBJ path
-  method meth = method::mis;
   backend back = backend::gpu;
   int width = 512, height = 512;
-  int vpls = 64;                  // VPL samples per gather point
-  std::uint32_t seed = 1;
   std::string out = "vplrender.exr";
-  int regions = 4;                // local CDF: number of image regions ...
-  int regions_x = 2, regions_y = 2;  // ... as a grid (the most nearly square factorisation)
-  int dirs = 16;                  // gathering directions per gather point (GBG NBDIR, MIS, gather)
+  int regions = 4;                // local CDF: number of image regions (regions_x * regions_y, the most
+                                  // nearly square factorisation)
   double eps = 0.05;              // defensive mixing weight (0 = the paper)
   double dmin_fraction = 0.01;    // VPL distance clamp / scene diagonal (0 = no clamp)
-  local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
-  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
-  cdf_search_choice cdf_search = cdf_search_choice::guide;  // same indices either way
-  face_selection_choice face_selection = face_selection_choice::joint;  // paper: roulette
-  sampler_choice sampler = sampler_choice::cdf;
-  // The parser's default: exact for the GPU backend, voxels for the CPU backend (--paper: paper_voxels).
-  visibility_choice visibility = visibility_choice::voxels;  // exact: the scene's triangles (Embree / BVH)
-  lit_test_choice lit_test = lit_test_choice::shadow_map;   // default: shadow-ray with --visibility exact
-  vpl_mode_choice vpl_mode = vpl_mode_choice::patch;        // paper: point (the midpoint rule)
   // Absent: on with --backend cpu, off with gpu (whose estimate kernel does not have it yet).
   std::optional<clamp_compensation_choice> clamp_compensation;
   int candidates = 32;            // --method ris: candidates per sample
@@ -75,7 +64,6 @@ struct options {
   std::optional<camera_option> cam;
   std::optional<light_option> light;
   bool paper = false;
-  bool direct = false;            // add direct lighting (default: one-bounce indirect only)
   bool window = false;            // show the result in a GLFW window (GPU backend)
   int frames = 0;                 // --window: close after this many frames (0 = when the user closes it);
                                   // without --window: render this many frames headless (0 = one render)

@@ -18,26 +18,12 @@ frame_settings make_frame_settings(const options& o) {
 
 render_settings make_render_settings(const options& o, const scene& s) {
   render_settings e;
-  e.meth = o.meth;
-  e.vpls = o.vpls;
-  e.dirs = o.dirs;
-  e.regions_x = o.regions_x;
-  e.regions_y = o.regions_y;
+  static_cast<render_choices&>(e) = o;  // the shared choices, as given
   e.eps = static_cast<float>(o.eps);
-  e.local_combination = o.local_combination;
-  e.gbg_accumulator = o.gbg_accumulator;
-  e.cdf_search = o.cdf_search;
-  e.face_selection = o.face_selection;
-  e.sampler = o.sampler;
-  e.visibility = o.visibility;
-  e.lit_test = o.lit_test;
-  e.vpl_mode = o.vpl_mode;
   e.clamp_compensation = o.clamp_compensation.value_or(clamp_compensation_choice::on);
   e.ris_candidates = o.candidates;
   e.ris_source = o.candidate_source;
   e.ris_spatial = o.spatial;
-  e.seed = o.seed;
-  e.direct = o.direct;
   // The VPL clamp of docs/math.md section 2: --dmin (default 1%) of the scene diagonal (a documented,
   // tunable bias; the reference uses the same value, so the CDF methods converge to it exactly).
   e.scene_diagonal = bounds(s).diagonal();

@@ -85,28 +85,36 @@ bool has_distribution(method m);
 // --vpl-mode applies to them.
 bool uses_vpls(method m);
 
-// Everything an estimator run needs besides the buffers (docs/renderer.md).
-struct render_settings {
+// The choices the command line sets one to one (cli/options.hpp's `options` has them as they
+// are, with these defaults), and the estimator reads as they are: held once, here, by both.
+// The comments name the paper's setting where a default departs from it.
+struct render_choices {
   method meth = method::mis;
   int vpls = 64;              // VPL samples per gather point
-  int dirs = 16;              // gathering directions (gbg NBDIR, gather, mis)
-  int regions_x = 2, regions_y = 2;
-  float eps = 0.05f;
-  local_combination_choice local_combination = local_combination_choice::balance;
-  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;
-  cdf_search_choice cdf_search = cdf_search_choice::guide;
-  face_selection_choice face_selection = face_selection_choice::joint;
+  int dirs = 16;              // gathering directions per gather point (gbg NBDIR, gather, mis)
+  int regions_x = 2, regions_y = 2;  // local CDF: the image regions as a grid
+  local_combination_choice local_combination = local_combination_choice::balance;  // paper: average
+  gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
+  cdf_search_choice cdf_search = cdf_search_choice::guide;                          // same indices either way
+  face_selection_choice face_selection = face_selection_choice::joint;              // paper: roulette
   sampler_choice sampler = sampler_choice::cdf;
+  // The command line's default: exact for the GPU backend, voxels for the CPU backend (--paper: paper_voxels).
   visibility_choice visibility = visibility_choice::voxels;
-  lit_test_choice lit_test = lit_test_choice::shadow_map;
-  vpl_mode_choice vpl_mode = vpl_mode_choice::patch;
+  lit_test_choice lit_test = lit_test_choice::shadow_map;  // the command line's default: shadow-ray with exact
+  vpl_mode_choice vpl_mode = vpl_mode_choice::patch;       // paper: point (the midpoint rule)
+  std::uint32_t seed = 1;
+  bool direct = false;        // add direct lighting (default: one-bounce indirect only)
+};
+
+// Everything an estimator run needs besides the buffers (docs/renderer.md): the command line's
+// choices, and what is derived from them and the scene or set only by programs and tests.
+struct render_settings : render_choices {
+  float eps = 0.05f;
   clamp_compensation_choice clamp_compensation = clamp_compensation_choice::off;
   float dmin = 0.0f;          // VPL distance clamp (world units)
   float scene_diagonal = 0.0f;  // of the scene's box (world units): the gathering depth tolerance
-  std::uint32_t seed = 1;
   int global_subset = 256;    // |S| of the global CDF
   int local_subset = 256;     // |S_i| per region of the local CDFs
-  bool direct = false;
   int threads = 0;            // CPU backend: 0 = std::thread::hardware_concurrency()
   // GPU backend: where long loops are split over dispatches, and (> 0) at most this many units
   // (samples, rounds, directions, texels) per dispatch whatever the budget allows (tests).

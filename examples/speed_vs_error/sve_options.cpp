@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: MIT
+#include "sve_options.hpp"
+
+#include "io/errors.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <optional>
+#include <sstream>
+
+namespace speed_vs_error {
+
+using namespace vplrender;
+
+const char* const k_help = R"(speed_vs_error: error against time for each method on one scene, in one process.
+
+Usage: speed_vs_error [options] [vplrender scene options]
+
+Sweep options:
+  --methods LIST     comma-separated methods (default global,local,gbg,gather,mis);
+                     any of global local gbg gather mis mis-as-published exact ris
+  --samples LIST     comma-separated sample counts (default 1,4,16,64). A count n means:
+                     global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis and
+                     mis-as-published: --vpls n and --dirs n
+  --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
+  --clamp-compensation LIST
+                     off, on or off,on: the VPL clamp's compensation for global, local,
+                     gbg and ris (vplrender --clamp-compensation; default: vplrender's, on on
+                     both backends). With both, each of these methods runs twice and its
+                     clamped runs are labelled METHOD-clamped (column clamp_compensation)
+  --ref-dirs N       directions of the converged-gathering reference (default 4096)
+  --ref-exact-dirs N directions of the exact reference (default 4096)
+  --references LIST  which references to compute: any of vplsum, gather, exact; all
+                     (default), both (= vplsum,gather) or none. The exhaustive VPL sum costs
+                     2 R^2 VPLs per pixel: skip it at large DPRSM sizes; errors against a
+                     skipped reference are left empty
+  --replot CSV       render nothing: redraw PREFIX.svg, PREFIX_samples.svg and PREFIX_pareto.md
+                     from a CSV this tool wrote (after changing the plots, or to merge sweeps)
+  --repeats K        time every run K times (default 1): the CSV's times are the median run's,
+                     total_ms_min the fastest; the image and its error are from the first run
+  --cache-dir DIR    reference cache (default speed_vs_error_cache); references are EXR files
+                     named by a hash of scene, size, DPRSM, voxels, backend, light, camera,
+                     --direct, --visibility exact, and for the gathering and exact references
+                     their directions and seed (gathering: and --lit-test; exact on the GPU:
+                     also that), for the patch VPL
+                     sum its mode and seed
+  --out PREFIX       writes PREFIX.csv, PREFIX.md, PREFIX.svg (default speed_vs_error), and
+                     with 2 or more seeds PREFIX_bias_variance.csv
+  --help             this text
+
+Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
+  --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
+  --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
+  --candidates --candidate-source --spatial (ris) --paper --direct.
+  Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
+  --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
+
+Error metrics, on linear HDR values, over all pixels p and channels c (x = run, r = reference):
+  RMSE   = sqrt( mean_{p,c} (x_pc - r_pc)^2 )
+  relMSE = mean_{p,c} (x_pc - r_pc)^2 / (r_pc^2 + 1e-2)
+Reported against (a) the exhaustive VPL sum (method reference with the runs' --vpl-mode: the
+estimand of global, local, gbg; with patch one jittered point per texel, seed 0x5EED0A50, an
+unbiased estimate of the continuous integral that (b) estimates; with the clamp compensation
+(the last listed setting) plus 256 of its directions) and (b) converged gathering
+(gather at --ref-dirs, seed 0x5EED0F1E: the estimand of gather and mis; with point VPLs it
+differs from (a) by the VPL discretisation; with either by the distance clamp), both with the
+chosen --visibility, and (c) the ground truth (exact at --ref-exact-dirs, seed 0x5EED0E4A: cosine
+gathering against the triangles with exact visibility and no VPLs, on --backend's estimator; the
+distance from (a) and (b) to (c) is what the VPLs, the DPRSM and the voxel grid cost in accuracy).
+
+Bias/variance (2 or more seeds S, per method and sample count; m = mean image over the seeds):
+  variance = mean_{p,c} sum_s (x_s,pc - m_pc)^2 / (S - 1)   (per-run variance, unbiased)
+  bias2    = mean_{p,c} (m_pc - r_pc)^2 - variance / S      (unbiased; may be slightly negative)
+so that the expected MSE of one run against r is bias2 + variance.
+
+Times (ms): prepare = G-buffer + DPRSM + voxel grid, once for all runs (not in the totals);
+per run, each estimator stage as vplrender reports it (GPU timer queries for GPU stages,
+steady_clock for CPU ones); build = all stages but 'estimate*'; total = build + estimate.
+
+Exit status: 0 success, 1 bad input or failed output, 2 bad command line.
+)";
+
+namespace {
+
+[[noreturn]] void bad(const std::string& m) { throw usage_error(m); }
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+long long to_int(const std::string& flag, const std::string& t, long long lo, long long hi) {
+  char* end = nullptr;
+  const long long v = std::strtoll(t.c_str(), &end, 10);
+  if (t.empty() || end != t.c_str() + t.size() || v < lo || v > hi)
+    bad(flag + ": expected whole numbers in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got '" + t + "'");
+  return v;
+}
+
+}  // namespace
+
+method parse_swept_method(const std::string& t) {
+  const std::optional<method> m = method_from_name(t);
+  if (m && traits(*m).swept) return *m;
+  if (m) bad("--methods: '" + t + "' is the reference (always computed), not a swept method");
+  bad("--methods: unknown method '" + t + "'");
+}
+
+std::vector<method> default_methods() {
+  std::vector<method> out;
+  for (const method_traits& t : all_method_traits())
+    if (t.swept_by_default) out.push_back(t.id);
+  return out;
+}
+
+// Own flags here; the rest go to vplrender's parser (its validation, defaults and limits).
+bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so) {
+  std::vector<std::string> pass{"speed_vs_error"};
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--help" || a == "-h") return false;
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) bad(a + ": needs a value");
+      return args[++i];
+    };
+    if (a == "--methods") {
+      so.methods.clear();
+      for (const std::string& t : split_list(value())) so.methods.push_back(parse_swept_method(t));
+    } else if (a == "--samples") {
+      so.samples.clear();
+      for (const std::string& t : split_list(value())) so.samples.push_back(static_cast<int>(to_int(a, t, 1, limits::max_dirs)));
+    } else if (a == "--seeds") {
+      so.seeds.clear();
+      for (const std::string& t : split_list(value())) so.seeds.push_back(static_cast<std::uint32_t>(to_int(a, t, 0, 4294967295LL)));
+    } else if (a == "--clamp-compensation") {
+      so.compensations.clear();
+      for (const std::string& t : split_list(value())) {
+        if (t != "off" && t != "on") bad("--clamp-compensation: unknown value '" + t + "' (off, on or off,on)");
+        const clamp_compensation_choice c = t == "on" ? clamp_compensation_choice::on : clamp_compensation_choice::off;
+        if (std::find(so.compensations.begin(), so.compensations.end(), c) == so.compensations.end())
+          so.compensations.push_back(c);
+      }
+    } else if (a == "--ref-dirs") {
+      so.ref_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
+    } else if (a == "--ref-exact-dirs") {
+      so.ref_exact_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
+    } else if (a == "--references") {
+      const std::string v = value();
+      so.ref_vplsum = so.ref_gather = so.ref_exact = false;
+      if (v == "all") so.ref_vplsum = so.ref_gather = so.ref_exact = true;
+      else if (v == "both") so.ref_vplsum = so.ref_gather = true;
+      else if (v != "none")
+        for (const std::string& t : split_list(v)) {
+          if (t == "vplsum") so.ref_vplsum = true;
+          else if (t == "gather") so.ref_gather = true;
+          else if (t == "exact") so.ref_exact = true;
+          else bad("--references: unknown reference '" + t + "' (vplsum, gather, exact, all, both or none)");
+        }
+    } else if (a == "--replot") {
+      so.replot = value();
+    } else if (a == "--repeats") {
+      so.repeats = static_cast<int>(to_int(a, value(), 1, 1000));
+    } else if (a == "--cache-dir") {
+      so.cache_dir = value();
+    } else if (a == "--out") {
+      so.out = value();
+    } else if (a == "--method" || a == "--vpls" || a == "--seed" || a == "--window") {
+      bad(a + ": not allowed here (the sweep sets it; see --methods, --samples, --seeds)");
+    } else if (a == "--paper" || a == "--direct") {
+      pass.push_back(a);
+    } else {
+      pass.push_back(a);
+      pass.push_back(value());
+    }
+  }
+  if (so.methods.empty() || so.samples.empty() || so.seeds.empty()) bad("--methods, --samples, --seeds: empty list");
+  parse_result r = parse_command_line(pass);
+  if (r.what == parse_result::action::help) return false;
+  so.base = r.opts;
+  so.base.progress = progress_mode::never;
+  // The exhaustive VPL sum follows the last listed setting (on for off,on): the estimand of the
+  // runs it labels with the method's own name.
+  if (!so.compensations.empty()) so.base.clamp_compensation = so.compensations.back();
+  if (so.base.back == backend::gpu)
+    for (method m : so.methods)
+      if (!traits(m).gpu)
+        bad(std::string("--methods ") + to_string(m) + ": runs on --backend cpu only for now (its GPU kernels are not written yet)");
+  return true;
+}
+
+}  // namespace speed_vs_error
