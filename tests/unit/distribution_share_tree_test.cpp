@@ -113,7 +113,7 @@ TEST_CASE("share_tree: chi-square of 10^6 draws against pmf", "[share_tree][stat
   vplkit::counter_rng rng = vplkit::make_counter_rng(5u, 9u);
   const int draws = 1000000;
   for (int d = 0; d < draws; ++d) {
-    const auto s = t.sample(rng);
+    const auto s = t.sample([&] { return vplkit::rng_next_u32(rng) >> 8u; });
     REQUIRE(s.index < n);
     REQUIRE(w[s.index] > 0.0f);                              // zero weights never drawn
     REQUIRE(bits_of(s.pmf) == bits_of(t.pmf(s.index)));      // pmf(sample) == pmf(index)
@@ -162,7 +162,7 @@ TEST_CASE("share_tree: hard cases", "[share_tree][hardcases]") {
                                        share_tree<float>(std::vector<float>{0.0f, -0.0f, 1e-40f, -1e-45f, 0.0f})}) {
       CHECK(t.empty());
       vplkit::counter_rng r{1u, 0u};
-      const auto s = t.sample(r);
+      const auto s = t.sample([&] { return vplkit::rng_next_u32(r) >> 8u; });
       CHECK(s.index == 0u);
       CHECK(s.pmf == 0.0f);
       CHECK(r.counter == t.depth());
@@ -173,7 +173,7 @@ TEST_CASE("share_tree: hard cases", "[share_tree][hardcases]") {
     const share_tree<float> t(std::vector<float>{2.5f});
     CHECK(t.depth() == 0u);
     vplkit::counter_rng r{1u, 0u};
-    const auto s = t.sample(r);
+    const auto s = t.sample([&] { return vplkit::rng_next_u32(r) >> 8u; });
     CHECK(s.index == 0u);
     CHECK(s.pmf == 1.0f);
     CHECK(r.counter == 0u);

@@ -6,15 +6,21 @@
 // L = vplkit_share_tree_leaf_count(n) leaves, node 1 the root. Draws and pmfs are the C++ ones bit
 // for bit for the same stream: integer comparisons, exact factors, and the products through
 // vplkit_probability_product (`precise`, 0 or a normal float). ACCESSOR
-// vplkit_load_share_tree_share(tree, node), `tree` being the descriptor's id.
+// vplkit_load_share_tree_share(tree, node), `tree` being the descriptor's id; HOOK
+// vplkit_share_tree_next_bits(tree): the next number in [0, 2^24) of the draw in progress (the
+// C++ sample's next24 functor; with the project's RNG, vplkit_rng_next_u32(rng) >> 8u on the
+// invocation's stream kept in a global, as C++ sample([&] { return rng_next_u32(rng) >> 8u; })).
+// A hook and not an inout vplkit_counter_rng parameter: the distribution layer does not include
+// the sampling layer (docs/architecture.md), and the caller chooses the stream.
 #ifndef VPLKIT_DISTRIBUTION_SHARE_TREE_GLSL
 #define VPLKIT_DISTRIBUTION_SHARE_TREE_GLSL
 
 #include "vplkit/distribution/discrete_sample.glsl"
+#include "vplkit/distribution/share_tree_share.glsl"
 #include "vplkit/distribution/weights.glsl"
-#include "vplkit/sampling/rng.glsl"
 
 uint vplkit_load_share_tree_share(uint tree, uint node);
+uint vplkit_share_tree_next_bits(uint tree);
 
 // What the C++ share_tree<float> object knows besides its shares, passed by value:
 //   id     : handed to the accessor;
@@ -28,41 +34,6 @@ struct vplkit_share_tree {
   uint leaves;
   float total;
 };
-
-const uint vplkit_share_tree_one = 16777216u;  // 2^24
-
-// Leaves for n weights: the smallest power of two >= n (at least 1); n <= 2^31.
-uint vplkit_share_tree_leaf_count(uint n) {
-  uint m = 1u;
-  while (m < n) m <<= 1u;
-  return m;
-}
-
-// C++ share_tree_share: the left share of a node on the 2^24 grid, exactly, from the bits of its
-// children sums (each 0 or a normal finite float). Integer long division, 8 bits per step.
-uint vplkit_share_tree_share(float left, float right) {
-  if (!(left > 0.0)) return 0u;
-  if (!(right > 0.0)) return vplkit_share_tree_one;
-  precise float sum = left + right;
-  uint lb = floatBitsToUint(left);
-  uint sb = floatBitsToUint(sum);
-  int k0 = 24 + int(lb >> 23u) - int(sb >> 23u);
-  uint q = 1u;
-  if (k0 >= 0) {
-    uint ml = (lb & 0x7fffffu) | 0x800000u;
-    uint ms = (sb & 0x7fffffu) | 0x800000u;
-    uint quotient = ml / ms;
-    uint r = ml % ms;
-    for (int k = k0; k > 0; k -= 8) {
-      int c = min(k, 8);
-      r <<= uint(c);
-      quotient = (quotient << uint(c)) + r / ms;
-      r %= ms;
-    }
-    q = quotient + (r != 0u ? 1u : 0u);
-  }
-  return min(q, vplkit_share_tree_one - 1u);
-}
 
 bool vplkit_share_tree_empty(vplkit_share_tree t) {
   return !(t.total > 0.0 && t.total <= vplkit_FLT_MAX);
@@ -87,13 +58,13 @@ float vplkit_share_tree_pmf(vplkit_share_tree t, uint index) {
   return p;
 }
 
-// C++ sample(counter_rng&): one vplkit_rng_next_u32 per level (log2(leaves) of them, also when
-// empty), its top 24 bits against the node's share; {0, 0} when empty.
-vplkit_discrete_sample vplkit_share_tree_sample(vplkit_share_tree t, inout vplkit_counter_rng rng) {
+// C++ sample(next24): one vplkit_share_tree_next_bits(t.id) per level (log2(leaves) of them,
+// also when empty) against the node's share; {0, 0} when empty.
+vplkit_discrete_sample vplkit_share_tree_sample(vplkit_share_tree t) {
   float p = 1.0;
   uint k = 1u;
   while (k < t.leaves) {
-    uint b = vplkit_rng_next_u32(rng) >> 8u;
+    uint b = vplkit_share_tree_next_bits(t.id);
     bool right = !(b < vplkit_load_share_tree_share(t.id, k));
     p = vplkit_probability_product(p, vplkit_share_tree_factor(t, k, right));
     k = 2u * k + (right ? 1u : 0u);

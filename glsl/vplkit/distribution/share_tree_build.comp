@@ -14,7 +14,8 @@
 // 2 x 32 floats and writes 32 contiguous sums and shares (coalesced). log2(L) + 1 dependent
 // dispatches (20 at L = 2^19); the upper levels are a few groups each, latency-bound.
 #include "vplkit/distribution/share_tree_build_params.h"
-#include "vplkit/distribution/share_tree.glsl"
+#include "vplkit/core/constants.glsl"
+#include "vplkit/distribution/share_tree_share.glsl"
 
 layout(local_size_x = VPLKIT_SHARE_TREE_BUILD_LOCAL_SIZE, local_size_y = 1, local_size_z = 1) in;
 
@@ -30,9 +31,6 @@ layout(std430, binding = VPLKIT_SHARE_TREE_BUILD_BINDING_SHARES) buffer vplkit_s
 layout(std140, binding = VPLKIT_SHARE_TREE_BUILD_BINDING_PARAMS) uniform vplkit_share_tree_build_uniforms {
   vplkit_share_tree_build_params vplkit_share_tree_build;
 };
-
-// The accessor of share_tree.glsl on this kernel's buffer (every referenced accessor needs a body).
-uint vplkit_load_share_tree_share(uint tree, uint node) { return vplkit_share_tree_build_shares[node]; }
 
 void main() {
   uint t = gl_GlobalInvocationID.x;

@@ -43,7 +43,6 @@
 #include <vplkit/core/error.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
-#include <vplkit/sampling/rng.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -170,8 +169,10 @@ public:
   // meaningful, values >= 2^24 always go right). A functor rather than one u: each level needs a
   // fresh number (deriving them from one 24-bit u leaves ~2^24 / n values per bin, so the
   // probability of a bin would be a count, not the product pmf() returns); a functor keeps the
-  // order of consumption explicit and lets the caller pass its own stream (see the counter_rng
-  // overload). An empty distribution still consumes depth() numbers and returns {0, 0}: a
+  // order of consumption explicit and lets the caller pass its own stream without this layer
+  // depending on the sampling layer. With the project's RNG (sampling/rng.hpp), the numbers the
+  // GPU draws too: sample([&] { return rng_next_u32(rng) >> 8u; }) (the 24 bits
+  // uint_to_unit_float keeps); share_tree.glsl's hook vplkit_share_tree_next_bits is this functor. An empty distribution still consumes depth() numbers and returns {0, 0}: a
   // stream advances by the same count on every path and device.
   template <class NextBits>
   discrete_sample<T> sample(NextBits&& next24) const {
@@ -185,13 +186,6 @@ public:
     }
     if (empty()) return {0, 0.0f};
     return {k - leaves_, p};
-  }
-
-  // The project's stream: one rng_next_u32 per level, its top 24 bits (the bits
-  // uint_to_unit_float keeps). share_tree.glsl's vplkit_share_tree_sample takes the same
-  // vplkit_counter_rng and draws the same numbers.
-  discrete_sample<T> sample(counter_rng& rng) const {
-    return sample([&rng]() { return rng_next_u32(rng) >> 8u; });
   }
 
   // For upload: 2 leaf_count() sums and leaf_count() shares (see the top of this file).
