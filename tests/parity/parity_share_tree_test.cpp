@@ -162,3 +162,72 @@ uint vplkit_load_share_tree_share(uint tree, uint node) { return shares[node]; }
     VPLKIT_CHECK_PARITY(compare_exact(gc, cc, describe, what + ": numbers consumed"));
   }
 }
+
+TEST_CASE("share_tree.glsl turns exactly where the C++ does: numbers at q - 1 and q on every path") {
+  // Random numbers hit a share exactly with probability ~depth 2^-24 per draw: the comparison
+  // b < q is checked here with the path numbers of every leaf at the edges, q - 1 (left) and q
+  // (right) at each level, and 0 / 2^24 - 1 as the other turn.
+  using namespace vplkit_test::portable;
+  std::vector<float> w = random_weights(300, 5);
+  w[3] = 0.0f;
+  w[100] = 1.2e-38f;
+  const vplkit::share_tree<float> t(w);
+  const u32 depth = t.depth();
+  std::vector<u32> numbers;  // item j: leaf j / 2, variant j % 2 (0: edges, 1: far values)
+  const std::size_t count = 2 * t.leaf_count();
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t leaf = j / 2;
+    std::vector<u32> path;
+    for (std::size_t m = t.leaf_count() + leaf; m > 1; m /= 2) {
+      const u32 q = t.shares()[m / 2];
+      const bool right = m % 2 == 1;
+      if (j % 2 == 0) path.push_back(right ? q : (q > 0 ? q - 1 : 0));
+      else path.push_back(right ? vplkit::share_tree_one - 1 : 0);
+    }
+    numbers.insert(numbers.end(), path.rbegin(), path.rend());
+  }
+  std::ostringstream defs;
+  defs << "#define N " << t.size() << "u\n#define LEAVES " << t.leaf_count() << "u\n#define TOTAL_BITS "
+       << bits_of(t.total()) << "u\n#define DEPTH " << depth << "u\n";
+  kernel_call k;
+  k.source = R"(
+#include "vplkit/distribution/share_tree.glsl"
+layout(std430, binding = 0) readonly buffer Shares { uint shares[]; };
+layout(std430, binding = 2) readonly buffer Numbers { uint numbers[]; };
+uint next_number;  // the invocation's position in `numbers`
+uint vplkit_load_share_tree_share(uint tree, uint node) { return shares[node]; }
+uint vplkit_share_tree_next_bits(uint tree) { return numbers[next_number++]; }
+struct R { uint index; float pmf; };
+)";
+  k.inputs = {input(0, t.shares()), input(2, numbers)};
+  k.output_glsl = "R results";
+  k.body = R"(
+  next_number = i * DEPTH;
+  vplkit_share_tree t = vplkit_share_tree(0u, N, LEAVES, uintBitsToFloat(TOTAL_BITS));
+  vplkit_discrete_sample s = vplkit_share_tree_sample(t);
+  results[i] = R(s.index, s.pmf);)";
+  k.defines = defs.str();
+  k.name = "share_tree_edges.comp";
+  struct R {
+    u32 index;
+    float pmf;
+  };
+  const auto gpu = run_compute<R>(k, count);
+  vplkit_test::reference_scope ref;
+  std::vector<u32> gi, ci, gp, cp;
+  for (std::size_t j = 0; j < count; ++j) {
+    std::size_t level = 0;
+    const auto s = t.sample([&] { return numbers[j * depth + level++]; });
+    gi.push_back(gpu[j].index);
+    ci.push_back(u32(s.index));
+    gp.push_back(bits_of(gpu[j].pmf));
+    cp.push_back(bits_of(s.pmf));
+  }
+  auto describe = [&](std::size_t j) { return "leaf " + std::to_string(j / 2) + (j % 2 ? ", far" : ", edges"); };
+  VPLKIT_CHECK_PARITY(compare_exact(gi, ci, describe, "edge paths: index"));
+  VPLKIT_CHECK_PARITY(compare_exact(gp, cp, describe, "edge paths: pmf bits"));
+  // And the C++ lands on the leaf of every positive weight through its edge path.
+  for (std::size_t leaf = 0; leaf < w.size(); ++leaf) {
+    if (t.pmf(leaf) > 0.0f) CHECK(ci[2 * leaf] == leaf);
+  }
+}
