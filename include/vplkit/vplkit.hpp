@@ -10,12 +10,13 @@
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/gather_point.hpp>
 
-// distribution: discrete CDF (inverse transform), alias table, defensive mixing, face roulette,
+// distribution: discrete CDF (inverse transform), alias table, share tree, defensive mixing, face roulette,
 // weighted reservoir
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/alias_table.hpp>
+#include <vplkit/distribution/share_tree.hpp>
 #include <vplkit/distribution/mixture_split.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/face_roulette.hpp>

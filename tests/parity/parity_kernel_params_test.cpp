@@ -11,6 +11,7 @@
 #include <vplkit/builders/gbg_finish_params.h>
 #include <vplkit/builders/global_weights_params.h>
 #include <vplkit/distribution/cdf_build_params.h>
+#include <vplkit/distribution/share_tree_build_params.h>
 #include <vplkit/image/median_fill_params.h>
 #include <vplkit/visibility/prefix_sum_params.h>
 #include <vplkit/visibility/voxelize_params.h>
@@ -135,6 +136,11 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
               sizeof(gpu::cdf_build_params),
               {VPLKIT_MEMBER(gpu::cdf_build_params, n), VPLKIT_MEMBER(gpu::cdf_build_params, pass),
                VPLKIT_MEMBER(gpu::cdf_build_params, pad0), VPLKIT_MEMBER(gpu::cdf_build_params, pad1)});
+
+  check_block("vplkit/distribution/share_tree_build.comp", "vplkit_share_tree_build_uniforms",
+              "vplkit_share_tree_build", sizeof(gpu::share_tree_build_params),
+              {VPLKIT_MEMBER(gpu::share_tree_build_params, n), VPLKIT_MEMBER(gpu::share_tree_build_params, leaves),
+               VPLKIT_MEMBER(gpu::share_tree_build_params, level), VPLKIT_MEMBER(gpu::share_tree_build_params, pad0)});
 
   check_block("vplkit/image/median_fill.comp", "vplkit_median_fill_uniforms", "vplkit_median_fill",
               sizeof(gpu::median_fill_params),
