@@ -22,6 +22,7 @@
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT
 #define VPLKIT_USER_VISIBILITY
 #define VPLKIT_USER_TRACER
+#define VPLKIT_USER_TRACER_WITHIN
 #elif VR_VISIBILITY == VR_VISIBILITY_TRIANGLE_VOXELS
 #define VPLKIT_TRIANGLE_VOXELS
 #define VPLKIT_VOXEL_BRICKS
@@ -86,6 +87,25 @@ uint vr_load_shading_word(uint index) { return 0u; }  // albedos: exact.comp's; 
 vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
   vplkit_bvh b = vplkit_bvh(vr_params.bvh_node_count);
   vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, vplkit_bvh_offset_point(x, n_x, vplkit_bvh_surface_offset(b)), dir);
+  vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+    r.shading_normal = vr_shading_normal(h);
+  }
+  return r;
+}
+// vplkit_user_trace's hit when it lies within reach of x (the clamp's compensation asks within
+// dmin), by a traversal that stops at t = (reach + offset) / |dir|: the ray starts offset from x,
+// so no hit within reach of x lies farther along it, and the walk visits only the nodes near x
+// instead of the whole ray's. Beyond reach, no hit or a farther one (the trace_within protocol).
+vplkit_ray_hit vplkit_user_trace_within(vec3 x, vec3 n_x, vec3 dir, float reach) {
+  vplkit_bvh b = vplkit_bvh(vr_params.bvh_node_count);
+  float offset = vplkit_bvh_surface_offset(b);
+  // Widened by 1e-5 relative, far above the rounding of the sum and the division (GLSL's 2.5 ulp),
+  // so a hit at exactly reach is never lost; a farther hit returned is allowed.
+  float t_max = (reach + offset) / length(dir) * (1.0 + 1e-5);
+  vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, vplkit_bvh_offset_point(x, n_x, offset), dir, 0.0, t_max);
   vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
   if (h.hit) {
     r.position = h.position;

@@ -42,6 +42,12 @@ bool vplkit_user_visible(vec3 x, vec3 n_x, vec3 y, vec3 n_y);
 #endif
 #ifdef VPLKIT_USER_TRACER
 vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir);
+#ifdef VPLKIT_USER_TRACER_WITHIN
+// Optional: the first hit when it lies within reach of x (beyond: no hit or a farther one), so a
+// short query (the clamp's compensation asks within dmin) can stop early; without the macro
+// trace_within calls vplkit_user_trace, which traces the whole ray.
+vplkit_ray_hit vplkit_user_trace_within(vec3 x, vec3 n_x, vec3 dir, float reach);
+#endif
 #endif
 
 vplkit_visibility vplkit_make_always_visible() {
@@ -136,10 +142,16 @@ bool vplkit_voxel_tracer_surface_within(vplkit_voxel_tracer tr, vec3 x, vec3 n_x
 
 // tracer.trace_within(x, n_x, dir, reach): the first hit as vplkit_voxel_tracer_trace gives it
 // whenever it lies within reach of x; beyond, no hit or a farther one. The voxel kinds stop their
-// march there (reach plus the lift for the voxel DDA); vplkit_user_trace traces the whole ray.
+// march there (reach plus the lift for the voxel DDA); the user kind calls
+// vplkit_user_trace_within with VPLKIT_USER_TRACER_WITHIN, else vplkit_user_trace (the whole ray).
 vplkit_ray_hit vplkit_voxel_tracer_trace_within(vplkit_voxel_tracer tr, vec3 x, vec3 n_x, vec3 dir, float reach) {
 #ifdef VPLKIT_USER_TRACER
+#ifdef VPLKIT_USER_TRACER_WITHIN
+  if (tr.user) return reach < vplkit_dda_infinity() ? vplkit_user_trace_within(x, n_x, dir, reach)
+                                                    : vplkit_user_trace(x, n_x, dir);
+#else
   if (tr.user) return vplkit_user_trace(x, n_x, dir);
+#endif
 #endif
 #ifdef VPLKIT_TRIANGLE_VOXELS
   if (tr.triangles) {
