@@ -6,7 +6,8 @@
 // vplkit_evaluate_gathering_hit), what the clamp max(d^2, dmin^2) took from the VPL strategy there.
 // Added to a clamped VPL estimate, the sum converges to the unclamped integral where the VPL and
 // gathering estimands agree within dmin of x. The rays stop at |dmin|
-// (vplkit_voxel_tracer_trace_within; vplkit_user_trace traces the whole ray, same result).
+// (vplkit_voxel_tracer_trace_within: vplkit_user_trace_within where the shader defines it,
+// else vplkit_user_trace traces the whole ray, same result).
 // ACCESSORS: the DPRSM's and vplkit_load_voxel_word. The decisions (the distance against dmin, x on
 // the hit's plane) are `precise`; a hit within about 1e-6 of dmin or of the plane test may still
 // decide differently from the C++ (GPU sin/cos of the direction); the parity test counts them.
