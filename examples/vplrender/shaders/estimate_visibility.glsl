@@ -83,28 +83,11 @@ layout(std430, binding = VR_ESTIMATE_BINDING_TRIANGLE_SHADING) restrict readonly
 };
 vr_triangle_shading vr_load_triangle_shading(uint triangle) { return vr_triangle_shadings[triangle]; }
 uint vr_load_shading_word(uint index) { return 0u; }  // albedos: exact.comp's; not read here
-// vplkit_bvh_trace, with the hit's interpolated shading normal.
-vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
+// The BVH's closest hit from x (lifted by the BVH's surface offset along n_x) along dir for t in
+// (0, t_max] of the lifted ray, as vplkit_bvh_trace gives it, with the hit's interpolated shading
+// normal.
+vplkit_ray_hit vr_trace_bvh(vec3 x, vec3 n_x, vec3 dir, float offset, float t_max) {
   vplkit_bvh b = vplkit_bvh(vr_params.bvh_node_count);
-  vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, vplkit_bvh_offset_point(x, n_x, vplkit_bvh_surface_offset(b)), dir);
-  vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
-  if (h.hit) {
-    r.position = h.position;
-    r.normal = h.normal;
-    r.shading_normal = vr_shading_normal(h);
-  }
-  return r;
-}
-// vplkit_user_trace's hit when it lies within reach of x (the clamp's compensation asks within
-// dmin), by a traversal that stops at t = (reach + offset) / |dir|: the ray starts offset from x,
-// so no hit within reach of x lies farther along it, and the walk visits only the nodes near x
-// instead of the whole ray's. Beyond reach, no hit or a farther one (the trace_within protocol).
-vplkit_ray_hit vplkit_user_trace_within(vec3 x, vec3 n_x, vec3 dir, float reach) {
-  vplkit_bvh b = vplkit_bvh(vr_params.bvh_node_count);
-  float offset = vplkit_bvh_surface_offset(b);
-  // Widened by 1e-5 relative, far above the rounding of the sum and the division (GLSL's 2.5 ulp),
-  // so a hit at exactly reach is never lost; a farther hit returned is allowed.
-  float t_max = (reach + offset) / length(dir) * (1.0 + 1e-5);
   vplkit_bvh_hit h = vplkit_bvh_closest_hit(b, vplkit_bvh_offset_point(x, n_x, offset), dir, 0.0, t_max);
   vplkit_ray_hit r = vplkit_ray_hit(h.hit, vec3(0.0), vec3(0.0), vec3(0.0));
   if (h.hit) {
@@ -113,6 +96,19 @@ vplkit_ray_hit vplkit_user_trace_within(vec3 x, vec3 n_x, vec3 dir, float reach)
     r.shading_normal = vr_shading_normal(h);
   }
   return r;
+}
+vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {
+  return vr_trace_bvh(x, n_x, dir, vplkit_bvh_surface_offset(vplkit_bvh(vr_params.bvh_node_count)), vplkit_bvh_infinity());
+}
+// vplkit_user_trace's hit when it lies within reach of x (the clamp's compensation asks within
+// dmin), by a traversal that stops at t = (reach + offset) / |dir|: the ray starts offset from x,
+// so no hit within reach of x lies farther along it, and the walk visits only the nodes near x
+// instead of the whole ray's. Beyond reach, no hit or a farther one (the trace_within protocol).
+vplkit_ray_hit vplkit_user_trace_within(vec3 x, vec3 n_x, vec3 dir, float reach) {
+  float offset = vplkit_bvh_surface_offset(vplkit_bvh(vr_params.bvh_node_count));
+  // Widened by 1e-5 relative, far above the rounding of the sum and the division (GLSL's 2.5 ulp),
+  // so a hit at exactly reach is never lost; a farther hit returned is allowed.
+  return vr_trace_bvh(x, n_x, dir, offset, (reach + offset) / length(dir) * (1.0 + 1e-5));
 }
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
   return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
