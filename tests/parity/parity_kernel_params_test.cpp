@@ -19,6 +19,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "gl_program_resources.hpp"
+
 #include <cstddef>
 #include <map>
 #include <string>
@@ -29,10 +31,9 @@ namespace {
 namespace gl = vplkit::gl;
 namespace gpu = vplkit::gpu;
 
-struct member {
-  std::string name;    // the GLSL name below the block's struct variable
-  std::size_t offset;  // the C++ offsetof
-};
+// A member: its GLSL name below the block's struct variable, and its C++ offsetof.
+using member = vplkit_test::block_member;
+using vplkit_test::resource_value;
 
 // The light's five members inside a struct at `base`.
 std::vector<member> light_members(const std::string& prefix, std::size_t base) {
@@ -51,16 +52,6 @@ const gl::program& kernel(const std::string& file, const std::string& defines = 
   auto it = cache->find(source);
   if (it == cache->end()) it = cache->emplace(source, gl::program::compute_with_includes(source, file)).first;
   return it->second;
-}
-
-GLint resource_value(GLuint prog, GLenum interface, const std::string& name, GLenum property) {
-  const GLuint index = glGetProgramResourceIndex(prog, interface, name.c_str());
-  INFO(name);
-  REQUIRE(index != GL_INVALID_INDEX);
-  GLint value = -1;
-  glGetProgramResourceiv(prog, interface, index, 1, &property, 1, nullptr, &value);
-  gl::check_gl("glGetProgramResourceiv");
-  return value;
 }
 
 // Every listed member at its C++ offset, and the block's size equal to the struct's.

@@ -14,6 +14,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "gl_program_resources.hpp"
+
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -23,22 +25,9 @@ namespace gl = vplkit::gl;
 
 namespace {
 
-struct member {
-  std::string name;
-  std::size_t offset;  // the C++ offsetof
-};
-
-#define VR_MEMBER(type, field) member{#field, offsetof(type, field)}
-
-GLint resource_value(GLuint prog, GLenum interface, const std::string& name, GLenum property) {
-  const GLuint index = glGetProgramResourceIndex(prog, interface, name.c_str());
-  INFO(name);
-  REQUIRE(index != GL_INVALID_INDEX);
-  GLint value = -1;
-  glGetProgramResourceiv(prog, interface, index, 1, &property, 1, nullptr, &value);
-  gl::check_gl("glGetProgramResourceiv");
-  return value;
-}
+using member = vplkit_test::block_member;
+using vplkit_test::resource_value;
+#define VR_MEMBER VPLKIT_TEST_BLOCK_MEMBER
 
 // A kernel's variant, compiled as the GPU backend compiles it.
 GLuint program(method m, const std::string& defines) {
