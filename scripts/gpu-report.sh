@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # The project's speed and correctness on the machine's GPU, as one report (docs/renderer.md,
 # "GPU report"). Usage:
-#   scripts/gpu-report.sh [--quick] [--budget SECONDS] BUILD_DIR OUTDIR
+#   scripts/gpu-report.sh [--quick] [--no-tests] [--budget SECONDS] BUILD_DIR OUTDIR
 # BUILD_DIR: a build of this checkout with the examples and the tests (Release for numbers that
 # mean something; ../shared/device/pack.sh makes one). In the device pack:
 #   bash .device/run.sh scripts/gpu-report.sh build/gpu "$OUT"
@@ -20,19 +20,22 @@
 #      scene and method.
 # Writes OUTDIR/gpu-report.md (the tables, the device named) and OUTDIR/gpu-report-raw.tar.gz (every
 # JSON report, CSV and log; no images), and prints a short summary table last.
+# --no-tests: leaves out part 3 (the ctest labels), for a speed-only report.
 # --quick: tiny sizes, few frames and a handful of tests, for a check of the script itself (the
 # test renderer_gpu_report_quick runs it on llvmpipe).
 set -u -o pipefail
 
-usage() { echo "usage: $0 [--quick] [--budget SECONDS] BUILD_DIR OUTDIR" >&2; exit 2; }
+usage() { echo "usage: $0 [--quick] [--no-tests] [--budget SECONDS] BUILD_DIR OUTDIR" >&2; exit 2; }
 QUICK=0
+TESTS=1
 BUDGET=480
 ARGS=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) QUICK=1 ;;
+    --no-tests) TESTS=0 ;;
     --budget) [ $# -ge 2 ] || usage; BUDGET=$2; shift ;;
-    -h|--help) sed -n '3,25p' "$0"; exit 0 ;;
+    -h|--help) sed -n '3,26p' "$0"; exit 0 ;;
     -*) echo "$0: unknown option $1" >&2; usage ;;
     *) ARGS+=("$1") ;;
   esac
@@ -99,7 +102,7 @@ echo "gpu-report: $([ $QUICK -eq 1 ] && echo 'quick, ')budget $BUDGET s, build $
 echo "device:"
 render device device 60 --method global --size 8x8 --dprsm 8 --voxels 4 --vpls 1
 if [ -x "$VK" ]; then
-  run vulkan_device 60 "$VK" "pick_vpls.comp (the minimal example): every pick equals the C++ discrete_cdf pick"
+  run vulkan_device 60 "$VK" "pick_vpls.comp (the minimal example)*"
   grep -m1 '^vulkan: ' "$RAW/logs/vulkan_device.log" > "$RAW/device/vulkan.txt" ||
     { echo "vulkan: none ($(tail -n 3 "$RAW/logs/vulkan_device.log" | tr '\n' ' '))" > "$RAW/device/vulkan.txt"; }
 else
@@ -133,14 +136,18 @@ render frames fr_cpu_global_v16 120 --backend cpu --scene cornell --size $FR_SIZ
 
 # ---- 3. the Vulkan and parity labels -------------------------------------------------------------
 echo "tests:"
-if [ $QUICK -eq 1 ]; then VK_SELECT=(-R 'pick_vpls'); P_SELECT=(-R '^parity_kernel_params_test'); else VK_SELECT=(); P_SELECT=(); fi
-JOBS=$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
-IN_BUILD=(bash -c 'cd "$0" && exec "$@"' "$BUILD")  # ctest runs in the build directory
-run ctest_vulkan 120 "${IN_BUILD[@]}" ctest -L vulkan "${VK_SELECT[@]}" -j"$JOBS" --timeout 100 --output-on-failure
-cp "$RAW/logs/ctest_vulkan.log" "$RAW/tests/vulkan.log"
-# The parity label without the Vulkan tests (run above), the slow ones included.
-run ctest_parity 150 "${IN_BUILD[@]}" ctest -L parity -LE vulkan "${P_SELECT[@]}" -j"$JOBS" --timeout 100 --output-on-failure
-cp "$RAW/logs/ctest_parity.log" "$RAW/tests/parity.log"
+if [ $TESTS -eq 1 ]; then
+  if [ $QUICK -eq 1 ]; then VK_SELECT=(-R 'pick_vpls'); P_SELECT=(-R '^parity_kernel_params_test'); else VK_SELECT=(); P_SELECT=(); fi
+  JOBS=$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
+  IN_BUILD=(bash -c 'cd "$0" && exec "$@"' "$BUILD")  # ctest runs in the build directory
+  run ctest_vulkan 120 "${IN_BUILD[@]}" ctest -L vulkan "${VK_SELECT[@]}" -j"$JOBS" --timeout 100 --output-on-failure
+  cp "$RAW/logs/ctest_vulkan.log" "$RAW/tests/vulkan.log"
+  # The parity label without the Vulkan tests (run above), the slow ones included.
+  run ctest_parity 150 "${IN_BUILD[@]}" ctest -L parity -LE vulkan "${P_SELECT[@]}" -j"$JOBS" --timeout 100 --output-on-failure
+  cp "$RAW/logs/ctest_parity.log" "$RAW/tests/parity.log"
+else
+  echo "  left out (--no-tests)"
+fi
 
 # ---- 4. the stage profile -------------------------------------------------------------------------
 echo "stage profile:"

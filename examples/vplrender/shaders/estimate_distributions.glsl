@@ -49,6 +49,9 @@ uint vplkit_load_guide(uint id, uint j) {
   return vr_cdf_data[vr_params.guide_base + id * vr_params.guide_stride + j];
 }
 
+// Callers copy the record out of the buffer first: NVIDIA's compiler (580) refuses a member of a
+// `restrict readonly` buffer as a function argument (error C1317, "qualified actual parameter
+// cannot be converted to less qualified parameter"), which the GLSL spec allows.
 vplkit_defensive_mixture vr_unpack_mixture(vr_mixture_record r) {
   return vplkit_defensive_mixture(
       vplkit_discrete_cdf(r.learned.x, r.learned.y, r.learned.z, uintBitsToFloat(r.learned.w)),
@@ -58,11 +61,17 @@ vplkit_defensive_mixture vr_unpack_mixture(vr_mixture_record r) {
 
 #ifdef VR_ONE_MIXTURE
 vplkit_defensive_mixture vr_mixture0;
-void vr_load_mixtures() { vr_mixture0 = vr_unpack_mixture(vr_mixture_records[0]); }
+void vr_load_mixtures() {
+  vr_mixture_record r = vr_mixture_records[0];
+  vr_mixture0 = vr_unpack_mixture(r);
+}
 vplkit_defensive_mixture vr_mixture(uint d) { return vr_mixture0; }
 #else
 void vr_load_mixtures() {}
-vplkit_defensive_mixture vr_mixture(uint d) { return vr_unpack_mixture(vr_mixture_records[d]); }
+vplkit_defensive_mixture vr_mixture(uint d) {
+  vr_mixture_record r = vr_mixture_records[d];
+  return vr_unpack_mixture(r);
+}
 #endif
 
 // Component k as the C++ alias_table / flat_face_roulette (the roulette's scalars as uploaded, so

@@ -42,7 +42,8 @@ layout(std430, binding = VR_RIS_BINDING_RESERVOIRS) restrict readonly buffer VrR
   vplkit_ris_reservoir_record vr_reservoirs[];
 };
 vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) {
-  return vplkit_ris_reservoir_from_record(vr_reservoirs[pixel]);
+  vplkit_ris_reservoir_record r = vr_reservoirs[pixel];  // a local copy: see vr_unpack_mixture
+  return vplkit_ris_reservoir_from_record(r);
 }
 #endif
 
