@@ -3,6 +3,8 @@
 
 #include "io/errors.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <cstdlib>
 #include <optional>
@@ -117,65 +119,94 @@ std::vector<method> default_methods() {
   return out;
 }
 
-// Own flags here; the rest go to vplrender's parser (its validation, defaults and limits).
+// CLI11's messages for the sweep's own flags, in vplrender's words (cli/options.cpp does the same
+// for its flags): a flag without its value, or one given twice.
+std::string explain(const CLI::ParseError& e) {
+  const std::string m = e.what();
+  const std::size_t colon = m.find(':');
+  const std::string flag = colon == std::string::npos ? std::string() : m.substr(0, colon);
+  if (m.find("At Most 1 required but received") != std::string::npos) return flag + ": given more than once";
+  if (m.find("required") != std::string::npos && m.find("missing") != std::string::npos) return flag + ": needs a value";
+  return m;
+}
+
+// Own flags here (CLI11); the rest, in their order, go to vplrender's parser (its validation,
+// defaults and limits).
 bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so) {
-  std::vector<std::string> pass{"speed_vs_error"};
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--help" || a == "-h") return false;
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) bad(a + ": needs a value");
-      return args[++i];
-    };
-    if (a == "--methods") {
-      so.methods.clear();
-      for (const std::string& t : split_list(value())) so.methods.push_back(parse_swept_method(t));
-    } else if (a == "--samples") {
-      so.samples.clear();
-      for (const std::string& t : split_list(value())) so.samples.push_back(static_cast<int>(to_int(a, t, 1, limits::max_dirs)));
-    } else if (a == "--seeds") {
-      so.seeds.clear();
-      for (const std::string& t : split_list(value())) so.seeds.push_back(static_cast<std::uint32_t>(to_int(a, t, 0, 4294967295LL)));
-    } else if (a == "--clamp-compensation") {
-      so.compensations.clear();
-      for (const std::string& t : split_list(value())) {
-        if (t != "off" && t != "on") bad("--clamp-compensation: unknown value '" + t + "' (off, on or off,on)");
-        const clamp_compensation_choice c = t == "on" ? clamp_compensation_choice::on : clamp_compensation_choice::off;
-        if (std::find(so.compensations.begin(), so.compensations.end(), c) == so.compensations.end())
-          so.compensations.push_back(c);
-      }
-    } else if (a == "--ref-dirs") {
-      so.ref_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
-    } else if (a == "--ref-exact-dirs") {
-      so.ref_exact_dirs = static_cast<int>(to_int(a, value(), 1, limits::max_dirs));
-    } else if (a == "--references") {
-      const std::string v = value();
-      so.ref_vplsum = so.ref_gather = so.ref_exact = false;
-      if (v == "all") so.ref_vplsum = so.ref_gather = so.ref_exact = true;
-      else if (v == "both") so.ref_vplsum = so.ref_gather = true;
-      else if (v != "none")
-        for (const std::string& t : split_list(v)) {
-          if (t == "vplsum") so.ref_vplsum = true;
-          else if (t == "gather") so.ref_gather = true;
-          else if (t == "exact") so.ref_exact = true;
-          else bad("--references: unknown reference '" + t + "' (vplsum, gather, exact, all, both or none)");
-        }
-    } else if (a == "--replot") {
-      so.replot = value();
-    } else if (a == "--repeats") {
-      so.repeats = static_cast<int>(to_int(a, value(), 1, 1000));
-    } else if (a == "--cache-dir") {
-      so.cache_dir = value();
-    } else if (a == "--out") {
-      so.out = value();
-    } else if (a == "--method" || a == "--vpls" || a == "--seed" || a == "--window") {
-      bad(a + ": not allowed here (the sweep sets it; see --methods, --samples, --seeds)");
-    } else if (a == "--paper" || a == "--direct") {
-      pass.push_back(a);
-    } else {
-      pass.push_back(a);
-      pass.push_back(value());
+  CLI::App app;
+  app.name(args.empty() ? std::string("speed_vs_error") : args[0]);
+  app.set_help_flag();  // k_help is the help text
+  app.allow_extras();
+  bool help = false;
+  std::optional<std::string> methods, samples, seeds, compensations, ref_dirs, ref_exact_dirs, references, repeats;
+  app.add_flag("-h,--help", help);
+  app.add_option("--methods", methods);
+  app.add_option("--samples", samples);
+  app.add_option("--seeds", seeds);
+  app.add_option("--clamp-compensation", compensations);
+  app.add_option("--ref-dirs", ref_dirs);
+  app.add_option("--ref-exact-dirs", ref_exact_dirs);
+  app.add_option("--references", references);
+  app.add_option("--replot", so.replot);
+  app.add_option("--repeats", repeats);
+  app.add_option("--cache-dir", so.cache_dir);
+  app.add_option("--out", so.out);
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  if (argv.empty()) argv.push_back("speed_vs_error");
+  try {
+    app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const CLI::ParseError& e) {
+    bad(explain(e));
+  }
+  if (help) return false;
+
+  if (methods) {
+    so.methods.clear();
+    for (const std::string& t : split_list(*methods)) so.methods.push_back(parse_swept_method(t));
+  }
+  if (samples) {
+    so.samples.clear();
+    for (const std::string& t : split_list(*samples))
+      so.samples.push_back(static_cast<int>(to_int("--samples", t, 1, limits::max_dirs)));
+  }
+  if (seeds) {
+    so.seeds.clear();
+    for (const std::string& t : split_list(*seeds))
+      so.seeds.push_back(static_cast<std::uint32_t>(to_int("--seeds", t, 0, 4294967295LL)));
+  }
+  if (compensations) {
+    so.compensations.clear();
+    for (const std::string& t : split_list(*compensations)) {
+      if (t != "off" && t != "on") bad("--clamp-compensation: unknown value '" + t + "' (off, on or off,on)");
+      const clamp_compensation_choice c = t == "on" ? clamp_compensation_choice::on : clamp_compensation_choice::off;
+      if (std::find(so.compensations.begin(), so.compensations.end(), c) == so.compensations.end())
+        so.compensations.push_back(c);
     }
+  }
+  if (ref_dirs) so.ref_dirs = static_cast<int>(to_int("--ref-dirs", *ref_dirs, 1, limits::max_dirs));
+  if (ref_exact_dirs) so.ref_exact_dirs = static_cast<int>(to_int("--ref-exact-dirs", *ref_exact_dirs, 1, limits::max_dirs));
+  if (references) {
+    const std::string& v = *references;
+    so.ref_vplsum = so.ref_gather = so.ref_exact = false;
+    if (v == "all") so.ref_vplsum = so.ref_gather = so.ref_exact = true;
+    else if (v == "both") so.ref_vplsum = so.ref_gather = true;
+    else if (v != "none")
+      for (const std::string& t : split_list(v)) {
+        if (t == "vplsum") so.ref_vplsum = true;
+        else if (t == "gather") so.ref_gather = true;
+        else if (t == "exact") so.ref_exact = true;
+        else bad("--references: unknown reference '" + t + "' (vplsum, gather, exact, all, both or none)");
+      }
+  }
+  if (repeats) so.repeats = static_cast<int>(to_int("--repeats", *repeats, 1, 1000));
+
+  std::vector<std::string> pass{"speed_vs_error"};
+  for (const std::string& a : app.remaining()) {
+    const std::string flag = a.substr(0, a.find('='));
+    if (flag == "--method" || flag == "--vpls" || flag == "--seed" || flag == "--window")
+      bad(flag + ": not allowed here (the sweep sets it; see --methods, --samples, --seeds)");
+    pass.push_back(a);
   }
   if (so.methods.empty() || so.samples.empty() || so.seeds.empty()) bad("--methods, --samples, --seeds: empty list");
   parse_result r = parse_command_line(pass);
