@@ -12,13 +12,23 @@ namespace {
 
 // Keys 1-8: the methods the GPU backend runs (the window's), in the order of
 // render/method_traits.cpp, those that trace the scene's triangles (exact) only on a frame with
-// exact rays (window_view::exact). ris is not among them yet: after exact in the table, it would
-// take key 8 on a frame without exact rays, so that key would mean two methods; a fixed key of
-// its own (9) needs the keys to follow the table with gaps.
+// exact rays (window_view::exact). ris has the fixed key 9: after exact in the table, it would
+// take key 8 on a frame without exact rays, so one key would mean two methods.
+bool on_numbered_key(const method_traits& t, const window_view& v) {
+  return t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || v.exact);
+}
+
 std::vector<method> window_methods(const window_view& v) {
   std::vector<method> out;
   for (const method_traits& t : all_method_traits())
-    if (t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || v.exact)) out.push_back(t.id);
+    if (on_numbered_key(t, v)) out.push_back(t.id);
+  return out;
+}
+
+// The order `m` cycles through: keys 1-8, then ris.
+std::vector<method> cycle_order(const window_view& v) {
+  std::vector<method> out = window_methods(v);
+  if (traits(method::ris).gpu) out.push_back(method::ris);
   return out;
 }
 
@@ -46,10 +56,17 @@ bool apply_window_action(window_view& v, const std::string& a, bool* close) {
     v.meth = m;
     return true;
   }
+  if (a == "9" && traits(method::ris).gpu) {
+    if (v.meth == method::ris) return false;
+    v.meth = method::ris;
+    return true;
+  }
   if (a == "m") {
-    int i = 0;
-    while (i < kMethods && order[static_cast<std::size_t>(i)] != v.meth) ++i;
-    v.meth = order[static_cast<std::size_t>((i + 1) % kMethods)];
+    const std::vector<method> cycle = cycle_order(v);
+    const std::size_t n = cycle.size();
+    std::size_t i = 0;
+    while (i < n && cycle[i] != v.meth) ++i;
+    v.meth = cycle[(i + 1) % n];
     return true;
   }
   const bool dirs = uses_dirs(v.meth);

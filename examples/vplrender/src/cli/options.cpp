@@ -192,7 +192,7 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("N");
   app.add_option("--window-script", v.window_script,
                  d("With --window: key actions injected one per frame from the second frame on, comma-separated "
-                   "(1-8, m, +, -, q); for tests."))
+                   "(1-9, m, +, -, q); for tests."))
       ->type_name("K1,K2,...");
   app.add_option("--exposure", v.exposure, d("Exposure multiplier for the PNG preview only (default 1; > 0)."))
       ->type_name("X");
@@ -475,9 +475,9 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
       const std::size_t j = std::min(v.window_script.find(',', i), v.window_script.size());
       std::string k = v.window_script.substr(i, j - i);
       if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') k[0] = static_cast<char>(k[0] - 'A' + 'a');
-      static const char* const allowed[] = {"1", "2", "3", "4", "5", "6", "7", "8", "m", "+", "-", "q"};
+      static const char* const allowed[] = {"1", "2", "3", "4", "5", "6", "7", "8", "9", "m", "+", "-", "q"};
       if (std::find(std::begin(allowed), std::end(allowed), k) == std::end(allowed))
-        bad("--window-script", "unknown key action '" + k + "' (expected 1-8, m, +, -, q)");
+        bad("--window-script", "unknown key action '" + k + "' (expected 1-9, m, +, -, q)");
       o.window_script.push_back(k);
       i = j + 1;
     }
