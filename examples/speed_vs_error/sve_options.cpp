@@ -119,17 +119,6 @@ std::vector<method> default_methods() {
   return out;
 }
 
-// CLI11's messages for the sweep's own flags, in vplrender's words (cli/options.cpp does the same
-// for its flags): a flag without its value, or one given twice.
-std::string explain(const CLI::ParseError& e) {
-  const std::string m = e.what();
-  const std::size_t colon = m.find(':');
-  const std::string flag = colon == std::string::npos ? std::string() : m.substr(0, colon);
-  if (m.find("At Most 1 required but received") != std::string::npos) return flag + ": given more than once";
-  if (m.find("required") != std::string::npos && m.find("missing") != std::string::npos) return flag + ": needs a value";
-  return m;
-}
-
 // Own flags here (CLI11); the rest, in their order, go to vplrender's parser (its validation,
 // defaults and limits).
 bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so) {
@@ -157,7 +146,7 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   try {
     app.parse(static_cast<int>(argv.size()), argv.data());
   } catch (const CLI::ParseError& e) {
-    bad(explain(e));
+    bad(explain_parse_error(e.what()));  // vplrender's words for CLI11's messages
   }
   if (help) return false;
 

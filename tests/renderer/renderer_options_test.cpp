@@ -398,6 +398,8 @@ TEST_CASE("the visibility flag is exact (GPU default), voxels (CPU default), pap
   CHECK(parse({"--window", "--method", "exact"}).meth == method::exact);
   CHECK(parse({"--window", "--window-script", "8,m"}).window_script == std::vector<std::string>{"8", "m"});
   CHECK(parse({"--window", "--window-script", "9"}).window_script == std::vector<std::string>{"9"});
+  CHECK(error_of({"--vpls"}) == "--vpls: needs a value");
+  CHECK(error_of({"--size", "8x8", "--scene"}) == "--scene: needs a value");
   CHECK(help_text().find("--visibility") != std::string::npos);
   CHECK(help_text().find("the GLSL pack's BVH on the GPU backend") != std::string::npos);
 }

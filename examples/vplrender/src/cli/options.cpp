@@ -268,10 +268,16 @@ void parse_size(const std::string& text, int& w, int& h) {
 }
 
 // CLI11's messages, made to lead with the flag and to say plainly what went wrong.
-std::string explain(const CLI::ParseError& e) {
-  std::string m = e.what();
+}  // namespace
+
+std::string explain_parse_error(const std::string& message) {
+  const std::string& m = message;
   const std::string at_most = ": At Most 1 required but received ";
   if (const std::size_t p = m.find(at_most); p != std::string::npos) return m.substr(0, p) + ": given more than once";
+  // CLI11: "--vpls: 1 required N missing" for a flag at the end of the line without its value.
+  if (m.rfind("--", 0) == 0 && m.find(" required ") != std::string::npos && m.size() > 8 &&
+      m.compare(m.size() - 8, 8, " missing") == 0)
+    return m.substr(0, m.find(':')) + ": needs a value";
   const std::string not_expected = "not expected: ";
   if (const std::size_t p = m.find(not_expected); p != std::string::npos) {
     const std::string what = m.substr(p + not_expected.size());
@@ -279,8 +285,6 @@ std::string explain(const CLI::ParseError& e) {
   }
   return m;
 }
-
-}  // namespace
 
 std::string options::png_path() const { return replace_extension(out, ".png"); }
 std::string options::json_path() const { return replace_extension(out, ".json"); }
@@ -316,7 +320,7 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     r.help = app.help();
     return r;
   } catch (const CLI::ParseError& e) {
-    throw usage_error(explain(e));
+    throw usage_error(explain_parse_error(e.what()));
   }
   const auto given = [&](const char* flag) { return app.count(flag) > 0; };
 

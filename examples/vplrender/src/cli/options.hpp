@@ -90,6 +90,11 @@ parse_result parse_command_line(const std::vector<std::string>& args);
 // The --help text (every flag, its default and its limits).
 std::string help_text(const std::string& program = "vplrender");
 
+// A CLI11 parse error's message in the project's words: "--flag: needs a value", "--flag: given
+// more than once", "unknown option: ... (see --help)"; other messages unchanged. speed_vs_error
+// uses it for its own flags.
+std::string explain_parse_error(const std::string& what);
+
 // Grid for n regions: the factorisation x * y = n with x >= y and x - y smallest.
 void region_grid(int n, int& x, int& y);
 
