@@ -14,6 +14,7 @@
 // llvmpipe none differ). Floats agree within the bounds stated at each check, compared where the
 // kept samples agree.
 #include "parity_estimators_support.hpp"
+#include "parity_vpl_error_bound.hpp"
 
 #include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
@@ -174,77 +175,22 @@ std::vector<Out> run(const std::string& head, const std::string& body, std::size
 
 namespace {
 
-// Forward error bound (relative) of a target p_hat = luminance((rho_x / pi) Phi cos1 cos2 /
-// (pi d2^2)) evaluated in float under docs/math.md "GPU arithmetic model" (u = 2^-23 per ulp; FMA
-// anywhere, division 2.5 ulp, inversesqrt 2 ulp), for the sample's VPL y, n_y and gather point x.
-// Each term names its source; both sides carry at most this error, so the difference is within
-// twice it. In patch mode y = c + d1 w is itself computed (dprsm_patch_vpl), and its absolute error
-// enters d = y - x amplified by 1 / d2: a gather point near the patch point, with the light and the
-// point far from the origin, is ill-conditioned, and no fixed relative bound holds there (on an
-// NVIDIA H200 33 and 48 ulps at two such samples).
+// The error bound of a target p_hat = luminance(L) of a kept sample at gp (parity_vpl_error_bound.hpp):
+// patch points near the gather point are ill-conditioned, and no fixed relative bound holds there
+// (on an NVIDIA H200, 33 and 48 ulps at two such samples, where the fitted bound allowed 17).
 double target_error_bound(const vplkit::gather_point<float>& gp, const vplkit::dprsm_view<float>& view,
-                          const vplkit::ris_sample<float>& s, vplkit::vpl_mode mode, float tol, float dmin) {
-  const double u = std::ldexp(1.0, -23);
-  using d3 = glm::dvec3;
-  const double e_n = 2.0 * u + 3.0 * u + u;          // unit_or_zero: inversesqrt 2, dot 3 (FMA chain), product 1
-  const double e_w = 2.5 * u + 5.0 * u + 3.0 * u;    // paraboloid_to_direction: 1/(1+r2) 2.5, 5 roundings; to_world dot 3
-  const d3 x = d3(gp.position), c = d3(view.light.position);
-  double dy = 0.0;  // absolute error of the VPL's position
-  d3 y{};
-  d3 n_y{};
-  if (mode == vplkit::vpl_mode::patch && s.texel >= 0) {
+                          const vplkit::ris_sample<float>& s, vplkit::vpl_mode mode, float tol, float dmin,
+                          float target) {
+  if (s.texel < 0 || s.texel >= view.texel_count()) return 0.0;
+  double dy = 0.0;
+  vplkit::vpl<float> v = view.vpl_at(s.texel);
+  if (mode == vplkit::vpl_mode::patch) {
     const auto p = vplkit::dprsm_patch_vpl(view, s.texel, s.xi, tol);
-    y = d3(p.point.position);
-    n_y = d3(p.point.normal);
-    if (!p.at_centre && p.cos_alpha > 0.0f) {
-      const double d1 = p.distance, cos_a = p.cos_alpha;
-      const double h = d1 * cos_a, cy = glm::length(c - d3(view.position[std::size_t(s.texel)]));
-      const double e_h = (e_n + 4.0 * u) * cy / h;       // h = n . (c - y_t): a subtraction and a 3-term dot
-      const double e_cos = (e_n + e_w + 3.0 * u) / cos_a;  // cos(alpha) = -n . w
-      const double e_d1 = e_h + e_cos + 2.5 * u;           // d1 = h / cos(alpha): GLSL division 2.5 ulp
-      dy = d1 * (e_d1 + e_w) + 2.0 * u * (glm::length(c) + d1);  // y = c + d1 w: two roundings or one FMA
-    }
-  } else if (s.texel >= 0) {
-    y = d3(view.position[std::size_t(s.texel)]);  // loaded: exact
-    n_y = d3(view.normal[std::size_t(s.texel)]);
+    v = p.point;
+    dy = vplkit::parity::patch_point_error(view, s.texel, p);
   }
-  const d3 d = y - x;
-  const double d2 = glm::length(d);
-  if (!(d2 > 0.0) || !(glm::length(n_y) > 0.0)) return 0.0;
-  // d = y - x: y's error plus one rounding of each coordinate
-  const double rho = (dy + u * (glm::length(y) + glm::length(x))) / d2;
-  const d3 wd = d / d2, ns = glm::normalize(d3(vplkit::gather_point_shading_normal(gp)));
-  const double cos1 = std::abs(glm::dot(glm::normalize(n_y), wd)), cos2 = std::abs(glm::dot(ns, wd));
-  if (!(cos1 > 0.0) || !(cos2 > 0.0)) return 0.0;
-  // A direction error rho moves a cosine by at most rho (plus the normal's e_n and the dot's 3 ulp).
-  const double e_cos12 = (rho + e_w + e_n + 3.0 * u) / cos1 + (rho + e_w + e_n + 3.0 * u) / cos2;
-  // 1 / d2^2: 2 rho, unless dmin clamps the distance; the quotient 2.5 ulp; flux rho_t I Omega
-  // (the patch's J(uv) a 2.5-ulp division and 4 roundings, 2 products), (rho_x / pi) Phi G 3 products,
-  // luminance a 3-term dot 3 ulp.
-  const double e_dist = d2 > double(dmin) ? 2.0 * rho : 0.0;
-  const double e_ops = 2.5 * u + (2.5 * u + 4.0 * u + 2.0 * u) + 3.0 * u + 3.0 * u;
-  return 2.0 * (e_dist + e_cos12 + e_ops);
-}
-
-// gpu within bound[k] * |cpu| (or 1e-30 absolute) at every item; prints the worst ratio.
-bool check_within_bounds(const vplkit::parity::series<float>& s, const std::vector<double>& bound,
-                         const std::string& what) {
-  std::size_t outside = 0, worst = 0;
-  double worst_ratio = 0.0;
-  for (std::size_t k = 0; k < s.gpu.size(); ++k) {
-    const double diff = std::abs(double(s.gpu[k]) - double(s.cpu[k]));
-    const double b = bound[k] * std::abs(double(s.cpu[k])) + 1e-30;
-    const double ratio = diff / b;
-    if (!(ratio <= 1.0)) ++outside;
-    if (!(ratio <= worst_ratio)) worst_ratio = ratio, worst = k;
-  }
-  std::cout << "parity " << what << ": " << s.gpu.size() << " floats, per-sample forward error bound; worst |gpu - cpu| / bound "
-            << worst_ratio;
-  if (!s.gpu.empty())
-    std::cout << " at [" << worst << "] gpu=" << s.gpu[worst] << " cpu=" << s.cpu[worst] << " (bound rel " << bound[worst]
-              << ")";
-  std::cout << ", " << outside << " outside\n";
-  return outside == 0;
+  // Both sides carry at most this error.
+  return 2.0 * vplkit::parity::luminance_error(vplkit::parity::vpl_contribution_error(gp, v, dy, dmin), target);
 }
 
 }  // namespace
@@ -405,7 +351,7 @@ TEST_CASE("ris: GPU candidate passes and estimates vs C++ (point and patch, M = 
             texel.add(o.aux.x, rs[j].kept.texel);
             weight.add(o.value.w, rs[j].weight_sum);
             target.add(o.res.z, rs[j].target);
-            target_bound.push_back(target_error_bound(gp, view, rs[j].kept, mode, tol, dmin));
+            target_bound.push_back(target_error_bound(gp, view, rs[j].kept, mode, tol, dmin, rs[j].target));
             confidence.add(o.res.w, rs[j].confidence);
             xi.add(o.res.x, rs[j].kept.xi.x);
           }
@@ -422,7 +368,7 @@ TEST_CASE("ris: GPU candidate passes and estimates vs C++ (point and patch, M = 
         VPLKIT_CHECK_PARITY(compare_floats(confidence, within_ulps(0), describe, "ris " + what + ": confidence"));
         // p_hat: the contribution's luminance, within its forward error bound (target_error_bound);
         // the weight sum adds M quotients p_hat / p.
-        CHECK(check_within_bounds(target, target_bound, "ris " + what + ": target"));
+        CHECK(vplkit::parity::check_within_bounds(target.gpu, target.cpu, target_bound, "ris " + what + ": target"));
         VPLKIT_CHECK_PARITY(compare_floats(weight, within_rel(4e-6) | within_abs(1e-30), describe,
                                            "ris " + what + ": weight sum"));
         // f W: the contribution, W = weight_sum / target, the mean over rounds or kept samples.
@@ -531,7 +477,7 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) { return vplkit_ris_re
           texel.add(o.aux.x, r.kept.texel);
           weight.add(o.value.w, r.weight_sum);
           target.add(o.res.z, r.target);
-          target_bound.push_back(target_error_bound(g.at(q), view, r.kept, mode, tol, dmin));
+          target_bound.push_back(target_error_bound(g.at(q), view, r.kept, mode, tol, dmin, r.target));
           const auto v = vplkit::ris_shade(g.at(q), view, r, vis, dmin, mode, tol);
           for (int c = 0; c < 3; ++c) value.add(o.value[c], v[c]);
         }
@@ -543,7 +489,7 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) { return vplkit_ris_re
         VPLKIT_CHECK_PARITY(compare_floats(confidence, within_ulps(0), describe, "reuse " + what + ": confidence"));
         // The MIS weights divide sums of products of targets (each a few ulps): balance adds more
         // terms than pairwise.
-        CHECK(check_within_bounds(target, target_bound, "reuse " + what + ": target"));
+        CHECK(vplkit::parity::check_within_bounds(target.gpu, target.cpu, target_bound, "reuse " + what + ": target"));
         VPLKIT_CHECK_PARITY(compare_floats(weight, within_rel(2e-5) | within_abs(1e-30), describe,
                                            "reuse " + what + ": weight sum"));
         VPLKIT_CHECK_PARITY(compare_floats(value, within_rel(4e-5) | within_abs(1e-30), describe,
