@@ -14,6 +14,7 @@
 // llvmpipe none differ). Floats agree within the bounds stated at each check, compared where the
 // kept samples agree.
 #include "parity_estimators_support.hpp"
+#include "parity_vpl_error_bound.hpp"
 
 #include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
@@ -172,6 +173,28 @@ std::vector<Out> run(const std::string& head, const std::string& body, std::size
 
 }  // namespace
 
+namespace {
+
+// The error bound of a target p_hat = luminance(L) of a kept sample at gp (parity_vpl_error_bound.hpp):
+// patch points near the gather point are ill-conditioned, and no fixed relative bound holds there
+// (on an NVIDIA H200, 33 and 48 ulps at two such samples, where the fitted bound allowed 17).
+double target_error_bound(const vplkit::gather_point<float>& gp, const vplkit::dprsm_view<float>& view,
+                          const vplkit::ris_sample<float>& s, vplkit::vpl_mode mode, float tol, float dmin,
+                          float target) {
+  if (s.texel < 0 || s.texel >= view.texel_count()) return 0.0;
+  double dy = 0.0;
+  vplkit::vpl<float> v = view.vpl_at(s.texel);
+  if (mode == vplkit::vpl_mode::patch) {
+    const auto p = vplkit::dprsm_patch_vpl(view, s.texel, s.xi, tol);
+    v = p.point;
+    dy = vplkit::parity::patch_point_error(view, s.texel, p);
+  }
+  // Both sides carry at most this error.
+  return 2.0 * vplkit::parity::luminance_error(vplkit::parity::vpl_contribution_error(gp, v, dy, dmin), target);
+}
+
+}  // namespace
+
 TEST_CASE("weighted reservoir: GPU keeps what the C++ keeps, for every kind of weight") {
   std::vector<float> w;
   const float specials[] = {0.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), inf,
@@ -291,6 +314,7 @@ TEST_CASE("ris: GPU candidate passes and estimates vs C++ (point and patch, M = 
         const auto gpu = run<ris_out>(head, body, pts.size(), 3 * pts.size(), p, pts, {}, "ris_estimator.comp");
         vplkit::parity::series<std::int32_t> texel, counter, constant;
         vplkit::parity::series<float> xi, weight, target, confidence, value;
+        std::vector<double> target_bound;
         std::vector<std::size_t> at;
         for (std::size_t i = 0; i < pts.size(); ++i) {
           const auto& gp = pts[i].gp;
@@ -327,6 +351,7 @@ TEST_CASE("ris: GPU candidate passes and estimates vs C++ (point and patch, M = 
             texel.add(o.aux.x, rs[j].kept.texel);
             weight.add(o.value.w, rs[j].weight_sum);
             target.add(o.res.z, rs[j].target);
+            target_bound.push_back(target_error_bound(gp, view, rs[j].kept, mode, tol, dmin, rs[j].target));
             confidence.add(o.res.w, rs[j].confidence);
             xi.add(o.res.x, rs[j].kept.xi.x);
           }
@@ -341,10 +366,9 @@ TEST_CASE("ris: GPU candidate passes and estimates vs C++ (point and patch, M = 
         if (!constant.cpu.empty()) VPLKIT_CHECK_PARITY(compare_exact(constant, describe, "VPLKIT_RIS_MAX_KEPT"));
         VPLKIT_CHECK_PARITY(compare_floats(xi, within_ulps(0), describe, "ris " + what + ": kept jitter"));
         VPLKIT_CHECK_PARITY(compare_floats(confidence, within_ulps(0), describe, "ris " + what + ": confidence"));
-        // p_hat: the contribution's luminance (rsqrt and FMA in the VPL model: a few ulps); the
-        // weight sum adds M quotients p_hat / p.
-        VPLKIT_CHECK_PARITY(compare_floats(target, within_rel(2e-6) | within_abs(1e-30), describe,
-                                           "ris " + what + ": target"));
+        // p_hat: the contribution's luminance, within its forward error bound (target_error_bound);
+        // the weight sum adds M quotients p_hat / p.
+        CHECK(vplkit::parity::check_within_bounds(target.gpu, target.cpu, target_bound, "ris " + what + ": target"));
         VPLKIT_CHECK_PARITY(compare_floats(weight, within_rel(4e-6) | within_abs(1e-30), describe,
                                            "ris " + what + ": weight sum"));
         // f W: the contribution, W = weight_sum / target, the mean over rounds or kept samples.
@@ -433,6 +457,7 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) { return vplkit_ris_re
         };
         vplkit::parity::series<std::int32_t> texel, counter, constant;
         vplkit::parity::series<float> weight, target, confidence, value;
+        std::vector<double> target_bound;
         for (int q = 0; q < g.pixel_count(); ++q) {
           vplkit::counter_rng rng = vplkit::make_counter_rng(0x915u, std::uint32_t(q));
           const vplkit::ris_reservoir<float> r = vplkit::ris_spatial_reuse(
@@ -452,6 +477,7 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) { return vplkit_ris_re
           texel.add(o.aux.x, r.kept.texel);
           weight.add(o.value.w, r.weight_sum);
           target.add(o.res.z, r.target);
+          target_bound.push_back(target_error_bound(g.at(q), view, r.kept, mode, tol, dmin, r.target));
           const auto v = vplkit::ris_shade(g.at(q), view, r, vis, dmin, mode, tol);
           for (int c = 0; c < 3; ++c) value.add(o.value[c], v[c]);
         }
@@ -463,8 +489,7 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) { return vplkit_ris_re
         VPLKIT_CHECK_PARITY(compare_floats(confidence, within_ulps(0), describe, "reuse " + what + ": confidence"));
         // The MIS weights divide sums of products of targets (each a few ulps): balance adds more
         // terms than pairwise.
-        VPLKIT_CHECK_PARITY(compare_floats(target, within_rel(2e-6) | within_abs(1e-30), describe,
-                                           "reuse " + what + ": target"));
+        CHECK(vplkit::parity::check_within_bounds(target.gpu, target.cpu, target_bound, "reuse " + what + ": target"));
         VPLKIT_CHECK_PARITY(compare_floats(weight, within_rel(2e-5) | within_abs(1e-30), describe,
                                            "reuse " + what + ": weight sum"));
         VPLKIT_CHECK_PARITY(compare_floats(value, within_rel(4e-5) | within_abs(1e-30), describe,
@@ -508,16 +533,24 @@ void main() {
   const auto records = out.get<vplkit::gpu::ris_reservoir_record>(1);
   const auto fields = out.get<float4>(2);
   REQUIRE(records.size() == in.size());
+  // The contract: loads, stores and bit casts never flush or canonicalise (GLSL 4.30 section
+  // 4.7.1, docs/math.md "GPU arithmetic model"), so the record and every field read from it are
+  // bit-exact; W = weight_sum / target is a division, within GLSL's 2.5 ulp for a divisor in
+  // [2^-126, 2^126] (targets here are 3 to 66): 3 whole ulps. On an NVIDIA H200 (580.159.04) 3 of
+  // the 64 quotients were 1 ulp off while every loaded field was exact.
   std::size_t bad_bytes = 0, bad_fields = 0;
+  vplkit::parity::series<float> w;
   for (std::size_t i = 0; i < in.size(); ++i) {
     bad_bytes += std::memcmp(&records[i], &in[i], sizeof(in[i])) != 0 ? 1 : 0;
     const auto r = vplkit::gpu::ris_reservoir_from_record(in[i]);
     const float4 a = fields[2 * i], b = fields[2 * i + 1];
     const bool ok = a.x == float(r.kept.texel) && a.y == r.kept.xi.x && a.z == r.kept.xi.y && a.w == r.weight_sum &&
-                    b.x == r.target && b.y == r.confidence && (b.z == 1.0f) == vplkit::ris_reservoir_has_sample(r) &&
-                    b.w == vplkit::ris_contribution_weight(r);
+                    b.x == r.target && b.y == r.confidence && (b.z == 1.0f) == vplkit::ris_reservoir_has_sample(r);
     bad_fields += ok ? 0 : 1;
+    w.add(b.w, vplkit::ris_contribution_weight(r));
   }
   CHECK(bad_bytes == 0);
   CHECK(bad_fields == 0);
+  VPLKIT_CHECK_PARITY(compare_floats(w, within_ulps(3), [](std::size_t) { return std::string("record"); },
+                                     "ris record: contribution weight W"));
 }

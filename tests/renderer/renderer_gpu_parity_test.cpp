@@ -305,6 +305,63 @@ cpu_tracer gbg_cpu_tracer(const frame_buffers& b, visibility_choice v) {
   return t;
 }
 
+// Lit GBG hits whose texel a GPU may decide otherwise: the light sees the hit point p through a
+// texel; under docs/math.md "GPU arithmetic model" p carries an absolute error of at most
+// 8 u (|x| + |p - x|) (u = 2^-23; a tracer's hit is o + t d with t a quotient: GLSL division
+// 2.5 ulp, then a subtraction, a product and a sum per coordinate, and the ray origin's lift),
+// plus |p - x| times the ray direction's error, and the direction's map to uv
+// (paraboloid_from_direction: a 2.5-ulp division, the frame's 3-term dots) another 8 u |p - c|.
+// The direction goes through cos/sin (sample_cosine_hemisphere), which GLSL does not bound
+// (docs/math.md); NVIDIA's hardware sin/cos are within 2^-21.41 absolute on [-pi, pi] (CUDA C++
+// Programming Guide, "Intrinsic Functions", __sinf/__cosf), taken here as 2^-21 per component
+// plus the frame's 8 u. A hit is near an edge when a corner of the cube of that half-width
+// around p falls in another texel: its value may land in any of those texels on a GPU. Returns,
+// per texel, how many such hits may add to it or leave it. (On an NVIDIA H200 the cornell
+// paper-voxel weights differed by whole hits in 6 of 208 texels while every lit/unlit decision
+// agreed: the paper tracer's hits are voxel entry points, o + t d with t a GPU quotient, and many
+// lie on the light's symmetry planes x = c.x and z = c.z, which are the texel edges u = 0, v = 0.)
+template <class Tracer>
+std::vector<int> gbg_near_edge_hits(const vplkit::gbuffer_view<float>& gb, const vplkit::dprsm_view<float>& view,
+                                    const Tracer& trace, const vplkit::gbg_params<float>& params) {
+  const double u = std::ldexp(1.0, -23);
+  std::vector<int> near(std::size_t(view.texel_count()), 0);
+  for (int pixel = 0; pixel < gb.pixel_count(); ++pixel) {
+    const vplkit::gather_point<float> g = gb.at(pixel);
+    if (!vplkit::gather_point_valid(g)) continue;
+    for (int j = 0; j < params.n_dirs; ++j) {
+      // the builder's direction j (gbg_accumulate_gather_point's stream: two numbers per ray)
+      const vplkit::orthonormal_basis<float> frame = vplkit::make_orthonormal_basis(vplkit::gather_point_shading_normal(g));
+      vplkit::counter_rng rng = vplkit::make_counter_rng(params.seed, std::uint32_t(pixel));
+      rng.counter = 2u * std::uint32_t(j);
+      const float u0 = vplkit::rng_next_unit<float>(rng), u1 = vplkit::rng_next_unit<float>(rng);
+      const vplkit::vec3<float> local = vplkit::sample_cosine_hemisphere(vplkit::vec2<float>(u0, u1));
+      if (!(local.z > 0.0f)) continue;
+      const vplkit::vec3<float> dir = vplkit::to_world(frame, local);
+      if (!vplkit::gather_point_accepts_direction(g, dir)) continue;
+      const vplkit::ray_hit<float> h = trace(g.position, g.normal, dir);
+      if (!h.hit) continue;
+      const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, h.position, params.depth_tolerance);
+      if (!r.lit || !vplkit::vpl_has_flux(view.vpl_at(r.texel))) continue;
+      const glm::dvec3 pd(h.position), x(g.position), c(view.light.position);
+      const double e_dir = 2.0 * std::ldexp(1.0, -21) + 8.0 * u;
+      const double e = 8.0 * u * (glm::length(x) + glm::length(pd - x)) + e_dir * glm::length(pd - x) +
+                       8.0 * u * glm::length(pd - c);
+      const int t = view.texel_of_point(h.position);
+      int touched[9] = {t};
+      int n = 1;
+      for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 q = pd + e * glm::dvec3(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
+        const int o = view.texel_of_point(vplkit::vec3<float>(q));
+        if (std::find(touched, touched + n, o) == touched + n) touched[n++] = o;
+      }
+      if (n > 1)
+        for (int k = 0; k < n; ++k)
+          if (touched[k] >= 0 && touched[k] < view.texel_count()) ++near[std::size_t(touched[k])];
+    }
+  }
+  return near;
+}
+
 TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point bound") {
   // The CPU side is build_distributions_cpu's GBG builder (same params, seed builder_seed(seed, 2),
   // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
@@ -347,6 +404,10 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
         vis != visibility_choice::voxels
             ? vplkit::build_gbg_weights(g.view(), d.view(), gbg_cpu_tracer(fb, vis), params, &cs)
             : vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params, &cs);
+    const std::vector<int> near_edge =
+        vis != visibility_choice::voxels
+            ? gbg_near_edge_hits(g.view(), d.view(), gbg_cpu_tracer(fb, vis), params)
+            : gbg_near_edge_hits(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params);
     stage_timer timer;
     nlohmann::json det;
     const gbg_gpu_weights gw = build_gbg_weights_gpu(fb, es, timer, det);
@@ -358,11 +419,13 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
                              (double(std::max(gw.gather_points, 1)) * es.dirs);
     // A ray whose voxel step or depth test sits at a float tie can hit on one side only (the GPU's
     // sqrt/div are a few ulps off): such texels differ by whole hits, v <= v_bound = 2 max_units /
-    // scale each (gbg_weights.glsl's scale choice). Allowed in <= 2% of the texels, <= 2 hits each,
-    // as parity_builders_test excludes and counts the texels of flipped rays.
+    // scale each (gbg_weights.glsl's scale choice). A texel may differ by at most one hit_bound per
+    // lit hit that may land in it or leave it on a GPU (gbg_near_edge_hits), and no more.
     const double hit_bound = 2.0 * det["gbg"]["fixed_point_max_units"].get<double>() / gw.scale /
                              (double(std::max(gw.gather_points, 1)) * es.dirs);
-    int outside = 0, nonzero = 0, beyond_flips = 0;
+    REQUIRE(near_edge.size() == cpu.size());
+    int outside = 0, nonzero = 0, unexplained = 0;
+    long long near_edge_hits = 0;
     double worst = 0.0, worst_rel = 0.0;
     for (std::size_t t = 0; t < cpu.size(); ++t) {
       const double a = cpu[t], b = gw.weights[t];
@@ -372,14 +435,17 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
       const double diff = std::abs(a - b);
       worst = std::max(worst, diff / bound);
       if (diff > bound) ++outside;
-      if (diff > bound + 2.0 * hit_bound) ++beyond_flips;
+      if (diff > bound + double(near_edge[t]) * hit_bound) ++unexplained;
+      near_edge_hits += near_edge[t];
       if (a > 0.0) worst_rel = std::max(worst_rel, diff / a);
     }
     double sum_c = 0, sum_g = 0;
     for (std::size_t t = 0; t < cpu.size(); ++t) sum_c += cpu[t], sum_g += gw.weights[t];
     std::cout << scene_name << " " << to_string(vis) << " GBG weights: lit hits " << cs.lit_hits << " (cpu) "
               << gw.lit_hits << " (gpu), sums " << sum_c << " " << sum_g << "; " << nonzero << " non-zero texels, |G| = " << gw.gather_points
-              << ", worst |gpu - cpu| / bound = " << worst << " (worst relative " << worst_rel << "), outside " << outside << "\n";
+              << ", worst |gpu - cpu| / bound = " << worst << " (worst relative " << worst_rel << "), outside " << outside
+              << " (" << unexplained << " beyond the hits near a texel edge, " << near_edge_hits
+              << " hit-texel pairs near an edge)\n";
     CHECK(nonzero > 0);
     // The closed box with exact rays has exact ties (renderer_gpu_exact_visibility_test: G-buffer
     // points on the edge where two walls meet, which Embree and the BVH round differently): there
@@ -393,8 +459,7 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
     CHECK(gw.lit_hits == cs.lit_hits);
     CHECK(det["gbg"]["holes"].get<int>() == cs.holes);
     CHECK(det["gbg"]["filled"].get<int>() == cs.filled);
-    CHECK(outside <= nonzero / 50);
-    CHECK(beyond_flips == 0);
+    CHECK(unexplained == 0);
   }
 }
 
