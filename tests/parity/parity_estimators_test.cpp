@@ -22,6 +22,7 @@
 #include "parity_estimators_support.hpp"
 #include "parity_sampling_mis_support.hpp"
 
+#include <fp_mode.hpp>
 #include <gpu_precision.hpp>
 
 #include <vplkit/builders/gather_subset.hpp>
@@ -1107,12 +1108,12 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) {  // what the voxe
   vplkit_visibility vu = vplkit_make_voxel_visibility(load_grid());
   vu.kind = vplkit_visibility_user;
   vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
-  vplkit_exhaustive_vpl_sum_range(gp, load_view(), st, 0, 8 * ip.w, vu, 0.05);  // 128 (no constant bound: see range forms)
+  vplkit_exhaustive_vpl_sum_range(gp, load_view(), st, 0, 128, vu, 0.05);
   vec3 b = vplkit_exhaustive_vpl_sum_finish(st);
   result[i] = est_out(vec4(a.x, a.y, a.z, b.x), uvec4(rng.counter, floatBitsToUint(b.y), floatBitsToUint(b.z), 0u));)"};
     const est_kernel builtin = {R"(#include "vplkit/estimators/vpl_sum.glsl")", R"(
   vplkit_vpl_sum_state st = vplkit_make_vpl_sum_state();
-  vplkit_exhaustive_vpl_sum_range(load_point(i), load_view(), st, 0, 8 * ip.w, make_visibility(ip.y), 0.05);
+  vplkit_exhaustive_vpl_sum_range(load_point(i), load_view(), st, 0, 128, make_visibility(ip.y), 0.05);
   vec3 b = vplkit_exhaustive_vpl_sum_finish(st);
   result[i] = est_out(vec4(b, 0.0), uvec4(0u));)"};
     scene_params p = f.params();
@@ -1140,6 +1141,14 @@ TEST_CASE("range forms: each GLSL estimate split into ranges equals its one-shot
   // estimator once as the one-shot form and once as range(0, a) + range(a, b) + range(b, n) +
   // finish on one state (b = a for an empty middle range); the values and the streams must agree
   // bit for bit, including at background pixels.
+  // GPU against GPU: no C++ reference, so the FTZ|DAZ run of this program (which changes only the
+  // references' denormal mode, docs/testing.md) would repeat the default run's comparison exactly.
+  // It is the program's slowest case (its one kernel inlines every estimator four times; 53 s of
+  // the NVIDIA H200's run, which stopped at ctest's 100 s), so that run leaves it to the default one.
+  if (vplkit_test::reference_ftz_daz_requested()) {
+    std::cout << "  range forms: GPU against GPU, independent of the reference's FTZ|DAZ mode: checked in the default run\n";
+    return;
+  }
   const scene_fixture& f = fixture();
   const auto pts = gather_points(3);
   distribution_pool pool(32);
@@ -1200,17 +1209,13 @@ struct range_out { vec4 one[5]; vec4 split[5]; };
   vplkit_estimate_mis_range(gp, view, 1u, s, b, mis_n, n_dirs, n_vpls, tracer, vis, tol, ip.y);
   result[i].split[3] = vec4(vplkit_estimate_mis_finish(s, n_dirs, n_vpls, ip.y), uintBitsToFloat(s.rng.counter));
 
-  // The exhaustive sum over the first 10 n = 120 texels (all of it would pass llvmpipe's loop
-  // budget; docs/glsl.md), in one range and in ranges of 40. The bounds come from the uniforms, not
-  // constants: with constant trip counts a GPU compiler may unroll the loops, each iteration
-  // inlining the voxel visibility's DDA, and spend its time compiling (reasoned from the NVIDIA
-  // H200 run, where this test took 53 s and the program ran past ctest's 100 s).
-  int sum_n = 10 * n, sum_step = sum_n / 3;
+  // The exhaustive sum over the first 120 texels (all of it would pass llvmpipe's loop budget;
+  // docs/glsl.md), in one range and in ranges of 40.
   vplkit_vpl_sum_state whole = vplkit_make_vpl_sum_state();
-  vplkit_exhaustive_vpl_sum_range(gp, view, whole, 0, sum_n, vis, dmin);
+  vplkit_exhaustive_vpl_sum_range(gp, view, whole, 0, 120, vis, dmin);
   result[i].one[4] = vec4(vplkit_exhaustive_vpl_sum_finish(whole), 0.0);
   vplkit_vpl_sum_state parts = vplkit_make_vpl_sum_state();
-  for (int t = 0; t < sum_n; t += sum_step) vplkit_exhaustive_vpl_sum_range(gp, view, parts, t, t + sum_step, vis, dmin);
+  for (int t = 0; t < 120; t += 40) vplkit_exhaustive_vpl_sum_range(gp, view, parts, t, t + 40, vis, dmin);
   result[i].split[4] = vec4(vplkit_exhaustive_vpl_sum_finish(parts), 0.0);)"};
   struct range_out {
     float4 one[5], split[5];
