@@ -1085,8 +1085,11 @@ TEST_CASE("estimators: zero intensity gives exactly +0, user visibility and trac
     }
   }
   // User hooks: kind vplkit_visibility_user and tracer.user route to the shader's functions (here
-  // the voxel functions themselves, so the answers equal the built-in kinds bit for bit).
-  {
+  // the voxel functions themselves, so the answers equal the built-in kinds bit for bit). GPU
+  // against GPU, as "range forms": checked in the default run only, not again under FTZ|DAZ.
+  if (vplkit_test::reference_ftz_daz_requested()) {
+    std::cout << "  user hooks: GPU against GPU, independent of the reference's FTZ|DAZ mode: checked in the default run\n";
+  } else {
     // The macros must precede the first include of visibility_callables.glsl (the prelude's).
     const std::string defines = "#define VPLKIT_USER_VISIBILITY\n#define VPLKIT_USER_TRACER\n";
     const est_kernel hooks = {R"(
