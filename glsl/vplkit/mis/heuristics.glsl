@@ -15,6 +15,8 @@
 // [1, 32), where GLSL promises 2.5 ulp). +inf is uintBitsToFloat(0x7F800000u) and is tested with
 // `==`, as in the C++.
 //
+// Every weight lies in [0, 1] on every device: its quotient is capped at 1
+// (vplkit_mis_unit_quotient), since a 2.5-ulp division may return 1 + 2^-23 for a / a.
 // GLSL-only additions (the rest reads line for line like the C++):
 // - vplkit_mis_is_nan(x) decides NaN on the bits, and guards every place where the C++ relies on
 //   a comparison being false for NaN: compilers may fold such comparisons into min/max, which drop
@@ -111,10 +113,18 @@ vplkit_mis_terms vplkit_mis_scaled_terms(float n1, float p1, float n2, float p2)
                           vplkit_scale_by_exp2(tb.mantissa, tb.exponent - e));
 }
 
+// a / d for 0 <= a <= d, d > 0, capped at 1: GLSL's 2.5-ulp division may give a / a = 1 + 2^-23
+// (NVIDIA does), and a weight must stay in [0, 1] (C++ mis_unit_quotient). d in [1, 32) and a
+// finite: the quotient is never NaN, so min() cannot drop one.
+float vplkit_mis_unit_quotient(float a, float d) {
+  float q = a / d;
+  return q < 1.0 ? q : 1.0;
+}
+
 float vplkit_balance_heuristic(float n1, float p1, float n2, float p2) {
   vplkit_mis_terms t = vplkit_mis_scaled_terms(n1, p1, n2, p2);
   float d = t.a + t.b;  // 0 or in [1, 8)
-  return d > 0.0 ? t.a / d : 0.0;
+  return d > 0.0 ? vplkit_mis_unit_quotient(t.a, d) : 0.0;
 }
 
 float vplkit_power_heuristic(float n1, float p1, float n2, float p2) {
@@ -123,7 +133,7 @@ float vplkit_power_heuristic(float n1, float p1, float n2, float p2) {
   precise float a2 = vplkit_flush_denormal(t.a * t.a);
   precise float b2 = vplkit_flush_denormal(t.b * t.b);
   precise float d = a2 + b2;  // 0 or in [1, 32)
-  return d > 0.0 ? a2 / d : 0.0;
+  return d > 0.0 ? vplkit_mis_unit_quotient(a2, d) : 0.0;
 }
 
 // f / (n1 p1 + n2 p2), the balance-heuristic estimator's value for one sample of either strategy.

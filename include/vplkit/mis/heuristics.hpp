@@ -29,6 +29,11 @@
 //   device).
 // Consequently heuristic(n1,p1,n2,p2) + heuristic(n2,p2,n1,p1) = 1 to within 2 ulps whenever at
 // least one strategy has n > 0 and p > 0 (finite or not), and 0 when neither has.
+// - every weight lies in [0, 1] on every device: the quotient a / (a + b) is at most 1 when the
+//   division is correctly rounded, but a GPU's 2.5-ulp division (docs/math.md "GPU arithmetic
+//   model") gives a / a = 1 + 2^-23 (NVIDIA H200: weights 1.0000001 wherever the other term is 0 or
+//   negligible), so the quotient is capped at 1 (mis_unit_quotient). The cap never changes a
+//   correctly rounded result.
 #include <vplkit/core/normal_range.hpp>
 
 #include <limits>
@@ -88,11 +93,17 @@ inline mis_terms<T> mis_scaled_terms(T n1, T p1, T n2, T p2) {
   return {scale_by_exp2(ta.mantissa, ta.exponent - e), scale_by_exp2(tb.mantissa, tb.exponent - e)};
 }
 
+// a / d for 0 <= a <= d, d > 0: the weight's quotient, capped at 1 (see the file comment).
+template <class T> inline T mis_unit_quotient(T a, T d) {
+  const T q = a / d;
+  return q < T(1) ? q : T(1);
+}
+
 template <class T>
 inline T balance_heuristic(T n1, T p1, T n2, T p2) {
   const mis_terms<T> t = mis_scaled_terms(n1, p1, n2, p2);
   const T d = t.a + t.b;  // 0 or in [1, 8)
-  return d > T(0) ? t.a / d : T(0);
+  return d > T(0) ? mis_unit_quotient(t.a, d) : T(0);
 }
 
 template <class T>
@@ -102,7 +113,7 @@ inline T power_heuristic(T n1, T p1, T n2, T p2) {
   // below the smallest normal T (a value that cannot matter next to the other's >= 1).
   const T a2 = flush_denormal(t.a * t.a), b2 = flush_denormal(t.b * t.b);
   const T d = a2 + b2;  // 0 or in [1, 32)
-  return d > T(0) ? a2 / d : T(0);
+  return d > T(0) ? mis_unit_quotient(a2, d) : T(0);
 }
 
 // f / (n1 p1 + n2 p2), the balance-heuristic estimator's value for one sample of either strategy.

@@ -48,8 +48,11 @@ template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_are
   if (patch_area == T(0) || d2_squared == inf || pmf == inf) return inf;
   // The mantissas' quotient (numerator and divisor in [1, 4), where GLSL promises 2.5 ulp: a GPU
   // divides 1e38 / 1e38 through a denormal reciprocal), then the exact power of two: the result
-  // overflows to +inf, or is 0 below the smallest normal T, exactly where the true density leaves
-  // the range of T, on every device.
+  // overflows to +inf, or is 0 below the smallest normal T, where the computed quotient leaves the
+  // range of T. With correct rounding that is where the true density does; a GPU's 2.5-ulp
+  // quotient may cross FLT_MAX (or FLT_MIN) when the true density lies within 2.5 ulps of it, so
+  // there one device gives FLT_MAX and another +inf (NVIDIA H200: +inf for 3e38 * FLT_MAX /
+  // 3e38): the two neighbours that Vulkan's ULP rule lets a bound reaching past FLT_MAX return.
   const binary_split<T> sp = split_binary(pmf), sd = split_binary(d2_squared),
                         sa = split_binary(patch_area), sc = split_binary(cos_theta1);
   const T q = (sp.mantissa * sd.mantissa) / (sa.mantissa * sc.mantissa);
