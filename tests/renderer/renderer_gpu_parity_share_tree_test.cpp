@@ -6,6 +6,7 @@
 // estimators that do not draw the tree are refused. The image parity at 2 x 512^2 is
 // renderer_gpu_parity_share_tree_test_slow.cpp (label slow: ~1 minute).
 #include "renderer_gl_fixture.hpp"
+#include "renderer_image_parity.hpp"
 
 #include "cli/render_options.hpp"
 #include "render/cpu/cpu_backend.hpp"
@@ -22,42 +23,10 @@
 #include <vector>
 
 using namespace vplrender;
+using vplrender_test::compare;
+using vplrender_test::parity;
 
 namespace {
-
-// Fraction of the pixels whose channels all agree within rel relative (plus 1e-6 of the CPU image's
-// mean: float noise around zero), as renderer_gpu_parity_test's compare().
-struct parity {
-  double within = 0.0;
-  double worst = 0.0;
-};
-
-parity compare(const image_rgb& c, const image_rgb& g, double rel) {
-  REQUIRE(c.rgb.size() == g.rgb.size());
-  double mean = 0.0;
-  for (float v : c.rgb) mean += v;
-  mean /= std::max<std::size_t>(1, c.rgb.size());
-  const double floor_abs = 1e-6 * mean;
-  parity r;
-  std::size_t ok = 0;
-  const std::size_t pixels = c.rgb.size() / 3;
-  for (std::size_t p = 0; p < pixels; ++p) {
-    bool inside = true;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double a = c.rgb[3 * p + k], b = g.rgb[3 * p + k];
-      REQUIRE(std::isfinite(a));
-      REQUIRE(std::isfinite(b));
-      REQUIRE(a >= 0.0);
-      REQUIRE(b >= 0.0);
-      const double d = std::abs(a - b), m = std::max(std::abs(a), std::abs(b));
-      if (d > rel * m + floor_abs) inside = false;
-      if (m > 0.0) r.worst = std::max(r.worst, d / m);
-    }
-    if (inside) ++ok;
-  }
-  r.within = static_cast<double>(ok) / static_cast<double>(std::max<std::size_t>(pixels, 1));
-  return r;
-}
 
 double image_sum(const image_rgb& im) {
   double s = 0.0;

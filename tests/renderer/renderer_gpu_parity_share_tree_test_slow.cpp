@@ -10,6 +10,7 @@
 // pixel draws the same texels with pmfs within a few 1e-6. Where the flat CDF gives ~98.7 % of the
 // pixels within 1e-4 at this size (printed, not required), the tree must give >= 99.9 %.
 #include "renderer_gl_fixture.hpp"
+#include "renderer_image_parity.hpp"
 
 #include "cli/render_options.hpp"
 #include "render/cpu/cpu_backend.hpp"
@@ -24,43 +25,8 @@
 
 using namespace vplrender;
 
-namespace {
-
-// Fraction of the pixels whose channels all agree within rel relative (plus 1e-6 of the CPU image's
-// mean: float noise around zero), as renderer_gpu_parity_test's compare(); every value finite, >= 0.
-struct parity {
-  double within = 0.0;
-  double worst = 0.0;
-};
-
-parity compare(const image_rgb& c, const image_rgb& g, double rel) {
-  REQUIRE(c.rgb.size() == g.rgb.size());
-  double mean = 0.0;
-  for (float v : c.rgb) mean += v;
-  mean /= std::max<std::size_t>(1, c.rgb.size());
-  const double floor_abs = 1e-6 * mean;
-  parity r;
-  std::size_t ok = 0;
-  const std::size_t pixels = c.rgb.size() / 3;
-  for (std::size_t p = 0; p < pixels; ++p) {
-    bool inside = true;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double a = c.rgb[3 * p + k], b = g.rgb[3 * p + k];
-      REQUIRE(std::isfinite(a));
-      REQUIRE(std::isfinite(b));
-      REQUIRE(a >= 0.0);
-      REQUIRE(b >= 0.0);
-      const double d = std::abs(a - b), m = std::max(std::abs(a), std::abs(b));
-      if (d > rel * m + floor_abs) inside = false;
-      if (m > 0.0) r.worst = std::max(r.worst, d / m);
-    }
-    if (inside) ++ok;
-  }
-  r.within = static_cast<double>(ok) / static_cast<double>(std::max<std::size_t>(pixels, 1));
-  return r;
-}
-
-}  // namespace
+using vplrender_test::compare;
+using vplrender_test::parity;
 
 TEST_CASE("The share-tree sampler: image parity at a 2 x 512^2 DPRSM") {
   // The size of docs/math.md's measurement (cornell, 32 x 24 pixels, 8 VPL samples, 32^3 voxels,
