@@ -121,6 +121,7 @@ if(TARGET vplkit_headless_gl)
     ${_vr}/render/gpu/gpu_backend.cpp
     ${_vr}/render/gpu/gpu_builders.cpp
     ${_vr}/render/gpu/gpu_cdf.cpp
+    ${_vr}/render/gpu/gpu_share_tree.cpp
     ${_vr}/render/frames.cpp
     ${_vr}/render/pipeline.cpp)
   target_link_libraries(vplrender_pipeline PUBLIC vplrender_core vplkit::headless_gl PRIVATE vplkit_project_options)

@@ -10,6 +10,10 @@
 //     or face roulettes built on the host (render/mixture_components.hpp, binding 7, packed by
 //     gpu_backend.cpp's pack_components: 12 uints per component k = 2 d + c, c = 0 the learned
 //     part, 1 the fallback, then the arrays they point into).
+//   VR_SAMPLER_SHARE_TREE: the mixture's split and fallback CDF, its learned part a share tree built
+//     by share_tree_build.comp (binding 7: the shares, tree d at d L), drawn with 24-bit numbers
+//     from the pixel's tree stream vr_share_tree_rng (render/share_tree_mixture.hpp, number for
+//     number): the kernel calls vr_begin_share_tree_stream before its first draw of a dispatch.
 // A kernel that samples one mixture only (global, gbg, mis) defines VR_ONE_MIXTURE and calls
 // vr_load_mixtures() once: the record then lives in registers instead of being loaded per draw.
 // A distribution's CDF and guide are addressed by arithmetic on its index (cdf_stride, guide_base,
@@ -28,6 +32,11 @@ layout(std430, binding = VR_ESTIMATE_BINDING_MIXTURES) restrict readonly buffer 
 };
 #if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
 layout(std430, binding = VR_ESTIMATE_BINDING_COMPONENTS) restrict readonly buffer VrComponents { uint vr_components[]; };
+#endif
+#if VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+#include "vplkit/distribution/share_tree.glsl"
+#include "vplkit/sampling/rng.glsl"
+layout(std430, binding = VR_ESTIMATE_BINDING_COMPONENTS) restrict readonly buffer VrShares { uint vr_shares[]; };
 #endif
 
 float vplkit_load_cdf(uint id, uint i) {
@@ -125,12 +134,57 @@ vplkit_discrete_sample vr_resampled_sample(uint d, float u) {
 }
 #endif
 
+#if VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+// The pixel's tree stream (C++ share_tree_stream): every draw takes exactly depth = log2(L) of its
+// numbers, so draw k starts at k depth, and a dispatch whose first draw is `first_draw` starts
+// there (split renders keep no tree state between dispatches).
+vplkit_counter_rng vr_share_tree_rng;
+uint vr_share_tree_depth(uint leaves) { return uint(findMSB(leaves)); }  // leaves: a power of two
+#ifndef VR_ONE_MIXTURE
+#error "VR_SAMPLER_SHARE_TREE: for the kernels that sample one mixture (VR_ONE_MIXTURE)"
+#endif
+// After vr_load_mixtures().
+void vr_begin_share_tree_stream(vplkit_counter_rng pixel, int first_draw) {
+  vr_share_tree_rng = vplkit_counter_rng(vplkit_rng_key(pixel.key, VR_SHARE_TREE_STREAM_SALT),
+                                         uint(first_draw) * vr_share_tree_depth(vr_mixture0.learned.guide_size));
+}
+uint vplkit_load_share_tree_share(uint tree, uint node) { return vr_shares[tree * vr_mixture0.learned.guide_size + node]; }
+uint vplkit_share_tree_next_bits(uint tree) { return vplkit_rng_next_u32(vr_share_tree_rng) >> 8u; }
+// The learned part of mixture m as its tree (the record's learned fields, estimate_params.h).
+vplkit_share_tree vr_share_tree(vplkit_defensive_mixture m) {
+  return vplkit_share_tree(m.learned.id, m.learned.size, m.learned.guide_size, m.learned.total);
+}
+float vr_share_tree_mixture_pmf(vplkit_defensive_mixture m, uint i) {
+  return vplkit_mixture_split_pmf(vplkit_defensive_mixture_split(m), vplkit_share_tree_pmf(vr_share_tree(m), i),
+                                  vplkit_discrete_cdf_pmf(m.fallback, i));
+}
+// C++ share_tree_mixture_draw::sample.
+vplkit_discrete_sample vr_share_tree_mixture_sample(vplkit_defensive_mixture m, float u) {
+  uint depth = vr_share_tree_depth(m.learned.guide_size);
+  if (vplkit_defensive_mixture_empty(m)) {
+    vr_share_tree_rng.counter += depth;
+    return vplkit_discrete_sample(0u, 0.0);
+  }
+  vplkit_mixture_choice c = vplkit_mixture_split_choose(vplkit_defensive_mixture_split(m), u);
+  uint i;
+  if (c.component == VPLKIT_MIXTURE_FALLBACK) {
+    i = vplkit_discrete_cdf_sample(m.fallback, c.u).index;
+    vr_share_tree_rng.counter += depth;
+  } else {
+    i = vplkit_share_tree_sample(vr_share_tree(m)).index;
+  }
+  return vplkit_discrete_sample(i, vr_share_tree_mixture_pmf(m, i));
+}
+#endif
+
 // The estimators' hooks.
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u) {
 #if VR_SAMPLER == VR_SAMPLER_CDF_GUIDE
   return vplkit_defensive_mixture_sample(vr_mixture(distribution), u);
 #elif VR_SAMPLER == VR_SAMPLER_CDF_BINARY
   return vplkit_defensive_mixture_sample_binary_search(vr_mixture(distribution), u);
+#elif VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+  return vr_share_tree_mixture_sample(vr_mixture(distribution), u);
 #else
   return vr_resampled_sample(distribution, u);
 #endif
@@ -138,6 +192,8 @@ vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, f
 float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
 #if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
   return vr_resampled_pmf(vr_mixture(distribution), distribution, index);
+#elif VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+  return vr_share_tree_mixture_pmf(vr_mixture(distribution), index);
 #else
   return vplkit_defensive_mixture_pmf(vr_mixture(distribution), index);
 #endif

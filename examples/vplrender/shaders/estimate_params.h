@@ -25,7 +25,8 @@
 #define VR_ESTIMATE_BINDING_MIXTURES 4    // SSBO, readonly: vr_mixture_record mixtures[D]
 #define VR_ESTIMATE_BINDING_STATE 5       // SSBO: vr_pixel_state states[W H] (VR_SPLIT 1 only)
 #define VR_ESTIMATE_BINDING_OUT 6         // SSBO, writeonly: vec4 out[W H] (rgb: the estimate)
-#define VR_ESTIMATE_BINDING_COMPONENTS 7  // SSBO, readonly: uint components[] (VR_SAMPLER alias / roulette)
+#define VR_ESTIMATE_BINDING_COMPONENTS 7  // SSBO, readonly: uint components[] (VR_SAMPLER alias / roulette),
+                                          // or uint shares[D L] (VR_SAMPLER share tree: tree d at d L)
 #define VR_ESTIMATE_BINDING_BVH_NODES 8   // SSBO, readonly: vplkit_bvh_node[] (exact rays)
 #define VR_ESTIMATE_BINDING_BVH_TRIANGLES 9         // SSBO, readonly: vplkit_bvh_triangle[] (exact rays)
 #define VR_ESTIMATE_BINDING_TRIANGLE_SHADING 10     // SSBO, readonly: vr_triangle_shading[] (exact rays)
@@ -49,6 +50,10 @@
 #define VR_SAMPLER_CDF_BINARY 1  // the mixtures' CDFs, plain binary search (same index and pmf)
 #define VR_SAMPLER_ALIAS 2       // the components' alias tables (binding 7)
 #define VR_SAMPLER_ROULETTE 3    // the components' face roulettes (binding 7)
+#define VR_SAMPLER_SHARE_TREE 4  // the learned parts as share trees (binding 7), drawn from a tree stream
+// The tree stream's key salt (VR_SAMPLER_SHARE_TREE): vplkit_rng_key(pixel key, salt), as the CPU's
+// render/share_tree_mixture.hpp share_tree_stream (its share_tree_stream_salt, checked there).
+#define VR_SHARE_TREE_STREAM_SALT 0x5E72EEu
 // VR_VPL_MODE: vplkit_vpl_point (0) or vplkit_vpl_patch (1) (--vpl-mode).
 // VR_LOCAL_COMBINATION: vplkit_local_balance (0) or vplkit_local_average (1) (--local-combination).
 // VR_VARIANT: the method's variant of its estimator (render/method_traits.cpp; mis: the
@@ -141,6 +146,8 @@ struct vr_estimate_params {
 // once per invocation by the kernels that sample one mixture). learned / fallback: the two
 // vplkit_discrete_cdf as (distribution index in the CDF data, size, guide size, total as float
 // bits); mix: (effective eps, fallback scale, learned scale, 0), the host's defensive_mixture values.
+// VR_SAMPLER_SHARE_TREE: learned is the share tree instead, (tree index, size, leaves L, the tree's
+// total as float bits): vplkit_share_tree's fields.
 #ifdef __cplusplus
 struct mixture_record {
 #else

@@ -4,6 +4,8 @@
 // docs/math.md section 3), each a VPL's contribution times one visibility query. The host puts
 // "#version 430" first and the variant's defines (estimate_params.h) in the preamble. With
 // VR_CLAMP_COMPENSATION the clamp's compensation follows the samples (estimate_clamp_compensation.glsl).
+// With VR_SAMPLER_SHARE_TREE the tree stream starts at this dispatch's first sample
+// (estimate_distributions.glsl).
 #define VR_ONE_MIXTURE
 #include "estimate_visibility.glsl"
 #include "estimate_distributions.glsl"
@@ -21,6 +23,9 @@ void main() {
 #endif
   if (valid) {
     vr_load_mixtures();
+#if VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+    vr_begin_share_tree_stream(est.rng, vr_begin());
+#endif
     vplkit_estimate_vpl_sampling_range(gp, vr_view(), 0u, est, vr_begin(), vr_end(), vr_make_visibility(vr_grid()),
                                        vr_params.dmin, VR_VPL_MODE, vr_params.depth_tolerance);
 #ifdef VR_CLAMP_COMPENSATION

@@ -119,8 +119,13 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
                    "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
                    "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
-                   "docs/results/notes/2026-11-21-paper-analogues.md 4.6). alias needs --face-selection joint and --cdf-search guide."))
-      ->type_name("cdf|alias");
+                   "docs/results/notes/2026-11-21-paper-analogues.md 4.6). alias needs --face-selection joint and --cdf-search guide. "
+                   "share-tree = the learned part drawn by descending a binary tree of quantised shares, one 24-bit "
+                   "number per level from a stream of its own (same pmf up to 2^-24 per level; the CPU and GPU "
+                   "images agree at large DPRSMs, where the flat CDF turns the backends' last-bit weight "
+                   "differences into other draws: docs/math.md, \"Image parity at large DPRSMs\"). share-tree "
+                   "needs --method global or gbg, --face-selection joint and --cdf-search guide."))
+      ->type_name("cdf|alias|share-tree");
   app.add_option("--visibility", v.visibility,
                  d("What visibility and the gathering rays are decided against, for every method (default "
                    "exact with --backend gpu, voxels with --backend cpu; --paper: paper-voxels): voxels = the "
@@ -357,10 +362,21 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
         {{"joint", face_selection_choice::joint}, {"roulette", face_selection_choice::roulette}});
   if (given("--sampler"))
     o.sampler = parse_choice<sampler_choice>("--sampler", v.sampler,
-                                             {{"cdf", sampler_choice::cdf}, {"alias", sampler_choice::alias}});
+                                             {{"cdf", sampler_choice::cdf},
+                                              {"alias", sampler_choice::alias},
+                                              {"share-tree", sampler_choice::share_tree}});
   // The library's face roulette samples discrete CDFs, and --cdf-search only concerns the joint CDF.
   if (o.sampler == sampler_choice::alias && o.face_selection == face_selection_choice::roulette)
     throw usage_error("--sampler alias: needs --face-selection joint (the face roulette samples discrete CDFs)");
+  if (o.sampler == sampler_choice::share_tree) {
+    if (o.face_selection == face_selection_choice::roulette)
+      throw usage_error("--sampler share-tree: needs --face-selection joint (the face roulette samples discrete CDFs)");
+    // The tree draws from a stream of its own, one position per VPL sample: the VPL-sampling
+    // estimator's draws only (the other estimators draw, or evaluate, their distributions otherwise).
+    if (traits(o.meth).estimator != estimator_kind::vpl_sampling)
+      throw usage_error(std::string("--sampler share-tree: not supported with --method ") + to_string(o.meth) +
+                        " (only the VPL-sampling methods global and gbg; use --sampler cdf)");
+  }
   if (o.cdf_search == cdf_search_choice::binary &&
       (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))
     throw usage_error("--cdf-search binary: needs --sampler cdf and --face-selection joint");

@@ -37,9 +37,10 @@ struct mixture_components {
   std::vector<vplkit::face_roulette<float>> roulette;       // --face-selection roulette
   std::vector<vplkit::flat_face_roulette<float>> flat;      // views of `roulette`, same order
 
-  // True when s asks for something other than the joint discrete CDF.
+  // True when s asks for alias tables or face roulettes (--sampler share-tree builds its trees
+  // elsewhere: render/share_tree_mixture.hpp, gpu_share_tree.hpp).
   static bool wanted(const render_settings& s) {
-    return s.sampler != sampler_choice::cdf || s.face_selection != face_selection_choice::joint;
+    return s.sampler == sampler_choice::alias || s.face_selection != face_selection_choice::joint;
   }
 };
 

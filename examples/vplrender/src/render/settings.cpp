@@ -18,7 +18,14 @@ const char* to_string(local_combination_choice c) {
 const char* to_string(gbg_accumulator_choice a) { return a == gbg_accumulator_choice::paper ? "paper" : "gathering"; }
 const char* to_string(cdf_search_choice s) { return s == cdf_search_choice::binary ? "binary" : "guide"; }
 const char* to_string(face_selection_choice f) { return f == face_selection_choice::roulette ? "roulette" : "joint"; }
-const char* to_string(sampler_choice s) { return s == sampler_choice::alias ? "alias" : "cdf"; }
+const char* to_string(sampler_choice s) {
+  switch (s) {
+    case sampler_choice::alias: return "alias";
+    case sampler_choice::share_tree: return "share-tree";
+    case sampler_choice::cdf: break;
+  }
+  return "cdf";
+}
 const char* to_string(visibility_choice v) {
   switch (v) {
     case visibility_choice::paper_voxels: return "paper-voxels";

@@ -29,8 +29,11 @@ enum class cdf_search_choice { guide, binary };
 // its share of the weight, then sample within it: vplkit::flat_face_roulette). Same pmf.
 enum class face_selection_choice { joint, roulette };
 // cdf: discrete CDF (inversion, keeps u's stratification); alias: Walker's alias table
-// (vplkit::alias_table; O(1), same pmf, does not keep u's stratification).
-enum class sampler_choice { cdf, alias };
+// (vplkit::alias_table; O(1), same pmf, does not keep u's stratification); share_tree: the
+// learned part of the defensive mixture drawn from vplkit::share_tree, one 24-bit number per
+// level from a stream of its own (the draws do not move when the weights move by their last bits:
+// docs/math.md, "Image parity at large DPRSMs"; VPL-sampling methods only, global and gbg).
+enum class sampler_choice { cdf, alias, share_tree };
 // What V(x, y) and the gathering rays are decided against. voxels: the triangles listed by the
 // voxel grid (triangle_voxel_visibility / triangle_voxel_tracer, docs/math.md section 7.2: no
 // self-occlusion at junctions); paper_voxels: the paper's binary voxel test (voxel_visibility /

@@ -9,6 +9,7 @@
 #include "render/method_traits.hpp"
 #include "render/cpu/ris_render.hpp"
 #include "render/mixture_components.hpp"
+#include "render/share_tree_mixture.hpp"
 
 #include <vplkit/estimators/clamp_compensation.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
@@ -134,6 +135,24 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   if (mt.uses_vpls) det["vpl_mode"] = to_string(s.vpl_mode);
   if (mt.estimator == estimator_kind::reference && vmode == vplkit::vpl_mode::patch)
     det["reference_strata"] = reference_patch_strata;
+  if (s.sampler == sampler_choice::share_tree) {
+    // --sampler share-tree (render/share_tree_mixture.hpp): the VPL-sampling estimator over mixtures
+    // whose learned part is a share tree drawn from the pixel's tree stream.
+    if (mt.estimator != estimator_kind::vpl_sampling)
+      throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
+                                  " (only the VPL-sampling methods global and gbg)");
+    std::vector<share_tree_mixture> trees;
+    {
+      auto t = timer.scoped("sampler tables (cpu)");
+      trees = build_share_tree_mixtures(built.weights, built.dists);
+    }
+    render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+      vplkit::counter_rng stream = share_tree_stream(rng);
+      return vplkit::estimate_vpl_sampling(gp, view, share_tree_mixture_draw{&trees[0], &stream}, rng, s.vpls,
+                                           visibility, s.dmin, vmode, depth_tol);
+    });
+    return result;
+  }
   with_distributions(built, b, s, timer, [&](const auto* dists) {
     switch (mt.estimator) {
       case estimator_kind::reference:

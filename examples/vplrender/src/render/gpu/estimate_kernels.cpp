@@ -90,6 +90,7 @@ std::string define(const char* name, int value) { return std::string("#define ")
 
 int sampler_value(const render_settings& s, bool resampled) {
   if (resampled) return s.sampler == sampler_choice::alias ? 2 : 3;  // VR_SAMPLER_ALIAS, VR_SAMPLER_ROULETTE
+  if (s.sampler == sampler_choice::share_tree) return 4;             // VR_SAMPLER_SHARE_TREE
   return s.cdf_search == cdf_search_choice::binary ? 1 : 0;          // VR_SAMPLER_CDF_BINARY, _CDF_GUIDE
 }
 

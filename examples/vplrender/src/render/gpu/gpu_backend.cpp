@@ -9,6 +9,7 @@
 #include "render/gpu/loop_budget.hpp"
 #include "render/method_traits.hpp"
 #include "render/mixture_components.hpp"
+#include "render/share_tree_mixture.hpp"
 #include "render/ris_spatial.hpp"
 
 #include "estimate_params.h"
@@ -33,6 +34,9 @@
 #include <vector>
 
 namespace vplrender {
+
+static_assert(VR_SHARE_TREE_STREAM_SALT == share_tree_stream_salt,
+              "estimate_params.h and render/share_tree_mixture.hpp name one tree stream");
 
 namespace {
 
@@ -121,9 +125,21 @@ std::vector<gpu::mixture_record> mixture_records(const gpu_mixtures& gm, gpu::es
                                  static_cast<std::uint32_t>(gm.m), vplkit::float_bits(gm.totals[D]))
                     : glm::uvec4(0u, 0u, static_cast<std::uint32_t>(no_fallback.guide_size()), vplkit::float_bits(0.0f));
   std::vector<gpu::mixture_record> out(std::max<std::size_t>(D, 1));
+  const gpu_share_trees& trees = gm.share_trees;
+  if (!trees.totals.empty() && trees.totals.size() != D)
+    throw std::logic_error("render_gpu: " + std::to_string(trees.totals.size()) + " share trees for " +
+                           std::to_string(D) + " mixtures");
   for (std::size_t d = 0; d < D; ++d) {
     out[d].learned = glm::uvec4(static_cast<std::uint32_t>(d), static_cast<std::uint32_t>(gm.n),
                                 static_cast<std::uint32_t>(gm.m), vplkit::float_bits(gm.totals[d]));
+    if (!trees.totals.empty()) {
+      // --sampler share-tree: the learned part is tree d (vplkit_share_tree's fields). The split was
+      // made on the CDF's total: both are positive exactly when a weight is at least FLT_MIN.
+      if ((trees.totals[d] > 0.0f) != (gm.totals[d] > 0.0f))
+        throw std::logic_error("render_gpu: share tree " + std::to_string(d) + " and its CDF disagree on emptiness");
+      out[d].learned = glm::uvec4(static_cast<std::uint32_t>(d), static_cast<std::uint32_t>(gm.n), trees.leaves,
+                                  vplkit::float_bits(trees.totals[d]));
+    }
     out[d].fallback = fallback;
     out[d].mix = glm::vec4(gm.effective_eps[d], gm.fallback_scale[d], gm.learned_scale[d], 0.0f);
   }
@@ -181,6 +197,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (!mt.gpu)
     throw vplkit::invalid_input(std::string("--method ") + mt.name + ": no GPU kernel yet (run_estimator refuses it)");
   const gpu_estimate_kernel& kern = gpu_kernel_for(es.meth);
+  if (es.sampler == sampler_choice::share_tree && mt.estimator != estimator_kind::vpl_sampling)
+    throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
+                                " (only the VPL-sampling methods global and gbg)");
   render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
@@ -238,6 +257,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // weights read back (mixture_components.hpp), uploaded; else one zero word.
   const bool components = with_dists && mixture_components::wanted(es);
   gl::buffer b_components = gl::buffer::filled(4, 0);
+  // --sampler share-tree: the trees' shares take the components' binding (estimate_params.h).
+  if (with_dists && es.sampler == sampler_choice::share_tree) b_components = std::move(gm.share_trees.shares);
   if (components) {
     auto t = timer.scoped("sampler tables (cpu)");
     const dprsm_data host = host_dprsm(b);  // the fallback's texels (read back for a GPU frame)

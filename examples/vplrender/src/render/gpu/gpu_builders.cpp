@@ -309,6 +309,7 @@ gpu_mixtures build_distributions_gpu(const frame_buffers& b, const render_settin
                                   " has no GPU builder");
   }
   gpu_mixtures mix = build_mixtures_gpu(weights, D, scene.dprsm, view, s.eps, timer, det);
+  if (s.sampler == sampler_choice::share_tree) mix.share_trees = build_share_trees_gpu(weights, D, n, timer, det);
   if (mixture_components::wanted(s)) {
     auto t = timer.scoped("weights read-back (cpu)");
     mix.weights = weights.read<float>(static_cast<std::size_t>(D) * n);

@@ -12,6 +12,7 @@
 // two reciprocals) are then computed by the C++ defensive_mixture constructor's own code (the
 // estimate kernels get them as estimate_params.h records; the 12-uint records + slot table in
 // `meta` are what renderer_gpu_builders_test reads).
+#include "render/gpu/gpu_share_tree.hpp"
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -39,6 +40,8 @@ struct gpu_mixtures {
   // The D learned weight arrays, read back only for --sampler alias / --face-selection roulette
   // (mixture_components.hpp builds their components on the host).
   std::vector<float> weights;
+  // --sampler share-tree: the learned parts as share trees (gpu_share_tree.hpp); else empty.
+  gpu_share_trees share_trees;
 };
 
 // `weights` holds at least (D + 1) n floats, n = view.texel_count(): arrays 0 .. D-1 the builder's
