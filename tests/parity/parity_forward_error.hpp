@@ -140,8 +140,11 @@ inline fe fe_dot(const fe3& a, const fe3& b) { return a[0] * b[0] + a[1] * b[1] 
 
 // v / max|v_k| / |v / max|v_k||: the normalisation of dda_unit_direction and bvh_unit_vector (the
 // GLSL normalize() of a driver is inside the same bound: spec::normalize_ulps < div + sqrt).
+// A non-finite v, or one whose largest |component| is below FLT_MIN, gives 0 on both sides (exact).
 inline fe3 fe_unit_vector(const fe3& v) {
   const fe m = fe_max(fe_abs(v[0]), fe_max(fe_abs(v[1]), fe_abs(v[2])));
+  if (!std::isfinite(v[0].v) || !std::isfinite(v[1].v) || !std::isfinite(v[2].v) || !(m.v >= 1.17549435e-38))
+    return {{fe(0.0), fe(0.0), fe(0.0)}};
   const fe3 s{{v[0] / m, v[1] / m, v[2] / m}};
   const fe len = fe_sqrt(fe_dot(s, s));
   return {{s[0] / len, s[1] / len, s[2] / len}};
