@@ -15,8 +15,10 @@
 //   triangle can differ only where two answers are both right: the ray passes within 1e-5 of the
 //   scene's size of an edge, or two triangles are hit within that distance of each other (judged
 //   by the independent double reference of bvh_test_scenes.hpp). There, differences are counted
-//   and accepted; floats are compared where the triangle is the same, within 8 ulp or 1e-6 of the
-//   scene's size.
+//   and accepted; floats are compared where the triangle is the same, within the forward error
+//   bound of Woop's chain on both sides (parity_forward_error.hpp: a nearly parallel ray turns the
+//   shear division's 2.5 ulp into thousands of ulps of u and v). The [fma] build (a reference that
+//   contracts a*b+c) is judged the same way.
 // - llvmpipe ends every loop of an invocation after 65535 iterations in all; one query spends
 //   (nodes visited + triangles tested) of them. The test measures the largest count on the C++
 //   side and requires it below the budget, so a truncated traversal cannot go unnoticed.

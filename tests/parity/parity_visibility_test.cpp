@@ -11,7 +11,9 @@
 // - The DDA and the visibility tests also divide and take square roots. With correctly rounded
 //   division and sqrt (llvmpipe; GPUs with IEEE-exact div/sqrt) the march is the C++ march bit
 //   for bit, t included: required exact on software renderers. GLSL itself allows 2.5 ulp
-//   division and 3 ulp sqrt; on such GPUs t moves by a few ulp and a voxel can differ only at a
+//   division and 3 ulp sqrt; on such GPUs t moves within the forward error bound of its plane
+//   crossing (hundreds of ulps where it cancels near 0; parity_forward_error.hpp, also used for
+//   the [fma] build, whose reference contracts a*b+c) and a voxel can differ only at a
 //   near-tie: a ray within eps = 1e-4 voxel of an occupied voxel's edge or corner, or whose t_max
 //   lies within eps of an entry distance. There, a difference is accepted only if the ray is such
 //   a tie (checked by brute force: closed boxes grown and shrunk by eps disagree), and counted.
