@@ -58,7 +58,15 @@ bool vplkit_dda_unit_direction(vec3 dir, out vec3 unit) {
   const float tiny = vplkit_FLT_MIN;  // GPUs flush denormals, so the CPU uses FLT_MIN too
   float m = max(abs(dir.x), max(abs(dir.y), abs(dir.z)));
   if (!(m >= tiny)) return false;
-  precise vec3 d = dir / m;
+  // Division is bounded only for divisors in [2^-126, 2^126] (GLSL 4.7.1): scale by 1/4 (exact)
+  // above that, as the C++ does (NVIDIA turned a direction of FLT_MAX into NaN without it).
+  precise vec3 s = dir;
+  precise float ms = m;
+  if (ms > 8.5070591730234616e37) {  // 2^126
+    s = s * 0.25;
+    ms = ms * 0.25;
+  }
+  precise vec3 d = s / ms;
   precise float len = sqrt(vplkit_voxel_dot(d, d));  // dot(d, d) in [1, 3]: no under/overflow
   d = d / len;
   for (int a = 0; a < 3; ++a)
@@ -92,7 +100,10 @@ vplkit_dda_walk vplkit_dda_walk_begin(vplkit_voxel_grid g, vec3 origin, vec3 dir
                                       vec3(0.0));
   vec3 d = vec3(0.0);
   if (!vplkit_dda_unit_direction(dir, d)) return w;
-  if (!vplkit_voxel_vec3_finite(origin) || !(t_max >= 0.0)) return w;
+  // t_max NaN tested on the bits: a driver that assumes no NaN may fold !(t_max >= 0) into
+  // t_max < 0 (NVIDIA 580 marched a ray with t_max = NaN).
+  bool t_max_nan = (floatBitsToUint(t_max) & 0x7FFFFFFFu) > 0x7F800000u;
+  if (!vplkit_voxel_vec3_finite(origin) || t_max_nan || !(t_max >= 0.0)) return w;
   vec3 size = vplkit_voxel_size(g);
 
   // Clip [0, t_max] to the closed grid box; remember which face the ray enters through.

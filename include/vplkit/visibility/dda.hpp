@@ -64,7 +64,16 @@ inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
   const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
   const T m = std::fmax(std::abs(dir.x), std::fmax(std::abs(dir.y), std::abs(dir.z)));
   if (!(m >= tiny)) return false;
-  vec3<T> d = dir / m;
+  // GLSL bounds division only for divisors in [2^-126, 2^126] (4.7.1): beyond, a GPU may compute
+  // x / m as x * (1 / m) with 1 / m flushed to 0 (NVIDIA: a direction of FLT_MAX became NaN).
+  // Scaling by 1/4 is exact and brings m below 2^126; it changes nothing where m <= 2^126.
+  vec3<T> s = dir;
+  T ms = m;
+  if (ms > T(8.5070591730234616e37)) {  // 2^126
+    s = s * T(0.25);
+    ms = ms * T(0.25);
+  }
+  vec3<T> d = s / ms;
   d = d / std::sqrt(glm::dot(d, d));  // dot(d, d) in [1, 3]: no underflow, no overflow
   for (int a = 0; a < 3; ++a)
     if (std::abs(d[a]) < tiny) d[a] = T(0);
