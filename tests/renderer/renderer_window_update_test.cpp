@@ -77,8 +77,10 @@ TEST_CASE("q closes: no render, and the keys after it are dropped", "[renderer][
   CHECK(v.meth == method::mis);
 }
 
-TEST_CASE("m wraps around the seven methods", "[renderer][window]") {
+TEST_CASE("m goes from the seventh method to ris (key 9), then wraps", "[renderer][window]") {
   window_view v = view(method::mis_as_published, 4, 16);
+  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(v.meth == method::ris);
   CHECK(plan_window_update(v, {"m"}, false, false).rerender);
   CHECK(v.meth == method::reference);
 }
@@ -93,6 +95,8 @@ TEST_CASE("8 and m reach exact only on a frame with exact rays, and exact's dirs
   CHECK(plan_window_update(v, {"+"}, false, false).rerender);
   CHECK(v.dirs == 32);
   CHECK(window_samples_text(v) == "exact, vpls 8, dirs 32");
+  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(v.meth == method::ris);
   CHECK(plan_window_update(v, {"m"}, false, false).rerender);
   CHECK(v.meth == method::reference);
   CHECK(plan_window_update(v, {"8"}, false, false).rerender);
