@@ -3,6 +3,7 @@
 // anything.
 #include <catch2/catch.hpp>
 
+#include "renderer_cli_parse.hpp"
 #include "cli/options.hpp"
 #include "io/errors.hpp"
 
@@ -11,31 +12,7 @@
 
 using namespace vplrender;
 
-namespace {
-
-options parse(std::vector<std::string> args) {
-  args.insert(args.begin(), "vplrender");
-  const parse_result r = parse_command_line(args);
-  REQUIRE(r.what == parse_result::action::run);
-  return r.opts;
-}
-
-// The message of the usage_error that parsing throws, or "" if it does not throw.
-std::string error_of(std::vector<std::string> args) {
-  args.insert(args.begin(), "vplrender");
-  try {
-    parse_command_line(args);
-  } catch (const usage_error& e) {
-    const std::string m = e.what();
-    CHECK(m.find('\n') == std::string::npos);  // one line
-    return m;
-  }
-  return "";
-}
-
-bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
-
-}  // namespace
+using namespace vplrender_test;
 
 TEST_CASE("defaults without any flag") {
   const options o = parse({});

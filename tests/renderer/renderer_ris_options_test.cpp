@@ -4,6 +4,7 @@
 // there as for every method).
 #include <catch2/catch.hpp>
 
+#include "renderer_cli_parse.hpp"
 #include "cli/options.hpp"
 #include "io/errors.hpp"
 #include "render/settings.hpp"
@@ -13,31 +14,7 @@
 
 using namespace vplrender;
 
-namespace {
-
-parse_result parse_all(std::vector<std::string> args) {
-  args.insert(args.begin(), "vplrender");
-  return parse_command_line(args);
-}
-
-options parse(std::vector<std::string> args) {
-  const parse_result r = parse_all(std::move(args));
-  REQUIRE(r.what == parse_result::action::run);
-  return r.opts;
-}
-
-std::string error_of(std::vector<std::string> args) {
-  try {
-    parse_all(std::move(args));
-  } catch (const usage_error& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
-
-}  // namespace
+using namespace vplrender_test;
 
 TEST_CASE("ris options: the method, its defaults and its three flags") {
   const options d = parse({"--method", "ris", "--backend", "cpu"});

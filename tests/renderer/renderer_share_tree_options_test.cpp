@@ -4,6 +4,7 @@
 // documented (the other methods, the face roulette, the binary CDF search).
 #include <catch2/catch.hpp>
 
+#include "renderer_cli_parse.hpp"
 #include "cli/options.hpp"
 #include "io/errors.hpp"
 #include "render/settings.hpp"
@@ -13,29 +14,7 @@
 
 using namespace vplrender;
 
-namespace {
-
-options parse(std::vector<std::string> args) {
-  args.insert(args.begin(), "vplrender");
-  const parse_result r = parse_command_line(args);
-  REQUIRE(r.what == parse_result::action::run);
-  return r.opts;
-}
-
-// The message of the usage_error that parsing throws, or "" if it does not throw.
-std::string error_of(std::vector<std::string> args) {
-  args.insert(args.begin(), "vplrender");
-  try {
-    parse_command_line(args);
-  } catch (const usage_error& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool starts_with(const std::string& s, const std::string& p) { return s.rfind(p, 0) == 0; }
-
-}  // namespace
+using namespace vplrender_test;
 
 TEST_CASE("The share-tree sampler is accepted with global and gbg on both backends") {
   for (const char* m : {"global", "gbg"})
