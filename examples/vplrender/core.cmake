@@ -71,6 +71,7 @@ add_library(vplrender_core STATIC
   ${_vr}/io/png_preview.cpp
   ${_vr}/io/text_file.cpp
   ${_vr}/raster/dprsm_check.cpp
+  ${_vr}/raster/on_all_cores.cpp
   ${_vr}/raster/tessellate.cpp
   ${_vr}/raster/voxels.cpp
   ${_vr}/render/cpu/cpu_backend.cpp
@@ -110,6 +111,7 @@ set(VPLRENDER_CORE_AVAILABLE ON)
 if(TARGET vplkit_headless_gl)
   add_library(vplrender_pipeline STATIC
     ${_vr}/cli/render_options.cpp
+    ${_vr}/raster/dprsm_mesh.cpp
     ${_vr}/raster/gl_mesh.cpp
     ${_vr}/raster/gl_raster.cpp
     ${_vr}/raster/gl_target.cpp

@@ -2,7 +2,7 @@
 // The DPRSM tessellation (tessellate.cpp): every output edge within theta_max at the light, even
 // next to the light (the sub-triangle that wrapped over the DPRSM's front face at R = 8, see
 // tessellate.hpp); the parent tiled exactly (area, winding, plane); shared edges split alike; the
-// split over all cores equals the serial one.
+// split over all cores equals the serial one; the per-edge angle test decides as atan2 does.
 #include "cli/options.hpp"
 #include "cli/scene_setup.hpp"
 #include "raster/render_data.hpp"
@@ -14,6 +14,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -168,5 +170,60 @@ TEST_CASE("tessellate_on_all_cores gives the serial output: same triangles in th
     CHECK(parallel_stats.output == serial_stats.output);
     CHECK(parallel_stats.capped == serial_stats.capped);
     if (light.y == floor_y) CHECK(serial_stats.capped > 0);  // min_edge decided those splits
+  }
+}
+
+TEST_CASE("edge_angle_test decides as atan2 does: near the threshold, across magnitudes, on special values") {
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), expo(-30.0, 30.0);
+  auto random_dir = [&] {
+    glm::dvec3 d;
+    do d = glm::dvec3(unit(rng), unit(rng), unit(rng));
+    while (!(glm::length(d) > 1e-3));
+    return glm::normalize(d);
+  };
+  for (const double theta : {1e-4, tessellation_angle_for_resolution(4096), tessellation_angle_for_resolution(512),
+                             tessellation_angle_for_resolution(8), 1.2, 1.4999, 1.5, 2.0, 0.0, -1.0, nan, inf}) {
+    const edge_angle_test test(theta);
+    std::size_t cases = 0, differ = 0, shortcut = 0, below = 0, below_shortcut = 0;
+    auto check = [&](const glm::dvec3& u, const glm::dvec3& v) {
+      const bool expected = std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)) > theta;
+      differ += test.exceeds(u, v) != expected ? 1u : 0u;
+      const bool clear = test.clearly_within(glm::length(glm::cross(u, v)), glm::dot(u, v));
+      shortcut += clear ? 1u : 0u;
+      ++cases;
+      return clear;
+    };
+    for (int k = 0; k < 20000; ++k) {
+      // A pair at theta (1 + eps) in a random plane, lengths over 60 decades, and a random pair.
+      const glm::dvec3 a = random_dir(), b = glm::normalize(glm::cross(a, random_dir()));
+      static const double eps[] = {-1e-6, -1e-8, -2e-9, -1e-9, -5e-10, -1e-12, -1e-15, 0.0,
+                                   1e-15, 1e-12, 5e-10, 1e-9, 2e-9, 1e-8, 1e-6};
+      const double phi = (std::isfinite(theta) ? theta : 1.0) * (1.0 + eps[k % 15]);
+      const double la = std::pow(10.0, expo(rng)), lb = std::pow(10.0, expo(rng));
+      const bool clear = check(la * a, lb * (std::cos(phi) * a + std::sin(phi) * b));
+      if (eps[k % 15] <= -2e-9) {  // at least 2e-9 below the angle: the shortcut's to decide
+        ++below;
+        below_shortcut += clear ? 1u : 0u;
+      }
+      check(la * random_dir(), lb * random_dir());
+    }
+    for (const glm::dvec3& u : {glm::dvec3(0.0), glm::dvec3(1.0, 0.0, 0.0), glm::dvec3(-1.0, 0.0, 0.0),
+                                glm::dvec3(nan, 0.0, 0.0), glm::dvec3(inf, 0.0, 0.0), glm::dvec3(inf, inf, 0.0),
+                                glm::dvec3(-inf, 1.0, 0.0), glm::dvec3(1e-300, 0.0, 1e-300), glm::dvec3(1e300, 1e300, 1e300)})
+      for (const glm::dvec3& v : {glm::dvec3(0.0), glm::dvec3(1.0, 1e-9, 0.0), glm::dvec3(-1.0, 0.0, 0.0),
+                                  glm::dvec3(0.0, 1.0, 0.0), glm::dvec3(0.0, nan, 0.0), glm::dvec3(inf, 1.0, 0.0),
+                                  glm::dvec3(1.0, inf, 0.0), glm::dvec3(1e-300, 1e-310, 0.0), glm::dvec3(1e300, 1e299, 0.0)}) {
+        check(u, v);
+        check(v, u);
+      }
+    INFO("max_angle " << theta << ": " << cases << " edges, " << shortcut << " decided without atan2");
+    CHECK(differ == 0);
+    // The shortcut decides every edge 2e-9 or more below the angle where it applies, none elsewhere.
+    if (theta > 0.0 && theta < 1.5)
+      CHECK(below_shortcut == below);
+    else
+      CHECK(shortcut == 0);
   }
 }

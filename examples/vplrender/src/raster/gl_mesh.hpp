@@ -19,6 +19,9 @@ struct gl_mesh_vertex {
   float p[3], n[3], uv[2], plane[4];
 };
 
+// The three vertices of t (its plane computed in double from the corners).
+void mesh_vertices(const triangle& t, gl_mesh_vertex out[3]);
+
 class gl_mesh {
 public:
   // The vertices [first, first + count) of one material.
@@ -36,10 +39,17 @@ public:
   // Replaces the mesh's contents with `triangles` (the vertex array and buffer objects are kept).
   void upload(const std::vector<triangle>& triangles);
 
+  // Replaces the mesh's contents with the concatenation of `parts` (mesh_vertices of triangles
+  // already in material order), drawn as `ranges` (which must cover it). The buffer's storage is
+  // kept while it is large enough (a moving light's mesh changes size a little from frame to
+  // frame) and grows by a quarter beyond the need when it is not; each part is copied once.
+  void upload_vertices(const std::vector<std::vector<gl_mesh_vertex>>& parts, std::vector<range> ranges);
+
   GLuint vertex_array() const { return vao_; }
   const std::vector<range>& ranges() const { return ranges_; }
 
 private:
+  void ensure_storage(long long bytes, long long headroom);  // the vertex array's layout on first use
   GLuint vao_ = 0, vbo_ = 0;
   long long bytes_ = 0;  // the vertex buffer's storage
   std::vector<range> ranges_;

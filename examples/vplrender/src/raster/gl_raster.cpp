@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "raster/gl_raster.hpp"
 
+#include "raster/dprsm_mesh.hpp"
 #include "raster/gl_mesh.hpp"
 #include "raster/gl_target.hpp"
 
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,7 +54,7 @@ struct gl_rasterizer::impl {
   const vplkit::gl::program* dprsm_program = nullptr;
   std::vector<GLuint> textures;    // per scene texture
   gl_mesh scene_mesh;              // the scene as is (G-buffer)
-  gl_mesh light_mesh;              // the scene tessellated for the last DPRSM's light
+  std::unique_ptr<dprsm_mesh> light_mesh;  // the scene split for the last DPRSM's light
   long long texture_bytes = 0;     // RGB8 is padded to 4 bytes per texel by most drivers
   gl_target gbuffer_rt, dprsm_rt;  // kept for the next call of the same size
   ~impl() {
@@ -179,7 +181,8 @@ void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height)
 
 void gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess,
                                          tessellation_stats* ts) {
-  light_mesh.upload(tessellate_on_all_cores(s->triangles, light.position, tess, ts));
+  if (!light_mesh) light_mesh = std::make_unique<dprsm_mesh>(s->triangles);
+  light_mesh->build(light.position, tess, ts);
 }
 
 void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& light, int R, int f) {
@@ -200,7 +203,7 @@ void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& ligh
   glUniform1f(prog.uniform_location("u_resolution"), static_cast<float>(R));
   glUniform1f(prog.uniform_location("u_rim_margin"), 4.0f / static_cast<float>(R));
   glUniform1f(prog.uniform_location("u_far"), far_from(light.position));
-  draw(prog, light_mesh);
+  draw(prog, light_mesh->mesh());
   glDisable(GL_CLIP_DISTANCE0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   check_gl("vplrender: DPRSM pass");

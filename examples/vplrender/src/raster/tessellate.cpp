@@ -1,16 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "raster/tessellate.hpp"
 
+#include "raster/on_all_cores.hpp"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
-#include <exception>
 #include <limits>
-#include <mutex>
-#include <thread>
 #include <tuple>
 
 namespace vplrender {
@@ -28,12 +26,26 @@ double tessellation_min_edge(const std::vector<triangle>& tris) {
   return 1e-7 * glm::length(hi - lo);
 }
 
+// The shortcut applies for 0 < max_angle < 1.5 (an edge with u . v <= 0 subtends pi/2 or more):
+// an edge whose s / d lies below tan(max_angle) by a relative 1e-9 subtends an angle below
+// max_angle by at least 1e-9 sin(max_angle) cos(max_angle) (7e-11 rad at 1.5), far beyond atan2's
+// rounding (an ulp: 2e-16 rad at 1), so it decides as atan2 does. The band around the threshold,
+// NaN, infinities and u . v <= 0 go to atan2.
+edge_angle_test::edge_angle_test(double max_angle_in)
+    : max_angle(max_angle_in), tan_below(max_angle_in > 0.0 && max_angle_in < 1.5 ? std::tan(max_angle_in) * (1.0 - 1e-9) : -1.0) {}
+
+bool edge_angle_test::clearly_within(double s, double d) const {
+  return tan_below > 0.0 && d > 0.0 && s >= 0.0 && s < d * tan_below;
+}
+
+bool edge_angle_test::exceeds(const glm::dvec3& u, const glm::dvec3& v) const {
+  const double s = glm::length(glm::cross(u, v)), d = glm::dot(u, v);
+  return !clearly_within(s, d) && std::atan2(s, d) > max_angle;
+}
+
 namespace {
 
-// Angle between two directions from the light, by atan2 (accurate for small and large angles).
-double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
-}
+double angle_of(double sine_part, double cosine_part) { return std::atan2(sine_part, cosine_part); }
 
 // A corner in double; the normal is interpolated unnormalised (linear, as barycentric
 // interpolation of the parent's corners) and normalised on output.
@@ -54,14 +66,12 @@ struct pending {
 
 }  // namespace
 
-std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, vec3 light,
-                                           const tessellation_params& params, tessellation_stats* stats) {
-  std::vector<triangle> out;
-  tessellation_stats st;
-  st.input = tris.size();
+void tessellate_append(const triangle* first, const triangle* last, vec3 light, const tessellation_params& params,
+                       std::vector<triangle>& out, tessellation_stats& st) {
+  st.input += static_cast<std::size_t>(last - first);
   const glm::dvec3 c(light);
-  double min_edge = params.min_edge;
-  if (!(min_edge > 0.0) && !tris.empty()) min_edge = tessellation_min_edge(tris);
+  const double min_edge = params.min_edge;
+  const edge_angle_test angle_test(params.max_angle);
   // Angle the edge subtends if it must be split, else -1 (depends on the two end points only).
   // The end points are put in a fixed (lexicographic) order first, so the result cannot depend on
   // the edge's direction even if the compiler contracts the cross product into FMAs.
@@ -70,9 +80,15 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
     const glm::dvec3& a = swap ? b0.p : a0.p;
     const glm::dvec3& b = swap ? a0.p : b0.p;
     if (!(params.max_angle > 0.0) || !(glm::length(a - b) > min_edge)) return -1.0;
-    const double ang = angle_between(a - c, b - c);
+    const glm::dvec3 u = a - c, v = b - c;
+    const double s = glm::length(glm::cross(u, v)), d = glm::dot(u, v);
+    if (angle_test.clearly_within(s, d)) return -1.0;
+    const double ang = angle_of(s, d);
     return ang > params.max_angle ? ang : -1.0;
   };
+  // Does the edge from corner a to b subtend more than max_angle (a kept edge: short, or the depth
+  // cap)? In the corners' own order, as the count of capped triangles always was.
+  auto over_angle = [&](const corner& a, const corner& b) { return angle_test.exceeds(a.p - c, b.p - c); };
   auto emit = [&](const pending& q, const triangle& parent) {
     triangle s;
     s.material = parent.material;
@@ -86,7 +102,8 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
     out.push_back(s);
   };
   std::vector<pending> stack;
-  for (const triangle& t : tris) {
+  for (const triangle* it = first; it != last; ++it) {
+    const triangle& t = *it;
     pending root{};
     for (std::size_t k = 0; k < 3; ++k) root.c[k] = corner{glm::dvec3(t.p[k]), glm::dvec3(t.n[k]), glm::dvec2(t.uv[k])};
     root.depth = 0;
@@ -107,7 +124,7 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
       if (e < 0 || q.depth >= params.max_depth) {
         bool over = false;  // an edge still over the angle (short, or the depth cap): counted
         for (int k = 0; k < 3 && params.max_angle > 0.0; ++k)
-          over = over || angle_between(q.c[k].p - c, q.c[(k + 1) % 3].p - c) > params.max_angle;
+          over = over || over_angle(q.c[k], q.c[(k + 1) % 3]);
         if (over) ++st.capped;
         emit(q, t);
         continue;
@@ -122,6 +139,16 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
       stack.push_back(pending{{m, b, o}, q.depth + 1});
     }
   }
+}
+
+std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, vec3 light,
+                                           const tessellation_params& params, tessellation_stats* stats) {
+  tessellation_params p = params;
+  if (!(p.min_edge > 0.0) && !tris.empty()) p.min_edge = tessellation_min_edge(tris);
+  std::vector<triangle> out;
+  out.reserve(tris.size());
+  tessellation_stats st;
+  tessellate_append(tris.data(), tris.data() + tris.size(), light, p, out, st);
   st.output = out.size();
   if (stats) *stats = st;
   return out;
@@ -130,42 +157,27 @@ std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, ve
 std::vector<triangle> tessellate_on_all_cores(const std::vector<triangle>& tris, vec3 light, tessellation_params tess,
                                               tessellation_stats* ts) {
   if (!(tess.min_edge > 0.0)) tess.min_edge = tessellation_min_edge(tris);
-  const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
-  // Several chunks per thread (the split is uneven: triangles near the light yield the most),
-  // taken in turn; a scene of few large triangles (cornell: 36) goes one triangle per chunk.
-  const std::size_t chunk = tris.size() / (4 * threads) + 1;
-  const std::size_t chunks = (tris.size() + chunk - 1) / chunk;
-  if (chunks <= 1 || threads == 1) return tessellate_for_light(tris, light, tess, ts);
-  std::vector<std::vector<triangle>> parts(chunks);
-  std::vector<tessellation_stats> stats(chunks);
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto work = [&] {
-    for (std::size_t c = next++; c < chunks; c = next++) {
-      try {
-        const std::vector<triangle> in(tris.begin() + std::ptrdiff_t(c * chunk),
-                                       tris.begin() + std::ptrdiff_t(std::min(tris.size(), (c + 1) * chunk)));
-        parts[c] = tessellate_for_light(in, light, tess, &stats[c]);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::size_t k = 1; k < std::min(threads, chunks); ++k) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
+  const chunk_plan plan = plan_chunks(tris.size());
+  if (plan.chunks <= 1 || plan.threads == 1) return tessellate_for_light(tris, light, tess, ts);
+  std::vector<std::vector<triangle>> parts(plan.chunks);
+  std::vector<tessellation_stats> stats(plan.chunks);
+  run_chunks(plan, [&](std::size_t c) {
+    const triangle* first = tris.data() + plan.begin(c, tris.size());
+    const triangle* last = tris.data() + plan.end(c, tris.size());
+    parts[c].reserve(static_cast<std::size_t>(last - first));
+    tessellate_append(first, last, light, tess, parts[c], stats[c]);
+  });
   std::vector<triangle> out;
+  std::size_t n = 0;
+  for (const std::vector<triangle>& part : parts) n += part.size();
+  out.reserve(n);
   tessellation_stats total;
-  for (std::size_t c = 0; c < chunks; ++c) {
+  for (std::size_t c = 0; c < plan.chunks; ++c) {
     out.insert(out.end(), parts[c].begin(), parts[c].end());
     total.input += stats[c].input;
-    total.output += stats[c].output;
     total.capped += stats[c].capped;
   }
+  total.output = out.size();
   if (ts) *ts = total;
   return out;
 }

@@ -25,6 +25,8 @@
 // and a triangle bisected max_depth times is emitted as is; both are counted as capped.
 #include "scene/scene.hpp"
 
+#include <glm/vec3.hpp>
+
 #include <cstddef>
 #include <vector>
 
@@ -34,6 +36,20 @@ struct tessellation_params {
   double max_angle = 0.0;  // radians; <= 0 disables tessellation (one sub-triangle per triangle)
   int max_depth = 48;      // bisections along any path from an input triangle
   double min_edge = 0.0;   // world length below which an edge is not split; <= 0: 1e-7 of the mesh's bounding diagonal
+};
+
+// The per-edge decision of the split: does the edge between the directions u and v from the light
+// subtend more than max_angle, atan2(|u x v|, u . v) > max_angle? exceeds() gives exactly that
+// decision, without the atan2 where the answer is clear (tessellate.cpp says why that is exact):
+// most edges of a finely meshed scene are far below the angle, and the atan2 per edge was the
+// split's largest cost.
+struct edge_angle_test {
+  explicit edge_angle_test(double max_angle);
+  bool exceeds(const glm::dvec3& u, const glm::dvec3& v) const;
+  // s = |u x v| and d = u . v known to give atan2(s, d) <= max_angle (false: not known).
+  bool clearly_within(double s, double d) const;
+  double max_angle;
+  double tan_below;  // tan(max_angle) (1 - 1e-9) where the shortcut applies, else -1
 };
 
 // theta_max = sqrt(2 / R) (see above).
@@ -56,6 +72,12 @@ double tessellation_min_edge(const std::vector<triangle>& tris);
 std::vector<triangle> tessellate_for_light(const std::vector<triangle>& tris, vec3 light,
                                            const tessellation_params& params,
                                            tessellation_stats* stats = nullptr);
+
+// tessellate_for_light's split of the triangles [first, last), appended to out; stats' input and
+// capped counts grow by this range's (output is left to the caller). params.min_edge is used as is:
+// tessellate_for_light fixes it from the whole list first (<= 0 here: no edge is too short).
+void tessellate_append(const triangle* first, const triangle* last, vec3 light, const tessellation_params& params,
+                       std::vector<triangle>& out, tessellation_stats& stats);
 
 // tessellate_for_light over the triangles in chunks on all cores, concatenated in order: the
 // serial output, once min_edge is fixed from the whole mesh as the serial call fixes it. A moving
