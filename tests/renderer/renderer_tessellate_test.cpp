@@ -16,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -170,6 +171,113 @@ TEST_CASE("tessellate_on_all_cores gives the serial output: same triangles in th
     CHECK(parallel_stats.output == serial_stats.output);
     CHECK(parallel_stats.capped == serial_stats.capped);
     if (light.y == floor_y) CHECK(serial_stats.capped > 0);  // min_edge decided those splits
+  }
+}
+
+namespace {
+
+// The split as tessellate.hpp states it, written plainly: every edge's angle by atan2 at every
+// node, no shortcut, nothing remembered. tessellate_for_light must give exactly its output.
+std::vector<triangle> plain_split(const std::vector<triangle>& tris, const glm::dvec3& c, const tessellation_params& p,
+                                  tessellation_stats& st) {
+  struct corner {
+    glm::dvec3 p, n;
+    glm::dvec2 uv;
+  };
+  struct node {
+    corner c[3];
+    int depth;
+  };
+  const double min_edge = p.min_edge > 0.0 ? p.min_edge : tessellation_min_edge(tris);
+  auto angle = [&](const glm::dvec3& a, const glm::dvec3& b) {
+    return std::atan2(glm::length(glm::cross(a - c, b - c)), glm::dot(a - c, b - c));
+  };
+  auto split_angle = [&](const corner& a0, const corner& b0) {
+    const bool swap = std::tie(b0.p.x, b0.p.y, b0.p.z) < std::tie(a0.p.x, a0.p.y, a0.p.z);
+    const glm::dvec3& a = swap ? b0.p : a0.p;
+    const glm::dvec3& b = swap ? a0.p : b0.p;
+    if (!(p.max_angle > 0.0) || !(glm::length(a - b) > min_edge)) return -1.0;
+    const double ang = angle(a, b);
+    return ang > p.max_angle ? ang : -1.0;
+  };
+  std::vector<triangle> out;
+  st = tessellation_stats{};
+  st.input = tris.size();
+  for (const triangle& t : tris) {
+    std::vector<node> stack{node{{corner{glm::dvec3(t.p[0]), glm::dvec3(t.n[0]), glm::dvec2(t.uv[0])},
+                                  corner{glm::dvec3(t.p[1]), glm::dvec3(t.n[1]), glm::dvec2(t.uv[1])},
+                                  corner{glm::dvec3(t.p[2]), glm::dvec3(t.n[2]), glm::dvec2(t.uv[2])}},
+                                 0}};
+    while (!stack.empty()) {
+      const node q = stack.back();
+      stack.pop_back();
+      int e = -1;
+      double widest = -1.0;
+      for (int k = 0; k < 3; ++k) {
+        const double a = split_angle(q.c[k], q.c[(k + 1) % 3]);
+        if (a > widest) {
+          widest = a;
+          e = k;
+        }
+      }
+      if (e < 0 || q.depth >= p.max_depth) {
+        bool over = false;
+        for (int k = 0; k < 3 && p.max_angle > 0.0; ++k) over = over || angle(q.c[k].p, q.c[(k + 1) % 3].p) > p.max_angle;
+        st.capped += over ? 1u : 0u;
+        triangle s;
+        s.material = t.material;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double ln = glm::length(q.c[k].n);
+          s.p[k] = vec3(q.c[k].p);
+          s.n[k] = ln > 0.0 ? vec3(q.c[k].n / ln) : t.n[k];
+          s.uv[k] = vec2(q.c[k].uv);
+        }
+        out.push_back(s);
+        continue;
+      }
+      const corner &a = q.c[e], &b = q.c[(e + 1) % 3], &o = q.c[(e + 2) % 3];
+      const corner m{(a.p + b.p) * 0.5, (a.n + b.n) * 0.5, (a.uv + b.uv) * 0.5};
+      stack.push_back(node{{a, m, o}, q.depth + 1});
+      stack.push_back(node{{m, b, o}, q.depth + 1});
+    }
+  }
+  st.output = out.size();
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("tessellate_for_light gives the plain split's output: every triangle, every count, capped ones too") {
+  const scene s = cornell();
+  const float floor_y = bounds(s.triangles).lo.y;
+  struct config {
+    vec3 light;
+    int R;
+    int max_depth;
+  };
+  // Near the ceiling, mid-room, on the floor (edges through the light split down to min_edge:
+  // capped), and a depth cap that stops splits early (capped).
+  for (const config& k : {config{vec3(0.0f, 1.9f, 0.0f), 512, 48}, config{vec3(0.2f, 1.0f, -0.3f), 64, 48},
+                          config{vec3(0.1f, floor_y, 0.2f), 128, 48}, config{vec3(0.0f, 1.9f, 0.0f), 512, 5}}) {
+    INFO("light y " << k.light.y << ", R " << k.R << ", max_depth " << k.max_depth);
+    tessellation_params tp;
+    tp.max_angle = tessellation_angle_for_resolution(k.R);
+    tp.max_depth = k.max_depth;
+    tessellation_stats fast_st, plain_st;
+    const std::vector<triangle> fast = tessellate_for_light(s.triangles, k.light, tp, &fast_st);
+    const std::vector<triangle> plain = plain_split(s.triangles, glm::dvec3(k.light), tp, plain_st);
+    REQUIRE(fast.size() == plain.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < fast.size(); ++i)
+      differ += (fast[i].p != plain[i].p || fast[i].n != plain[i].n || fast[i].uv != plain[i].uv ||
+                 fast[i].material != plain[i].material)
+                    ? 1u
+                    : 0u;
+    CHECK(differ == 0);
+    CHECK(fast_st.input == plain_st.input);
+    CHECK(fast_st.output == plain_st.output);
+    CHECK(fast_st.capped == plain_st.capped);
+    if (k.light.y == floor_y || k.max_depth < 48) CHECK(plain_st.capped > 0);
   }
 }
 

@@ -59,8 +59,21 @@ corner midpoint(const corner& a, const corner& b) {
   return corner{(a.p + b.p) * 0.5, (a.n + b.n) * 0.5, (a.uv + b.uv) * 0.5};
 }
 
+// What the split knows of an edge (joining corners k and k + 1): the angle it subtends if it must be
+// split, else -1, and whether the shortcut of edge_angle_test found it clearly within the angle
+// (then no order of its end points can put it over: the kept-edge check skips it).
+struct edge_state {
+  double angle;
+  bool clear;
+  bool known;
+};
+
+// A triangle waiting to be split, with its edges as far as they are known: a child inherits one
+// edge of its parent, and the two children share the edge through the midpoint (the split test
+// depends on an edge's end points only, in either order), so each split computes three edges.
 struct pending {
   corner c[3];
+  edge_state e[3];
   int depth;
 };
 
@@ -79,12 +92,12 @@ void tessellate_append(const triangle* first, const triangle* last, vec3 light, 
     const bool swap = std::tie(b0.p.x, b0.p.y, b0.p.z) < std::tie(a0.p.x, a0.p.y, a0.p.z);
     const glm::dvec3& a = swap ? b0.p : a0.p;
     const glm::dvec3& b = swap ? a0.p : b0.p;
-    if (!(params.max_angle > 0.0) || !(glm::length(a - b) > min_edge)) return -1.0;
+    if (!(params.max_angle > 0.0) || !(glm::length(a - b) > min_edge)) return edge_state{-1.0, false, true};
     const glm::dvec3 u = a - c, v = b - c;
     const double s = glm::length(glm::cross(u, v)), d = glm::dot(u, v);
-    if (angle_test.clearly_within(s, d)) return -1.0;
+    if (angle_test.clearly_within(s, d)) return edge_state{-1.0, true, true};
     const double ang = angle_of(s, d);
-    return ang > params.max_angle ? ang : -1.0;
+    return edge_state{ang > params.max_angle ? ang : -1.0, false, true};
   };
   // Does the edge from corner a to b subtend more than max_angle (a kept edge: short, or the depth
   // cap)? In the corners' own order, as the count of capped triangles always was.
@@ -105,26 +118,29 @@ void tessellate_append(const triangle* first, const triangle* last, vec3 light, 
   for (const triangle* it = first; it != last; ++it) {
     const triangle& t = *it;
     pending root{};
-    for (std::size_t k = 0; k < 3; ++k) root.c[k] = corner{glm::dvec3(t.p[k]), glm::dvec3(t.n[k]), glm::dvec2(t.uv[k])};
+    for (std::size_t k = 0; k < 3; ++k) {
+      root.c[k] = corner{glm::dvec3(t.p[k]), glm::dvec3(t.n[k]), glm::dvec2(t.uv[k])};
+      root.e[k] = edge_state{-1.0, false, false};
+    }
     root.depth = 0;
     stack.push_back(root);
     while (!stack.empty()) {
-      const pending q = stack.back();
+      pending q = stack.back();
       stack.pop_back();
       // The edge to halve: the widest (in angle) of those over max_angle; edge e joins corners e, e+1.
       int e = -1;
       double widest = -1.0;
       for (int k = 0; k < 3; ++k) {
-        const double ang = split_angle(q.c[k], q.c[(k + 1) % 3]);
-        if (ang > widest) {
-          widest = ang;
+        if (!q.e[k].known) q.e[k] = split_angle(q.c[k], q.c[(k + 1) % 3]);
+        if (q.e[k].angle > widest) {
+          widest = q.e[k].angle;
           e = k;
         }
       }
       if (e < 0 || q.depth >= params.max_depth) {
         bool over = false;  // an edge still over the angle (short, or the depth cap): counted
         for (int k = 0; k < 3 && params.max_angle > 0.0; ++k)
-          over = over || over_angle(q.c[k], q.c[(k + 1) % 3]);
+          over = over || (!q.e[k].clear && over_angle(q.c[k], q.c[(k + 1) % 3]));
         if (over) ++st.capped;
         emit(q, t);
         continue;
@@ -135,8 +151,10 @@ void tessellate_append(const triangle* first, const triangle* last, vec3 light, 
       const corner& b = q.c[(e + 1) % 3];
       const corner& o = q.c[(e + 2) % 3];
       const corner m = midpoint(a, b);
-      stack.push_back(pending{{a, m, o}, q.depth + 1});
-      stack.push_back(pending{{m, b, o}, q.depth + 1});
+      const edge_state unknown{-1.0, false, false};
+      const edge_state through_m = split_angle(m, o);  // the children's shared edge, m-o / o-m
+      stack.push_back(pending{{a, m, o}, {unknown, through_m, q.e[(e + 2) % 3]}, q.depth + 1});
+      stack.push_back(pending{{m, b, o}, {unknown, q.e[(e + 1) % 3], through_m}, q.depth + 1});
     }
   }
 }
