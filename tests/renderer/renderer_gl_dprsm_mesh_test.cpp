@@ -14,6 +14,7 @@
 #include <epoxy/gl.h>
 
 #include <cstring>
+#include <memory>
 #include <vector>
 
 using namespace vplrender;
@@ -79,5 +80,54 @@ TEST_CASE("dprsm_mesh gives gl_mesh::upload(tessellate_on_all_cores(...)) frame 
       REQUIRE(a.size() == b.size());
       CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(gl_mesh_vertex)) == 0);
     }
+  }
+}
+
+TEST_CASE("dprsm_mesh split ahead: taken for its light, dropped for another, the same mesh either way") {
+  pipeline_gl_context().make_current();
+  const scene s = shuffled_cornell();
+  tessellation_params p;
+  p.max_angle = tessellation_angle_for_resolution(256);
+  const vec3 a(0.0f, 1.9f, 0.0f), b(0.3f, 1.2f, 0.2f);
+  auto plain_for = [&](vec3 light, gl_mesh& m) { m.upload(tessellate_on_all_cores(s.triangles, light, p)); };
+  dprsm_mesh mesh(s.triangles);
+  SECTION("ahead for the light that comes: taken") {
+    mesh.build(b, p);
+    mesh.split_ahead(a, p);
+    const dprsm_mesh::build_report r = mesh.build(a, p);
+    CHECK(r.ahead);
+    CHECK(r.ahead_ms > 0.0);
+    gl_mesh plain;
+    plain_for(a, plain);
+    CHECK(same_ranges(mesh.mesh(), plain));
+    const std::vector<gl_mesh_vertex> x = read_vertices(mesh.mesh()), y = read_vertices(plain);
+    REQUIRE(x.size() == y.size());
+    CHECK(std::memcmp(x.data(), y.data(), x.size() * sizeof(gl_mesh_vertex)) == 0);
+    // The next frame has no split ahead: split there, from the buffers of two frames ago.
+    CHECK_FALSE(mesh.build(b, p).ahead);
+    gl_mesh plain_b;
+    plain_for(b, plain_b);
+    const std::vector<gl_mesh_vertex> u = read_vertices(mesh.mesh()), w = read_vertices(plain_b);
+    REQUIRE(u.size() == w.size());
+    CHECK(std::memcmp(u.data(), w.data(), u.size() * sizeof(gl_mesh_vertex)) == 0);
+  }
+  SECTION("ahead for another light, or other parameters: dropped") {
+    mesh.split_ahead(a, p);
+    CHECK_FALSE(mesh.build(b, p).ahead);
+    gl_mesh plain;
+    plain_for(b, plain);
+    const std::vector<gl_mesh_vertex> x = read_vertices(mesh.mesh()), y = read_vertices(plain);
+    REQUIRE(x.size() == y.size());
+    CHECK(std::memcmp(x.data(), y.data(), x.size() * sizeof(gl_mesh_vertex)) == 0);
+    tessellation_params q = p;
+    q.max_depth = 7;
+    mesh.split_ahead(a, q);
+    CHECK_FALSE(mesh.build(a, p).ahead);
+  }
+  SECTION("destroyed with a split ahead running: waits for it") {
+    auto m = std::make_unique<dprsm_mesh>(s.triangles);
+    m->split_ahead(a, p);
+    m.reset();
+    SUCCEED();
   }
 }

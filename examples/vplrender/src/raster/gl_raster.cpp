@@ -80,7 +80,8 @@ struct gl_rasterizer::impl {
   }
 
   void draw_gbuffer(const camera& cam, int width, int height);
-  void tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess, tessellation_stats* ts);
+  // The DPRSM mesh for the light; the split ahead's wall ms when it was ready ahead, else -1.
+  double tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess, tessellation_stats* ts);
   void draw_dprsm_face(const vplkit::point_light<float>& light, int R, int face);  // light_mesh into dprsm_rt
 
   // Distance beyond every vertex from p (depth range of the DPRSM).
@@ -179,10 +180,16 @@ void gl_rasterizer::impl::draw_gbuffer(const camera& cam, int width, int height)
   check_gl("vplrender: G-buffer pass");
 }
 
-void gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess,
-                                         tessellation_stats* ts) {
+double gl_rasterizer::impl::tessellate_for(const vplkit::point_light<float>& light, const tessellation_params& tess,
+                                           tessellation_stats* ts) {
   if (!light_mesh) light_mesh = std::make_unique<dprsm_mesh>(s->triangles);
-  light_mesh->build(light.position, tess, ts);
+  const dprsm_mesh::build_report r = light_mesh->build(light.position, tess, ts);
+  return r.ahead ? r.ahead_ms : -1.0;
+}
+
+void gl_rasterizer::split_dprsm_ahead(const vplkit::point_light<float>& light, const tessellation_params& tess) {
+  if (!impl_->light_mesh) impl_->light_mesh = std::make_unique<dprsm_mesh>(impl_->s->triangles);
+  impl_->light_mesh->split_ahead(light.position, tess);
 }
 
 void gl_rasterizer::impl::draw_dprsm_face(const vplkit::point_light<float>& light, int R, int f) {
@@ -262,7 +269,7 @@ void gl_rasterizer::render_gbuffer_surfels(const camera& cam, int width, int hei
 dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
                                        raster_timing* timing, tessellation_stats* ts) {
   const auto tess_start = std::chrono::steady_clock::now();
-  impl_->tessellate_for(light, tess, ts);
+  const double ahead_ms = impl_->tessellate_for(light, tess, ts);
   const double tess_ms = ms_since(tess_start);
   impl_->dprsm_rt.ensure(R, R, 3);
   dprsm_data d;
@@ -301,6 +308,7 @@ dprsm_data gl_rasterizer::render_dprsm(const vplkit::point_light<float>& light, 
     timing->clock = "gpu";
     timing->readback_ms = read_ms;
     timing->tessellation_ms = tess_ms;
+    timing->split_ahead_ms = ahead_ms;
   }
   return d;
 }
@@ -309,7 +317,7 @@ void gl_rasterizer::render_dprsm_surfels(const vplkit::point_light<float>& light
                                          const vplkit::gl::buffer& surfels, raster_timing* timing,
                                          tessellation_stats* ts) {
   const auto tess_start = std::chrono::steady_clock::now();
-  impl_->tessellate_for(light, tess, ts);
+  const double ahead_ms = impl_->tessellate_for(light, tess, ts);
   const double tess_ms = ms_since(tess_start);
   impl_->dprsm_rt.ensure(R, R, 3);
   const std::uint32_t face = static_cast<std::uint32_t>(R) * static_cast<std::uint32_t>(R);
@@ -325,6 +333,7 @@ void gl_rasterizer::render_dprsm_surfels(const vplkit::point_light<float>& light
     timing->clock = "gpu";
     timing->readback_ms = 0.0;
     timing->tessellation_ms = tess_ms;
+    timing->split_ahead_ms = ahead_ms;
   }
 }
 

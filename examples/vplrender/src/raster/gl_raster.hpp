@@ -25,6 +25,8 @@ struct raster_timing {
   std::string clock = "gpu";
   double readback_ms = 0.0;  // wall time of reading the targets back into the CPU arrays (0 for surfels)
   double tessellation_ms = 0.0;  // DPRSM: wall time of tessellating for the light and uploading the mesh
+                                 // (with a split ahead: of waiting for it and uploading)
+  double split_ahead_ms = -1.0;  // DPRSM: the split ahead's own wall time, beside the caller (< 0: none)
 };
 
 class gl_rasterizer {
@@ -51,6 +53,11 @@ public:
   void render_dprsm_surfels(const vplkit::point_light<float>& light, int R, const tessellation_params& tess,
                             const vplkit::gl::buffer& surfels, raster_timing* t = nullptr,
                             tessellation_stats* ts = nullptr);
+
+  // Starts the DPRSM split for the light at `light` on other threads (raster/dprsm_mesh.hpp): the
+  // next render_dprsm(_surfels) for that light and `tess` only waits for it and uploads. For a
+  // frame loop that knows its next light, to call once this frame's DPRSM is drawn.
+  void split_dprsm_ahead(const vplkit::point_light<float>& light, const tessellation_params& tess);
 
   struct impl;
 

@@ -176,6 +176,10 @@ frame_pipeline::frame_pipeline(const scene& s, const frame_settings& f, stage_ti
 
 frame_pipeline::~frame_pipeline() = default;
 
+void frame_pipeline::split_ahead(const vplkit::point_light<float>& next_light) {
+  if (impl_->scene_gpu) impl_->raster->split_dprsm_ahead(next_light, impl_->tp);
+}
+
 const frame_buffers& frame_pipeline::buffers() const { return *impl_->frame; }
 
 frame_buffers frame_pipeline::release() { return std::move(*impl_->frame); }
@@ -200,6 +204,7 @@ const frame_buffers& frame_pipeline::render(const vplkit::point_light<float>& li
       d.raster->render_dprsm_surfels(light, f.dprsm, d.tp, d.scene_gpu->dprsm, &td, &ts);
     }
     timer.add("dprsm tessellation (cpu)", td.tessellation_ms, "cpu-wall");
+    if (td.split_ahead_ms >= 0.0) timer.add("dprsm split ahead (cpu, beside the gpu)", td.split_ahead_ms, "cpu-wall-overlapped");
     timer.add("dprsm (gpu)", td.ms, td.clock);
     b.gbuf = gbuffer_data{};
     b.gbuf.width = f.width;

@@ -57,6 +57,12 @@ public:
   // read-back (cpu)", "dprsm read-back (cpu)", and "frame facts (gpu|cpu)"; facts under det keys
   // gbuffer, dprsm, scene_buffers. The buffers are overwritten by the next call.
   const frame_buffers& render(const vplkit::point_light<float>& light, stage_timer& timer, nlohmann::json& det);
+  // GPU backend: starts the DPRSM split for the next frame's light on other threads, to run while
+  // the GPU renders this frame (the next render() for that light then only waits and uploads; its
+  // stage "dprsm tessellation (cpu)" is that wait and the upload, and "dprsm split ahead (cpu,
+  // beside the gpu)" the split's own wall time, overlapped). The CPU backend's estimate wants
+  // every core itself: there it does nothing.
+  void split_ahead(const vplkit::point_light<float>& next_light);
   const frame_buffers& buffers() const;
   // The buffers, moved out (the pipeline is done with them).
   frame_buffers release();
