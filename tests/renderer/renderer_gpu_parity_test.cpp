@@ -339,7 +339,7 @@ std::vector<int> gbg_near_edge_hits(const vplkit::gbuffer_view<float>& gb, const
       const vplkit::vec3<float> dir = vplkit::to_world(frame, local);
       if (!vplkit::gather_point_accepts_direction(g, dir)) continue;
       const vplkit::ray_hit<float> h = trace(g.position, g.normal, dir);
-      if (!h.hit) continue;
+      if (!h.hit || vplkit::gbg_hit_on_own_plane(g, h)) continue;
       const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, h.position, params.depth_tolerance);
       if (!r.lit || !vplkit::vpl_has_flux(view.vpl_at(r.texel))) continue;
       const glm::dvec3 pd(h.position), x(g.position), c(view.light.position);
@@ -362,6 +362,96 @@ std::vector<int> gbg_near_edge_hits(const vplkit::gbuffer_view<float>& gb, const
   return near;
 }
 
+// GBG weights built by both backends on one frame (`small`: scene, size, DPRSM, voxels, dirs,
+// visibility), compared texel by texel. crease_ties: only the lit hits and the weights' sum are
+// compared (within 0.5 %), for a frame with known tracer ties (below).
+void check_gbg_weights_parity(options small, bool crease_ties) {
+  const visibility_choice vis = small.visibility;
+  small.meth = method::gbg;
+  const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(small);
+  const options& o = f.o;
+  const prepared_scene& p = f.p;
+  // Exact visibility: the pipeline's frame, with the Embree scene and the BVH.
+  stage_timer prep_timer;
+  nlohmann::json prep_det;
+  std::optional<frame_buffers> exact_frame;
+  if (vis == visibility_choice::exact) {
+    exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
+    read_back_host_copies(*exact_frame);  // the CPU builder reads the same frame's arrays
+  }
+  const frame_buffers& fb = exact_frame ? *exact_frame : f.b;
+  const gbuffer_data& g = fb.gbuf;
+  const dprsm_data& d = fb.dprsm;
+  const render_settings es = make_render_settings(o, p.s);
+  vplkit::gbg_params<float> params;
+  params.n_dirs = es.dirs;
+  params.dmin = es.dmin;
+  params.depth_tolerance = gathering_depth_tolerance(es, fb.grid.occupancy().view());
+  params.seed = builder_seed(es.seed, 2);
+  params.accumulator = vplkit::gbg_accumulator::gathering;
+  vplkit::gbg_stats cs;
+  const std::vector<float> cpu =
+      vis != visibility_choice::voxels
+          ? vplkit::build_gbg_weights(g.view(), d.view(), gbg_cpu_tracer(fb, vis), params, &cs)
+          : vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params, &cs);
+  const std::vector<int> near_edge =
+      vis != visibility_choice::voxels
+          ? gbg_near_edge_hits(g.view(), d.view(), gbg_cpu_tracer(fb, vis), params)
+          : gbg_near_edge_hits(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params);
+  stage_timer timer;
+  nlohmann::json det;
+  const gbg_gpu_weights gw = build_gbg_weights_gpu(fb, es, timer, det);
+  REQUIRE(gw.weights.size() == cpu.size());
+  if (vis == visibility_choice::voxels) CHECK(det["gbg"]["dispatches"].get<int>() > 1);
+  CHECK(gw.gather_points == cs.gather_points);
+  CHECK(det["gbg"]["saturated_hits"].get<long long>() == 0);
+  const double abs_bound = double(std::max<long long>(gw.lit_hits, 1)) * 0.5 / gw.scale /
+                           (double(std::max(gw.gather_points, 1)) * es.dirs);
+  // A ray whose voxel step or depth test sits at a float tie can hit on one side only (the GPU's
+  // sqrt/div are a few ulps off): such texels differ by whole hits, v <= v_bound = 2 max_units /
+  // scale each (gbg_weights.glsl's scale choice). A texel may differ by at most one hit_bound per
+  // lit hit that may land in it or leave it on a GPU (gbg_near_edge_hits), and no more.
+  const double hit_bound = 2.0 * det["gbg"]["fixed_point_max_units"].get<double>() / gw.scale /
+                           (double(std::max(gw.gather_points, 1)) * es.dirs);
+  REQUIRE(near_edge.size() == cpu.size());
+  int outside = 0, nonzero = 0, unexplained = 0;
+  long long near_edge_hits = 0;
+  double worst = 0.0, worst_rel = 0.0;
+  for (std::size_t t = 0; t < cpu.size(); ++t) {
+    const double a = cpu[t], b = gw.weights[t];
+    REQUIRE(std::isfinite(b));
+    if (a != 0.0) ++nonzero;
+    const double bound = abs_bound + 5e-6 * std::max(std::abs(a), std::abs(b));
+    const double diff = std::abs(a - b);
+    worst = std::max(worst, diff / bound);
+    if (diff > bound) ++outside;
+    if (diff > bound + double(near_edge[t]) * hit_bound) ++unexplained;
+    near_edge_hits += near_edge[t];
+    if (a > 0.0) worst_rel = std::max(worst_rel, diff / a);
+  }
+  double sum_c = 0, sum_g = 0;
+  for (std::size_t t = 0; t < cpu.size(); ++t) sum_c += cpu[t], sum_g += gw.weights[t];
+  std::cout << small.scene << " " << small.width << "x" << small.height << " " << to_string(vis) << " GBG weights: lit hits " << cs.lit_hits << " (cpu) "
+            << gw.lit_hits << " (gpu), sums " << sum_c << " " << sum_g << "; " << nonzero << " non-zero texels, |G| = " << gw.gather_points
+            << ", worst |gpu - cpu| / bound = " << worst << " (worst relative " << worst_rel << "), outside " << outside
+            << " (" << unexplained << " beyond the hits near a texel edge, " << near_edge_hits
+            << " hit-texel pairs near an edge)\n";
+  CHECK(nonzero > 0);
+  // The closed box with exact rays has exact ties (renderer_gpu_exact_visibility_test: G-buffer
+  // points on the edge where two walls meet, which Embree and the BVH round differently): there
+  // the lit hits and the weights' sum agree within 0.5 % (measured 0.11 % and 0.37 %). A budget
+  // that cuts loops short loses hits by the ten thousand.
+  if (crease_ties) {
+    CHECK(std::abs(double(gw.lit_hits) - double(cs.lit_hits)) <= 0.005 * double(cs.lit_hits));
+    CHECK(std::abs(sum_g - sum_c) <= 0.005 * sum_c);
+    return;
+  }
+  CHECK(gw.lit_hits == cs.lit_hits);
+  CHECK(det["gbg"]["holes"].get<int>() == cs.holes);
+  CHECK(det["gbg"]["filled"].get<int>() == cs.filled);
+  CHECK(unexplained == 0);
+}
+
 TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point bound") {
   // The CPU side is build_distributions_cpu's GBG builder (same params, seed builder_seed(seed, 2),
   // gathering accumulator, hole fill); the GPU side gbg_accumulate.comp + gbg_finish.comp. Bound of
@@ -373,94 +463,28 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's within the fixed-point 
   // in only 21 % of the pixels while global and local agreed in all; this case tells the weights
   // from the estimate there.
   for (const visibility_choice vis : {visibility_choice::voxels, visibility_choice::exact, visibility_choice::paper_voxels})
-  for (const char* scene_name : {"cornell", "open"}) {
-    options small = vplrender_test::small_options(scene_name);
-    small.dirs = 600;
-    small.meth = method::gbg;
-    small.visibility = vis;
-    const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(small);
-    const options& o = f.o;
-    const prepared_scene& p = f.p;
-    // Exact visibility: the pipeline's frame, with the Embree scene and the BVH.
-    stage_timer prep_timer;
-    nlohmann::json prep_det;
-    std::optional<frame_buffers> exact_frame;
-    if (vis == visibility_choice::exact) {
-      exact_frame.emplace(prepare_buffers(o, p, prep_timer, prep_det));
-      read_back_host_copies(*exact_frame);  // the CPU builder reads the same frame's arrays
+    for (const char* scene_name : {"cornell", "open"}) {
+      options small = vplrender_test::small_options(scene_name);
+      small.dirs = 600;
+      small.visibility = vis;
+      check_gbg_weights_parity(small, vis == visibility_choice::exact && std::string(scene_name) == "cornell");
     }
-    const frame_buffers& fb = exact_frame ? *exact_frame : f.b;
-    const gbuffer_data& g = fb.gbuf;
-    const dprsm_data& d = fb.dprsm;
-    const render_settings es = make_render_settings(o, p.s);
-    vplkit::gbg_params<float> params;
-    params.n_dirs = es.dirs;
-    params.dmin = es.dmin;
-    params.depth_tolerance = gathering_depth_tolerance(es, fb.grid.occupancy().view());
-    params.seed = builder_seed(es.seed, 2);
-    params.accumulator = vplkit::gbg_accumulator::gathering;
-    vplkit::gbg_stats cs;
-    const std::vector<float> cpu =
-        vis != visibility_choice::voxels
-            ? vplkit::build_gbg_weights(g.view(), d.view(), gbg_cpu_tracer(fb, vis), params, &cs)
-            : vplkit::build_gbg_weights(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params, &cs);
-    const std::vector<int> near_edge =
-        vis != visibility_choice::voxels
-            ? gbg_near_edge_hits(g.view(), d.view(), gbg_cpu_tracer(fb, vis), params)
-            : gbg_near_edge_hits(g.view(), d.view(), vplkit::triangle_voxel_tracer<float>{fb.grid.view()}, params);
-    stage_timer timer;
-    nlohmann::json det;
-    const gbg_gpu_weights gw = build_gbg_weights_gpu(fb, es, timer, det);
-    REQUIRE(gw.weights.size() == cpu.size());
-    if (vis == visibility_choice::voxels) CHECK(det["gbg"]["dispatches"].get<int>() > 1);
-    CHECK(gw.gather_points == cs.gather_points);
-    CHECK(det["gbg"]["saturated_hits"].get<long long>() == 0);
-    const double abs_bound = double(std::max<long long>(gw.lit_hits, 1)) * 0.5 / gw.scale /
-                             (double(std::max(gw.gather_points, 1)) * es.dirs);
-    // A ray whose voxel step or depth test sits at a float tie can hit on one side only (the GPU's
-    // sqrt/div are a few ulps off): such texels differ by whole hits, v <= v_bound = 2 max_units /
-    // scale each (gbg_weights.glsl's scale choice). A texel may differ by at most one hit_bound per
-    // lit hit that may land in it or leave it on a GPU (gbg_near_edge_hits), and no more.
-    const double hit_bound = 2.0 * det["gbg"]["fixed_point_max_units"].get<double>() / gw.scale /
-                             (double(std::max(gw.gather_points, 1)) * es.dirs);
-    REQUIRE(near_edge.size() == cpu.size());
-    int outside = 0, nonzero = 0, unexplained = 0;
-    long long near_edge_hits = 0;
-    double worst = 0.0, worst_rel = 0.0;
-    for (std::size_t t = 0; t < cpu.size(); ++t) {
-      const double a = cpu[t], b = gw.weights[t];
-      REQUIRE(std::isfinite(b));
-      if (a != 0.0) ++nonzero;
-      const double bound = abs_bound + 5e-6 * std::max(std::abs(a), std::abs(b));
-      const double diff = std::abs(a - b);
-      worst = std::max(worst, diff / bound);
-      if (diff > bound) ++outside;
-      if (diff > bound + double(near_edge[t]) * hit_bound) ++unexplained;
-      near_edge_hits += near_edge[t];
-      if (a > 0.0) worst_rel = std::max(worst_rel, diff / a);
-    }
-    double sum_c = 0, sum_g = 0;
-    for (std::size_t t = 0; t < cpu.size(); ++t) sum_c += cpu[t], sum_g += gw.weights[t];
-    std::cout << scene_name << " " << to_string(vis) << " GBG weights: lit hits " << cs.lit_hits << " (cpu) "
-              << gw.lit_hits << " (gpu), sums " << sum_c << " " << sum_g << "; " << nonzero << " non-zero texels, |G| = " << gw.gather_points
-              << ", worst |gpu - cpu| / bound = " << worst << " (worst relative " << worst_rel << "), outside " << outside
-              << " (" << unexplained << " beyond the hits near a texel edge, " << near_edge_hits
-              << " hit-texel pairs near an edge)\n";
-    CHECK(nonzero > 0);
-    // The closed box with exact rays has exact ties (renderer_gpu_exact_visibility_test: G-buffer
-    // points on the edge where two walls meet, which Embree and the BVH round differently): there
-    // the lit hits and the weights' sum agree within 0.5 % (measured 0.11 % and 0.37 %). A budget
-    // that cuts loops short loses hits by the ten thousand.
-    if (vis == visibility_choice::exact && std::string(scene_name) == "cornell") {
-      CHECK(std::abs(double(gw.lit_hits) - double(cs.lit_hits)) <= 0.005 * double(cs.lit_hits));
-      CHECK(std::abs(sum_g - sum_c) <= 0.005 * sum_c);
-      continue;
-    }
-    CHECK(gw.lit_hits == cs.lit_hits);
-    CHECK(det["gbg"]["holes"].get<int>() == cs.holes);
-    CHECK(det["gbg"]["filled"].get<int>() == cs.filled);
-    CHECK(unexplained == 0);
-  }
+}
+
+TEST_CASE("GPU-built GBG weights equal the CPU builder's on the cornell box at 48x48 with exact rays") {
+  // At 48x48 the image diagonals of the built-in cornell box run through pixel centres: those
+  // gather points lie on the box's creases, and an exact tracer's lifted origin meets the other
+  // surface of the crease at distance ~0. Which of those rays hit it is a rounding tie that Embree
+  // and the GLSL BVH decide differently; before the GBG builders gave such hits nothing
+  // (gbg_hit_on_own_plane), 234 of them landed on the CPU, the texels along the ceiling's edges
+  // differed by 10-20 % between the backends, and every CDF draw after them moved (the gbg image
+  // differed in 99 % of the pixels, relMSE 5.29e-1 on the GPU against 2.58e-1 on the CPU in
+  // docs/results/clamp_compensation.md). speed_vs_error's frame: DPRSM 2x64^2, 64^3 voxels,
+  // 16 directions.
+  options o = vplrender_test::small_options("cornell", 48, 48, 64, 64);
+  o.dirs = 16;
+  o.visibility = visibility_choice::exact;
+  check_gbg_weights_parity(o, false);
 }
 
 TEST_CASE("the pass split keeps short loops in one pass and splits long ones") {

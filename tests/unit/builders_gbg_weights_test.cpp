@@ -347,3 +347,55 @@ TEST_CASE("builders: GBG gathering weights sum to the gathering estimator's valu
   }
   CHECK(compared >= 5);
 }
+
+TEST_CASE("builders: GBG gives nothing to the surface whose plane passes through the gather point",
+          "[builders]") {
+  // A floor point a rounding step from the wall x = +2 (a G-buffer point on a crease): it sees
+  // that wall edge-on, and the VPL strategy gives the wall's texels cos(theta1) ~ 0 at x, yet the
+  // rays that leave x towards the wall meet it (at distances down to ~0). Such hits must add
+  // nothing (gbg_hit_on_own_plane): the build equals one whose tracer never sees that wall.
+  using T = float;
+  const vplkit_test::synthetic_scene<T> s;
+  const auto d = s.make_dprsm(16);
+  const auto view = d.view();
+  vplkit_test::gbuffer_data<T> gb;
+  gb.width = gb.height = 1;
+  const vec3<T> x(T(2) - T(1e-6), T(0), T(0.1));
+  gb.position = {x};
+  gb.normal = {vec3<T>(T(0), T(1), T(0))};
+  gb.albedo = {vec3<T>(T(0.5))};
+  const vplkit::gather_point<T> g = gb.view().at(0);
+  const vplkit_test::exact_tracer<T> tr{&s};
+  const auto on_wall = [](const vplkit::ray_hit<T>& h) { return h.hit && h.normal.x < T(-0.99); };
+  const auto without_wall = [&](vec3<T> o, vec3<T> n, vec3<T> dir) {
+    const vplkit::ray_hit<T> h = tr(o, n, dir);
+    return on_wall(h) ? vplkit::ray_hit<T>{} : h;
+  };
+  auto p = params<T>(1024, vplkit::gbg_accumulator::gathering, false);
+  p.depth_tolerance = T(0.05);
+  // The situation is real: many rays hit the wall, lit, on texels that carry a VPL, and the wall
+  // sends x almost nothing by the VPL strategy's own account (no visibility).
+  int lit_on_wall = 0;
+  for (int j = 0; j < p.n_dirs; ++j) {
+    const vplkit::ray_hit<T> h = tr(x, g.normal, vplkit::gbg_direction(g.normal, 0, j, p.seed));
+    if (!on_wall(h)) continue;
+    const auto r = vplkit::dprsm_lookup(view, h.position, p.depth_tolerance);
+    lit_on_wall += r.lit && vplkit::vpl_has_flux(view.vpl_at(r.texel));
+  }
+  REQUIRE(lit_on_wall > 20);
+  double wall_sum = 0.0, all_sum = 0.0;
+  for (int t = 0; t < view.texel_count(); ++t) {
+    const double c = vplkit::luminance(vplkit::vpl_contribution(g, view.vpl_at(t), p.dmin));
+    all_sum += c;
+    if (view.normal[t].x < T(-0.99)) wall_sum += c;
+  }
+  REQUIRE(wall_sum < 1e-4 * all_sum);
+
+  vplkit::gbg_stats st, st_ref;
+  const std::vector<T> w = vplkit::build_gbg_weights(gb.view(), view, tr, p, &st);
+  const std::vector<T> ref = vplkit::build_gbg_weights(gb.view(), view, without_wall, p, &st_ref);
+  REQUIRE(st_ref.lit_hits > 200);  // the rest of the room still reaches the weights
+  CHECK(st.lit_hits == st_ref.lit_hits);
+  CHECK(st.hits - st_ref.hits >= lit_on_wall);  // a hit on the wall is a hit, not a lit hit
+  CHECK(w == ref);
+}
