@@ -151,8 +151,11 @@ kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_
   context();
   vplkit_test::ieee_scope ieee;
   check_call(call);
+  if (count > 0xFFFFFFFFu) throw std::invalid_argument("run_compute: " + call.name + ": more than 2^32 - 1 items");
+  // The count is a uniform, not part of the text: one program per kernel source, whatever the
+  // number of items of each call (a GPU driver compiles every distinct text anew).
   const std::string preamble =
-      "#define VPLKIT_PARITY_COUNT " + std::to_string(count) + "u\n" + call.defines +
+      "#define VPLKIT_PARITY_COUNT vplkit_parity_count\nuniform uint vplkit_parity_count;\n" + call.defines +
       (call.defines.empty() || call.defines.back() == '\n' ? "" : "\n") +
       "layout(local_size_x = " + std::to_string(call.local_size[0]) +
       ", local_size_y = " + std::to_string(call.local_size[1]) +
@@ -198,6 +201,13 @@ kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_
   std::array<unsigned, 3> groups = call.groups;
   if (groups[0] == 0 && groups[1] == 0 && groups[2] == 0) {
     groups = {gl::groups_for(count, static_cast<GLint>(call.local_size[0])), 1, 1};
+  }
+  // -1 where the kernel never reads the count (the compiler drops the uniform).
+  const GLint count_location = it->second.uniform_location("vplkit_parity_count");
+  if (count_location >= 0) {
+    it->second.use();
+    glUniform1ui(count_location, static_cast<GLuint>(count));
+    gl::check_gl("glUniform1ui(vplkit_parity_count)");
   }
   gl::dispatch(it->second, groups[0], groups[1], groups[2]);
   kernel_outputs result;
