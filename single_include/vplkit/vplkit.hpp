@@ -2795,10 +2795,13 @@ struct dda_hit {
 // (see the header).
 template <class T>
 inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
+  using std::isfinite;  // or a float-like T's own (the tests' GPU model, gpu_model_float.hpp)
   out = vec3<T>(T(0));
-  if (!std::isfinite(dir.x) || !std::isfinite(dir.y) || !std::isfinite(dir.z)) return false;
+  if (!isfinite(dir.x) || !isfinite(dir.y) || !isfinite(dir.z)) return false;
   const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
-  const T m = std::fmax(std::abs(dir.x), std::fmax(std::abs(dir.y), std::abs(dir.z)));
+  const T ax = detail::abs_of(dir.x), ay = detail::abs_of(dir.y), az = detail::abs_of(dir.z);
+  const T myz = ay < az ? az : ay;
+  const T m = ax < myz ? myz : ax;  // fmax of the finite |components|
   if (!(m >= tiny)) return false;
   // GLSL bounds division only for divisors in [2^-126, 2^126] (4.7.1): beyond, a GPU may compute
   // x / m as x * (1 / m) with 1 / m flushed to 0 (NVIDIA: a direction of FLT_MAX became NaN).
@@ -2810,9 +2813,9 @@ inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
     ms = ms * T(0.25);
   }
   vec3<T> d = s / ms;
-  d = d / std::sqrt(glm::dot(d, d));  // dot(d, d) in [1, 3]: no underflow, no overflow
+  d = d / detail::sqrt_of(glm::dot(d, d));  // dot(d, d) in [1, 3]: no underflow, no overflow
   for (int a = 0; a < 3; ++a)
-    if (std::abs(d[a]) < tiny) d[a] = T(0);
+    if (detail::abs_of(d[a]) < tiny) d[a] = T(0);
   out = d;
   return true;
 }
@@ -3859,6 +3862,14 @@ struct bvh_view {
 // Direction components below FLT_MIN (1.17549435e-38, for T = double too) count as 0 because
 // GPUs flush denormals; a direction that is then zero, or a non-finite origin or direction,
 // makes the ray invalid (no hit).
+// Huge values: GLSL bounds x / y only for |y| in [2^-126, 2^126] (GLSL 4.60 4.7.1), and NVIDIA
+// computes it as x * (1 / y) with 1 / y flushed to 0 when |y| > 2^126. So nothing here divides by
+// a value that can exceed 2^126: a direction whose largest |component| is above 2^126 is stored
+// scaled by 1/4 (bvh_ray::t_scale = 4: the ray's own parameter is 4 t, and bvh_traverse.hpp scales
+// t_min, t_max and the hit's t accordingly), bvh_unit_vector scales its divisor the same way, and
+// the triangle test divides by det / 4 when |det| > 2^126. Every such scaling is by a power of two,
+// exact unless a value falls below FLT_MIN, and none fires where its divisor is at most 2^126, so
+// there the results are the unscaled ones bit for bit.
 
 #include <cmath>
 #include <cstdint>
@@ -3868,21 +3879,49 @@ namespace vplkit {
 
 namespace detail {
 
+// std::isfinite, or that of a float-like T found by argument-dependent lookup (the tests' GPU
+// model of float arithmetic, tests/support/gpu_model_float.hpp, runs these templates).
+template <class T>
+inline bool bvh_isfinite(T x) {
+  using std::isfinite;
+  return isfinite(x);
+}
+
 template <class T>
 inline bool bvh_vec3_finite(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  return bvh_isfinite(v.x) && bvh_isfinite(v.y) && bvh_isfinite(v.z);
+}
+
+// The largest |component| (v finite).
+template <class T>
+inline T bvh_max_abs(vec3<T> v) {
+  const T ax = abs_of(v.x), ay = abs_of(v.y), az = abs_of(v.z);
+  const T myz = ay < az ? az : ay;
+  return ax < myz ? myz : ax;
+}
+
+// 2^126: the largest divisor for which GLSL bounds a division (see the header).
+template <class T>
+constexpr T bvh_division_limit() {
+  return T(8.5070591730234615865843651857942052864e37);
 }
 
 // v / |v|, scaled by the largest component first (no overflow or underflow in the dot product);
 // 0 when v has a non-finite component or every component is below FLT_MIN (GPUs flush
-// denormals). Sums in glm's order, so the GLSL mirror rounds the same way.
+// denormals). Sums in glm's order, so the GLSL mirror rounds the same way. A largest component
+// above 2^126 is scaled by 1/4 first (exact), as in dda_unit_direction: v / m with m > 2^126 is
+// 0 * m = NaN on NVIDIA (1 / m flushes to 0, then s / |s| = 0 / 0).
 template <class T>
 inline vec3<T> bvh_unit_vector(vec3<T> v) {
   if (!bvh_vec3_finite(v)) return vec3<T>(T(0));
-  const T m = std::fmax(std::abs(v.x), std::fmax(std::abs(v.y), std::abs(v.z)));
+  T m = bvh_max_abs(v);
   if (!(m >= T(1.17549435e-38f))) return vec3<T>(T(0));
+  if (m > bvh_division_limit<T>()) {
+    v = v * T(0.25);
+    m = m * T(0.25);
+  }
   const vec3<T> s = v / m;
-  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
+  return s / sqrt_of(s.x * s.x + s.y * s.y + s.z * s.z);
 }
 
 }  // namespace detail
@@ -3894,10 +3933,11 @@ constexpr double bvh_box_expansion = 1.00000095367431640625;
 template <class T>
 struct bvh_ray {
   vec3<T> origin;
-  vec3<T> dir;      // as given, with components below FLT_MIN set to 0
+  vec3<T> dir;      // as given (times 1 / t_scale), with components below FLT_MIN set to 0
   vec3<T> inv_dir;  // 1 / dir per component; 0 where dir is 0 (unused there)
   ivec3 k;          // Woop's axis permutation: k.z = the dominant axis of dir, (k.x, k.y) the others
   vec3<T> shear;    // (dir[k.x] / dir[k.z], dir[k.y] / dir[k.z], 1 / dir[k.z])
+  T t_scale;        // 1, or 4 where the given direction was scaled by 1/4 (largest |component| > 2^126)
   bool valid;       // finite origin, finite non-zero dir
 };
 
@@ -3909,13 +3949,20 @@ inline bvh_ray<T> make_bvh_ray(vec3<T> origin, vec3<T> dir) {
   r.inv_dir = vec3<T>(T(0));
   r.k = ivec3(0, 1, 2);
   r.shear = vec3<T>(T(0));
+  r.t_scale = T(1);
   r.valid = false;
   if (!detail::bvh_vec3_finite(origin) || !detail::bvh_vec3_finite(dir)) return r;
   const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
   vec3<T> d = dir;
+  // 1 / d and d / d[kz] below need |d| <= 2^126 (see the header): origin + t dir is
+  // origin + (4 t) (dir / 4).
+  if (detail::bvh_max_abs(d) > detail::bvh_division_limit<T>()) {
+    d = d * T(0.25);
+    r.t_scale = T(4);
+  }
   for (int a = 0; a < 3; ++a)
-    if (std::abs(d[a]) < tiny) d[a] = T(0);
-  const vec3<T> ad(std::abs(d.x), std::abs(d.y), std::abs(d.z));
+    if (detail::abs_of(d[a]) < tiny) d[a] = T(0);
+  const vec3<T> ad(detail::abs_of(d.x), detail::abs_of(d.y), detail::abs_of(d.z));
   const int kz = ad.x >= ad.y ? (ad.x >= ad.z ? 0 : 2) : (ad.y >= ad.z ? 1 : 2);
   if (!(ad[kz] > T(0))) return r;
   int kx = kz + 1 == 3 ? 0 : kz + 1;
@@ -3988,17 +4035,27 @@ inline bvh_triangle_hit<T> bvh_ray_triangle(const bvh_ray<T>& r, vec3<T> v0, vec
   const T ev = ax * cy - ay * cx;  // edge function of (v2, v0): v1's weight
   const T ew = bx * ay - by * ax;  // edge function of (v0, v1): v2's weight
   if ((eu < T(0) || ev < T(0) || ew < T(0)) && (eu > T(0) || ev > T(0) || ew > T(0))) return h;
-  const T det = eu + ev + ew;
+  T det = eu + ev + ew;
   if (det == T(0)) return h;
   const T az = r.shear.z * a[kz], bz = r.shear.z * b[kz], cz = r.shear.z * c[kz];
-  const T tn = eu * az + ev * bz + ew * cz;
+  T tn = eu * az + ev * bz + ew * cz;
+  // Quotients by det need |det| <= 2^126 (see the header); the edge functions share det's sign
+  // here, so |eu|, |ev|, |ew| <= |det| and the scaled ones stay finite.
+  T su = eu, sv = ev, sw = ew;
+  if (detail::abs_of(det) > detail::bvh_division_limit<T>()) {
+    det = det * T(0.25);
+    tn = tn * T(0.25);
+    su = su * T(0.25);
+    sv = sv * T(0.25);
+    sw = sw * T(0.25);
+  }
   const T t = tn / det;
-  if (!std::isfinite(t) || !(t > t_min) || !(t <= t_max)) return h;
+  if (!detail::bvh_isfinite(t) || !(t > t_min) || !(t <= t_max)) return h;
   h.hit = true;
   h.t = t;
-  h.u = ev / det;
-  h.v = ew / det;
-  h.w = eu / det;
+  h.u = sv / det;
+  h.v = sw / det;
+  h.w = su / det;
   return h;
 }
 
@@ -4418,6 +4475,10 @@ inline bvh<T> build_bvh_soup(const vec3<T>* vertices, std::size_t triangle_count
 // loop runs at most node_count times; the leaf loop runs count <= bvh_max_leaf_size times per
 // leaf. One query therefore costs (nodes visited + triangles tested) iterations of the budget;
 // the parity test prints the largest count it met.
+// Scaled rays: where make_bvh_ray stored the direction scaled by 1/4 (a component above 2^126,
+// bvh_ray.hpp), the traversal runs in the ray's own parameter, t_scale * t: t_min and t_max are
+// multiplied by t_scale on the way in and the hit's t by 1/4 on the way out (powers of two,
+// exact unless the result leaves the normal range; t_scale = 1 changes nothing).
 // Stack: the builder (and validate_bvh) guarantee depth <= bvh_max_depth, so the stack cannot
 // overflow; the push is guarded anyway, so a corrupt hierarchy loses nodes instead of writing
 // out of bounds.
@@ -4454,7 +4515,8 @@ struct bvh_traversal_result {
   T t;
 };
 
-// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true).
+// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true). t_min,
+// t_max and the result's t are in the ray's own parameter (bvh_ray::t_scale times the caller's).
 template <class T>
 inline bvh_traversal_result<T> bvh_traverse(const bvh_view<T>& b, const bvh_ray<T>& r, T t_min, T t_max, bool any_hit,
                                             bvh_traversal_counts* counts) {
@@ -4527,13 +4589,14 @@ inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> 
                                   T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
   bvh_hit<T> h{false, T(0), ~0u, T(0), T(0), vec3<T>(T(0)), vec3<T>(T(0))};
   const bvh_ray<T> r = make_bvh_ray(origin, dir);
-  const detail::bvh_traversal_result<T> res = detail::bvh_traverse(b, r, t_min, t_max, false, counts);
+  const detail::bvh_traversal_result<T> res =
+      detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, false, counts);
   if (!res.hit) return h;
   // The winning triangle again, for its barycentrics: the same call gives the same t.
   const bvh_triangle<T> tri = b.triangles[res.slot];
   const bvh_triangle_hit<T> th = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, T(-1), res.t);
   h.hit = true;
-  h.t = res.t;
+  h.t = r.t_scale == T(1) ? res.t : res.t * T(0.25);
   h.triangle = tri.id;
   h.u = th.u;
   h.v = th.v;
@@ -4549,7 +4612,8 @@ inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> 
 template <class T>
 inline bool bvh_occluded(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
                          T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
-  return detail::bvh_traverse(b, make_bvh_ray(origin, dir), t_min, t_max, true, counts).hit;
+  const bvh_ray<T> r = make_bvh_ray(origin, dir);
+  return detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, true, counts).hit;
 }
 
 }  // namespace vplkit

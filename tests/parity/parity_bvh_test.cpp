@@ -26,6 +26,7 @@
 #include <parity_forward_error.hpp>
 #include <parity_harness.hpp>
 
+#include <bvh_gpu_model.hpp>
 #include <bvh_test_scenes.hpp>
 
 #include <vplkit/visibility/bvh_build.hpp>
@@ -280,8 +281,9 @@ struct parity_counts {
   std::uint32_t max_budget = 0;  // nodes + triangles of one query, the largest
 };
 
-void check_hits(const tri_mesh& m, const vplkit::bvh<float>& b, const std::vector<ray_case>& rays, const char* what,
-                parity_counts& pc) {
+// Returns what the GPU answered.
+std::vector<hit_result> check_hits(const tri_mesh& m, const vplkit::bvh<float>& b, const std::vector<ray_case>& rays,
+                                   const char* what, parity_counts& pc) {
   const gpu_bvh g(b);
   auto inputs = g.bindings();
   inputs.push_back(input(0, rays, "ray_case rays"));
@@ -352,6 +354,42 @@ void check_hits(const tri_mesh& m, const vplkit::bvh<float>& b, const std::vecto
   else
     VPLKIT_CHECK_PARITY(vplkit_test::compare_within_bounds(floats, float_bounds, describe_float,
                                                            std::string(what) + ": t, u, v, position, normal"));
+  return gpu;
+}
+
+// ---- huge divisors (bvh_ray.hpp, "Huge values") -------------------------------------------------
+// Rays from inside the room [-half, half]^3 aimed at triangle centroids (no edge or tie
+// ambiguity), their direction scaled so that its largest component lies in (2^126, FLT_MAX];
+// every seventh with a smaller component made denormal or zero; a third with t_max = 1 (the target).
+std::vector<ray_case> huge_direction_rays(random_source& rnd, const tri_mesh& m, int n, double half) {
+  std::vector<ray_case> rays;
+  const double two_126 = std::ldexp(1.0, 126);
+  for (int i = 0; i < n; ++i) {
+    const v3f o(rnd.point_in(v3d(-0.5 * half), v3d(0.5 * half)));
+    const std::size_t t = std::size_t(rnd.integer(0, int(m.triangle_count()) - 1));
+    const v3f target = (m.vertex(t, 0) + m.vertex(t, 1) + m.vertex(t, 2)) / 3.0f;
+    v3d dir = v3d(target) - v3d(o);
+    const double dm = std::fmax(std::fabs(dir.x), std::fmax(std::fabs(dir.y), std::fabs(dir.z)));
+    dir *= rnd.uniform(two_126 * 1.0000002, double(std::numeric_limits<float>::max())) / dm;
+    v3f d(dir);
+    if (i % 7 == 0) {
+      const int k = rnd.integer(0, 2);
+      if (std::fabs(d[k]) < float(two_126)) d[k] = i % 2 ? 1e-40f : 0.0f;
+    }
+    rays.push_back({f4(o, i % 3 == 0 ? 0.0f : -1.0f), f4(d, i % 3 == 0 ? 1.0f : flt_inf)});
+  }
+  return rays;
+}
+
+// The directions and normals of the unit-vector cases: largest component above 2^126, at it, with
+// denormal, zero and normal components beside it.
+std::vector<v3f> huge_vectors() {
+  const float big = std::numeric_limits<float>::max(), two_126 = std::ldexp(1.0f, 126),
+              two_127 = std::ldexp(1.0f, 127), above = std::nextafter(two_126, big);
+  return {v3f(big, big, big),           v3f(-big, 0.0f, 0.0f),          v3f(0.0f, 0.0f, big),
+          v3f(two_127, -two_126, 3.0f), v3f(above, 1.0f, 0.0f),         v3f(two_126, two_126, -two_126),
+          v3f(big, 1e-40f, -1.17549435e-38f), v3f(1.5f * two_127, 1e-45f, 1e20f), v3f(3e38f, -3e38f, 1e38f),
+          v3f(1e-40f, -two_127, 0.0f),  v3f(-1e38f, 2e38f, -0.5f * big)};
 }
 
 }  // namespace
@@ -599,4 +637,112 @@ vplkit_ray_hit vplkit_user_trace(vec3 x, vec3 n_x, vec3 dir) { return vplkit_bvh
   else
     VPLKIT_CHECK_PARITY(vplkit_test::compare_within_bounds(series<float>{gf, cf}, bounds, {},
                                                            "user visibility / tracer hooks: position, visible + 2 hit"));
+}
+
+TEST_CASE("bvh huge divisors: directions and normals from 2^126 to FLT_MAX, denormal and mixed components, det above 2^126") {
+  // GLSL bounds x / y only for |y| <= 2^126; NVIDIA divides as x * (1 / y) with the reciprocal
+  // flushed to 0 above, which turned such values into misses and NaN. The GPU is compared with the
+  // C++ as everywhere in this file, and the C++ run under the CPU model of that division
+  // (gpu_model_float.hpp, reciprocal_division_scope) is compared with the GPU: without the scaling
+  // of bvh_ray.hpp the model misses every ray below and its unit vectors are NaN.
+  random_source rnd(2126);
+  parity_counts pc;
+  series<std::uint32_t> model_answers;
+  series<float> model_t;
+  std::vector<std::string> model_rays;
+  const auto against_model = [&](const vplkit::bvh<float>& b, const std::vector<ray_case>& rays,
+                                 const std::vector<hit_result>& gpu) {
+    const vplkit_test::gpu_model_bvh mb(b);
+    const vplkit_test::reciprocal_division_scope nvidia;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const auto o = vplkit_test::to_gpu_model(xyz(rays[i].o_tmin)), d = vplkit_test::to_gpu_model(xyz(rays[i].d_tmax));
+      const bool ranged = rays[i].o_tmin.w >= 0.0f;
+      const vplkit_test::gpu_float t_min(ranged ? rays[i].o_tmin.w : 0.0f), t_max(ranged ? rays[i].d_tmax.w : flt_inf);
+      const auto h = vplkit::bvh_closest_hit(mb.view(), o, d, t_min, t_max);
+      const bool occ = vplkit::bvh_occluded(mb.view(), o, d, t_min, t_max);
+      model_answers.add(gpu[i].hit, h.hit ? 1u : 0u);
+      model_answers.add(gpu[i].triangle, h.triangle);
+      model_answers.add(gpu[i].occluded, occ ? 1u : 0u);
+      model_t.add(gpu[i].t, float(h.t));
+      model_rays.push_back("o " + show3(xyz(rays[i].o_tmin)) + " d " + show3(xyz(rays[i].d_tmax)));
+    }
+  };
+  {
+    // Half extent 2^20: inside the triangle test's range (bvh_ray.hpp: edge functions are
+    // quadratic in the coordinates), with t = distance / |dir| around 2^-107, still normal.
+    tri_mesh m;
+    m.box(v3d(0.0), v3d(std::ldexp(1.0, 20)), glm::dmat3(1.0), 3, true);
+    const auto b = build(m);
+    const auto rays = huge_direction_rays(rnd, m, 3000, std::ldexp(1.0, 20));
+    const auto gpu = check_hits(m, b, rays, "room of half extent 2^20, directions above 2^126", pc);
+    against_model(b, rays, gpu);
+  }
+  {
+    // Vertices (-S, -S, 1), (S, -S, 1), (0, S, 1), S = 1.5 * 2^62: det = -9 * 2^124 for rays along
+    // +z (t = 1, u = 1/4, v = 1/2 exactly from the origin), and of that size for the tilted ones.
+    const float s = 1.5f * std::ldexp(1.0f, 62);
+    tri_mesh m;
+    m.tri(v3f(-s, -s, 1.0f), v3f(s, -s, 1.0f), v3f(0.0f, s, 1.0f));
+    std::vector<ray_case> rays = {{f4(v3f(0.0f), 0.0f), f4(v3f(0.0f, 0.0f, 1.0f), flt_inf)},
+                                  {f4(v3f(0.0f, 0.0f, -std::ldexp(1.0f, 100)), -1.0f), f4(v3f(0.0f, 0.0f, std::ldexp(1.0f, 127)), flt_inf)}};
+    for (int i = 0; i < 200; ++i) {
+      const v3f o(float(rnd.uniform(-0.3, 0.3) * s), float(rnd.uniform(-0.3, 0.3) * s), float(rnd.uniform(-4.0, 0.5)));
+      v3f d(float(rnd.uniform(-0.1, 0.1) * s), float(rnd.uniform(-0.1, 0.1) * s), 1.0f);
+      if (i % 2) {  // largest component in (2^126, 2^128) too
+        const float dm = std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
+        d *= float(rnd.uniform(1.0000002, 3.99) * std::ldexp(1.0, 126) / double(dm));
+      }
+      rays.push_back({f4(o, i % 3 == 0 ? 0.0f : -1.0f), f4(d, i % 3 == 0 ? 10.0f : flt_inf)});
+    }
+    const auto b = build(m);
+    const auto gpu = check_hits(m, b, rays, "one triangle with det above 2^126", pc);
+    CHECK(gpu[0].hit == 1u);
+    CHECK(gpu[0].t == 1.0f);
+    against_model(b, rays, gpu);
+  }
+  std::cout << "  huge divisors: " << pc.rays << " rays, " << pc.hits << " hits\n";
+  CHECK(pc.hits > pc.rays * 3 / 4);
+  // Hits, triangles and occlusion exact (the rays keep clear of edges); t within the model's few
+  // roundings of 2.5 ulp.
+  VPLKIT_CHECK_PARITY(compare_exact(model_answers, [&](std::size_t k) { return model_rays[k / 3]; },
+                                    "GPU vs C++ under NVIDIA's division: hit, triangle, occluded"));
+  VPLKIT_CHECK_PARITY(compare_floats(model_t, within_rel(1e-5), [&](std::size_t k) { return model_rays[k]; },
+                                     "GPU vs C++ under NVIDIA's division: t"));
+
+  // Unit vectors (the normal of bvh_offset_point and of a hit): the GPU against the C++, and the
+  // C++ under NVIDIA's division against the double reference.
+  const std::vector<v3f> vs = huge_vectors();
+  std::vector<float4> in;
+  for (const v3f& v : vs) in.push_back(f4(v));
+  const auto gpu = run_compute<float4>(
+      per_item(R"(#include "vplkit/visibility/bvh_ray.glsl")", {input(0, in, "vec4 v")}, "vec4 result",
+               "  result[i] = vec4(vplkit_bvh_unit_vector(v[i].xyz), 0.0);"),
+      in.size());
+  series<float> unit_gpu;
+  series<float, double> unit_model;
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    const v3f c = vplkit::detail::bvh_unit_vector(vs[i]);
+    v3f model;
+    {
+      const vplkit_test::reciprocal_division_scope nvidia;
+      model = vplkit_test::of_gpu_model(vplkit::detail::bvh_unit_vector(vplkit_test::to_gpu_model(vs[i])));
+    }
+    const v3d d(vs[i]);
+    const double m = std::fmax(std::fabs(d.x), std::fmax(std::fabs(d.y), std::fabs(d.z)));
+    const v3d ref = (d / m) / std::sqrt(glm::dot(d / m, d / m));
+    for (int k = 0; k < 3; ++k) {
+      unit_gpu.add(gpu[i][k], c[k]);
+      unit_model.add(model[k], ref[k]);
+    }
+  }
+  const auto describe_v = [&](std::size_t k) { return "v = " + show3(vs[k / 3]); };
+  // Exact, but for a component below FLT_MIN ((2^126 + ulp, 1, 0) has one), which the [ftz-daz]
+  // reference flushes and llvmpipe keeps.
+  if (exact_device())
+    VPLKIT_CHECK_PARITY(compare_floats(unit_gpu, within_ulps(0) | within_abs(1.17549435e-38), describe_v,
+                                       "bvh_unit_vector: GPU vs C++"));
+  else  // two divisions and a square root of unit-sized values, on both sides
+    VPLKIT_CHECK_PARITY(compare_floats(unit_gpu, within_abs(1e-6), describe_v, "bvh_unit_vector: GPU vs C++"));
+  VPLKIT_CHECK_PARITY(compare_floats(unit_model, within_abs(1e-6), describe_v,
+                                     "bvh_unit_vector: C++ under NVIDIA's division vs double"));
 }

@@ -330,20 +330,6 @@ bool vpl_sample_faces(const vplkit::gather_point<float>& gp, const vplkit::vpl<f
   return cos2 > 0.0f && cos1 > 0.0f && vplkit::gather_point_above(gp, wd);
 }
 
-// The harness compiles one program per element count (VPLKIT_PARITY_COUNT is part of its source),
-// so every distinct number of replayed rays or pairs compiled the tracer or visibility kernel once
-// more: 16 runs of estimate_mis, 32 compiles. Padded to a power of two (at least 1024; the padding
-// replays point 0 and is not read back) a few sizes cover every run. Compile time dominates these
-// tests on a GPU (the NVIDIA H200 spent 37 s in estimate_mis) and on llvmpipe without its shader
-// cache.
-template <class T>
-std::vector<T> padded_to_power_of_two(std::vector<T> v, const T& filler) {
-  std::size_t n = 1024;
-  while (n < v.size()) n *= 2;
-  v.resize(n, filler);
-  return v;
-}
-
 // Gather points whose replayed rays, visibility queries or VPL-sample decisions differ between GPU
 // and CPU.
 std::set<std::size_t> flipped_points(const replay& r, const std::vector<named_point>& pts, float tol,
@@ -371,8 +357,8 @@ struct check_out { ivec4 t; vec4 value; };
     g = vplkit_trace_gathering_ray(load_view(), gp.position, gp.normal, dir, vplkit_make_voxel_tracer(load_grid()),
                                    fp.y);
   result[i] = check_out(ivec4(g.texel, g.lit ? 1 : 0, g.in_front ? 1 : 0, 0), vec4(g.radiance, 0.0));)"};
-    const auto rays = padded_to_power_of_two(r.rays, ray_check{0, 0.5f, 0.5f, 0});
-    const auto gpu = run_kernel<check_out>(k, rays.size(), p, pts, {input(9, rays, "ray_check rays")},
+    // One program for every run whatever its number of rays (the harness's count is a uniform).
+    const auto gpu = run_kernel<check_out>(k, r.rays.size(), p, pts, {input(9, r.rays, "ray_check rays")},
                                            "ray_check.comp", "check_out result");
     const vplkit::voxel_tracer<float> tracer{f.grid.view()};
     for (std::size_t i = 0; i < r.rays.size(); ++i) {
@@ -401,8 +387,7 @@ struct check_out { ivec4 t; vec4 value; };
   float cos1 = -dot(vplkit_unit_or_zero(v.normal), wd);
   bool faces = cos2 > 0.0 && cos1 > 0.0 && vplkit_gather_point_above(gp, wd);
   result[i] = check_out(ivec4(pairs[i].texel, vis ? 1 : 0, faces ? 1 : 0, 0), vec4(0.0));)"};
-    const auto pairs = padded_to_power_of_two(r.pairs, pair_check{0, 0, 0, 0});
-    const auto gpu = run_kernel<check_out>(k, pairs.size(), p, pts, {input(9, pairs, "pair_check pairs")},
+    const auto gpu = run_kernel<check_out>(k, r.pairs.size(), p, pts, {input(9, r.pairs, "pair_check pairs")},
                                            "pair_check.comp", "check_out result");
     const vplkit::voxel_visibility<float> vis{f.grid.view()};
     const vplkit::voxel_visibility_one_sided<float> vis1{f.grid.view()};

@@ -5,7 +5,9 @@
 
 #include "parity_harness.hpp"
 
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <iomanip>
 #include <limits>
@@ -16,6 +18,50 @@
 // Every test case runs its C++ reference in the mode the environment asked for (fp_mode.hpp); the
 // harness itself, the GL driver included, runs in IEEE mode (ieee_scope below).
 CATCH_REGISTER_LISTENER(reference_mode_listener)
+
+namespace vplkit::parity {
+
+namespace {
+
+// How many distinct kernel programs this process compiled through run_kernel, and the seconds
+// spent compiling them. A real GPU driver spends tens of seconds per distinct source on a cold
+// shader cache, so this count, not the dispatches, sets the parity suite's time there.
+struct compile_stats {
+  std::size_t programs = 0;
+  double seconds = 0;
+};
+compile_stats& stats() {
+  static compile_stats s;
+  return s;
+}
+
+// VPLKIT_PARITY_PROGRAM_LOG=1: one line per compiled program and a total at the end of the run.
+bool program_log() {
+  static const bool on = [] {
+    const char* v = std::getenv("VPLKIT_PARITY_PROGRAM_LOG");
+    return v != nullptr && *v != '\0' && std::strcmp(v, "0") != 0;
+  }();
+  return on;
+}
+
+class program_count_listener : public Catch::TestEventListenerBase {
+public:
+  using TestEventListenerBase::TestEventListenerBase;
+  void testRunEnded(Catch::TestRunStats const& run) override {
+    if (program_log()) {
+      std::cout << "parity: compiled " << stats().programs << " harness programs in " << std::fixed
+                << std::setprecision(2) << stats().seconds << " s" << std::endl;
+    }
+    TestEventListenerBase::testRunEnded(run);
+  }
+};
+
+}  // namespace
+
+}  // namespace vplkit::parity
+
+using program_count_listener = vplkit::parity::program_count_listener;
+CATCH_REGISTER_LISTENER(program_count_listener)
 
 namespace vplkit::parity {
 
@@ -105,8 +151,11 @@ kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_
   context();
   vplkit_test::ieee_scope ieee;
   check_call(call);
+  if (count > 0xFFFFFFFFu) throw std::invalid_argument("run_compute: " + call.name + ": more than 2^32 - 1 items");
+  // The count is a uniform, not part of the text: one program per kernel source, whatever the
+  // number of items of each call (a GPU driver compiles every distinct text anew).
   const std::string preamble =
-      "#define VPLKIT_PARITY_COUNT " + std::to_string(count) + "u\n" + call.defines +
+      "#define VPLKIT_PARITY_COUNT vplkit_parity_count\nuniform uint vplkit_parity_count;\n" + call.defines +
       (call.defines.empty() || call.defines.back() == '\n' ? "" : "\n") +
       "layout(local_size_x = " + std::to_string(call.local_size[0]) +
       ", local_size_y = " + std::to_string(call.local_size[1]) +
@@ -116,10 +165,18 @@ kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_
   auto& cache = program_cache();
   auto it = cache.find(key);
   if (it == cache.end()) {
+    const auto start = std::chrono::steady_clock::now();
     it = cache
              .emplace(key, gl::program::compute_with_includes(source, call.name,
                                                               {gl::glsl_source_dir()}, preamble))
              .first;
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++stats().programs;
+    stats().seconds += seconds;
+    if (program_log()) {
+      std::cout << "parity: compiled program " << stats().programs << " (" << call.name << ", " << std::fixed
+                << std::setprecision(3) << seconds << " s)" << std::endl;
+    }
   }
 
   // Inputs, outputs (0xFF-filled) and uniform blocks, each at its binding.
@@ -144,6 +201,13 @@ kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_
   std::array<unsigned, 3> groups = call.groups;
   if (groups[0] == 0 && groups[1] == 0 && groups[2] == 0) {
     groups = {gl::groups_for(count, static_cast<GLint>(call.local_size[0])), 1, 1};
+  }
+  // -1 where the kernel never reads the count (the compiler drops the uniform).
+  const GLint count_location = it->second.uniform_location("vplkit_parity_count");
+  if (count_location >= 0) {
+    it->second.use();
+    glUniform1ui(count_location, static_cast<GLuint>(count));
+    gl::check_gl("glUniform1ui(vplkit_parity_count)");
   }
   gl::dispatch(it->second, groups[0], groups[1], groups[2]);
   kernel_outputs result;

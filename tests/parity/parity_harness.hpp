@@ -13,10 +13,16 @@
 //   VPLKIT_CHECK_PARITY(compare_floats(gpu, cpu, within_ulps(2),
 //       [&](std::size_t i) { return "u = " + show(us[i]); }, "u * pi"));
 //
-// What the harness adds to the kernel, after its own #version 430 line: `#define
-// VPLKIT_PARITY_COUNT <count>u`, the call's `defines`, and `layout(local_size_x = ..) in;`; then
-// `source`; then the buffers and uniform blocks given a GLSL declaration; then, with `body`, a
-// main() that runs `body` once per item. Without `body`, `source` is the whole kernel. Includes
+// What the harness adds to the kernel, after its own #version 430 line: `uniform uint
+// vplkit_parity_count;` (the number of items, set before each dispatch) with `#define
+// VPLKIT_PARITY_COUNT vplkit_parity_count`, the call's `defines`, and `layout(local_size_x = ..)
+// in;`; then `source`; then the buffers and uniform blocks given a GLSL declaration; then, with
+// `body`, a main() that runs `body` once per item. Without `body`, `source` is the whole kernel
+// (it bounds its items with `if (i >= VPLKIT_PARITY_COUNT) return;`). The count is not a constant
+// expression (no array sizes from it): being a uniform, it keeps the text the same for every
+// count, so each kernel compiles once per process (a GPU driver spends tens of seconds on each
+// distinct text on a cold shader cache). VPLKIT_PARITY_PROGRAM_LOG=1 prints one line per program
+// compiled and the total at the end of the run. Includes
 // resolve against the pack root (VPLKIT_GLSL_SOURCE_DIR) with vplkit's include_resolver, so
 // compile errors name the pack file and line. Every output buffer starts filled with 0xFF bytes
 // (NaN floats, ~0u integers): an element the kernel never wrote fails.
@@ -166,7 +172,8 @@ public:
 };
 
 // Runs `call` over `count` items: the main output holds `count` elements of `out_element_size`
-// bytes. Programs are cached by their final source text, so repeating a call does not recompile.
+// bytes. Programs are cached by their final source text (which the count is not part of), so
+// repeating a call, with any count, does not recompile.
 kernel_outputs run_kernel(const kernel_call& call, std::size_t count, std::size_t out_element_size);
 
 template <class Out>

@@ -10,6 +10,11 @@
 // any GPU within the table, not only for llvmpipe, whose division and sqrt are correctly rounded.
 // Denormals: the MXCSR mode of the thread applies (run the model inside an fp_mode_scope(true) to
 // model a GPU that flushes).
+// Division through the reciprocal (reciprocal_division_scope): a / b computed as a * (1 / b) with
+// the reciprocal flushed to 0 when it is below FLT_MIN, i.e. for |b| > 2^126, as NVIDIA's GPUs
+// divide (an approximate reciprocal without denormal results, then a product). GLSL bounds
+// division only for |b| in [2^-126, 2^126], so this is conforming; it turns x / b with a huge b
+// into 0, and a quotient by such a 0 into 0 * inf = NaN: what a guard against huge divisors must prevent.
 //
 // The model (gpu_model_scope sets it for the thread):
 //   a / b          the correctly rounded quotient, then k ulps away, k in [-2, 2] (2.5 ulp from
@@ -34,6 +39,7 @@ enum class gpu_model_deviation { none, low, high, random };
 struct gpu_model_state {
   gpu_model_deviation deviation = gpu_model_deviation::none;
   std::uint64_t random = 0;  // splitmix64 state for gpu_model_deviation::random
+  bool reciprocal_division = false;  // a / b as a * flush(1 / b) (see the header)
 };
 
 inline gpu_model_state& gpu_model() {
@@ -54,6 +60,19 @@ public:
 
 private:
   gpu_model_state saved_;
+};
+
+// Division through a reciprocal that flushes below FLT_MIN, for its lifetime (the deviation
+// stays as it was).
+class reciprocal_division_scope {
+public:
+  reciprocal_division_scope() : saved_(gpu_model().reciprocal_division) { gpu_model().reciprocal_division = true; }
+  ~reciprocal_division_scope() { gpu_model().reciprocal_division = saved_; }
+  reciprocal_division_scope(const reciprocal_division_scope&) = delete;
+  reciprocal_division_scope& operator=(const reciprocal_division_scope&) = delete;
+
+private:
+  bool saved_;
 };
 
 inline const char* to_string(gpu_model_deviation d) {
@@ -95,6 +114,15 @@ inline float gpu_model_step(float x, int k) {
   return x;
 }
 
+// a / b under the thread's model: correctly rounded, or a * (1 / b) with the reciprocal flushed
+// to 0 below FLT_MIN (reciprocal_division_scope).
+inline float gpu_model_quotient(float a, float b) {
+  if (!gpu_model().reciprocal_division) return a / b;
+  float r = 1.0f / b;
+  if (std::fabs(r) < std::numeric_limits<float>::min()) r = std::copysign(0.0f, r);
+  return a * r;
+}
+
 }  // namespace detail
 
 struct gpu_float {
@@ -122,7 +150,7 @@ struct gpu_float {
   friend constexpr gpu_float operator-(gpu_float a, gpu_float b) { return a.v - b.v; }
   friend constexpr gpu_float operator*(gpu_float a, gpu_float b) { return a.v * b.v; }
   friend gpu_float operator/(gpu_float a, gpu_float b) {
-    return detail::gpu_model_step(a.v / b.v, detail::gpu_model_offset(2));
+    return detail::gpu_model_step(detail::gpu_model_quotient(a.v, b.v), detail::gpu_model_offset(2));
   }
   friend constexpr gpu_float operator-(gpu_float a) { return -a.v; }
   friend constexpr gpu_float operator+(gpu_float a) { return a; }

@@ -10,6 +10,11 @@
 // direction or a non-finite origin makes the ray invalid. A non-finite t is no hit, so overflow
 // (coordinates beyond about 2^42 from the origin: t is cubic in them) loses hits, never invents
 // them. See docs/api/bvh.md for the argument.
+// Huge values: GLSL bounds x / y only for |y| in [2^-126, 2^126], and NVIDIA divides as
+// x * (1 / y) with 1 / y flushed to 0 above 2^126; so, as in the C++, a direction whose largest
+// |component| exceeds 2^126 is stored scaled by 1/4 (t_scale = 4: the ray's parameter is 4 t),
+// vplkit_bvh_unit_vector scales its divisor alike and the triangle test divides by det / 4 when
+// |det| > 2^126. Powers of two: exact, and none fires where the divisor is at most 2^126.
 //
 // Parity: every value is `precise` and written in the C++ order (no FMA contraction, which
 // would break both watertightness and parity). With correctly rounded division (llvmpipe) the
@@ -26,10 +31,11 @@ const float vplkit_bvh_box_expansion = 1.00000095367431640625;
 
 struct vplkit_bvh_ray {
   vec3 origin;
-  vec3 dir;      // as given, with components below FLT_MIN set to 0
+  vec3 dir;      // as given (times 1 / t_scale), with components below FLT_MIN set to 0
   vec3 inv_dir;  // 1 / dir per component; 0 where dir is 0 (unused there)
   ivec3 k;       // Woop's permutation: k.z = the dominant axis of dir
   vec3 shear;    // (dir[k.x] / dir[k.z], dir[k.y] / dir[k.z], 1 / dir[k.z])
+  float t_scale; // 1, or 4 where the given direction was scaled by 1/4 (largest |component| > 2^126)
   bool valid;    // finite origin, finite non-zero dir
 };
 
@@ -50,21 +56,44 @@ bool vplkit_bvh_vec3_finite(vec3 v) {
   return vplkit_bvh_isfinite(v.x) && vplkit_bvh_isfinite(v.y) && vplkit_bvh_isfinite(v.z);
 }
 
-// v / |v| after scaling by the largest component; 0 for a non-finite v or one below FLT_MIN.
+// 2^126 (the C++ detail::bvh_division_limit).
+const float vplkit_bvh_division_limit = 8.5070591730234615865843651857942052864e37;
+
+// The largest |component| (the C++ detail::bvh_max_abs).
+float vplkit_bvh_max_abs(vec3 v) {
+  float ax = abs(v.x);
+  float ay = abs(v.y);
+  float az = abs(v.z);
+  float myz = ay < az ? az : ay;
+  return ax < myz ? myz : ax;
+}
+
+// v / |v| after scaling by the largest component (itself scaled by 1/4 above 2^126); 0 for a
+// non-finite v or one below FLT_MIN.
 vec3 vplkit_bvh_unit_vector(vec3 v) {
   if (!vplkit_bvh_vec3_finite(v)) return vec3(0.0);
-  float m = max(abs(v.x), max(abs(v.y), abs(v.z)));
+  precise float m = vplkit_bvh_max_abs(v);
   if (!(m >= vplkit_FLT_MIN)) return vec3(0.0);
-  precise vec3 s = v / m;
+  precise vec3 vs = v;
+  if (m > vplkit_bvh_division_limit) {
+    vs = vs * 0.25;
+    m = m * 0.25;
+  }
+  precise vec3 s = vs / m;
   precise float len = sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
   precise vec3 u = s / len;
   return u;
 }
 
 vplkit_bvh_ray vplkit_make_bvh_ray(vec3 origin, vec3 dir) {
-  vplkit_bvh_ray r = vplkit_bvh_ray(origin, vec3(0.0), vec3(0.0), ivec3(0, 1, 2), vec3(0.0), false);
+  vplkit_bvh_ray r = vplkit_bvh_ray(origin, vec3(0.0), vec3(0.0), ivec3(0, 1, 2), vec3(0.0), 1.0, false);
   if (!vplkit_bvh_vec3_finite(origin) || !vplkit_bvh_vec3_finite(dir)) return r;
-  vec3 d = dir;
+  precise vec3 d = dir;
+  // 1 / d and d / d[kz] need |d| <= 2^126: origin + t dir is origin + (4 t) (dir / 4).
+  if (vplkit_bvh_max_abs(d) > vplkit_bvh_division_limit) {
+    d = d * 0.25;
+    r.t_scale = 4.0;
+  }
   for (int a = 0; a < 3; ++a)
     if (abs(d[a]) < vplkit_FLT_MIN) d[a] = 0.0;
   vec3 ad = vec3(abs(d.x), abs(d.y), abs(d.z));
@@ -146,13 +175,25 @@ vplkit_bvh_triangle_hit vplkit_bvh_ray_triangle(vplkit_bvh_ray r, vec3 v0, vec3 
   precise float bz = r.shear.z * b[kz];
   precise float cz = r.shear.z * c[kz];
   precise float tn = eu * az + ev * bz + ew * cz;
+  // Quotients by det need |det| <= 2^126; the edge functions share det's sign here, so the
+  // scaled ones stay finite.
+  precise float su = eu;
+  precise float sv = ev;
+  precise float sw = ew;
+  if (abs(det) > vplkit_bvh_division_limit) {
+    det = det * 0.25;
+    tn = tn * 0.25;
+    su = su * 0.25;
+    sv = sv * 0.25;
+    sw = sw * 0.25;
+  }
   precise float t = tn / det;
   if (!vplkit_bvh_isfinite(t) || !(t > t_min) || !(t <= t_max)) return h;
   h.hit = true;
   h.t = t;
-  precise float u = ev / det;
-  precise float v = ew / det;
-  precise float w = eu / det;
+  precise float u = sv / det;
+  precise float v = sw / det;
+  precise float w = su / det;
   h.u = u;
   h.v = v;
   h.w = w;

@@ -44,7 +44,8 @@ float vplkit_bvh_infinity() {
   return uintBitsToFloat(0x7F800000u);
 }
 
-// The shared traversal of vplkit_bvh_closest_hit (any_hit false) and vplkit_bvh_occluded (true).
+// The shared traversal of vplkit_bvh_closest_hit (any_hit false) and vplkit_bvh_occluded (true);
+// t_min, t_max and the result's t in the ray's own parameter (r.t_scale times the caller's).
 vplkit_bvh_traversal_result vplkit_bvh_traverse(vplkit_bvh b, vplkit_bvh_ray r, float t_min, float t_max,
                                                 bool any_hit) {
   vplkit_bvh_traversal_result res = vplkit_bvh_traversal_result(false, 0u, t_max);
@@ -111,13 +112,16 @@ vplkit_bvh_traversal_result vplkit_bvh_traverse(vplkit_bvh b, vplkit_bvh_ray r, 
 vplkit_bvh_hit vplkit_bvh_closest_hit(vplkit_bvh b, vec3 origin, vec3 dir, float t_min, float t_max) {
   vplkit_bvh_hit h = vplkit_bvh_hit(false, 0.0, ~0u, 0.0, 0.0, vec3(0.0), vec3(0.0));
   vplkit_bvh_ray r = vplkit_make_bvh_ray(origin, dir);
-  vplkit_bvh_traversal_result res = vplkit_bvh_traverse(b, r, t_min, t_max, false);
+  precise float t_min_ray = t_min * r.t_scale;
+  precise float t_max_ray = t_max * r.t_scale;
+  vplkit_bvh_traversal_result res = vplkit_bvh_traverse(b, r, t_min_ray, t_max_ray, false);
   if (!res.hit) return h;
   // The winning triangle again, for its barycentrics: the same call gives the same t.
   vplkit_bvh_triangle tri = vplkit_load_bvh_triangle(res.slot);
   vplkit_bvh_triangle_hit th = vplkit_bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, -1.0, res.t);
   h.hit = true;
-  h.t = res.t;
+  precise float t_quarter = res.t * 0.25;
+  h.t = r.t_scale == 1.0 ? res.t : t_quarter;
   h.triangle = tri.id;
   h.u = th.u;
   h.v = th.v;
@@ -138,7 +142,10 @@ vplkit_bvh_hit vplkit_bvh_closest_hit(vplkit_bvh b, vec3 origin, vec3 dir) {
 // Does any triangle meet origin + t * dir for t in (t_min, t_max]? For the segment p -> q:
 // vplkit_bvh_occluded(b, p, q - p, 0.0, 1.0).
 bool vplkit_bvh_occluded(vplkit_bvh b, vec3 origin, vec3 dir, float t_min, float t_max) {
-  return vplkit_bvh_traverse(b, vplkit_make_bvh_ray(origin, dir), t_min, t_max, true).hit;
+  vplkit_bvh_ray r = vplkit_make_bvh_ray(origin, dir);
+  precise float t_min_ray = t_min * r.t_scale;
+  precise float t_max_ray = t_max * r.t_scale;
+  return vplkit_bvh_traverse(b, r, t_min_ray, t_max_ray, true).hit;
 }
 
 bool vplkit_bvh_occluded(vplkit_bvh b, vec3 origin, vec3 dir) {

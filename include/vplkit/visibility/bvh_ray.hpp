@@ -38,6 +38,15 @@
 // Direction components below FLT_MIN (1.17549435e-38, for T = double too) count as 0 because
 // GPUs flush denormals; a direction that is then zero, or a non-finite origin or direction,
 // makes the ray invalid (no hit).
+// Huge values: GLSL bounds x / y only for |y| in [2^-126, 2^126] (GLSL 4.60 4.7.1), and NVIDIA
+// computes it as x * (1 / y) with 1 / y flushed to 0 when |y| > 2^126. So nothing here divides by
+// a value that can exceed 2^126: a direction whose largest |component| is above 2^126 is stored
+// scaled by 1/4 (bvh_ray::t_scale = 4: the ray's own parameter is 4 t, and bvh_traverse.hpp scales
+// t_min, t_max and the hit's t accordingly), bvh_unit_vector scales its divisor the same way, and
+// the triangle test divides by det / 4 when |det| > 2^126. Every such scaling is by a power of two,
+// exact unless a value falls below FLT_MIN, and none fires where its divisor is at most 2^126, so
+// there the results are the unscaled ones bit for bit.
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/vector.hpp>
 
 #include <cmath>
@@ -48,21 +57,49 @@ namespace vplkit {
 
 namespace detail {
 
+// std::isfinite, or that of a float-like T found by argument-dependent lookup (the tests' GPU
+// model of float arithmetic, tests/support/gpu_model_float.hpp, runs these templates).
+template <class T>
+inline bool bvh_isfinite(T x) {
+  using std::isfinite;
+  return isfinite(x);
+}
+
 template <class T>
 inline bool bvh_vec3_finite(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  return bvh_isfinite(v.x) && bvh_isfinite(v.y) && bvh_isfinite(v.z);
+}
+
+// The largest |component| (v finite).
+template <class T>
+inline T bvh_max_abs(vec3<T> v) {
+  const T ax = abs_of(v.x), ay = abs_of(v.y), az = abs_of(v.z);
+  const T myz = ay < az ? az : ay;
+  return ax < myz ? myz : ax;
+}
+
+// 2^126: the largest divisor for which GLSL bounds a division (see the header).
+template <class T>
+constexpr T bvh_division_limit() {
+  return T(8.5070591730234615865843651857942052864e37);
 }
 
 // v / |v|, scaled by the largest component first (no overflow or underflow in the dot product);
 // 0 when v has a non-finite component or every component is below FLT_MIN (GPUs flush
-// denormals). Sums in glm's order, so the GLSL mirror rounds the same way.
+// denormals). Sums in glm's order, so the GLSL mirror rounds the same way. A largest component
+// above 2^126 is scaled by 1/4 first (exact), as in dda_unit_direction: v / m with m > 2^126 is
+// 0 * m = NaN on NVIDIA (1 / m flushes to 0, then s / |s| = 0 / 0).
 template <class T>
 inline vec3<T> bvh_unit_vector(vec3<T> v) {
   if (!bvh_vec3_finite(v)) return vec3<T>(T(0));
-  const T m = std::fmax(std::abs(v.x), std::fmax(std::abs(v.y), std::abs(v.z)));
+  T m = bvh_max_abs(v);
   if (!(m >= T(1.17549435e-38f))) return vec3<T>(T(0));
+  if (m > bvh_division_limit<T>()) {
+    v = v * T(0.25);
+    m = m * T(0.25);
+  }
   const vec3<T> s = v / m;
-  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
+  return s / sqrt_of(s.x * s.x + s.y * s.y + s.z * s.z);
 }
 
 }  // namespace detail
@@ -74,10 +111,11 @@ constexpr double bvh_box_expansion = 1.00000095367431640625;
 template <class T>
 struct bvh_ray {
   vec3<T> origin;
-  vec3<T> dir;      // as given, with components below FLT_MIN set to 0
+  vec3<T> dir;      // as given (times 1 / t_scale), with components below FLT_MIN set to 0
   vec3<T> inv_dir;  // 1 / dir per component; 0 where dir is 0 (unused there)
   ivec3 k;          // Woop's axis permutation: k.z = the dominant axis of dir, (k.x, k.y) the others
   vec3<T> shear;    // (dir[k.x] / dir[k.z], dir[k.y] / dir[k.z], 1 / dir[k.z])
+  T t_scale;        // 1, or 4 where the given direction was scaled by 1/4 (largest |component| > 2^126)
   bool valid;       // finite origin, finite non-zero dir
 };
 
@@ -89,13 +127,20 @@ inline bvh_ray<T> make_bvh_ray(vec3<T> origin, vec3<T> dir) {
   r.inv_dir = vec3<T>(T(0));
   r.k = ivec3(0, 1, 2);
   r.shear = vec3<T>(T(0));
+  r.t_scale = T(1);
   r.valid = false;
   if (!detail::bvh_vec3_finite(origin) || !detail::bvh_vec3_finite(dir)) return r;
   const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
   vec3<T> d = dir;
+  // 1 / d and d / d[kz] below need |d| <= 2^126 (see the header): origin + t dir is
+  // origin + (4 t) (dir / 4).
+  if (detail::bvh_max_abs(d) > detail::bvh_division_limit<T>()) {
+    d = d * T(0.25);
+    r.t_scale = T(4);
+  }
   for (int a = 0; a < 3; ++a)
-    if (std::abs(d[a]) < tiny) d[a] = T(0);
-  const vec3<T> ad(std::abs(d.x), std::abs(d.y), std::abs(d.z));
+    if (detail::abs_of(d[a]) < tiny) d[a] = T(0);
+  const vec3<T> ad(detail::abs_of(d.x), detail::abs_of(d.y), detail::abs_of(d.z));
   const int kz = ad.x >= ad.y ? (ad.x >= ad.z ? 0 : 2) : (ad.y >= ad.z ? 1 : 2);
   if (!(ad[kz] > T(0))) return r;
   int kx = kz + 1 == 3 ? 0 : kz + 1;
@@ -168,17 +213,27 @@ inline bvh_triangle_hit<T> bvh_ray_triangle(const bvh_ray<T>& r, vec3<T> v0, vec
   const T ev = ax * cy - ay * cx;  // edge function of (v2, v0): v1's weight
   const T ew = bx * ay - by * ax;  // edge function of (v0, v1): v2's weight
   if ((eu < T(0) || ev < T(0) || ew < T(0)) && (eu > T(0) || ev > T(0) || ew > T(0))) return h;
-  const T det = eu + ev + ew;
+  T det = eu + ev + ew;
   if (det == T(0)) return h;
   const T az = r.shear.z * a[kz], bz = r.shear.z * b[kz], cz = r.shear.z * c[kz];
-  const T tn = eu * az + ev * bz + ew * cz;
+  T tn = eu * az + ev * bz + ew * cz;
+  // Quotients by det need |det| <= 2^126 (see the header); the edge functions share det's sign
+  // here, so |eu|, |ev|, |ew| <= |det| and the scaled ones stay finite.
+  T su = eu, sv = ev, sw = ew;
+  if (detail::abs_of(det) > detail::bvh_division_limit<T>()) {
+    det = det * T(0.25);
+    tn = tn * T(0.25);
+    su = su * T(0.25);
+    sv = sv * T(0.25);
+    sw = sw * T(0.25);
+  }
   const T t = tn / det;
-  if (!std::isfinite(t) || !(t > t_min) || !(t <= t_max)) return h;
+  if (!detail::bvh_isfinite(t) || !(t > t_min) || !(t <= t_max)) return h;
   h.hit = true;
   h.t = t;
-  h.u = ev / det;
-  h.v = ew / det;
-  h.w = eu / det;
+  h.u = sv / det;
+  h.v = sw / det;
+  h.w = su / det;
   return h;
 }
 

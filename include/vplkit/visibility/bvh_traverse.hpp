@@ -20,6 +20,10 @@
 // loop runs at most node_count times; the leaf loop runs count <= bvh_max_leaf_size times per
 // leaf. One query therefore costs (nodes visited + triangles tested) iterations of the budget;
 // the parity test prints the largest count it met.
+// Scaled rays: where make_bvh_ray stored the direction scaled by 1/4 (a component above 2^126,
+// bvh_ray.hpp), the traversal runs in the ray's own parameter, t_scale * t: t_min and t_max are
+// multiplied by t_scale on the way in and the hit's t by 1/4 on the way out (powers of two,
+// exact unless the result leaves the normal range; t_scale = 1 changes nothing).
 // Stack: the builder (and validate_bvh) guarantee depth <= bvh_max_depth, so the stack cannot
 // overflow; the push is guarded anyway, so a corrupt hierarchy loses nodes instead of writing
 // out of bounds.
@@ -59,7 +63,8 @@ struct bvh_traversal_result {
   T t;
 };
 
-// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true).
+// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true). t_min,
+// t_max and the result's t are in the ray's own parameter (bvh_ray::t_scale times the caller's).
 template <class T>
 inline bvh_traversal_result<T> bvh_traverse(const bvh_view<T>& b, const bvh_ray<T>& r, T t_min, T t_max, bool any_hit,
                                             bvh_traversal_counts* counts) {
@@ -132,13 +137,14 @@ inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> 
                                   T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
   bvh_hit<T> h{false, T(0), ~0u, T(0), T(0), vec3<T>(T(0)), vec3<T>(T(0))};
   const bvh_ray<T> r = make_bvh_ray(origin, dir);
-  const detail::bvh_traversal_result<T> res = detail::bvh_traverse(b, r, t_min, t_max, false, counts);
+  const detail::bvh_traversal_result<T> res =
+      detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, false, counts);
   if (!res.hit) return h;
   // The winning triangle again, for its barycentrics: the same call gives the same t.
   const bvh_triangle<T> tri = b.triangles[res.slot];
   const bvh_triangle_hit<T> th = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, T(-1), res.t);
   h.hit = true;
-  h.t = res.t;
+  h.t = r.t_scale == T(1) ? res.t : res.t * T(0.25);
   h.triangle = tri.id;
   h.u = th.u;
   h.v = th.v;
@@ -154,7 +160,8 @@ inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> 
 template <class T>
 inline bool bvh_occluded(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
                          T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
-  return detail::bvh_traverse(b, make_bvh_ray(origin, dir), t_min, t_max, true, counts).hit;
+  const bvh_ray<T> r = make_bvh_ray(origin, dir);
+  return detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, true, counts).hit;
 }
 
 }  // namespace vplkit

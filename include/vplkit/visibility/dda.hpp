@@ -40,6 +40,7 @@
 // - The loop runs at most nx + ny + nz iterations (a ray visits at most nx + ny + nz - 2 voxels).
 // - The reported t is kept non-decreasing (t = max(t, t_next)) so rounding at the entry voxel
 //   cannot make it go backwards.
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 
@@ -59,10 +60,13 @@ struct dda_hit {
 // (see the header).
 template <class T>
 inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
+  using std::isfinite;  // or a float-like T's own (the tests' GPU model, gpu_model_float.hpp)
   out = vec3<T>(T(0));
-  if (!std::isfinite(dir.x) || !std::isfinite(dir.y) || !std::isfinite(dir.z)) return false;
+  if (!isfinite(dir.x) || !isfinite(dir.y) || !isfinite(dir.z)) return false;
   const T tiny = T(1.17549435e-38f);  // FLT_MIN, for T = double too (parity with the GPU)
-  const T m = std::fmax(std::abs(dir.x), std::fmax(std::abs(dir.y), std::abs(dir.z)));
+  const T ax = detail::abs_of(dir.x), ay = detail::abs_of(dir.y), az = detail::abs_of(dir.z);
+  const T myz = ay < az ? az : ay;
+  const T m = ax < myz ? myz : ax;  // fmax of the finite |components|
   if (!(m >= tiny)) return false;
   // GLSL bounds division only for divisors in [2^-126, 2^126] (4.7.1): beyond, a GPU may compute
   // x / m as x * (1 / m) with 1 / m flushed to 0 (NVIDIA: a direction of FLT_MAX became NaN).
@@ -74,9 +78,9 @@ inline bool dda_unit_direction(vec3<T> dir, vec3<T>& out) {
     ms = ms * T(0.25);
   }
   vec3<T> d = s / ms;
-  d = d / std::sqrt(glm::dot(d, d));  // dot(d, d) in [1, 3]: no underflow, no overflow
+  d = d / detail::sqrt_of(glm::dot(d, d));  // dot(d, d) in [1, 3]: no underflow, no overflow
   for (int a = 0; a < 3; ++a)
-    if (std::abs(d[a]) < tiny) d[a] = T(0);
+    if (detail::abs_of(d[a]) < tiny) d[a] = T(0);
   out = d;
   return true;
 }
