@@ -20,7 +20,6 @@
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/direct_light.hpp>
-#include <vplkit/vpl/dprsm_planes.hpp>
 
 #include <glm/common.hpp>
 
@@ -71,20 +70,11 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
                          const progress_fn& progress) {
   const cpu_frame f = open_cpu_frame(b, s);
   const vplkit::gbuffer_view<float>& g = f.g;
+  const vplkit::dprsm_view<float>& view = f.view;
   const int threads = f.threads, W = f.W, H = f.H;
   render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
-  // Patch VPLs read their neighbours' planes from the DPRSM's plane records (the values they would
-  // compute per sample, built once; vplkit/vpl/dprsm_planes.hpp).
-  const bool with_planes = traits(s.meth).uses_vpls && s.vpl_mode == vpl_mode_choice::patch && s.dprsm_planes;
-  const std::vector<vplkit::dprsm_plane<float>> planes = [&] {
-    if (!with_planes) return std::vector<vplkit::dprsm_plane<float>>();
-    auto t = timer.scoped("dprsm planes (cpu)");
-    return vplkit::build_dprsm_planes(f.view);
-  }();
-  vplkit::dprsm_view<float> view = f.view;
-  if (with_planes) view.planes = planes.data();
   det["threads"] = threads;
   det["dmin"] = s.dmin;
 
