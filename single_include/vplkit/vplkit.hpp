@@ -5316,7 +5316,64 @@ inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> 
 // Non-owning view of a Dual Paraboloid Reflective Shadow Map: what every builder and estimator
 // reads. Three arrays of texel_count(R) = 2 R^2 entries indexed as in paraboloid/texel_grid.hpp
 // (index = face * R * R + y * R + x). A texel that saw no geometry has albedo 0 (and any finite
-// position and normal, conventionally 0).
+// position and normal, conventionally 0). Optionally a fourth array, the texels' plane records
+// (dprsm_plane.hpp, built by build_dprsm_planes for this light), that plane_at reads instead of
+// computing them.
+// ---- begin vplkit/vpl/dprsm_plane.hpp ----
+// The plane record of a DPRSM texel: what the patch-sampled VPLs (dprsm_patch.hpp) need of a
+// texel's plane, in one 16-byte record so that a GPU reads it with one vector load. The plane is
+// the one through the texel's point y_t with its unit normal n_u = unit_or_zero(n_t); its height
+// over the light c is h = n_u . (c - y_t) (a plane point along the unit light direction w lies at
+// h / (-n_u . w)). The record is
+//   {n_u, +h}  a valid texel that saw a surface (albedo != 0) and faces the light (h > 0): its
+//              plane can hide a neighbour's plane points (dprsm_patch_point_hidden);
+//   {n_u, -h}  the same plane of a texel that saw nothing (albedo 0): it hides nothing, but its
+//              own patch keeps its plane (|height| = h), as the direct computation does;
+//   {0, 0}     an invalid texel (outside its face's disk), or h not > 0 (facing away, the light
+//              on the plane, a zero or non-finite normal, non-finite h): no plane at all.
+// So `height > 0` is exactly the hidden test's "this neighbour has a plane that can hide", and
+// |height| with normal is exactly what dprsm_patch_vpl computes for its own texel when h > 0. The
+// values are the direct computation's own expressions (unit_or_zero, glm::dot in x, y, z order),
+// so a record and the direct path give the same bits in C++; the GLSL mirror computes h with
+// `precise` in that order (dprsm_plane.glsl says why).
+//
+// Records depend on the light position: build them for the light of the view that reads them
+// (build_dprsm_planes, dprsm_view::planes).
+
+#include <cmath>
+
+namespace vplkit {
+
+// std430 vec4: xyz the unit normal n_u, w the signed height (see above). 16 bytes for T = float.
+template <class T>
+struct dprsm_plane {
+  vec3<T> normal{T(0)};
+  T height = T(0);
+};
+
+// The record of a texel at y with normal n (any length) and albedo rho, `valid` as texel_is_valid,
+// for the light at c.
+template <class T>
+inline dprsm_plane<T> dprsm_plane_of(vec3<T> c, bool valid, vec3<T> y, vec3<T> n, vec3<T> rho) {
+  dprsm_plane<T> p;
+  if (!valid) return p;
+  const vec3<T> n_u = unit_or_zero(n);
+  const T h = glm::dot(n_u, c - y);
+  if (!(h > T(0))) return p;
+  const bool saw_surface = rho.x > T(0) || rho.y > T(0) || rho.z > T(0);
+  p.normal = n_u;
+  p.height = saw_surface ? h : -h;
+  return p;
+}
+
+// Can this plane hide a neighbour's plane points (valid, saw a surface, faces the light)?
+template <class T>
+inline bool dprsm_plane_can_hide(const dprsm_plane<T>& p) {
+  return p.height > T(0);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/vpl/dprsm_plane.hpp ----
 
 #include <cmath>
 #include <string>
@@ -5351,6 +5408,9 @@ struct dprsm_view {
   const vec3<T>* normal = nullptr;
   const vec3<T>* albedo = nullptr;
   point_light<T> light{};
+  // Optional: the plane records of these texels for this light (build_dprsm_planes); null: plane_at
+  // computes them. Not checked by validate(): rebuild them whenever the arrays or the light change.
+  const dprsm_plane<T>* planes = nullptr;
 
   int texel_count() const { return vplkit::texel_count(resolution); }
 
@@ -5377,6 +5437,13 @@ struct dprsm_view {
     v.flux = vpl_flux(albedo[index], light.intensity, solid_angle(index));
     if (!(vpl_cos_alpha(light.position, v.position, v.normal) > T(0))) v.flux = vec3<T>(T(0));
     return v;
+  }
+
+  // The plane record of texel `index` (0 <= index < texel_count(); not checked): planes[index], or
+  // dprsm_plane_of computed from the arrays (the same value).
+  dprsm_plane<T> plane_at(int index) const {
+    if (planes != nullptr) return planes[index];
+    return dprsm_plane_of(light.position, texel_valid(index), position[index], normal[index], albedo[index]);
   }
 
   // Texel through which the light sees world direction `dir` (any length): the valid texel that
@@ -5673,16 +5740,16 @@ inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> u
   const vec2<T> centre = texel_center_uv<T>(xy.x, xy.y, R);
   const int dx = uv.x < centre.x ? -1 : 1, dy = uv.y < centre.y ? -1 : 1;
   const ivec2 near[3] = {ivec2(xy.x + dx, xy.y), ivec2(xy.x, xy.y + dy), ivec2(xy.x + dx, xy.y + dy)};
-  const vec3<T> c = view.light.position;
+  const int face = texel_face(t, R);
   for (const ivec2 q : near) {
-    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R || !texel_is_valid(q.x, q.y, R)) continue;
-    const int u = texel_index(texel_face(t, R), q.x, q.y, R);
-    const vec3<T> rho = view.albedo[u];
-    if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) continue;
-    const vec3<T> n_u = unit_or_zero(view.normal[u]);
-    const T h_u = glm::dot(n_u, c - view.position[u]);
-    const T cos_u = -glm::dot(n_u, w);
-    if (!(h_u > T(0)) || !(cos_u > dprsm_plane_min_cos<T>())) continue;
+    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R) continue;
+    // The neighbour's plane record (dprsm_plane.hpp): height > 0 exactly when it is valid, saw a
+    // surface and faces the light, with n_u and h_u the values computed here before the records.
+    const dprsm_plane<T> p = view.plane_at(texel_index(face, q.x, q.y, R));
+    if (!dprsm_plane_can_hide(p)) continue;
+    const T h_u = p.height;
+    const T cos_u = -glm::dot(p.normal, w);
+    if (!(cos_u > dprsm_plane_min_cos<T>())) continue;
     if (d1 * cos_u > h_u * (T(1) + dprsm_patch_hidden_margin<T>())) return true;  // d1 > d_u (1 + margin)
   }
   return false;
@@ -5692,12 +5759,14 @@ inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> u
 // to the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter
 // decides it from uv: the plane point of t in that direction, hidden by a neighbour's plane. For a
 // gathering hit y in texel t (MIS, the clamp compensation).
+// t must be a valid texel (texel_of_direction gives one): the plane comes from its record.
 template <class T>
 inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
   const vec3<T> c = view.light.position;
   const vec3<T> w = unit_or_zero(y - c);
-  const vec3<T> n = unit_or_zero(view.normal[t]);
-  const T h = glm::dot(n, c - view.position[t]);
+  const dprsm_plane<T> plane = view.plane_at(t);  // n = unit_or_zero(n_t), h = n . (c - y_t) where h > 0
+  const vec3<T> n = plane.normal;
+  const T h = std::abs(plane.height);
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return false;
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
@@ -5724,12 +5793,14 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
   if (block.nx * block.ny != 1 && texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
-  const vec3<T> n = unit_or_zero(n_t);
   const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
   // Every point of the plane has the same height h = n . (c - y) over it; along w the plane lies
   // at the distance h / cos(alpha). cos(alpha) <= 0: the ray runs parallel to the plane or away
-  // from it (it would meet it behind the light).
-  const T h = glm::dot(n, c - y_t);
+  // from it (it would meet it behind the light). n = unit_or_zero(n_t) and h come from the texel's
+  // plane record (|height|: a texel without albedo keeps its plane; no plane: h = 0, rejected).
+  const dprsm_plane<T> plane = view.plane_at(t);
+  const vec3<T> n = plane.normal;
+  const T h = std::abs(plane.height);
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return s;
   const T d1 = h / cos_a;

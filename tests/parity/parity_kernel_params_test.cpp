@@ -13,6 +13,7 @@
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/share_tree_build_params.h>
 #include <vplkit/image/median_fill_params.h>
+#include <vplkit/vpl/dprsm_planes_params.h>
 #include <vplkit/visibility/prefix_sum_params.h>
 #include <vplkit/visibility/voxelize_params.h>
 #include <vplkit/vpl/light_params.h>
@@ -122,6 +123,14 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
                           VPLKIT_MEMBER(fin, pad2), VPLKIT_MEMBER(fin, pad3)})
     gf.push_back(m);
   check_block("vplkit/builders/gbg_finish.comp", "vplkit_gbg_finish_uniforms", "vplkit_gbg_finish", sizeof(fin), gf);
+
+  using planes = gpu::dprsm_planes_params;
+  std::vector<member> dpl = light_members("light.", offsetof(planes, light));
+  for (const member& m : {VPLKIT_MEMBER(planes, resolution), VPLKIT_MEMBER(planes, pad0), VPLKIT_MEMBER(planes, pad1),
+                          VPLKIT_MEMBER(planes, pad2)})
+    dpl.push_back(m);
+  check_block("vplkit/vpl/dprsm_planes.comp", "vplkit_dprsm_planes_uniforms", "vplkit_dprsm_planes", sizeof(planes),
+              dpl);
 
   check_block("vplkit/distribution/cdf_build.comp", "vplkit_cdf_build_uniforms", "vplkit_cdf_build",
               sizeof(gpu::cdf_build_params),

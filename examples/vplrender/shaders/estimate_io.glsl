@@ -25,6 +25,9 @@ layout(local_size_x = VR_ESTIMATE_LOCAL_SIZE) in;
 layout(std140, binding = VR_ESTIMATE_BINDING_PARAMS) uniform VrEstimateParams { vr_estimate_params vr_params; };
 layout(std430, binding = VR_ESTIMATE_BINDING_GBUFFER) restrict readonly buffer VrGbuffer { vr_surfel vr_gbuffer[]; };
 layout(std430, binding = VR_ESTIMATE_BINDING_DPRSM) restrict readonly buffer VrDprsm { vr_surfel vr_dprsm[]; };
+#if VR_DPRSM_PLANES
+layout(std430, binding = VR_ESTIMATE_BINDING_DPRSM_PLANES) restrict readonly buffer VrDprsmPlanes { vec4 vr_dprsm_planes[]; };
+#endif
 layout(std430, binding = VR_ESTIMATE_BINDING_OUT) restrict writeonly buffer VrOut { vec4 vr_out[]; };
 #if VR_SPLIT
 layout(std430, binding = VR_ESTIMATE_BINDING_STATE) restrict buffer VrState { vr_pixel_state vr_states[]; };
@@ -37,6 +40,11 @@ vplkit_gather_point vplkit_load_gather_point(int pixel) {
 vec3 vplkit_load_dprsm_position(int texel) { return vr_dprsm[texel].position.xyz; }
 vec3 vplkit_load_dprsm_normal(int texel) { return vr_dprsm[texel].normal.xyz; }
 vec3 vplkit_load_dprsm_albedo(int texel) { return vr_dprsm[texel].albedo.xyz; }
+// The texel's plane record (estimate_params.h defines VPLKIT_DPRSM_PLANE_ACCESSOR): 16 bytes, once
+// per neighbour of the patch sampler's hidden test instead of 3 x 16 bytes and a normalisation.
+#if VR_DPRSM_PLANES
+vec4 vplkit_load_dprsm_plane(int texel) { return vr_dprsm_planes[texel]; }
+#endif
 
 // The pixel of this invocation (flat index; groups spread over y past the x limit, as
 // vplkit::gl::dispatch_linear lays them out), and whether it lies in the image.

@@ -14,6 +14,19 @@
 #ifndef VPLRENDER_ESTIMATE_PARAMS_H
 #define VPLRENDER_ESTIMATE_PARAMS_H
 
+// VR_DPRSM_PLANES: 1 (default) the kernels read the DPRSM's plane records (binding
+// VR_ESTIMATE_BINDING_DPRSM_PLANES; render/gpu/gpu_dprsm_planes.hpp) through the pack's optional
+// accessor, defined here before light_params.h first includes dprsm_view.glsl; 0 the pack computes
+// each record from the three surfel vectors (render_settings::dprsm_planes = false). Same values.
+#ifndef __cplusplus
+#ifndef VR_DPRSM_PLANES
+#define VR_DPRSM_PLANES 1
+#endif
+#if VR_DPRSM_PLANES
+#define VPLKIT_DPRSM_PLANE_ACCESSOR
+#endif
+#endif
+
 #include "vplkit/core/params.h"
 #include "vplkit/vpl/light_params.h"
 
@@ -37,6 +50,7 @@
 #define VR_ESTIMATE_BINDING_VOXEL_ENTRIES 15        // SSBO, readonly: uint entries[]
 #define VR_ESTIMATE_BINDING_VOXEL_TRIANGLES 16      // SSBO, readonly: vec4 triangles[] (4 per triangle)
 #define VR_ESTIMATE_BINDING_PARAMS 17               // uniform block: vr_estimate_params
+#define VR_ESTIMATE_BINDING_DPRSM_PLANES 18         // SSBO, readonly: vec4 planes[2 R^2] (vplkit/vpl/dprsm_plane.glsl)
 #define VR_ESTIMATE_LOCAL_SIZE 64                   // invocations per work group, one per pixel
 
 // ---- specialisation defines (the host writes each into the kernel's preamble) --------------------

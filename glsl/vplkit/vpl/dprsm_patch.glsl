@@ -12,7 +12,8 @@
 // (at_centre; the C++ header says why).
 //
 // ACCESSORS used (declared in dprsm_view.glsl, defined by the including shader): position, normal
-// and albedo.
+// and albedo; the plane record too with VPLKIT_DPRSM_PLANE_ACCESSOR (then a neighbour costs one
+// vec4 load instead of three and a normalisation).
 #ifndef VPLKIT_VPL_DPRSM_PATCH_GLSL
 #define VPLKIT_VPL_DPRSM_PATCH_GLSL
 
@@ -21,6 +22,7 @@
 #include "vplkit/paraboloid/paraboloid.glsl"
 #include "vplkit/paraboloid/texel_grid.glsl"
 #include "vplkit/vpl/dprsm_lookup.glsl"
+#include "vplkit/vpl/dprsm_plane.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
@@ -50,17 +52,17 @@ bool vplkit_dprsm_patch_point_hidden(vplkit_dprsm_view view, int t, vec2 uv, vec
   vec2 centre = vplkit_texel_center_uv(xy.x, xy.y, R);
   int dx = uv.x < centre.x ? -1 : 1, dy = uv.y < centre.y ? -1 : 1;
   ivec2 near[3] = ivec2[3](ivec2(xy.x + dx, xy.y), ivec2(xy.x, xy.y + dy), ivec2(xy.x + dx, xy.y + dy));
-  vec3 c = view.light.position;
+  int face = vplkit_texel_face(t, R);
   for (int k = 0; k < 3; ++k) {
     ivec2 q = near[k];
-    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R || !vplkit_texel_is_valid(q.x, q.y, R)) continue;
-    int u = vplkit_texel_index(vplkit_texel_face(t, R), q.x, q.y, R);
-    vec3 rho = vplkit_load_dprsm_albedo(u);
-    if (!(rho.x > 0.0 || rho.y > 0.0 || rho.z > 0.0)) continue;
-    vec3 n_u = vplkit_unit_or_zero(vplkit_load_dprsm_normal(u));
-    float h_u = dot(n_u, c - vplkit_load_dprsm_position(u));
-    float cos_u = -dot(n_u, w);
-    if (!(h_u > 0.0) || !(cos_u > vplkit_dprsm_plane_min_cos)) continue;
+    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R) continue;
+    // The neighbour's plane record (dprsm_plane.glsl): w > 0 exactly when it is valid, saw a
+    // surface and faces the light; one vec4 load with VPLKIT_DPRSM_PLANE_ACCESSOR.
+    vec4 p = vplkit_dprsm_view_plane_at(view, vplkit_texel_index(face, q.x, q.y, R));
+    if (!vplkit_dprsm_plane_can_hide(p)) continue;
+    float h_u = p.w;
+    float cos_u = -dot(p.xyz, w);
+    if (!(cos_u > vplkit_dprsm_plane_min_cos)) continue;
     precise float lhs = d1 * cos_u;
     precise float rhs = h_u * (1.0 + vplkit_dprsm_patch_hidden_margin);
     if (lhs > rhs) return true;  // d1 > d_u (1 + margin)
@@ -71,11 +73,13 @@ bool vplkit_dprsm_patch_point_hidden(vplkit_dprsm_view view, int t, vec2 uv, vec
 // Does the light direction towards the surface point y fall where texel t's patch moves its points
 // to the centre (vplkit_dprsm_patch_vpl, at_centre)? Decided from y's direction alone (MIS, the
 // clamp compensation).
+// t must be a valid texel (texel_of_direction gives one): the plane comes from its record.
 bool vplkit_dprsm_patch_direction_at_centre(vplkit_dprsm_view view, int t, vec3 y) {
   vec3 c = view.light.position;
   vec3 w = vplkit_unit_or_zero(y - c);
-  vec3 n = vplkit_unit_or_zero(vplkit_load_dprsm_normal(t));
-  float h = dot(n, c - vplkit_load_dprsm_position(t));
+  vec4 plane = vplkit_dprsm_view_plane_at(view, t);
+  vec3 n = plane.xyz;
+  float h = abs(plane.w);
   float cos_a = -dot(n, w);
   if (!(h > 0.0) || !(cos_a > 0.0)) return false;
   vplkit_paraboloid_point q = vplkit_paraboloid_from_direction(vplkit_light_frame_to_light(view.light.frame, w));
@@ -97,11 +101,13 @@ vplkit_dprsm_patch_sample vplkit_dprsm_patch_vpl(vplkit_dprsm_view view, int t, 
   if (!(dot(s.uv, s.uv) <= 1.0)) return s;  // beyond the rim: the other face's directions
   if (block.nx * block.ny != 1 && vplkit_texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vplkit_vpl_cos_alpha(c, y_t, n_t) > 0.0)) return s;  // as vpl_at: the texel's surface is unlit
-  vec3 n = vplkit_unit_or_zero(n_t);
   vec3 w = vplkit_light_frame_to_world(view.light.frame,
                                        vplkit_paraboloid_to_direction(vplkit_texel_face(t, R), s.uv));
   // The plane's height over the light is the same at every point; along w it lies at h / cos(alpha).
-  float h = dot(n, c - y_t);
+  // n and h from the texel's plane record (|w|: a texel without albedo keeps its plane).
+  vec4 plane = vplkit_dprsm_view_plane_at(view, t);
+  vec3 n = plane.xyz;
+  float h = abs(plane.w);
   float cos_a = -dot(n, w);
   if (!(h > 0.0) || !(cos_a > 0.0)) return s;
   float d1 = h / cos_a;

@@ -10,10 +10,17 @@
 // A shader only has to define the accessors that the functions it calls use:
 //   vplkit_dprsm_view_vpl_at and vplkit_dprsm_lookup (dprsm_lookup.glsl): all three; everything
 //   else: none. (In std430 an array of vec3 has a 16-byte stride: store vec4.)
+// Optional, with VPLKIT_DPRSM_PLANE_ACCESSOR defined before this file is first included:
+//   vec4 vplkit_load_dprsm_plane(int texel);     // the texel's plane record (dprsm_plane.glsl),
+//                                                // built for this light by dprsm_planes.comp
+// vplkit_dprsm_view_plane_at then reads it (one 16-byte load) instead of computing the record from
+// the three accessors and a normalisation (the default, the same value); the patch-sampled VPLs
+// (dprsm_patch.glsl) read a neighbour's plane through it.
 //
 // The C++ view's pointers become the accessors; what is left is a small struct passed by value:
 //   dprsm_view<float>{resolution, ..., light}  <-> vplkit_dprsm_view{resolution, light}
 //   view.vpl_at(i)                             <-> vplkit_dprsm_view_vpl_at(view, i)  (etc.)
+//   view.planes (null or not)                  <-> VPLKIT_DPRSM_PLANE_ACCESSOR (undefined or defined)
 //   point_light<float>{position, intensity, frame} <-> vplkit_point_light
 //   make_point_light(p, I, axis)               <-> vplkit_make_point_light(p, I, axis)
 // validate() / validate_light() are host-side (they throw); upload only validated views.
@@ -23,11 +30,15 @@
 #include "vplkit/paraboloid/light_frame.glsl"
 #include "vplkit/paraboloid/paraboloid.glsl"
 #include "vplkit/paraboloid/texel_grid.glsl"
+#include "vplkit/vpl/dprsm_plane.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
 vec3 vplkit_load_dprsm_position(int texel);
 vec3 vplkit_load_dprsm_normal(int texel);
 vec3 vplkit_load_dprsm_albedo(int texel);
+#ifdef VPLKIT_DPRSM_PLANE_ACCESSOR
+vec4 vplkit_load_dprsm_plane(int texel);
+#endif
 
 struct vplkit_point_light {
   vec3 position;             // c (world); must equal frame.position
@@ -72,6 +83,18 @@ vplkit_vpl vplkit_dprsm_view_vpl_at(vplkit_dprsm_view view, int index) {
                            vplkit_dprsm_view_solid_angle(view, index));
   if (!(vplkit_vpl_cos_alpha(view.light.position, v.position, v.normal) > 0.0)) v.flux = vec3(0.0);
   return v;
+}
+
+// The plane record of texel `index` (0 <= index < texel count; not checked): the accessor's with
+// VPLKIT_DPRSM_PLANE_ACCESSOR, else vplkit_dprsm_plane_of computed from the three accessors.
+vec4 vplkit_dprsm_view_plane_at(vplkit_dprsm_view view, int index) {
+#ifdef VPLKIT_DPRSM_PLANE_ACCESSOR
+  return vplkit_load_dprsm_plane(index);
+#else
+  return vplkit_dprsm_plane_of(view.light.position, vplkit_dprsm_view_texel_valid(view, index),
+                               vplkit_load_dprsm_position(index), vplkit_load_dprsm_normal(index),
+                               vplkit_load_dprsm_albedo(index));
+#endif
 }
 
 // Texel through which the light sees world direction `dir` (any length): the valid texel that

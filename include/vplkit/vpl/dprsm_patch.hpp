@@ -36,6 +36,7 @@
 #include <vplkit/paraboloid/paraboloid.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/vpl/dprsm_lookup.hpp>
+#include <vplkit/vpl/dprsm_plane.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
@@ -78,16 +79,16 @@ inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> u
   const vec2<T> centre = texel_center_uv<T>(xy.x, xy.y, R);
   const int dx = uv.x < centre.x ? -1 : 1, dy = uv.y < centre.y ? -1 : 1;
   const ivec2 near[3] = {ivec2(xy.x + dx, xy.y), ivec2(xy.x, xy.y + dy), ivec2(xy.x + dx, xy.y + dy)};
-  const vec3<T> c = view.light.position;
+  const int face = texel_face(t, R);
   for (const ivec2 q : near) {
-    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R || !texel_is_valid(q.x, q.y, R)) continue;
-    const int u = texel_index(texel_face(t, R), q.x, q.y, R);
-    const vec3<T> rho = view.albedo[u];
-    if (!(rho.x > T(0) || rho.y > T(0) || rho.z > T(0))) continue;
-    const vec3<T> n_u = unit_or_zero(view.normal[u]);
-    const T h_u = glm::dot(n_u, c - view.position[u]);
-    const T cos_u = -glm::dot(n_u, w);
-    if (!(h_u > T(0)) || !(cos_u > dprsm_plane_min_cos<T>())) continue;
+    if (q.x < 0 || q.y < 0 || q.x >= R || q.y >= R) continue;
+    // The neighbour's plane record (dprsm_plane.hpp): height > 0 exactly when it is valid, saw a
+    // surface and faces the light, with n_u and h_u the values computed here before the records.
+    const dprsm_plane<T> p = view.plane_at(texel_index(face, q.x, q.y, R));
+    if (!dprsm_plane_can_hide(p)) continue;
+    const T h_u = p.height;
+    const T cos_u = -glm::dot(p.normal, w);
+    if (!(cos_u > dprsm_plane_min_cos<T>())) continue;
     if (d1 * cos_u > h_u * (T(1) + dprsm_patch_hidden_margin<T>())) return true;  // d1 > d_u (1 + margin)
   }
   return false;
@@ -97,12 +98,14 @@ inline bool dprsm_patch_point_hidden(const dprsm_view<T>& view, int t, vec2<T> u
 // to the centre (dprsm_patch_vpl, at_centre)? Decided from y's direction alone, as the jitter
 // decides it from uv: the plane point of t in that direction, hidden by a neighbour's plane. For a
 // gathering hit y in texel t (MIS, the clamp compensation).
+// t must be a valid texel (texel_of_direction gives one): the plane comes from its record.
 template <class T>
 inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, vec3<T> y) {
   const vec3<T> c = view.light.position;
   const vec3<T> w = unit_or_zero(y - c);
-  const vec3<T> n = unit_or_zero(view.normal[t]);
-  const T h = glm::dot(n, c - view.position[t]);
+  const dprsm_plane<T> plane = view.plane_at(t);  // n = unit_or_zero(n_t), h = n . (c - y_t) where h > 0
+  const vec3<T> n = plane.normal;
+  const T h = std::abs(plane.height);
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return false;
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
@@ -129,12 +132,14 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   if (!(glm::dot(s.uv, s.uv) <= T(1))) return s;  // beyond the rim: the other face's directions
   if (block.nx * block.ny != 1 && texel_owner_from_uv(s.uv, R) != xy) return s;  // owned by another texel
   if (!(vpl_cos_alpha(c, y_t, n_t) > T(0))) return s;  // as vpl_at: the texel's surface is unlit
-  const vec3<T> n = unit_or_zero(n_t);
   const vec3<T> w = view.light.frame.to_world(paraboloid_to_direction(texel_face(t, R), s.uv));
   // Every point of the plane has the same height h = n . (c - y) over it; along w the plane lies
   // at the distance h / cos(alpha). cos(alpha) <= 0: the ray runs parallel to the plane or away
-  // from it (it would meet it behind the light).
-  const T h = glm::dot(n, c - y_t);
+  // from it (it would meet it behind the light). n = unit_or_zero(n_t) and h come from the texel's
+  // plane record (|height|: a texel without albedo keeps its plane; no plane: h = 0, rejected).
+  const dprsm_plane<T> plane = view.plane_at(t);
+  const vec3<T> n = plane.normal;
+  const T h = std::abs(plane.height);
   const T cos_a = -glm::dot(n, w);
   if (!(h > T(0)) || !(cos_a > T(0))) return s;
   const T d1 = h / cos_a;

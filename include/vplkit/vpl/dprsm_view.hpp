@@ -3,12 +3,15 @@
 // Non-owning view of a Dual Paraboloid Reflective Shadow Map: what every builder and estimator
 // reads. Three arrays of texel_count(R) = 2 R^2 entries indexed as in paraboloid/texel_grid.hpp
 // (index = face * R * R + y * R + x). A texel that saw no geometry has albedo 0 (and any finite
-// position and normal, conventionally 0).
+// position and normal, conventionally 0). Optionally a fourth array, the texels' plane records
+// (dprsm_plane.hpp, built by build_dprsm_planes for this light), that plane_at reads instead of
+// computing them.
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/paraboloid/light_frame.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
+#include <vplkit/vpl/dprsm_plane.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
 #include <cmath>
@@ -44,6 +47,9 @@ struct dprsm_view {
   const vec3<T>* normal = nullptr;
   const vec3<T>* albedo = nullptr;
   point_light<T> light{};
+  // Optional: the plane records of these texels for this light (build_dprsm_planes); null: plane_at
+  // computes them. Not checked by validate(): rebuild them whenever the arrays or the light change.
+  const dprsm_plane<T>* planes = nullptr;
 
   int texel_count() const { return vplkit::texel_count(resolution); }
 
@@ -70,6 +76,13 @@ struct dprsm_view {
     v.flux = vpl_flux(albedo[index], light.intensity, solid_angle(index));
     if (!(vpl_cos_alpha(light.position, v.position, v.normal) > T(0))) v.flux = vec3<T>(T(0));
     return v;
+  }
+
+  // The plane record of texel `index` (0 <= index < texel_count(); not checked): planes[index], or
+  // dprsm_plane_of computed from the arrays (the same value).
+  dprsm_plane<T> plane_at(int index) const {
+    if (planes != nullptr) return planes[index];
+    return dprsm_plane_of(light.position, texel_valid(index), position[index], normal[index], albedo[index]);
   }
 
   // Texel through which the light sees world direction `dir` (any length): the valid texel that

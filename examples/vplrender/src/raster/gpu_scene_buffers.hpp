@@ -30,13 +30,33 @@ struct gpu_triangle_voxels {
   }
 };
 
+// The DPRSM's plane records (glsl/vplkit/vpl/dprsm_plane.glsl, one vec4 per texel) and what they
+// were built for: render/gpu/gpu_dprsm_planes.hpp builds them once the DPRSM is written.
+struct gpu_dprsm_planes {
+  vplkit::gl::buffer records;
+  int resolution = 0;           // R of the DPRSM they were built from; 0: not built
+  vec3 light_position{0.0f};    // ... and its light
+};
+
+// The estimate kernels' per-pixel buffers (render/gpu/gpu_backend.cpp): the estimates, the state
+// between split dispatches, the RIS reservoirs. Kept from one render to the next, so the frames
+// of a --frames run allocate them once; a render whose image size differs reallocates them.
+struct gpu_pixel_buffers {
+  vplkit::gl::buffer out, state, reservoirs;
+  int allocations = 0;  // buffers made so far (a render that reuses all three makes none)
+  std::size_t size_bytes() const { return out.size_bytes() + state.size_bytes() + reservoirs.size_bytes(); }
+};
+
 struct gpu_scene_buffers {
   vplkit::gl::buffer gbuffer;  // surfels of gbuffer_data, index y * W + x (row 0 = top)
   vplkit::gl::buffer dprsm;    // surfels of dprsm_data, index face * R^2 + y * R + x
+  gpu_dprsm_planes dprsm_planes;  // the DPRSM's plane records for its light
   vplkit::gl::buffer voxels;   // the voxel grid's occupancy words (voxel_grid::words order)
   gpu_triangle_voxels voxel_triangles;  // --visibility voxels: the lists of the occupied voxels
   gpu_bvh bvh;                 // --visibility exact: the scene's BVH (empty unless prepared with exact rays)
   gpu_scene_shading shading;   // --method exact: the hits' normals and albedos (empty unless prepared with exact rays)
+  // Scratch of the estimator runs on these buffers; mutable: a frame hands its buffers out const.
+  mutable gpu_pixel_buffers pixels;
 };
 
 // A G-buffer pixel or a DPRSM texel as the kernels read it: struct { vec4 position; vec4 normal;

@@ -15,6 +15,7 @@
 #include "render/cpu/ray_scene.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_backend.hpp"
+#include "render/gpu/gpu_dprsm_planes.hpp"
 #include "render/gpu/dprsm_view_uniforms.hpp"
 
 #include <headless_gl/compute.hpp>
@@ -206,6 +207,14 @@ const frame_buffers& frame_pipeline::render(const vplkit::point_light<float>& li
     timer.add("dprsm tessellation (cpu)", td.tessellation_ms, "cpu-wall");
     if (td.split_ahead_ms >= 0.0) timer.add("dprsm split ahead (cpu, beside the gpu)", td.split_ahead_ms, "cpu-wall-overlapped");
     timer.add("dprsm (gpu)", td.ms, td.clock);
+    {
+      // The DPRSM's plane records for this light, read by every estimator run of the frame.
+      gl::timer_query tq;
+      tq.begin();
+      build_dprsm_planes_gpu(*d.scene_gpu, f.dprsm, light);
+      tq.end();
+      timer.add("dprsm planes (gpu)", tq.milliseconds(), "gpu");
+    }
     b.gbuf = gbuffer_data{};
     b.gbuf.width = f.width;
     b.gbuf.height = f.height;
@@ -244,7 +253,8 @@ const frame_buffers& frame_pipeline::render(const vplkit::point_light<float>& li
   det["scene_buffers"] = {
       {"on_gpu", g != nullptr},
       {"host_copies", b.has_host_copies()},
-      {"gpu_bytes", g ? g->gbuffer.size_bytes() + g->dprsm.size_bytes() + g->voxels.size_bytes() +
+      {"gpu_bytes", g ? g->gbuffer.size_bytes() + g->dprsm.size_bytes() + g->dprsm_planes.records.size_bytes() +
+                            g->voxels.size_bytes() +
                             g->voxel_triangles.size_bytes() + g->bvh.nodes.size_bytes() +
                             g->bvh.triangles.size_bytes() + g->shading.size_bytes()
                       : std::size_t(0)}};

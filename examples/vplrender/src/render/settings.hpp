@@ -123,6 +123,10 @@ struct render_settings : render_choices {
   // (samples, rounds, directions, texels) per dispatch whatever the budget allows (tests).
   loop_budget_choice loop_budget = loop_budget_choice::automatic;
   int max_units_per_pass = 0;
+  // GPU backend, patch VPLs: read the DPRSM's plane records (render/gpu/gpu_dprsm_planes.hpp), or
+  // (false: tests, measurements) compute each from the texel's three surfel vectors per sample.
+  // The same images either way.
+  bool dprsm_planes = true;
   // --method ris: candidates per sample (M), their source, spatial-reuse neighbours (K, 0 = off).
   int ris_candidates = 32;
   ris_source_choice ris_source = ris_source_choice::flux;

@@ -124,6 +124,7 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
   d += define("VR_DIRECT", s.direct ? 1 : 0);
   if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
   if (gpu_clamp_compensation(s)) d += "#define VR_CLAMP_COMPENSATION\n";
+  if (!s.dprsm_planes) d += define("VR_DPRSM_PLANES", 0);
   if (t.estimator == estimator_kind::ris) {
     d += define("VR_RIS_PASS", ris_pass);
     if (s.ris_source == ris_source_choice::local) d += "#define VR_RIS_PER_REGION\n";

@@ -5,6 +5,7 @@
 #include "render/gpu/estimate_kernels.hpp"
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_builders.hpp"
+#include "render/gpu/gpu_dprsm_planes.hpp"
 #include "render/gpu/gpu_visibility.hpp"
 #include "render/gpu/loop_budget.hpp"
 #include "render/method_traits.hpp"
@@ -166,6 +167,25 @@ gpu::ris_params ris_params_for(const render_settings& es, int W, int H) {
   return R;
 }
 
+// A per-pixel buffer of `bytes` that starts this render with every byte `fill`: the one kept in
+// `slot` from an earlier render of the same size (cleared on the GPU, nothing allocated), else a
+// new one in its place.
+vplkit::gl::buffer& pixel_buffer(gpu_pixel_buffers& cache, vplkit::gl::buffer& slot, std::size_t bytes,
+                                 unsigned char fill, const char* what) {
+  namespace gl = vplkit::gl;
+  if (slot.size_bytes() != bytes) {
+    slot = gl::buffer();  // the old size's storage goes before the new one is made
+    slot = gpu_allocating(bytes, what, [&] { return gl::buffer::filled(bytes, fill); });
+    ++cache.allocations;
+    return slot;
+  }
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, slot.id());
+  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &fill);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  gl::check_gl(what);
+  return slot;
+}
+
 }  // namespace
 
 int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit::ivec3& voxel_resolution,
@@ -252,7 +272,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   gl::buffer b_mixtures = gl::buffer::from_vector(records);
   auto estimate_running = stage_timer::running("estimate (gpu)");
   const std::size_t out_bytes = 16 * std::max<std::size_t>(n_pixels, 1);
-  gl::buffer b_out = gpu_allocating(out_bytes, "the per-pixel estimates", [&] { return gl::buffer::filled(out_bytes, 0xFF); });
+  // The per-pixel buffers are the frame's (gpu_scene_buffers::pixels): kept across renders.
+  gpu_pixel_buffers& pixels = scene.pixels;
+  const gl::buffer& b_out = pixel_buffer(pixels, pixels.out, out_bytes, 0xFF, "the per-pixel estimates");
   // --sampler alias / --face-selection roulette: the components built on the host from the
   // weights read back (mixture_components.hpp), uploaded; else one zero word.
   const bool components = with_dists && mixture_components::wanted(es);
@@ -279,9 +301,14 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (mt.gathers)
     det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
 
+  // The DPRSM's plane records, built by the frame pipeline (or here, first: the builder binds its own
+  // buffers, for a frame made by hand).
+  gl::buffer b_planes_scratch;
+  const gl::buffer& b_planes = dprsm_planes_for(scene, view.resolution, view.light, b_planes_scratch);
   // The bindings of estimate_params.h.
   scene.gbuffer.bind(VR_ESTIMATE_BINDING_GBUFFER);
   scene.dprsm.bind(VR_ESTIMATE_BINDING_DPRSM);
+  b_planes.bind(VR_ESTIMATE_BINDING_DPRSM_PLANES);
   scene.voxels.bind(VR_ESTIMATE_BINDING_VOXELS);
   b_data.bind(VR_ESTIMATE_BINDING_CDF_DATA);
   b_mixtures.bind(VR_ESTIMATE_BINDING_MIXTURES);
@@ -311,7 +338,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // reuse the reservoirs between a round's two dispatches (ris_params.h's 32-byte records).
   const bool ris = mt.estimator == estimator_kind::ris;
   const bool ris_reuse = ris_reuses(es);
-  gl::buffer b_ris_params, b_reservoirs;
+  gl::buffer b_ris_params;
   if (ris) {
     const gpu::ris_params R = ris_params_for(es, W, H);
     b_ris_params = gl::buffer::filled(sizeof R, 0);
@@ -323,8 +350,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
       det["ris"].update({{"radius", R.radius}, {"min_normal_cos", R.min_normal_cos},
                          {"max_plane_slope", R.max_plane_slope}, {"mis", "pairwise"}});
       const std::size_t bytes = sizeof(vplkit::gpu::ris_reservoir_record) * std::max<std::size_t>(n_pixels, 1);
-      b_reservoirs = gpu_allocating(bytes, "the per-pixel reservoirs", [&] { return gl::buffer::filled(bytes, 0); });
-      b_reservoirs.bind(VR_RIS_BINDING_RESERVOIRS);
+      pixel_buffer(pixels, pixels.reservoirs, bytes, 0, "the per-pixel reservoirs").bind(VR_RIS_BINDING_RESERVOIRS);
     }
   }
   gl::check_gl("estimate kernel bindings");
@@ -381,11 +407,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     any_split = any_split || n > 1;
   }
   // The pixel's state between split dispatches: only when a stage is split.
-  gl::buffer b_state;
   if (any_split) {
     const std::size_t state_bytes = sizeof(gpu::pixel_state) * std::max<std::size_t>(n_pixels, 1);
-    b_state = gpu_allocating(state_bytes, "the per-pixel estimator state", [&] { return gl::buffer::filled(state_bytes, 0); });
-    b_state.bind(VR_ESTIMATE_BINDING_STATE);
+    pixel_buffer(pixels, pixels.state, state_bytes, 0, "the per-pixel estimator state").bind(VR_ESTIMATE_BINDING_STATE);
   }
   nlohmann::json kernels = nlohmann::json::array();
   for (const stage_plan& sp : plans)
