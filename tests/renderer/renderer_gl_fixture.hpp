@@ -56,4 +56,15 @@ inline gl_fixture make_gl_fixture(const vplrender::options& o) {
   return {o, std::move(p), std::move(b)};
 }
 
+// The frame as vplrender's pipeline prepares it from `o` (prepare_buffers: on the GPU backend a
+// frame without host copies, with its exact rays when o asks for them).
+inline gl_fixture make_pipeline_fixture(const vplrender::options& o) {
+  vplrender::pipeline_gl_context();
+  vplrender::prepared_scene p = vplrender::prepare_scene(o);
+  vplrender::stage_timer t;
+  nlohmann::json det;
+  vplrender::frame_buffers b = vplrender::prepare_buffers(o, p, t, det);
+  return {o, std::move(p), std::move(b)};
+}
+
 }  // namespace vplrender_test

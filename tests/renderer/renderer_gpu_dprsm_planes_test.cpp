@@ -27,25 +27,16 @@ using namespace vplrender;
 
 namespace {
 
-struct frame {
-  options o;
-  prepared_scene p;
-  frame_buffers b;
-};
-
 // A small cornell frame with a DPRSM of 2 x 16^2 (creases inside texels: hidden plane points) and
 // the exact rays on the GPU.
+using frame = vplrender_test::gl_fixture;
+
 const frame& small_frame() {
-  static const frame* f = [] {
+  static const frame* f = new frame(vplrender_test::make_pipeline_fixture([] {
     options o = vplrender_test::small_options("cornell", 24, 16, 16);
     o.visibility = visibility_choice::exact;
-    pipeline_gl_context();
-    prepared_scene p = prepare_scene(o);
-    stage_timer t;
-    nlohmann::json det;
-    frame_buffers b = prepare_buffers(o, p, t, det);
-    return new frame{o, std::move(p), std::move(b)};
-  }();
+    return o;
+  }()));
   return *f;
 }
 
