@@ -30,6 +30,14 @@ scene cornell() {
   return prepare_scene(o).s;
 }
 
+// Positions of two equally long triangle lists whose corners, normals, uvs or materials differ.
+std::size_t triangles_differing(const std::vector<triangle>& a, const std::vector<triangle>& b) {
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
+    differ += (a[i].p != b[i].p || a[i].n != b[i].n || a[i].uv != b[i].uv || a[i].material != b[i].material) ? 1u : 0u;
+  return differ;
+}
+
 double angle_at(const glm::dvec3& c, const vec3& a, const vec3& b) {
   const glm::dvec3 u = glm::dvec3(a) - c, v = glm::dvec3(b) - c;
   return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
@@ -160,13 +168,7 @@ TEST_CASE("tessellate_on_all_cores gives the serial output: same triangles in th
     const std::vector<triangle> serial = tessellate_for_light(input, light, tess, &serial_stats);
     const std::vector<triangle> parallel = tessellate_on_all_cores(input, light, tess, &parallel_stats);
     REQUIRE(parallel.size() == serial.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < serial.size(); ++i)
-      differ += (parallel[i].p != serial[i].p || parallel[i].n != serial[i].n || parallel[i].uv != serial[i].uv ||
-                 parallel[i].material != serial[i].material)
-                    ? 1u
-                    : 0u;
-    CHECK(differ == 0);
+    CHECK(triangles_differing(parallel, serial) == 0);
     CHECK(parallel_stats.input == serial_stats.input);
     CHECK(parallel_stats.output == serial_stats.output);
     CHECK(parallel_stats.capped == serial_stats.capped);
@@ -267,13 +269,7 @@ TEST_CASE("tessellate_for_light gives the plain split's output: every triangle, 
     const std::vector<triangle> fast = tessellate_for_light(s.triangles, k.light, tp, &fast_st);
     const std::vector<triangle> plain = plain_split(s.triangles, glm::dvec3(k.light), tp, plain_st);
     REQUIRE(fast.size() == plain.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < fast.size(); ++i)
-      differ += (fast[i].p != plain[i].p || fast[i].n != plain[i].n || fast[i].uv != plain[i].uv ||
-                 fast[i].material != plain[i].material)
-                    ? 1u
-                    : 0u;
-    CHECK(differ == 0);
+    CHECK(triangles_differing(fast, plain) == 0);
     CHECK(fast_st.input == plain_st.input);
     CHECK(fast_st.output == plain_st.output);
     CHECK(fast_st.capped == plain_st.capped);
