@@ -11,7 +11,10 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <vector>
 
 using namespace vplrender;
 
@@ -135,6 +138,101 @@ TEST_CASE("ray casting: hits, misses, back faces and distances") {
   CHECK(distance_to_geometry(s.triangles, glm::dvec3(0.0, 1.9, 0.0)) == Approx(0.1));
   // A zero direction hits nothing rather than producing NaN.
   CHECK_FALSE(cast_ray(s.triangles, glm::dvec3(0.0, 1.0, 2.0), glm::dvec3(0.0)).hit);
+}
+
+namespace {
+
+// Every answer of rays_from_point against cast_ray's for the same ray, bit for bit.
+std::size_t check_same_answers(const std::vector<triangle>& tris, const glm::dvec3& origin,
+                               const std::vector<glm::dvec3>& dirs) {
+  const rays_from_point from(tris, origin);
+  std::size_t hits = 0;
+  for (const glm::dvec3& d : dirs) {
+    for (double t_min : {0.0, 1e-3, -1.0}) {
+      const ray_hit a = cast_ray(tris, origin, d, t_min), b = from.cast(d, t_min);
+      INFO("origin " << origin.x << " " << origin.y << " " << origin.z << " dir " << d.x << " " << d.y << " " << d.z
+                     << " t_min " << t_min);
+      REQUIRE(a.hit == b.hit);
+      if (!a.hit) continue;
+      ++hits;
+      REQUIRE(a.triangle == b.triangle);
+      REQUIRE(a.t == b.t);
+      REQUIRE(a.back_face == b.back_face);
+    }
+  }
+  return hits;
+}
+
+// Directions that graze what a cone bounds: exactly at vertices, edge midpoints and centroids (the
+// rays that lie on or next to a cone's boundary), scaled off unit length.
+std::vector<glm::dvec3> directions_at(const std::vector<triangle>& tris, std::size_t count, const glm::dvec3& origin) {
+  std::vector<glm::dvec3> dirs = sphere_directions(256);
+  for (std::size_t i = 0; i < std::min(count, tris.size()); ++i) {
+    const glm::dvec3 a(tris[i].p[0]), b(tris[i].p[1]), c(tris[i].p[2]);
+    for (const glm::dvec3& q : {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0})
+      dirs.push_back(3.7 * (q - origin));
+  }
+  dirs.push_back(glm::dvec3(0.0));
+  return dirs;
+}
+
+}  // namespace
+
+TEST_CASE("rays from one point: the cone-skipping caster answers as cast_ray, bit for bit") {
+  SECTION("the built-in rooms, from the light, a corner, a wall and a vertex") {
+    for (const char* name : {"cornell", "open"}) {
+      INFO(name);
+      const scene s = make_builtin_scene(name);
+      const glm::dvec3 vertex(s.triangles[3].p[1]);
+      for (const glm::dvec3& o : {glm::dvec3(s.light.position), glm::dvec3(0.3, 0.2, 0.1), vertex,
+                                  glm::dvec3(0.0, 1.0, 0.0) + 0.25 * (vertex - glm::dvec3(0.0, 1.0, 0.0))}) {
+        CHECK(check_same_answers(s.triangles, o, directions_at(s.triangles, s.triangles.size(), o)) > 100);
+      }
+    }
+  }
+  SECTION("a random soup: slivers, tiny and huge triangles, origins on planes and edges") {
+    std::mt19937_64 rng(20261127);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    auto point = [&](double scale) { return vec3(glm::dvec3(u(rng), u(rng), u(rng)) * scale); };
+    std::vector<triangle> tris;
+    for (int i = 0; i < 300; ++i) {
+      triangle t;
+      const vec3 c = point(1.0);
+      const double size = i % 3 == 0 ? 1e-4 : (i % 3 == 1 ? 0.2 : 5.0);
+      t.p = {c + point(size), c + point(size), c + point(size)};
+      if (i % 7 == 0) t.p[2] = t.p[0] + 1e-6f * (t.p[1] - t.p[0]) + point(1e-7);  // a sliver
+      const vec3 n = glm::normalize(glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
+      t.n = {n, n, n};
+      tris.push_back(t);
+    }
+    std::vector<glm::dvec3> origins = {glm::dvec3(0.0), glm::dvec3(point(2.0)), glm::dvec3(tris[1].p[0]),
+                                       0.5 * (glm::dvec3(tris[4].p[0]) + glm::dvec3(tris[4].p[1])),
+                                       (glm::dvec3(tris[5].p[0]) + glm::dvec3(tris[5].p[1]) + glm::dvec3(tris[5].p[2])) / 3.0};
+    for (const glm::dvec3& o : origins) {
+      CHECK(check_same_answers(tris, o, directions_at(tris, 120, o)) > 50);
+    }
+  }
+  SECTION("origins in a triangle's plane, rays in that plane (the determinant is rounding noise)") {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::size_t hits = 0;
+    for (int i = 0; i < 200; ++i) {
+      triangle t;
+      for (vec3& p : t.p) p = vec3(u(rng), u(rng), u(rng));
+      const vec3 n = glm::normalize(glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
+      t.n = {n, n, n};
+      const glm::dvec3 a(t.p[0]), b(t.p[1]), c(t.p[2]);
+      // Exact in double: float vertices combined with small integer weights.
+      for (const glm::dvec3& o : {a + 2.0 * (b - a), a - (c - a), b + (b - a) + (c - a)}) {
+        std::vector<glm::dvec3> dirs;
+        for (const glm::dvec3& e : {b - a, c - a, c - b, a - o, b - o, c - o})
+          for (double k : {1.0, -1.0, 0.5}) dirs.push_back(k * e);
+        for (int j = 0; j < 20; ++j) dirs.push_back(u(rng) * (b - a) + u(rng) * (c - a));
+        hits += check_same_answers({t}, o, dirs);
+      }
+    }
+    CHECK(hits > 0);
+  }
 }
 
 TEST_CASE("points inside a block, on a wall, and free are told apart") {

@@ -16,9 +16,11 @@ dprsm_data raycast_dprsm(const scene& s, const vplkit::point_light<float>& light
   dprsm_data d;
   d.resolution = R;
   d.light = light;
+  // render_dprsm casts every ray from the light (origin = light.position).
+  const rays_from_point from_light(s.triangles, glm::dvec3(light.position));
   auto trace = [&](vec3 origin, vec3 dir) -> std::optional<vplkit::dprsm_hit<float>> {
     const glm::dvec3 o(origin), w(dir);
-    const ray_hit h = cast_ray(s.triangles, o, w);
+    const ray_hit h = o == glm::dvec3(light.position) ? from_light.cast(w) : cast_ray(s.triangles, o, w);
     if (!h.hit) return std::nullopt;
     const triangle& t = s.triangles[h.triangle];
     const glm::dvec3 p = o + h.t * w;
