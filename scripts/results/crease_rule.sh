@@ -10,24 +10,27 @@
 #    --dirs 256) at 256 samples (2 seeds)
 #    against (c) = --method exact at 1024 directions (its own cache: the references change with
 #    the rule).
-# BUILD as in common.sh (a build with the examples); OUT/crease_<scene>_<backend>*. About 10
-# minutes on a 2-core machine, most of it the GPU backend on llvmpipe.
+# BUILD as in common.sh (a build with the examples). speed_vs_error's CSV/MD land in
+# OUT/crease_<scene>_<backend>_sve*, the images (EXR, PNG, JSON) in IMAGES (default
+# build/crease_rule). About 5 minutes on a 2-core machine.
 source "$(dirname "$0")/common.sh"
-CACHE=${CACHE_CREASE:-$OUT/crease_cache}
-mkdir -p "$CACHE"
+CACHE=${CACHE_CREASE:-$ROOT/build/crease_rule_cache}
+IMAGES=${IMAGES:-$ROOT/build/crease_rule}
+mkdir -p "$CACHE" "$IMAGES"
 FRAME=(--size 48x48 --dprsm 128 --voxels 64 --visibility exact --progress never)
 for scene in ${SCENES_LIST:-cornell open}; do
   for backend in ${BACKENDS:-cpu gpu}; do
-    p=$OUT/crease_${scene}_${backend}
+    p=$IMAGES/crease_${scene}_${backend}
     "$VPLRENDER" --scene "$scene" --backend "$backend" "${FRAME[@]}" --method gather --dirs 256 --out "${p}_gather.exr" > /dev/null
     "$VPLRENDER" --scene "$scene" --backend "$backend" "${FRAME[@]}" --method mis --vpls 64 --dirs 64 --out "${p}_mis.exr" > /dev/null
     "$VPLRENDER" --scene "$scene" --backend "$backend" "${FRAME[@]}" --method exact --dirs 1024 --out "${p}_exact.exr" > /dev/null
     python3 "$ROOT/scripts/results/exr_region_means.py" "${p}_gather.exr" "${p}_mis.exr" "${p}_exact.exr"
     "$SVE" --scene "$scene" --backend "$backend" --size 48x48 --dprsm 128 --voxels 64 --visibility exact \
       --methods gather,mis --samples 256 --seeds 1,2 --references exact --ref-exact-dirs 1024 \
-      --cache-dir "$CACHE" --out "${p}_sve" > /dev/null
-    grep -o 'Junction band ([^)]*): [0-9]* pixels, means: [^|]*' "${p}_sve.md" | head -1
+      --cache-dir "$CACHE" --out "$OUT/crease_${scene}_${backend}_sve" > /dev/null
+    grep -o 'Junction band ([^)]*): [0-9]* pixels, means: [^|]*' "$OUT/crease_${scene}_${backend}_sve.md" | head -1
     awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
-             { printf "%s seed %s: image mean %s, band mean %s\n", $col["method"], $col["seed"], $col["mean"], $col["band_mean"] }' "${p}_sve.csv"
+             { printf "%s seed %s: image mean %s, band mean %s\n", $col["method"], $col["seed"], $col["mean"], $col["band_mean"] }' \
+      "$OUT/crease_${scene}_${backend}_sve.csv"
   done
 done
