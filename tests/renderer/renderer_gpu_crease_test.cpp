@@ -88,16 +88,13 @@ struct both {
 both render(options o, method m, int dirs) {
   o.meth = m;
   o.dirs = dirs;
-  vplrender::pipeline_gl_context();
-  const prepared_scene p = prepare_scene(o);
-  stage_timer t;
-  nlohmann::json det;
-  frame_buffers b = prepare_buffers(o, p, t, det);
+  vplrender_test::gl_fixture f = vplrender_test::make_pipeline_fixture(o);
+  frame_buffers& b = f.b;
   REQUIRE(b.rays);
   REQUIRE(b.gpu);
-  read_back_host_copies(b);
+  read_back_host_copies(b);  // the CPU backend reads the same frame's arrays
   const std::vector<bool> crease = diagonal_creases(b.gbuf);
-  render_settings es = make_render_settings(o, p.s);
+  render_settings es = make_render_settings(o, f.p.s);
   es.threads = 2;
   stage_timer tc, tg;
   nlohmann::json gdet;
