@@ -5229,6 +5229,30 @@ inline bool vpl_points_coincide(vec3<T> a, vec3<T> b) {
   return max_abs_component(b - a) <= vpl_coincidence_tolerance(a, b);
 }
 
+// Does x lie on the plane through y with normal n_y, within the rounding of their coordinates
+// (|n_y . (y - x)| <= vpl_coincidence_tolerance(x, y), n_y normalised)? Then x sees that plane
+// edge-on: each of its points has cos(theta1) = 0 at x, and a ray leaving x meets it only at
+// distance ~0 (where a lifted ray origin crosses it) or grazing it. A zero or NaN normal: true
+// (callers ask ray_hit_has_normal first, see vpl_hit_on_own_plane).
+template <class T>
+inline bool vpl_point_on_plane(vec3<T> x, vec3<T> y, vec3<T> n_y) {
+  const T off_plane = detail::abs_of(glm::dot(unit_or_zero(n_y), y - x));
+  return !(off_plane > vpl_coincidence_tolerance(x, y));
+}
+
+// The crease rule of every gathering strategy (docs/math.md, "The clamp's compensation", "A hit
+// on x's own plane sends nothing"): does the ray leaving x hit a surface whose plane passes
+// through x (a crease through x, coincident surfaces)? Such a hit sends x nothing: no point of
+// that surface other than x itself lies in x's view (cos(theta1) = 0 for the VPL strategy, and
+// the ray-casting function, first hit at t > 0, passes it), yet a tracer that lifts its origin
+// meets it at distance ~0 and would add its full L_o. Gathering, MIS's gathering strategy, the
+// clamp's compensation and the GBG weights skip such hits. A hit without a normal (the paper's
+// voxel-entry points) cannot be tested: false.
+template <class T>
+inline bool vpl_hit_on_own_plane(vec3<T> x, const ray_hit<T>& h) {
+  return ray_hit_has_normal(h) && vpl_point_on_plane(x, h.position, h.normal);
+}
+
 // Geometry term of VPL t at gather point x, without visibility:
 //   G = cos(theta1) cos(theta2) / (pi * max(d2^2, dmin^2)),
 // theta1 at the VPL between n_t and x - y_t, theta2 at x between n_x and y_t - x, both clamped
@@ -6365,7 +6389,7 @@ inline std::vector<T> build_local_weights(const gbuffer_view<T>& gbuffer,
 // ---- begin vplkit/builders/gbg_weights.hpp ----
 // Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md section 4): every
 // valid gather point shoots n_dirs cosine rays through the host's tracer; a hit that the DPRSM sees
-// lit, on a texel that carries a VPL, off x's own plane (gbg_hit_on_own_plane), adds the
+// lit, on a texel that carries a VPL, off x's own plane (vpl_hit_on_own_plane), adds the
 // accumulator's value to that texel; then
 // w_t = acc[t] / (|G| n_dirs), accumulated in double, and the hole-aware 3x3 median fills the
 // texels that carry a VPL but no ray reached. The per-gather-point random numbers (stream = pixel,
@@ -6419,20 +6443,6 @@ inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, cons
   return luminance(g.albedo * dprsm_hit_radiance(view, lookup, g.position, hit, depth_tolerance));
 }
 
-// Is x on the hit's own plane (within the coordinates' rounding: a G-buffer point on a crease,
-// coincident surfaces)? Then x sees that surface edge-on: the VPL strategy gives the hit's texel
-// cos(theta1) = 0 at x, so the hit adds nothing to the weights (the rule of
-// clamp_compensation_sample). Without it an exact tracer, whose lifted origin meets the other
-// surface of a crease at distance ~0, adds that surface's full L_o, and which rays do so is a
-// rounding tie that Embree and the GLSL BVH decide differently (docs/api/builders.md, "GBG
-// weights"). A hit without a normal (the paper's voxel-entry points) cannot be tested: false.
-template <class T>
-inline bool gbg_hit_on_own_plane(const gather_point<T>& g, const ray_hit<T>& hit) {
-  if (!ray_hit_has_normal(hit)) return false;
-  const T off_plane = std::abs(glm::dot(unit_or_zero(hit.normal), hit.position - g.position));
-  return !(off_plane > vpl_coincidence_tolerance(g.position, hit.position));
-}
-
 // Direction j of gather point `pixel` (the random-number consumption documented above). The
 // counter is set explicitly, so directions can be generated in any order (one GPU thread each).
 template <class T>
@@ -6467,7 +6477,11 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     const ray_hit<T> h = trace(g.position, g.normal, dir);
     if (!h.hit) continue;
     ++hits;
-    if (gbg_hit_on_own_plane(g, h)) continue;  // edge-on from x: no light for x's VPLs
+    // x on the hit's own plane (a crease through x, coincident surfaces) sees it edge-on: the VPL
+    // strategy gives its texel cos(theta1) = 0 at x, so no draws go there for x. Without the rule
+    // an exact tracer's lifted origin meets the crease's other surface at distance ~0, and which
+    // rays do so is a rounding tie that Embree and the GLSL BVH decide differently.
+    if (vpl_hit_on_own_plane(g.position, h)) continue;
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
     ++lit;
@@ -7188,7 +7202,8 @@ inline vec3<T> estimate_local(const gather_point<T>& gp, const dprsm_view<T>& vi
 // without MIS): directions omega ~ cos(theta2)/pi around n_x are traced to their first hit y; y is
 // lit when the DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup within
 // depth_tolerance), and each direction adds f / p1 = rho_x L_o(y), with L_o evaluated at y with the
-// texel's normal and albedo (0 seen from behind: one-sided emission). Converges to the one-bounce
+// texel's normal and albedo (0 seen from behind: one-sided emission; 0 for a hit on x's own plane,
+// vpl_hit_on_own_plane: a crease through x, seen edge-on). Converges to the one-bounce
 // integral as the DPRSM sees it, not to the VPL sum (docs/math.md section 8).
 // Random numbers: per direction u0, then u1 (estimator_state.hpp for the range form). An invalid
 // gather point gives 0 and draws nothing. What is known at the hit, choosing the depth tolerance:
@@ -7266,7 +7281,8 @@ template <class T>
 struct gathering_ray_result {
   bool lit = false;          // hit, projected into a texel that saw it, seen from its lit side
   bool in_front = false;     // lit, in front of the surface its texel saw (dprsm_lookup_result)
-  int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light)
+  int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light /
+                             // a hit on x's own plane, trace_gathering_ray)
   vec3<T> hit{T(0)};         // y (valid when texel >= 0)
   vec3<T> radiance{T(0)};    // L_o(y) towards x; 0 unless lit
 };
@@ -7307,10 +7323,16 @@ inline gathering_ray_result<T> evaluate_gathering_hit(const dprsm_view<T>& view,
 }
 
 // Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+// A hit on x's own plane (vpl_hit_on_own_plane: a crease through x, coincident surfaces) sends
+// nothing and reads as no hit (texel -1): the tracer's lifted origin met a surface that x sees
+// edge-on. This is the rule of every gathering strategy (gathering, MIS's gathering half, the
+// clamp's compensation, the GBG weights; docs/math.md, "The clamp's compensation").
 template <class T, class Tracer>
 inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
                                                    vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
-  return evaluate_gathering_hit(view, x, tracer(x, n_x, dir), tracer, depth_tolerance);
+  const ray_hit<T> h = tracer(x, n_x, dir);
+  if (vpl_hit_on_own_plane(x, h)) return gathering_ray_result<T>{};
+  return evaluate_gathering_hit(view, x, h, tracer, depth_tolerance);
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
@@ -7470,9 +7492,7 @@ inline vec3<T> clamp_compensation_sample(const gather_point<T>& gp, const dprsm_
   if (!(weight > T(0))) return vec3<T>(T(0));  // beyond dmin: the VPLs carry it unclamped
   // x on the hit's own plane (within its coordinates' rounding: a crease through x, coincident
   // surfaces) sees that surface edge-on, cos(theta1) = 0 for the VPL strategy: it sends nothing.
-  if (ray_hit_has_normal(h) &&
-      !(std::abs(glm::dot(unit_or_zero(h.normal), w)) > vpl_coincidence_tolerance(gp.position, h.position)))
-    return vec3<T>(T(0));
+  if (vpl_hit_on_own_plane(gp.position, h)) return vec3<T>(T(0));
   const gathering_ray_result<T> r = evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {
@@ -7544,6 +7564,7 @@ inline vec3<T> estimate_clamp_compensation(const gather_point<T>& gp, const dprs
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace vplkit {
 
@@ -7556,11 +7577,25 @@ inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
                  balance_combined(f.z, n1, p1, n2, p2));
 }
 
+// |v|, finite wherever |v| is (the GLSL's length(v) squares v's components, which overflows for
+// components beyond ~1.8e19): v is scaled by the power of two that brings its largest component
+// into [1, 2) first (exact), the length scaled back. Components below the smallest normal T count
+// as 0 (the normal-range contract); an infinite or NaN component gives that component's |.|.
+template <class T>
+inline T mis_length(vec3<T> v) {
+  v = flush_denormal(v);
+  const T m = max_abs_component(v);
+  if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return m;
+  const int e = binary_exponent(m);
+  const vec3<T> s(scale_by_exp2(v.x, -e), scale_by_exp2(v.y, -e), scale_by_exp2(v.z, -e));
+  return scale_by_exp2(detail::sqrt_of(glm::dot(s, s)), e);
+}
+
 // Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.
 template <class T>
 inline T mis_texel_patch_area(const dprsm_view<T>& view, int t) {
   const vec3<T> y_t = view.position[t];
-  return vpl_patch_area(view.solid_angle(t), glm::length(y_t - view.light.position),
+  return vpl_patch_area(view.solid_angle(t), mis_length(y_t - view.light.position),
                         vpl_cos_alpha(view.light.position, y_t, view.normal[t]));
 }
 
@@ -7585,7 +7620,7 @@ inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, v
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
   const ivec2 xy = texel_coords(t, view.resolution);
   const texel_block block = texel_patch_block(xy.x, xy.y, view.resolution);
-  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), glm::length(y - c),
+  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), mis_length(y - c),
                                 vpl_cos_alpha(c, y, n_t));
   const vec3<T> w = x - y;
   const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));
@@ -7606,7 +7641,13 @@ inline T mis_sin_from_cos(T c) {
   return s2 > T(0) ? std::sqrt(s2) : T(0);
 }
 
-// One gathering sample (local direction in the ONB of n_x); n1 = n_dirs, n2 = n_vpls.
+// One gathering sample (local direction in the ONB of n_x); n1 = n_dirs, n2 = n_vpls. A hit on
+// x's own plane (a crease through x, coincident surfaces) gives 0, through trace_gathering_ray's
+// rule: the VPL strategy reaches no direction into such a surface (its points all lie on a plane
+// through x, so it samples only directions within that plane, a set of measure zero), so p2 = 0
+// there, gathering's balance weight is 1, and its f is 0: the ray-casting function (first hit at
+// t > 0) passes a surface that x lies on. The VPL samples on that surface add 0 too (cos(theta1)
+// = 0 at x): both strategies estimate the same integral, without the surface seen edge-on.
 template <class T, class Distribution, class Tracer>
 inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                     const Distribution& distribution, const orthonormal_basis<T>& frame,

@@ -291,7 +291,7 @@ void main() {
         vplkit_dprsm_view view = load_view();
         vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, fp.y);
         o.texel = r.texel;
-        if (!vplkit_gbg_hit_on_own_plane(g, h) && r.lit && vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) {
+        if (!vplkit_vpl_hit_on_own_plane(g.position, h) && r.lit && vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) {
           o.flags = 3u;
           o.value = vplkit_gbg_hit_value(g, view, r, h, fp.x, ip2.x, fp.y);
         }
@@ -343,7 +343,7 @@ std::vector<ray_out> cpu_rays(const vplkit_test::gbuffer_data<float>& gbuf, cons
             o.flags = 1u;
             const auto r = vplkit::dprsm_lookup(view, h.position, st.tol);
             o.texel = r.texel;
-            if (!vplkit::gbg_hit_on_own_plane(g, h) && r.lit && vplkit::vpl_has_flux(view.vpl_at(r.texel))) {
+            if (!vplkit::vpl_hit_on_own_plane(g.position, h) && r.lit && vplkit::vpl_has_flux(view.vpl_at(r.texel))) {
               o.flags = 3u;
               o.value = vplkit::gbg_hit_value(g, view, r, h, st.dmin,
                                               st.accumulator == 0 ? vplkit::gbg_accumulator::paper

@@ -339,7 +339,7 @@ std::vector<int> gbg_near_edge_hits(const vplkit::gbuffer_view<float>& gb, const
       const vplkit::vec3<float> dir = vplkit::to_world(frame, local);
       if (!vplkit::gather_point_accepts_direction(g, dir)) continue;
       const vplkit::ray_hit<float> h = trace(g.position, g.normal, dir);
-      if (!h.hit || vplkit::gbg_hit_on_own_plane(g, h)) continue;
+      if (!h.hit || vplkit::vpl_hit_on_own_plane(g.position, h)) continue;
       const vplkit::dprsm_lookup_result r = vplkit::dprsm_lookup(view, h.position, params.depth_tolerance);
       if (!r.lit || !vplkit::vpl_has_flux(view.vpl_at(r.texel))) continue;
       const glm::dvec3 pd(h.position), x(g.position), c(view.light.position);
@@ -476,7 +476,7 @@ TEST_CASE("GPU-built GBG weights equal the CPU builder's on the cornell box at 4
   // gather points lie on the box's creases, and an exact tracer's lifted origin meets the other
   // surface of the crease at distance ~0. Which of those rays hit it is a rounding tie that Embree
   // and the GLSL BVH decide differently; before the GBG builders gave such hits nothing
-  // (gbg_hit_on_own_plane), 234 of them landed on the CPU, the texels along the ceiling's edges
+  // (vpl_hit_on_own_plane), 234 of them landed on the CPU, the texels along the ceiling's edges
   // differed by 10-20 % between the backends, and every CDF draw after them moved (the gbg image
   // differed in 99 % of the pixels, relMSE 5.29e-1 on the GPU against 2.58e-1 on the CPU in
   // docs/results/clamp_compensation.md). speed_vs_error's frame: DPRSM 2x64^2, 64^3 voxels,

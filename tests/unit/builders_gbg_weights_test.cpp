@@ -353,7 +353,7 @@ TEST_CASE("builders: GBG gives nothing to the surface whose plane passes through
   // A floor point a rounding step from the wall x = +2 (a G-buffer point on a crease): it sees
   // that wall edge-on, and the VPL strategy gives the wall's texels cos(theta1) ~ 0 at x, yet the
   // rays that leave x towards the wall meet it (at distances down to ~0). Such hits must add
-  // nothing (gbg_hit_on_own_plane): the build equals one whose tracer never sees that wall.
+  // nothing (vpl_hit_on_own_plane): the build equals one whose tracer never sees that wall.
   using T = float;
   const vplkit_test::synthetic_scene<T> s;
   const auto d = s.make_dprsm(16);

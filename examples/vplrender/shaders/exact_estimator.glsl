@@ -59,6 +59,8 @@ vec3 vr_exact_sample(vr_exact_scene rs, vplkit_point_light light, vplkit_gather_
   float offset = rs.offset;
   vplkit_bvh_hit h = vplkit_bvh_closest_hit(rs.bvh, vplkit_bvh_offset_point(gp.position, n_g, offset), dir);
   if (!h.hit) return vec3(0.0);
+  // A hit on x's own plane (x on a crease): the lifted origin crossed a surface x sees edge-on.
+  if (vplkit_vpl_point_on_plane(gp.position, h.position, h.normal)) return vec3(0.0);
   // y's lit side is the one facing the light; seen from the other side it reflects nothing.
   vec3 y = h.position;
   vec3 n_gy = h.normal;

@@ -48,15 +48,6 @@ float vplkit_gbg_hit_value(vplkit_gather_point g, vplkit_dprsm_view view, vplkit
   return vplkit_luminance(g.albedo * vplkit_dprsm_hit_radiance(view, lookup, g.position, hit, depth_tolerance));
 }
 
-// Is x on the hit's own plane (within the coordinates' rounding)? Then x sees it edge-on and the
-// hit adds nothing (C++ gbg_hit_on_own_plane; `precise`: the decision is made at the rounding
-// level). A hit without a normal cannot be tested: false.
-bool vplkit_gbg_hit_on_own_plane(vplkit_gather_point g, vplkit_ray_hit hit) {
-  if (!vplkit_ray_hit_has_normal(hit)) return false;
-  precise float off_plane = abs(dot(vplkit_unit_or_zero(hit.normal), hit.position - g.position));
-  return !(off_plane > vplkit_vpl_coincidence_tolerance(g.position, hit.position));
-}
-
 // Direction j of gather point `pixel` (the counter is set explicitly: any order, one thread each).
 vec3 vplkit_gbg_direction(vec3 n_x, int pixel, int j, uint seed) {
   vplkit_counter_rng rng = vplkit_make_counter_rng(seed, uint(pixel));
@@ -86,7 +77,7 @@ ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplki
     vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, g.position, g.normal, dir);
     if (!h.hit) continue;
     ++hits;
-    if (vplkit_gbg_hit_on_own_plane(g, h)) continue;  // edge-on from x: no light for x's VPLs
+    if (vplkit_vpl_hit_on_own_plane(g.position, h)) continue;  // edge-on from x: no light for x's VPLs
     vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vplkit_vpl_has_flux(vplkit_dprsm_view_vpl_at(view, r.texel))) continue;
     ++lit;

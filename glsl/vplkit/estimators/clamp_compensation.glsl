@@ -65,9 +65,7 @@ vec3 vplkit_clamp_compensation_sample(vplkit_gather_point gp, vplkit_dprsm_view 
   float weight = vplkit_clamp_compensation_weight(d_sq, dmin);
   if (!(weight > 0.0)) return vec3(0.0);
   // x on the hit's own plane (a crease through x, coincident surfaces) sees it edge-on: nothing.
-  precise float off_plane = abs(dot(vplkit_unit_or_zero(h.normal), w));
-  if (vplkit_ray_hit_has_normal(h) && !(off_plane > vplkit_vpl_coincidence_tolerance(gp.position, h.position)))
-    return vec3(0.0);
+  if (vplkit_vpl_hit_on_own_plane(gp.position, h)) return vec3(0.0);
   vplkit_gathering_ray_result r = vplkit_evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
   if (!r.lit) return vec3(0.0);
   if (vpl_mode == vplkit_vpl_patch && vplkit_dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {

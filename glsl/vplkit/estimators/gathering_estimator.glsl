@@ -2,7 +2,8 @@
 // vplkit GLSL pack: cosine gathering through the DPRSM (docs/math.md section 5, strategy 1; the
 // paper's Alg. 5 without MIS); mirrors include/vplkit/estimators/gathering_estimator.hpp
 // (T = float), random numbers included: each direction omega ~ cos(theta2)/pi adds
-// f / p1 = rho_x L_o(y) where the DPRSM sees its first hit y lit from the front. Tracing: a
+// f / p1 = rho_x L_o(y) where the DPRSM sees its first hit y lit from the front (0 for a hit on
+// x's own plane, vplkit_vpl_hit_on_own_plane). Tracing: a
 // vplkit_voxel_tracer stands for the C++ tracer (use depth_tolerance >=
 // vplkit_voxel_tracer_depth_tolerance). ACCESSORS: the DPRSM's and vplkit_load_voxel_word.
 // Rays within about 1e-6 of a voxel edge, texel edge or the tolerance may decide differently from
@@ -59,11 +60,15 @@ vplkit_gathering_ray_result vplkit_evaluate_gathering_hit(vplkit_dprsm_view view
   return r;
 }
 
-// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+// Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit;
+// a hit on x's own plane (vplkit_vpl_hit_on_own_plane) sends nothing and reads as no hit (texel
+// -1), as in the C++.
 vplkit_gathering_ray_result vplkit_trace_gathering_ray(vplkit_dprsm_view view, vec3 x, vec3 n_x, vec3 dir,
                                                        vplkit_voxel_tracer tracer, float depth_tolerance) {
-  return vplkit_evaluate_gathering_hit(view, x, vplkit_voxel_tracer_trace(tracer, x, n_x, dir), tracer,
-                                       depth_tolerance);
+  vplkit_ray_hit h = vplkit_voxel_tracer_trace(tracer, x, n_x, dir);
+  if (vplkit_vpl_hit_on_own_plane(x, h))
+    return vplkit_gathering_ray_result(false, false, -1, vec3(0.0), vec3(0.0));
+  return vplkit_evaluate_gathering_hit(view, x, h, tracer, depth_tolerance);
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):

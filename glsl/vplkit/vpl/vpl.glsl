@@ -59,6 +59,21 @@ bool vplkit_vpl_points_coincide(vec3 a, vec3 b) {
   return vplkit_max_abs_component(b - a) <= vplkit_vpl_coincidence_tolerance(a, b);
 }
 
+// Does x lie on the plane through y with normal n_y, within the rounding of their coordinates?
+// (C++ vpl_point_on_plane; `precise`: the decision is made at the rounding level, so y - x and
+// the dot product must not be contracted or reordered.) A zero normal: true.
+bool vplkit_vpl_point_on_plane(vec3 x, vec3 y, vec3 n_y) {
+  precise vec3 w = y - x;
+  precise float off_plane = abs(dot(vplkit_unit_or_zero(n_y), w));
+  return !(off_plane > vplkit_vpl_coincidence_tolerance(x, y));
+}
+
+// The crease rule of every gathering strategy (C++ vpl_hit_on_own_plane): a hit whose plane
+// passes through x sends x nothing. A hit without a normal cannot be tested: false.
+bool vplkit_vpl_hit_on_own_plane(vec3 x, vplkit_ray_hit h) {
+  return vplkit_ray_hit_has_normal(h) && vplkit_vpl_point_on_plane(x, h.position, h.normal);
+}
+
 // Geometry term of VPL y (normal n_y) at gather point x, without visibility:
 //   G = cos(theta1) cos(theta2) / (pi * max(d2^2, dmin^2)), both cosines clamped at 0.
 float vplkit_vpl_geometry_term(vec3 x, vec3 n_x, vec3 y, vec3 n_y, float dmin) {

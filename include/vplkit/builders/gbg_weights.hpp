@@ -2,7 +2,7 @@
 #pragma once
 // Gathering-based global (GBG) weights (paper 5.3 and Alg. 2, docs/math.md section 4): every
 // valid gather point shoots n_dirs cosine rays through the host's tracer; a hit that the DPRSM sees
-// lit, on a texel that carries a VPL, off x's own plane (gbg_hit_on_own_plane), adds the
+// lit, on a texel that carries a VPL, off x's own plane (vpl_hit_on_own_plane), adds the
 // accumulator's value to that texel; then
 // w_t = acc[t] / (|G| n_dirs), accumulated in double, and the hole-aware 3x3 median fills the
 // texels that carry a VPL but no ray reached. The per-gather-point random numbers (stream = pixel,
@@ -70,20 +70,6 @@ inline T gbg_hit_value(const gather_point<T>& g, const dprsm_view<T>& view, cons
   return luminance(g.albedo * dprsm_hit_radiance(view, lookup, g.position, hit, depth_tolerance));
 }
 
-// Is x on the hit's own plane (within the coordinates' rounding: a G-buffer point on a crease,
-// coincident surfaces)? Then x sees that surface edge-on: the VPL strategy gives the hit's texel
-// cos(theta1) = 0 at x, so the hit adds nothing to the weights (the rule of
-// clamp_compensation_sample). Without it an exact tracer, whose lifted origin meets the other
-// surface of a crease at distance ~0, adds that surface's full L_o, and which rays do so is a
-// rounding tie that Embree and the GLSL BVH decide differently (docs/api/builders.md, "GBG
-// weights"). A hit without a normal (the paper's voxel-entry points) cannot be tested: false.
-template <class T>
-inline bool gbg_hit_on_own_plane(const gather_point<T>& g, const ray_hit<T>& hit) {
-  if (!ray_hit_has_normal(hit)) return false;
-  const T off_plane = std::abs(glm::dot(unit_or_zero(hit.normal), hit.position - g.position));
-  return !(off_plane > vpl_coincidence_tolerance(g.position, hit.position));
-}
-
 // Direction j of gather point `pixel` (the random-number consumption documented above). The
 // counter is set explicitly, so directions can be generated in any order (one GPU thread each).
 template <class T>
@@ -118,7 +104,11 @@ inline void gbg_accumulate_gather_point(const gather_point<T>& g, int pixel,
     const ray_hit<T> h = trace(g.position, g.normal, dir);
     if (!h.hit) continue;
     ++hits;
-    if (gbg_hit_on_own_plane(g, h)) continue;  // edge-on from x: no light for x's VPLs
+    // x on the hit's own plane (a crease through x, coincident surfaces) sees it edge-on: the VPL
+    // strategy gives its texel cos(theta1) = 0 at x, so no draws go there for x. Without the rule
+    // an exact tracer's lifted origin meets the crease's other surface at distance ~0, and which
+    // rays do so is a rounding tie that Embree and the GLSL BVH decide differently.
+    if (vpl_hit_on_own_plane(g.position, h)) continue;
     const dprsm_lookup_result r = dprsm_lookup(view, h.position, params.depth_tolerance);
     if (!r.lit || !vpl_has_flux(view.vpl_at(r.texel))) continue;
     ++lit;

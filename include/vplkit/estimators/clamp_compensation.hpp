@@ -122,9 +122,7 @@ inline vec3<T> clamp_compensation_sample(const gather_point<T>& gp, const dprsm_
   if (!(weight > T(0))) return vec3<T>(T(0));  // beyond dmin: the VPLs carry it unclamped
   // x on the hit's own plane (within its coordinates' rounding: a crease through x, coincident
   // surfaces) sees that surface edge-on, cos(theta1) = 0 for the VPL strategy: it sends nothing.
-  if (ray_hit_has_normal(h) &&
-      !(std::abs(glm::dot(unit_or_zero(h.normal), w)) > vpl_coincidence_tolerance(gp.position, h.position)))
-    return vec3<T>(T(0));
+  if (vpl_hit_on_own_plane(gp.position, h)) return vec3<T>(T(0));
   const gathering_ray_result<T> r = evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
   if (!r.lit) return vec3<T>(T(0));
   if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {

@@ -4,7 +4,8 @@
 // without MIS): directions omega ~ cos(theta2)/pi around n_x are traced to their first hit y; y is
 // lit when the DPRSM texel it projects into saw a surface at y's depth (dprsm_lookup within
 // depth_tolerance), and each direction adds f / p1 = rho_x L_o(y), with L_o evaluated at y with the
-// texel's normal and albedo (0 seen from behind: one-sided emission). Converges to the one-bounce
+// texel's normal and albedo (0 seen from behind: one-sided emission; 0 for a hit on x's own plane,
+// vpl_hit_on_own_plane: a crease through x, seen edge-on). Converges to the one-bounce
 // integral as the DPRSM sees it, not to the VPL sum (docs/math.md section 8).
 // Random numbers: per direction u0, then u1 (estimator_state.hpp for the range form). An invalid
 // gather point gives 0 and draws nothing. What is known at the hit, choosing the depth tolerance:
@@ -28,7 +29,8 @@ template <class T>
 struct gathering_ray_result {
   bool lit = false;          // hit, projected into a texel that saw it, seen from its lit side
   bool in_front = false;     // lit, in front of the surface its texel saw (dprsm_lookup_result)
-  int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light)
+  int texel = -1;            // the DPRSM texel the hit projects into (-1: no hit / at the light /
+                             // a hit on x's own plane, trace_gathering_ray)
   vec3<T> hit{T(0)};         // y (valid when texel >= 0)
   vec3<T> radiance{T(0)};    // L_o(y) towards x; 0 unless lit
 };
@@ -69,10 +71,16 @@ inline gathering_ray_result<T> evaluate_gathering_hit(const dprsm_view<T>& view,
 }
 
 // Traces the ray leaving surface x (normal n_x, any length) along dir and evaluates L_o at the hit.
+// A hit on x's own plane (vpl_hit_on_own_plane: a crease through x, coincident surfaces) sends
+// nothing and reads as no hit (texel -1): the tracer's lifted origin met a surface that x sees
+// edge-on. This is the rule of every gathering strategy (gathering, MIS's gathering half, the
+// clamp's compensation, the GBG weights; docs/math.md, "The clamp's compensation").
 template <class T, class Tracer>
 inline gathering_ray_result<T> trace_gathering_ray(const dprsm_view<T>& view, vec3<T> x, vec3<T> n_x,
                                                    vec3<T> dir, const Tracer& tracer, T depth_tolerance) {
-  return evaluate_gathering_hit(view, x, tracer(x, n_x, dir), tracer, depth_tolerance);
+  const ray_hit<T> h = tracer(x, n_x, dir);
+  if (vpl_hit_on_own_plane(x, h)) return gathering_ray_result<T>{};
+  return evaluate_gathering_hit(view, x, h, tracer, depth_tolerance);
 }
 
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):

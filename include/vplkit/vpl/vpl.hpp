@@ -75,6 +75,30 @@ inline bool vpl_points_coincide(vec3<T> a, vec3<T> b) {
   return max_abs_component(b - a) <= vpl_coincidence_tolerance(a, b);
 }
 
+// Does x lie on the plane through y with normal n_y, within the rounding of their coordinates
+// (|n_y . (y - x)| <= vpl_coincidence_tolerance(x, y), n_y normalised)? Then x sees that plane
+// edge-on: each of its points has cos(theta1) = 0 at x, and a ray leaving x meets it only at
+// distance ~0 (where a lifted ray origin crosses it) or grazing it. A zero or NaN normal: true
+// (callers ask ray_hit_has_normal first, see vpl_hit_on_own_plane).
+template <class T>
+inline bool vpl_point_on_plane(vec3<T> x, vec3<T> y, vec3<T> n_y) {
+  const T off_plane = detail::abs_of(glm::dot(unit_or_zero(n_y), y - x));
+  return !(off_plane > vpl_coincidence_tolerance(x, y));
+}
+
+// The crease rule of every gathering strategy (docs/math.md, "The clamp's compensation", "A hit
+// on x's own plane sends nothing"): does the ray leaving x hit a surface whose plane passes
+// through x (a crease through x, coincident surfaces)? Such a hit sends x nothing: no point of
+// that surface other than x itself lies in x's view (cos(theta1) = 0 for the VPL strategy, and
+// the ray-casting function, first hit at t > 0, passes it), yet a tracer that lifts its origin
+// meets it at distance ~0 and would add its full L_o. Gathering, MIS's gathering strategy, the
+// clamp's compensation and the GBG weights skip such hits. A hit without a normal (the paper's
+// voxel-entry points) cannot be tested: false.
+template <class T>
+inline bool vpl_hit_on_own_plane(vec3<T> x, const ray_hit<T>& h) {
+  return ray_hit_has_normal(h) && vpl_point_on_plane(x, h.position, h.normal);
+}
+
 // Geometry term of VPL t at gather point x, without visibility:
 //   G = cos(theta1) cos(theta2) / (pi * max(d2^2, dmin^2)),
 // theta1 at the VPL between n_t and x - y_t, theta2 at x between n_x and y_t - x, both clamped

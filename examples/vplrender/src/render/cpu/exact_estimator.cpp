@@ -37,6 +37,10 @@ vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, 
   const float offset = rs.surface_offset();
   const ray_scene::hit h = rs.intersect(vplkit::bvh_offset_point(gp.position, n_g, offset), dir);
   if (!h.hit) return vec3(0.0f);
+  // A hit on x's own plane (x on a crease, coincident surfaces) is where the lifted origin crossed
+  // a surface that x sees edge-on: it sends x nothing (vplkit::vpl_point_on_plane, the gathering
+  // estimators' rule), whichever of a crease's two normals the camera ray gave x.
+  if (vplkit::vpl_point_on_plane(gp.position, h.position, h.geometric_normal)) return vec3(0.0f);
   // y's lit side is the one facing the light; seen from the other side it reflects nothing.
   const vec3 y = h.position;
   vec3 n_gy = h.geometric_normal;

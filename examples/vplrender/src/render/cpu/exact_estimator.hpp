@@ -15,7 +15,10 @@
 // unlit side gives 0, as the DPRSM's texel normal does for gathering), the albedo is the
 // material's at y (texture included). Geometric normals place the hemisphere and move ray origins
 // off their surfaces (ray_scene::surface_offset); shading normals give the cosines (the gather
-// point's: vplkit::gather_point_shading_normal). The gather point's geometric normal comes from
+// point's: vplkit::gather_point_shading_normal). A hit whose plane passes through x (within the
+// coordinates' rounding: x on a crease, coincident surfaces) sends nothing, the rule of the
+// library's gathering estimators (vplkit::vpl_point_on_plane): x sees that surface edge-on, and
+// only the lifted origin meets it, at distance ~0. The gather point's geometric normal comes from
 // the triangle its camera ray meets (gather_point_geometric_normal), oriented by the G-buffer's.
 // Random numbers: make_counter_rng(seed, pixel), per direction u0 then u1 (the gathering
 // estimator's stream).
