@@ -242,6 +242,33 @@ inline vec3<T> unit_or_zero(vec3<T> v) {
   return flush_denormal(s * detail::inversesqrt_of(len2));
 }
 
+// |v| with the scale-first rule of unit_or_zero, for vectors of any magnitude. Where the largest
+// component lies in [2^-50, 2^62] (float; [2^-483, 2^510] in double) it is sqrt(dot(v, v)), the
+// bits of glm::length: every square a flushing device drops there is below half an ulp of the sum,
+// and nothing overflows, so IEEE and flushing arithmetic give the same value. Elsewhere v is
+// scaled first by the power of two that brings its largest component into [1, 2) ([2, 4) in the
+// top binade), and the length of the scaled vector is scaled back (exact, or +Inf when |v| exceeds
+// the largest T): sqrt(dot(v, v)) itself would be 0 or a denormal (a GPU flushes it) below 2^-63
+// and Inf beyond 2^64. A component below the smallest normal T counts as 0 (0 for a vector of
+// them); +Inf with an infinite component; NaN with a NaN one (0 if all are NaN).
+template <class T>
+inline T scaled_length(vec3<T> v) {
+  using lim = std::numeric_limits<T>;
+  v = flush_denormal(v);
+  const T m = max_abs_component(v);
+  if (!(m > T(0))) return T(0);
+  if (!(m <= lim::max())) return lim::infinity();
+  if (m >= exp2i<T>((lim::min_exponent - 1 + lim::digits + 2) / 2) && m <= exp2i<T>((lim::max_exponent - 4) / 2))
+    return detail::sqrt_of(glm::dot(v, v));
+  const int e = binary_exponent(m);
+  const int k = e < lim::max_exponent - 2 ? -e : 2 - lim::max_exponent;
+  const vec3<T> s = flush_denormal(v * exp2i<T>(k));
+  // |s| >= 1 (its largest component is): the max only undoes a sqrt rounded below 1 (a GPU's may
+  // be 4.5 ulp off), which scaled back by 2^-126 would be a denormal, flushed to 0.
+  const T len = detail::sqrt_of(glm::dot(s, s));
+  return (len > T(1) ? len : T(1)) * exp2i<T>(-k);
+}
+
 }  // namespace vplkit
 // ---- end vplkit/core/unit_or_zero.hpp ----
 // ---- begin vplkit/core/gather_point.hpp ----
@@ -1800,12 +1827,23 @@ struct paraboloid_point {
 // dot(uv, uv) <= 1 holds exactly in T. Multiplying by 1/sqrt(r2) alone still lands above 1 in
 // most cases (the product rounds up); the extra factor (1 - 2 eps) moves uv by at most ~2 ulp and
 // was checked on 2e7 rim directions in float and double. Leaves uv untouched when r2 <= 1.
+// A uv with a component beyond 2^63 (float; 2^511 in double), whose r2 may overflow, is
+// normalised scale-first (unit_or_zero) instead, so it lands on the rim in its own direction
+// rather than at uv / sqrt(Inf) = 0, the centre; one with an infinite component gives (0, 0),
+// unit_or_zero's answer for a non-finite vector. The test is on uv, not on r2 == Inf: a GPU
+// compiler may assume that no value is infinite (docs/math.md, "GPU arithmetic model").
 template <class T>
 inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
   const T r2 = glm::dot(uv, uv);
   if (r2 > T(1)) {
-    const T k = detail::inversesqrt_of(r2) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
-    uv = uv * k;
+    const T scale = T(1) - T(2) * std::numeric_limits<T>::epsilon();
+    const vec3<T> v(uv.x, uv.y, T(0));
+    if (max_abs_component(v) <= exp2i<T>((std::numeric_limits<T>::max_exponent - 2) / 2)) {
+      uv = uv * (detail::inversesqrt_of(r2) * scale);
+    } else {
+      const vec3<T> n = unit_or_zero(v);
+      uv = vec2<T>(n.x, n.y) * scale;
+    }
   }
   return uv;
 }
@@ -5620,12 +5658,13 @@ inline T dprsm_lookup_slack(T d, int resolution) {
 // directly instead of h - d_y cos, which cancels for points on the plane. Where it does not
 // (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the plane's horizon crosses the texel;
 // h <= 0: the plane faces away or holds the light; a zero normal), the centre's depth stands in:
-// |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not finite
-// and positive: behind (an infinite d_y would make the slack infinite).
+// |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not positive
+// or beyond 2^126 (float; 2^1022 in double): behind (an infinite d_y would make the slack infinite,
+// and a GPU may divide by a d_y above 2^126 through its reciprocal, which it flushes to 0).
 template <class T>
 inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
                                             int resolution) {
-  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max()))
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= exp2i<T>(std::numeric_limits<T>::max_exponent - 2)))
     return dprsm_plane_side::behind;
   const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
   const vec3<T> n = unit_or_zero(n_t);
@@ -5673,7 +5712,9 @@ template <class T>
 inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
   dprsm_lookup_result r;
   const vec3<T> to_y = y - view.light.position;
-  const T d_y = glm::length(to_y);
+  // Scale-first (scaled_length): glm::length's square would be a denormal below 2^-63 (float),
+  // which a GPU flushes (docs/math.md, "GPU arithmetic model").
+  const T d_y = scaled_length(to_y);
   if (!(d_y > T(0))) return r;
   r.texel = view.texel_of_direction(to_y);
   if (!dprsm_texel_saw_surface(view, r.texel)) return r;
@@ -5925,8 +5966,12 @@ template <class T>
 inline vec3<T> direct_light(const gather_point<T>& gp, const dprsm_view<T>& view) {
   if (!gather_point_valid(gp)) return vec3<T>(T(0));
   const vec3<T> to_light = view.light.position - gp.position;
-  const T d = glm::length(to_light);
-  if (!(d > T(0))) return vec3<T>(T(0));
+  // Scale-first (scaled_length): glm::length's square is a denormal below 2^-63 (float), which a
+  // GPU flushes to 0 (the point was lit here and unlit there), and Inf beyond 2^64. Beyond 2^126
+  // nothing is lit (dprsm_lookup's plane test says behind there): a GPU may divide by such a d as
+  // to_light * (1 / d), whose reciprocal it flushes to 0.
+  const T d = scaled_length(to_light);
+  if (!(d > T(0)) || !(d <= exp2i<T>(std::numeric_limits<T>::max_exponent - 2))) return vec3<T>(T(0));
   const T cos_a = glm::dot(glm::normalize(gp.normal), to_light / d);
   if (!(cos_a > T(0))) return vec3<T>(T(0));
   const dprsm_lookup_result r = dprsm_lookup(view, gp.position, T(0));

@@ -6,6 +6,7 @@
 #include <vplkit/paraboloid/texel_grid.hpp>
 
 #include <catch2/catch.hpp>
+#include <fp_mode.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -253,4 +254,67 @@ TEST_CASE("hard case: texel validity next to the rim is exact", "[paraboloid][ha
   REQUIRE(vplkit::texel_index(1, R - 1, R - 1, R) == 2 * R * R - 1);
   REQUIRE(vplkit::texel_is_valid(R / 2, R - 1, R));
   REQUIRE_FALSE(vplkit::texel_is_valid(0, 0, R));
+}
+
+TEMPLATE_TEST_CASE("hard case: clamp_to_disk of a uv whose r2 overflows lands on the rim in its own direction",
+                   "[paraboloid][hardcase]", float, double) {
+  using T = TestType;
+  using lim = std::numeric_limits<T>;
+  // |uv| beyond 2^64 (float; 2^512 in double): dot(uv, uv) overflows to Inf and uv / sqrt(Inf) is the
+  // centre of the map, not the rim. Scaled first, every finite uv lands on the rim.
+  const T big = exp2i<T>((lim::max_exponent - 2) / 2 + 1);  // 2^64 in float: its square is Inf
+  const vec2<T> cases[] = {vec2<T>(big, T(0)),         vec2<T>(T(0), -big),    vec2<T>(big, big),
+                           vec2<T>(-T(3) * big, T(4) * big), vec2<T>(lim::max(), T(0)), vec2<T>(lim::max(), lim::max()),
+                           vec2<T>(-lim::max(), T(1)),  vec2<T>(lim::max(), -lim::max() / T(3))};
+  for (const vec2<T> uv : cases) {
+    INFO("uv = (" << uv.x << ", " << uv.y << ")");
+    REQUIRE(!(glm::dot(uv, uv) <= lim::max()));  // the hazard: r2 is not finite
+    const vec2<T> r = paraboloid_clamp_to_disk(uv);
+    const T r2 = glm::dot(r, r);
+    CHECK(r2 <= T(1));
+    CHECK(r2 >= T(1) - T(16) * lim::epsilon());
+    // Its own direction: the exact direction of uv, in double (uv / |uv| scaled by a power of two).
+    const double s = double(std::max(std::abs(uv.x), std::abs(uv.y)));
+    const double ux = double(uv.x) / s, uy = double(uv.y) / s, n = std::sqrt(ux * ux + uy * uy);
+    CHECK(std::abs(double(r.x) - ux / n) <= 8.0 * double(lim::epsilon()));
+    CHECK(std::abs(double(r.y) - uy / n) <= 8.0 * double(lim::epsilon()));
+  }
+  // A uv just below the switch keeps the unscaled path (and is on the rim too).
+  const vec2<T> below(big / T(2), big / T(2));
+  const vec2<T> r = paraboloid_clamp_to_disk(below);
+  CHECK(glm::dot(r, r) <= T(1));
+  CHECK(glm::dot(r, r) >= T(1) - T(16) * lim::epsilon());
+  // Infinite components: no direction to keep; (0, 0), unit_or_zero's answer.
+  CHECK(paraboloid_clamp_to_disk(vec2<T>(lim::infinity(), T(1))) == vec2<T>(T(0)));
+}
+
+TEMPLATE_TEST_CASE("hard case: scaled_length of vectors from 2^-124 to the largest float, flushed or not",
+                   "[paraboloid][hardcase]", float, double) {
+  using T = TestType;
+  using lim = std::numeric_limits<T>;
+  // (0.75, -1, 0) 2^k has length 1.25 2^k exactly. glm::length squares first: 0 or a denormal
+  // below 2^-63 (float; a GPU flushes it) and Inf beyond 2^64; scaled first, it is exact over the
+  // whole normal range, the same with denormals flushed (FTZ|DAZ, as a GPU).
+  for (int k = lim::min_exponent; k < lim::max_exponent; ++k) {
+    const vec3<T> v = vec3<T>(T(0.75), T(-1), T(0)) * exp2i<T>(k);
+    const T expect = T(1.25) * exp2i<T>(k);
+    INFO("k = " << k);
+    CHECK(scaled_length(v) == expect);
+    const vplkit_test::fp_mode_scope ftz(true);
+    CHECK(scaled_length(v) == expect);
+  }
+  CHECK(scaled_length(vec3<T>(lim::max(), -lim::max(), T(0))) == lim::infinity());  // |v| beyond the largest T
+  // Where the largest component lies in [2^-50, 2^62] (float): glm::length's bits.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-50, 61);
+  for (int i = 0; i < 20000; ++i) {
+    const T s = std::ldexp(T(1), exponent(rng));
+    const vec3<T> v(T(unit(rng)) * s, T(unit(rng)) * s, T(1.5) * s);
+    INFO("v = (" << v.x << ", " << v.y << ", " << v.z << ")");
+    REQUIRE(scaled_length(v) == glm::length(v));
+  }
+  CHECK(scaled_length(vec3<T>(T(0))) == T(0));
+  CHECK(scaled_length(vec3<T>(lim::denorm_min(), T(0), -lim::denorm_min())) == T(0));  // below the normal range
+  CHECK(scaled_length(vec3<T>(T(1), lim::infinity(), T(0))) == lim::infinity());
 }

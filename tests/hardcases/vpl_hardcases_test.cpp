@@ -2,6 +2,10 @@
 // docs/math.md section 10, contribution: d2 -> 0, back-facing, unnormalised normals (and zero
 // normals); the same care in reflected_radiance and vpl_patch_area. Nothing may come out NaN or
 // Inf.
+#include <fp_mode.hpp>
+#include <synthetic_scene.hpp>
+
+#include <vplkit/vpl/direct_light.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
 
@@ -204,4 +208,43 @@ TEMPLATE_TEST_CASE("hard case: DPRSM texels with no geometry or outside the disk
     REQUIRE(vplkit::vpl_contribution(vec3<T>(0, 0, 1), vec3<T>(0, 0, -1), vec3<T>(1), v, T(0)) ==
             vec3<T>(0));
   }
+}
+
+TEMPLATE_TEST_CASE("hard case: direct light closer to the light than 2^-63 is the same with denormals flushed",
+                   "[vpl][hardcase]", float, double) {
+  using T = TestType;
+  // The synthetic room's DPRSM with its light moved to the origin, so that the coordinates are as
+  // small as the distances (otherwise the points coincide with the light). Below 2^-63 (float;
+  // 2^-511 in double) the squared distance is a denormal: a length() of it is a small positive
+  // distance with IEEE arithmetic and 0 where denormals are flushed (a GPU, -ffast-math, FTZ|DAZ),
+  // and the squares of components just above 2^-63 are denormals too. Scaled first, the distance
+  // is the same either way, and the point is lit as any other (its distance is still a normal float).
+  const vplkit_test::lit_room<T> room(32);
+  vplkit::dprsm_view<T> view = room.view;
+  view.light.position = vec3<T>(T(0));
+  view.light.frame.position = vec3<T>(T(0));
+  const int e0 = (std::numeric_limits<T>::min_exponent - 1) / 2;  // the squares of 2^e0 are normal
+  const vec3<T> dirs[] = {vec3<T>(0, -1, 0), vec3<T>(T(0.25), -1, T(0.5)), vec3<T>(T(-0.5), -1, T(-0.125)),
+                          vec3<T>(1, -1, 1)};
+  int lit_below = 0, lit_above = 0;
+  for (int k = e0 - 4; k <= e0 + 2; ++k) {
+    for (const vec3<T> dir : dirs) {
+      const T s = vplkit::exp2i<T>(k);
+      vplkit::gather_point<T> gp{dir * s, -dir, vec3<T>(T(0.8))};  // facing the light
+      INFO("distance scale 2^" << k << ", direction (" << dir.x << ", " << dir.y << ", " << dir.z << ")");
+      const vec3<T> ieee = vplkit::direct_light(gp, view);
+      vec3<T> flushed;
+      {
+        const vplkit_test::fp_mode_scope ftz(true);
+        flushed = vplkit::direct_light(gp, view);
+      }
+      INFO("IEEE (" << ieee.x << ", " << ieee.y << ", " << ieee.z << "), flushed (" << flushed.x << ", "
+                    << flushed.y << ", " << flushed.z << ")");
+      CHECK(finite_nonneg(ieee));
+      CHECK(ieee == flushed);
+      if (ieee.x > T(0)) ++(k < e0 ? lit_below : lit_above);
+    }
+  }
+  CHECK(lit_below >= 8);  // the lookup sees the room's floor below the light
+  CHECK(lit_above >= 8);
 }

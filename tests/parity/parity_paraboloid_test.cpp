@@ -186,6 +186,53 @@ TEST_CASE("unit_or_zero and max_abs_component: random vectors of any scale and d
   }
 }
 
+TEST_CASE("scaled_length: random vectors of any scale (2^-126 to FLT_MAX) and degenerate ones") {
+  random_source rnd(103);
+  std::vector<vec3<float>> vs;
+  for (int i = 0; i < 60000; ++i) {
+    // a direction times 2^[-126, 128]; a third of them with components of mixed magnitudes
+    vec3<float> d = rnd.sphere_direction();
+    if (i % 3 == 0) d.y *= float(std::pow(2.0, rnd.uniform(-40, 0)));
+    vs.push_back(d * float(std::ldexp(1.0, rnd.integer(-124, 127))));
+  }
+  for (float s : {0x1p-126f, 0x1p-64f, 0x1p-63f, 0x1p-50f, 0x1p-51f, 0x1p62f, 0x1p63f, 0x1p64f, flt_max})
+    for (vec3<float> d : {vec3<float>(0, 0, 1), vec3<float>(1, 1, 1), vec3<float>(-1, 1, -1),
+                          vec3<float>(0.75f, -0.5f, 0.25f), vec3<float>(1, 0x1p-20f, 0x1p-30f)})
+      vs.push_back(d * s);
+  for (vec3<float> d : {vec3<float>(0), vec3<float>(flt_max, flt_max, flt_max), vec3<float>(flt_inf, 0, 0),
+                        vec3<float>(1, -flt_inf, 1)})
+    vs.push_back(d);
+  std::vector<float4> in;
+  for (const auto& v : vs) in.push_back(f4(v));
+  const auto gpu = run_compute<float>(per_item(R"(#include "vplkit/core/unit_or_zero.glsl")", {input(0, in, "vec4 v")},
+                                               "float result", "result[i] = vplkit_scaled_length(v[i].xyz);"),
+                                      vs.size());
+  std::vector<float> cpu;
+  for (const auto& v : vs) cpu.push_back(vplkit::scaled_length(v));
+  auto describe = [&](std::size_t i) { return "v = " + show3(vs[i]); };
+  // sqrt (spec::sqrt_ulps, inherited from 1 / inversesqrt) against the C++'s correctly rounded one
+  // (0.5), a dot contracted into FMAs (an ulp of len2: 0.5 ulp of the length), the exact scalings:
+  // 4.5 + 0.5 + 0.5 = 5.5 ulps; bound 8, shown below to hold for the GPU model too.
+  const double length_ulps = 8;
+  VPLKIT_CHECK_PARITY(compare_floats(gpu, cpu, within_ulps(length_ulps), describe, "scaled_length"));
+  std::uint64_t seed = 11;
+  for (const auto deviation : vplkit_test::gpu_model_deviations) {
+    const vplkit_test::gpu_model_scope model(deviation, seed++);
+    const vplkit_test::reciprocal_division_scope reciprocal;  // NVIDIA's division, should one enter
+    using W = vplkit_test::gpu_float;
+    std::vector<float> mv;
+    for (const auto& v : vs) mv.push_back(float(vplkit::scaled_length(vec3<W>(W(v.x), W(v.y), W(v.z)))));
+    VPLKIT_CHECK_PARITY(compare_floats(mv, cpu, within_ulps(length_ulps), describe,
+                                       std::string("GPU model (") + vplkit_test::to_string(deviation) +
+                                           "): scaled_length"));
+  }
+  // Never 0 for a vector with a normal component, on either side (glm::length is 0 below 2^-75).
+  std::size_t zero = 0;
+  for (std::size_t i = 0; i < vs.size(); ++i)
+    if (vplkit::max_abs_component(vs[i]) >= flt_min && (gpu[i] == 0.0f || cpu[i] == 0.0f)) ++zero;
+  CHECK(zero == 0);
+}
+
 TEST_CASE("paraboloid_from_direction: 10^5 random directions, face exact, uv within the specification's bound") {
   random_source rnd(202);
   std::vector<vec3<float>> dirs;
@@ -767,4 +814,74 @@ TEST_CASE("texel_owner_from_uv and texel_patch_block: the rim band (exact off te
   CHECK(unexplained == 0);
   CHECK(differ <= uvs.size() / 1000);
   CHECK(block_differ == 0);
+}
+
+// paraboloid_clamp_to_disk of a uv far outside the disk: the GPU scales as the C++ does. Bound, per
+// component: the GPU's normalisation (inversesqrt, 2 ulp, and its product: spec::normalize_ulps)
+// and the clamp factor's product (0.5), a contracted dot product (spec::contraction_ulps), and the
+// C++ side's own 1 / sqrt and two products (1.5); the unscaled path below the switch (inversesqrt
+// of r2 and two products, 3 ulps) stays inside it.
+constexpr double clamp_far_ulps = vplkit_test::spec::normalize_ulps + vplkit_test::spec::add_mul_ulps +
+                                  vplkit_test::spec::contraction_ulps + 1.5;
+static_assert(clamp_far_ulps == 5.0, "the bound the comment derives");
+
+TEST_CASE("paraboloid_clamp_to_disk: uv far outside the disk (|uv| up to FLT_MAX, r2 overflowing), on the rim") {
+  random_source rnd(505);
+  std::vector<vec2<float>> uvs;
+  for (int e = 0; e <= 127; ++e) {  // |uv| ~ 2^e in random directions: r2 overflows from e = 64 on
+    for (int k = 0; k < 40; ++k) {
+      const double phi = rnd.uniform(0.0, 2.0 * pi);
+      const double m = std::ldexp(rnd.uniform(1.0, 1.99), e);
+      uvs.push_back(vec2<float>(float(m * std::cos(phi)), float(m * std::sin(phi))));
+    }
+  }
+  for (const vec2<float> uv : {vec2<float>(flt_max, 0), vec2<float>(0, -flt_max), vec2<float>(flt_max, flt_max),
+                               vec2<float>(-flt_max, 1), vec2<float>(0x1p63f, 0x1p63f), vec2<float>(0x1p64f, 0),
+                               vec2<float>(std::nextafter(0x1p63f, flt_inf), -0x1p63f), vec2<float>(3e19f, -4e19f)})
+    uvs.push_back(uv);
+  std::vector<float4> in;
+  for (const auto& uv : uvs) in.push_back({uv.x, uv.y, 0, 0});
+  const auto gpu = run_compute<float4>(per_item(R"(#include "vplkit/paraboloid/paraboloid.glsl")",
+                                                {input(0, in, "vec4 q")}, "vec4 result", R"(
+  result[i] = vec4(vplkit_paraboloid_clamp_to_disk(q[i].xy), 0.0, 0.0);)"),
+                                       uvs.size());
+  std::vector<float4> cpu;
+  for (const auto& uv : uvs) {
+    const vec2<float> r = vplkit::paraboloid_clamp_to_disk(uv);
+    cpu.push_back({r.x, r.y, 0, 0});
+  }
+  auto describe = [&](std::size_t i) { return "uv = " + show2(uvs[i]); };
+  for (int c = 0; c < 2; ++c)
+    VPLKIT_CHECK_PARITY(compare_field_abs(gpu, cpu, [c](const float4& v) { return v[c]; },
+                                          within_ulps(clamp_far_ulps), describe,
+                                          std::string("clamp_to_disk far outside: ") + (c == 0 ? "u" : "v")));
+  // The GPU model: inversesqrt anywhere within the table (no division is involved).
+  std::uint64_t seed = 7;
+  for (const auto deviation : vplkit_test::gpu_model_deviations) {
+    const vplkit_test::gpu_model_scope model(deviation, seed++);
+    using W = vplkit_test::gpu_float;
+    std::vector<float4> mv;
+    for (const auto& uv : uvs) {
+      const vec2<W> r = vplkit::paraboloid_clamp_to_disk(vec2<W>(W(uv.x), W(uv.y)));
+      mv.push_back({float(r.x), float(r.y), 0, 0});
+    }
+    for (int c = 0; c < 2; ++c)
+      VPLKIT_CHECK_PARITY(compare_field_abs(mv, cpu, [c](const float4& v) { return v[c]; },
+                                            within_ulps(clamp_far_ulps), describe,
+                                            "clamp_to_disk far outside, GPU model (" +
+                                                std::string(vplkit_test::to_string(deviation)) + ")"));
+  }
+  // On the rim on both sides (the centre, 0, is what an overflowing r2 gives unscaled).
+  std::size_t off_rim = 0;
+  for (std::size_t i = 0; i < uvs.size(); ++i) {
+    for (const float4& r : {gpu[i], cpu[i]}) {
+      const double r2 = double(r.x) * r.x + double(r.y) * r.y;
+      if (!(r2 <= 1.0 + 2.0 * flt_eps) || !(r2 >= 1.0 - 16.0 * flt_eps)) {
+        ++off_rim;
+        UNSCOPED_INFO("off the rim: " << describe(i) << " -> (" << show(r.x) << ", " << show(r.y) << ")");
+      }
+    }
+  }
+  std::cout << "  clamp_to_disk far outside: " << uvs.size() << " uv, off the rim (GPU or C++): " << off_rim << "\n";
+  CHECK(off_rim == 0);
 }

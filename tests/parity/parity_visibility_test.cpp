@@ -26,6 +26,7 @@
 #include <parity_fma_model.hpp>
 #include <parity_forward_error.hpp>
 #include <parity_harness.hpp>
+#include <uncontracted_reference.hpp>
 #include <voxel_cells.hpp>
 
 #include <vplkit/visibility/dda.hpp>
@@ -505,7 +506,9 @@ struct tb_case { vec4 center; vec4 half_size; vec4 a; vec4 b; vec4 c; };
   std::vector<std::uint32_t> cpu;
   std::size_t overlaps = 0, near_tangent = 0;
   for (const auto& k : cases) {
-    const bool f = vplkit::triangle_box_overlap(xyz(k.center), xyz(k.half_size), xyz(k.a), xyz(k.b), xyz(k.c));
+    // The GLSL is `precise`: the reference rounds every product, also in the [fma] program.
+    const bool f = vplkit_test::uncontracted_triangle_box_overlap(xyz(k.center), xyz(k.half_size), xyz(k.a),
+                                                                  xyz(k.b), xyz(k.c));
     const bool d = vplkit::triangle_box_overlap(v3d(xyz(k.center)), v3d(xyz(k.half_size)), v3d(xyz(k.a)),
                                                 v3d(xyz(k.b)), v3d(xyz(k.c)));
     cpu.push_back(f ? 1u : 0u);
@@ -525,6 +528,19 @@ struct tb_case { vec4 center; vec4 half_size; vec4 a; vec4 b; vec4 c; };
 }
 
 }  // namespace
+
+TEST_CASE("uncontracted reference: its translation unit rounds every product, also in the [fma] program") {
+  // a * b = 1 + 2^-11 + 2^-24 exactly; rounded it is 1 + 2^-11 (a tie, to even), so a * b + c with
+  // c = -(1 + 2^-11) is 0 when the product is rounded and 2^-24 when it is fused. Without this, an
+  // [fma] program whose reference lost -ffp-contract=off would compare with a contracting reference
+  // and fail the exact cases below only where contraction happens to flip one.
+  volatile float a = 1.0f + 0x1p-12f;
+  volatile float b = 1.0f + 0x1p-12f;
+  volatile float c = -(1.0f + 0x1p-11f);
+  const float r = vplkit_test::uncontracted_multiply_add(a, b, c);
+  INFO("a * b + c = " << show(r) << " (2^-24: contracted)");
+  CHECK(r == 0.0f);
+}
 
 TEST_CASE("triangle_box_overlap: 2 x 10^5 random and degenerate triangles, exact") {
   random_source rnd(7);
@@ -561,8 +577,7 @@ TEST_CASE("triangle_box_overlap: 2 x 10^5 random and degenerate triangles, exact
   check_triangle_box(cases, "random triangles vs random boxes");
 }
 
-TEST_CASE("triangle_box_overlap: exact touching cases and near-tangent cases (+-1 ulp)",
-          VPLKIT_PARITY_NEEDS_UNCONTRACTED_REFERENCE) {
+TEST_CASE("triangle_box_overlap: exact touching cases and near-tangent cases (+-1 ulp)") {
   // Touching (closed sets): dyadic coordinates, so every product and sum is exact on both sides.
   // Unit box at the origin, half 0.5.
   std::vector<tb_case> cases;
@@ -617,7 +632,8 @@ TEST_CASE("triangle_box_overlap: exact touching cases and near-tangent cases (+-
     const auto& k = cases[i];
     const bool expect = !(i == 7 || i == 8);
     INFO("touching case " << i);
-    CHECK(vplkit::triangle_box_overlap(xyz(k.center), xyz(k.half_size), xyz(k.a), xyz(k.b), xyz(k.c)) == expect);
+    CHECK(vplkit_test::uncontracted_triangle_box_overlap(xyz(k.center), xyz(k.half_size), xyz(k.a), xyz(k.b),
+                                                         xyz(k.c)) == expect);
   }
   check_triangle_box(cases, "touching and near-tangent cases");
 }
@@ -774,16 +790,12 @@ walk_state state_of(const vplkit::dda_walk<float>& w) {
   return {1u, w.voxel.x, w.voxel.y, w.voxel.z, w.t, w.t_next.x, w.t_next.y, w.t_next.z};
 }
 
+// The C++ walk of the GLSL's `precise` crossings: rounded products, also in the [fma] program.
 brick_out cpu_leave_brick(const vplkit::voxel_grid<float>& g, const dda_ray& r, int steps) {
-  const auto v = g.view();
-  vplkit::dda_walk<float> w = vplkit::dda_walk_begin(
-      v, v3f(r.origin_tmax.x, r.origin_tmax.y, r.origin_tmax.z), v3f(r.dir.x, r.dir.y, r.dir.z), r.origin_tmax.w);
-  for (int k = 0; k < steps && w.running; ++k) vplkit::dda_walk_next(v, w);
-  vplkit::dda_walk<float> jump = w, step = w;
-  if (jump.running) vplkit::dda_walk_leave_brick(v, jump);
-  const ivec3 b = w.voxel / vplkit::voxel_brick_edge;
-  while (step.running && step.voxel / vplkit::voxel_brick_edge == b) vplkit::dda_walk_next(v, step);
-  return {state_of(jump), state_of(step)};
+  const vplkit_test::uncontracted_brick_exit e = vplkit_test::uncontracted_leave_brick(
+      g, v3f(r.origin_tmax.x, r.origin_tmax.y, r.origin_tmax.z), v3f(r.dir.x, r.dir.y, r.dir.z), r.origin_tmax.w,
+      steps);
+  return {state_of(e.jump), state_of(e.step)};
 }
 
 bool same_state(const walk_state& a, const walk_state& b) { return std::memcmp(&a, &b, sizeof(walk_state)) == 0; }
@@ -802,8 +814,7 @@ std::string show_state(const walk_state& s) {
 
 }  // namespace
 
-TEST_CASE("voxel_bricks: leaving a brick in one move, lattice and random rays (ties, partial bricks)",
-          VPLKIT_PARITY_NEEDS_UNCONTRACTED_REFERENCE) {
+TEST_CASE("voxel_bricks: leaving a brick in one move, lattice and random rays (ties, partial bricks)") {
   // The GLSL jump must equal the GLSL steps on any device (the exactness of the skipping), and the
   // C++ bit for bit where division is correctly rounded (software renderers).
   const auto g = lattice_grid(71, 0.0);

@@ -1032,6 +1032,75 @@ TEST_CASE("direct_light: lit decision and value, exact decisions except near a d
   }
 }
 
+TEST_CASE("direct_light: gather points 2^-66 to 2^-60 and 2^40 to 2^70 from the light (scale-first facing test)") {
+  // Light 1's DPRSM with the light moved to the origin, so that coordinates are as small as the
+  // distances (else the points would coincide with the light). Below 2^-63 the squared distance is
+  // a denormal (0 on a GPU that flushes, and in the [ftz-daz] reference), and near 2^-63 the
+  // squares of single components are; beyond 2^64 it overflows. The distances are scaled first
+  // (scaled_length), so neither decides: lit near the light on both sides, unlit far away.
+  dprsm_data d = make_dprsm(1);
+  d.light.position = vec3<float>(0);
+  d.light.frame.position = vec3<float>(0);
+  d.view.light = d.light;
+  random_source rnd(91);
+  std::vector<vplkit::gather_point<float>> gps;
+  std::vector<std::string> kind;
+  for (int e = -66; e <= 70; ++e) {
+    if (e == -59) e = 40;  // the two ranges
+    for (int k = 0; k < 200; ++k) {
+      const vec3<float> dir = rnd.sphere_direction();
+      const float s = std::ldexp(float(rnd.uniform(1.0, 1.99)), e);
+      // Facing the light for most, a random (unnormalised) normal for the rest.
+      const vec3<float> n = k % 4 == 3 ? rnd.sphere_direction() * float(rnd.uniform(0.01, 10)) : -dir;
+      gps.push_back({dir * s, n, vec3<float>(0.8f, 0.5f, 0.3f)});
+      kind.push_back("2^" + std::to_string(e) + " from the light");
+    }
+  }
+  std::vector<float4> in;
+  for (const auto& g : gps) {
+    in.push_back(f4(g.position, g.shading_normal.x));
+    in.push_back(f4(g.normal, g.shading_normal.y));
+    in.push_back(f4(g.albedo, g.shading_normal.z));
+  }
+  const auto gpu = run_compute<float4>(
+      dprsm_kernel(d, R"(#include "vplkit/vpl/direct_light.glsl")", {input(0, in, "vec4 q")}, "vec4 result", R"(
+  vplkit_gather_point gp = vplkit_unpack_gather_point(q[3u * i], q[3u * i + 1u], q[3u * i + 2u]);
+  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);)"),
+      gps.size());
+  series<std::int32_t> lit_decision;
+  std::vector<float> gv[3];
+  std::vector<double> cv[3];
+  std::size_t lit_near = 0, lit_below = 0;
+  for (std::size_t i = 0; i < gps.size(); ++i) {
+    const vplkit::gather_point<float>& g = gps[i];
+    const vec3<float> c = vplkit::direct_light(g, d.view);
+    const vec3<float> gc(gpu[i].x, gpu[i].y, gpu[i].z);
+    const int cl = c != vec3<float>(0) ? 1 : 0;
+    lit_decision.add(gc != vec3<float>(0) ? 1 : 0, cl);
+    const double dist = glm::length(vec3<double>(g.position));
+    if (cl != 0 && dist < 0x1p-50) ++lit_near;
+    if (cl != 0 && dist < 0x1p-64) ++lit_below;
+    // Values scaled by rho I / (pi max(d^2, 2^-63)) (reflected_radiance's floor): the cosine.
+    const vec3<double> w = vec3<double>(g.position);
+    const double d2 = std::max(glm::dot(w, w), 0x1p-63);
+    for (int ch = 0; ch < 3; ++ch) {
+      const double scale = double(g.albedo[ch]) * double(d.light.intensity[ch]) / (pi * d2);
+      const bool both = gc != vec3<float>(0) && c != vec3<float>(0);
+      gv[ch].push_back(both ? float(double(gc[ch]) / scale) : 0.0f);
+      cv[ch].push_back(both ? double(c[ch]) / scale : 0.0);
+    }
+  }
+  std::cout << "  direct_light near and far: " << gps.size() << " gather points, " << lit_near
+            << " lit on the CPU within 2^-50 of the light, " << lit_below << " within 2^-64\n";
+  CHECK(lit_near > 100);
+  CHECK(lit_below > 50);
+  auto describe = [&](std::size_t i) { return kind[i] + ": x " + show3(gps[i].position) + " n " + show3(gps[i].normal); };
+  VPLKIT_CHECK_PARITY(compare_exact(lit_decision, describe, "direct_light near and far: lit"));
+  for (int ch = 0; ch < 3; ++ch)
+    VPLKIT_CHECK_PARITY(compare_floats_abs(gv[ch], cv[ch], cosine_bound, describe,
+                                           std::string("direct_light near and far: ") + channel_name(ch) + " / (rho I / pi d^2)"));
+}
+
 TEST_CASE("vpl constants: the GLSL values are the C++ values, bit for bit") {
   VPLKIT_CHECK_PARITY(compare_constants(
       R"(#include "vplkit/vpl/vpl.glsl")",

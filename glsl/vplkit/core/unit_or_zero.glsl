@@ -39,4 +39,21 @@ vec3 vplkit_unit_or_zero(vec3 v) {
   return vplkit_flush_denormal(s * inversesqrt(len2));
 }
 
+// |v| with the scale-first rule (C++ scaled_length): sqrt(dot(v, v)) where the largest component
+// lies in [2^-50, 2^62] (a square a flushing device drops there is below half an ulp of the sum);
+// elsewhere the length of v scaled by a power of two, scaled back. Components below the smallest
+// normal float count as 0; an infinite component gives +Inf (a bit cast: never flushed or folded).
+float vplkit_scaled_length(vec3 v) {
+  v = vplkit_flush_denormal(v);
+  float m = vplkit_max_abs_component(v);
+  if (!(m > 0.0)) return 0.0;
+  if (!(m <= vplkit_FLT_MAX)) return uintBitsToFloat(0x7f800000u);
+  if (m >= 8.8817841970012523e-16 && m <= 4.6116860184273879e18) return sqrt(dot(v, v));  // 2^-50, 2^62
+  int e = vplkit_binary_exponent(m);
+  int k = e < 126 ? -e : -126;
+  vec3 s = vplkit_flush_denormal(v * vplkit_exp2i(k));
+  float len = sqrt(dot(s, s));  // >= 1 exactly; the max undoes a GPU sqrt rounded below 1
+  return (len > 1.0 ? len : 1.0) * vplkit_exp2i(-k);
+}
+
 #endif  // VPLKIT_CORE_UNIT_OR_ZERO_GLSL

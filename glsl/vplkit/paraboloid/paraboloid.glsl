@@ -26,12 +26,18 @@ const float vplkit_paraboloid_clamp_scale = 0.999999761581420898437500;
 // Pulls a uv that rounding left just outside the unit disk back inside. On the CPU dot(uv, uv) <= 1
 // then holds exactly; GPU inversesqrt is not correctly rounded (GLSL allows 2 ulp), so on a GPU the
 // result may still be 1 ulp outside: texel_from_uv clamps and texel_is_valid is
-// integer, so that is harmless. Leaves uv untouched when r2 <= 1.
+// integer, so that is harmless. Leaves uv untouched when r2 <= 1. A uv with a component beyond
+// 2^63, whose r2 may overflow, is normalised scale-first (vplkit_unit_or_zero), as in the C++.
 vec2 vplkit_paraboloid_clamp_to_disk(vec2 uv) {
   float r2 = dot(uv, uv);
   if (r2 > 1.0) {
-    float k = inversesqrt(r2) * vplkit_paraboloid_clamp_scale;
-    uv = uv * k;
+    vec3 v = vec3(uv, 0.0);
+    if (vplkit_max_abs_component(v) <= 9.223372036854775808e18) {  // 2^63
+      float k = inversesqrt(r2) * vplkit_paraboloid_clamp_scale;
+      uv = uv * k;
+    } else {
+      uv = vplkit_unit_or_zero(v).xy * vplkit_paraboloid_clamp_scale;
+    }
   }
   return uv;
 }

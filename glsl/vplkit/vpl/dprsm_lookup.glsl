@@ -13,6 +13,7 @@
 
 #include "vplkit/core/constants.glsl"
 #include "vplkit/core/gather_point.glsl"
+#include "vplkit/core/normal_range.glsl"
 #include "vplkit/core/unit_or_zero.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
@@ -40,7 +41,8 @@ float vplkit_dprsm_lookup_slack(float d, int resolution) {
 // tested as n . (y - y_t) against -+tol cos(alpha); else (grazing, plane facing away) against the
 // centre's depth. A bad tolerance or a distance that is not finite and positive: behind.
 int vplkit_dprsm_plane_side_of(vec3 c, vec3 y_t, vec3 n_t, vec3 y, float d_y, float tolerance, int resolution) {
-  if (!(tolerance >= 0.0) || !(d_y > 0.0) || !(d_y <= vplkit_FLT_MAX)) return vplkit_dprsm_plane_behind;
+  // Beyond 2^126: behind (the division below would go through a flushed reciprocal), as the C++.
+  if (!(tolerance >= 0.0) || !(d_y > 0.0) || !(d_y <= 8.5070591730234616e37)) return vplkit_dprsm_plane_behind;
   float tol = tolerance + vplkit_dprsm_lookup_slack(d_y, resolution);
   vec3 n = vplkit_unit_or_zero(n_t);
   float h = dot(n, c - y_t);
@@ -82,7 +84,7 @@ bool vplkit_dprsm_texel_saw_surface(vplkit_dprsm_view view, int t) {
 vplkit_dprsm_lookup_result vplkit_dprsm_lookup(vplkit_dprsm_view view, vec3 y, float tolerance) {
   vplkit_dprsm_lookup_result r = vplkit_dprsm_lookup_result(-1, false, false);
   vec3 to_y = y - view.light.position;
-  float d_y = length(to_y);
+  float d_y = vplkit_scaled_length(to_y);  // scale-first, as the C++
   if (!(d_y > 0.0)) return r;
   r.texel = vplkit_dprsm_view_texel_of_direction(view, to_y);
   if (!vplkit_dprsm_texel_saw_surface(view, r.texel)) return r;

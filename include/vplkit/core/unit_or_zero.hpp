@@ -46,4 +46,31 @@ inline vec3<T> unit_or_zero(vec3<T> v) {
   return flush_denormal(s * detail::inversesqrt_of(len2));
 }
 
+// |v| with the scale-first rule of unit_or_zero, for vectors of any magnitude. Where the largest
+// component lies in [2^-50, 2^62] (float; [2^-483, 2^510] in double) it is sqrt(dot(v, v)), the
+// bits of glm::length: every square a flushing device drops there is below half an ulp of the sum,
+// and nothing overflows, so IEEE and flushing arithmetic give the same value. Elsewhere v is
+// scaled first by the power of two that brings its largest component into [1, 2) ([2, 4) in the
+// top binade), and the length of the scaled vector is scaled back (exact, or +Inf when |v| exceeds
+// the largest T): sqrt(dot(v, v)) itself would be 0 or a denormal (a GPU flushes it) below 2^-63
+// and Inf beyond 2^64. A component below the smallest normal T counts as 0 (0 for a vector of
+// them); +Inf with an infinite component; NaN with a NaN one (0 if all are NaN).
+template <class T>
+inline T scaled_length(vec3<T> v) {
+  using lim = std::numeric_limits<T>;
+  v = flush_denormal(v);
+  const T m = max_abs_component(v);
+  if (!(m > T(0))) return T(0);
+  if (!(m <= lim::max())) return lim::infinity();
+  if (m >= exp2i<T>((lim::min_exponent - 1 + lim::digits + 2) / 2) && m <= exp2i<T>((lim::max_exponent - 4) / 2))
+    return detail::sqrt_of(glm::dot(v, v));
+  const int e = binary_exponent(m);
+  const int k = e < lim::max_exponent - 2 ? -e : 2 - lim::max_exponent;
+  const vec3<T> s = flush_denormal(v * exp2i<T>(k));
+  // |s| >= 1 (its largest component is): the max only undoes a sqrt rounded below 1 (a GPU's may
+  // be 4.5 ulp off), which scaled back by 2^-126 would be a denormal, flushed to 0.
+  const T len = detail::sqrt_of(glm::dot(s, s));
+  return (len > T(1) ? len : T(1)) * exp2i<T>(-k);
+}
+
 }  // namespace vplkit

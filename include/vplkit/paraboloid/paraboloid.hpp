@@ -29,12 +29,23 @@ struct paraboloid_point {
 // dot(uv, uv) <= 1 holds exactly in T. Multiplying by 1/sqrt(r2) alone still lands above 1 in
 // most cases (the product rounds up); the extra factor (1 - 2 eps) moves uv by at most ~2 ulp and
 // was checked on 2e7 rim directions in float and double. Leaves uv untouched when r2 <= 1.
+// A uv with a component beyond 2^63 (float; 2^511 in double), whose r2 may overflow, is
+// normalised scale-first (unit_or_zero) instead, so it lands on the rim in its own direction
+// rather than at uv / sqrt(Inf) = 0, the centre; one with an infinite component gives (0, 0),
+// unit_or_zero's answer for a non-finite vector. The test is on uv, not on r2 == Inf: a GPU
+// compiler may assume that no value is infinite (docs/math.md, "GPU arithmetic model").
 template <class T>
 inline vec2<T> paraboloid_clamp_to_disk(vec2<T> uv) {
   const T r2 = glm::dot(uv, uv);
   if (r2 > T(1)) {
-    const T k = detail::inversesqrt_of(r2) * (T(1) - T(2) * std::numeric_limits<T>::epsilon());
-    uv = uv * k;
+    const T scale = T(1) - T(2) * std::numeric_limits<T>::epsilon();
+    const vec3<T> v(uv.x, uv.y, T(0));
+    if (max_abs_component(v) <= exp2i<T>((std::numeric_limits<T>::max_exponent - 2) / 2)) {
+      uv = uv * (detail::inversesqrt_of(r2) * scale);
+    } else {
+      const vec3<T> n = unit_or_zero(v);
+      uv = vec2<T>(n.x, n.y) * scale;
+    }
   }
   return uv;
 }

@@ -7,6 +7,7 @@
 // fixed depth window around |y_t - c| both lights shadowed points just behind a lit surface
 // (contact shadows) and shadows lit points in front of it (a wall at a floor/wall crease).
 #include <vplkit/core/gather_point.hpp>
+#include <vplkit/core/normal_range.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
@@ -60,12 +61,13 @@ inline T dprsm_lookup_slack(T d, int resolution) {
 // directly instead of h - d_y cos, which cancels for points on the plane. Where it does not
 // (cos(alpha) <= dprsm_plane_min_cos: grazing, parallel, or the plane's horizon crosses the texel;
 // h <= 0: the plane faces away or holds the light; a zero normal), the centre's depth stands in:
-// |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not finite
-// and positive: behind (an infinite d_y would make the slack infinite).
+// |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not positive
+// or beyond 2^126 (float; 2^1022 in double): behind (an infinite d_y would make the slack infinite,
+// and a GPU may divide by a d_y above 2^126 through its reciprocal, which it flushes to 0).
 template <class T>
 inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
                                             int resolution) {
-  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= std::numeric_limits<T>::max()))
+  if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= exp2i<T>(std::numeric_limits<T>::max_exponent - 2)))
     return dprsm_plane_side::behind;
   const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
   const vec3<T> n = unit_or_zero(n_t);
@@ -113,7 +115,9 @@ template <class T>
 inline dprsm_lookup_result dprsm_lookup(const dprsm_view<T>& view, vec3<T> y, T tolerance) {
   dprsm_lookup_result r;
   const vec3<T> to_y = y - view.light.position;
-  const T d_y = glm::length(to_y);
+  // Scale-first (scaled_length): glm::length's square would be a denormal below 2^-63 (float),
+  // which a GPU flushes (docs/math.md, "GPU arithmetic model").
+  const T d_y = scaled_length(to_y);
   if (!(d_y > T(0))) return r;
   r.texel = view.texel_of_direction(to_y);
   if (!dprsm_texel_saw_surface(view, r.texel)) return r;
