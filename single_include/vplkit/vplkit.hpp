@@ -7622,25 +7622,11 @@ inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
                  balance_combined(f.z, n1, p1, n2, p2));
 }
 
-// |v|, finite wherever |v| is (the GLSL's length(v) squares v's components, which overflows for
-// components beyond ~1.8e19): v is scaled by the power of two that brings its largest component
-// into [1, 2) first (exact), the length scaled back. Components below the smallest normal T count
-// as 0 (the normal-range contract); an infinite or NaN component gives that component's |.|.
-template <class T>
-inline T mis_length(vec3<T> v) {
-  v = flush_denormal(v);
-  const T m = max_abs_component(v);
-  if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return m;
-  const int e = binary_exponent(m);
-  const vec3<T> s(scale_by_exp2(v.x, -e), scale_by_exp2(v.y, -e), scale_by_exp2(v.z, -e));
-  return scale_by_exp2(detail::sqrt_of(glm::dot(s, s)), e);
-}
-
 // Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.
 template <class T>
 inline T mis_texel_patch_area(const dprsm_view<T>& view, int t) {
   const vec3<T> y_t = view.position[t];
-  return vpl_patch_area(view.solid_angle(t), mis_length(y_t - view.light.position),
+  return vpl_patch_area(view.solid_angle(t), scaled_length(y_t - view.light.position),
                         vpl_cos_alpha(view.light.position, y_t, view.normal[t]));
 }
 
@@ -7665,7 +7651,7 @@ inline T mis_patch_vpl_pdf(const dprsm_view<T>& view, int t, T pmf, vec3<T> x, v
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(y - c));
   const ivec2 xy = texel_coords(t, view.resolution);
   const texel_block block = texel_patch_block(xy.x, xy.y, view.resolution);
-  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), mis_length(y - c),
+  const T area = vpl_patch_area(texel_block_point_solid_angle(q.uv, block, view.resolution), scaled_length(y - c),
                                 vpl_cos_alpha(c, y, n_t));
   const vec3<T> w = x - y;
   const T cos1 = glm::dot(unit_or_zero(n_t), unit_or_zero(w));

@@ -1257,7 +1257,7 @@ struct range_out { vec4 one[5]; vec4 split[5]; };
   }
 }
 
-TEST_CASE("crease rule and mis_length: vpl_point_on_plane decisions and overflow-free lengths") {
+TEST_CASE("crease rule and the MIS densities' lengths: vpl_point_on_plane decisions and overflow-free |y - c|") {
   // The crease rule of every gathering strategy (vpl_point_on_plane, vpl_hit_on_own_plane) decides
   // at the rounding level: the GLSL computes y - x and the dot product `precise`, so the two sides
   // differ only by the normal's normalisation (unit_or_zero: s * inversesqrt, a few ulp) and,
@@ -1265,7 +1265,7 @@ TEST_CASE("crease rule and mis_length: vpl_point_on_plane decisions and overflow
   // about 8 eps |y - x| + 4 eps tolerance between the two off-plane distances. Decisions must agree
   // outside that band around the tolerance; the cases sit on, within and beyond the tolerance at
   // scales 1e-3 to 1e6, hits near x and far along the plane, and normals of any length.
-  // mis_length (the MIS densities' |y - c|, C++ and GLSL) within 1e-6 relative, finite up to the
+  // scaled_length (the MIS densities' |y - c|, C++ and GLSL) within 1e-6 relative, finite up to the
   // float range (components from 1e-30 to 1e38, whose squares under- or overflow).
   using vplkit::vec3;
   const scene_fixture& f = fixture();
@@ -1312,7 +1312,7 @@ TEST_CASE("crease rule and mis_length: vpl_point_on_plane decisions and overflow
   const est_kernel k = with_distributions({R"(#include "vplkit/estimators/mis_estimator.glsl")", R"(
   vec3 xv = crease_cases[3u * i].xyz, yv = crease_cases[3u * i + 1u].xyz, nv = crease_cases[3u * i + 2u].xyz;
   bool on = vplkit_vpl_point_on_plane(xv, yv, nv);
-  result[i] = est_out(vec4(vplkit_mis_length(yv - xv), 0.0, 0.0, 0.0), uvec4(on ? 1u : 0u, 0u, 0u, 0u));)"});
+  result[i] = est_out(vec4(vplkit_scaled_length(yv - xv), 0.0, 0.0, 0.0), uvec4(on ? 1u : 0u, 0u, 0u, 0u));)"});
   scene_params p = f.params();
   std::vector<ssbo> extra = pool_inputs(pool, recs);
   extra.push_back(input(11, data, "vec4 crease_cases"));
@@ -1337,18 +1337,18 @@ TEST_CASE("crease rule and mis_length: vpl_point_on_plane decisions and overflow
                               << " off/tol " << off / tol);
       }
     }
-    const double lc = double(vplkit::mis_length(y - x)), lg = double(gpu[i].value.x);
+    const double lc = double(vplkit::scaled_length(y - x)), lg = double(gpu[i].value.x);
     const bool ok = (std::isfinite(lc) == std::isfinite(lg)) &&
                     (!std::isfinite(lc) || std::abs(lg - lc) <= 1e-6 * lc);
     if (!ok) {
       ++len_bad;
-      UNSCOPED_INFO("mis_length case " << i << ": v " << show3(y - x) << " cpu " << lc << " gpu " << lg);
+      UNSCOPED_INFO("length case " << i << ": v " << show3(y - x) << " cpu " << lc << " gpu " << lg);
     }
     if (i >= plane_cases) CHECK(std::isfinite(lc));  // every length case is below the float range
   }
   std::cout << "    crease rule: " << plane_cases << " cases, " << on << " on the plane (C++), " << edge
             << " within the rounding band of the tolerance; " << differ << " decisions differ outside it; "
-            << len_bad << " mis_length differences beyond 1e-6\n";
+            << len_bad << " length differences beyond 1e-6\n";
   CHECK(on > plane_cases / 4);
   CHECK(on < plane_cases - plane_cases / 4);
   CHECK(edge < plane_cases / 4);  // measured 1435 of 11200 (the hits far along the plane: a wide band)

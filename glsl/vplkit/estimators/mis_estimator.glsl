@@ -44,22 +44,10 @@ vec3 vplkit_mis_balance_value(vec3 f, float n1, float p1, float n2, float p2) {
               vplkit_balance_combined(f.z, n1, p1, n2, p2));
 }
 
-// |v| without overflow (C++ mis_length): length(v) squares v's components (Inf beyond ~1.8e19),
-// so v is first scaled by the power of two that brings its largest component into [1, 2), exactly,
-// and the length scaled back (vplkit_scale_by_exp2: Inf only where |v| itself exceeds the float range).
-float vplkit_mis_length(vec3 v) {
-  v = vplkit_flush_denormal(v);
-  float m = vplkit_max_abs_component(v);
-  if (!(m > 0.0) || !(m <= vplkit_FLT_MAX)) return m;
-  int e = vplkit_binary_exponent(m);
-  vec3 s = vec3(vplkit_scale_by_exp2(v.x, -e), vplkit_scale_by_exp2(v.y, -e), vplkit_scale_by_exp2(v.z, -e));
-  return vplkit_scale_by_exp2(sqrt(dot(s, s)), e);
-}
-
 // Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.
 float vplkit_mis_texel_patch_area(vplkit_dprsm_view view, int t) {
   vec3 y_t = vplkit_load_dprsm_position(t);
-  return vplkit_vpl_patch_area(vplkit_dprsm_view_solid_angle(view, t), vplkit_mis_length(y_t - view.light.position),
+  return vplkit_vpl_patch_area(vplkit_dprsm_view_solid_angle(view, t), vplkit_scaled_length(y_t - view.light.position),
                                vplkit_vpl_cos_alpha(view.light.position, y_t, vplkit_load_dprsm_normal(t)));
 }
 
@@ -82,7 +70,7 @@ float vplkit_mis_patch_vpl_pdf(vplkit_dprsm_view view, int t, float pmf, vec3 x,
   ivec2 xy = vplkit_texel_coords(t, view.resolution);
   vplkit_texel_block block = vplkit_texel_patch_block(xy.x, xy.y, view.resolution);
   float area = vplkit_vpl_patch_area(vplkit_texel_block_point_solid_angle(q.uv, block, view.resolution),
-                                     vplkit_mis_length(y - c), vplkit_vpl_cos_alpha(c, y, n_t));
+                                     vplkit_scaled_length(y - c), vplkit_vpl_cos_alpha(c, y, n_t));
   vec3 w = x - y;
   float cos1 = dot(vplkit_unit_or_zero(n_t), vplkit_unit_or_zero(w));
   return vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), area, cos1);
