@@ -2,8 +2,7 @@
 // vplkit GLSL pack: is another surface near a point? Mirrors
 // include/vplkit/visibility/triangle_voxel_near.hpp (T = float): conservative, false only when every
 // triangle listed by the voxels around x within reach lies in a plane through x (within
-// plane_tolerance) or farther than reach (its plane, or x outside one of its edges' inward planes
-// by more than reach + reach * 0.001 + plane_tolerance); true also when the box is wider than
+// plane_tolerance) or farther than reach; true also when the box is wider than
 // vplkit_voxel_near_max_side voxels or x, reach are not finite. The clamp compensation asks it
 // before tracing (estimators/clamp_compensation.glsl). ACCESSORS: those of triangle_voxel_grid.glsl.
 // The plane distances are `precise` and in the C++ order (vplkit_voxel_dot: glm::dot's).
@@ -20,7 +19,6 @@ bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float rea
       !(plane_tolerance >= 0.0))
     return true;
   float slack = 1e-3;
-  precise float beyond_edge = reach + reach * 0.001 + plane_tolerance;
   precise vec3 c = vplkit_world_to_voxel_coord(g, x);
   precise vec3 r = reach / vplkit_voxel_size(g);
   precise vec3 lo = c - r - vec3(slack);
@@ -37,17 +35,9 @@ bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float rea
         if (o < 0) continue;
         uint end = vplkit_load_voxel_offset(uint(o) + 1u);
         for (uint e = vplkit_load_voxel_offset(uint(o)); e < end; ++e) {
-          uint t = 4u * vplkit_load_voxel_entry(e);
-          vec4 plane = vplkit_load_voxel_triangle(t);
+          vec4 plane = vplkit_load_voxel_triangle(4u * vplkit_load_voxel_entry(e));
           precise float s = abs(vplkit_voxel_dot(plane.xyz, x) - plane.w);
-          if (!(s > plane_tolerance && s <= reach)) continue;
-          bool outside = false;
-          for (uint k = 1u; k <= 3u; ++k) {
-            vec4 edge = vplkit_load_voxel_triangle(t + k);
-            precise float inside = vplkit_voxel_dot(edge.xyz, x) - edge.w;
-            outside = outside || inside < -beyond_edge;
-          }
-          if (!outside) return true;
+          if (s > plane_tolerance && s <= reach) return true;
         }
       }
   return false;

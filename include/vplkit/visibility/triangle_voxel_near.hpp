@@ -8,16 +8,11 @@
 // triangle_voxel_surface_within(g, x, reach, plane_tolerance) is conservative: it returns false
 // only when every triangle listed by a voxel that meets the box of half-size reach (plus a small
 // slack) around x either has its plane within plane_tolerance of x (a plane through x: x's own
-// surface, a coplanar neighbour, a crease through x) or lies farther than reach from x (then none
-// of its points is within reach): its plane farther than reach, or x farther than reach (plus a
-// slack of reach * 0.001 + plane_tolerance against rounding) outside one of its edges' inward
-// planes. The triangle lies inside each of those planes, so each distance is a lower bound of
-// x's distance to it; the edges matter on a detailed mesh, where many planes of triangles a few
-// voxels away pass within reach of x (measured on sponza: docs/results/clamp_compensation.md).
-// Every point of a triangle lies in a voxel that lists it, so false guarantees that every surface
-// point within reach of x lies in a plane through x. True is returned as well when it cannot look
-// (a box of more than voxel_near_max_side voxels per axis, a non-finite x or reach, a negative
-// reach): the caller then traces.
+// surface, a coplanar neighbour, a crease through x) or farther than reach from x (then none of its
+// points is within reach). Every point of a triangle lies in a voxel that lists it, so false
+// guarantees that every surface point within reach of x lies in a plane through x. True is
+// returned as well when it cannot look (a box of more than voxel_near_max_side voxels per axis, a
+// non-finite x or reach, a negative reach): the caller then traces.
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
@@ -42,8 +37,6 @@ inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<
   const T slack = T(1e-3);
   const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
   const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
-  // x farther than this outside an edge's inward plane: the triangle is out of reach.
-  const T beyond_edge = reach + reach * T(0.001) + plane_tolerance;
   const ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
   const ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
   if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
@@ -54,12 +47,9 @@ inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<
         const std::int64_t r = voxel_occupied_index(g.grid, g.rank, ivec3(xi, y, z));
         if (r < 0) continue;
         for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e) {
-          const voxel_triangle<T>& t = g.triangles[g.entries[e]];
-          const T s = std::abs(glm::dot(t.plane.normal, x) - t.plane.offset);
-          if (!(s > plane_tolerance && s <= reach)) continue;  // NaN s (a bad triangle): not near
-          bool outside = false;
-          for (const voxel_plane<T>& edge : t.edge) outside = outside || glm::dot(edge.normal, x) - edge.offset < -beyond_edge;
-          if (!outside) return true;
+          const voxel_plane<T>& p = g.triangles[g.entries[e]].plane;
+          const T s = std::abs(glm::dot(p.normal, x) - p.offset);
+          if (s > plane_tolerance && s <= reach) return true;  // NaN s (a bad triangle): not near
         }
       }
   return false;
