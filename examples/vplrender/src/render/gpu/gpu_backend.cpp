@@ -227,12 +227,15 @@ nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibili
   long long chunk = budget ? std::min(units, units_per_pass(shape)) : units;
   if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
-  gl::timer_query tq;
-  tq.begin();
+  // Two timers one after the other (they cannot nest): the list, then the directions.
+  gl::timer_query tq_list, tq_dirs;
+  tq_list.begin();
   b_params.write_bytes(&P, 0, sizeof P);
   gl::dispatch_linear(mark, gl::groups_for(n_pixels, mark.local_size()[0]));
   gl::dispatch(groups, 1);
   glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the group counts are read by the indirect dispatches
+  tq_list.end();
+  tq_dirs.begin();
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list.id());
   for (int k = 0; k < passes; ++k) {
     P.begin = static_cast<int>(k * chunk);
@@ -246,9 +249,12 @@ nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibili
   }
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   gl::check_gl("the clamp compensation's passes");
-  tq.end();
-  timer.add(clamp_compensation_stage_gpu, tq.milliseconds(), "gpu");
+  tq_dirs.end();
+  const double list_ms = tq_list.milliseconds(), dirs_ms = tq_dirs.milliseconds();
+  timer.add(clamp_compensation_stage_gpu, list_ms + dirs_ms, "gpu");
   return {{"kernel", gpu_kernel_path(stage)},
+          {"list_ms", list_ms},
+          {"directions_ms", dirs_ms},
           {"passes", passes + 2},
           {"direction_passes", passes},
           {"units_per_pass", chunk},
