@@ -6,18 +6,19 @@
 // the estimate kernel a SIMD group (a warp of 32 on NVIDIA, 8 lanes on llvmpipe) would run all the
 // directions whenever one of its pixels needs them, the others idle. Here the pixels that need them
 // are compacted first, so that the directions run in full groups over that list only:
-//   VR_CLAMP_PASS_MARK: one invocation per pixel writes its term 0 and appends the pixel to the
+//   VR_CLAMP_PASS_MARK: one invocation per pixel writes its term 0 (in vr_out, the pixel's estimate
+//     slot, which the estimate kernel reads before it writes the estimate) and appends the pixel to the
 //     list when it is valid and vr_clamp_compensation_may_add (the near-surface test, once per
 //     pixel and frame);
 //   VR_CLAMP_PASS_DISPATCH: one invocation turns the list's count into the indirect dispatch's
 //     work groups (laid out as vplkit::gl::dispatch_linear lays them: x up to max_groups_x, then y);
 //   VR_CLAMP_PASS_DIRECTIONS: one invocation per list entry (glDispatchComputeIndirect) traces the
 //     directions [begin, end) of its pixel (split over dispatches under llvmpipe's loop budget, the
-//     sum and stream counter kept in the term's lanes) and the last writes the finished term.
+//     sum kept in the term's lanes) and the last writes the finished term.
 // Each pixel's term depends on the pixel only (its own stream, vplkit_clamp_compensation_stream),
 // never on its place in the list, so the list's order (set by the atomics) does not change the
 // image: it is the inline form's bit for bit. The host puts "#version 430" first and the defines
-// (estimate_params.h; VR_CLAMP_COMPENSATION, VR_CLAMP_PASS) in the preamble.
+// (estimate_params.h; VR_CLAMP_COMPENSATION, VR_CLAMP_COMPENSATION_PASS, VR_CLAMP_PASS) in the preamble.
 #include "estimate_visibility.glsl"
 #include "estimate_clamp_compensation.glsl"
 
@@ -31,19 +32,11 @@ layout(std430, binding = VR_ESTIMATE_BINDING_CLAMP_LIST) buffer VrClampList {  /
   uvec4 vr_clamp_header;  // x, y, z: work groups of the directions pass; w: pixels listed
   uint vr_clamp_pixels[];
 };
-#if VR_CLAMP_PASS != VR_CLAMP_PASS_DISPATCH
-// As words: the stream counter kept between split dispatches is an integer, whose bits read as a
-// float would be a denormal (flushed by GPUs, llvmpipe included).
-layout(std430, binding = VR_ESTIMATE_BINDING_CLAMP_COMPENSATIONS) restrict buffer VrClampTerms {
-  uvec4 vr_clamp_terms[];
-};
-#endif
-
 void main() {
 #if VR_CLAMP_PASS == VR_CLAMP_PASS_MARK
   uint p = vr_pixel();
   if (!vr_in_image(p)) return;
-  vr_clamp_terms[p] = uvec4(0u);  // the bits of vec4(0.0)
+  vr_out[p] = vec4(0.0);
   vplkit_gather_point gp = vplkit_load_gather_point(int(p));
   if (vplkit_gather_point_valid(gp) && vr_clamp_compensation_may_add(gp))
     vr_clamp_pixels[atomicAdd(vr_clamp_header.w, 1u)] = p;
@@ -61,13 +54,13 @@ void main() {
   vplkit_estimator_state c =
       vplkit_make_estimator_state(vplkit_clamp_compensation_stream(vplkit_make_counter_rng(vr_params.seed, p)));
   if (vr_params.first_pass == 0) {
-    uvec4 kept = vr_clamp_terms[p];
-    c.sum = uintBitsToFloat(kept.xyz);
-    c.rng.counter = kept.w;
+    // The sum so far, kept in the pixel's out lane; the stream's counter is the numbers drawn so
+    // far: two per direction (vplkit_estimate_clamp_compensation_range), begin directions.
+    c.sum = vr_out[p].xyz;
+    c.rng.counter = 2u * uint(vr_params.begin);
   }
   vr_clamp_compensation_trace(gp, c, vr_params.begin, vr_params.end);
-  vr_clamp_terms[p] = vr_params.last_pass != 0 ? uvec4(floatBitsToUint(vr_clamp_compensation_term(c)), 0u)
-                                               : uvec4(floatBitsToUint(c.sum), c.rng.counter);
+  vr_out[p] = vec4(vr_params.last_pass != 0 ? vr_clamp_compensation_term(c) : c.sum, 0.0);
 #else
 #error "VR_CLAMP_PASS must be VR_CLAMP_PASS_MARK, VR_CLAMP_PASS_DISPATCH or VR_CLAMP_PASS_DIRECTIONS"
 #endif

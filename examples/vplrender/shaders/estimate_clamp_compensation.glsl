@@ -9,8 +9,8 @@
 // passes"):
 //  - VR_CLAMP_COMPENSATION_PASS defined (--clamp-compensation-pass compacted, the default): the
 //    passes of clamp_compensation.comp computed the term before the estimate kernel, only at the
-//    pixels whose near-surface test says a surface may lie within dmin, and left it in
-//    vr_clamp_compensations[p]; the estimate kernel adds that.
+//    pixels whose near-surface test says a surface may lie within dmin, and left it in vr_out[p];
+//    the estimate kernel adds that and writes the estimate over it.
 //  - else (inline): the directions are the kernel's units [clamp_first_unit, clamp_first_unit +
 //    clamp_dirs) after the estimator's, so a split render (VR_SPLIT 1) cuts them with the same
 //    [begin, end) and keeps their state between dispatches in the lanes of vr_pixel_state the
@@ -57,20 +57,16 @@ vec3 vr_clamp_compensation_term(vplkit_estimator_state c) {
 }
 
 #ifdef VR_CLAMP_COMPENSATION_PASS
-// The terms of clamp_compensation.comp's passes, one per pixel (0 where the test said no).
-layout(std430, binding = VR_ESTIMATE_BINDING_CLAMP_COMPENSATIONS) restrict readonly buffer VrClampCompensations {
-  vec4 vr_clamp_compensations[];
-};
+// The terms of clamp_compensation.comp's passes are in vr_out, one per pixel (0 where the test said
+// no), until the last pass of the estimate writes the estimate over them (estimate_io.glsl).
 // The estimate kernel carries no state of the compensation: these keep the inline form's call sites.
 vplkit_estimator_state vr_begin_clamp_compensation(uint p) {
   return vplkit_make_estimator_state(vplkit_counter_rng(0u, 0u));
 }
 void vr_clamp_compensation_range(vplkit_gather_point gp, inout vplkit_estimator_state c) {}
 void vr_keep_clamp_compensation(uint p, vplkit_estimator_state c) {}
-vec3 vr_finish_clamp_compensation(uint p, vplkit_estimator_state c) { return vr_clamp_compensations[p].xyz; }
-vec3 vr_clamp_compensation_whole(uint p, vplkit_gather_point gp, bool valid) {
-  return valid ? vr_clamp_compensations[p].xyz : vec3(0.0);
-}
+vec3 vr_finish_clamp_compensation(uint p, vplkit_estimator_state c) { return vr_out[p].xyz; }
+vec3 vr_clamp_compensation_whole(uint p, vplkit_gather_point gp, bool valid) { return valid ? vr_out[p].xyz : vec3(0.0); }
 #else
 // The compensation's state at the start of this dispatch: its fresh stream, or the state kept.
 vplkit_estimator_state vr_begin_clamp_compensation(uint p) {

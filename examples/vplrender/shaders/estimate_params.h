@@ -37,7 +37,8 @@
 #define VR_ESTIMATE_BINDING_CDF_DATA 3    // SSBO, readonly: uint data[] (cdf floats as bits, then guides)
 #define VR_ESTIMATE_BINDING_MIXTURES 4    // SSBO, readonly: vr_mixture_record mixtures[D]
 #define VR_ESTIMATE_BINDING_STATE 5       // SSBO: vr_pixel_state states[W H] (VR_SPLIT 1 only)
-#define VR_ESTIMATE_BINDING_OUT 6         // SSBO, writeonly: vec4 out[W H] (rgb: the estimate)
+#define VR_ESTIMATE_BINDING_OUT 6         // SSBO, writeonly: vec4 out[W H] (rgb: the estimate; with
+                                          // VR_CLAMP_COMPENSATION_PASS first the compensation's term)
 #define VR_ESTIMATE_BINDING_COMPONENTS 7  // SSBO, readonly: uint components[] (VR_SAMPLER alias / roulette),
                                           // or uint shares[D L] (VR_SAMPLER share tree: tree d at d L)
 #define VR_ESTIMATE_BINDING_BVH_NODES 8   // SSBO, readonly: vplkit_bvh_node[] (exact rays)
@@ -51,9 +52,8 @@
 #define VR_ESTIMATE_BINDING_VOXEL_TRIANGLES 16      // SSBO, readonly: vec4 triangles[] (4 per triangle)
 #define VR_ESTIMATE_BINDING_PARAMS 17               // uniform block: vr_estimate_params
 #define VR_ESTIMATE_BINDING_DPRSM_PLANES 18         // SSBO, readonly: vec4 planes[2 R^2] (vplkit/vpl/dprsm_plane.glsl)
-#define VR_ESTIMATE_BINDING_CLAMP_COMPENSATIONS 19  // SSBO: vec4 terms[W H] (the clamp compensation's passes:
-                                                    // xyz the term; between split dispatches the sum, w the counter)
-#define VR_ESTIMATE_BINDING_CLAMP_LIST 20           // SSBO: uvec4 header (indirect groups x y z, count), uint pixels[W H]
+#define VR_ESTIMATE_BINDING_CLAMP_LIST 19           // SSBO: uvec4 header (indirect groups x y z, count), uint pixels[W H]
+                                                    // (the clamp compensation's passes; their terms go to OUT)
 #define VR_ESTIMATE_LOCAL_SIZE 64                   // invocations per work group, one per pixel
 
 // ---- specialisation defines (the host writes each into the kernel's preamble) --------------------
@@ -82,7 +82,7 @@
 // VR_LIT_SHADOW_RAY (defined or not): gathering's lit test by a shadow ray (--lit-test shadow-ray).
 // VR_CLAMP_COMPENSATION (defined or not): the clamp's compensation (see its block below).
 // VR_CLAMP_COMPENSATION_PASS (defined or not, with VR_CLAMP_COMPENSATION): the estimate kernel adds
-//   the term clamp_compensation.comp's passes left at binding VR_ESTIMATE_BINDING_CLAMP_COMPENSATIONS
+//   the term clamp_compensation.comp's passes left in the out buffer (VR_ESTIMATE_BINDING_OUT)
 //   (--clamp-compensation-pass compacted) instead of tracing its directions itself (inline).
 // VR_CLAMP_PASS: clamp_compensation.comp's pass (docs/renderer.md, "The clamp compensation's passes").
 #define VR_CLAMP_PASS_MARK 0        // per pixel: the term 0, the pixel listed where the test says maybe

@@ -162,7 +162,7 @@ std::string clamp_compensation_defines(const render_settings& s, visibility_choi
   d += define("VR_VPL_MODE", s.vpl_mode == vpl_mode_choice::patch ? 1 : 0);
   d += define("VR_SPLIT", 0);  // the directions' state lives in the terms' buffer between dispatches
   if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
-  d += "#define VR_CLAMP_COMPENSATION\n";
+  d += "#define VR_CLAMP_COMPENSATION\n#define VR_CLAMP_COMPENSATION_PASS\n";
   if (!s.dprsm_planes) d += define("VR_DPRSM_PLANES", 0);
   d += define("VR_CLAMP_PASS", pass);
   return d;

@@ -496,11 +496,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (compacted) {
     P.clamp_dirs = clamp_compensation_dirs(es);
     P.clamp_max_groups_x = static_cast<int>(gl::max_work_group_count(0));
-    const gl::buffer& terms = pixel_buffer(pixels, pixels.clamp_terms, 16 * std::max<std::size_t>(n_pixels, 1), 0,
-                                           "the clamp compensation's terms");
+    // The terms go to the estimates' buffer (b_out), which the estimate kernel reads before it
+    // writes the estimate over them (estimate_io.glsl).
     const gl::buffer& list = pixel_buffer(pixels, pixels.clamp_list, 16 + 4 * std::max<std::size_t>(n_pixels, 1), 0,
                                           "the clamp compensation's pixel list");
-    terms.bind(VR_ESTIMATE_BINDING_CLAMP_COMPENSATIONS);
     list.bind(VR_ESTIMATE_BINDING_CLAMP_LIST);
     b_clamp_list = &list;
     det["gpu"]["clamp_compensation"] =
