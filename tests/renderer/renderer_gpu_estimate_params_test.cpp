@@ -53,7 +53,7 @@ std::vector<member> params_members() {
       VR_MEMBER(P, pad0),           VR_MEMBER(P, pad1),         VR_MEMBER(P, pad2),
       VR_MEMBER(P, dmin),           VR_MEMBER(P, depth_tolerance), VR_MEMBER(P, surface_offset),
       VR_MEMBER(P, scene_size),
-      VR_MEMBER(P, clamp_dirs),     VR_MEMBER(P, clamp_first_unit), VR_MEMBER(P, clamp_pad0),
+      VR_MEMBER(P, clamp_dirs),     VR_MEMBER(P, clamp_first_unit), VR_MEMBER(P, clamp_max_groups_x),
       VR_MEMBER(P, clamp_pad1)};
   return v;
 }

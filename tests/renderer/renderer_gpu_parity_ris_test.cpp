@@ -188,7 +188,8 @@ TEST_CASE("ris on the GPU: the samples split over dispatches give the image of o
   // Without reuse the samples are the kernel's units (VR_SPLIT 1: sum and stream in the state
   // buffer between dispatches); with reuse every round is its own pair of dispatches whatever the
   // budget. Either way the image is the one of a single dispatch, bit for bit.
-  // With the clamp's compensation its directions (ceil(5 / 4) = 2 here) are further units.
+  // With the clamp's compensation inline its directions (ceil(5 / 4) = 2 here) are further units
+  // (the compacted passes split theirs on their own: renderer_gpu_clamp_compensation_pass_test).
   const fixture& f = shared_fixture();
   for (const int spatial : {0, 2})
   for (const bool compensated : {false, true}) {
@@ -200,6 +201,7 @@ TEST_CASE("ris on the GPU: the samples split over dispatches give the image of o
     render_settings es = settings_of(f, o);
     if (compensated) {
       es.clamp_compensation = clamp_compensation_choice::on;
+      es.clamp_compensation_pass = clamp_compensation_pass_choice::inline_pass;
       es.dmin *= 5.0f;
     }
     es.loop_budget = loop_budget_choice::never;

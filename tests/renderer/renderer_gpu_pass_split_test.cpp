@@ -110,8 +110,9 @@ TEST_CASE("split dispatches give the one dispatch's image, every estimate kernel
   }
 }
 
-// The clamp's compensation (VR_CLAMP_COMPENSATION): its directions follow the estimator's units and
-// its sum and stream counter ride in vr_pixel_state's free lanes between dispatches. dmin at 5 % of
+// The clamp's compensation inline (--clamp-compensation-pass inline): its directions follow the
+// estimator's units and its sum and stream counter ride in vr_pixel_state's free lanes between
+// dispatches. (The compacted passes' split: renderer_gpu_clamp_compensation_pass_test.) dmin at 5 % of
 // the diagonal, so that most gather points near the box's junctions have a term to carry.
 TEST_CASE("split dispatches give the one dispatch's image with the clamp compensation") {
   const frame& f = small_frame();
@@ -120,6 +121,7 @@ TEST_CASE("split dispatches give the one dispatch's image with the clamp compens
     o.meth = m;
     render_settings es = make_render_settings(o, f.p.s);
     es.dmin *= 5.0f;
+    es.clamp_compensation_pass = clamp_compensation_pass_choice::inline_pass;
     REQUIRE(uses_clamp_compensation(es));
     render_settings off = es;
     off.clamp_compensation = clamp_compensation_choice::off;

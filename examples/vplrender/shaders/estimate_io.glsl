@@ -28,7 +28,14 @@ layout(std430, binding = VR_ESTIMATE_BINDING_DPRSM) restrict readonly buffer VrD
 #if VR_DPRSM_PLANES
 layout(std430, binding = VR_ESTIMATE_BINDING_DPRSM_PLANES) restrict readonly buffer VrDprsmPlanes { vec4 vr_dprsm_planes[]; };
 #endif
+#ifdef VR_CLAMP_COMPENSATION_PASS
+// The clamp compensation's passes leave each pixel's term here (clamp_compensation.comp); the
+// estimate kernel reads it in its last pass and writes the estimate over it. Not a block of its
+// own: llvmpipe allows 16 storage blocks per compute shader, and ris's kernel binds 16 already.
+layout(std430, binding = VR_ESTIMATE_BINDING_OUT) restrict buffer VrOut { vec4 vr_out[]; };
+#else
 layout(std430, binding = VR_ESTIMATE_BINDING_OUT) restrict writeonly buffer VrOut { vec4 vr_out[]; };
+#endif
 #if VR_SPLIT
 layout(std430, binding = VR_ESTIMATE_BINDING_STATE) restrict buffer VrState { vr_pixel_state vr_states[]; };
 #endif

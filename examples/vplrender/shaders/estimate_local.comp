@@ -27,7 +27,7 @@ void main() {
   vr_keep_clamp_compensation(p, clamp_comp);
   if (vr_last_pass())
     vr_write_estimate(p, gp, valid,
-                      vplkit_estimate_local_finish(est, vr_params.n_samples) + vr_finish_clamp_compensation(clamp_comp));
+                      vplkit_estimate_local_finish(est, vr_params.n_samples) + vr_finish_clamp_compensation(p, clamp_comp));
 #else
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_local_finish(est, vr_params.n_samples));
 #endif

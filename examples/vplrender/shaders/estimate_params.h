@@ -37,7 +37,8 @@
 #define VR_ESTIMATE_BINDING_CDF_DATA 3    // SSBO, readonly: uint data[] (cdf floats as bits, then guides)
 #define VR_ESTIMATE_BINDING_MIXTURES 4    // SSBO, readonly: vr_mixture_record mixtures[D]
 #define VR_ESTIMATE_BINDING_STATE 5       // SSBO: vr_pixel_state states[W H] (VR_SPLIT 1 only)
-#define VR_ESTIMATE_BINDING_OUT 6         // SSBO, writeonly: vec4 out[W H] (rgb: the estimate)
+#define VR_ESTIMATE_BINDING_OUT 6         // SSBO, writeonly: vec4 out[W H] (rgb: the estimate; with
+                                          // VR_CLAMP_COMPENSATION_PASS first the compensation's term)
 #define VR_ESTIMATE_BINDING_COMPONENTS 7  // SSBO, readonly: uint components[] (VR_SAMPLER alias / roulette),
                                           // or uint shares[D L] (VR_SAMPLER share tree: tree d at d L)
 #define VR_ESTIMATE_BINDING_BVH_NODES 8   // SSBO, readonly: vplkit_bvh_node[] (exact rays)
@@ -51,6 +52,8 @@
 #define VR_ESTIMATE_BINDING_VOXEL_TRIANGLES 16      // SSBO, readonly: vec4 triangles[] (4 per triangle)
 #define VR_ESTIMATE_BINDING_PARAMS 17               // uniform block: vr_estimate_params
 #define VR_ESTIMATE_BINDING_DPRSM_PLANES 18         // SSBO, readonly: vec4 planes[2 R^2] (vplkit/vpl/dprsm_plane.glsl)
+#define VR_ESTIMATE_BINDING_CLAMP_LIST 19           // SSBO: uvec4 header (indirect groups x y z, count), uint pixels[W H]
+                                                    // (the clamp compensation's passes; their terms go to OUT)
 #define VR_ESTIMATE_LOCAL_SIZE 64                   // invocations per work group, one per pixel
 
 // ---- specialisation defines (the host writes each into the kernel's preamble) --------------------
@@ -78,6 +81,13 @@
 // VR_DIRECT: 1 adds vplkit_direct_light (--direct) to the estimate.
 // VR_LIT_SHADOW_RAY (defined or not): gathering's lit test by a shadow ray (--lit-test shadow-ray).
 // VR_CLAMP_COMPENSATION (defined or not): the clamp's compensation (see its block below).
+// VR_CLAMP_COMPENSATION_PASS (defined or not, with VR_CLAMP_COMPENSATION): the estimate kernel adds
+//   the term clamp_compensation.comp's passes left in the out buffer (VR_ESTIMATE_BINDING_OUT)
+//   (--clamp-compensation-pass compacted) instead of tracing its directions itself (inline).
+// VR_CLAMP_PASS: clamp_compensation.comp's pass (docs/renderer.md, "The clamp compensation's passes").
+#define VR_CLAMP_PASS_MARK 0        // per pixel: the term 0, the pixel listed where the test says maybe
+#define VR_CLAMP_PASS_DISPATCH 1    // one invocation: the list's count into the indirect work groups
+#define VR_CLAMP_PASS_DIRECTIONS 2  // per listed pixel: directions [begin, end), the term at the last
 #ifndef __cplusplus
 #ifndef VR_SAMPLER
 #define VR_SAMPLER VR_SAMPLER_CDF_GUIDE
@@ -149,10 +159,13 @@ struct vr_estimate_params {
   // docs/math.md, "The clamp's compensation": clamp_dirs cosine directions per gather point from
   // vplkit_clamp_compensation_stream, as the CPU backend draws them. They are the kernel's units
   // [clamp_first_unit, clamp_first_unit + clamp_dirs), after the estimator's own [0, clamp_first_unit),
-  // so a split render cuts both with one [begin, end). 0 without the define.
+  // so a split render cuts both with one [begin, end). 0 without the define. With
+  // VR_CLAMP_COMPENSATION_PASS the estimator's units are all [0, clamp_first_unit) and the
+  // directions are clamp_compensation.comp's [begin, end); clamp_max_groups_x is the indirect
+  // dispatch's largest group count on x (GL_MAX_COMPUTE_WORK_GROUP_COUNT).
   int clamp_dirs;
   int clamp_first_unit;
-  int clamp_pad0;
+  int clamp_max_groups_x;
   int clamp_pad1;
 };
 

@@ -34,10 +34,10 @@ void main() {
 #if VR_VPL_MODE == 1
   if (vr_last_pass())
     vr_write_estimate(p, gp, valid,
-                      vplkit_exhaustive_vpl_patch_sum_finish(sum, vr_params.strata) + vr_finish_clamp_compensation(clamp_comp));
+                      vplkit_exhaustive_vpl_patch_sum_finish(sum, vr_params.strata) + vr_finish_clamp_compensation(p, clamp_comp));
 #else
   if (vr_last_pass())
-    vr_write_estimate(p, gp, valid, vplkit_exhaustive_vpl_sum_finish(sum) + vr_finish_clamp_compensation(clamp_comp));
+    vr_write_estimate(p, gp, valid, vplkit_exhaustive_vpl_sum_finish(sum) + vr_finish_clamp_compensation(p, clamp_comp));
 #endif
 #else
 #if VR_VPL_MODE == 1

@@ -28,7 +28,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, candidates, candidate_source, spatial;
+      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, candidates, candidate_source, spatial;
   bool paper = false, direct = false, window = false;
 };
 
@@ -154,6 +154,12 @@ void build_app(CLI::App& app, raw_values& v) {
                    "estimate converges to the unclamped integral without its fireflies (docs/math.md, \"The clamp's compensation\"). "
                    "off = the clamped estimate, a documented bias near surfaces."))
       ->type_name("off|on");
+  app.add_option("--clamp-compensation-pass", v.clamp_compensation_pass,
+                 d("GPU backend: where the clamp compensation is computed, the same image either way (docs/renderer.md, "
+                   "\"The clamp compensation's passes\"): compacted (default) = passes of its own over the list of the "
+                   "pixels with another surface within dmin, in full SIMD groups; inline = in the estimate kernel, whose "
+                   "SIMD groups run it whenever one of their pixels needs it."))
+      ->type_name("compacted|inline");
   app.add_option("--candidates", v.candidates,
                  d("--method ris: candidate VPLs per sample (default 32; 1..65536), each weighed by its unshadowed "
                    "contribution; --vpls samples per pixel, one visibility query each."))
@@ -414,6 +420,10 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
         "--clamp-compensation", v.clamp_compensation,
         {{"off", clamp_compensation_choice::off}, {"on", clamp_compensation_choice::on}});
   }
+  if (given("--clamp-compensation-pass"))
+    o.clamp_compensation_pass = parse_choice<clamp_compensation_pass_choice>(
+        "--clamp-compensation-pass", v.clamp_compensation_pass,
+        {{"compacted", clamp_compensation_pass_choice::compacted}, {"inline", clamp_compensation_pass_choice::inline_pass}});
   if (given("--candidates"))
     o.candidates = static_cast<int>(parse_integer("--candidates", v.candidates, 1, limits::max_candidates));
   if (given("--candidate-source"))

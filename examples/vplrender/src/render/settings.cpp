@@ -46,6 +46,9 @@ const char* to_string(loop_budget_choice l) {
 }
 
 const char* to_string(clamp_compensation_choice c) { return c == clamp_compensation_choice::on ? "on" : "off"; }
+const char* to_string(clamp_compensation_pass_choice c) {
+  return c == clamp_compensation_pass_choice::inline_pass ? "inline" : "compacted";
+}
 const char* to_string(ris_source_choice r) {
   switch (r) {
     case ris_source_choice::local: return "local";

@@ -60,6 +60,12 @@ enum class loop_budget_choice { automatic, always, never };
 // removes (vplkit::estimate_clamp_compensation, docs/math.md, "The clamp's compensation"): on = clamped estimate +
 // near-field gathering, converging to the unclamped integral; off = the clamped estimate alone.
 enum class clamp_compensation_choice { off, on };
+// Where the GPU backend computes the compensation (docs/renderer.md, "The clamp compensation's
+// passes"; the same image either way): compacted = passes of its own before the estimate kernel,
+// over the list of the pixels with another surface within dmin, in full SIMD groups; inline = in
+// the estimate kernel, after the estimator's units, where a group runs the directions whenever one
+// of its pixels needs them. The CPU backend has one form (a pass before the estimate's).
+enum class clamp_compensation_pass_choice { compacted, inline_pass };
 // Where --method ris draws its candidates: a builder's defensive mixture (global; local: the
 // pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent).
 enum class ris_source_choice { global, local, gbg, flux };
@@ -77,6 +83,7 @@ const char* to_string(lit_test_choice l);
 const char* to_string(loop_budget_choice l);
 
 const char* to_string(clamp_compensation_choice c);
+const char* to_string(clamp_compensation_pass_choice c);
 const char* to_string(ris_source_choice r);
 
 // The methods that sample a distribution over the VPLs (traits(m).builder is not none: global,
@@ -105,6 +112,7 @@ struct render_choices {
   visibility_choice visibility = visibility_choice::voxels;
   lit_test_choice lit_test = lit_test_choice::shadow_map;  // the command line's default: shadow-ray with exact
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;       // paper: point (the midpoint rule)
+  clamp_compensation_pass_choice clamp_compensation_pass = clamp_compensation_pass_choice::compacted;
   std::uint32_t seed = 1;
   bool direct = false;        // add direct lighting (default: one-bounce indirect only)
 };

@@ -98,14 +98,27 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   const int compensation_dirs = clamp_compensation_dirs(s);
   if (compensate) det["clamp_compensation_dirs"] = compensation_dirs;
 
-  // The compensation of pixel p: its stream derives from the pixel's own (the key only), so the
-  // estimate before it keeps every sample it had.
-  const auto compensation = [&](const gather_point<float>& gp, int p) {
-    if (!compensate) return vec3f(0.0f);
-    vplkit::counter_rng compensation_rng =
-        vplkit::clamp_compensation_stream(vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p)));
-    return vplkit::estimate_clamp_compensation(gp, view, compensation_rng, compensation_dirs, tracer, s.dmin, depth_tol,
-                                               vmode);
+  // The compensation of every pixel, a pass of its own before the estimate (timed as a stage of the
+  // estimate, as the GPU backend's passes): its stream derives from the pixel's own (the key only),
+  // so the estimate keeps every sample it had, and the pixel's value is estimate + term as before.
+  // Most pixels trace nothing (no other surface within dmin: the tracer's near-surface test).
+  std::vector<vec3f> compensation_terms;
+  if (compensate) {
+    auto t = timer.scoped(clamp_compensation_stage_cpu);
+    compensation_terms.assign(static_cast<std::size_t>(W) * static_cast<std::size_t>(H), vec3f(0.0f));
+    parallel_items(H, threads, "clamp compensation", progress, [&](int y, int) {
+      for (int p = y * W; p < (y + 1) * W; ++p) {
+        const gather_point<float> gp = g.at(p);
+        if (!vplkit::gather_point_valid(gp)) continue;
+        vplkit::counter_rng compensation_rng =
+            vplkit::clamp_compensation_stream(vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p)));
+        compensation_terms[static_cast<std::size_t>(p)] = vplkit::estimate_clamp_compensation(
+            gp, view, compensation_rng, compensation_dirs, tracer, s.dmin, depth_tol, vmode);
+      }
+    });
+  }
+  const auto compensation = [&](const gather_point<float>&, int p) {
+    return compensate ? compensation_terms[static_cast<std::size_t>(p)] : vec3f(0.0f);
   };
 
   // Per-pixel loop shared by every method: est(gp, rng) -> vec3.

@@ -10,6 +10,10 @@
 
 namespace vplrender {
 
+// The clamp compensation's stage (--clamp-compensation on): an "estimate" stage, so that
+// speed_vs_error counts it in the estimate; the estimate itself is "estimate (cpu)".
+constexpr const char* clamp_compensation_stage_cpu = "estimate: clamp compensation (cpu)";
+
 // Stages are appended to `timer` (clock cpu-wall). Throws vplkit::invalid_input for bad views.
 render_result render_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
                          const progress_fn& progress = {});

@@ -54,14 +54,18 @@ work_shape exact_shape(const render_settings& s, const shape_inputs& in) {
   return {2 * in.query_cost + texture_wrap_cost + 32, s.dirs, in.query_cost};
 }
 
-// The clamp's compensation (VR_CLAMP_COMPENSATION, estimate_clamp_compensation.glsl): its
-// directions follow the estimator's units, each a short trace and the hit's lit test (a shadow ray
-// with --lit-test shadow-ray); a unit's cost is the larger of the two kinds.
+// A direction of the clamp's compensation: a short trace and the hit's lit test (a shadow ray
+// with --lit-test shadow-ray).
+long long clamp_direction_cost(const shape_inputs& in) { return 2 * dda_cost(in) + 8; }
+
+// The clamp's compensation inline (VR_CLAMP_COMPENSATION without VR_CLAMP_COMPENSATION_PASS,
+// estimate_clamp_compensation.glsl): its directions follow the estimator's units; a unit's cost is
+// the larger of the two kinds. Compacted, the estimator's units are its own.
 template <work_shape (*estimator)(const render_settings&, const shape_inputs&)>
 work_shape with_clamp_compensation(const render_settings& s, const shape_inputs& in) {
   work_shape w = estimator(s, in);
-  if (!uses_clamp_compensation(s)) return w;
-  w.cost = std::max(w.cost, 2 * dda_cost(in) + 8);
+  if (!uses_clamp_compensation(s) || gpu_clamp_compensation_compacted(s)) return w;
+  w.cost = std::max(w.cost, clamp_direction_cost(in));
   w.units += clamp_compensation_dirs(s);
   return w;
 }
@@ -123,7 +127,10 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
   d += define("VR_SPLIT", split ? 1 : 0);
   d += define("VR_DIRECT", s.direct ? 1 : 0);
   if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
-  if (gpu_clamp_compensation(s)) d += "#define VR_CLAMP_COMPENSATION\n";
+  if (gpu_clamp_compensation(s)) {
+    d += "#define VR_CLAMP_COMPENSATION\n";
+    if (gpu_clamp_compensation_compacted(s)) d += "#define VR_CLAMP_COMPENSATION_PASS\n";
+  }
   if (!s.dprsm_planes) d += define("VR_DPRSM_PLANES", 0);
   if (t.estimator == estimator_kind::ris) {
     d += define("VR_RIS_PASS", ris_pass);
@@ -142,11 +149,32 @@ bool gpu_clamp_compensation(const render_settings& s) {
                          " takes the clamp compensation but its GPU kernel does not add it");
 }
 
+bool gpu_clamp_compensation_compacted(const render_settings& s) {
+  return gpu_clamp_compensation(s) && s.clamp_compensation_pass == clamp_compensation_pass_choice::compacted;
+}
+
+work_shape clamp_compensation_shape(const render_settings& s, const shape_inputs& in) {
+  return {clamp_direction_cost(in), clamp_compensation_dirs(s), 0};
+}
+
+std::string clamp_compensation_defines(const render_settings& s, visibility_choice v, bool shadow_ray, int pass) {
+  std::string d = estimate_visibility_define(v);
+  d += define("VR_VPL_MODE", s.vpl_mode == vpl_mode_choice::patch ? 1 : 0);
+  d += define("VR_SPLIT", 0);  // the directions' state lives in the terms' buffer between dispatches
+  if (shadow_ray) d += "#define VR_LIT_SHADOW_RAY\n";
+  d += "#define VR_CLAMP_COMPENSATION\n#define VR_CLAMP_COMPENSATION_PASS\n";
+  if (!s.dprsm_planes) d += define("VR_DPRSM_PLANES", 0);
+  d += define("VR_CLAMP_PASS", pass);
+  return d;
+}
+
 long long ris_round_cost(const render_settings& s, const shape_inputs& in, int ris_pass) {
   if (ris_pass == ris_pass_candidates) return ris_candidates_cost(s, in) + 4;
   // The reuse: per attempt a similarity test and (pairwise MIS) two targets; the shade's query;
   // in the last round the whole clamp compensation (its directions are not split there).
-  const long long compensation = uses_clamp_compensation(s) ? clamp_compensation_dirs(s) * (2 * dda_cost(in) + 8) : 0;
+  const long long compensation = uses_clamp_compensation(s) && !gpu_clamp_compensation_compacted(s)
+                                     ? clamp_compensation_dirs(s) * clamp_direction_cost(in)
+                                     : 0;
   return 8LL * std::max(0, s.ris_spatial) + dda_cost(in) + 8 + compensation;
 }
 

@@ -63,6 +63,18 @@ const vplkit::gl::program& gpu_kernel_program(const gpu_kernel_stage& k, const s
 // local, gbg; a method that takes it without a kernel that adds it is a logic_error).
 bool gpu_clamp_compensation(const render_settings& s);
 
+// The clamp compensation's passes (examples/vplrender/shaders/clamp_compensation.comp; docs/renderer.md,
+// "The clamp compensation's passes"): whether s computes the term there before the estimate kernel
+// (gpu_clamp_compensation and --clamp-compensation-pass compacted), the shape of its directions
+// pass (a unit is a direction) and the preamble of its pass `pass` (VR_CLAMP_PASS_MARK, _DISPATCH,
+// _DIRECTIONS: estimate_params.h).
+constexpr const char* clamp_compensation_kernel = "clamp_compensation.comp";
+// Its stage in the report: an "estimate" stage, so that speed_vs_error counts it in the estimate.
+constexpr const char* clamp_compensation_stage_gpu = "estimate: clamp compensation (gpu)";
+bool gpu_clamp_compensation_compacted(const render_settings& s);
+work_shape clamp_compensation_shape(const render_settings& s, const shape_inputs& in);
+std::string clamp_compensation_defines(const render_settings& s, visibility_choice v, bool shadow_ray, int pass);
+
 // The preamble of s's variant (one "#define NAME VALUE" line per define the kernel reads):
 // VR_VISIBILITY, VR_SAMPLER, VR_VPL_MODE, VR_LOCAL_COMBINATION, VR_VARIANT, VR_SPLIT, VR_DIRECT,
 // VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION, and for ris VR_RIS_PASS (`ris_pass`,

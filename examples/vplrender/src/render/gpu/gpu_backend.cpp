@@ -203,6 +203,66 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
   return passes;
 }
 
+namespace {
+
+// The clamp compensation's passes (clamp_compensation.comp; the parameter block P and its buffer,
+// the terms and the list bound by the caller): the pixels whose near-surface test says maybe are
+// listed, then an indirect dispatch over the list traces their directions, split under the loop
+// budget like the estimate's units. Timed as a stage of the estimate of its own. Returns the
+// report's record.
+nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibility_choice vis, bool shadow_ray,
+                                             const shape_inputs& in, bool budget, std::size_t n_pixels,
+                                             gpu::estimate_params& P, vplkit::gl::buffer& b_params,
+                                             const vplkit::gl::buffer& list, stage_timer& timer) {
+  namespace gl = vplkit::gl;
+  auto running = stage_timer::running(clamp_compensation_stage_gpu);
+  const gpu_kernel_stage stage{clamp_compensation_kernel, clamp_compensation_shape};
+  const gl::program& mark = gpu_kernel_program(stage, clamp_compensation_defines(es, vis, shadow_ray, VR_CLAMP_PASS_MARK));
+  const gl::program& groups =
+      gpu_kernel_program(stage, clamp_compensation_defines(es, vis, shadow_ray, VR_CLAMP_PASS_DISPATCH));
+  const gl::program& dirs =
+      gpu_kernel_program(stage, clamp_compensation_defines(es, vis, shadow_ray, VR_CLAMP_PASS_DIRECTIONS));
+  const work_shape shape = stage.shape(es, in);
+  const long long units = std::max(1LL, shape.units);
+  long long chunk = budget ? std::min(units, units_per_pass(shape)) : units;
+  if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
+  const int passes = static_cast<int>((units + chunk - 1) / chunk);
+  // Two timers one after the other (they cannot nest): the list, then the directions.
+  gl::timer_query tq_list, tq_dirs;
+  tq_list.begin();
+  b_params.write_bytes(&P, 0, sizeof P);
+  gl::dispatch_linear(mark, gl::groups_for(n_pixels, mark.local_size()[0]));
+  gl::dispatch(groups, 1);
+  glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the group counts are read by the indirect dispatches
+  tq_list.end();
+  tq_dirs.begin();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list.id());
+  for (int k = 0; k < passes; ++k) {
+    P.begin = static_cast<int>(k * chunk);
+    P.end = static_cast<int>(std::min(units, (k + 1) * chunk));
+    P.first_pass = k == 0 ? 1 : 0;
+    P.last_pass = k == passes - 1 ? 1 : 0;
+    b_params.write_bytes(&P, 0, sizeof P);
+    dirs.use();
+    glDispatchComputeIndirect(0);
+    gl::memory_barrier();
+  }
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  gl::check_gl("the clamp compensation's passes");
+  tq_dirs.end();
+  const double list_ms = tq_list.milliseconds(), dirs_ms = tq_dirs.milliseconds();
+  timer.add(clamp_compensation_stage_gpu, list_ms + dirs_ms, "gpu");
+  return {{"kernel", gpu_kernel_path(stage)},
+          {"list_ms", list_ms},
+          {"directions_ms", dirs_ms},
+          {"passes", passes + 2},
+          {"direction_passes", passes},
+          {"units_per_pass", chunk},
+          {"defines", define_list(clamp_compensation_defines(es, vis, shadow_ray, VR_CLAMP_PASS_DIRECTIONS))}};
+}
+
+}  // namespace
+
 render_result render_gpu(const frame_buffers& b, const render_settings& es, stage_timer& timer,
                          const progress_fn& progress) {
   namespace gl = vplkit::gl;
@@ -297,7 +357,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   const bool compensate = gpu_clamp_compensation(es);
   const bool shadow_ray =
       (mt.gathers || compensate) && es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact;
-  if (compensate) det["clamp_compensation_dirs"] = clamp_compensation_dirs(es);
+  const bool compacted = gpu_clamp_compensation_compacted(es);
+  if (compensate) {
+    det["clamp_compensation_dirs"] = clamp_compensation_dirs(es);
+    det["clamp_compensation_pass"] = to_string(es.clamp_compensation_pass);
+  }
   if (mt.gathers)
     det["lit_test"] = to_string(shadow_ray ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map);
 
@@ -399,9 +463,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
     const int n = static_cast<int>((units + chunk - 1) / chunk);
     plans.push_back({&st, units, chunk, n, n > 1});
-    if (compensate) {  // the directions are the last units (with_clamp_compensation)
+    if (compensate) {  // inline, the directions are the last units (with_clamp_compensation)
       P.clamp_dirs = clamp_compensation_dirs(es);
-      P.clamp_first_unit = static_cast<int>(units - P.clamp_dirs);
+      P.clamp_first_unit = static_cast<int>(compacted ? units : units - P.clamp_dirs);
     }
     passes += n;
     any_split = any_split || n > 1;
@@ -427,6 +491,20 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
                 {"builders", with_dists ? "gpu (weights and CDFs stay on the GPU; totals read back)" : "none"},
                 {"cdf", with_dists ? "gpu (cdf_build.comp)" : "none"},
                 {"direct_light", es.direct ? "gpu (estimate kernel)" : "off"}};
+  // The clamp's compensation, compacted: its passes before the estimate kernel, which adds their terms.
+  const gl::buffer* b_clamp_list = nullptr;
+  if (compacted) {
+    P.clamp_dirs = clamp_compensation_dirs(es);
+    P.clamp_max_groups_x = static_cast<int>(gl::max_work_group_count(0));
+    // The terms go to the estimates' buffer (b_out), which the estimate kernel reads before it
+    // writes the estimate over them (estimate_io.glsl).
+    const gl::buffer& list = pixel_buffer(pixels, pixels.clamp_list, 16 + 4 * std::max<std::size_t>(n_pixels, 1), 0,
+                                          "the clamp compensation's pixel list");
+    list.bind(VR_ESTIMATE_BINDING_CLAMP_LIST);
+    b_clamp_list = &list;
+    det["gpu"]["clamp_compensation"] =
+        run_clamp_compensation_passes(es, vis, shadow_ray, in, budget, n_pixels, P, b_params, list, timer);
+  }
   {
     gl::timer_query tq;
     tq.begin();
@@ -494,6 +572,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
         o[1] = c.y;
         o[2] = c.z;
       }
+  }
+  // How many pixels the compacted compensation listed (after the image's read-back: no wait of its own).
+  if (b_clamp_list != nullptr) {
+    glm::uvec4 header(0u);
+    b_clamp_list->read_bytes(&header, 0, sizeof header);
+    det["gpu"]["clamp_compensation"]["pixels"] = header.w;
   }
   return result;
 }
