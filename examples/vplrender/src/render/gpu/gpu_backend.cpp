@@ -208,12 +208,14 @@ namespace {
 // The clamp compensation's passes (clamp_compensation.comp; the parameter block P and its buffer,
 // the terms and the list bound by the caller): the pixels whose near-surface test says maybe are
 // listed, then an indirect dispatch over the list traces their directions, split under the loop
-// budget like the estimate's units. Timed as a stage of the estimate of its own. Returns the
-// report's record.
+// budget like the estimate's units. Timed by the caller's two queries (the list, the directions),
+// which it reads once the estimate kernel is issued: reading them here would make the CPU wait for
+// the GPU before it issues the estimate. Returns the report's record (without the times).
 nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibility_choice vis, bool shadow_ray,
                                              const shape_inputs& in, bool budget, std::size_t n_pixels,
                                              gpu::estimate_params& P, vplkit::gl::buffer& b_params,
-                                             const vplkit::gl::buffer& list, stage_timer& timer) {
+                                             const vplkit::gl::buffer& list, vplkit::gl::timer_query& tq_list,
+                                             vplkit::gl::timer_query& tq_dirs) {
   namespace gl = vplkit::gl;
   auto running = stage_timer::running(clamp_compensation_stage_gpu);
   const gpu_kernel_stage stage{clamp_compensation_kernel, clamp_compensation_shape};
@@ -228,7 +230,6 @@ nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibili
   if (es.max_units_per_pass > 0) chunk = std::min<long long>(chunk, es.max_units_per_pass);
   const int passes = static_cast<int>((units + chunk - 1) / chunk);
   // Two timers one after the other (they cannot nest): the list, then the directions.
-  gl::timer_query tq_list, tq_dirs;
   tq_list.begin();
   b_params.write_bytes(&P, 0, sizeof P);
   gl::dispatch_linear(mark, gl::groups_for(n_pixels, mark.local_size()[0]));
@@ -250,11 +251,7 @@ nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibili
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   gl::check_gl("the clamp compensation's passes");
   tq_dirs.end();
-  const double list_ms = tq_list.milliseconds(), dirs_ms = tq_dirs.milliseconds();
-  timer.add(clamp_compensation_stage_gpu, list_ms + dirs_ms, "gpu");
   return {{"kernel", gpu_kernel_path(stage)},
-          {"list_ms", list_ms},
-          {"directions_ms", dirs_ms},
           {"passes", passes + 2},
           {"direction_passes", passes},
           {"units_per_pass", chunk},
@@ -493,6 +490,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
                 {"direct_light", es.direct ? "gpu (estimate kernel)" : "off"}};
   // The clamp's compensation, compacted: its passes before the estimate kernel, which adds their terms.
   const gl::buffer* b_clamp_list = nullptr;
+  gl::timer_query tq_clamp_list, tq_clamp_dirs;
   if (compacted) {
     P.clamp_dirs = clamp_compensation_dirs(es);
     P.clamp_max_groups_x = static_cast<int>(gl::max_work_group_count(0));
@@ -503,7 +501,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
     list.bind(VR_ESTIMATE_BINDING_CLAMP_LIST);
     b_clamp_list = &list;
     det["gpu"]["clamp_compensation"] =
-        run_clamp_compensation_passes(es, vis, shadow_ray, in, budget, n_pixels, P, b_params, list, timer);
+        run_clamp_compensation_passes(es, vis, shadow_ray, in, budget, n_pixels, P, b_params, list, tq_clamp_list,
+                                      tq_clamp_dirs);
   }
   {
     gl::timer_query tq;
@@ -555,6 +554,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
       }
     }
     tq.end();
+    if (compacted) {  // the compensation's queries, read now that the estimate is issued
+      const double list_ms = tq_clamp_list.milliseconds(), dirs_ms = tq_clamp_dirs.milliseconds();
+      det["gpu"]["clamp_compensation"]["list_ms"] = list_ms;
+      det["gpu"]["clamp_compensation"]["directions_ms"] = dirs_ms;
+      timer.add(clamp_compensation_stage_gpu, list_ms + dirs_ms, "gpu");
+    }
     timer.add("estimate (gpu)", tq.milliseconds(), "gpu");
   }
   {
