@@ -576,6 +576,21 @@ kernel_call dprsm_kernel(const dprsm_data& d, const std::string& source, std::ve
   return per_item(dprsm_prelude + source, std::move(queries), output_glsl, body);
 }
 
+// vplkit_direct_light at each gather point over d's DPRSM (rgb; w unused).
+std::vector<float4> gpu_direct_light(const dprsm_data& d, const std::vector<vplkit::gather_point<float>>& gps) {
+  std::vector<float4> in;
+  for (const auto& g : gps) {
+    in.push_back(f4(g.position, g.shading_normal.x));
+    in.push_back(f4(g.normal, g.shading_normal.y));
+    in.push_back(f4(g.albedo, g.shading_normal.z));
+  }
+  return run_compute<float4>(
+      dprsm_kernel(d, R"(#include "vplkit/vpl/direct_light.glsl")", {input(0, in, "vec4 q")}, "vec4 result", R"(
+  vplkit_gather_point gp = vplkit_unpack_gather_point(q[3u * i], q[3u * i + 1u], q[3u * i + 2u]);
+  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);)"),
+      gps.size());
+}
+
 }  // namespace
 
 TEST_CASE("dprsm_view: vpl_at, texel_valid, solid_angle, texel_count over a synthetic DPRSM") {
@@ -979,17 +994,7 @@ TEST_CASE("direct_light: lit decision and value, exact decisions except near a d
     kind.push_back("facing away");
     gps.push_back({vec3<float>(1, 1, 0), vec3<float>(0), vec3<float>(1)});
     kind.push_back("background");
-    std::vector<float4> in;
-    for (const auto& g : gps) {
-      in.push_back(f4(g.position, g.shading_normal.x));
-      in.push_back(f4(g.normal, g.shading_normal.y));
-      in.push_back(f4(g.albedo, g.shading_normal.z));
-    }
-    const auto gpu = run_compute<float4>(
-        dprsm_kernel(d, R"(#include "vplkit/vpl/direct_light.glsl")", {input(0, in, "vec4 q")}, "vec4 result", R"(
-  vplkit_gather_point gp = vplkit_unpack_gather_point(q[3u * i], q[3u * i + 1u], q[3u * i + 2u]);
-  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);)"),
-        gps.size());
+    const std::vector<float4> gpu = gpu_direct_light(d, gps);
     std::size_t lit = 0, edge = 0;
     series<std::int32_t> lit_decision;
     std::vector<float> gv[3];
@@ -1056,17 +1061,7 @@ TEST_CASE("direct_light: gather points 2^-66 to 2^-60 and 2^40 to 2^70 from the 
       kind.push_back("2^" + std::to_string(e) + " from the light");
     }
   }
-  std::vector<float4> in;
-  for (const auto& g : gps) {
-    in.push_back(f4(g.position, g.shading_normal.x));
-    in.push_back(f4(g.normal, g.shading_normal.y));
-    in.push_back(f4(g.albedo, g.shading_normal.z));
-  }
-  const auto gpu = run_compute<float4>(
-      dprsm_kernel(d, R"(#include "vplkit/vpl/direct_light.glsl")", {input(0, in, "vec4 q")}, "vec4 result", R"(
-  vplkit_gather_point gp = vplkit_unpack_gather_point(q[3u * i], q[3u * i + 1u], q[3u * i + 2u]);
-  result[i] = vec4(vplkit_direct_light(gp, load_view()), 0.0);)"),
-      gps.size());
+  const std::vector<float4> gpu = gpu_direct_light(d, gps);
   series<std::int32_t> lit_decision;
   std::vector<float> gv[3];
   std::vector<double> cv[3];
