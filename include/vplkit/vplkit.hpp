@@ -88,3 +88,4 @@
 #include <vplkit/estimators/ris_reservoir.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/ris_spatial_reuse.hpp>
+#include <vplkit/estimators/ris_mis_estimator.hpp>

@@ -138,9 +138,32 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   return estimator_finite_or_zero(f * (w.gathering / p1));
 }
 
+// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
+// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t
+// for a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either
+// cosine not positive, below x's geometric plane). ris_mis_estimator.hpp weighs candidates by it.
+template <class T>
+inline vec3<T> mis_vpl_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v,
+                                  T pmf, T area, T n1, T n2) {
+  if (!vpl_has_flux(v)) return vec3<T>(T(0));
+  if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
+  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
+  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
+  const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
+  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
+  const vec3<T> f = gp.albedo *
+                    reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
+                                       view.albedo[t]) *
+                    (cos2 / vpl_pi<T>);
+  const T p1 = cosine_pdf_solid_angle(cos2);
+  const vec3<T> w = gp.position - v.position;
+  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
+  return mis_balance_value(f, n1, p1, n2, p2);
+}
+
 // The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the
-// A of its p2 (the texel's A_t for a point VPL, A(uv) for a patch point). solid_angle: f at v over
-// n1 p1 + n2 p2; as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
+// A of its p2. solid_angle: mis_vpl_unshadowed times V(x, v), queried only where that is not 0;
+// as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
 template <class T, class Visibility>
 inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v, T pmf,
                              T area, const Visibility& visibility, T n1, T n2, mis_mode mode) {
@@ -152,21 +175,10 @@ inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& vie
     const mis_weight_pair<T> w = mis_weights_as_published(cos2, mis_sin_from_cos(cos2), pmf);
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
-  if (!vpl_has_flux(v)) return vec3<T>(T(0));
-  if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
-  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
-  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
-  const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
-  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
+  const vec3<T> value = mis_vpl_unshadowed(gp, view, t, v, pmf, area, n1, n2);
+  if (!(value.x > T(0) || value.y > T(0) || value.z > T(0))) return vec3<T>(T(0));
   if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
-  const vec3<T> f = gp.albedo *
-                    reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
-                                       view.albedo[t]) *
-                    (cos2 / vpl_pi<T>);
-  const T p1 = cosine_pdf_solid_angle(cos2);
-  const vec3<T> w = gp.position - v.position;
-  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
-  return mis_balance_value(f, n1, p1, n2, p2);
+  return value;
 }
 
 // One VPL sample drawn with u (vpl_mode::point: the VPL at the texel centre).
