@@ -39,6 +39,10 @@ const std::vector<method_traits> k_methods = {
    "resampled importance sampling: per sample --candidates VPLs from --candidate-source, one kept by their "
    "unshadowed contribution, one visibility query, optionally --spatial reuse",
    ek::ris,          0, bk::candidate_source, true, false, false, false, true, false, sc::vpls, true, true},
+  {method::ris_mis, "ris-mis",
+   "RIS as the VPL strategy of mis: --vpls RIS samples of --candidates VPLs from --candidate-source, balanced "
+   "against --dirs gathering directions; unclamped (no compensation)",
+   ek::ris,          1, bk::candidate_source, true, true,  true,  false, true, false, sc::vpls_and_dirs, true, false},
 };
 // clang-format on
 

@@ -33,7 +33,8 @@ struct method_traits {
   const char* name;         // the --method value, to_string(method) and the reports' "method"
   const char* help;         // its clause of the --method help text
   estimator_kind estimator;
-  int variant;              // the estimator's variant: mis: the vplkit::mis_mode (0 solid angle, 1 as published)
+  int variant;              // the estimator's variant: mis: the vplkit::mis_mode (0 solid angle, 1 as published);
+                            // ris: 0 alone (clamped), 1 with gathering (vplkit::estimate_ris_mis)
   builder_kind builder;
   bool uses_vpls;           // draws VPLs: --vpl-mode applies
   bool uses_dirs;           // takes --dirs (gathering directions, the GBG builder's NBDIR)

@@ -18,7 +18,7 @@ namespace vplrender {
 // (render/cpu/exact_estimator.hpp), the ground truth of the others. ris: resampled importance
 // sampling of VPLs (vplkit/estimators/ris_estimator.hpp), candidates from the distribution of
 // ris_source_choice, optionally with spatial reuse; both backends.
-enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact, ris };
+enum class method { reference, global, local, gbg, gather, mis, mis_as_published, exact, ris, ris_mis };
 enum class backend { gpu, cpu };
 // Departures from the paper that can be switched back: the local CDFs' combination, the GBG
 // accumulator and the CDF search; and how a distribution is sampled (face selection, sampler).

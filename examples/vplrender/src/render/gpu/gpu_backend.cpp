@@ -398,6 +398,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // --method ris: its block (estimate_ris_params.h), constant over the render, and with spatial
   // reuse the reservoirs between a round's two dispatches (ris_params.h's 32-byte records).
   const bool ris = mt.estimator == estimator_kind::ris;
+  if (ris && mt.variant == 1) throw vplkit::invalid_input("--method ris-mis: not built on the GPU backend yet");
   const bool ris_reuse = ris_reuses(es);
   gl::buffer b_ris_params;
   if (ris) {
