@@ -44,10 +44,17 @@ work_shape vpl_sampling_shape(const render_settings& s, const shape_inputs& in) 
 work_shape local_shape(const render_settings&, const shape_inputs& in) {
   return {in.regions * (dda_cost(in) + cdf_cost(in) + in.regions + 4), in.rounds, 0};
 }
-work_shape gather_shape(const render_settings& s, const shape_inputs& in) { return {dda_cost(in) + 4, s.dirs, 0}; }
+// A gathering ray: its trace and, with the shadow-ray lit test, its hit's shadow ray. Without the
+// second query a direction's bound was short by the shadow ray's traversal: llvmpipe cut the loops
+// of the last directions of a full pass, and at 256 directions on the cornell box the GPU's gather
+// image read 3.9 % dark (14.5 % at 1024), silently.
+long long gathering_ray_cost(const shape_inputs& in) { return (in.shadow_ray ? 2 : 1) * dda_cost(in); }
+work_shape gather_shape(const render_settings& s, const shape_inputs& in) {
+  return {gathering_ray_cost(in) + 4, s.dirs, 0};
+}
 // A step: a gathering ray and a VPL draw with its query.
 work_shape mis_shape(const render_settings& s, const shape_inputs& in) {
-  return {2 * dda_cost(in) + cdf_cost(in) + 8, std::max(s.dirs, s.vpls), 0};
+  return {gathering_ray_cost(in) + dda_cost(in) + cdf_cost(in) + 8, std::max(s.dirs, s.vpls), 0};
 }
 // A direction: its first hit and the hit's shadow ray; a dispatch: the gather point's camera ray.
 work_shape exact_shape(const render_settings& s, const shape_inputs& in) {

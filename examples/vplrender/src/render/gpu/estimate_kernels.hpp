@@ -33,6 +33,9 @@ struct shape_inputs {
   long long query_cost = 0;
   int regions = 1;
   int rounds = 1;
+  // Gathering's lit test is a shadow ray (--lit-test shadow-ray with exact visibility): every
+  // gathering ray's hit costs one more query (gpu_lit_test_shadow_ray).
+  bool shadow_ray = false;
 };
 
 // One dispatch sequence over the whole image: a kernel file (in examples/vplrender/shaders) and the

@@ -90,6 +90,13 @@ visibility_choice visibility_of(const render_settings& es) {
   return traits(es.meth).exact_rays ? visibility_choice::exact : es.visibility;
 }
 
+// Gathering's lit test by a shadow ray: the method's gathering rays or the clamp's compensation
+// directions, --lit-test shadow-ray, exact visibility (the estimate kernels' VR_LIT_SHADOW_RAY).
+bool gpu_lit_test_shadow_ray(const render_settings& es) {
+  return (traits(es.meth).gathers || gpu_clamp_compensation(es)) && es.lit_test == lit_test_choice::shadow_ray &&
+         visibility_of(es) == visibility_choice::exact;
+}
+
 // "#define A 1\n#define B\n" as ["A 1", "B"] for the report.
 nlohmann::json define_list(const std::string& preamble) {
   nlohmann::json out = nlohmann::json::array();
@@ -192,7 +199,7 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
                    int regions) {
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
   const shape_inputs in{dprsm_resolution, gpu_query_cost(nullptr, visibility_of(es), voxel_resolution), regions,
-                        rounds};
+                        rounds, gpu_lit_test_shadow_ray(es)};
   if (ris_reuses(es)) return 2 * std::max(1, es.vpls);  // a candidate and a reuse dispatch per round
   int passes = 0;
   for (const gpu_kernel_stage& stage : gpu_kernel_for(es.meth).stages) {
@@ -352,8 +359,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // The clamp's compensation traces gathering rays in the VPL kernels too (estimate_clamp_compensation.glsl),
   // with the gathering lit test the CPU backend's tracer gives them.
   const bool compensate = gpu_clamp_compensation(es);
-  const bool shadow_ray =
-      (mt.gathers || compensate) && es.lit_test == lit_test_choice::shadow_ray && vis == visibility_choice::exact;
+  const bool shadow_ray = gpu_lit_test_shadow_ray(es);
   const bool compacted = gpu_clamp_compensation_compacted(es);
   if (compensate) {
     det["clamp_compensation_dirs"] = clamp_compensation_dirs(es);
@@ -420,7 +426,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   // llvmpipe's loop budget (loop_budget.hpp): only there (or when forced) are the units split.
   const bool budget = loop_budget_applies(es.loop_budget);
   const long long query_cost = gpu_query_cost(&scene, vis, grid.resolution);
-  const shape_inputs in{view.resolution, query_cost, std::max(1, n_dists), local_rounds};
+  const shape_inputs in{view.resolution, query_cost, std::max(1, n_dists), local_rounds, shadow_ray};
   struct stage_plan {
     const gpu_kernel_stage* stage;
     long long units, chunk;
