@@ -14,7 +14,9 @@
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_weights.hpp>
 #include <vplkit/builders/vpl_distribution.hpp>
+#include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>
+#include <vplkit/estimators/ris_mis_estimator.hpp>
 #include <vplkit/estimators/ris_spatial_reuse.hpp>
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
@@ -113,6 +115,25 @@ void BM_ris_spatial_reuse(benchmark::State& state) {
   state.SetItemsProcessed(std::int64_t(state.iterations()) * kPointsPerIteration);
 }
 
+vplkit::voxel_tracer<float> tracer() { return vplkit::voxel_tracer<float>{room_grid(64).view()}; }
+float tolerance() { return vplkit::voxel_tracer_depth_tolerance(room_grid(64).view()) + 0.05f; }
+
+// 8 steps of estimate_ris_mis: a direction and a RIS sample of M candidates each (M = 0: estimate_mis's
+// 8 + 8, a direction and a VPL sample each).
+void BM_ris_mis_steps(benchmark::State& state) {
+  const auto view = room_dprsm(64).view();
+  const auto vis = visibility();
+  const auto tr = tracer();
+  const float tol = tolerance();
+  const int m = int(state.range(0));
+  run_points(state, 8, [&](const vplkit::gather_point<float>& gp, vplkit::counter_rng& rng) {
+    if (m == 0)
+      return vplkit::estimate_mis(gp, view, mixture(), rng, 8, 8, tr, vis, tol, vplkit::mis_mode::solid_angle,
+                                  vplkit::vpl_mode::patch);
+    return vplkit::estimate_ris_mis(gp, view, mixture(), rng, 8, 8, m, tr, vis, tol, vplkit::vpl_mode::patch);
+  });
+}
+
 }  // namespace
 
 BENCHMARK(BM_ris_candidates)->ArgName("patch")->Arg(0)->Arg(1)->Apply(vplkit_bench::standard);
@@ -120,5 +141,6 @@ BENCHMARK(BM_ris_estimate)->ArgName("M")->Arg(8)->Arg(32)->Apply(vplkit_bench::s
 BENCHMARK(BM_vpl_sample_with_query)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_ris_spatial_reuse)->ArgNames({"K", "balance"})->Args({4, 0})->Args({4, 1})->Args({8, 0})->Args({8, 1})
     ->Apply(vplkit_bench::standard);
+BENCHMARK(BM_ris_mis_steps)->ArgName("M")->Arg(0)->Arg(8)->Arg(32)->Apply(vplkit_bench::standard);
 
 VPLKIT_BENCH_MAIN()
