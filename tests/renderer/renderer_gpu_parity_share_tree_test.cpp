@@ -41,7 +41,7 @@ TEST_CASE("The share-tree sampler: the GPU image is the CPU's, and a split rende
     const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options(scene));
     options o = f.o;
     o.visibility = visibility_choice::voxels;
-    for (method m : {method::global, method::gbg})
+    for (method m : {method::global, method::gbg, method::local})
       for (vpl_mode_choice vm : {vpl_mode_choice::point, vpl_mode_choice::patch}) {
         o.meth = m;
         o.vpl_mode = vm;
@@ -76,10 +76,11 @@ TEST_CASE("The share-tree sampler: the GPU image is the CPU's, and a split rende
 }
 
 TEST_CASE("The share-tree sampler is unbiased: the exhaustive VPL sum within the statistical bound") {
-  // Point VPLs without the clamp's compensation: estimate_vpl_sampling's expectation is then
-  // exactly the reference's exhaustive sum. Independent seeds give independent image sums X_s; their
-  // mean must lie within 4 standard errors of the reference's sum (and the flat CDF's does too, the
-  // control). CPU only: the GPU draws the same numbers (case above).
+  // Point VPLs without the clamp's compensation: the expectations of estimate_vpl_sampling (global)
+  // and of estimate_local (balance, one tree per region) are then exactly the reference's exhaustive
+  // sum. Independent seeds give independent image sums X_s; their mean must lie within 4 standard
+  // errors of the reference's sum (and the flat CDF's does too, the control). CPU only: the GPU
+  // draws the same numbers (case above).
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell"));
   options o = f.o;
   o.visibility = visibility_choice::voxels;
@@ -91,8 +92,9 @@ TEST_CASE("The share-tree sampler is unbiased: the exhaustive VPL sum within the
   stage_timer t0;
   const double expected = image_sum(render_cpu(f.b, ref, t0).image);
   REQUIRE(expected > 0.0);
+  for (method m : {method::global, method::local})
   for (sampler_choice sc : {sampler_choice::share_tree, sampler_choice::cdf}) {
-    o.meth = method::global;
+    o.meth = m;
     o.vpls = 32;
     render_settings es = make_render_settings(o, f.p.s);
     es.threads = 2;
@@ -110,9 +112,9 @@ TEST_CASE("The share-tree sampler is unbiased: the exhaustive VPL sum within the
     for (double v : x) var += (v - mean) * (v - mean);
     var /= seeds - 1;
     const double se = std::sqrt(var / seeds);
-    std::cout << "--sampler " << to_string(sc) << ": mean image sum " << mean << " vs the exhaustive sum " << expected
+    std::cout << to_string(m) << " --sampler " << to_string(sc) << ": mean image sum " << mean << " vs the exhaustive sum " << expected
               << " (" << (mean - expected) / se << " standard errors; se " << se / expected << " relative)\n";
-    INFO("--sampler " << to_string(sc));
+    INFO(to_string(m) << " --sampler " << to_string(sc));
     CHECK(se > 0.0);
     CHECK(std::abs(mean - expected) <= 4.0 * se);
   }
@@ -120,7 +122,7 @@ TEST_CASE("The share-tree sampler is unbiased: the exhaustive VPL sum within the
 
 TEST_CASE("The share-tree sampler: the backends refuse the estimators that do not draw the tree") {
   const vplrender_test::gl_fixture f = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell"));
-  for (method m : {method::local, method::mis, method::ris}) {
+  for (method m : {method::mis, method::ris, method::ris_mis}) {
     options o = f.o;
     o.meth = m;
     render_settings es = make_render_settings(o, f.p.s);

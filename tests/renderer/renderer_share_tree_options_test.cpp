@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// --sampler share-tree on the command line: accepted with the VPL-sampling methods (global, gbg) on
+// --sampler share-tree on the command line: accepted with the methods that draw it (global, gbg, local) on
 // both backends, refused with a usage_error naming the flag wherever the tree would not be drawn as
 // documented (the other methods, the face roulette, the binary CDF search).
 #include <catch2/catch.hpp>
@@ -16,8 +16,8 @@ using namespace vplrender;
 
 using namespace vplrender_test;
 
-TEST_CASE("The share-tree sampler is accepted with global and gbg on both backends") {
-  for (const char* m : {"global", "gbg"})
+TEST_CASE("The share-tree sampler is accepted with global, gbg and local on both backends") {
+  for (const char* m : {"global", "gbg", "local"})
     for (const char* b : {"cpu", "gpu"}) {
       INFO(m << " " << b);
       const options o = parse({"--method", m, "--backend", b, "--sampler", "share-tree"});
@@ -28,7 +28,7 @@ TEST_CASE("The share-tree sampler is accepted with global and gbg on both backen
 }
 
 TEST_CASE("The share-tree sampler is refused where the tree is not drawn") {
-  for (const char* m : {"reference", "local", "gather", "mis", "mis-as-published", "exact", "ris"}) {
+  for (const char* m : {"reference", "gather", "mis", "mis-as-published", "exact", "ris", "ris-mis"}) {
     INFO(m);
     const std::string e = error_of({"--method", m, "--sampler", "share-tree"});
     CHECK(starts_with(e, "--sampler share-tree: not supported with --method " + std::string(m)));

@@ -13,7 +13,8 @@
 //   VR_SAMPLER_SHARE_TREE: the mixture's split and fallback CDF, its learned part a share tree built
 //     by share_tree_build.comp (binding 7: the shares, tree d at d L), drawn with 24-bit numbers
 //     from the pixel's tree stream vr_share_tree_rng (render/share_tree_mixture.hpp, number for
-//     number): the kernel calls vr_begin_share_tree_stream before its first draw of a dispatch.
+//     number): the kernel calls vr_begin_share_tree_stream before its first draw of a dispatch
+//     (global, gbg: one mixture; local: the regions' mixtures, their draws in one stream).
 // A kernel that samples one mixture only (global, gbg, mis) defines VR_ONE_MIXTURE and calls
 // vr_load_mixtures() once: the record then lives in registers instead of being loaded per draw.
 // A distribution's CDF and guide are addressed by arithmetic on its index (cdf_stride, guide_base,
@@ -138,17 +139,18 @@ vplkit_discrete_sample vr_resampled_sample(uint d, float u) {
 // The pixel's tree stream (C++ share_tree_stream): every draw takes exactly depth = log2(L) of its
 // numbers, so draw k starts at k depth, and a dispatch whose first draw is `first_draw` starts
 // there (split renders keep no tree state between dispatches).
+// Every mixture's tree has the same L leaves (one per texel, padded): tree d's shares start at d L.
+// The draws of all the mixtures (local's regions) take numbers from the one stream, in draw order.
 vplkit_counter_rng vr_share_tree_rng;
+uint vr_share_tree_leaves;
 uint vr_share_tree_depth(uint leaves) { return uint(findMSB(leaves)); }  // leaves: a power of two
-#ifndef VR_ONE_MIXTURE
-#error "VR_SAMPLER_SHARE_TREE: for the kernels that sample one mixture (VR_ONE_MIXTURE)"
-#endif
 // After vr_load_mixtures().
 void vr_begin_share_tree_stream(vplkit_counter_rng pixel, int first_draw) {
+  vr_share_tree_leaves = vr_mixture(0u).learned.guide_size;
   vr_share_tree_rng = vplkit_counter_rng(vplkit_rng_key(pixel.key, VR_SHARE_TREE_STREAM_SALT),
-                                         uint(first_draw) * vr_share_tree_depth(vr_mixture0.learned.guide_size));
+                                         uint(first_draw) * vr_share_tree_depth(vr_share_tree_leaves));
 }
-uint vplkit_load_share_tree_share(uint tree, uint node) { return vr_shares[tree * vr_mixture0.learned.guide_size + node]; }
+uint vplkit_load_share_tree_share(uint tree, uint node) { return vr_shares[tree * vr_share_tree_leaves + node]; }
 uint vplkit_share_tree_next_bits(uint tree) { return vplkit_rng_next_u32(vr_share_tree_rng) >> 8u; }
 // The learned part of mixture m as its tree (the record's learned fields, estimate_params.h).
 vplkit_share_tree vr_share_tree(vplkit_defensive_mixture m) {

@@ -18,6 +18,10 @@ void main() {
   vplkit_estimator_state clamp_comp = vr_begin_clamp_compensation(p);
   if (valid) vr_clamp_compensation_range(gp, clamp_comp);
 #endif
+#if VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+  // A round draws once from each region's mixture: round r's first draw is r D.
+  if (valid) vr_begin_share_tree_stream(est.rng, vr_begin() * int(vr_params.n_distributions));
+#endif
   if (valid)
     vplkit_estimate_local_range(gp, vr_view(), 0u, vr_params.n_distributions, est, vr_begin(), vr_end(),
                                 vr_make_visibility(vr_grid()), vr_params.dmin, VR_LOCAL_COMBINATION, VR_VPL_MODE,

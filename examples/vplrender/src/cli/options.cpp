@@ -3,6 +3,7 @@
 
 #include "io/errors.hpp"
 #include "render/method_traits.hpp"
+#include "render/share_tree_mixture.hpp"
 #include "scene/scene.hpp"
 
 #include <CLI/CLI.hpp>
@@ -124,7 +125,7 @@ void build_app(CLI::App& app, raw_values& v) {
                    "number per level from a stream of its own (same pmf up to 2^-24 per level; the CPU and GPU "
                    "images agree at large DPRSMs, where the flat CDF turns the backends' last-bit weight "
                    "differences into other draws: docs/math.md, \"Image parity at large DPRSMs\"). share-tree "
-                   "needs --method global or gbg, --face-selection joint and --cdf-search guide."))
+                   "needs --method global, gbg or local, --face-selection joint and --cdf-search guide."))
       ->type_name("cdf|alias|share-tree");
   app.add_option("--visibility", v.visibility,
                  d("What visibility and the gathering rays are decided against, for every method (default "
@@ -377,11 +378,11 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (o.sampler == sampler_choice::share_tree) {
     if (o.face_selection == face_selection_choice::roulette)
       throw usage_error("--sampler share-tree: needs --face-selection joint (the face roulette samples discrete CDFs)");
-    // The tree draws from a stream of its own, one position per VPL sample: the VPL-sampling
-    // estimator's draws only (the other estimators draw, or evaluate, their distributions otherwise).
-    if (traits(o.meth).estimator != estimator_kind::vpl_sampling)
+    // The tree draws from a stream of its own, one position per VPL draw: the VPL-sampling and local
+    // estimators' draws only (the other estimators draw, or evaluate, their distributions otherwise).
+    if (!share_tree_sampler_supported(traits(o.meth).estimator))
       throw usage_error(std::string("--sampler share-tree: not supported with --method ") + to_string(o.meth) +
-                        " (only the VPL-sampling methods global and gbg; use --sampler cdf)");
+                        " (only global, gbg and local; use --sampler cdf)");
   }
   if (o.cdf_search == cdf_search_choice::binary &&
       (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))

@@ -149,15 +149,29 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   if (mt.estimator == estimator_kind::reference && vmode == vplkit::vpl_mode::patch)
     det["reference_strata"] = reference_patch_strata;
   if (s.sampler == sampler_choice::share_tree) {
-    // --sampler share-tree (render/share_tree_mixture.hpp): the VPL-sampling estimator over mixtures
-    // whose learned part is a share tree drawn from the pixel's tree stream.
-    if (mt.estimator != estimator_kind::vpl_sampling)
+    // --sampler share-tree (render/share_tree_mixture.hpp): the VPL-sampling and local estimators over
+    // mixtures whose learned part is a share tree drawn from the pixel's tree stream (local: every
+    // region's draws from the one stream, in the estimator's draw order).
+    if (!share_tree_sampler_supported(mt.estimator))
       throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
-                                  " (only the VPL-sampling methods global and gbg)");
+                                  " (only global, gbg and local)");
     std::vector<share_tree_mixture> trees;
     {
       auto t = timer.scoped("sampler tables (cpu)");
       trees = build_share_tree_mixtures(built.weights, built.dists);
+    }
+    if (mt.estimator == estimator_kind::local) {
+      const vplkit::local_combination comb = s.local_combination == local_combination_choice::average
+                                                 ? vplkit::local_combination::average
+                                                 : vplkit::local_combination::balance;
+      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+        vplkit::counter_rng stream = share_tree_stream(rng);
+        std::vector<share_tree_mixture_draw> draws(trees.size());
+        for (std::size_t d = 0; d < trees.size(); ++d) draws[d] = share_tree_mixture_draw{&trees[d], &stream};
+        return vplkit::estimate_local(gp, view, draws.data(), static_cast<int>(draws.size()), rng, built.local_rounds,
+                                      visibility, s.dmin, comb, vmode, depth_tol);
+      });
+      return result;
     }
     render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
       vplkit::counter_rng stream = share_tree_stream(rng);

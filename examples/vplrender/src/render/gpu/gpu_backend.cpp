@@ -281,9 +281,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (!mt.gpu)
     throw vplkit::invalid_input(std::string("--method ") + mt.name + ": no GPU kernel yet (run_estimator refuses it)");
   const gpu_estimate_kernel& kern = gpu_kernel_for(es.meth);
-  if (es.sampler == sampler_choice::share_tree && mt.estimator != estimator_kind::vpl_sampling)
+  if (es.sampler == sampler_choice::share_tree && !share_tree_sampler_supported(mt.estimator))
     throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
-                                " (only the VPL-sampling methods global and gbg)");
+                                " (only global, gbg and local)");
   render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
