@@ -78,9 +78,12 @@ TEST_CASE("run_estimator reports the method's GPU memory and it scales with the 
     CHECK_FALSE(split);
     // The sample count changes no buffer size, except that a render split over dispatches keeps
     // each pixel's state in a buffer between them (48 bytes per pixel; where the loop budget
-    // applies: llvmpipe, render/gpu/loop_budget.hpp).
+    // applies: llvmpipe, render/gpu/loop_budget.hpp). That buffer may overlap the peak of the
+    // builders' temporaries (the share trees' sums are freed before the estimate): at most 48 bytes
+    // per pixel more.
     const long long many = peak_for(backend::gpu, m, 16, 64);
-    CHECK(many == small + (split ? 48LL * 24 * 16 : 0));
+    CHECK(many >= small);
+    CHECK(many <= small + (split ? 48LL * 24 * 16 : 0));
     CHECK(peak_for(backend::cpu, m, 16, 4) == 0);
   }
 }

@@ -62,6 +62,7 @@ TEST_CASE("cdf-search binary gives the bit-identical image of the guide table on
     options o = f.o;
     o.meth = m;
     o.eps = 0.1;
+    o.sampler = sampler_choice::cdf;  // the search concerns the CDF sampler (the default draws share trees)
     const image_rgb guide = render(f, o);
     o.cdf_search = cdf_search_choice::binary;
     const image_rgb binary = render(f, o);

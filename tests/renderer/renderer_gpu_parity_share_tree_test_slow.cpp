@@ -8,8 +8,8 @@
 // weight difference moving only the shares along its own path by about as much; a draw changes only
 // where a level's number falls within that of its node's share (~1e-6 of a level), so nearly every
 // pixel draws the same texels with pmfs within a few 1e-6. Where the flat CDF gives ~98.7 % of the
-// pixels within 1e-4 at this size for global, ~60 % for gbg and ~91 % for local (printed, not
-// required), the tree must give >= 99.9 % for each (local: one tree per region).
+// pixels within 1e-4 at this size for global, ~60 % for gbg, ~91 % for local and ~74 % for mis
+// (printed, not required), the tree must give >= 99.9 % for each (local: one tree per region).
 #include "renderer_gl_fixture.hpp"
 #include "renderer_image_parity.hpp"
 
@@ -36,7 +36,7 @@ TEST_CASE("The share-tree sampler: image parity at a 2 x 512^2 DPRSM") {
       vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell", 32, 24, 512, 32));
   options o = f.o;
   o.visibility = visibility_choice::voxels;
-  for (method m : {method::global, method::gbg, method::local}) {
+  for (method m : {method::global, method::gbg, method::local, method::mis}) {
   o.meth = m;
   for (sampler_choice sc : {sampler_choice::cdf, sampler_choice::share_tree}) {
     render_settings es = make_render_settings(o, f.p.s);

@@ -25,6 +25,7 @@
 #include "render/cpu/cpu_visibility.hpp"
 #include "render/gpu/gpu_backend.hpp"
 #include "render/gpu/gpu_builders.hpp"
+#include "render/method_traits.hpp"
 #include "scene/builtin_scenes.hpp"
 
 #include <vplkit/builders/gbg_weights.hpp>
@@ -181,7 +182,7 @@ void run_scene(const std::string& scene_name, visibility_choice v = visibility_c
       stage_timer tc, tg;
       const image_rgb c = render_cpu(f.b, es, tc).image;
       const render_result gr = render_gpu(f.b, es, tg);
-      CHECK(gr.details["sampler"] == to_string(es.sampler));
+      CHECK(gr.details["sampler"] == to_string(resolved_sampler(es)));
       CHECK(gr.details["face_selection"] == to_string(es.face_selection));
       const parity r = compare(c, gr.image, rel_bound_gpu_builders);
       const char* sw = k == 0 ? "--sampler alias" : "--face-selection roulette";

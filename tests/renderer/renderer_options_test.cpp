@@ -298,7 +298,8 @@ TEST_CASE("the estimator switches (local combination, GBG accumulator, CDF searc
   CHECK(parse({"--cdf-search", "binary"}).cdf_search == cdf_search_choice::binary);
   CHECK(parse({"--cdf-search", "guide"}).cdf_search == cdf_search_choice::guide);
   CHECK(d.face_selection == face_selection_choice::joint);
-  CHECK(d.sampler == sampler_choice::cdf);
+  CHECK(d.sampler == sampler_choice::automatic);
+  CHECK(parse({"--sampler", "auto"}).sampler == sampler_choice::automatic);
   CHECK(parse({"--face-selection", "roulette"}).face_selection == face_selection_choice::roulette);
   CHECK(parse({"--face-selection", "joint"}).face_selection == face_selection_choice::joint);
   CHECK(parse({"--sampler", "alias"}).sampler == sampler_choice::alias);

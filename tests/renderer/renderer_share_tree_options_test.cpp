@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// --sampler share-tree on the command line: accepted with the methods that draw it (global, gbg, local) on
+// --sampler share-tree on the command line: accepted with the methods that draw it (global, gbg, local, mis) on
 // both backends, refused with a usage_error naming the flag wherever the tree would not be drawn as
 // documented (the other methods, the face roulette, the binary CDF search).
 #include <catch2/catch.hpp>
@@ -7,6 +7,7 @@
 #include "renderer_cli_parse.hpp"
 #include "cli/options.hpp"
 #include "io/errors.hpp"
+#include "render/method_traits.hpp"
 #include "render/settings.hpp"
 
 #include <string>
@@ -16,19 +17,35 @@ using namespace vplrender;
 
 using namespace vplrender_test;
 
-TEST_CASE("The share-tree sampler is accepted with global, gbg and local on both backends") {
-  for (const char* m : {"global", "gbg", "local"})
+TEST_CASE("The share-tree sampler is accepted with global, gbg, local and mis on both backends") {
+  for (const char* m : {"global", "gbg", "local", "mis", "mis-as-published"})
     for (const char* b : {"cpu", "gpu"}) {
       INFO(m << " " << b);
       const options o = parse({"--method", m, "--backend", b, "--sampler", "share-tree"});
       CHECK(o.sampler == sampler_choice::share_tree);
     }
   CHECK(std::string(to_string(sampler_choice::share_tree)) == "share-tree");
-  CHECK(parse({}).sampler == sampler_choice::cdf);  // opt-in
+}
+
+TEST_CASE("The default sampler is the share tree where the method draws it, the CDF elsewhere") {
+  CHECK(parse({}).sampler == sampler_choice::automatic);
+  CHECK(std::string(to_string(sampler_choice::automatic)) == "auto");
+  for (const char* m : {"global", "gbg", "local", "mis", "mis-as-published"}) {
+    INFO(m);
+    CHECK(resolved_sampler(parse({"--method", m})) == sampler_choice::share_tree);
+    // The face roulette and the binary search sample CDFs: the default gives way to them.
+    CHECK(resolved_sampler(parse({"--method", m, "--face-selection", "roulette"})) == sampler_choice::cdf);
+    CHECK(resolved_sampler(parse({"--method", m, "--cdf-search", "binary"})) == sampler_choice::cdf);
+    CHECK(resolved_sampler(parse({"--method", m, "--sampler", "cdf"})) == sampler_choice::cdf);
+  }
+  for (const char* m : {"reference", "gather", "exact", "ris", "ris-mis"}) {
+    INFO(m);
+    CHECK(resolved_sampler(parse({"--method", m})) == sampler_choice::cdf);
+  }
 }
 
 TEST_CASE("The share-tree sampler is refused where the tree is not drawn") {
-  for (const char* m : {"reference", "gather", "mis", "mis-as-published", "exact", "ris", "ris-mis"}) {
+  for (const char* m : {"reference", "gather", "exact", "ris", "ris-mis"}) {
     INFO(m);
     const std::string e = error_of({"--method", m, "--sampler", "share-tree"});
     CHECK(starts_with(e, "--sampler share-tree: not supported with --method " + std::string(m)));

@@ -16,6 +16,11 @@ void main() {
   vplkit_estimator_state est = vr_begin_estimate(p);
   if (valid) {
     vr_load_mixtures();
+#if VR_SAMPLER == VR_SAMPLER_SHARE_TREE
+    // Step j draws VPL j while j < n_vpls (the gathering hits only evaluate pmfs): a dispatch's first
+    // draw is min(begin, n_vpls).
+    vr_begin_share_tree_stream(est.rng, min(vr_begin(), vr_params.n_vpls));
+#endif
     vplkit_voxel_grid grid = vr_grid();
     vplkit_estimate_mis_range(gp, vr_view(), 0u, est, vr_begin(), vr_end(), vr_params.n_dirs, vr_params.n_vpls,
                               vr_make_tracer(grid), vr_make_visibility(grid), vr_params.depth_tolerance, VR_VARIANT,

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "app/report.hpp"
 
+#include "render/method_traits.hpp"
+
 #include <vplkit/core/version.hpp>
 
 #include <sys/resource.h>
@@ -31,7 +33,7 @@ nlohmann::json options_to_json(const options& o) {
   j["gbg_accumulator"] = to_string(o.gbg_accumulator);
   j["cdf_search"] = to_string(o.cdf_search);
   j["face_selection"] = to_string(o.face_selection);
-  j["sampler"] = to_string(o.sampler);
+  j["sampler"] = to_string(resolved_sampler(o));
   j["visibility"] = to_string(o.visibility);
   j["vpl_mode"] = to_string(o.vpl_mode);
   j["voxels"] = o.voxels;

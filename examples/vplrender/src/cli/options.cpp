@@ -3,7 +3,6 @@
 
 #include "io/errors.hpp"
 #include "render/method_traits.hpp"
-#include "render/share_tree_mixture.hpp"
 #include "scene/scene.hpp"
 
 #include <CLI/CLI.hpp>
@@ -117,7 +116,9 @@ void build_app(CLI::App& app, raw_values& v) {
                    "then the texel within it. Same pmf; a sample may land on another texel for the same u."))
       ->type_name("joint|roulette");
   app.add_option("--sampler", v.sampler,
-                 d("How a VPL distribution turns u into a texel (default cdf): cdf = inversion of the discrete "
+                 d("How a VPL distribution turns u into a texel (default auto: share-tree for global, gbg, local, "
+                   "mis and mis-as-published with --face-selection joint and --cdf-search guide, else cdf): cdf = "
+                   "inversion of the discrete "
                    "CDF (keeps the stratification of u); alias = Walker's alias table, O(1) (same pmf, does not "
                    "keep u's stratification; one u per draw, so at large DPRSMs its thresholds are coarse: "
                    "docs/results/notes/2026-11-21-paper-analogues.md 4.6). alias needs --face-selection joint and --cdf-search guide. "
@@ -125,8 +126,8 @@ void build_app(CLI::App& app, raw_values& v) {
                    "number per level from a stream of its own (same pmf up to 2^-24 per level; the CPU and GPU "
                    "images agree at large DPRSMs, where the flat CDF turns the backends' last-bit weight "
                    "differences into other draws: docs/math.md, \"Image parity at large DPRSMs\"). share-tree "
-                   "needs --method global, gbg or local, --face-selection joint and --cdf-search guide."))
-      ->type_name("cdf|alias|share-tree");
+                   "needs --method global, gbg, local, mis or mis-as-published, --face-selection joint and --cdf-search guide."))
+      ->type_name("auto|cdf|alias|share-tree");
   app.add_option("--visibility", v.visibility,
                  d("What visibility and the gathering rays are decided against, for every method (default "
                    "exact with --backend gpu, voxels with --backend cpu; --paper: paper-voxels): voxels = the "
@@ -369,7 +370,8 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
         {{"joint", face_selection_choice::joint}, {"roulette", face_selection_choice::roulette}});
   if (given("--sampler"))
     o.sampler = parse_choice<sampler_choice>("--sampler", v.sampler,
-                                             {{"cdf", sampler_choice::cdf},
+                                             {{"auto", sampler_choice::automatic},
+                                              {"cdf", sampler_choice::cdf},
                                               {"alias", sampler_choice::alias},
                                               {"share-tree", sampler_choice::share_tree}});
   // The library's face roulette samples discrete CDFs, and --cdf-search only concerns the joint CDF.
@@ -378,14 +380,15 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (o.sampler == sampler_choice::share_tree) {
     if (o.face_selection == face_selection_choice::roulette)
       throw usage_error("--sampler share-tree: needs --face-selection joint (the face roulette samples discrete CDFs)");
-    // The tree draws from a stream of its own, one position per VPL draw: the VPL-sampling and local
-    // estimators' draws only (the other estimators draw, or evaluate, their distributions otherwise).
-    if (!share_tree_sampler_supported(traits(o.meth).estimator))
+    // The tree draws from a stream of its own, one position per VPL draw: the estimators whose draws
+    // the stream follows (render/method_traits.hpp, draws_share_tree).
+    if (!draws_share_tree(traits(o.meth).estimator))
       throw usage_error(std::string("--sampler share-tree: not supported with --method ") + to_string(o.meth) +
-                        " (only global, gbg and local; use --sampler cdf)");
+                        " (only global, gbg, local, mis and mis-as-published; use --sampler cdf)");
   }
   if (o.cdf_search == cdf_search_choice::binary &&
-      (o.sampler != sampler_choice::cdf || o.face_selection != face_selection_choice::joint))
+      ((o.sampler != sampler_choice::cdf && o.sampler != sampler_choice::automatic) ||
+       o.face_selection != face_selection_choice::joint))
     throw usage_error("--cdf-search binary: needs --sampler cdf and --face-selection joint");
   o.paper = v.paper;
   // The GPU backend's default is exact visibility: on the GPU the pack's BVH costs less than the

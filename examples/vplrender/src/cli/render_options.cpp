@@ -18,7 +18,7 @@ frame_settings make_frame_settings(const options& o) {
 
 render_settings make_render_settings(const options& o, const scene& s) {
   render_settings e;
-  static_cast<render_choices&>(e) = o;  // the shared choices, as given
+  static_cast<render_choices&>(e) = o;  // the shared choices, as given (the backends resolve sampler)
   e.eps = static_cast<float>(o.eps);
   e.clamp_compensation = o.clamp_compensation.value_or(clamp_compensation_choice::on);
   e.ris_candidates = o.candidates;

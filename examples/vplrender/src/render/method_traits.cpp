@@ -79,6 +79,18 @@ builder_kind distribution_builder(const render_settings& s) {
   return builder_kind::global;
 }
 
+bool draws_share_tree(estimator_kind k) {
+  return k == estimator_kind::vpl_sampling || k == estimator_kind::local || k == estimator_kind::mis;
+}
+
+sampler_choice resolved_sampler(const render_choices& c) {
+  if (c.sampler != sampler_choice::automatic) return c.sampler;
+  return draws_share_tree(traits(c.meth).estimator) && c.face_selection == face_selection_choice::joint &&
+                 c.cdf_search == cdf_search_choice::guide
+             ? sampler_choice::share_tree
+             : sampler_choice::cdf;
+}
+
 std::optional<method> method_from_name(const std::string& name) {
   for (const method_traits& t : all_method_traits())
     if (name == t.name) return t.id;

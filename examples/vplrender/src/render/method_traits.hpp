@@ -59,6 +59,17 @@ std::optional<method> method_from_name(const std::string& name);
 // --candidate-source names (global, local, gbg, flux).
 builder_kind distribution_builder(const render_settings& s);
 
+// The estimators that draw --sampler share-tree's trees: VPL sampling (global, gbg), local (one tree
+// per region) and mis (its VPL draws; its gathering hits evaluate the tree's pmf). Not the
+// resampled ones (ris, ris-mis: their candidates come from --candidate-source's CDFs).
+bool draws_share_tree(estimator_kind k);
+
+// The sampler a render uses: c.sampler, or for sampler_choice::automatic share_tree where the
+// method draws it (draws_share_tree) with the joint face selection and the guided CDF search (the
+// CPU and GPU images then agree at large DPRSMs: docs/math.md, "Image parity at large DPRSMs"),
+// else cdf.
+sampler_choice resolved_sampler(const render_choices& c);
+
 // "reference|global|...": every name, in table order.
 std::string method_names(const char* separator = "|");
 

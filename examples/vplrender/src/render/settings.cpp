@@ -22,6 +22,7 @@ const char* to_string(sampler_choice s) {
   switch (s) {
     case sampler_choice::alias: return "alias";
     case sampler_choice::share_tree: return "share-tree";
+    case sampler_choice::automatic: return "auto";
     case sampler_choice::cdf: break;
   }
   return "cdf";

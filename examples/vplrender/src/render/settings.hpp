@@ -32,8 +32,10 @@ enum class face_selection_choice { joint, roulette };
 // (vplkit::alias_table; O(1), same pmf, does not keep u's stratification); share_tree: the
 // learned part of the defensive mixture drawn from vplkit::share_tree, one 24-bit number per
 // level from a stream of its own (the draws do not move when the weights move by their last bits:
-// docs/math.md, "Image parity at large DPRSMs"; VPL-sampling methods only, global and gbg).
-enum class sampler_choice { cdf, alias, share_tree };
+// docs/math.md, "Image parity at large DPRSMs"; global, gbg, local and mis). automatic (the
+// default): share_tree for the methods that draw it with the joint face selection and the guided
+// CDF search, else cdf (resolved_sampler; render/method_traits.hpp).
+enum class sampler_choice { cdf, alias, share_tree, automatic };
 // What V(x, y) and the gathering rays are decided against. voxels: the triangles listed by the
 // voxel grid (triangle_voxel_visibility / triangle_voxel_tracer, docs/math.md section 7.2: no
 // self-occlusion at junctions); paper_voxels: the paper's binary voxel test (voxel_visibility /
@@ -107,7 +109,7 @@ struct render_choices {
   gbg_accumulator_choice gbg_accumulator = gbg_accumulator_choice::gathering;       // paper: paper
   cdf_search_choice cdf_search = cdf_search_choice::guide;                          // same indices either way
   face_selection_choice face_selection = face_selection_choice::joint;              // paper: roulette
-  sampler_choice sampler = sampler_choice::cdf;
+  sampler_choice sampler = sampler_choice::automatic;
   // The command line's default: exact for the GPU backend, voxels for the CPU backend (--paper: paper_voxels).
   visibility_choice visibility = visibility_choice::voxels;
   lit_test_choice lit_test = lit_test_choice::shadow_map;  // the command line's default: shadow-ray with exact

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// --sampler share-tree: the defensive mixtures of the VPL-sampling methods (global, gbg, local) with their
+// --sampler share-tree: the defensive mixtures of global, gbg, local and mis with their
 // learned part drawn from a vplkit::share_tree (docs/math.md, "Image parity at large DPRSMs"): a
 // weight that differs by its last bits between the backends moves only the shares on its own path,
 // so the CPU and GPU draws stay the same at large DPRSMs, where the flat CDF's prefix sums collect
@@ -19,8 +19,6 @@
 // split into sample ranges [begin, end) resumes the stream at begin depth() without keeping it.
 // The estimator's own stream (u, the patch jitter, the clamp compensation's key) is the one the CDF
 // sampler consumes: its library code is unchanged, the tree draws beside it.
-#include "render/method_traits.hpp"
-
 #include <vplkit/core/error.hpp>
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
@@ -35,13 +33,6 @@
 #include <vector>
 
 namespace vplrender {
-
-// The estimators that draw --sampler share-tree's trees: VPL sampling (global, gbg) and local (one
-// tree per region). The others draw (ris: candidates from --candidate-source) or evaluate (mis:
-// the pmf of gathering hits) their distributions otherwise.
-inline bool share_tree_sampler_supported(estimator_kind k) {
-  return k == estimator_kind::vpl_sampling || k == estimator_kind::local;
-}
 
 // The tree stream's key salt; estimate_params.h's VR_SHARE_TREE_STREAM_SALT (checked there).
 inline constexpr std::uint32_t share_tree_stream_salt = 0x5E72EEu;

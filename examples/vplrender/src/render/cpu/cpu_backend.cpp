@@ -66,8 +66,10 @@ void with_distributions(const cpu_distributions& built, const frame_buffers& b, 
 
 }  // namespace
 
-render_result render_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
+render_result render_cpu(const frame_buffers& b, const render_settings& given, stage_timer& timer,
                          const progress_fn& progress) {
+  render_settings s = given;
+  s.sampler = resolved_sampler(given);
   const cpu_frame f = open_cpu_frame(b, s);
   const vplkit::gbuffer_view<float>& g = f.g;
   const vplkit::dprsm_view<float>& view = f.view;
@@ -149,16 +151,26 @@ render_result render_cpu(const frame_buffers& b, const render_settings& s, stage
   if (mt.estimator == estimator_kind::reference && vmode == vplkit::vpl_mode::patch)
     det["reference_strata"] = reference_patch_strata;
   if (s.sampler == sampler_choice::share_tree) {
-    // --sampler share-tree (render/share_tree_mixture.hpp): the VPL-sampling and local estimators over
-    // mixtures whose learned part is a share tree drawn from the pixel's tree stream (local: every
-    // region's draws from the one stream, in the estimator's draw order).
-    if (!share_tree_sampler_supported(mt.estimator))
+    // --sampler share-tree (render/share_tree_mixture.hpp): the VPL-sampling, local and mis estimators
+    // over mixtures whose learned part is a share tree drawn from the pixel's tree stream (local:
+    // every region's draws from the one stream, in the estimator's draw order; mis: its VPL draws,
+    // the gathering hits evaluate the tree's pmf).
+    if (!draws_share_tree(mt.estimator))
       throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
-                                  " (only global, gbg and local)");
+                                  " (only global, gbg, local and mis)");
     std::vector<share_tree_mixture> trees;
     {
       auto t = timer.scoped("sampler tables (cpu)");
       trees = build_share_tree_mixtures(built.weights, built.dists);
+    }
+    if (mt.estimator == estimator_kind::mis) {
+      const vplkit::mis_mode mode = mt.variant == 1 ? vplkit::mis_mode::as_published : vplkit::mis_mode::solid_angle;
+      render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
+        vplkit::counter_rng stream = share_tree_stream(rng);
+        return vplkit::estimate_mis(gp, view, share_tree_mixture_draw{&trees[0], &stream}, rng, s.dirs, s.vpls, tracer,
+                                    visibility, depth_tol, mode, vmode);
+      });
+      return result;
     }
     if (mt.estimator == estimator_kind::local) {
       const vplkit::local_combination comb = s.local_combination == local_combination_choice::average

@@ -267,8 +267,10 @@ nlohmann::json run_clamp_compensation_passes(const render_settings& es, visibili
 
 }  // namespace
 
-render_result render_gpu(const frame_buffers& b, const render_settings& es, stage_timer& timer,
+render_result render_gpu(const frame_buffers& b, const render_settings& given, stage_timer& timer,
                          const progress_fn& progress) {
+  render_settings es = given;
+  es.sampler = resolved_sampler(given);
   namespace gl = vplkit::gl;
   // A GPU frame's G-buffer and DPRSM live on the GPU: the views give their sizes and the light.
   const gpu_scene_buffers& scene = scene_on_gpu(b, "render_gpu");
@@ -281,9 +283,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& es, stag
   if (!mt.gpu)
     throw vplkit::invalid_input(std::string("--method ") + mt.name + ": no GPU kernel yet (run_estimator refuses it)");
   const gpu_estimate_kernel& kern = gpu_kernel_for(es.meth);
-  if (es.sampler == sampler_choice::share_tree && !share_tree_sampler_supported(mt.estimator))
+  if (es.sampler == sampler_choice::share_tree && !draws_share_tree(mt.estimator))
     throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
-                                " (only global, gbg and local)");
+                                " (only global, gbg, local and mis)");
   render_result result;
   result.image = image_rgb(W, H);
   nlohmann::json& det = result.details;
