@@ -232,19 +232,21 @@ double h_conditioning(const vplkit::gather_point<float>& gp, const vplkit::dprsm
 std::size_t check_rel(const std::string& what, const std::vector<float>& gpu, const std::vector<float>& cpu,
                       const std::vector<double>& rel, std::size_t& zero_flips) {
   std::size_t outside = 0, worst_at = 0;
-  double worst = 0.0;
+  double worst = 0.0, worst_rel = 0.0;
   for (std::size_t k = 0; k < gpu.size(); ++k) {
     if ((gpu[k] == 0.0f) != (cpu[k] == 0.0f)) {
       ++zero_flips;
       if (!(rel[k] >= 0.5)) ++outside;
       continue;
     }
-    const double bound = rel[k] * std::abs(double(cpu[k])) + 1e-30;
-    const double ratio = std::abs(double(gpu[k]) - double(cpu[k])) / bound;
+    const double diff = std::abs(double(gpu[k]) - double(cpu[k]));
+    const double ratio = diff / (rel[k] * std::abs(double(cpu[k])) + 1e-30);
     if (!std::isfinite(gpu[k]) || !(ratio <= 1.0)) ++outside;
     if (ratio > worst) worst = ratio, worst_at = k;
+    if (cpu[k] != 0.0f) worst_rel = std::max(worst_rel, diff / std::abs(double(cpu[k])));
   }
-  std::cout << "parity " << what << ": " << gpu.size() << " floats, worst |gpu - cpu| / bound " << worst;
+  std::cout << "parity " << what << ": " << gpu.size() << " floats, worst rel " << worst_rel
+            << ", worst |gpu - cpu| / bound " << worst;
   if (!gpu.empty()) std::cout << " at [" << worst_at << "] gpu " << gpu[worst_at] << " cpu " << cpu[worst_at];
   std::cout << ", " << outside << " outside, " << zero_flips << " zero on one side only\n";
   return outside;
