@@ -24,7 +24,7 @@
 #endif
 #include "estimate_visibility.glsl"
 #include "estimate_distributions.glsl"
-#include "vplkit/builders/local_weights.glsl"
+#include "estimate_ris_source.glsl"
 #include "vplkit/estimators/ris_estimator.glsl"
 #include "vplkit/estimators/ris_params.h"
 #include "estimate_clamp_compensation.glsl"
@@ -32,7 +32,6 @@
 #include "vplkit/estimators/ris_spatial_reuse.glsl"
 #endif
 
-layout(std140, binding = VR_RIS_BINDING_PARAMS) uniform VrRisParams { vr_ris_params vr_ris; };
 #if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
 layout(std430, binding = VR_RIS_BINDING_RESERVOIRS) restrict writeonly buffer VrRisReservoirs {
   vplkit_ris_reservoir_record vr_reservoirs[];
@@ -46,16 +45,6 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) {
   return vplkit_ris_reservoir_from_record(r);
 }
 #endif
-
-// The mixture the pixel's candidates come from (render/cpu/ris_render.hpp's dist_of).
-uint vr_ris_distribution(uint p) {
-#ifdef VR_RIS_PER_REGION
-  int w = vr_params.width;
-  return uint(vplkit_region_of_pixel(int(p) % w, int(p) / w, w, vr_params.height, vr_ris.regions_x, vr_ris.regions_y));
-#else
-  return 0u;
-#endif
-}
 
 void main() {
   uint p = vr_pixel();

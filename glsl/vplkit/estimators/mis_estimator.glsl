@@ -126,8 +126,31 @@ vec3 vplkit_mis_gathering_sample(vplkit_gather_point gp, vplkit_dprsm_view view,
                                      vplkit_vpl_point);
 }
 
+// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
+// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t for
+// a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either cosine
+// not positive, below x's geometric plane). ris_mis_estimator.glsl weighs candidates by it.
+vec3 vplkit_mis_vpl_unshadowed(vplkit_gather_point gp, vplkit_dprsm_view view, int t, vplkit_vpl v, float pmf,
+                               float area, float n1, float n2) {
+  if (!vplkit_vpl_has_flux(v)) return vec3(0.0);
+  if (vplkit_vpl_points_coincide(gp.position, v.position)) return vec3(0.0);
+  vec3 wd = vplkit_unit_or_zero(v.position - gp.position);  // x -> y
+  float cos2 = dot(vplkit_unit_or_zero(vplkit_gather_point_shading_normal(gp)), wd);
+  float cos1 = -dot(vplkit_unit_or_zero(v.normal), wd);
+  if (!(cos2 > 0.0) || !(cos1 > 0.0) || !vplkit_gather_point_above(gp, wd)) return vec3(0.0);
+  vec3 f = gp.albedo *
+           vplkit_reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
+                                     vplkit_load_dprsm_albedo(t)) *
+           (cos2 / vplkit_vpl_pi);
+  float p1 = vplkit_cosine_pdf_solid_angle(cos2);
+  vec3 w = gp.position - v.position;
+  float p2 = vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), area, cos1);
+  return vplkit_mis_balance_value(f, n1, p1, n2, p2);
+}
+
 // The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the A
-// of its p2 (the texel's A_t for a point VPL, A(uv) for a patch point).
+// of its p2. solid_angle: vplkit_mis_vpl_unshadowed times V(x, v), queried only where that is not
+// 0; as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
 vec3 vplkit_mis_vpl_value(vplkit_gather_point gp, vplkit_dprsm_view view, int t, vplkit_vpl v, float pmf,
                           float area, vplkit_visibility visibility, float n1, float n2, int mode) {
   if (mode == vplkit_mis_as_published) {
@@ -138,21 +161,10 @@ vec3 vplkit_mis_vpl_value(vplkit_gather_point gp, vplkit_dprsm_view view, int t,
     vplkit_mis_weight_pair w = vplkit_mis_weights_as_published(cos2, vplkit_mis_sin_from_cos(cos2), pmf);
     return vplkit_estimator_finite_or_zero(c * vplkit_mis_div(w.vpl, pmf));
   }
-  if (!vplkit_vpl_has_flux(v)) return vec3(0.0);
-  if (vplkit_vpl_points_coincide(gp.position, v.position)) return vec3(0.0);
-  vec3 wd = vplkit_unit_or_zero(v.position - gp.position);  // x -> y
-  float cos2 = dot(vplkit_unit_or_zero(vplkit_gather_point_shading_normal(gp)), wd);
-  float cos1 = -dot(vplkit_unit_or_zero(v.normal), wd);
-  if (!(cos2 > 0.0) || !(cos1 > 0.0) || !vplkit_gather_point_above(gp, wd)) return vec3(0.0);
+  vec3 value = vplkit_mis_vpl_unshadowed(gp, view, t, v, pmf, area, n1, n2);
+  if (!(value.x > 0.0 || value.y > 0.0 || value.z > 0.0)) return vec3(0.0);
   if (!vplkit_visibility_test(visibility, gp.position, gp.normal, v.position, v.normal)) return vec3(0.0);
-  vec3 f = gp.albedo *
-           vplkit_reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
-                                     vplkit_load_dprsm_albedo(t)) *
-           (cos2 / vplkit_vpl_pi);
-  float p1 = vplkit_cosine_pdf_solid_angle(cos2);
-  vec3 w = gp.position - v.position;
-  float p2 = vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), area, cos1);
-  return vplkit_mis_balance_value(f, n1, p1, n2, p2);
+  return value;
 }
 
 // One VPL sample drawn with u (vplkit_vpl_point: the VPL at the texel centre).

@@ -85,16 +85,25 @@ long long ris_candidates_cost(const render_settings& s, const shape_inputs& in) 
 work_shape ris_shape(const render_settings& s, const shape_inputs& in) {
   return {ris_candidates_cost(s, in) + dda_cost(in) + 4, s.vpls, 0};
 }
+// RIS with gathering (ris-mis): a step is one RIS sample (its candidates and the kept one's query)
+// and one gathering direction (its trace and the hit's pmf, a lookup without a loop), as mis's step
+// is a VPL draw and a direction; like a ris sample, a step cannot be split.
+work_shape ris_mis_shape(const render_settings& s, const shape_inputs& in) {
+  return {ris_candidates_cost(s, in) + 2 * dda_cost(in) + 8, std::max(s.dirs, s.vpls), 0};
+}
 
 // One row per estimator kind, in render/method_traits.hpp's order.
+// ris-mis is unclamped: no compensation in its shape (estimate_ris_mis.comp has none).
 const std::vector<gpu_estimate_kernel> k_kernels = {
-    {estimator_kind::reference, {{"estimate_reference.comp", with_clamp_compensation<reference_shape>}}},
-    {estimator_kind::vpl_sampling, {{"estimate_vpl_sampling.comp", with_clamp_compensation<vpl_sampling_shape>}}},
-    {estimator_kind::local, {{"estimate_local.comp", with_clamp_compensation<local_shape>}}},
-    {estimator_kind::gather, {{"estimate_gather.comp", gather_shape}}},
-    {estimator_kind::mis, {{"estimate_mis.comp", mis_shape}}},
-    {estimator_kind::exact, {{"exact.comp", exact_shape}}},
-    {estimator_kind::ris, {{"estimate_ris.comp", with_clamp_compensation<ris_shape>}}},
+    {estimator_kind::reference, any_variant, {{"estimate_reference.comp", with_clamp_compensation<reference_shape>}}},
+    {estimator_kind::vpl_sampling, any_variant,
+     {{"estimate_vpl_sampling.comp", with_clamp_compensation<vpl_sampling_shape>}}},
+    {estimator_kind::local, any_variant, {{"estimate_local.comp", with_clamp_compensation<local_shape>}}},
+    {estimator_kind::gather, any_variant, {{"estimate_gather.comp", gather_shape}}},
+    {estimator_kind::mis, any_variant, {{"estimate_mis.comp", mis_shape}}},
+    {estimator_kind::exact, any_variant, {{"exact.comp", exact_shape}}},
+    {estimator_kind::ris, 0, {{"estimate_ris.comp", with_clamp_compensation<ris_shape>}}},
+    {estimator_kind::ris, 1, {{"estimate_ris_mis.comp", ris_mis_shape}}},
 };
 
 std::string define(const char* name, int value) { return std::string("#define ") + name + " " + std::to_string(value) + "\n"; }
@@ -108,9 +117,9 @@ int sampler_value(const render_settings& s, bool resampled) {
 }  // namespace
 
 const gpu_estimate_kernel& gpu_kernel_for(method m) {
-  const estimator_kind kind = traits(m).estimator;
+  const method_traits& t = traits(m);
   for (const gpu_estimate_kernel& k : k_kernels)
-    if (k.kind == kind) return k;
+    if (k.kind == t.estimator && (k.variant == any_variant || k.variant == t.variant)) return k;
   throw std::logic_error("estimate_kernels.cpp: no GPU kernel for the estimator of --method " + std::string(to_string(m)));
 }
 
@@ -140,7 +149,7 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
   }
   if (!s.dprsm_planes) d += define("VR_DPRSM_PLANES", 0);
   if (t.estimator == estimator_kind::ris) {
-    d += define("VR_RIS_PASS", ris_pass);
+    if (t.variant == 0) d += define("VR_RIS_PASS", ris_pass);  // ris-mis has one pass
     if (s.ris_source == ris_source_choice::local) d += "#define VR_RIS_PER_REGION\n";
   }
   return d;

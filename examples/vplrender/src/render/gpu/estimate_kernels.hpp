@@ -46,13 +46,16 @@ struct gpu_kernel_stage {
 };
 
 // An estimator on the GPU: its stages run in order, each over every pixel and finished before the
-// next starts; the last writes the estimate.
+// next starts; the last writes the estimate. `variant`: the method_traits variant the row runs
+// (any_variant: all of them; ris's variants are two kernels, mis's one kernel with VR_VARIANT).
+constexpr int any_variant = -1;
 struct gpu_estimate_kernel {
   estimator_kind kind;
+  int variant;
   std::vector<gpu_kernel_stage> stages;
 };
 
-// The row of m's estimator (render/method_traits.hpp's estimator kind).
+// The row of m's estimator (render/method_traits.hpp's estimator kind and variant).
 const gpu_estimate_kernel& gpu_kernel_for(method m);
 
 // A stage's kernel path relative to the repository (the report's "kernel").
@@ -80,8 +83,8 @@ std::string clamp_compensation_defines(const render_settings& s, visibility_choi
 
 // The preamble of s's variant (one "#define NAME VALUE" line per define the kernel reads):
 // VR_VISIBILITY, VR_SAMPLER, VR_VPL_MODE, VR_LOCAL_COMBINATION, VR_VARIANT, VR_SPLIT, VR_DIRECT,
-// VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION, and for ris VR_RIS_PASS (`ris_pass`,
-// estimate_ris_params.h) and VR_RIS_PER_REGION. `resampled`: the mixtures' components were built (--sampler alias,
+// VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION, for ris VR_RIS_PASS (`ris_pass`, estimate_ris_params.h),
+// and for ris and ris-mis VR_RIS_PER_REGION. `resampled`: the mixtures' components were built (--sampler alias,
 // --face-selection roulette); `shadow_ray`: gathering's lit test by a shadow ray; `split`: the
 // units are split over dispatches.
 std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,

@@ -155,8 +155,10 @@ std::vector<gpu::mixture_record> mixture_records(const gpu_mixtures& gm, gpu::es
 }
 
 // --method ris with spatial reuse: rounds of a candidate and a reuse dispatch (estimate_ris_params.h).
+// (ris-mis has no reuse: render_gpu refuses --spatial with it.)
 bool ris_reuses(const render_settings& es) {
-  return traits(es.meth).estimator == estimator_kind::ris && es.ris_spatial > 0;
+  const method_traits& t = traits(es.meth);
+  return t.estimator == estimator_kind::ris && t.variant == 0 && es.ris_spatial > 0;
 }
 
 // estimate_ris_params.h's block for es on a W x H image.
@@ -406,7 +408,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   // --method ris: its block (estimate_ris_params.h), constant over the render, and with spatial
   // reuse the reservoirs between a round's two dispatches (ris_params.h's 32-byte records).
   const bool ris = mt.estimator == estimator_kind::ris;
-  if (ris && mt.variant == 1) throw vplkit::invalid_input("--method ris-mis: not built on the GPU backend yet");
+  // ris-mis's target carries its MIS weight against the pixel's own gathering: a neighbour's
+  // reservoir would need it re-evaluated at the receiving pixel, which the reuse pass does not do.
+  if (ris && mt.variant == 1 && es.ris_spatial > 0)
+    throw vplkit::invalid_input("--method ris-mis --spatial " + std::to_string(es.ris_spatial) +
+                                ": spatial reuse is built for --method ris only; use --spatial 0 with ris-mis");
   const bool ris_reuse = ris_reuses(es);
   gl::buffer b_ris_params;
   if (ris) {
@@ -416,6 +422,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
     glBindBufferBase(GL_UNIFORM_BUFFER, VR_RIS_BINDING_PARAMS, b_ris_params.id());
     det["ris"] = {{"candidates", es.ris_candidates}, {"candidate_source", to_string(es.ris_source)},
                   {"spatial", es.ris_spatial}};
+    if (mt.variant == 1) det["ris"].update({{"dirs", es.dirs}, {"mis", "balance"}});
     if (ris_reuse) {
       det["ris"].update({{"radius", R.radius}, {"min_normal_cos", R.min_normal_cos},
                          {"max_plane_slope", R.max_plane_slope}, {"mis", "pairwise"}});
@@ -459,9 +466,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   for (const gpu_kernel_stage& st : kern.stages) {
     if (ris_reuse) break;
     const work_shape shape = st.shape(es, in);
-    // A ris sample (its M candidates) is one unit: the split cannot shorten it.
+    // A ris sample (its M candidates; ris-mis: a step) is one unit: the split cannot shorten it.
     if (ris && budget && shape.cost > gpu_loop_budget)
-      throw vplkit::invalid_input("--method ris --candidates " + std::to_string(es.ris_candidates) +
+      throw vplkit::invalid_input(std::string("--method ") + mt.name + " --candidates " +
+                                  std::to_string(es.ris_candidates) +
                                   ": one sample's candidates exceed the software GL driver's loop limit; use fewer "
                                   "--candidates");
     const long long units = std::max(1LL, shape.units);

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// --method ris-mis's kernel interface (examples/vplrender/shaders/estimate_ris_mis.comp, which
+// shares estimate_ris_params.h's block with estimate_ris.comp through estimate_ris_source.glsl)
+// against the GL driver: the RIS block lies where the C++ struct puts it, at the binding the header
+// names, with and without the per-region candidate source, and the shared estimate block keeps its
+// layout (renderer_gpu_estimate_params_test, renderer_gpu_ris_params_test for --method ris).
+#include "render/gpu/estimate_kernels.hpp"
+#include "render/pipeline.hpp"
+
+#include "estimate_params.h"
+#include "estimate_ris_params.h"
+
+#include <headless_gl/compute.hpp>
+
+#include <catch2/catch.hpp>
+
+#include "gl_program_resources.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+using namespace vplrender;
+
+namespace {
+
+using member = vplkit_test::block_member;
+using vplkit_test::resource_value;
+#define VR_MEMBER VPLKIT_TEST_BLOCK_MEMBER
+
+}  // namespace
+
+TEST_CASE("estimate_ris_params.h: the C++ RIS block has estimate_ris_mis.comp's std140 layout") {
+  using R = gpu::ris_params;
+  const std::vector<member> members = {
+      VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
+      VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pad0),            VR_MEMBER(R, pad1),
+      VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
+  const gpu_kernel_stage& stage = gpu_kernel_for(method::ris_mis).stages.front();
+  CHECK(gpu_kernel_path(stage) == "examples/vplrender/shaders/estimate_ris_mis.comp");
+  for (bool per_region : {false, true}) {
+    INFO((per_region ? "VR_RIS_PER_REGION" : "one mixture"));
+    pipeline_gl_context();
+    std::string d = "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n#define VR_VPL_MODE 1\n#define VR_VARIANT 1\n";
+    if (per_region) d += "#define VR_RIS_PER_REGION\n";
+    const GLuint prog = gpu_kernel_program(stage, d).id();
+    CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_DATA_SIZE)) == sizeof(R));
+    CHECK(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_BINDING) == VR_RIS_BINDING_PARAMS);
+    CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_NUM_ACTIVE_VARIABLES)) ==
+          members.size());
+    for (const member& m : members) {
+      INFO("vr_ris." << m.name);
+      CHECK(std::size_t(resource_value(prog, GL_UNIFORM, "vr_ris." + m.name, GL_OFFSET)) == m.offset);
+    }
+    CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_DATA_SIZE)) ==
+          sizeof(gpu::estimate_params));
+  }
+}
