@@ -86,10 +86,11 @@ work_shape ris_shape(const render_settings& s, const shape_inputs& in) {
   return {ris_candidates_cost(s, in) + dda_cost(in) + 4, s.vpls, 0};
 }
 // RIS with gathering (ris-mis): a step is one RIS sample (its candidates and the kept one's query)
-// and one gathering direction (its trace and the hit's pmf, a lookup without a loop), as mis's step
-// is a VPL draw and a direction; like a ris sample, a step cannot be split.
+// and one gathering direction (its trace, with the shadow-ray lit test its hit's shadow ray, and the
+// hit's pmf, a lookup without a loop), as mis's step is a VPL draw and a direction; like a ris
+// sample, a step cannot be split.
 work_shape ris_mis_shape(const render_settings& s, const shape_inputs& in) {
-  return {ris_candidates_cost(s, in) + 2 * dda_cost(in) + 8, std::max(s.dirs, s.vpls), 0};
+  return {ris_candidates_cost(s, in) + gathering_ray_cost(in) + dda_cost(in) + 8, std::max(s.dirs, s.vpls), 0};
 }
 
 // One row per estimator kind, in render/method_traits.hpp's order.
