@@ -80,9 +80,13 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
      << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
      << ". Visibility `" << to_string(base.visibility) << "`, lit test `" << to_string(base.lit_test)
      << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
-  if (std::find(so.methods.begin(), so.methods.end(), method::ris) != so.methods.end())
+  const auto swept = [&](method m) { return std::find(so.methods.begin(), so.methods.end(), m) != so.methods.end(); };
+  if (swept(method::ris))
     md << ", ris: " << base.candidates << " candidates per sample from `" << to_string(base.candidate_source)
        << "`, spatial reuse " << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
+  if (swept(method::ris_mis))
+    md << ", ris-mis: " << base.candidates << " candidates per RIS sample from `" << to_string(base.candidate_source)
+       << "`, as many gathering directions as RIS samples";
   md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
      << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
      << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");

@@ -20,10 +20,10 @@ Usage: speed_vs_error [options] [vplrender scene options]
 
 Sweep options:
   --methods LIST     comma-separated methods (default global,local,gbg,gather,mis);
-                     any of global local gbg gather mis mis-as-published exact ris
+                     any of global local gbg gather mis mis-as-published exact ris ris-mis
   --samples LIST     comma-separated sample counts (default 1,4,16,64). A count n means:
-                     global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis and
-                     mis-as-published: --vpls n and --dirs n
+                     global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis,
+                     mis-as-published and ris-mis: --vpls n and --dirs n
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
   --clamp-compensation LIST
                      off, on or off,on: the VPL clamp's compensation for global, local,
@@ -53,7 +53,7 @@ Sweep options:
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
-  --candidates --candidate-source --spatial (ris) --paper --direct.
+  --candidates --candidate-source (ris, ris-mis) --spatial (ris only) --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
 
@@ -205,6 +205,10 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   // The exhaustive VPL sum follows the last listed setting (on for off,on): the estimand of the
   // runs it labels with the method's own name.
   if (!so.compensations.empty()) so.base.clamp_compensation = so.compensations.back();
+  // vplrender refuses --spatial with --method ris-mis: say so before the sweep renders anything.
+  if (so.base.spatial > 0 && std::find(so.methods.begin(), so.methods.end(), method::ris_mis) != so.methods.end())
+    bad("--spatial " + std::to_string(so.base.spatial) +
+        ": not supported with ris-mis in --methods (spatial reuse is built for ris only); sweep ris-mis with --spatial 0");
   if (so.base.back == backend::gpu)
     for (method m : so.methods)
       if (!traits(m).gpu)

@@ -19,7 +19,7 @@ using namespace vplrender;
 
 TEST_CASE("method traits: one row per method, in enum order, names unique and round-tripping") {
   const std::vector<method_traits>& all = all_method_traits();
-  REQUIRE(all.size() == 9);
+  REQUIRE(all.size() == 10);
   std::set<std::string> names;
   for (std::size_t i = 0; i < all.size(); ++i) {
     const method_traits& t = all[i];
@@ -33,7 +33,7 @@ TEST_CASE("method traits: one row per method, in enum order, names unique and ro
   }
   CHECK_FALSE(method_from_name("Global").has_value());
   CHECK_FALSE(method_from_name("").has_value());
-  CHECK(method_names() == "reference|global|local|gbg|gather|mis|mis-as-published|exact|ris");
+  CHECK(method_names() == "reference|global|local|gbg|gather|mis|mis-as-published|exact|ris|ris-mis");
 }
 
 TEST_CASE("method traits: each row's traits agree with its estimator and builder") {
@@ -54,24 +54,33 @@ TEST_CASE("method traits: each row's traits agree with its estimator and builder
     // VPLs: every estimator but gathering and the ground truth.
     CHECK(uses_vpls(t.id) == (t.estimator != estimator_kind::gather && t.estimator != estimator_kind::exact));
     CHECK(t.uses_vpls == uses_vpls(t.id));
-    // Directions: the gathering estimators, and the GBG builder's rays.
+    // Directions: the gathering estimators (ris's variant 1, ris-mis, gathers), and the GBG builder's rays.
+    const bool ris_gathers = t.estimator == estimator_kind::ris && t.variant == 1;
     const bool rays = t.estimator == estimator_kind::gather || t.estimator == estimator_kind::mis ||
-                      t.estimator == estimator_kind::exact;
+                      t.estimator == estimator_kind::exact || ris_gathers;
     CHECK(t.uses_dirs == (rays || t.builder == builder_kind::gbg));
-    CHECK(t.gathers == (t.estimator == estimator_kind::gather || t.estimator == estimator_kind::mis));
+    CHECK(t.gathers == (t.estimator == estimator_kind::gather || t.estimator == estimator_kind::mis || ris_gathers));
     CHECK(t.exact_rays == (t.estimator == estimator_kind::exact));
     // speed_vs_error's sample count sets the samples the estimator takes (gbg's --dirs are its
     // builder's, not swept).
     const sweep_count sweep = !t.uses_vpls                         ? sweep_count::dirs
-                              : t.estimator == estimator_kind::mis ? sweep_count::vpls_and_dirs
-                                                                   : sweep_count::vpls;
+                              : t.estimator == estimator_kind::mis || ris_gathers ? sweep_count::vpls_and_dirs
+                                                                                  : sweep_count::vpls;
     CHECK(t.sweep == sweep);
     CHECK((!t.swept_by_default || t.swept));
-    CHECK((t.variant == 0 || t.estimator == estimator_kind::mis));
+    CHECK((t.variant == 0 || t.estimator == estimator_kind::mis || t.estimator == estimator_kind::ris));
+    // The clamp: the VPL methods that divide by max(d^2, dmin^2); MIS-weighted ones have none.
+    CHECK(t.clamped == (t.estimator == estimator_kind::reference || t.estimator == estimator_kind::vpl_sampling ||
+                        t.estimator == estimator_kind::local || (t.estimator == estimator_kind::ris && !ris_gathers)));
   }
   CHECK(traits(method::mis).variant == 0);               // vplkit::mis_mode::solid_angle
   CHECK(traits(method::mis_as_published).variant == 1);  // vplkit::mis_mode::as_published
   CHECK_FALSE(traits(method::reference).swept);          // speed_vs_error's reference, not a swept method
+  CHECK(traits(method::ris).variant == 0);               // vplkit::estimate_ris (clamped)
+  CHECK(traits(method::ris_mis).variant == 1);           // vplkit::estimate_ris_mis (unclamped)
+  CHECK_FALSE(method_has_clamp(method::ris_mis));
+  CHECK(traits(method::ris_mis).swept);
+  CHECK_FALSE(traits(method::ris_mis).swept_by_default);
 }
 
 TEST_CASE("method traits: distribution_builder resolves ris's --candidate-source, other methods keep theirs") {
@@ -80,15 +89,16 @@ TEST_CASE("method traits: distribution_builder resolves ris's --candidate-source
     s.meth = t.id;
     if (t.builder != builder_kind::candidate_source) CHECK(distribution_builder(s) == t.builder);
   }
-  s.meth = method::ris;
   const std::pair<ris_source_choice, builder_kind> cases[] = {{ris_source_choice::global, builder_kind::global},
                                                               {ris_source_choice::local, builder_kind::local},
                                                               {ris_source_choice::gbg, builder_kind::gbg},
                                                               {ris_source_choice::flux, builder_kind::flux}};
-  for (const auto& [source, builder] : cases) {
-    s.ris_source = source;
-    CHECK(distribution_builder(s) == builder);
-  }
+  for (const method m : {method::ris, method::ris_mis})
+    for (const auto& [source, builder] : cases) {
+      s.meth = m;
+      s.ris_source = source;
+      CHECK(distribution_builder(s) == builder);
+    }
 }
 
 TEST_CASE("method traits: the command line takes exactly the table's names") {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The command line of --method ris: its three flags (--candidates, --candidate-source, --spatial),
+// The command line of --method ris and ris-mis: the three flags (--candidates, --candidate-source, --spatial),
 // their defaults, limits and errors, and the GPU backend's acceptance (clamp compensation refused
 // there as for every method).
 #include <catch2/catch.hpp>
@@ -64,6 +64,44 @@ TEST_CASE("ris options: the GPU backend runs it, with the clamp compensation as 
 TEST_CASE("ris options: --help documents the method and its flags") {
   const std::string h = help_text();
   for (const char* s : {"--candidates", "--candidate-source", "--spatial", "global|local|gbg|flux", "|ris"}) {
+    INFO(s);
+    CHECK(h.find(s) != std::string::npos);
+  }
+}
+
+TEST_CASE("ris options: ris-mis takes --dirs, --vpls and the candidate flags, and refuses --spatial") {
+  const options o = parse({"--method", "ris-mis", "--backend", "cpu", "--dirs", "6", "--vpls", "5", "--candidates",
+                           "8", "--candidate-source", "local"});
+  CHECK(o.meth == method::ris_mis);
+  CHECK(std::string(to_string(method::ris_mis)) == "ris-mis");
+  CHECK(o.dirs == 6);
+  CHECK(o.vpls == 5);
+  CHECK(o.candidates == 8);
+  CHECK(o.candidate_source == ris_source_choice::local);
+  CHECK(o.spatial == 0);
+  CHECK(has_distribution(method::ris_mis));
+  CHECK(uses_vpls(method::ris_mis));
+  CHECK(parse({"--method", "ris-mis", "--backend", "cpu", "--spatial", "0"}).spatial == 0);
+  // Spatial reuse of its MIS-weighted target is not built: an error naming the flag and the method.
+  const std::string e = error_of({"--method", "ris-mis", "--backend", "cpu", "--spatial", "4"});
+  CHECK(starts_with(e, "--spatial: 4 is not supported with --method ris-mis"));
+  // No clamp: the compensation never applies to it, whatever --clamp-compensation says.
+  render_settings s;
+  s.meth = method::ris_mis;
+  s.dmin = 0.05f;
+  s.clamp_compensation = clamp_compensation_choice::on;
+  CHECK_FALSE(uses_clamp_compensation(s));
+  s.meth = method::ris;
+  CHECK(uses_clamp_compensation(s));
+}
+
+TEST_CASE("ris options: --help documents ris-mis") {
+  std::string h;  // the help text, its wrapping undone
+  for (const char c : help_text()) {
+    const bool space = c == ' ' || c == '\n';
+    if (!(space && !h.empty() && h.back() == ' ')) h += space ? ' ' : c;
+  }
+  for (const char* s : {"|ris-mis", "ris-mis = RIS as the VPL strategy of mis", "Not with ris-mis"}) {
     INFO(s);
     CHECK(h.find(s) != std::string::npos);
   }

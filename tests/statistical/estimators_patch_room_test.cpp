@@ -14,13 +14,15 @@
 // own surface (floor_corner, 0.1 from two walls, -3.96 +- 0.58 %; 4.5 % at wall_red with the
 // texel's normal, which lit a wall's foot with the floor's cos(alpha)). Gathering restricted to hits on their texel's plane (I_plane, test-only) agrees
 // with a to the noise and the silhouette phantoms. VPL sampling converges to a, MIS to a blend of
-// a and b at edge texels (its expectation lies between them).
+// a and b at edge texels (its expectation lies between them), and so does ris-mis (RIS samples as
+// MIS's VPL strategy: the same expectation as MIS, ris_mis_estimator.hpp).
 #include <estimators_reference.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_estimator.hpp>
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 
@@ -112,12 +114,13 @@ TEST_CASE("room: patch sum, gathering and physical integral differ by the edge t
   }
 }
 
-TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS between it and gathering") {
+TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS and ris-mis between it and gathering") {
   const lit_room<double> room(64);
   const auto& [scene, dprsm, view, gps, vis, tracer] = room;
   const discrete_cdf<double> cdf(importance_weights(view, plain_points(gps), 0.02));
   const int runs = 1000;
-  std::printf("room R = 64: VPL sampling (patch, 16 samples) and MIS (patch, 8 + 8), %d runs\n", runs);
+  std::printf("room R = 64: VPL sampling (patch, 16 samples), MIS (patch, 8 + 8) and ris-mis (patch, 8 + 8, M = 8), %d runs\n",
+              runs);
   for (const auto& g : gps) {
     const vec3<double> I = gathering_integral(scene, view, g.gp, depth_tol, 512);
     const run_stats a = patch_reference(g.gp, view, vis, 8, 2, depth_tol);
@@ -127,10 +130,14 @@ TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS be
     const run_stats m = repeat_estimates(runs, 212u, [&](counter_rng& rng) {
       return estimate_mis(g.gp, view, cdf, rng, 8, 8, tracer, vis, depth_tol, mis_mode::solid_angle, vpl_mode::patch);
     });
+    const run_stats rm = repeat_estimates(runs, 214u, [&](counter_rng& rng) {
+      return estimate_ris_mis(g.gp, view, cdf, rng, 8, 8, 8, tracer, vis, depth_tol, vpl_mode::patch);
+    });
     const double li = luminance(I);
-    std::printf("  %-20s I %.6f  a %+6.2f%%  VPL patch %+6.2f%% +- %.2f%%  MIS patch %+6.2f%% +- %.2f%%\n",
+    std::printf("  %-20s I %.6f  a %+6.2f%%  VPL patch %+6.2f%% +- %.2f%%  MIS patch %+6.2f%% +- %.2f%%  ris-mis %+6.2f%% +- %.2f%%\n",
                 g.name.c_str(), li, 100.0 * (a.lum_mean / li - 1.0), 100.0 * (v.lum_mean / li - 1.0),
-                100.0 * v.lum_sem / li, 100.0 * (m.lum_mean / li - 1.0), 100.0 * m.lum_sem / li);
+                100.0 * v.lum_sem / li, 100.0 * (m.lum_mean / li - 1.0), 100.0 * m.lum_sem / li,
+                100.0 * (rm.lum_mean / li - 1.0), 100.0 * rm.lum_sem / li);
     INFO(g.name);
     // VPL sampling: unbiased for the patch sum (both noisy: combined standard error)
     CHECK(std::abs(v.lum_mean - a.lum_mean) < 4.0 * std::hypot(v.lum_sem, a.lum_sem));
@@ -138,10 +145,14 @@ TEST_CASE("room: VPL sampling with patch VPLs converges to the patch sum, MIS be
     const double lo = std::min(a.lum_mean, li), hi = std::max(a.lum_mean, li);
     CHECK(m.lum_mean > lo - 4.0 * std::hypot(m.lum_sem, a.lum_sem));
     CHECK(m.lum_mean < hi + 4.0 * std::hypot(m.lum_sem, a.lum_sem));
+    // ris-mis: the same, and MIS's own expectation (two-sample)
+    CHECK(rm.lum_mean > lo - 4.0 * std::hypot(rm.lum_sem, a.lum_sem));
+    CHECK(rm.lum_mean < hi + 4.0 * std::hypot(rm.lum_sem, a.lum_sem));
+    CHECK(std::abs(rm.lum_mean - m.lum_mean) < 4.0 * std::hypot(rm.lum_sem, m.lum_sem));
   }
 }
 
-TEST_CASE("empty room (creases only): MIS with patch VPLs converges to its hybrid, moved parts to gathering") {
+TEST_CASE("empty room (creases only): MIS and ris-mis with patch VPLs converge to the hybrid, moved parts to gathering") {
   // Without the block the room has concave creases only. Every patch plane point hidden by a
   // neighbour's plane moves to its texel's centre (docs/math.md section 11); MIS gives those
   // directions to gathering alone and drops the moved VPL points (their weight 1 would bring back
@@ -173,7 +184,8 @@ TEST_CASE("empty room (creases only): MIS with patch VPLs converges to its hybri
     if (vpl_has_flux(view.vpl_at(t)))
       for (int k = 0; k < 4; ++k, ++drawn)
         moved += dprsm_patch_vpl(view, t, vec2<double>((k % 2 + 0.5) / 2, (k / 2 + 0.5) / 2), 0.0).at_centre ? 1 : 0;
-  std::printf("empty room R = 32: %d of %d patch points moved to their centres; MIS (patch, 8 + 8), 8000 runs\n",
+  std::printf("empty room R = 32: %d of %d patch points moved to their centres; MIS (patch, 8 + 8) and ris-mis "
+              "(patch, 8 + 8, M = 8), 8000 runs\n",
               moved, drawn);
   CHECK(moved > 100);
   const int strata = 8;
@@ -205,10 +217,15 @@ TEST_CASE("empty room (creases only): MIS with patch VPLs converges to its hybri
     const run_stats m = repeat_estimates(8000, 213u, [&](counter_rng& rng) {
       return estimate_mis(gp, view, cdf, rng, 8, 8, tracer, vis, 0.0, mis_mode::solid_angle, vpl_mode::patch);
     });
-    std::printf("  %-24s H %.6f (moved parts by gathering %.2f%%) +- %.2f%%  MIS %+6.2f%% +- %.2f%%\n", name, h,
-                100.0 * luminance(g_moved) / h, 100.0 * kept.lum_sem / h, 100.0 * (m.lum_mean / h - 1.0),
-                100.0 * m.lum_sem / h);
+    // ris-mis gives the moved points to gathering as MIS does (its target is 0 there when n1 > 0).
+    const run_stats rm = repeat_estimates(8000, 215u, [&](counter_rng& rng) {
+      return estimate_ris_mis(gp, view, cdf, rng, 8, 8, 8, tracer, vis, 0.0, vpl_mode::patch);
+    });
+    std::printf("  %-24s H %.6f (moved parts by gathering %.2f%%) +- %.2f%%  MIS %+6.2f%% +- %.2f%%  ris-mis %+6.2f%% +- %.2f%%\n",
+                name, h, 100.0 * luminance(g_moved) / h, 100.0 * kept.lum_sem / h, 100.0 * (m.lum_mean / h - 1.0),
+                100.0 * m.lum_sem / h, 100.0 * (rm.lum_mean / h - 1.0), 100.0 * rm.lum_sem / h);
     INFO(name);
     CHECK(std::abs(m.lum_mean - h) < 4.0 * std::hypot(m.lum_sem, kept.lum_sem) + 1e-3 * h);
+    CHECK(std::abs(rm.lum_mean - h) < 4.0 * std::hypot(rm.lum_sem, kept.lum_sem) + 1e-3 * h);
   }
 }

@@ -83,8 +83,8 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--regions", v.regions, d("Image regions of the local CDF method (default 4 = 2x2; 1..1024; "
                                          "laid out as the most nearly square grid)."))
       ->type_name("N");
-  app.add_option("--dirs", v.dirs, d("Cosine-distributed gathering directions per gather point for gbg, gather "
-                                   "and mis (default 16; 1..65536)."))
+  app.add_option("--dirs", v.dirs, d("Cosine-distributed gathering directions per gather point for gbg, gather, "
+                                   "mis and ris-mis (default 16; 1..65536)."))
       ->type_name("N");
   app.add_option("--eps", v.eps, d("Defensive mixing weight: p = (1-eps) p_cdf + eps p_uniform (default 0.05; "
                                  "0..1; 0 reproduces the paper)."))
@@ -145,7 +145,7 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("shadow-map|shadow-ray");
   app.add_option("--vpl-mode", v.vpl_mode,
                  d("What a VPL is, for every method that uses VPLs (reference, global, local, gbg, mis, "
-                   "mis-as-published, ris; default patch): patch = a point drawn uniformly over its texel's patch "
+                   "mis-as-published, ris, ris-mis; default patch): patch = a point drawn uniformly over its texel's patch "
                    "with that point's own solid angle, so every method estimates the same continuous one-bounce "
                    "integral as gather and exact; point = the paper's VPL at the texel centre, whose VPL sum is "
                    "a midpoint rule of it (docs/math.md section 11). --paper selects point."))
@@ -163,17 +163,18 @@ void build_app(CLI::App& app, raw_values& v) {
                    "SIMD groups run it whenever one of their pixels needs it."))
       ->type_name("compacted|inline");
   app.add_option("--candidates", v.candidates,
-                 d("--method ris: candidate VPLs per sample (default 32; 1..65536), each weighed by its unshadowed "
-                   "contribution; --vpls samples per pixel, one visibility query each."))
+                 d("--method ris and ris-mis: candidate VPLs per sample (default 32; 1..65536), each weighed by its "
+                   "unshadowed contribution (ris-mis: its MIS-weighted contribution against --dirs gathering); --vpls "
+                   "samples per pixel, one visibility query each."))
       ->type_name("M");
   app.add_option("--candidate-source", v.candidate_source,
-                 d("--method ris: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
+                 d("--method ris and ris-mis: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
                    "flux: light-power sampling, no view, nothing to build), or what global, local (the CDF of the "
                    "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them)."))
       ->type_name("global|local|gbg|flux");
   app.add_option("--spatial", v.spatial,
                  d("--method ris: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = off; "
-                   "0..16; docs/math.md section 13)."))
+                   "0..16; docs/math.md section 13). Not with ris-mis."))
       ->type_name("K");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
@@ -437,6 +438,11 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                           {"gbg", ris_source_choice::gbg},
                                                           {"flux", ris_source_choice::flux}});
   if (given("--spatial")) o.spatial = static_cast<int>(parse_integer("--spatial", v.spatial, 0, limits::max_spatial));
+  // ris-mis's target is MIS-weighted (docs/math.md, "RIS with gathering"): reusing a neighbour's
+  // sample would need that weight at the receiving pixel, which the reuse does not compute.
+  if (o.meth == method::ris_mis && o.spatial > 0)
+    bad("--spatial", std::to_string(o.spatial) + " is not supported with --method ris-mis (spatial reuse is built "
+                     "for --method ris only); use --spatial 0");
   if (!traits(o.meth).gpu && o.back == backend::gpu)
     bad(std::string("--method ") + to_string(o.meth),
         "runs on --backend cpu only for now (its GPU kernels are not written yet); add --backend cpu");

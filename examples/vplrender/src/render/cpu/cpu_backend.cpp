@@ -236,7 +236,11 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
         break;
       }
       case estimator_kind::ris:
-        if (mt.variant == 1) throw vplkit::invalid_input("--method ris-mis: not built on the CPU backend yet");
+        if (mt.variant == 1) {
+          render_ris_mis_cpu(f, s, dists, static_cast<int>(built.dists.size()), tracer, visibility, depth_tol, vmode,
+                             result.image.rgb.data(), timer, progress, det);
+          break;
+        }
         render_ris_cpu(f, s, dists, static_cast<int>(built.dists.size()), visibility, depth_tol, vmode, compensation,
                        result.image.rgb.data(), timer, progress, det);
         break;

@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: MIT
+// estimators/ris_mis_estimator.hpp, exactly (no statistics): the random-number layout that the GLSL
+// mirror follows (step j: the M candidates of one reservoir, u [u0 u1] per candidate then the
+// selection u, then u0 u1 of direction j), its two limits (n_ris = 0 is estimate_gathering with
+// the same numbers; one candidate per sample is estimate_mis's VPL sample), the split into ranges,
+// and the target h = n2 pmf f / (n1 p1 + n2 p2) of a candidate. The statistics are in
+// tests/statistical/estimators_ris_mis_unbiased_test.cpp.
+#include <synthetic_scene.hpp>
+
+#include <vplkit/builders/flux_weights.hpp>
+#include <vplkit/builders/vpl_distribution.hpp>
+#include <vplkit/distribution/discrete_cdf.hpp>
+#include <vplkit/estimators/gathering_estimator.hpp>
+#include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_estimator.hpp>
+#include <vplkit/vpl/luminance.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <vector>
+
+using namespace vplkit;
+using namespace vplkit_test;
+
+namespace {
+
+struct room {
+  lit_room<double> r{16};
+  defensive_mixture<double> flux = make_vpl_distribution(build_flux_weights(r.view), r.view, 0.0);
+};
+
+const room& fx() {
+  static const room f;
+  return f;
+}
+
+// The flux distribution, recording every u it is asked to draw with.
+struct recording_draw {
+  const defensive_mixture<double>* d;
+  std::vector<double>* us;
+  discrete_sample<double> sample(double u) const {
+    us->push_back(u);
+    return d->sample(u);
+  }
+  double pmf(std::size_t i) const { return d->pmf(i); }
+};
+
+bool close(vec3<double> a, vec3<double> b, double rel) {
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(a[c] - b[c]) <= rel * std::max(std::abs(a[c]), std::abs(b[c])) + 1e-300)) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("ris-mis: the random-number layout, candidates then direction per step") {
+  const room& f = fx();
+  const auto& r = f.r;
+  const gather_point<double>& gp = r.gps[0].gp;
+  const double tol = 0.2;
+  for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch}) {
+    const std::uint32_t per = mode == vpl_mode::patch ? 4u : 2u;  // u [u0 u1] + the selection u
+    for (const auto& [n1, n2, m] : std::vector<std::tuple<int, int, int>>{{3, 2, 5}, {2, 4, 3}, {0, 3, 4}, {4, 0, 7}}) {
+      INFO("mode " << int(mode) << " n_dirs " << n1 << " n_ris " << n2 << " M " << m);
+      std::vector<double> us;
+      const recording_draw rec{&f.flux, &us};
+      counter_rng rng = make_counter_rng(11u, 3u);
+      (void)estimate_ris_mis(gp, r.view, rec, rng, n1, n2, m, r.tracer, r.vis, tol, mode);
+      // Every number drawn: n_ris M (per) + 2 n_dirs.
+      CHECK(rng.counter == std::uint32_t(n2 * m) * per + 2u * std::uint32_t(n1));
+      // Candidate i of step j draws at offset(j) + i per, offset(j) = the numbers of the steps before.
+      REQUIRE(us.size() == std::size_t(n2 * m));
+      std::uint32_t offset = 0;
+      std::size_t k = 0;
+      for (int j = 0; j < std::max(n1, n2); ++j) {
+        if (j < n2)
+          for (int i = 0; i < m; ++i, ++k) {
+            counter_rng at = make_counter_rng(11u, 3u);
+            at.counter = offset + std::uint32_t(i) * per;
+            CHECK(us[k] == rng_next_unit<double>(at));
+          }
+        offset += (j < n2 ? std::uint32_t(m) * per : 0u) + (j < n1 ? 2u : 0u);
+      }
+    }
+  }
+}
+
+TEST_CASE("ris-mis: the directions take the numbers after their step's candidates (estimate_gathering's)") {
+  const room& f = fx();
+  const auto& r = f.r;
+  const double tol = 0.2;
+  // No VPL strategy reaches anything (an empty distribution: p2 = 0): the directions alone, each
+  // f / (n1 p1), that is estimate_gathering's sample of the same two numbers over n1.
+  const discrete_cdf<double> empty(std::vector<double>(std::size_t(r.view.texel_count()), 0.0));
+  const int n1 = 3, n2 = 2, m = 4;
+  for (const auto& g : r.gps) {
+    counter_rng rng = make_counter_rng(12u, 0u);
+    const vec3<double> e = estimate_ris_mis(g.gp, r.view, empty, rng, n1, n2, m, r.tracer, r.vis, tol);
+    vec3<double> expected(0.0);
+    std::uint32_t offset = 0;
+    for (int j = 0; j < n1; ++j) {
+      if (j < n2) offset += std::uint32_t(m) * 2u;
+      counter_rng at = make_counter_rng(12u, 0u);
+      at.counter = offset;
+      expected += estimate_gathering(g.gp, r.view, at, 1, r.tracer, tol) / double(n1);
+      offset += 2u;
+    }
+    INFO(g.name);
+    CHECK(close(e, expected, 1e-12));
+    // n_ris = 0: estimate_gathering itself, number for number.
+    counter_rng a = make_counter_rng(13u, 0u), b = a;
+    CHECK(close(estimate_ris_mis(g.gp, r.view, f.flux, a, 8, 0, 16, r.tracer, r.vis, tol),
+                estimate_gathering(g.gp, r.view, b, 8, r.tracer, tol), 1e-12));
+    CHECK(a.counter == b.counter);
+    // No candidates (M <= 0): n_ris counts as 0, so the directions weigh as gathering alone.
+    for (const int m0 : {0, -2}) {
+      counter_rng c = make_counter_rng(13u, 1u), d = c;
+      CHECK(close(estimate_ris_mis(g.gp, r.view, f.flux, c, 8, 5, m0, r.tracer, r.vis, tol),
+                  estimate_gathering(g.gp, r.view, d, 8, r.tracer, tol), 1e-12));
+      CHECK(c.counter == d.counter);
+    }
+  }
+}
+
+TEST_CASE("ris-mis: one candidate per sample is estimate_mis's VPL sample") {
+  const room& f = fx();
+  const auto& r = f.r;
+  const double tol = 0.2, n1 = 4.0, n2 = 3.0;
+  int nonzero = 0;
+  for (const auto& g : r.gps)
+    for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch})
+      for (std::uint32_t s = 0; s < 16; ++s) {
+        counter_rng rng = make_counter_rng(14u, s), numbers = rng;
+        const double u = rng_next_unit<double>(numbers);
+        const double u0 = rng_next_unit<double>(numbers), u1 = rng_next_unit<double>(numbers);
+        const ris_reservoir<double> res = ris_mis_resample(g.gp, r.view, f.flux, rng, 1, n1, n2, mode, tol);
+        const vec3<double> ris = ris_mis_shade(g.gp, r.view, f.flux, res, r.vis, n1, n2, mode, tol) / n2;
+        const vec3<double> mis =
+            mode == vpl_mode::patch
+                ? mis_vpl_patch_sample(g.gp, r.view, f.flux, u, vec2<double>(u0, u1), r.vis, n1, n2,
+                                       mis_mode::solid_angle, tol)
+                : mis_vpl_sample(g.gp, r.view, f.flux, u, r.vis, n1, n2, mis_mode::solid_angle);
+        INFO(g.name << " mode " << int(mode) << " stream " << s);
+        CHECK(close(ris, mis, 1e-12));
+        if (luminance(mis) > 0.0) ++nonzero;
+      }
+  CHECK(nonzero > 50);
+}
+
+TEST_CASE("ris-mis: the target is n2 pmf times the MIS value, and ranges compose") {
+  const room& f = fx();
+  const auto& r = f.r;
+  const gather_point<double>& gp = r.gps[0].gp;
+  const double tol = 0.2, n1 = 2.0, n2 = 5.0;
+  int checked = 0;
+  for (int t = 0; t < r.view.texel_count(); t += 7) {
+    const double pmf = f.flux.pmf(std::size_t(t));
+    if (!(pmf > 0.0)) continue;
+    ris_sample<double> s;
+    s.texel = t;
+    vpl<double> v;
+    const vec3<double> h = ris_mis_unshadowed(gp, r.view, s, pmf, n1, n2, vpl_mode::point, tol, v);
+    const vec3<double> value =
+        mis_vpl_unshadowed(gp, r.view, t, r.view.vpl_at(t), pmf, mis_texel_patch_area(r.view, t), n1, n2);
+    CHECK(close(h, value * (n2 * pmf), 1e-12));
+    if (luminance(h) > 0.0) ++checked;
+  }
+  CHECK(checked > 20);
+  // [0, 2) then [2, 5) is the whole estimate, number for number.
+  counter_rng a = make_counter_rng(15u, 0u), b = a;
+  const vec3<double> whole = estimate_ris_mis(gp, r.view, f.flux, a, 5, 3, 8, r.tracer, r.vis, tol);
+  estimator_state<double> st = make_estimator_state<double>(b);
+  estimate_ris_mis_range(gp, r.view, f.flux, st, 0, 2, 5, 3, 8, r.tracer, r.vis, tol);
+  estimate_ris_mis_range(gp, r.view, f.flux, st, 2, 5, 5, 3, 8, r.tracer, r.vis, tol);
+  CHECK(estimate_ris_mis_finish(st) == whole);
+  CHECK(st.rng.counter == a.counter);
+}
