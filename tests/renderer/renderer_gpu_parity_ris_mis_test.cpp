@@ -14,6 +14,7 @@
 #include "renderer_gl_fixture.hpp"
 
 #include "cli/render_options.hpp"
+#include "render/cpu/cpu_backend.hpp"
 #include "render/cpu/cpu_builders.hpp"
 #include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/cpu_visibility.hpp"
@@ -161,6 +162,9 @@ TEST_CASE("ris-mis: the GPU image equals estimate_ris_mis's on the CPU for every
     CHECK(finite_non_negative(g));
     CHECK(mean_of(g) > 0.0);
     CHECK(within >= required_fraction);
+    // The CPU backend (render/cpu/ris_render.hpp) renders the same image as the loop above.
+    stage_timer tc;
+    CHECK(render_cpu(f.b, es, tc).image.rgb == c.rgb);
   }
 }
 
