@@ -150,7 +150,7 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("point|patch");
   app.add_option("--clamp-compensation", v.clamp_compensation,
                  d("Add back what the VPL clamp --dmin removes, for reference, global, local, gbg and ris (default on; "
-                   "both backends): a short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
+                   "both backends): a short gathering ray per 16 VPL samples (--clamp-compensation-dirs) adds the near field the clamp weighs down, so the "
                    "estimate converges to the unclamped integral without its fireflies (docs/math.md, \"The clamp's compensation\"). "
                    "off = the clamped estimate, a documented bias near surfaces."))
       ->type_name("off|on");
@@ -163,7 +163,7 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--clamp-compensation-dirs", v.clamp_compensation_dirs,
                  d("Directions of the clamp compensation per pixel, for global, local, gbg and ris (not reference, "
                    "which takes 256): auto (default, the measured rule of docs/results/clamp_compensation.md), N = N "
-                   "directions whatever --vpls, 1:K = one per K VPL samples rounded up. Any choice estimates the "
+                   " whatever --vpls, 1:K = one per K VPL samples rounded up. Any choice estimates the "
                    "same; fewer directions cost less and add more of the term's own noise."))
       ->type_name("auto|N|1:K");
   app.add_option("--candidates", v.candidates,
