@@ -7434,8 +7434,8 @@ inline vec3<T> estimate_gathering(const gather_point<T>& gp, const dprsm_view<T>
 // cosine gathering: each direction omega ~ cos(theta2)/pi is traced to its first hit y, and where
 // y lies closer than dmin the direction adds
 //     f / p1 * (1 - d^2 / dmin^2) = rho_x L_o(y) (1 - d^2 / dmin^2),   d = |y - x|,
-// with the lit test and L_o of gathering (evaluate_gathering_hit: dprsm_hit_radiance, the DPRSM's
-// plane test or the tracer's shadow ray). The two weights sum to 1 at every distance, so
+// with the lit test and L_o of gathering (evaluate_gathering_hit's: dprsm_hit_radiance, the DPRSM's
+// plane test or the tracer's shadow ray; the shadow ray last, only where the rest is not 0). The two weights sum to 1 at every distance, so
 //     clamped VPL estimate + this  ->  the far field of the VPL estimand + the near field of gathering,
 // which is the unclamped integral wherever the two estimands agree within dmin of x (math.md,
 // "The clamp's compensation" says where they do not). Zero, exactly, where no surface lies within dmin of x along
@@ -7516,6 +7516,38 @@ inline counter_rng clamp_compensation_stream(const counter_rng& estimator) {
   return counter_rng{rng_key(estimator.key, 0xC1A3C0u), 0u};
 }
 
+// What a hit h within dmin of x (its weight `weight` > 0) adds: rho_x L_o(y) times its weight, with
+// the lit test and L_o of gathering (evaluate_gathering_hit's values), in the order that leaves the
+// lit test's shadow ray for last: it is traced only for a hit whose value would not be 0 (the DPRSM
+// texel saw a surface, L_o towards x is not 0 -- the hit's lit side faces x --, and with
+// vpl_mode::patch the texel centre's weight is not 0). The result is the same as lit test first;
+// the shadow ray is the most expensive part of a direction that hits.
+template <class T, class Tracer>
+inline vec3<T> clamp_compensation_hit_value(const gather_point<T>& gp, const dprsm_view<T>& view, const ray_hit<T>& h,
+                                            T weight, const Tracer& tracer, T dmin, T depth_tolerance,
+                                            vpl_mode vmode) {
+  const dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  // gathering_hit_lookup's condition: where it holds, the shadow ray alone decides the lit test.
+  bool shadow_ray = false;
+  if constexpr (tracer_has_light_visibility<Tracer, T>::value)
+    shadow_ray = tracer.answers_light_visibility() && ray_hit_has_normal(h) && dprsm_texel_saw_surface(view, lk.texel);
+  if (!shadow_ray && !lk.lit) return vec3<T>(T(0));
+  const vec3<T> radiance = dprsm_hit_radiance(view, lk, gp.position, h, depth_tolerance);
+  if (!(radiance.x > T(0) || radiance.y > T(0) || radiance.z > T(0))) return vec3<T>(T(0));
+  if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, lk.texel, h.position)) {
+    const vec3<T> wc = view.position[lk.texel] - gp.position;
+    weight = clamp_compensation_weight(glm::dot(wc, wc), dmin);
+    if (!(weight > T(0))) return vec3<T>(T(0));
+  }
+  if constexpr (tracer_has_light_visibility<Tracer, T>::value) {
+    if (shadow_ray) {
+      const vec3<T> c = view.light.position;
+      if (!tracer.light_visible(h.position, ray_hit_normal_towards(h, c), c)) return vec3<T>(T(0));
+    }
+  }
+  return estimator_finite_or_zero(gp.albedo * radiance * weight);
+}
+
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
 // rho_x L_o(y) (1 - d^2 / dmin^2) when the first hit y lies within dmin of x, else 0; 0 at or
 // below the horizon and below the geometric surface, as gathering_sample. With vpl_mode::patch, d
@@ -7538,13 +7570,7 @@ inline vec3<T> clamp_compensation_sample(const gather_point<T>& gp, const dprsm_
   // x on the hit's own plane (within its coordinates' rounding: a crease through x, coincident
   // surfaces) sees that surface edge-on, cos(theta1) = 0 for the VPL strategy: it sends nothing.
   if (vpl_hit_on_own_plane(gp.position, h)) return vec3<T>(T(0));
-  const gathering_ray_result<T> r = evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
-  if (!r.lit) return vec3<T>(T(0));
-  if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {
-    const vec3<T> wc = view.position[r.texel] - gp.position;
-    return estimator_finite_or_zero(gp.albedo * r.radiance * clamp_compensation_weight(glm::dot(wc, wc), dmin));
-  }
-  return estimator_finite_or_zero(gp.albedo * r.radiance * weight);
+  return clamp_compensation_hit_value(gp, view, h, weight, tracer, dmin, depth_tolerance, vmode);
 }
 
 // Directions [begin, end) of estimate_clamp_compensation (estimator_state.hpp).
@@ -7710,9 +7736,32 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   return estimator_finite_or_zero(f * (w.gathering / p1));
 }
 
+// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
+// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t
+// for a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either
+// cosine not positive, below x's geometric plane). ris_mis_estimator.hpp weighs candidates by it.
+template <class T>
+inline vec3<T> mis_vpl_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v,
+                                  T pmf, T area, T n1, T n2) {
+  if (!vpl_has_flux(v)) return vec3<T>(T(0));
+  if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
+  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
+  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
+  const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
+  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
+  const vec3<T> f = gp.albedo *
+                    reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
+                                       view.albedo[t]) *
+                    (cos2 / vpl_pi<T>);
+  const T p1 = cosine_pdf_solid_angle(cos2);
+  const vec3<T> w = gp.position - v.position;
+  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
+  return mis_balance_value(f, n1, p1, n2, p2);
+}
+
 // The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the
-// A of its p2 (the texel's A_t for a point VPL, A(uv) for a patch point). solid_angle: f at v over
-// n1 p1 + n2 p2; as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
+// A of its p2. solid_angle: mis_vpl_unshadowed times V(x, v), queried only where that is not 0;
+// as_published: the paper's weights at (direction to v, pmf) times L_v V / pmf.
 template <class T, class Visibility>
 inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v, T pmf,
                              T area, const Visibility& visibility, T n1, T n2, mis_mode mode) {
@@ -7724,21 +7773,10 @@ inline vec3<T> mis_vpl_value(const gather_point<T>& gp, const dprsm_view<T>& vie
     const mis_weight_pair<T> w = mis_weights_as_published(cos2, mis_sin_from_cos(cos2), pmf);
     return estimator_finite_or_zero(c * (w.vpl / pmf));
   }
-  if (!vpl_has_flux(v)) return vec3<T>(T(0));
-  if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
-  const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
-  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
-  const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
-  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
+  const vec3<T> value = mis_vpl_unshadowed(gp, view, t, v, pmf, area, n1, n2);
+  if (!(value.x > T(0) || value.y > T(0) || value.z > T(0))) return vec3<T>(T(0));
   if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
-  const vec3<T> f = gp.albedo *
-                    reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
-                                       view.albedo[t]) *
-                    (cos2 / vpl_pi<T>);
-  const T p1 = cosine_pdf_solid_angle(cos2);
-  const vec3<T> w = gp.position - v.position;
-  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
-  return mis_balance_value(f, n1, p1, n2, p2);
+  return value;
 }
 
 // One VPL sample drawn with u (vpl_mode::point: the VPL at the texel centre).
@@ -8300,4 +8338,185 @@ inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, 
 
 }  // namespace vplkit
 // ---- end vplkit/estimators/ris_spatial_reuse.hpp ----
+// ---- begin vplkit/estimators/ris_mis_estimator.hpp ----
+// Resampled VPL sampling as the VPL strategy of MIS with cosine gathering (docs/math.md,
+// "Resampled importance sampling of VPLs", "RIS with gathering"). estimate_mis's solid_angle mode
+// weighs n1 gathering directions (density p1 = cos(theta2)/pi) against n2 VPL samples from a
+// distribution over the texels (density p2 = pmf d2^2 / (A cos(theta1)) at x) by the balance
+// heuristic, w2 = n2 p2 / (n1 p1 + n2 p2), w1 = 1 - w2. Here the n2 VPL samples are RIS samples
+// instead, each one kept of M candidates drawn from that same distribution; the weights stay those
+// of estimate_mis (deterministic functions of the point, so w1 + w2 = 1 for every point):
+//   F = sum_{j<n1} f(X_j) / (n1 p1 + n2 p2)                       (gathering: mis_gathering_sample)
+//     + (1/n2) sum_{k<n2} h(Y_k) V(x, Y_k) W_k                     (RIS with the target lum(h))
+// with, over the sample space of a texel t and its jitter xi (counting measure times the unit
+// square, where the distribution's draw has density pmf(t)),
+//   h(t, xi) = n2 pmf(t) f(y) / (n1 p1(y) + n2 p2(y))   = w2(y) f(y) / (p2(y) / pmf(t)),
+// y the texel's point (vpl_mode::point) or its jittered patch point (vpl_mode::patch). Since
+// E_{t ~ pmf, xi}[h / pmf] is the integral of w2 f over the directions the VPL strategy reaches, and
+// RIS's contribution weight W makes E[g(Y) W] = that sum for every g that vanishes where the target
+// does, the second line estimates the integral of w2 f and the first that of w1 f: F is unbiased
+// for the unclamped one-bounce integral, as estimate_mis is. No dmin clamp: near x, p2 grows as d2^2
+// and h stays bounded (gathering takes the near field), so the target has no 1/d2^2 spike and the
+// estimator needs no clamp compensation.
+//
+// The target is lum(h) without visibility: the candidates go where VPL sampling beats gathering,
+// weighed by their unshadowed contribution there. With n1 = 0 it is RIS of the unclamped patch
+// contribution (h = pmf f / p2), with n2 = 0 plain cosine gathering. The parts of patches whose
+// points move to the texel centre (dprsm_patch.hpp) and hits in front of their texel's surface belong
+// to gathering alone when n1 > 0, as in estimate_mis: h is 0 at such points (the VPL strategy never
+// draws a point in front of its texel).
+//
+// Random numbers (the GLSL mirror follows them): step j < max(n1, n2) draws, if j < n2, the M
+// candidates of one reservoir (per candidate u, with vpl_mode::patch u0 and u1, then the selection
+// u: ris_estimator.hpp's layout), then, if j < n1, u0 and u1 for the direction. n_candidates <= 0
+// counts as n2 = 0. An invalid gather point gives 0 and draws nothing; never NaN or Inf.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace vplkit {
+
+// h(t, xi) of the header without visibility, for the sample s of a texel drawn with probability
+// pmf; v receives the point it stands for (for the visibility query). 0 (and v without flux) where
+// the sample is empty or outside the view, pmf is not positive, the point cannot light x, or (n1 > 0)
+// the patch moved the point to the texel centre.
+template <class T>
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
+                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+  v = vpl<T>{vec3<T>(T(0)), vec3<T>(T(0)), vec3<T>(T(0))};
+  if (!(pmf > T(0)) || !(n2 > T(0)) || s.texel < 0 || s.texel >= view.texel_count()) return vec3<T>(T(0));
+  T area;
+  if (mode == vpl_mode::patch) {
+    const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, s.texel, s.xi, depth_tolerance);
+    if (p.at_centre && n1 > T(0)) return vec3<T>(T(0));
+    v = p.point;
+    area = vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha);
+  } else {
+    v = view.vpl_at(s.texel);
+    area = mis_texel_patch_area(view, s.texel);
+  }
+  return estimator_finite_or_zero(mis_vpl_unshadowed(gp, view, s.texel, v, pmf, area, n1, n2) * (n2 * pmf));
+}
+
+// One candidate: draws u (and with vpl_mode::patch u0, u1), sets its sample s and its target
+// lum(h), and returns its resampling weight target / pmf (0 where the target is 0 or the draw is
+// empty; a weight that overflows is not usable and the reservoir skips it).
+template <class T, class Distribution>
+inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                           counter_rng& rng, T n1, T n2, vpl_mode mode, T depth_tolerance, ris_sample<T>& s,
+                           T& target) {
+  s = ris_sample<T>{};
+  target = T(0);
+  const T u = rng_next_unit<T>(rng);
+  if (mode == vpl_mode::patch) {
+    s.xi.x = rng_next_unit<T>(rng);
+    s.xi.y = rng_next_unit<T>(rng);
+  }
+  const auto d = distribution.sample(u);
+  const T pmf = estimator_pmf(T(d.pmf));
+  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
+  s.texel = int(d.index);
+  vpl<T> v;
+  const T p = luminance(ris_mis_unshadowed(gp, view, s, pmf, n1, n2, mode, depth_tolerance, v));
+  if (!reservoir_weight_usable(p)) return T(0);
+  target = p;
+  return p / pmf;
+}
+
+// One reservoir of n_candidates candidates with the target lum(h) (ris_resample's layout and
+// normalisation: weight_sum = (1/M) sum w_i, confidence M). Empty for an invalid gather point,
+// n_candidates <= 0 or n2 <= 0 (no numbers drawn then).
+template <class T, class Distribution>
+inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                         const Distribution& distribution, counter_rng& rng, int n_candidates, T n1,
+                                         T n2, vpl_mode mode, T depth_tolerance) {
+  ris_reservoir<T> r;
+  if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0))) return r;
+  weighted_reservoir<T> res;
+  for (int i = 0; i < n_candidates; ++i) {
+    ris_sample<T> s;
+    T target;
+    const T w = ris_mis_candidate(gp, view, distribution, rng, n1, n2, mode, depth_tolerance, s, target);
+    if (reservoir_update(res, std::uint32_t(i), w, rng_next_unit<T>(rng))) {
+      r.kept = s;
+      r.target = target;
+    }
+  }
+  const T m = T(n_candidates);
+  r.confidence = m;
+  if (!reservoir_empty_of(res)) r.weight_sum = res.weight_sum / m;
+  return r;
+}
+
+// h(y) V(x, y) W for the reservoir's sample y, W = weight_sum / target: one RIS estimate of the
+// integral of w2 f (V queried only where h is not 0). h uses distribution.pmf(texel), the
+// distribution the candidates came from. 0 for an invalid gather point or an empty reservoir.
+template <class T, class Distribution, class Visibility>
+inline vec3<T> ris_mis_shade(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                             const ris_reservoir<T>& r, const Visibility& visibility, T n1, T n2, vpl_mode mode,
+                             T depth_tolerance) {
+  if (!gather_point_valid(gp) || !ris_reservoir_has_sample(r)) return vec3<T>(T(0));
+  if (r.kept.texel >= view.texel_count()) return vec3<T>(T(0));
+  const T pmf = estimator_pmf(T(distribution.pmf(std::size_t(r.kept.texel))));
+  vpl<T> v;
+  const vec3<T> h = ris_mis_unshadowed(gp, view, r.kept, pmf, n1, n2, mode, depth_tolerance, v);
+  if (!(h.x > T(0) || h.y > T(0) || h.z > T(0))) return vec3<T>(T(0));
+  if (!visibility(gp.position, gp.normal, v.position, v.normal)) return vec3<T>(T(0));
+  return estimator_finite_or_zero(h * (r.weight_sum / r.target));
+}
+
+// Steps [begin, end) of estimate_ris_mis (estimator_state.hpp); the steps run to
+// max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0.
+template <class T, class Distribution, class Tracer, class Visibility>
+inline void estimate_ris_mis_range(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                   const Distribution& distribution, estimator_state<T>& state, int begin, int end,
+                                   int n_dirs, int n_ris, int n_candidates, const Tracer& tracer,
+                                   const Visibility& visibility, T depth_tolerance,
+                                   vpl_mode vmode = vpl_mode::point) {
+  if (!gather_point_valid(gp)) return;
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_ris < 0 || n_candidates <= 0) n_ris = 0;
+  const T n1 = T(n_dirs), n2 = T(n_ris);
+  const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
+  for (int j = begin; j < end; ++j) {
+    if (j < n_ris) {
+      const ris_reservoir<T> r =
+          ris_mis_resample(gp, view, distribution, state.rng, n_candidates, n1, n2, vmode, depth_tolerance);
+      state.sum += ris_mis_shade(gp, view, distribution, r, visibility, n1, n2, vmode, depth_tolerance) / n2;
+    }
+    if (j < n_dirs) {
+      const T u0 = rng_next_unit<T>(state.rng);
+      const T u1 = rng_next_unit<T>(state.rng);
+      state.sum += mis_gathering_sample(gp, view, distribution, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)),
+                                        tracer, depth_tolerance, n1, n2, mis_mode::solid_angle, vmode);
+    }
+  }
+}
+
+// The 1/n_i are inside the terms (as estimate_mis_finish's solid_angle mode).
+template <class T>
+inline vec3<T> estimate_ris_mis_finish(const estimator_state<T>& state) {
+  return state.sum;
+}
+
+// F of the header at gp: n_dirs gathering directions and n_ris RIS samples of n_candidates
+// candidates each from `distribution`; n_dirs + n_ris visibility queries (a direction's is its
+// gathering ray), n_ris n_candidates candidate evaluations.
+template <class T, class Distribution, class Tracer, class Visibility>
+inline vec3<T> estimate_ris_mis(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                                counter_rng& rng, int n_dirs, int n_ris, int n_candidates, const Tracer& tracer,
+                                const Visibility& visibility, T depth_tolerance, vpl_mode vmode = vpl_mode::point) {
+  if (!gather_point_valid(gp)) return vec3<T>(T(0));
+  if (n_dirs < 0) n_dirs = 0;
+  if (n_ris < 0 || n_candidates <= 0) n_ris = 0;
+  if (n_dirs == 0 && n_ris == 0) return vec3<T>(T(0));
+  estimator_state<T> state = make_estimator_state<T>(rng);
+  estimate_ris_mis_range(gp, view, distribution, state, 0, n_dirs > n_ris ? n_dirs : n_ris, n_dirs, n_ris,
+                         n_candidates, tracer, visibility, depth_tolerance, vmode);
+  rng = state.rng;
+  return estimate_ris_mis_finish(state);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/ris_mis_estimator.hpp ----
 #endif  // VPLKIT_SINGLE_INCLUDE_VPLKIT_HPP
