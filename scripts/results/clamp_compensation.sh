@@ -102,6 +102,19 @@ equal_time() {
     }' "$1" "$2"
 }
 
+# PART=dirs: only the directions-per-pixel study (scripts/results/clamp_compensation_dirs.py, its
+# settings there): each scene's flags go to it as NAME=FLAGS (separated by the unit separator).
+if [[ ${PART:-all} == dirs ]]; then
+  args=()
+  for s in ${SCENES_LIST:-cornell open sponza}; do
+    mapfile -t sa < <(scene_args "$s")
+    args+=("$s=$(IFS=$'\x1f'; echo "${sa[*]}")")
+  done
+  SIZE=${SIZE:-96x96} REF_DIRS=${REF_DIRS:-4096} python3 "$ROOT/scripts/results/clamp_compensation_dirs.py" \
+    "$SVE" "$VPLRENDER" "$OUT" "$CACHE" "${args[@]}"
+  exit 0
+fi
+
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for s in ${SCENES_LIST:-cornell open sponza}; do

@@ -193,8 +193,10 @@ TEST_CASE("the compacted clamp compensation's directions split into other ranges
   for (method m : {method::global, method::reference}) {
     options o = f.o;
     o.meth = m;
-    o.vpls = 64;  // 16 directions
+    o.vpls = 64;
     render_settings es = make_render_settings(o, f.p.s);
+    // 16 directions (the reference: 256), enough to split into 5 or more passes of 3
+    es.clamp_compensation_dirs_rule = {clamp_compensation_dirs_choice::rule::fixed, 16};
     es.dmin *= 5.0f;
     const rendered one = render(es, clamp_compensation_pass_choice::compacted);
     const rendered split = render(es, clamp_compensation_pass_choice::compacted, loop_budget_choice::always, 3);

@@ -202,6 +202,7 @@ TEST_CASE("ris on the GPU: the samples split over dispatches give the image of o
     if (compensated) {
       es.clamp_compensation = clamp_compensation_choice::on;
       es.clamp_compensation_pass = clamp_compensation_pass_choice::inline_pass;
+      es.clamp_compensation_dirs_rule = {clamp_compensation_dirs_choice::rule::per_vpls, 4};  // 2 directions
       es.dmin *= 5.0f;
     }
     es.loop_budget = loop_budget_choice::never;

@@ -122,6 +122,8 @@ TEST_CASE("split dispatches give the one dispatch's image with the clamp compens
     render_settings es = make_render_settings(o, f.p.s);
     es.dmin *= 5.0f;
     es.clamp_compensation_pass = clamp_compensation_pass_choice::inline_pass;
+    // One direction per 4 VPL samples: several directions for the ranges to cut.
+    es.clamp_compensation_dirs_rule = {clamp_compensation_dirs_choice::rule::per_vpls, 4};
     REQUIRE(uses_clamp_compensation(es));
     render_settings off = es;
     off.clamp_compensation = clamp_compensation_choice::off;

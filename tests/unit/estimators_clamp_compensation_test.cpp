@@ -146,6 +146,69 @@ TEMPLATE_TEST_CASE("clamp compensation, patch VPLs: a hit in a moved part is wei
   CHECK(plain > 10);
 }
 
+// Counts the shadow rays (light visibility queries) it answers.
+template <class Visibility>
+struct counting_visibility {
+  Visibility visibility;
+  int* calls;
+  template <class T>
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    ++*calls;
+    return visibility(x, n_x, y, n_y);
+  }
+};
+
+TEMPLATE_TEST_CASE("clamp compensation: the lit test's shadow ray only for hits that would add something, same values",
+                   "[estimators]", float, double) {
+  using T = TestType;
+  const lit_room<T> room(32);
+  int shadow_rays = 0, lit_test_first = 0;
+  const auto tracer = with_light_visibility(room.tracer, counting_visibility<exact_visibility<T>>{room.vis, &shadow_rays});
+  const auto reference_tracer =
+      with_light_visibility(room.tracer, counting_visibility<exact_visibility<T>>{room.vis, &lit_test_first});
+  // dmin 1: floor_shadow, 0.8 under the block, sees its underside within dmin; the light is above
+  // the block, so that face's lit side faces away from x: L_o towards x is 0, no shadow ray needed.
+  const T dmin = T(1);
+  int nonzero = 0;
+  for (const vpl_mode vmode : {vpl_mode::point, vpl_mode::patch})
+    for (const auto& g : room.gps) {
+      const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(g.gp));
+      for (const vec3<T>& local : grid_directions<T>(24)) {
+        const int before = shadow_rays;
+        const vec3<T> k = clamp_compensation_sample(g.gp, room.view, frame, local, tracer, dmin, T(0), vmode);
+        // The lit test first, as gathering evaluates a hit (evaluate_gathering_hit), then the weight.
+        const vec3<T> dir = to_world(frame, local);
+        const ray_hit<T> h = room.tracer(g.gp.position, g.gp.normal, dir);
+        const vec3<T> w = h.position - g.gp.position;
+        T weight = clamp_compensation_weight(glm::dot(w, w), dmin);
+        vec3<T> expected(T(0));
+        if (h.hit && weight > T(0) && gather_point_accepts_direction(g.gp, dir) &&
+            !vpl_hit_on_own_plane(g.gp.position, h)) {
+          const gathering_ray_result<T> r = evaluate_gathering_hit(room.view, g.gp.position, h, reference_tracer, T(0));
+          if (r.lit) {
+            if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(room.view, r.texel, r.hit)) {
+              const vec3<T> wc = room.view.position[r.texel] - g.gp.position;
+              weight = clamp_compensation_weight(glm::dot(wc, wc), dmin);
+            }
+            expected = estimator_finite_or_zero(g.gp.albedo * r.radiance * weight);
+          }
+        }
+        INFO(g.name << " direction " << local.x << " " << local.y << " " << local.z);
+        CHECK(same_bits(k, expected));
+        CHECK(shadow_rays - before <= 1);
+        if (luminance(k) > T(0)) {
+          ++nonzero;
+          CHECK(shadow_rays - before == 1);  // a lit hit was asked
+        }
+      }
+    }
+  std::printf("clamp compensation, dmin %.2f: %d shadow rays (lit test first: %d), %d directions add light\n",
+              double(dmin), shadow_rays, lit_test_first, nonzero);
+  CHECK(nonzero > 100);
+  // Hits within dmin whose lit side faces away from x (or whose texel saw nothing there) trace none.
+  CHECK(shadow_rays < lit_test_first);
+}
+
 TEMPLATE_TEST_CASE("clamp compensation: exactly 0 where the clamp is inactive, and then clamped + it = unclamped",
                    "[estimators]", float, double) {
   using T = TestType;

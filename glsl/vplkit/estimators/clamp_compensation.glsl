@@ -3,7 +3,7 @@
 // Keller 2004); mirrors include/vplkit/estimators/clamp_compensation.hpp (T = float), random numbers
 // included. Each direction omega ~ cos(theta2)/pi is traced to its first hit y; where y lies closer
 // than dmin it adds rho_x L_o(y) (1 - d^2 / dmin^2) (the lit test and L_o of gathering,
-// vplkit_evaluate_gathering_hit), what the clamp max(d^2, dmin^2) took from the VPL strategy there.
+// vplkit_evaluate_gathering_hit's, the shadow ray last), what the clamp max(d^2, dmin^2) took from the VPL strategy there.
 // Added to a clamped VPL estimate, the sum converges to the unclamped integral where the VPL and
 // gathering estimands agree within dmin of x. The rays stop at |dmin|
 // (vplkit_voxel_tracer_trace_within: vplkit_user_trace_within where the shader defines it,
@@ -23,6 +23,7 @@
 #include "vplkit/sampling/orthonormal_basis.glsl"
 #include "vplkit/sampling/rng.glsl"
 #include "vplkit/visibility/visibility_callables.glsl"
+#include "vplkit/vpl/dprsm_lookup.glsl"
 #include "vplkit/vpl/dprsm_patch.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
@@ -48,6 +49,30 @@ vplkit_counter_rng vplkit_clamp_compensation_stream(vplkit_counter_rng estimator
   return vplkit_counter_rng(vplkit_rng_key(estimator.key, 0xC1A3C0u), 0u);
 }
 
+// What a hit h within dmin of x (its weight > 0) adds: rho_x L_o(y) times its weight, with the lit
+// test and L_o of gathering, the lit test's shadow ray last: traced only for a hit whose value would
+// not be 0 (the same result as lit test first; vplkit_clamp_compensation_hit_value in the C++).
+vec3 vplkit_clamp_compensation_hit_value(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_ray_hit h, float weight,
+                                         vplkit_voxel_tracer tracer, float dmin, float depth_tolerance, int vpl_mode) {
+  vplkit_dprsm_lookup_result lk = vplkit_dprsm_lookup(view, h.position, depth_tolerance);
+  // vplkit_gathering_hit_lookup's condition: where it holds, the shadow ray alone decides.
+  bool shadow_ray = tracer.light_exact && vplkit_ray_hit_has_normal(h) && vplkit_dprsm_texel_saw_surface(view, lk.texel);
+  if (!shadow_ray && !lk.lit) return vec3(0.0);
+  vec3 radiance = vplkit_dprsm_hit_radiance(view, lk, gp.position, h, depth_tolerance);
+  if (!(radiance.x > 0.0 || radiance.y > 0.0 || radiance.z > 0.0)) return vec3(0.0);
+  if (vpl_mode == vplkit_vpl_patch && vplkit_dprsm_patch_direction_at_centre(view, lk.texel, h.position)) {
+    precise vec3 wc = vplkit_load_dprsm_position(lk.texel) - gp.position;
+    precise float dc_sq = dot(wc, wc);
+    weight = vplkit_clamp_compensation_weight(dc_sq, dmin);
+    if (!(weight > 0.0)) return vec3(0.0);
+  }
+  if (shadow_ray) {
+    vec3 c = view.light.position;
+    if (!vplkit_voxel_tracer_light_visible(tracer, h.position, vplkit_ray_hit_normal_towards(h, c), c)) return vec3(0.0);
+  }
+  return vplkit_estimator_finite_or_zero(gp.albedo * radiance * weight);
+}
+
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB);
 // with vplkit_vpl_patch a hit whose light direction falls in its texel's moved part
 // (vplkit_dprsm_patch_direction_at_centre) is weighed by the texel centre's distance, as the clamp
@@ -66,14 +91,7 @@ vec3 vplkit_clamp_compensation_sample(vplkit_gather_point gp, vplkit_dprsm_view 
   if (!(weight > 0.0)) return vec3(0.0);
   // x on the hit's own plane (a crease through x, coincident surfaces) sees it edge-on: nothing.
   if (vplkit_vpl_hit_on_own_plane(gp.position, h)) return vec3(0.0);
-  vplkit_gathering_ray_result r = vplkit_evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
-  if (!r.lit) return vec3(0.0);
-  if (vpl_mode == vplkit_vpl_patch && vplkit_dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {
-    precise vec3 wc = vplkit_load_dprsm_position(r.texel) - gp.position;
-    precise float dc_sq = dot(wc, wc);
-    return vplkit_estimator_finite_or_zero(gp.albedo * r.radiance * vplkit_clamp_compensation_weight(dc_sq, dmin));
-  }
-  return vplkit_estimator_finite_or_zero(gp.albedo * r.radiance * weight);
+  return vplkit_clamp_compensation_hit_value(gp, view, h, weight, tracer, dmin, depth_tolerance, vpl_mode);
 }
 
 vec3 vplkit_clamp_compensation_sample(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_orthonormal_basis frame,

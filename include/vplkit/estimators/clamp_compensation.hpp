@@ -7,8 +7,8 @@
 // cosine gathering: each direction omega ~ cos(theta2)/pi is traced to its first hit y, and where
 // y lies closer than dmin the direction adds
 //     f / p1 * (1 - d^2 / dmin^2) = rho_x L_o(y) (1 - d^2 / dmin^2),   d = |y - x|,
-// with the lit test and L_o of gathering (evaluate_gathering_hit: dprsm_hit_radiance, the DPRSM's
-// plane test or the tracer's shadow ray). The two weights sum to 1 at every distance, so
+// with the lit test and L_o of gathering (evaluate_gathering_hit's: dprsm_hit_radiance, the DPRSM's
+// plane test or the tracer's shadow ray; the shadow ray last, only where the rest is not 0). The two weights sum to 1 at every distance, so
 //     clamped VPL estimate + this  ->  the far field of the VPL estimand + the near field of gathering,
 // which is the unclamped integral wherever the two estimands agree within dmin of x (math.md,
 // "The clamp's compensation" says where they do not). Zero, exactly, where no surface lies within dmin of x along
@@ -35,6 +35,8 @@
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 #include <vplkit/sampling/orthonormal_basis.hpp>
 #include <vplkit/sampling/rng.hpp>
+#include <vplkit/visibility/light_visibility.hpp>
+#include <vplkit/vpl/dprsm_lookup.hpp>
 #include <vplkit/vpl/dprsm_patch.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/vpl.hpp>
@@ -101,6 +103,38 @@ inline counter_rng clamp_compensation_stream(const counter_rng& estimator) {
   return counter_rng{rng_key(estimator.key, 0xC1A3C0u), 0u};
 }
 
+// What a hit h within dmin of x (its weight `weight` > 0) adds: rho_x L_o(y) times its weight, with
+// the lit test and L_o of gathering (evaluate_gathering_hit's values), in the order that leaves the
+// lit test's shadow ray for last: it is traced only for a hit whose value would not be 0 (the DPRSM
+// texel saw a surface, L_o towards x is not 0 -- the hit's lit side faces x --, and with
+// vpl_mode::patch the texel centre's weight is not 0). The result is the same as lit test first;
+// the shadow ray is the most expensive part of a direction that hits.
+template <class T, class Tracer>
+inline vec3<T> clamp_compensation_hit_value(const gather_point<T>& gp, const dprsm_view<T>& view, const ray_hit<T>& h,
+                                            T weight, const Tracer& tracer, T dmin, T depth_tolerance,
+                                            vpl_mode vmode) {
+  const dprsm_lookup_result lk = dprsm_lookup(view, h.position, depth_tolerance);
+  // gathering_hit_lookup's condition: where it holds, the shadow ray alone decides the lit test.
+  bool shadow_ray = false;
+  if constexpr (tracer_has_light_visibility<Tracer, T>::value)
+    shadow_ray = tracer.answers_light_visibility() && ray_hit_has_normal(h) && dprsm_texel_saw_surface(view, lk.texel);
+  if (!shadow_ray && !lk.lit) return vec3<T>(T(0));
+  const vec3<T> radiance = dprsm_hit_radiance(view, lk, gp.position, h, depth_tolerance);
+  if (!(radiance.x > T(0) || radiance.y > T(0) || radiance.z > T(0))) return vec3<T>(T(0));
+  if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, lk.texel, h.position)) {
+    const vec3<T> wc = view.position[lk.texel] - gp.position;
+    weight = clamp_compensation_weight(glm::dot(wc, wc), dmin);
+    if (!(weight > T(0))) return vec3<T>(T(0));
+  }
+  if constexpr (tracer_has_light_visibility<Tracer, T>::value) {
+    if (shadow_ray) {
+      const vec3<T> c = view.light.position;
+      if (!tracer.light_visible(h.position, ray_hit_normal_towards(h, c), c)) return vec3<T>(T(0));
+    }
+  }
+  return estimator_finite_or_zero(gp.albedo * radiance * weight);
+}
+
 // Value of one cosine-distributed direction (local: its coordinates in the gather point's ONB):
 // rho_x L_o(y) (1 - d^2 / dmin^2) when the first hit y lies within dmin of x, else 0; 0 at or
 // below the horizon and below the geometric surface, as gathering_sample. With vpl_mode::patch, d
@@ -123,13 +157,7 @@ inline vec3<T> clamp_compensation_sample(const gather_point<T>& gp, const dprsm_
   // x on the hit's own plane (within its coordinates' rounding: a crease through x, coincident
   // surfaces) sees that surface edge-on, cos(theta1) = 0 for the VPL strategy: it sends nothing.
   if (vpl_hit_on_own_plane(gp.position, h)) return vec3<T>(T(0));
-  const gathering_ray_result<T> r = evaluate_gathering_hit(view, gp.position, h, tracer, depth_tolerance);
-  if (!r.lit) return vec3<T>(T(0));
-  if (vmode == vpl_mode::patch && dprsm_patch_direction_at_centre(view, r.texel, r.hit)) {
-    const vec3<T> wc = view.position[r.texel] - gp.position;
-    return estimator_finite_or_zero(gp.albedo * r.radiance * clamp_compensation_weight(glm::dot(wc, wc), dmin));
-  }
-  return estimator_finite_or_zero(gp.albedo * r.radiance * weight);
+  return clamp_compensation_hit_value(gp, view, h, weight, tracer, dmin, depth_tolerance, vmode);
 }
 
 // Directions [begin, end) of estimate_clamp_compensation (estimator_state.hpp).

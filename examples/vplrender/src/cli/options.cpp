@@ -28,7 +28,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, candidates, candidate_source, spatial;
+      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial;
   bool paper = false, direct = false, window = false;
 };
 
@@ -152,7 +152,7 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("point|patch");
   app.add_option("--clamp-compensation", v.clamp_compensation,
                  d("Add back what the VPL clamp --dmin removes, for reference, global, local, gbg and ris (default on; "
-                   "both backends): a short gathering ray per 4 VPL samples adds the near field the clamp weighs down, so the "
+                   "both backends): a short gathering ray per 16 VPL samples (--clamp-compensation-dirs) adds the near field the clamp weighs down, so the "
                    "estimate converges to the unclamped integral without its fireflies (docs/math.md, \"The clamp's compensation\"). "
                    "off = the clamped estimate, a documented bias near surfaces."))
       ->type_name("off|on");
@@ -162,6 +162,12 @@ void build_app(CLI::App& app, raw_values& v) {
                    "pixels with another surface within dmin, in full SIMD groups; inline = in the estimate kernel, whose "
                    "SIMD groups run it whenever one of their pixels needs it."))
       ->type_name("compacted|inline");
+  app.add_option("--clamp-compensation-dirs", v.clamp_compensation_dirs,
+                 d("Directions of the clamp compensation per pixel, for global, local, gbg and ris (not reference, "
+                   "which takes 256): auto (default, the measured rule of docs/results/clamp_compensation.md), N = N "
+                   " whatever --vpls, 1:K = one per K VPL samples rounded up. Any choice estimates the "
+                   "same; fewer directions cost less and add more of the term's own noise."))
+      ->type_name("auto|N|1:K");
   app.add_option("--candidates", v.candidates,
                  d("--method ris and ris-mis: candidate VPLs per sample (default 32; 1..65536), each weighed by its "
                    "unshadowed contribution (ris-mis: its MIS-weighted contribution against --dirs gathering); --vpls "
@@ -232,6 +238,23 @@ long long parse_integer(const std::string& flag, const std::string& text, long l
   if (errno == ERANGE || v < lo || v > hi)
     bad(flag, "value " + text + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
   return v;
+}
+
+// --clamp-compensation-dirs: auto, N (1..max_dirs) or 1:K (K in 1..max_vpls).
+clamp_compensation_dirs_choice parse_clamp_compensation_dirs(const std::string& text) {
+  const char* flag = "--clamp-compensation-dirs";
+  clamp_compensation_dirs_choice c;
+  if (text == "auto") return c;
+  if (text.rfind("1:", 0) == 0) {
+    c.kind = clamp_compensation_dirs_choice::rule::per_vpls;
+    c.value = static_cast<int>(parse_integer(flag, text.substr(2), 1, limits::max_vpls));
+    return c;
+  }
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    bad(flag, "expected auto, a number of directions N or 1:K (one per K VPL samples), got '" + text + "'");
+  c.kind = clamp_compensation_dirs_choice::rule::fixed;
+  c.value = static_cast<int>(parse_integer(flag, text, 1, limits::max_dirs));
+  return c;
 }
 
 double parse_real(const std::string& flag, const std::string& text) {
@@ -429,6 +452,7 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.clamp_compensation_pass = parse_choice<clamp_compensation_pass_choice>(
         "--clamp-compensation-pass", v.clamp_compensation_pass,
         {{"compacted", clamp_compensation_pass_choice::compacted}, {"inline", clamp_compensation_pass_choice::inline_pass}});
+  if (given("--clamp-compensation-dirs")) o.clamp_compensation_dirs_rule = parse_clamp_compensation_dirs(v.clamp_compensation_dirs);
   if (given("--candidates"))
     o.candidates = static_cast<int>(parse_integer("--candidates", v.candidates, 1, limits::max_candidates));
   if (given("--candidate-source"))

@@ -73,10 +73,22 @@ bool uses_clamp_compensation(const render_settings& s) {
   return s.clamp_compensation == clamp_compensation_choice::on && s.dmin > 0.0f && method_has_clamp(s.meth);
 }
 
+std::string to_string(const clamp_compensation_dirs_choice& c) {
+  switch (c.kind) {
+    case clamp_compensation_dirs_choice::rule::fixed: return std::to_string(c.value);
+    case clamp_compensation_dirs_choice::rule::per_vpls: return "1:" + std::to_string(c.value);
+    case clamp_compensation_dirs_choice::rule::automatic: break;
+  }
+  return "auto";
+}
+
 int clamp_compensation_dirs(const render_settings& s) {
   if (s.meth == method::reference) return reference_compensation_dirs;
-  const int k = clamp_compensation_vpls_per_dir;
-  return s.vpls > k ? (s.vpls + k - 1) / k : 1;
+  const clamp_compensation_dirs_choice& c = s.clamp_compensation_dirs_rule;
+  if (c.kind == clamp_compensation_dirs_choice::rule::fixed) return c.value > 0 ? c.value : 1;
+  const int k = c.kind == clamp_compensation_dirs_choice::rule::per_vpls && c.value > 0 ? c.value
+                                                                                          : clamp_compensation_vpls_per_dir;
+  return s.vpls > k ? (s.vpls - 1) / k + 1 : 1;  // ceil(vpls / k) without overflow at INT_MAX
 }
 
 

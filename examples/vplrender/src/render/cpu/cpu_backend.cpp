@@ -8,6 +8,7 @@
 #include "render/cpu/parallel.hpp"
 #include "render/method_traits.hpp"
 #include "render/cpu/ris_render.hpp"
+#include "render/cpu/thread_cpu_time.hpp"
 #include "render/mixture_components.hpp"
 #include "render/share_tree_mixture.hpp"
 
@@ -22,6 +23,7 @@
 #include <vplkit/vpl/direct_light.hpp>
 
 #include <glm/common.hpp>
+#include <algorithm>
 
 #include <utility>
 #include <vector>
@@ -108,7 +110,9 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
   if (compensate) {
     auto t = timer.scoped(clamp_compensation_stage_cpu);
     compensation_terms.assign(static_cast<std::size_t>(W) * static_cast<std::size_t>(H), vec3f(0.0f));
-    parallel_items(H, threads, "clamp compensation", progress, [&](int y, int) {
+    std::vector<double> cpu_s(static_cast<std::size_t>(std::max(1, threads)), 0.0);  // per worker
+    parallel_items(H, threads, "clamp compensation", progress, [&](int y, int k) {
+      const double t0 = thread_cpu_seconds();
       for (int p = y * W; p < (y + 1) * W; ++p) {
         const gather_point<float> gp = g.at(p);
         if (!vplkit::gather_point_valid(gp)) continue;
@@ -117,7 +121,12 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
         compensation_terms[static_cast<std::size_t>(p)] = vplkit::estimate_clamp_compensation(
             gp, view, compensation_rng, compensation_dirs, tracer, s.dmin, depth_tol, vmode);
       }
+      cpu_s[static_cast<std::size_t>(k)] += thread_cpu_seconds() - t0;
     });
+    double total = 0.0;
+    for (double c : cpu_s) total += c;
+    // Its CPU time (all workers): what docs/results/clamp_compensation.md's costs divide.
+    det["clamp_compensation_cpu_ms"] = 1e3 * total;
   }
   const auto compensation = [&](const gather_point<float>&, int p) {
     return compensate ? compensation_terms[static_cast<std::size_t>(p)] : vec3f(0.0f);
@@ -126,7 +135,9 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
   // Per-pixel loop shared by every method: est(gp, rng) -> vec3.
   auto render_pixels = [&](auto&& est) {
     auto t = timer.scoped("estimate (cpu)");
-    parallel_items(H, threads, "render", progress, [&](int y, int) {
+    std::vector<double> cpu_s(static_cast<std::size_t>(std::max(1, threads)), 0.0);  // per worker
+    parallel_items(H, threads, "render", progress, [&](int y, int k) {
+      const double t0 = thread_cpu_seconds();
       for (int x = 0; x < W; ++x) {
         const int p = y * W + x;
         const gather_point<float> gp = g.at(p);
@@ -142,7 +153,11 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
         o[1] = c.y;
         o[2] = c.z;
       }
+      cpu_s[static_cast<std::size_t>(k)] += thread_cpu_seconds() - t0;
     });
+    double total = 0.0;
+    for (double c : cpu_s) total += c;
+    det["estimate_cpu_ms"] = 1e3 * total;  // the clamp compensation's cost is measured against it
   };
 
   det["face_selection"] = to_string(s.face_selection);
