@@ -4,6 +4,7 @@
 // grazing directions, dmin = 0 and the other special clamps, NaN and Inf inputs (gather point, hit,
 // direction, depth tolerance, light). Never NaN, Inf or a negative value; where the case has a
 // right answer, that answer.
+#include <estimator_checks.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/estimators/clamp_compensation.hpp>
@@ -22,13 +23,6 @@ using namespace vplkit;
 using namespace vplkit_test;
 
 namespace {
-
-template <class T>
-bool finite_nonneg(vec3<T> v) {
-  for (int c = 0; c < 3; ++c)
-    if (!std::isfinite(v[c]) || v[c] < T(0)) return false;
-  return true;
-}
 
 // A tracer that reports one fixed hit for every ray (normal zero: a voxel-entry point).
 template <class T>

@@ -3,6 +3,7 @@
 // points, unnormalised normals, a zero-flux DPRSM, empty distributions, background pixels, denormal
 // pmfs. Every estimator (exhaustive sum, VPL sampling, local balance / average, gathering, MIS in
 // both modes) must return finite, non-negative values -- never NaN or Inf -- in float and double.
+#include <estimator_checks.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/distribution/alias_table.hpp>
@@ -27,13 +28,6 @@ using namespace vplkit;
 using namespace vplkit_test;
 
 namespace {
-
-template <class T>
-bool finite_nonneg(vec3<T> v) {
-  for (int c = 0; c < 3; ++c)
-    if (!std::isfinite(v[c]) || v[c] < T(0)) return false;
-  return true;
-}
 
 template <class T>
 std::vector<T> flux_weights(const dprsm_view<T>& view) {
@@ -312,18 +306,8 @@ TEMPLATE_TEST_CASE("estimators: background pixels and degenerate counts", "[hard
   CHECK(rng.counter == 0u);
 }
 
-namespace {
-// A distribution that always draws texel `index` with a chosen (possibly denormal) pmf; the
+// fixed_draw (estimator_checks.hpp) draws texel `index` with a chosen (possibly denormal) pmf; the
 // estimators count a pmf below FLT_MIN (DBL_MIN) as 0.
-template <class T>
-struct fixed_draw {
-  std::size_t index;
-  T p;
-  discrete_sample<T> sample(T) const { return {index, p}; }
-  T pmf(std::size_t i) const { return i == index ? p : T(0); }
-};
-}  // namespace
-
 TEMPLATE_TEST_CASE("estimators: denormal and out-of-range draws", "[hardcase]", double, float) {
   using T = TestType;
   const sampled_room<T> f(16);

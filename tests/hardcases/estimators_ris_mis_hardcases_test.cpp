@@ -4,6 +4,7 @@
 // empty distributions and indices outside the view, an invalid gather point, counts of zero or
 // below. Nothing may be NaN or Inf, in float and double, and the random numbers drawn follow the
 // layout whatever the scene (n_ris M (2, or 4 with patch VPLs) + 2 n_dirs).
+#include <estimator_checks.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/builders/flux_weights.hpp>
@@ -25,22 +26,6 @@ using namespace vplkit;
 using namespace vplkit_test;
 
 namespace {
-
-template <class T>
-bool finite_nonneg(vec3<T> v) {
-  for (int c = 0; c < 3; ++c)
-    if (!std::isfinite(v[c]) || v[c] < T(0)) return false;
-  return true;
-}
-
-// A distribution that always returns one index with one pmf.
-template <class T>
-struct fixed_draw {
-  std::size_t index;
-  T p;
-  discrete_sample<T> sample(T) const { return {index, p}; }
-  T pmf(std::size_t i) const { return i == index ? p : T(0); }
-};
 
 template <class T>
 struct room {

@@ -3,6 +3,7 @@
 // normals); the same care in reflected_radiance and vpl_patch_area. Nothing may come out NaN or
 // Inf.
 #include <fp_mode.hpp>
+#include <estimator_checks.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/vpl/direct_light.hpp>
@@ -17,14 +18,7 @@
 #include <vector>
 
 using vplkit::vec3;
-
-namespace {
-template <class T>
-bool finite_nonneg(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && v.x >= T(0) &&
-         v.y >= T(0) && v.z >= T(0);
-}
-}  // namespace
+using vplkit_test::finite_nonneg;
 
 TEMPLATE_TEST_CASE("hard case: contribution as d2 -> 0 stays finite", "[vpl][hardcase]", float,
                    double) {
