@@ -73,13 +73,6 @@ void print_row(const std::string& what, const std::string& gp, const run_stats& 
               r.lum_sem, luminance(ref), z_score(r, ref), r.lum_var);
 }
 
-// |a - b| within k combined standard errors on every channel (two independent estimates).
-bool agree(const run_stats& a, const run_stats& b, double k) {
-  for (int c = 0; c < 3; ++c)
-    if (!(std::abs(a.mean[c] - b.mean[c]) <= k * std::sqrt(a.sem[c] * a.sem[c] + b.sem[c] * b.sem[c]))) return false;
-  return true;
-}
-
 // Pixels of the G-buffer next to a depth edge (a 4-neighbour more than 0.3 away: the block's
 // silhouette against the floor and the wall), or inside surfaces; at most four, spread out.
 std::vector<int> test_pixels(const fixture& f, bool edge) {
@@ -130,7 +123,7 @@ TEST_CASE("ris-mis has estimate_mis's expectation with every candidate source (p
     });
     std::printf("  %-30s %-22s mean %.6f +- %.6f  (ris-mis / mis standard error %.2f)\n", "estimate_mis, mixture",
                 g.name.c_str(), plain.lum_mean, plain.lum_sem, a.lum_sem / plain.lum_sem);
-    CHECK(agree(a, plain, 4.0));
+    CHECK(runs_agree(a, plain, 4.0));
     var_ris_mis += a.lum_var;
     var_mis += plain.lum_var;
   }
@@ -169,7 +162,7 @@ TEST_CASE("ris-mis with n_dirs = 0 is RIS of the unclamped contribution") {
     std::printf("  %-30s %-22s RIS %.6f +- %.6f  VPL sampling %.6f +- %.6f\n", "patch, flux", g.name.c_str(),
                 p.lum_mean, p.lum_sem, v.lum_mean, v.lum_sem);
     INFO(g.name << " patch");
-    CHECK(agree(p, v, 4.0));
+    CHECK(runs_agree(p, v, 4.0));
   }
 }
 
@@ -211,7 +204,7 @@ TEST_CASE("ris-mis with patch VPLs converges to estimate_mis's patch estimand") 
     std::printf("  %-22s ris-mis %.6f +- %.6f  mis %.6f +- %.6f\n", g.name.c_str(), r.lum_mean, r.lum_sem, v.lum_mean,
                 v.lum_sem);
     INFO(g.name);
-    CHECK(agree(r, v, 4.0));
+    CHECK(runs_agree(r, v, 4.0));
   }
 }
 
@@ -247,6 +240,6 @@ TEST_CASE("ris-mis is unbiased at pixels on depth edges and inside surfaces") {
                   p.lum_sem, q.lum_mean, q.lum_sem);
       INFO(where);
       CHECK(within_sigma(r, E, 4.0, 3e-3 * E));
-      CHECK(agree(p, q, 4.0));
+      CHECK(runs_agree(p, q, 4.0));
     }
 }

@@ -71,13 +71,6 @@ void print_row(const std::string& what, const std::string& gp, const run_stats& 
               r.lum_sem, luminance(ref), z_score(r, ref), r.lum_var);
 }
 
-// |a - b| within k combined standard errors on every channel (two independent estimates).
-bool agree(const run_stats& a, const run_stats& b, double k) {
-  for (int c = 0; c < 3; ++c)
-    if (!(std::abs(a.mean[c] - b.mean[c]) <= k * std::sqrt(a.sem[c] * a.sem[c] + b.sem[c] * b.sem[c]))) return false;
-  return true;
-}
-
 }  // namespace
 
 TEST_CASE("RIS is unbiased for the VPL sum with every candidate source and M") {
@@ -147,7 +140,7 @@ TEST_CASE("RIS with patch VPLs converges to VPL sampling's patch integral") {
     std::printf("  %-22s RIS %.6f +- %.6f  VPL sampling %.6f +- %.6f\n", g.name.c_str(), r.lum_mean, r.lum_sem,
                 v.lum_mean, v.lum_sem);
     INFO(g.name);
-    CHECK(agree(r, v, 4.0));
+    CHECK(runs_agree(r, v, 4.0));
   }
 }
 
@@ -270,6 +263,6 @@ TEST_CASE("spatial reuse with patch VPLs converges to the patch integral") {
     std::printf("  edge pixel %-4d reuse %.6f +- %.6f  VPL sampling %.6f +- %.6f\n", pixel, r.lum_mean, r.lum_sem,
                 v.lum_mean, v.lum_sem);
     INFO("pixel " << pixel);
-    CHECK(agree(r, v, 4.0));
+    CHECK(runs_agree(r, v, 4.0));
   }
 }

@@ -125,6 +125,13 @@ struct run_stats {
   int runs = 0;
 };
 
+// |a - b| within k combined standard errors on every channel (two independent estimates).
+inline bool runs_agree(const run_stats& a, const run_stats& b, double k) {
+  for (int c = 0; c < 3; ++c)
+    if (!(std::abs(a.mean[c] - b.mean[c]) <= k * std::sqrt(a.sem[c] * a.sem[c] + b.sem[c] * b.sem[c]))) return false;
+  return true;
+}
+
 template <class F>
 inline run_stats repeat_estimates(int runs, std::uint32_t seed, F&& estimate) {
   vec3<double> s1(0.0), s2(0.0);
