@@ -10,6 +10,7 @@
 #include "cli/render_options.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -28,7 +29,7 @@ void write_runs_csv(const sweep_options& so, const prepared_scene& p, const swee
   csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,eps,local_combination,gbg_accumulator,"
          "cdf_search,visibility,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
          "relmse_gather,rmse_exact,relmse_exact,total_ms_min,repeats,gpu_peak_bytes,clamp_compensation,mean,band_mean,"
-         "stages\n";
+         "rmse_gather_net,relmse_gather_net,rmse_exact_net,relmse_exact_net,stages\n";
   for (const run_row& r : rows)
     csv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
         << r.seed << "," << base.width << "," << base.height << "," << base.dprsm << "," << base.voxels << ","
@@ -38,7 +39,8 @@ void write_runs_csv(const sweep_options& so, const prepared_scene& p, const swee
         << "," << num(r.vs_gather.relmse) << "," << num(r.vs_exact.rmse) << "," << num(r.vs_exact.relmse) << ","
         << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes << ","
         << to_string(r.compensation) << "," << num(r.mean) << ","
-        << num(r.band_mean) << "," << r.stages << "\n";
+        << num(r.band_mean) << "," << num(r.vs_gather_net.rmse) << "," << num(r.vs_gather_net.relmse) << ","
+        << num(r.vs_exact_net.rmse) << "," << num(r.vs_exact_net.relmse) << "," << r.stages << "\n";
   write_text(so.out + ".csv", csv.str());
 }
 
@@ -49,12 +51,13 @@ void write_bias_variance_csv(const sweep_options& so, const prepared_scene& p,
   if (!bv_rows.empty()) {
     std::ostringstream bv;
     bv << "scene,backend,method,samples,seeds,eps,local_combination,gbg_accumulator,cdf_search,variance,"
-          "bias2_vplsum,bias2_gather,bias2_exact,clamp_compensation\n";
+          "bias2_vplsum,bias2_gather,bias2_exact,clamp_compensation,bias2_gather_net,bias2_exact_net\n";
     for (const bias_variance_row& r : bv_rows)
       bv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
          << r.seeds << "," << num(base.eps) << "," << to_string(base.local_combination) << ","
          << to_string(base.gbg_accumulator) << "," << to_string(base.cdf_search) << "," << num(r.variance) << "," << num(r.bias2_vpl) << "," << num(r.bias2_gather) << ","
-         << num(r.bias2_exact) << "," << to_string(r.compensation) << "\n";
+         << num(r.bias2_exact) << "," << to_string(r.compensation) << "," << num(r.bias2_gather_net) << ","
+         << num(r.bias2_exact_net) << "\n";
     write_text(so.out + "_bias_variance.csv", bv.str());
   }
 }
@@ -107,15 +110,31 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
   if (so.compensations.empty()) md << "`" << to_string(make_render_settings(base, p.s).clamp_compensation) << "`";
   else md << "`" << to_string(so.compensations.front()) << (both ? "` and `" + std::string(to_string(so.compensations.back())) : "") << "`";
   md << " (for global, local, gbg, ris" << (both ? "; METHOD-clamped: without it)" : ")");
+  // The references' own noise (--ref-noise), which the "net" errors leave out.
+  const auto noise_text = [](const reference_image& second, const std::optional<reference_noise>& n) {
+    return "MSE " + sci(n->mse) + ", relMSE " + sci(n->relmse) + " +- " + sci(n->relmse_se) + " (second render " +
+           (second.hit ? std::string("from cache") : fixed(second.ms, 0) + " ms") + ")";
+  };
+  if (refs.gather_noise || refs.exact_noise) {
+    md << ". Reference noise (a second render at the same directions, independent seed; metrics.hpp): ";
+    if (refs.gather_noise) md << "gathering " << noise_text(refs.gather2, refs.gather_noise);
+    if (refs.gather_noise && refs.exact_noise) md << "; ";
+    if (refs.exact_noise) md << "exact " << noise_text(refs.exact2, refs.exact_noise);
+    md << "; the net columns subtract it";
+  }
   md << ". Times: the median of " << so.repeats << " repeat(s) of each run.\n\n";
+  const bool exact_net = refs.exact_noise.has_value();
   md << "| method | samples | seed | build ms | estimate ms | total ms | mean | band mean | RMSE vs VPL sum | relMSE vs VPL sum | RMSE vs "
-        "gathering | relMSE vs gathering | RMSE vs exact | relMSE vs exact |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        "gathering | relMSE vs gathering | RMSE vs exact | relMSE vs exact |"
+     << (exact_net ? " RMSE vs exact, net | relMSE vs exact, net |" : "")
+     << "\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << (exact_net ? "---:|---:|" : "")
+     << "\n";
   for (const run_row& r : rows)
     md << "| " << r.label << " | " << r.samples << " | " << r.seed << " | " << fixed(r.build_ms, 1) << " | "
        << fixed(r.estimate_ms, 1) << " | " << fixed(r.total_ms, 1) << " | " << sci(r.mean) << " | " << sci(r.band_mean) << " | " << sci(r.vs_vpl.rmse) << " | "
        << sci(r.vs_vpl.relmse) << " | " << sci(r.vs_gather.rmse) << " | " << sci(r.vs_gather.relmse) << " | "
-       << sci(r.vs_exact.rmse) << " | " << sci(r.vs_exact.relmse) << " |\n";
+       << sci(r.vs_exact.rmse) << " | " << sci(r.vs_exact.relmse) << " |"
+       << (exact_net ? " " + sci(r.vs_exact_net.rmse) + " | " + sci(r.vs_exact_net.relmse) + " |" : "") << "\n";
   write_text(so.out + ".md", md.str());
 }
 
@@ -152,12 +171,22 @@ std::vector<std::string> write_analysis(const std::vector<run_row>& rows, const 
     std::string title;
     image_error run_row::*err;
   };
+  // Against gathering and exact, the errors with the reference's noise removed where it was
+  // measured (--ref-noise): otherwise every method meets the reference's noise as a floor.
+  const auto measured = [&rows](image_error run_row::*e) {
+    return std::any_of(rows.begin(), rows.end(), [e](const run_row& r) { return !std::isnan((r.*e).rmse); });
+  };
+  const bool gather_net = measured(&run_row::vs_gather_net), exact_net = measured(&run_row::vs_exact_net);
+  const std::string net = ", its reference's noise removed";
   const std::vector<reference_view> refs = {
       {has_vplsum, "RMSE vs exhaustive VPL sum", &run_row::vs_vpl},
       {has_gather,
-       ref_dirs > 0 ? "RMSE vs converged gathering (" + std::to_string(ref_dirs) + " dirs)" : "RMSE vs converged gathering",
-       &run_row::vs_gather},
-      {has_exact, "RMSE vs exact (ground truth)", &run_row::vs_exact}};
+       (ref_dirs > 0 ? "RMSE vs converged gathering (" + std::to_string(ref_dirs) + " dirs)"
+                     : std::string("RMSE vs converged gathering")) +
+           (gather_net ? net : ""),
+       gather_net ? &run_row::vs_gather_net : &run_row::vs_gather},
+      {has_exact, "RMSE vs exact (ground truth)" + (exact_net ? net : ""),
+       exact_net ? &run_row::vs_exact_net : &run_row::vs_exact}};
   std::vector<panel> by_time, by_samples;
   std::ostringstream pareto;
   pareto << scene_line << " Time = build + estimate (ms, mean over seeds of the median repeat); error = mean RMSE "

@@ -16,6 +16,10 @@ namespace speed_vs_error {
 constexpr std::uint32_t k_gather_reference_seed = 0x5EED0F1Eu;
 // The exact reference's seed, for the same reason.
 constexpr std::uint32_t k_exact_reference_seed = 0x5EED0E4Au;
+// The seeds of the second, independent renders of the gathering and exact references, made only to
+// measure their noise (metrics.hpp, estimate_noise; --ref-noise).
+constexpr std::uint32_t k_gather_reference_noise_seed = 0x5EED2F1Eu;
+constexpr std::uint32_t k_exact_reference_noise_seed = 0x5EED2E4Au;
 // The patch VPL sum's seed (its jitter; --vpl-mode point draws nothing), for the same reason.
 constexpr std::uint32_t k_vplsum_reference_seed = 0x5EED0A50u;
 

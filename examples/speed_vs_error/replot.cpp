@@ -51,6 +51,9 @@ std::vector<std::string> replot(const std::string& csv_path, const std::string& 
   };
   const std::size_t c_re = optional_col("rmse_exact"), c_le = optional_col("relmse_exact");
   const std::size_t c_cc = optional_col("clamp_compensation");  // since the clamp compensation exists
+  // Since --ref-noise: the errors with the reference's noise removed.
+  const std::size_t c_rgn = optional_col("rmse_gather_net"), c_lgn = optional_col("relmse_gather_net"),
+                    c_ren = optional_col("rmse_exact_net"), c_len = optional_col("relmse_exact_net");
   const auto number = [&](const std::string& t, int line_no) {
     if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
     char* end = nullptr;
@@ -83,6 +86,8 @@ std::vector<std::string> replot(const std::string& csv_path, const std::string& 
     r.vs_gather = {number(v[c_rg], line_no), number(v[c_lg], line_no)};
     if (c_re < v.size() && c_le < v.size()) r.vs_exact = {number(v[c_re], line_no), number(v[c_le], line_no)};
     else r.vs_exact = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+    if (c_rgn < v.size() && c_lgn < v.size()) r.vs_gather_net = {number(v[c_rgn], line_no), number(v[c_lgn], line_no)};
+    if (c_ren < v.size() && c_len < v.size()) r.vs_exact_net = {number(v[c_ren], line_no), number(v[c_len], line_no)};
     has_exact = has_exact || !std::isnan(r.vs_exact.rmse);
     has_vpl = has_vpl || !std::isnan(r.vs_vpl.rmse);
     has_gather = has_gather || !std::isnan(r.vs_gather.rmse);

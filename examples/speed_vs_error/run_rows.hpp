@@ -28,6 +28,9 @@ struct run_row {
   double mean = 0;  // the image's mean over pixels and channels (linear HDR)
   double band_mean = std::numeric_limits<double>::quiet_NaN();  // over the junction band's pixels
   image_error vs_vpl, vs_gather, vs_exact;
+  // vs_gather and vs_exact with their reference's noise removed (compare_net); NaN without --ref-noise.
+  image_error vs_gather_net{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  image_error vs_exact_net{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 };
 
 // A run's series: the method's name, or METHOD-clamped for the clamped runs of global, local, gbg
@@ -44,6 +47,10 @@ struct bias_variance_row {
   vplrender::clamp_compensation_choice compensation = vplrender::clamp_compensation_choice::off;
   int samples = 0, seeds = 0;
   double variance = 0, bias2_vpl = 0, bias2_gather = 0, bias2_exact = 0;
+  // bias2 against gather and exact less their reference's noise (its MSE): the squared bias
+  // against the truth itself. NaN without --ref-noise.
+  double bias2_gather_net = std::numeric_limits<double>::quiet_NaN();
+  double bias2_exact_net = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace speed_vs_error

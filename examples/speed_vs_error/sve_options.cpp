@@ -32,6 +32,10 @@ Sweep options:
                      clamped runs are labelled METHOD-clamped (column clamp_compensation)
   --ref-dirs N       directions of the converged-gathering reference (default 4096)
   --ref-exact-dirs N directions of the exact reference (default 4096)
+  --ref-noise on|off measure the gathering and exact references' own noise by rendering each
+                     a second time (same directions, seeds 0x5EED2F1E and 0x5EED2E4A; cached
+                     like them) and report the errors against them with it removed: the
+                     "net" columns, which the plots and Pareto tables use (default on)
   --references LIST  which references to compute: any of vplsum, gather, exact; all
                      (default), both (= vplsum,gather) or none. The exhaustive VPL sum costs
                      2 R^2 VPLs per pixel: skip it at large DPRSM sizes; errors against a
@@ -70,6 +74,16 @@ differs from (a) by the VPL discretisation; with either by the distance clamp), 
 chosen --visibility, and (c) the ground truth (exact at --ref-exact-dirs, seed 0x5EED0E4A: cosine
 gathering against the triangles with exact visibility and no VPLs, on --backend's estimator; the
 distance from (a) and (b) to (c) is what the VPLs, the DPRSM and the voxel grid cost in accuracy).
+
+With --ref-noise on, r2 = the reference's second render, v_pc = (r_pc - r2_pc)^2 / 2 (an unbiased
+estimate of the reference's variance per pixel and channel), m_pc = (r_pc + r2_pc) / 2, and
+  net MSE    = mean_{p,c} ((x_pc - r_pc)^2 - v_pc)            (RMSE net = its root, 0 if not > 0)
+  net relMSE = mean_{p,c} ((x_pc - r_pc)^2 - v_pc) / (m_pc^2 + 1e-2)           (signed)
+the error against the truth rather than against a noisy estimate of it (E[(x - r)^2] =
+E[(x - t)^2] + Var(r) for a run x independent of r): without it every method's error has the
+reference's noise as a floor. The MSE is unbiased; the relMSE divides by m, symmetric in r and
+r2, so that r's noise cancels in expectation to second order. The bias-variance CSV gets
+bias2_gather_net and bias2_exact_net (bias2 - mean_{p,c} v_pc) the same way.
 
 Bias/variance (2 or more seeds S, per method and sample count; m = mean image over the seeds):
   variance = mean_{p,c} sum_s (x_s,pc - m_pc)^2 / (S - 1)   (per-run variance, unbiased)
@@ -128,7 +142,8 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   app.set_help_flag();  // k_help is the help text
   app.allow_extras();
   bool help = false;
-  std::optional<std::string> methods, samples, seeds, compensations, ref_dirs, ref_exact_dirs, references, repeats;
+  std::optional<std::string> methods, samples, seeds, compensations, ref_dirs, ref_exact_dirs, ref_noise, references,
+      repeats;
   app.add_flag("-h,--help", help);
   app.add_option("--methods", methods);
   app.add_option("--samples", samples);
@@ -136,6 +151,7 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   app.add_option("--clamp-compensation", compensations);
   app.add_option("--ref-dirs", ref_dirs);
   app.add_option("--ref-exact-dirs", ref_exact_dirs);
+  app.add_option("--ref-noise", ref_noise);
   app.add_option("--references", references);
   app.add_option("--replot", so.replot);
   app.add_option("--repeats", repeats);
@@ -176,6 +192,10 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   }
   if (ref_dirs) so.ref_dirs = static_cast<int>(to_int("--ref-dirs", *ref_dirs, 1, limits::max_dirs));
   if (ref_exact_dirs) so.ref_exact_dirs = static_cast<int>(to_int("--ref-exact-dirs", *ref_exact_dirs, 1, limits::max_dirs));
+  if (ref_noise) {
+    if (*ref_noise != "on" && *ref_noise != "off") bad("--ref-noise: unknown value '" + *ref_noise + "' (on or off)");
+    so.ref_noise = *ref_noise == "on";
+  }
   if (references) {
     const std::string& v = *references;
     so.ref_vplsum = so.ref_gather = so.ref_exact = false;

@@ -26,6 +26,7 @@ struct sweep_options {
   int ref_dirs = 4096;
   int ref_exact_dirs = 4096;
   bool ref_vplsum = true, ref_gather = true, ref_exact = true;
+  bool ref_noise = true;  // --ref-noise: measure the gathering and exact references' noise and remove it
   int repeats = 1;
   std::string replot;  // --replot CSV
   std::string cache_dir = "speed_vs_error_cache";

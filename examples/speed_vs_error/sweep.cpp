@@ -59,6 +59,17 @@ sweep_references get_references(const sweep_options& so, const prepared_scene& p
     r.gather = get_reference(base, p, f.buffers, so.cache_dir, "gather", so.ref_dirs, k_gather_reference_seed);
   if (so.ref_exact)
     r.exact = get_reference(base, p, f.buffers, so.cache_dir, "exact", so.ref_exact_dirs, k_exact_reference_seed);
+  // --ref-noise: a second render of each Monte Carlo reference, same directions, independent seed.
+  if (so.ref_noise && so.ref_gather) {
+    r.gather2 =
+        get_reference(base, p, f.buffers, so.cache_dir, "gather", so.ref_dirs, k_gather_reference_noise_seed);
+    r.gather_noise = estimate_noise(r.gather.img, r.gather2.img);
+  }
+  if (so.ref_noise && so.ref_exact) {
+    r.exact2 =
+        get_reference(base, p, f.buffers, so.cache_dir, "exact", so.ref_exact_dirs, k_exact_reference_noise_seed);
+    r.exact_noise = estimate_noise(r.exact.img, r.exact2.img);
+  }
   return r;
 }
 
@@ -133,6 +144,8 @@ sweep_result run_sweep(const sweep_options& so, const prepared_scene& p, const s
         r.vs_vpl = against(img, ref_vpl);
         r.vs_gather = against(img, ref_gather);
         r.vs_exact = against(img, ref_exact);
+        if (refs.gather_noise) r.vs_gather_net = compare_net(img, ref_gather.img, refs.gather2.img);
+        if (refs.exact_noise) r.vs_exact_net = compare_net(img, ref_exact.img, refs.exact2.img);
         r.mean = image_mean(img);
         if (!f.band.empty()) r.band_mean = band_mean(img, f.band);
         std::cout << r.label << " samples " << n << " seed " << seed << ": " << fixed(r.total_ms, 1)
@@ -153,8 +166,11 @@ sweep_result run_sweep(const sweep_options& so, const prepared_scene& p, const s
                                                     : split(group, ref_exact.img);
         const double variance = !std::isnan(a.variance) ? a.variance : !std::isnan(g.variance) ? g.variance : e.variance;
         const run_row& last = rows.back();
-        bv_rows.push_back({m, last.label, last.compensation, n, static_cast<int>(group.size()), variance, a.bias2,
-                           g.bias2, e.bias2});
+        bias_variance_row row{m, last.label, last.compensation, n, static_cast<int>(group.size()), variance,
+                              a.bias2, g.bias2, e.bias2};
+        if (refs.gather_noise) row.bias2_gather_net = g.bias2 - refs.gather_noise->mse;
+        if (refs.exact_noise) row.bias2_exact_net = e.bias2 - refs.exact_noise->mse;
+        bv_rows.push_back(row);
       }
     }
 

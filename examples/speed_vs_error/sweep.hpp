@@ -8,7 +8,10 @@
 #include "run_rows.hpp"
 #include "sve_options.hpp"
 
+#include "metrics.hpp"
+
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,9 @@ struct sweep_frame {
 
 struct sweep_references {
   reference_image vplsum, gather, exact;  // an empty image: skipped (--references)
+  // --ref-noise: the second renders of gather and exact, and the noise they measure (metrics.hpp).
+  reference_image gather2, exact2;
+  std::optional<reference_noise> gather_noise, exact_noise;
 };
 
 struct sweep_result {

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 using speed_vs_error::cost_error_point;
 
@@ -82,4 +83,66 @@ TEST_CASE("image error metrics follow their stated formulas") {
   const auto e = speed_vs_error::compare(x, r);
   CHECK(e.rmse == Approx(std::sqrt((1.0 + 0.25) / 6.0)));
   CHECK(e.relmse == Approx((1.0 / (1.0 + 1e-2) + 0.25 / 1e-2) / 6.0));
+}
+
+TEST_CASE("reference noise and the net error follow their stated formulas") {
+  vplrender::image_rgb r, r2, x;
+  x.width = r.width = r2.width = 2;
+  x.height = r.height = r2.height = 1;
+  r.rgb = {1, 1, 1, 0, 0, 0};
+  r2.rgb = {2, 1, 1, 0, 0, 0.5f};
+  x.rgb = {1.5f, 1, 3, 0, 0, 0};
+  // v = (r - r2)^2 / 2 = {0.5, 0, 0, 0, 0, 0.125}; m = (r + r2) / 2 = {1.5, 1, 1, 0, 0, 0.25}.
+  const auto n = speed_vs_error::estimate_noise(r, r2);
+  CHECK(n.mse == Approx((0.5 + 0.125) / 6.0));
+  CHECK(n.relmse == Approx((0.5 / (2.25 + 1e-2) + 0.125 / (0.0625 + 1e-2)) / 6.0));
+  CHECK(n.mse_se > 0.0);
+  CHECK(n.relmse_se > 0.0);
+  // (x - r)^2 - v = {0.25 - 0.5, 0, 4, 0, 0, -0.125}.
+  const auto net = speed_vs_error::compare_net(x, r, r2);
+  CHECK(net.rmse == Approx(std::sqrt((-0.25 + 4.0 - 0.125) / 6.0)));
+  CHECK(net.relmse == Approx((-0.25 / (2.25 + 1e-2) + 4.0 / (1.0 + 1e-2) - 0.125 / (0.0625 + 1e-2)) / 6.0));
+  // Closer to the truth than the noise tells: RMSE 0, the relMSE signed.
+  const auto below = speed_vs_error::compare_net(r, r, r2);
+  CHECK(below.rmse == 0.0);
+  CHECK(below.relmse < 0.0);
+  vplrender::image_rgb small = r;
+  small.width = 1;
+  small.rgb.resize(3);
+  CHECK_THROWS(speed_vs_error::estimate_noise(r, small));
+  CHECK_THROWS(speed_vs_error::compare_net(x, r, small));
+  CHECK_THROWS(speed_vs_error::compare_net(small, r, r2));
+}
+
+TEST_CASE("removing the reference's noise recovers the error against the truth") {
+  // Truth t in [0.5, 2]; two references and a run, each t plus independent Gaussian noise (sd
+  // 0.05 each: 2.5-10 % of t, as a converged reference's noise is a few %). Against r the run's
+  // MSE is about 0.0025 + 0.0025: half of it is the reference's. Net of the noise measured from r and r2
+  // it is the run's own.
+  const int w = 200, h = 200;
+  vplrender::image_rgb t, r, r2, x;
+  for (vplrender::image_rgb* im : {&t, &r, &r2, &x}) {
+    im->width = w;
+    im->height = h;
+    im->rgb.resize(std::size_t(3) * w * h);
+  }
+  std::mt19937 gen(12345u);
+  std::uniform_real_distribution<float> level(0.5f, 2.0f);
+  std::normal_distribution<float> noise_sd(0.0f, 0.05f);
+  for (std::size_t i = 0; i < t.rgb.size(); ++i) {
+    t.rgb[i] = level(gen);
+    r.rgb[i] = t.rgb[i] + noise_sd(gen);
+    r2.rgb[i] = t.rgb[i] + noise_sd(gen);
+    x.rgb[i] = t.rgb[i] + noise_sd(gen);
+  }
+  const auto truth = speed_vs_error::compare(x, t);
+  const auto raw = speed_vs_error::compare(x, r);
+  const auto noise = speed_vs_error::estimate_noise(r, r2);
+  const auto net = speed_vs_error::compare_net(x, r, r2);
+  CHECK(raw.rmse * raw.rmse == Approx(0.005).epsilon(0.03));  // twice the run's own: the floor
+  CHECK(raw.relmse == Approx(truth.relmse + noise.relmse).epsilon(0.05));
+  CHECK(noise.mse == Approx(0.0025).epsilon(0.03));
+  CHECK(net.rmse * net.rmse == Approx(truth.rmse * truth.rmse).epsilon(0.05));
+  CHECK(net.relmse == Approx(truth.relmse).epsilon(0.03));
+  CHECK(noise.relmse_se < 0.02 * noise.relmse);
 }
