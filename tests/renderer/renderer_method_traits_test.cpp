@@ -145,7 +145,7 @@ TEST_CASE("method traits: the window's keys 1-8 follow the table's GPU rows, exa
   }
 }
 
-TEST_CASE("method traits: key 9 is ris, and m cycles through keys 1-8 then ris") {
+TEST_CASE("method traits: keys 9 and 0 are ris and ris-mis, and m cycles through keys 1-8, then 9, then 0") {
   for (const bool exact : {false, true}) {
     window_view v;
     v.exact = exact;
@@ -154,17 +154,21 @@ TEST_CASE("method traits: key 9 is ris, and m cycles through keys 1-8 then ris")
     CHECK(apply_window_action(v, "9", &close));
     CHECK(v.meth == method::ris);
     CHECK_FALSE(apply_window_action(v, "9", &close));  // already ris: nothing to re-render
-    // From ris, m wraps to key 1's method; pressing m as often as there are methods comes back.
+    CHECK(apply_window_action(v, "0", &close));
+    CHECK(v.meth == method::ris_mis);
+    CHECK_FALSE(apply_window_action(v, "0", &close));
+    // From ris-mis, m wraps to key 1's method; pressing m as often as there are methods comes back.
     std::vector<method> cycle{v.meth};
     for (int k = 0; k < 20; ++k) {
       apply_window_action(v, "m", &close);
-      if (v.meth == method::ris) break;
+      if (v.meth == method::ris_mis) break;
       cycle.push_back(v.meth);
     }
-    CHECK(v.meth == method::ris);
-    std::vector<method> expected{method::ris};
+    CHECK(v.meth == method::ris_mis);
+    std::vector<method> expected{method::ris_mis};
     for (const method_traits& t : all_method_traits())
       if (t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || exact)) expected.push_back(t.id);
+    expected.push_back(method::ris);
     CHECK(cycle == expected);
     CHECK_FALSE(close);
   }

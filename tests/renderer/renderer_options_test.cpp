@@ -253,10 +253,11 @@ TEST_CASE("the --frames and --window-script flags go with --window and are check
   CHECK(error_of({"--window-script", "1"}) == "--window-script: needs --window");
   CHECK(error_of({"--window", "--frames", "0"}) == "--frames: value 0 is outside 1..1000000");
   CHECK(parse({"--window", "--frames", "1000000"}).frames == 1000000);
-  CHECK(error_of({"--window", "--window-script", "1,0"}) ==
-        "--window-script: unknown key action '0' (expected 1-9, m, +, -, q)");
+  CHECK(parse({"--window", "--window-script", "1,0"}).window_script == std::vector<std::string>{"1", "0"});
+  CHECK(error_of({"--window", "--window-script", "1,x"}) ==
+        "--window-script: unknown key action 'x' (expected 0-9, m, +, -, q)");
   CHECK(error_of({"--window", "--window-script", "1,,2"}) ==
-        "--window-script: unknown key action '' (expected 1-9, m, +, -, q)");
+        "--window-script: unknown key action '' (expected 0-9, m, +, -, q)");
 }
 
 TEST_CASE("frames without a window (--frames alone): the headless frames benchmark, 1..10000 frames") {

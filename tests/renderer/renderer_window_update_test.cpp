@@ -77,12 +77,25 @@ TEST_CASE("q closes: no render, and the keys after it are dropped", "[renderer][
   CHECK(v.meth == method::mis);
 }
 
-TEST_CASE("m goes from the seventh method to ris (key 9), then wraps", "[renderer][window]") {
+TEST_CASE("m goes from the seventh method to ris (key 9), ris-mis (key 0), then wraps", "[renderer][window]") {
   window_view v = view(method::mis_as_published, 4, 16);
   CHECK(plan_window_update(v, {"m"}, false, false).rerender);
   CHECK(v.meth == method::ris);
   CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(v.meth == method::ris_mis);
+  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
   CHECK(v.meth == method::reference);
+}
+
+TEST_CASE("0 selects ris-mis, whose dirs follow + and - with its vpls", "[renderer][window]") {
+  window_view v = view(method::global, 4, 16);
+  CHECK(plan_window_update(v, {"0"}, false, false).rerender);
+  CHECK(v.meth == method::ris_mis);
+  CHECK_FALSE(plan_window_update(v, {"0"}, false, false).rerender);  // already ris-mis
+  CHECK(plan_window_update(v, {"+"}, false, false).rerender);
+  CHECK(v.vpls == 8);
+  CHECK(v.dirs == 32);
+  CHECK(window_samples_text(v) == "ris-mis, vpls 8, dirs 32");
 }
 
 TEST_CASE("8 and m reach exact only on a frame with exact rays, and exact's dirs follow + and -", "[renderer][window]") {
@@ -97,7 +110,7 @@ TEST_CASE("8 and m reach exact only on a frame with exact rays, and exact's dirs
   CHECK(window_samples_text(v) == "exact, vpls 8, dirs 32");
   CHECK(plan_window_update(v, {"m"}, false, false).rerender);
   CHECK(v.meth == method::ris);
-  CHECK(plan_window_update(v, {"m"}, false, false).rerender);
+  CHECK(plan_window_update(v, {"m", "m"}, false, false).rerender);
   CHECK(v.meth == method::reference);
   CHECK(plan_window_update(v, {"8"}, false, false).rerender);
   CHECK(v.meth == method::exact);

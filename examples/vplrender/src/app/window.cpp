@@ -144,8 +144,8 @@ struct window_session::impl {
       if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
       auto* self = static_cast<impl*>(glfwGetWindowUserPointer(w));
       std::string a;
-      if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_1));
-      else if (key >= GLFW_KEY_KP_1 && key <= GLFW_KEY_KP_9) a = std::string(1, static_cast<char>('1' + key - GLFW_KEY_KP_1));
+      if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) a = std::string(1, static_cast<char>('0' + key - GLFW_KEY_0));
+      else if (key >= GLFW_KEY_KP_0 && key <= GLFW_KEY_KP_9) a = std::string(1, static_cast<char>('0' + key - GLFW_KEY_KP_0));
       else if (key == GLFW_KEY_M) a = "m";
       else if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) a = "+";
       else if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) a = "-";

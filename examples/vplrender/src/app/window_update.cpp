@@ -4,6 +4,7 @@
 #include "render/method_traits.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <vector>
 
 namespace vplrender {
@@ -12,8 +13,8 @@ namespace {
 
 // Keys 1-8: the methods the GPU backend runs (the window's), in the order of
 // render/method_traits.cpp, those that trace the scene's triangles (exact) only on a frame with
-// exact rays (window_view::exact). ris has the fixed key 9: after exact in the table, it would
-// take key 8 on a frame without exact rays, so one key would mean two methods.
+// exact rays (window_view::exact). ris and ris-mis have the fixed keys 9 and 0: after exact in
+// the table, they would take key 8 on a frame without exact rays, so one key would mean two methods.
 bool on_numbered_key(const method_traits& t, const window_view& v) {
   return t.gpu && t.estimator != estimator_kind::ris && (!t.exact_rays || v.exact);
 }
@@ -25,10 +26,14 @@ std::vector<method> window_methods(const window_view& v) {
   return out;
 }
 
-// The order `m` cycles through: keys 1-8, then ris.
+// The methods of the fixed keys 9 and 0, in that order.
+constexpr method k_fixed_key_methods[] = {method::ris, method::ris_mis};
+
+// The order `m` cycles through: keys 1-8, then 9 (ris) and 0 (ris-mis).
 std::vector<method> cycle_order(const window_view& v) {
   std::vector<method> out = window_methods(v);
-  if (traits(method::ris).gpu) out.push_back(method::ris);
+  for (method m : k_fixed_key_methods)
+    if (traits(m).gpu) out.push_back(m);
   return out;
 }
 
@@ -56,10 +61,13 @@ bool apply_window_action(window_view& v, const std::string& a, bool* close) {
     v.meth = m;
     return true;
   }
-  if (a == "9" && traits(method::ris).gpu) {
-    if (v.meth == method::ris) return false;
-    v.meth = method::ris;
-    return true;
+  for (std::size_t k = 0; k < std::size(k_fixed_key_methods); ++k) {
+    const method m = k_fixed_key_methods[k];
+    if (a == (k == 0 ? "9" : "0") && traits(m).gpu) {
+      if (v.meth == m) return false;
+      v.meth = m;
+      return true;
+    }
   }
   if (a == "m") {
     const std::vector<method> cycle = cycle_order(v);
