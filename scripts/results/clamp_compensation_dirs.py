@@ -74,8 +74,13 @@ def loglog(points, t):
     return None
 
 
+def rel(r):
+    """relMSE against (c): net of (c)'s own noise where speed_vs_error measured it (--ref-noise)."""
+    return float(r["relmse_exact_net"] if r.get("relmse_exact_net") else r["relmse_exact"])
+
+
 def mean_rel(rows):
-    return statistics.mean(float(r["relmse_exact"]) for r in rows)
+    return statistics.mean(rel(r) for r in rows)
 
 
 for scene, sa in scene_args.items():
@@ -94,7 +99,8 @@ for scene, sa in scene_args.items():
         lines.append(f"| {rule} | " + " | ".join(
             f"{costs['global', n, rule][3]} dirs: {costs['global', n, rule][1]:.1f} / {costs['global', n, rule][2]:.0f}"
             for n in samples) + " |")
-    lines += ["", "relMSE against (c), mean over the seeds; in brackets (compensated - clamped) / clamped, paired "
+    lines += ["", "relMSE against (c) (net of (c)'s own noise when the CSVs have it: speed_vs_error --ref-noise), "
+              "mean over the seeds; in brackets (compensated - clamped) / clamped, paired "
               "per seed (the term's variance less the bias it removes); cost = the term's CPU time / the clamped "
               "estimate's (2. above); ratio = compensated relMSE / clamped relMSE at samples x (1 + cost) (< 1: the compensation pays "
               "at equal time):", "",
@@ -109,8 +115,8 @@ for scene, sa in scene_args.items():
             for rule in rules:
                 rows = on[rule][m, n]
                 r_on = mean_rel(rows)
-                by_seed = {r["seed"]: float(r["relmse_exact"]) for r in off[m, n]}
-                delta = statistics.mean(float(r["relmse_exact"]) / by_seed[r["seed"]] - 1 for r in rows)
+                by_seed = {r["seed"]: rel(r) for r in off[m, n]}
+                delta = statistics.mean(rel(r) / by_seed[r["seed"]] - 1 for r in rows)
                 cost = costs[m, n, rule][0]
                 eq = loglog(curve, n * (1 + cost))
                 cells.append(f"{r_on:.4e} ({100 * delta:+.2f} %) | {100 * cost:.1f} % | " +
