@@ -57,7 +57,7 @@ Sweep options:
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
-  --candidates --candidate-source (ris, ris-mis) --spatial (ris only) --clamp-compensation-dirs
+  --candidates --candidate-source (ris, ris-mis) --spatial (ris, ris-mis) --clamp-compensation-dirs
   --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).
@@ -226,10 +226,6 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   // The exhaustive VPL sum follows the last listed setting (on for off,on): the estimand of the
   // runs it labels with the method's own name.
   if (!so.compensations.empty()) so.base.clamp_compensation = so.compensations.back();
-  // vplrender refuses --spatial with --method ris-mis: say so before the sweep renders anything.
-  if (so.base.spatial > 0 && std::find(so.methods.begin(), so.methods.end(), method::ris_mis) != so.methods.end())
-    bad("--spatial " + std::to_string(so.base.spatial) +
-        ": not supported with ris-mis in --methods (spatial reuse is built for ris only); sweep ris-mis with --spatial 0");
   if (so.base.back == backend::gpu)
     for (method m : so.methods)
       if (!traits(m).gpu)

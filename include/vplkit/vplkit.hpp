@@ -89,3 +89,4 @@
 #include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/ris_spatial_reuse.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_spatial_reuse.hpp>

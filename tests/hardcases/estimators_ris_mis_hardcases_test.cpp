@@ -2,7 +2,8 @@
 // RIS as the VPL strategy of MIS (estimators/ris_mis_estimator.hpp), each hard case its own test:
 // all candidates zero, one candidate texel, NaN and infinite inputs (pmfs, albedos, the light),
 // empty distributions and indices outside the view, an invalid gather point, counts of zero or
-// below. Nothing may be NaN or Inf, in float and double, and the random numbers drawn follow the
+// below; its spatial reuse with empty inputs, zero targets at the receiver and more neighbours than
+// the bound. Nothing may be NaN or Inf, in float and double, and the random numbers drawn follow the
 // layout whatever the scene (n_ris M (2, or 4 with patch VPLs) + 2 n_dirs).
 #include <estimator_checks.hpp>
 #include <synthetic_scene.hpp>
@@ -12,6 +13,7 @@
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_spatial_reuse.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 #include <vplkit/vpl/luminance.hpp>
 
@@ -203,4 +205,150 @@ TEMPLATE_TEST_CASE("ris-mis hard case: an invalid gather point and counts of zer
   CHECK(rng.counter == 0u);
   CHECK(finite_nonneg(estimate_ris_mis(gp, f.r.view, f.flux, rng, 3, 4, 0, f.r.tracer, f.r.vis, f.tol)));
   CHECK(rng.counter == layout_count<T>(3, 0, 0, vpl_mode::point));
+}
+
+// Spatial reuse (estimators/ris_mis_spatial_reuse.hpp): empty and zero-confidence inputs, targets
+// that are 0 at the receiver (a receiver no VPL lights, a receiver whose own distribution cannot
+// draw the neighbour's sample), more neighbours than the bound on a tiny image, NaN selection
+// numbers. Never NaN or Inf, and the reuse draws 1 + 3K numbers whatever it finds.
+TEMPLATE_TEST_CASE("ris-mis hard case: reuse with empty inputs and zero confidences", "[hardcases][ris-mis]", float,
+                   double) {
+  using T = TestType;
+  const room<T> f;
+  const auto& gps = f.r.gps;
+  const gather_point<T>& q = gps[0].gp;  // floor_open
+  const T n1 = T(4), n2 = T(4);
+  const auto dist_of = [&](int) -> const defensive_mixture<T>& { return f.flux; };
+  const ris_mis_target<T, decltype(dist_of)> target{&f.r.view, &dist_of, n1, n2, vpl_mode::point, f.tol};
+  counter_rng rng = make_counter_rng(7u, 0u);
+  const ris_reservoir<T> full = ris_mis_resample(gps[1].gp, f.r.view, f.flux, rng, 16, n1, n2, vpl_mode::point, f.tol);
+  REQUIRE(ris_reservoir_has_sample(full));
+  // The target at the neighbour's own point is what its candidate pass stored.
+  CHECK(target(1, gps[1].gp, full.kept) == full.target);
+  ris_reservoir<T> empty;
+  empty.confidence = T(16);  // candidates seen, none kept
+  const T u[ris_max_neighbours + 1] = {T(0.5), T(0.5), T(0.5)};
+  const int pixels[2] = {0, 1};
+  for (const ris_reuse_mis mis : {ris_reuse_mis::pairwise, ris_reuse_mis::balance}) {
+    INFO("mis " << int(mis));
+    // Canonical empty, one neighbour with a sample: the neighbour's sample, the receiver's target.
+    const auto load_full = [&](int) { return ris_neighbour<T>{gps[1].gp, full}; };
+    const ris_reservoir<T> a = ris_combine_with(q, 0, empty, pixels, 1, load_full, u, mis, target);
+    CHECK(a.confidence == T(32));
+    if (ris_reservoir_has_sample(a)) {
+      CHECK(ris_same_sample(a.kept, full.kept));
+      CHECK(a.target == target(0, q, full.kept));
+      CHECK(finite_nonneg(ris_mis_shade(q, f.r.view, f.flux, a, f.r.vis, n1, n2, vpl_mode::point, f.tol)));
+    } else {
+      CHECK(target(0, q, full.kept) == T(0));  // only a zero target at q may drop it
+    }
+    // Everything empty: an empty reservoir, value 0.
+    const auto load_empty = [&](int) { return ris_neighbour<T>{gps[1].gp, empty}; };
+    const ris_reservoir<T> b = ris_combine_with(q, 0, empty, pixels, 2, load_empty, u, mis, target);
+    CHECK_FALSE(ris_reservoir_has_sample(b));
+    CHECK(ris_mis_shade(q, f.r.view, f.flux, b, f.r.vis, n1, n2, vpl_mode::point, f.tol) == vec3<T>(T(0)));
+    // Zero confidences everywhere: empty, never a division by 0.
+    const ris_reservoir<T> none;
+    const auto load_none = [&](int) { return ris_neighbour<T>{gps[1].gp, none}; };
+    const ris_reservoir<T> c = ris_combine_with(q, 0, none, pixels, 2, load_none, u, mis, target);
+    CHECK_FALSE(ris_reservoir_has_sample(c));
+    CHECK(c.confidence == T(0));
+    // A background neighbour: its target is 0 everywhere (it adds only confidence); the canonical
+    // keeps its sample with its whole weight.
+    const gather_point<T> background{q.position, vec3<T>(T(0)), q.albedo};
+    const ris_reservoir<T> own = ris_mis_resample(q, f.r.view, f.flux, rng, 16, n1, n2, vpl_mode::point, f.tol);
+    REQUIRE(ris_reservoir_has_sample(own));
+    CHECK(target(1, background, own.kept) == T(0));
+    const auto load_bg = [&](int) { return ris_neighbour<T>{background, empty}; };
+    const ris_reservoir<T> d = ris_combine_with(q, 0, own, pixels, 2, load_bg, u, mis, target);
+    CHECK(ris_same_sample(d.kept, own.kept));
+    CHECK(d.confidence == T(48));
+    CHECK(finite_nonneg(ris_mis_shade(q, f.r.view, f.flux, d, f.r.vis, n1, n2, vpl_mode::point, f.tol)));
+    // An invalid receiver: empty.
+    const ris_reservoir<T> e = ris_combine_with(background, 0, own, pixels, 2, load_full, u, mis, target);
+    CHECK_FALSE(ris_reservoir_has_sample(e));
+  }
+}
+
+TEMPLATE_TEST_CASE("ris-mis hard case: reuse where the receiver's target is 0", "[hardcases][ris-mis]", float, double) {
+  using T = TestType;
+  const room<T> f;
+  const auto& gps = f.r.gps;
+  const T n1 = T(4), n2 = T(4);
+  counter_rng rng = make_counter_rng(8u, 0u);
+  const ris_reservoir<T> full = ris_mis_resample(gps[1].gp, f.r.view, f.flux, rng, 16, n1, n2, vpl_mode::point, f.tol);
+  REQUIRE(ris_reservoir_has_sample(full));
+  const auto load = [&](int) { return ris_neighbour<T>{gps[1].gp, full}; };
+  const T u[ris_max_neighbours + 1] = {T(0.5), T(0.5), T(0.5)};
+  const int pixels[2] = {1, 1};
+  for (const ris_reuse_mis mis : {ris_reuse_mis::pairwise, ris_reuse_mis::balance}) {
+    INFO("mis " << int(mis));
+    // A receiver no VPL lights (floor_open facing into the floor): every target at q is 0.
+    gather_point<T> dark = gps[0].gp;
+    dark.normal = -dark.normal;
+    const auto flux_of = [&](int) -> const defensive_mixture<T>& { return f.flux; };
+    const ris_mis_target<T, decltype(flux_of)> t_flux{&f.r.view, &flux_of, n1, n2, vpl_mode::point, f.tol};
+    const ris_reservoir<T> own = ris_mis_resample(dark, f.r.view, f.flux, rng, 16, n1, n2, vpl_mode::point, f.tol);
+    CHECK_FALSE(ris_reservoir_has_sample(own));
+    const ris_reservoir<T> a = ris_combine_with(dark, 0, own, pixels, 2, load, u, mis, t_flux);
+    CHECK_FALSE(ris_reservoir_has_sample(a));
+    CHECK(a.confidence == T(48));
+    CHECK(ris_mis_shade(dark, f.r.view, f.flux, a, f.r.vis, n1, n2, vpl_mode::point, f.tol) == vec3<T>(T(0)));
+    // A receiver whose own distribution cannot draw the neighbour's texel (pmf 0 there): h_q = 0, so
+    // the neighbour's sample is never taken, whatever its weight at the neighbour.
+    std::vector<T> w = build_flux_weights(f.r.view);
+    w[std::size_t(full.kept.texel)] = T(0);
+    const discrete_cdf<T> holed(w);
+    const auto mixed_pmf = [&](int p) {
+      struct either {
+        const defensive_mixture<T>* a;
+        const discrete_cdf<T>* b;
+        T pmf(std::size_t i) const { return a ? a->pmf(i) : b->pmf(i); }
+      };
+      return p == 0 ? either{nullptr, &holed} : either{&f.flux, nullptr};
+    };
+    const ris_mis_target<T, decltype(mixed_pmf)> t_mixed{&f.r.view, &mixed_pmf, n1, n2, vpl_mode::point, f.tol};
+    CHECK(t_mixed(0, gps[0].gp, full.kept) == T(0));
+    CHECK(t_mixed(1, gps[1].gp, full.kept) == full.target);
+    ris_reservoir<T> empty;
+    empty.confidence = T(16);
+    const ris_reservoir<T> b = ris_combine_with(gps[0].gp, 0, empty, pixels, 2, load, u, mis, t_mixed);
+    CHECK_FALSE(ris_reservoir_has_sample(b));
+    CHECK(b.weight_sum == T(0));
+  }
+}
+
+TEMPLATE_TEST_CASE("ris-mis hard case: reuse with more neighbours than the bound, tiny images, NaN numbers",
+                   "[hardcases][ris-mis]", float, double) {
+  using T = TestType;
+  const room<T> f;
+  const gbuffer_data<T> gb = f.r.scene.make_gbuffer(3, 2);
+  const auto g = gb.view();
+  const T n1 = T(2), n2 = T(3);
+  std::vector<ris_reservoir<T>> res(std::size_t(g.pixel_count()));
+  for (int p = 0; p < g.pixel_count(); ++p) {
+    counter_rng r = make_counter_rng(8u, std::uint32_t(p));
+    res[std::size_t(p)] = ris_mis_resample(g.at(p), f.r.view, f.flux, r, 4, n1, n2, vpl_mode::patch, f.tol);
+  }
+  const auto load = [&](int p) { return ris_neighbour<T>{g.at(p), res[std::size_t(p)]}; };
+  const auto dist_of = [&](int) -> const defensive_mixture<T>& { return f.flux; };
+  ris_spatial_settings<T> s;
+  s.neighbours = 1000;
+  s.radius = 100;
+  s.min_normal_cos = T(-2);
+  s.max_plane_slope = std::numeric_limits<T>::infinity();
+  for (int p = 0; p < g.pixel_count(); ++p) {
+    counter_rng rng = make_counter_rng(9u, std::uint32_t(p));
+    const ris_reservoir<T> out = ris_mis_spatial_reuse(g.at(p), p, g.width, g.height, f.r.view, res[std::size_t(p)],
+                                                       load, s, rng, dist_of, n1, n2, vpl_mode::patch, f.tol);
+    CHECK(rng.counter == std::uint32_t(1 + 3 * ris_max_neighbours));
+    CHECK(finite_nonneg(ris_mis_shade(g.at(p), f.r.view, f.flux, out, f.r.vis, n1, n2, vpl_mode::patch, f.tol)));
+    CHECK(out.confidence <= T(4 * (1 + ris_max_neighbours)));
+  }
+  const T nan = std::numeric_limits<T>::quiet_NaN();
+  const T u[3] = {nan, T(-1), T(5)};
+  const int pixels[2] = {1, 2};
+  const ris_mis_target<T, decltype(dist_of)> target{&f.r.view, &dist_of, n1, n2, vpl_mode::patch, f.tol};
+  const ris_reservoir<T> out = ris_combine_with(g.at(0), 0, res[0], pixels, 2, load, u, ris_reuse_mis::pairwise, target);
+  CHECK(finite_nonneg(ris_mis_shade(g.at(0), f.r.view, f.flux, out, f.r.vis, n1, n2, vpl_mode::patch, f.tol)));
 }

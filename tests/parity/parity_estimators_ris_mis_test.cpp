@@ -5,8 +5,9 @@
 // (DPRSM R = 32, 32^3 voxels, a 24 x 24 G-buffer, voxel visibility and the voxel tracer on both
 // sides), point and patch VPLs: h without visibility (ris_mis_unshadowed), one candidate's weight,
 // a reservoir (kept sample, weight_sum, confidence) and its shade, and the whole estimate_ris_mis
-// per gather point, with its range form. Hard cases: n_dirs = 0, n_ris = 0, n_candidates = 0,
-// negative counts, candidates whose targets are all 0 (a denormal pmf, an index outside the view),
+// per gather point, with its range form, and the spatial reuse (ris_mis_spatial_reuse.glsl) over the
+// G-buffer with pairwise and balance MIS and a distribution per pixel. Hard cases: n_dirs = 0,
+// n_ris = 0, n_candidates = 0, negative counts, candidates whose targets are all 0 (a denormal pmf, an index outside the view),
 // one texel for every candidate, patch points moved to the texel centre (h = 0 when n1 > 0),
 // gather points on a VPL and next to one, background and NaN points.
 //
@@ -36,6 +37,8 @@
 #include <vplkit/distribution/weighted_reservoir.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_spatial_reuse.hpp>
+#include <vplkit/estimators/ris_params.h>
 #include <vplkit/visibility/visibility_callables.hpp>
 
 #include <algorithm>
@@ -794,4 +797,141 @@ TEST_CASE("estimate_ris_mis: GPU vs C++ per gather point, point and patch, hard 
       compared_total += pts.size() - flipped;
     }
   std::cout << "  estimate_ris_mis: " << compared_total << " estimates compared, " << flipped_total << " flipped\n";
+}
+
+TEST_CASE("ris_mis spatial reuse: GPU vs C++ over a G-buffer (pairwise and balance, per-pixel distributions)") {
+  const scene_fixture& f = fixture();
+  const auto view = f.view();
+  const auto g = f.gbuffer.view();
+  const float tol = window();
+  const float n1 = 8.0f, n2 = 4.0f;
+  const distribution_ref cdf{}, one_texel = fixed_case(1.0f, false);
+  const std::string head = std::string(kept_visible_glsl) + R"(
+#include "vplkit/estimators/ris_params.h"
+#include "vplkit/estimators/ris_mis_spatial_reuse.glsl"
+layout(std430, binding = 11) readonly buffer Records { vplkit_ris_reservoir_record records[]; };
+vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) { return vplkit_ris_reservoir_from_record(records[pixel]); }
+uint vplkit_ris_reuse_distribution(int pixel) { return (ip2.x != 0 && pixel % 7 == 0) ? 1u : 0u; }
+)";
+  // ip.y = K, ip.z = vpl mode, ip.w = radius; ip2.x = mixed distributions, ip2.y = mis, ip2.z =
+  // reject; fp.x = n1, fp.y = window, fp.z = n2.
+  const std::string body = R"(  int pixel = int(i);
+  vplkit_gather_point gp = vplkit_load_gather_point(pixel);
+  vplkit_dprsm_view view = load_view();
+  vplkit_ris_spatial_settings s = vplkit_make_ris_spatial_settings();
+  s.neighbours = ip.y;
+  s.radius = ip.w;
+  s.mis = ip2.y;
+  if (ip2.z == 0) { s.min_normal_cos = -2.0; s.max_plane_slope = uintBitsToFloat(0x7F800000u); }
+  vplkit_counter_rng rng = vplkit_make_counter_rng(0x915u, i);
+  vplkit_ris_reservoir r = vplkit_ris_mis_spatial_reuse(gp, pixel, 24, 24, view, vplkit_load_ris_reservoir(pixel), s,
+                                                        rng, fp.x, fp.z, ip.z, fp.y);
+  uint d = vplkit_ris_reuse_distribution(pixel);
+  vplkit_visibility vis = vplkit_make_voxel_visibility(load_grid());
+  vec3 shade = vplkit_ris_mis_shade(gp, view, d, r, vis, fp.x, fp.z, ip.z, fp.y);
+  result[i] = out4(vec4(shade, r.weight_sum), vec4(r.kept.xi, r.target, r.confidence),
+                   ivec4(r.kept.texel, int(rng.counter), VPLKIT_RIS_MAX_NEIGHBOURS, 0),
+                   uvec4(kept_visible(gp, view, d, r, vis, fp.x, fp.z, ip.z, fp.y), 0u, 0u, 0u));
+)";
+  struct config {
+    vplkit::ris_reuse_mis mis;
+    bool reject, mixed;
+    const char* name;
+  };
+  const config configs[] = {{vplkit::ris_reuse_mis::pairwise, true, false, "pairwise, rejecting, one distribution"},
+                            {vplkit::ris_reuse_mis::pairwise, false, true, "pairwise, no rejection, per-pixel"},
+                            {vplkit::ris_reuse_mis::balance, false, true, "balance, no rejection, per-pixel"}};
+  std::size_t flipped = 0, compared = 0, vis_flips = 0, with_sample = 0;
+  for (const vplkit::vpl_mode mode : {vplkit::vpl_mode::point, vplkit::vpl_mode::patch})
+    for (const config& cfg : configs) {
+      // The pixel's distribution, as vplkit_ris_reuse_distribution picks it.
+      const auto dist_of = [&](int p) -> const distribution_ref& { return cfg.mixed && p % 7 == 0 ? one_texel : cdf; };
+      std::vector<vplkit::gpu::ris_reservoir_record> records;
+      for (int p = 0; p < g.pixel_count(); ++p) {
+        vplkit::counter_rng rng = vplkit::make_counter_rng(0x733u, std::uint32_t(p));
+        records.push_back(vplkit::gpu::make_ris_reservoir_record(
+            vplkit::ris_mis_resample(g.at(p), view, dist_of(p), rng, 8, n1, n2, mode, tol)));
+      }
+      vplkit::ris_spatial_settings<float> s;
+      s.neighbours = 6;
+      s.radius = 4;
+      s.mis = cfg.mis;
+      if (!cfg.reject) {
+        s.min_normal_cos = -2.0f;
+        s.max_plane_slope = inf;
+      }
+      scene_params p = f.params();
+      p.ip.y = s.neighbours;
+      p.ip.z = int(mode);
+      p.ip.w = s.radius;
+      p.ip2.x = cfg.mixed ? 1 : 0;
+      p.ip2.y = int(cfg.mis);
+      p.ip2.z = cfg.reject ? 1 : 0;
+      p.fp.x = n1;
+      p.fp.y = tol;
+      p.fp.z = n2;
+      const std::string what = std::string(mode == vplkit::vpl_mode::patch ? "patch, " : "point, ") + cfg.name;
+      const auto gpu = run(head, body, std::size_t(g.pixel_count()), std::size_t(g.pixel_count()), p, {}, one_texel,
+                           {input(11, records)}, "ris_mis_spatial_reuse.comp");
+      const auto load = [&](int q) {
+        return vplkit::ris_neighbour<float>{g.at(q), vplkit::gpu::ris_reservoir_from_record(records[std::size_t(q)])};
+      };
+      vplkit::parity::series<std::int32_t> texel, counter, constant, visible;
+      vplkit::parity::series<float> confidence;
+      std::vector<float> tg, tc, wg, wc, sg, sc;
+      std::vector<double> tr, wr, sr;
+      for (int q = 0; q < g.pixel_count(); ++q) {
+        vplkit::counter_rng rng = vplkit::make_counter_rng(0x915u, std::uint32_t(q));
+        const vplkit::ris_reservoir<float> r = vplkit::ris_mis_spatial_reuse(
+            g.at(q), q, g.width, g.height, view, vplkit::gpu::ris_reservoir_from_record(records[std::size_t(q)]), load,
+            s, rng, dist_of, n1, n2, mode, tol);
+        const out4& o = gpu[std::size_t(q)];
+        counter.add(o.c.y, std::int32_t(rng.counter));
+        constant.add(o.c.z, vplkit::ris_max_neighbours);
+        confidence.add(o.b.w, r.confidence);
+        if (o.c.x != r.kept.texel || o.b.x != r.kept.xi.x || o.b.y != r.kept.xi.y) {
+          // A neighbour's rejection (a normalised dot against a threshold) or a selection (weights
+          // carrying the GPU's rounding of the targets) at a tie.
+          ++flipped;
+          continue;
+        }
+        ++compared;
+        with_sample += vplkit::ris_reservoir_has_sample(r) ? 1 : 0;
+        texel.add(o.c.x, r.kept.texel);
+        const std::uint32_t vis_cpu = kept_visible(g.at(q), view, dist_of(q), r, n1, n2, mode, tol);
+        if (o.d[0] != vis_cpu) {
+          ++vis_flips;
+          continue;
+        }
+        visible.add(std::int32_t(o.d[0]), std::int32_t(vis_cpu));
+        // The target: h's float chain and conditioning at q. The weight sum: K + 1 MIS weights, each
+        // a quotient of sums of confidence-weighted targets (each within the same kind of bound),
+        // times a target and a stored W: a few targets' errors over the pairwise shares.
+        const double h_rel = base_rel + 2.0 * h_conditioning(g.at(q), view, r.kept, mode, tol);
+        tg.push_back(o.b.z), tc.push_back(r.target), tr.push_back(h_rel);
+        const double w_rel = 8.0 * base_rel + 4.0 * h_rel;
+        wg.push_back(o.a.w), wc.push_back(r.weight_sum), wr.push_back(w_rel);
+        const auto v = vplkit::ris_mis_shade(g.at(q), view, dist_of(q), r,
+                                             vplkit::voxel_visibility<float>{f.grid.view()}, n1, n2, mode, tol);
+        for (int c = 0; c < 3; ++c) sg.push_back(o.a[c]), sc.push_back(v[c]), sr.push_back(2.0 * h_rel + w_rel);
+      }
+      const auto describe = [&](std::size_t) { return what; };
+      VPLKIT_CHECK_PARITY(compare_exact(counter, describe, "ris_mis reuse " + what + ": stream counters"));
+      VPLKIT_CHECK_PARITY(compare_exact(constant, describe, "VPLKIT_RIS_MAX_NEIGHBOURS"));
+      VPLKIT_CHECK_PARITY(compare_exact(texel, describe, "ris_mis reuse " + what + ": kept texels"));
+      VPLKIT_CHECK_PARITY(compare_exact(visible, describe, "ris_mis reuse " + what + ": kept samples' visibility"));
+      // Sums of a few confidences, exact in float.
+      VPLKIT_CHECK_PARITY(compare_floats(confidence, within_ulps(0), describe, "ris_mis reuse " + what + ": confidence"));
+      std::size_t zf = 0;
+      CHECK(check_rel("ris_mis reuse " + what + ": target", tg, tc, tr, zf) == 0);
+      CHECK(check_rel("ris_mis reuse " + what + ": weight sum", wg, wc, wr, zf) == 0);
+      CHECK(check_rel("ris_mis reuse " + what + ": shade h V W", sg, sc, sr, zf) == 0);
+      if (bit_exact_device()) CHECK(zf == 0);
+    }
+  std::cout << "  ris_mis reuse: " << compared << " pixels compared (" << with_sample << " with a sample), " << flipped
+            << " with a kept sample that differs, " << vis_flips << " with a kept sample's visibility that differs\n";
+  CHECK(with_sample > compared / 2);
+  CHECK(flipped <= compared / 100);
+  if (bit_exact_device()) CHECK(vis_flips == 0);
+  else CHECK(vis_flips <= compared / 100);
 }

@@ -3,8 +3,9 @@
 // cornell at 48x32 (DPRSM 2x32^2, 32^3 voxels, patch VPLs): its image mean equals mis's (the same
 // estimand, the unclamped one-bounce integral) with every candidate source, over the whole image
 // and at the pixels on depth edges; it has no clamp (dmin changes nothing, no compensation is
-// added); the image does not depend on the thread count; its details name its settings; and
-// --spatial is refused with a clear error.
+// added); with spatial reuse (--spatial 4, vplkit::ris_mis_spatial_reuse) its image mean is mis's
+// too, over the image and at the depth edges; the image does not depend on the thread count, with
+// and without reuse; its details name its settings.
 #include "renderer_gl_fixture.hpp"
 
 #include "cli/render_options.hpp"
@@ -105,18 +106,20 @@ TEST_CASE("ris-mis on the CPU backend: its image mean is mis's, with every candi
   std::printf("ris-mis on cornell 48x32 (patch VPLs): mis mean %.5f, at %zu edge pixels %.5f\n", ref, edges.size(),
               ref_edges);
   for (const ris_source_choice source :
-       {ris_source_choice::global, ris_source_choice::local, ris_source_choice::gbg, ris_source_choice::flux}) {
-    options o = ris_mis_options(f, 32, 8);
-    o.candidate_source = source;
-    const image_rgb img = render(f, o).image;
-    const double m = mean_of(img), e = mean_of(img, edges);
-    std::printf("  %-6s 32 + 32, M = 8: mean %+.2f %%, edge pixels %+.2f %%\n", to_string(source),
-                100.0 * (m / ref - 1.0), 100.0 * (e / ref_edges - 1.0));
-    INFO(to_string(source));
-    CHECK(finite_non_negative(img));
-    CHECK(std::abs(m / ref - 1.0) < 0.01);
-    CHECK(std::abs(e / ref_edges - 1.0) < 0.03);
-  }
+       {ris_source_choice::global, ris_source_choice::local, ris_source_choice::gbg, ris_source_choice::flux})
+    for (const int spatial : {0, 4}) {
+      options o = ris_mis_options(f, 32, 8);
+      o.candidate_source = source;
+      o.spatial = spatial;
+      const image_rgb img = render(f, o).image;
+      const double m = mean_of(img), e = mean_of(img, edges);
+      std::printf("  %-6s 32 + 32, M = 8, spatial %d: mean %+.2f %%, edge pixels %+.2f %%\n", to_string(source),
+                  spatial, 100.0 * (m / ref - 1.0), 100.0 * (e / ref_edges - 1.0));
+      INFO(to_string(source) << " spatial " << spatial);
+      CHECK(finite_non_negative(img));
+      CHECK(std::abs(m / ref - 1.0) < 0.01);
+      CHECK(std::abs(e / ref_edges - 1.0) < 0.03);
+    }
 }
 
 TEST_CASE("ris-mis on the CPU backend: no clamp, no compensation") {
@@ -142,7 +145,7 @@ TEST_CASE("ris-mis on the CPU backend: no clamp, no compensation") {
   CHECK(std::memcmp(c.rgb.data(), d.rgb.data(), c.rgb.size() * sizeof(float)) != 0);
 }
 
-TEST_CASE("ris-mis on the CPU backend: thread count, details, and --spatial refused") {
+TEST_CASE("ris-mis on the CPU backend: thread count and details, with and without spatial reuse") {
   const fixture& f = shared_fixture();
   options o = ris_mis_options(f, 3, 5);
   o.candidate_source = ris_source_choice::local;
@@ -156,9 +159,14 @@ TEST_CASE("ris-mis on the CPU backend: thread count, details, and --spatial refu
   CHECK(det["ris"]["dirs"] == 3);
   CHECK(det["ris"]["spatial"] == 0);
   CHECK(det.contains("lit_test"));
-  // --spatial K > 0 reaching the backend (the command line refuses it first): an error naming it.
-  render_settings es = make_render_settings(o, f.p.s);
-  es.ris_spatial = 2;
-  stage_timer t;
-  CHECK_THROWS_WITH(render_cpu(f.b, es, t), Catch::Contains("--method ris-mis: --spatial 2 is not supported"));
+  // With reuse (per-region distributions: each pixel's target uses its own region's pmf).
+  o.spatial = 2;
+  const render_result r1 = render(f, o, 1), r2 = render(f, o, 2);
+  CHECK(mean_of(r1.image) > 0.0);
+  CHECK(finite_non_negative(r1.image));
+  CHECK(std::memcmp(r1.image.rgb.data(), r2.image.rgb.data(), r1.image.rgb.size() * sizeof(float)) == 0);
+  CHECK(std::memcmp(r1.image.rgb.data(), one.image.rgb.data(), r1.image.rgb.size() * sizeof(float)) != 0);
+  CHECK(r2.details["ris"]["spatial"] == 2);
+  CHECK(r2.details["ris"]["reuse_mis"] == "pairwise");
+  CHECK(r2.details["ris"].contains("radius"));
 }

@@ -4,8 +4,10 @@
 // CPU backend's distributions (build_distributions_cpu, the candidate source's; per region for
 // local), tracer and visibility, and its per-pixel stream and finish (cpu_ris_mis_image below, the
 // loop the CPU backend runs for ris-mis as it runs estimate_mis for mis); the steps split over
-// dispatches give the image of one dispatch; the refusals (--spatial, the loop limit); and the
-// image mean of ris-mis against mis's, which estimate the same unclamped integral.
+// dispatches give the image of one dispatch; with spatial reuse (--spatial K, rounds of a candidate
+// and a reuse dispatch) the image of the CPU backend's rounds (render/cpu/ris_render.hpp); the
+// refusal of candidates beyond the loop limit; and the image mean of ris-mis against mis's, which
+// estimate the same unclamped integral.
 //
 // The bound, as renderer_gpu_parity_ris_test's: the GPU builds its candidate sources' weights and
 // CDFs itself (float neighbours of the CPU's values) and traces its gathering directions through
@@ -229,20 +231,78 @@ TEST_CASE("ris-mis on the GPU: the steps split over dispatches give the image of
   CHECK(one.image.rgb == split.image.rgb);
 }
 
-TEST_CASE("ris-mis on the GPU: --spatial and candidates beyond the software driver's loop limit are refused") {
+TEST_CASE("ris-mis with spatial reuse: the GPU image equals the CPU backend's for every candidate source") {
+  // Rounds of a candidate and a reuse dispatch (estimate_ris_mis.comp's VR_RIS_PASS) against
+  // render/cpu/ris_render.hpp's rounds: the same streams, neighbours, targets (each pixel's own
+  // distribution: per region for local) and gathering directions.
+  const fixture& f = shared_fixture();
+  struct run {
+    ris_source_choice source;
+    int spatial, candidates, vpls, dirs;
+    vpl_mode_choice mode;
+  };
+  // gbg's mixture is drawn as global's (one mixture for every pixel): global stands for both, to
+  // keep the number of kernel variants (each compiled on llvmpipe) down.
+  const run runs[] = {{ris_source_choice::global, 3, 8, 3, 4, vpl_mode_choice::patch},
+                      {ris_source_choice::local, 3, 8, 3, 4, vpl_mode_choice::patch},  // a pmf per region
+                      {ris_source_choice::flux, 3, 8, 4, 2, vpl_mode_choice::patch},  // more RIS rounds than dirs
+                      {ris_source_choice::flux, 2, 1, 2, 0, vpl_mode_choice::point}};  // no gathering
+  bool first = true;
+  for (const run& r : runs) {
+    options o = f.o;
+    o.meth = method::ris_mis;
+    o.candidate_source = r.source;
+    o.spatial = r.spatial;
+    o.candidates = r.candidates;
+    o.vpl_mode = r.mode;
+    o.vpls = r.vpls;
+    o.dirs = r.dirs;
+    o.regions = 2;
+    const render_settings es = settings_of(f, o);
+    stage_timer tc, tg;
+    const render_result c = render_cpu(f.b, es, tc), g = render_gpu(f.b, es, tg);
+    const double within = agreeing(c.image, g.image);
+    std::printf("ris-mis %-6s --spatial %d --candidates %d --vpls %d --dirs %d --vpl-mode %s: %.1f %% of pixels "
+                "within %g, means cpu %.6f gpu %.6f\n",
+                to_string(r.source), r.spatial, r.candidates, r.vpls, r.dirs, to_string(r.mode), 100.0 * within,
+                rel_bound, mean_of(c.image), mean_of(g.image));
+    INFO(to_string(r.source) << " --spatial " << r.spatial << " --vpls " << r.vpls << " --dirs " << r.dirs);
+    CHECK(finite_non_negative(c.image));
+    CHECK(finite_non_negative(g.image));
+    CHECK(mean_of(g.image) > 0.0);
+    CHECK(within >= required_fraction);
+    // Reuse changes the image (the check above compares two reusing renders).
+    if (first) {
+      options o0 = o;
+      o0.spatial = 0;
+      stage_timer t0;
+      CHECK(render_gpu(f.b, settings_of(f, o0), t0).image.rgb != g.image.rgb);
+      first = false;
+    }
+    const int rounds = std::max(r.vpls, r.dirs);
+    CHECK(g.details["gpu"]["passes"] == 2 * rounds);
+    CHECK(g.details["ris"]["spatial"] == r.spatial);
+    CHECK(g.details["ris"]["reuse_mis"] == "pairwise");
+    CHECK(g.details["ris"]["mis"] == "balance");
+  }
+}
+
+TEST_CASE("ris-mis on the GPU: candidates beyond the software driver's loop limit are refused") {
   const fixture& f = shared_fixture();
   options o = f.o;
   o.meth = method::ris_mis;
-  o.spatial = 2;
   stage_timer t;
-  CHECK_THROWS_WITH(render_gpu(f.b, settings_of(f, o), t),
-                    Catch::Contains("--method ris-mis --spatial 2") && Catch::Contains("use --spatial 0"));
-  // Under llvmpipe's loop budget a step's M candidates cannot be split over dispatches.
-  o.spatial = 0;
-  o.candidates = 60000;
-  o.vpls = 1;
-  render_settings es = settings_of(f, o);
-  es.loop_budget = loop_budget_choice::always;
-  CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("--method ris-mis --candidates 60000") &&
-                                                Catch::Contains("exceed the software GL driver's loop limit"));
+  // Under llvmpipe's loop budget a step's M candidates cannot be split over dispatches, with or
+  // without reuse.
+  for (const int spatial : {0, 2}) {
+    o.spatial = spatial;
+    o.candidates = 60000;
+    o.vpls = 1;
+    render_settings es = settings_of(f, o);
+    es.loop_budget = loop_budget_choice::always;
+    INFO("spatial " << spatial);
+    CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("--method ris-mis") &&
+                                                  Catch::Contains("--candidates 60000") &&
+                                                  Catch::Contains("exceed the software GL driver's loop limit"));
+  }
 }

@@ -3,12 +3,16 @@
 // shares estimate_ris_params.h's block with estimate_ris.comp through estimate_ris_source.glsl)
 // against the GL driver: the RIS block lies where the C++ struct puts it, at the binding the header
 // names, with and without the per-region candidate source, and the shared estimate block keeps its
-// layout (renderer_gpu_estimate_params_test, renderer_gpu_ris_params_test for --method ris).
+// layout (renderer_gpu_estimate_params_test, renderer_gpu_ris_params_test for --method ris), in
+// every pass (VR_RIS_PASS: the estimate, and spatial reuse's candidate and reuse passes); the
+// reservoir records of the reuse passes have the C++ layout.
 #include "render/gpu/estimate_kernels.hpp"
 #include "render/pipeline.hpp"
 
 #include "estimate_params.h"
 #include "estimate_ris_params.h"
+
+#include <vplkit/estimators/ris_params.h>
 
 #include <headless_gl/compute.hpp>
 
@@ -38,10 +42,12 @@ TEST_CASE("estimate_ris_params.h: the C++ RIS block has estimate_ris_mis.comp's 
       VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
   const gpu_kernel_stage& stage = gpu_kernel_for(method::ris_mis).stages.front();
   CHECK(gpu_kernel_path(stage) == "examples/vplrender/shaders/estimate_ris_mis.comp");
+  for (int pass : {ris_pass_estimate, ris_pass_candidates, ris_pass_reuse})
   for (bool per_region : {false, true}) {
-    INFO((per_region ? "VR_RIS_PER_REGION" : "one mixture"));
+    INFO("VR_RIS_PASS " << pass << (per_region ? " VR_RIS_PER_REGION" : " one mixture"));
     pipeline_gl_context();
     std::string d = "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n#define VR_VPL_MODE 1\n#define VR_VARIANT 1\n";
+    if (pass != ris_pass_estimate) d += "#define VR_RIS_PASS " + std::to_string(pass) + "\n";
     if (per_region) d += "#define VR_RIS_PER_REGION\n";
     const GLuint prog = gpu_kernel_program(stage, d).id();
     CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_DATA_SIZE)) == sizeof(R));
@@ -55,4 +61,33 @@ TEST_CASE("estimate_ris_params.h: the C++ RIS block has estimate_ris_mis.comp's 
     CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_DATA_SIZE)) ==
           sizeof(gpu::estimate_params));
   }
+}
+
+TEST_CASE("estimate_ris_mis.comp: the reservoir records have the C++ layout in the reuse passes") {
+  using Q = vplkit::gpu::ris_reservoir_record;
+  const std::vector<member> members = {VR_MEMBER(Q, texel),  VR_MEMBER(Q, xi_x),       VR_MEMBER(Q, xi_y),
+                                       VR_MEMBER(Q, weight_sum), VR_MEMBER(Q, target), VR_MEMBER(Q, confidence),
+                                       VR_MEMBER(Q, pad0),   VR_MEMBER(Q, pad1)};
+  const gpu_kernel_stage& stage = gpu_kernel_for(method::ris_mis).stages.front();
+  const auto program = [&](int pass) {
+    pipeline_gl_context();
+    std::string d = "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n#define VR_VPL_MODE 1\n#define VR_VARIANT 1\n";
+    if (pass != ris_pass_estimate) d += "#define VR_RIS_PASS " + std::to_string(pass) + "\n";
+    return gpu_kernel_program(stage, d).id();
+  };
+  for (int pass : {ris_pass_candidates, ris_pass_reuse}) {
+    INFO("VR_RIS_PASS " << pass);
+    const GLuint prog = program(pass);
+    CHECK(resource_value(prog, GL_SHADER_STORAGE_BLOCK, "VrRisReservoirs", GL_BUFFER_BINDING) ==
+          VR_RIS_BINDING_RESERVOIRS);
+    for (const member& m : members) {
+      if (m.name.rfind("pad", 0) == 0) continue;  // never read: the driver may drop it
+      const std::string name = "vr_reservoirs[0]." + m.name;
+      CHECK(std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_OFFSET)) == m.offset);
+      CHECK(std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_TOP_LEVEL_ARRAY_STRIDE)) == sizeof(Q));
+    }
+  }
+  // Without reuse the kernel has no reservoir buffer.
+  CHECK(glGetProgramResourceIndex(program(ris_pass_estimate), GL_SHADER_STORAGE_BLOCK, "VrRisReservoirs") ==
+        GL_INVALID_INDEX);
 }

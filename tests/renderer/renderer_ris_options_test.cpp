@@ -69,7 +69,7 @@ TEST_CASE("ris options: --help documents the method and its flags") {
   }
 }
 
-TEST_CASE("ris options: ris-mis takes --dirs, --vpls and the candidate flags, and refuses --spatial") {
+TEST_CASE("ris options: ris-mis takes --dirs, --vpls, the candidate flags and --spatial") {
   const options o = parse({"--method", "ris-mis", "--backend", "cpu", "--dirs", "6", "--vpls", "5", "--candidates",
                            "8", "--candidate-source", "local"});
   CHECK(o.meth == method::ris_mis);
@@ -82,9 +82,10 @@ TEST_CASE("ris options: ris-mis takes --dirs, --vpls and the candidate flags, an
   CHECK(has_distribution(method::ris_mis));
   CHECK(uses_vpls(method::ris_mis));
   CHECK(parse({"--method", "ris-mis", "--backend", "cpu", "--spatial", "0"}).spatial == 0);
-  // Spatial reuse of its MIS-weighted target is not built: an error naming the flag and the method.
-  const std::string e = error_of({"--method", "ris-mis", "--backend", "cpu", "--spatial", "4"});
-  CHECK(starts_with(e, "--spatial: 4 is not supported with --method ris-mis"));
+  // Spatial reuse over its MIS-weighted target, on both backends.
+  CHECK(parse({"--method", "ris-mis", "--backend", "cpu", "--spatial", "4"}).spatial == 4);
+  CHECK(parse({"--method", "ris-mis", "--backend", "gpu", "--spatial", "4"}).spatial == 4);
+  CHECK(starts_with(error_of({"--method", "ris-mis", "--spatial", "17"}), "--spatial"));
   // No clamp: the compensation never applies to it, whatever --clamp-compensation says.
   render_settings s;
   s.meth = method::ris_mis;
@@ -101,7 +102,8 @@ TEST_CASE("ris options: --help documents ris-mis") {
     const bool space = c == ' ' || c == '\n';
     if (!(space && !h.empty() && h.back() == ' ')) h += space ? ' ' : c;
   }
-  for (const char* s : {"|ris-mis", "ris-mis = RIS as the VPL strategy of mis", "Not with ris-mis"}) {
+  for (const char* s : {"|ris-mis", "ris-mis = RIS as the VPL strategy of mis", "--method ris and ris-mis: neighbours",
+                        "ris-mis: over its MIS-weighted target"}) {
     INFO(s);
     CHECK(h.find(s) != std::string::npos);
   }

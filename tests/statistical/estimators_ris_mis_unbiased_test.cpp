@@ -12,6 +12,10 @@
 //   patch VPLs, n_dirs = n_ris = 4                    -> estimate_mis with patch VPLs (two-sample)
 //   pixels of a 20 x 20 G-buffer at depth edges and inside surfaces -> E at that pixel (point),
 //     estimate_mis there (patch)
+//   spatial reuse (ris_mis_spatial_reuse.hpp) at those pixels, pairwise and balance MIS, with and
+//     without rejection, neighbours drawing from another distribution than the receiver (the CDF
+//     with holes against flux)                    -> E of the receiver's distribution (point),
+//     estimate_mis there (patch)
 // Criterion: the mean of K independent estimates within 4 standard errors of the reference on every
 // channel (plus the quadrature's accuracy for E). Run the program to see the tables.
 // estimators_patch_room_test.cpp checks ris-mis against the exhaustive patch references of the room
@@ -26,6 +30,7 @@
 #include <vplkit/estimators/gathering_estimator.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_spatial_reuse.hpp>
 #include <vplkit/estimators/vpl_sampling_estimator.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
 
@@ -242,4 +247,182 @@ TEST_CASE("ris-mis is unbiased at pixels on depth edges and inside surfaces") {
       CHECK(within_sigma(r, E, 4.0, 3e-3 * E));
       CHECK(runs_agree(p, q, 4.0));
     }
+}
+
+namespace {
+
+// ris-mis with spatial reuse at one pixel of the fixture's G-buffer, one round of the renderer's
+// (render/cpu/ris_render.hpp): every pixel the reuse asks for gets its reservoir of m candidates
+// (ris_mis_resample with its own distribution, dist_of(p)) from its own stream of that run; then
+// the reuse at `pixel` (ris_mis_spatial_reuse) with the run's stream, the shade h_q V W with the
+// receiver's distribution (one RIS sample: the 1/n2 of n2 = 1 such rounds), and n1 gathering
+// directions weighed against n2.
+template <class DistOf>
+vec3<double> reuse_ris_mis_estimate(const fixture& f, int pixel, std::uint32_t run_seed, counter_rng& rng, int m,
+                                    int n1, int n2, const ris_spatial_settings<double>& settings,
+                                    const DistOf& dist_of, vpl_mode mode) {
+  const auto& view = f.room.view;
+  const gbuffer_view<double> g = f.gb.view();
+  std::vector<int> made(std::size_t(g.pixel_count()), 0);
+  std::vector<ris_reservoir<double>> res(std::size_t(g.pixel_count()));
+  const auto reservoir = [&](int p) -> const ris_reservoir<double>& {
+    if (!made[std::size_t(p)]) {
+      counter_rng r = make_counter_rng(run_seed, std::uint32_t(p));
+      res[std::size_t(p)] = dist_of(p).resample(g.at(p), r, m, n1, n2, mode);
+      made[std::size_t(p)] = 1;
+    }
+    return res[std::size_t(p)];
+  };
+  const auto load = [&](int p) { return ris_neighbour<double>{g.at(p), reservoir(p)}; };
+  const gather_point<double> gp = g.at(pixel);
+  const ris_reservoir<double> out = ris_mis_spatial_reuse(gp, pixel, g.width, g.height, view, reservoir(pixel), load,
+                                                          settings, rng, dist_of, double(n1), double(n2), mode,
+                                                          depth_tol);
+  vec3<double> sum = dist_of(pixel).shade(gp, out, double(n1), double(n2), mode);
+  const orthonormal_basis<double> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
+  for (int j = 0; j < n1; ++j) {
+    const double u0 = rng_next_unit<double>(rng), u1 = rng_next_unit<double>(rng);
+    sum += dist_of(pixel).gather(gp, frame, sample_cosine_hemisphere(vec2<double>(u0, u1)), double(n1), double(n2),
+                                 mode);
+  }
+  return sum;
+}
+
+// One candidate distribution with the calls the reuse estimate makes (the pmf for the target).
+template <class Dist>
+struct ris_mis_source {
+  const fixture* f;
+  const Dist* dist;
+  double pmf(std::size_t i) const { return dist->pmf(i); }
+  ris_reservoir<double> resample(const gather_point<double>& gp, counter_rng& rng, int m, int n1, int n2,
+                                 vpl_mode mode) const {
+    return ris_mis_resample(gp, f->room.view, *dist, rng, m, double(n1), double(n2), mode, depth_tol);
+  }
+  vec3<double> shade(const gather_point<double>& gp, const ris_reservoir<double>& r, double n1, double n2,
+                     vpl_mode mode) const {
+    return ris_mis_shade(gp, f->room.view, *dist, r, f->room.vis, n1, n2, mode, depth_tol);
+  }
+  vec3<double> gather(const gather_point<double>& gp, const orthonormal_basis<double>& frame, vec3<double> dir,
+                      double n1, double n2, vpl_mode mode) const {
+    return mis_gathering_sample(gp, f->room.view, *dist, frame, dir, f->room.tracer, depth_tol, n1, n2,
+                                mis_mode::solid_angle, mode);
+  }
+};
+
+// The pixel's candidate distribution: flux everywhere, or (mixed) the CDF with holes (no defensive
+// part: pmf 0 on the back face) on even pixels and flux on odd ones, so that a neighbour's pmf
+// differs from the receiver's (as with --candidate-source local across a region boundary) and a
+// neighbour's sample may lie where the receiver's pmf, hence its target, is 0.
+struct dist_by_pixel {
+  ris_mis_source<discrete_cdf<double>> mixture;
+  ris_mis_source<defensive_mixture<double>> flux;
+  bool mixed;
+  struct either {
+    const dist_by_pixel* d;
+    bool use_mixture;
+    double pmf(std::size_t i) const { return use_mixture ? d->mixture.pmf(i) : d->flux.pmf(i); }
+    ris_reservoir<double> resample(const gather_point<double>& gp, counter_rng& rng, int m, int n1, int n2,
+                                   vpl_mode mode) const {
+      return use_mixture ? d->mixture.resample(gp, rng, m, n1, n2, mode) : d->flux.resample(gp, rng, m, n1, n2, mode);
+    }
+    vec3<double> shade(const gather_point<double>& gp, const ris_reservoir<double>& r, double n1, double n2,
+                       vpl_mode mode) const {
+      return use_mixture ? d->mixture.shade(gp, r, n1, n2, mode) : d->flux.shade(gp, r, n1, n2, mode);
+    }
+    vec3<double> gather(const gather_point<double>& gp, const orthonormal_basis<double>& frame, vec3<double> dir,
+                        double n1, double n2, vpl_mode mode) const {
+      return use_mixture ? d->mixture.gather(gp, frame, dir, n1, n2, mode) : d->flux.gather(gp, frame, dir, n1, n2, mode);
+    }
+  };
+  either operator()(int p) const { return {this, mixed && p % 2 == 0}; }
+};
+
+}  // namespace
+
+TEST_CASE("ris-mis with spatial reuse is unbiased, at depth edges too, with and without rejection") {
+  const fixture& f = fx();
+  const auto& [scene, dprsm, view, gps, vis, tracer] = f.room;
+  const gbuffer_view<double> g = f.gb.view();
+  const std::vector<int> edges = test_pixels(f, true), inside = test_pixels(f, false);
+  REQUIRE(edges.size() == 4);
+  REQUIRE(inside.size() == 4);
+  const int runs = 2000, n1 = 4, n2 = 4, m = 8;
+  struct config {
+    const char* name;
+    ris_reuse_mis mis;
+    bool reject;
+    bool mixed;
+  };
+  const config configs[] = {{"pairwise", ris_reuse_mis::pairwise, true, false},
+                            {"pairwise, no rejection", ris_reuse_mis::pairwise, false, false},
+                            {"balance, no rejection", ris_reuse_mis::balance, false, false},
+                            {"pairwise, sources by pixel", ris_reuse_mis::pairwise, false, true}};
+  std::printf("ris-mis with spatial reuse (K = 4, radius 3), %d runs x (%d dirs + 1 reused RIS sample of M = %d, "
+              "weights of n2 = %d), 20 x 20 G-buffer; ref = E of estimate_mis with the receiver's distribution\n",
+              runs, n1, m, n2);
+  const ris_mis_source<discrete_cdf<double>> mixture{&f, &f.holes};
+  const ris_mis_source<defensive_mixture<double>> flux{&f, &f.flux};
+  std::uint32_t seed = 9000;
+  for (const bool edge : {true, false})
+    for (const int pixel : edge ? edges : inside) {
+      const gather_point<double> gp = g.at(pixel);
+      const std::string where = (edge ? "edge pixel " : "pixel ") + std::to_string(pixel);
+      const vec3<double> e_flux = mis_expectation(scene, view, f.flux, gp, n1, n2, depth_tol, mis_mode::solid_angle,
+                                                  quad_m);
+      const vec3<double> e_mixture = mis_expectation(scene, view, f.holes, gp, n1, n2, depth_tol,
+                                                     mis_mode::solid_angle, quad_m);
+      for (const config& c : configs) {
+        ris_spatial_settings<double> s;
+        s.neighbours = 4;
+        s.radius = 3;
+        s.mis = c.mis;
+        if (!c.reject) {
+          s.min_normal_cos = -2.0;
+          s.max_plane_slope = std::numeric_limits<double>::infinity();
+        }
+        const dist_by_pixel dist_of{mixture, flux, c.mixed};
+        const vec3<double> E = c.mixed && pixel % 2 == 0 ? e_mixture : e_flux;
+        ++seed;
+        const run_stats r = repeat_estimates(runs, seed, [&](counter_rng& rng) {
+          return reuse_ris_mis_estimate(f, pixel, seed * 7919u + rng.key, rng, m, n1, n2, s, dist_of,
+                                        vpl_mode::point);
+        });
+        print_row(c.name, where, r, E);
+        INFO(where << " " << c.name);
+        REQUIRE(luminance(E) > 0.0);
+        CHECK(within_sigma(r, E, 4.0, 3e-3 * E));
+      }
+    }
+}
+
+TEST_CASE("ris-mis with spatial reuse and patch VPLs converges to estimate_mis's patch estimand") {
+  const fixture& f = fx();
+  const auto& [scene, dprsm, view, gps, vis, tracer] = f.room;
+  const gbuffer_view<double> g = f.gb.view();
+  const int runs = 2000, n1 = 4, n2 = 4, m = 8;
+  ris_spatial_settings<double> s;
+  s.neighbours = 4;
+  s.radius = 3;
+  s.min_normal_cos = -2.0;
+  s.max_plane_slope = std::numeric_limits<double>::infinity();
+  const ris_mis_source<discrete_cdf<double>> mixture{&f, &f.holes};
+  const ris_mis_source<defensive_mixture<double>> flux{&f, &f.flux};
+  const dist_by_pixel dist_of{mixture, flux, true};
+  std::printf("ris-mis with spatial reuse, patch VPLs, sources by pixel, %d runs: against estimate_mis\n", runs);
+  for (const int pixel : test_pixels(f, true)) {
+    const run_stats r = repeat_estimates(runs, 9801u, [&](counter_rng& rng) {
+      return reuse_ris_mis_estimate(f, pixel, 0x98100u + rng.key, rng, m, n1, n2, s, dist_of, vpl_mode::patch);
+    });
+    const run_stats q = repeat_estimates(runs, 9802u, [&](counter_rng& rng) {
+      const gather_point<double> gp = g.at(pixel);
+      return pixel % 2 == 0 ? estimate_mis(gp, view, f.holes, rng, n1, n2, tracer, vis, depth_tol,
+                                           mis_mode::solid_angle, vpl_mode::patch)
+                            : estimate_mis(gp, view, f.flux, rng, n1, n2, tracer, vis, depth_tol,
+                                           mis_mode::solid_angle, vpl_mode::patch);
+    });
+    std::printf("  edge pixel %-4d reuse %.6f +- %.6f  mis %.6f +- %.6f\n", pixel, r.lum_mean, r.lum_sem, q.lum_mean,
+                q.lum_sem);
+    INFO("pixel " << pixel);
+    CHECK(runs_agree(r, q, 4.0));
+  }
 }

@@ -4,8 +4,13 @@
 // --candidates candidates from the candidate source, balanced as --method mis balances its VPL
 // draws (vplkit_estimate_ris_mis_range). Its steps are the units (a step: one RIS sample and one
 // direction, as mis's); they split over dispatches like mis's (VR_SPLIT). Unclamped: no clamp
-// compensation, and no spatial reuse (the backend refuses --spatial). The host puts "#version 430"
-// first and the variant's defines (estimate_params.h, estimate_ris_params.h) in the preamble.
+// compensation. With --spatial K > 0 (VR_RIS_PASS, estimate_ris_params.h) the steps are rounds of
+// two dispatches, in the order of render/cpu/ris_render.hpp's render_ris_mis_cpu: the candidate
+// pass writes each pixel's reservoir (if the round is below n2), the reuse pass combines it with K
+// neighbours' (vplkit_ris_mis_spatial_reuse: each pixel's target with its own distribution's pmf),
+// shades it and traces the round's gathering direction (if below n1); the round is vr_params.begin.
+// The host puts "#version 430" first and the variant's defines (estimate_params.h,
+// estimate_ris_params.h) in the preamble.
 //
 // Why a kernel of its own, and not a switch in estimate_ris.comp (reasoned for NVIDIA Hopper, warps
 // of 32, not measured on llvmpipe): a GPU allocates a kernel's registers for the largest set of
@@ -29,6 +34,26 @@
 #include "estimate_distributions.glsl"
 #include "estimate_ris_source.glsl"
 #include "vplkit/estimators/ris_mis_estimator.glsl"
+#include "vplkit/estimators/ris_params.h"
+#if VR_RIS_PASS == VR_RIS_PASS_REUSE
+#include "vplkit/estimators/ris_mis_spatial_reuse.glsl"
+#endif
+
+#if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
+layout(std430, binding = VR_RIS_BINDING_RESERVOIRS) restrict writeonly buffer VrRisReservoirs {
+  vplkit_ris_reservoir_record vr_reservoirs[];
+};
+#elif VR_RIS_PASS == VR_RIS_PASS_REUSE
+layout(std430, binding = VR_RIS_BINDING_RESERVOIRS) restrict readonly buffer VrRisReservoirs {
+  vplkit_ris_reservoir_record vr_reservoirs[];
+};
+vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) {
+  vplkit_ris_reservoir_record r = vr_reservoirs[pixel];  // a local copy: see vr_unpack_mixture
+  return vplkit_ris_reservoir_from_record(r);
+}
+// A neighbour's target uses its own candidate distribution (its region's for local).
+uint vplkit_ris_reuse_distribution(int pixel) { return vr_ris_distribution(uint(pixel)); }
+#endif
 
 void main() {
   uint p = vr_pixel();
@@ -36,8 +61,9 @@ void main() {
   vplkit_gather_point gp = vplkit_load_gather_point(int(p));
   bool valid = vplkit_gather_point_valid(gp);
   vplkit_estimator_state est = vr_begin_estimate(p);
+  if (valid) vr_load_mixtures();
+#if VR_RIS_PASS == VR_RIS_PASS_ESTIMATE
   if (valid) {
-    vr_load_mixtures();
     vplkit_voxel_grid grid = vr_grid();
     vplkit_estimate_ris_mis_range(gp, vr_view(), vr_ris_distribution(p), est, vr_begin(), vr_end(), vr_params.n_dirs,
                                   vr_params.n_vpls, vr_ris.candidates, vr_make_tracer(grid), vr_make_visibility(grid),
@@ -45,4 +71,45 @@ void main() {
   }
   vr_keep_estimate(p, est);
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_mis_finish(est));
+#else
+  // The round's counts, as vplkit_estimate_ris_mis_range normalises them.
+  int round = vr_begin();
+  int n_dirs = max(vr_params.n_dirs, 0);
+  int n_ris = vr_ris.candidates > 0 ? max(vr_params.n_vpls, 0) : 0;
+  float n1 = float(n_dirs), n2 = float(n_ris);
+#if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
+  // An invalid pixel's record is the empty reservoir (as on the CPU; see estimate_ris.comp).
+  vplkit_ris_reservoir r = vplkit_make_ris_reservoir();
+  if (valid && round < n_ris)
+    r = vplkit_ris_mis_resample(gp, vr_view(), vr_ris_distribution(p), est.rng, vr_ris.candidates, n1, n2,
+                                VR_VPL_MODE, vr_params.depth_tolerance);
+  vr_reservoirs[p] = vplkit_make_ris_reservoir_record(r);
+  vr_keep_estimate(p, est);
+#else
+  if (valid) {
+    vplkit_voxel_grid grid = vr_grid();
+    uint d = vr_ris_distribution(p);
+    if (round < n_ris) {
+      vplkit_ris_spatial_settings settings = vplkit_ris_spatial_settings(vr_ris.neighbours, vr_ris.radius,
+                                                                         vr_ris.min_normal_cos,
+                                                                         vr_ris.max_plane_slope, vr_ris.mis);
+      vplkit_ris_reservoir r = vplkit_ris_mis_spatial_reuse(gp, int(p), vr_params.width, vr_params.height, vr_view(),
+                                                            vplkit_load_ris_reservoir(int(p)), settings, est.rng, n1,
+                                                            n2, VR_VPL_MODE, vr_params.depth_tolerance);
+      est.sum += vplkit_ris_mis_shade(gp, vr_view(), d, r, vr_make_visibility(grid), n1, n2, VR_VPL_MODE,
+                                      vr_params.depth_tolerance) / n2;
+    }
+    if (round < n_dirs) {
+      float u0 = vplkit_rng_next_unit(est.rng);
+      float u1 = vplkit_rng_next_unit(est.rng);
+      vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
+      est.sum += vplkit_mis_gathering_sample(gp, vr_view(), d, frame, vplkit_sample_cosine_hemisphere(vec2(u0, u1)),
+                                             vr_make_tracer(grid), vr_params.depth_tolerance, n1, n2,
+                                             vplkit_mis_solid_angle, VR_VPL_MODE);
+    }
+  }
+  vr_keep_estimate(p, est);
+  if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_mis_finish(est));
+#endif
+#endif
 }

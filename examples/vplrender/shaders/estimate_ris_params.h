@@ -17,6 +17,9 @@
 //   With reuse, each of the --vpls rounds is a candidate dispatch and a reuse dispatch; the
 //   pixel's sum and random stream live in the state buffer (VR_SPLIT 1) between them, in the order
 //   of render/cpu/ris_render.hpp, so the two backends draw the same numbers.
+//   estimate_ris_mis.comp (--method ris-mis) has the same three passes: without reuse (the pass
+//   define left out) its steps; with reuse max(--dirs, n2) rounds, the round in begin, the reuse
+//   pass also tracing the step's gathering direction (vplkit_ris_mis_spatial_reuse).
 #ifndef VPLRENDER_ESTIMATE_RIS_PARAMS_H
 #define VPLRENDER_ESTIMATE_RIS_PARAMS_H
 

@@ -10,6 +10,10 @@
 //   vplkit_gather_point vplkit_load_gather_point(int pixel);   (core/gather_point.glsl)
 //   vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel); (e.g. vplkit_ris_reservoir_from_record
 //                                                               of a ris_params.h record)
+// The target is a vplkit_ris_reuse_target (C++: a callable): ris's ris_target, or, with
+// VPLKIT_RIS_MIS_REUSE defined (ris_mis_spatial_reuse.glsl does), ris-mis's MIS-weighted target,
+// which reads the distribution hooks of mis_estimator.glsl and the accessor
+//   uint vplkit_ris_reuse_distribution(int pixel);             (the pixel's candidate distribution)
 // Neighbours are passed as pixel indices and loaded where needed, so a kernel holds K ints, not K
 // reservoirs and gather points (registers; VPLKIT_RIS_MAX_NEIGHBOURS may be lowered by a #define
 // before the include).
@@ -24,6 +28,13 @@
 #include "vplkit/mis/heuristics.glsl"
 #include "vplkit/sampling/rng.glsl"
 #include "vplkit/vpl/dprsm_view.glsl"
+#ifdef VPLKIT_RIS_MIS_REUSE
+// No conditional #include (include_resolver.hpp inlines every file once, #if or not):
+// ris_mis_spatial_reuse.glsl includes ris_mis_estimator.glsl before this file.
+#ifndef VPLKIT_ESTIMATORS_RIS_MIS_ESTIMATOR_GLSL
+#error "VPLKIT_RIS_MIS_REUSE: include vplkit/estimators/ris_mis_spatial_reuse.glsl instead of ris_spatial_reuse.glsl"
+#endif
+#endif
 
 #ifndef VPLKIT_RIS_MAX_NEIGHBOURS
 #define VPLKIT_RIS_MAX_NEIGHBOURS 16  // C++ ris_max_neighbours
@@ -80,18 +91,67 @@ float vplkit_ris_pair_share(float a, float b) {
   return s > 0.0 ? vplkit_mis_div(a, s) : 0.0;
 }
 
-// Combines gp's canonical reservoir with the reservoirs of neighbour_pixels[0 .. n) (loaded
-// through the accessors), u[0] the canonical's selection number, u[1 + j] neighbour j's; offered
-// in the order neighbours, then canonical.
-vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_ris_reservoir canonical,
-                                        int neighbour_pixels[VPLKIT_RIS_MAX_NEIGHBOURS], int n,
-                                        float u[VPLKIT_RIS_MAX_NEIGHBOURS + 1], int mis, float dmin, int vpl_mode,
-                                        float depth_tolerance) {
+// The target of a reuse (C++: the callable target(pixel, g, s) of ris_combine_with). GLSL has no
+// callables, so the kinds the pack knows are a small struct: --method ris's ris_target
+// (vplkit_ris_reuse_target_unshadowed, C++ ris_unshadowed_target) and, compiled in with
+// VPLKIT_RIS_MIS_REUSE (ris_mis_spatial_reuse.glsl defines it), the MIS-weighted target of
+// ris_mis_estimator.glsl (vplkit_ris_reuse_target_mis, C++ ris_mis_target).
+const int vplkit_ris_reuse_target_unshadowed = 0;
+const int vplkit_ris_reuse_target_mis = 1;
+
+struct vplkit_ris_reuse_target {
+  int kind;                // one of the constants above
+  vplkit_dprsm_view view;
+  float dmin;              // unshadowed
+  int vpl_mode;
+  float depth_tolerance;
+  float n1;                // mis: the gathering directions and RIS samples of the estimate
+  float n2;
+};
+
+vplkit_ris_reuse_target vplkit_make_ris_unshadowed_target(vplkit_dprsm_view view, float dmin, int vpl_mode,
+                                                          float depth_tolerance) {
+  return vplkit_ris_reuse_target(vplkit_ris_reuse_target_unshadowed, view, dmin, vpl_mode, depth_tolerance, 0.0, 0.0);
+}
+
+#ifdef VPLKIT_RIS_MIS_REUSE
+// The candidate distribution of pixel `pixel` (the id the distribution hooks take): ris-mis's target
+// at a pixel uses its own distribution's pmf.
+uint vplkit_ris_reuse_distribution(int pixel);
+
+vplkit_ris_reuse_target vplkit_make_ris_mis_target(vplkit_dprsm_view view, float n1, float n2, int vpl_mode,
+                                                   float depth_tolerance) {
+  return vplkit_ris_reuse_target(vplkit_ris_reuse_target_mis, view, 0.0, vpl_mode, depth_tolerance, n1, n2);
+}
+#endif
+
+// p_hat of the sample s at the gather point g of pixel `pixel`.
+float vplkit_ris_reuse_target_at(vplkit_ris_reuse_target t, int pixel, vplkit_gather_point g, vplkit_ris_sample s) {
+#ifdef VPLKIT_RIS_MIS_REUSE
+  if (t.kind == vplkit_ris_reuse_target_mis) {
+    if (s.texel < 0 || s.texel >= vplkit_dprsm_view_texel_count(t.view)) return 0.0;
+    float pmf = vplkit_estimator_pmf(vplkit_estimator_distribution_pmf(vplkit_ris_reuse_distribution(pixel),
+                                                                       uint(s.texel)));
+    vplkit_vpl v;
+    float p = vplkit_luminance(vplkit_ris_mis_unshadowed(g, t.view, s, pmf, t.n1, t.n2, t.vpl_mode,
+                                                         t.depth_tolerance, v));
+    return vplkit_reservoir_weight_usable(p) ? p : 0.0;
+  }
+#endif
+  return vplkit_ris_target(g, vplkit_ris_sample_vpl(t.view, s, t.vpl_mode, t.depth_tolerance), t.dmin);
+}
+
+// Combines the canonical reservoir of gp (pixel `pixel`) with the reservoirs of
+// neighbour_pixels[0 .. n) (loaded through the accessors), u[0] the canonical's selection number,
+// u[1 + j] neighbour j's; offered in the order neighbours, then canonical; p_hat from `target`.
+vplkit_ris_reservoir vplkit_ris_combine_with(vplkit_gather_point gp, int pixel, vplkit_ris_reservoir canonical,
+                                             int neighbour_pixels[VPLKIT_RIS_MAX_NEIGHBOURS], int n,
+                                             float u[VPLKIT_RIS_MAX_NEIGHBOURS + 1], int mis,
+                                             vplkit_ris_reuse_target target) {
   vplkit_ris_reservoir out_r = vplkit_make_ris_reservoir();
   if (!vplkit_gather_point_valid(gp)) return out_r;
   n = clamp(n, 0, VPLKIT_RIS_MAX_NEIGHBOURS);
   bool has_c = vplkit_ris_reservoir_has_sample(canonical);
-  vplkit_vpl v_c = vplkit_ris_sample_vpl(view, canonical.kept, vpl_mode, depth_tolerance);
   float m_c_conf = canonical.confidence;
   float m_n = 0.0;
   for (int j = 0; j < n; ++j) m_n += vplkit_load_ris_reservoir(neighbour_pixels[j]).confidence;
@@ -105,17 +165,17 @@ vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_vie
   float m_c = mis == vplkit_ris_reuse_pairwise ? m_c_conf / m_sum : 0.0;
   float balance_c = m_c_conf * canonical.target;
   for (int j = 0; j < n; ++j) {
-    vplkit_gather_point g_j = vplkit_load_gather_point(neighbour_pixels[j]);
-    vplkit_ris_reservoir r_j = vplkit_load_ris_reservoir(neighbour_pixels[j]);
+    int pj = neighbour_pixels[j];
+    vplkit_gather_point g_j = vplkit_load_gather_point(pj);
+    vplkit_ris_reservoir r_j = vplkit_load_ris_reservoir(pj);
     float m_j = r_j.confidence;
-    float p_j_at_c = has_c ? vplkit_ris_target(g_j, v_c, dmin) : 0.0;
+    float p_j_at_c = has_c ? vplkit_ris_reuse_target_at(target, pj, g_j, canonical.kept) : 0.0;
     if (mis == vplkit_ris_reuse_pairwise)
       m_c += (m_j / m_sum) * vplkit_ris_pair_share(m_c_conf * canonical.target, m_n * p_j_at_c);
     else
       balance_c += m_j * p_j_at_c;
     if (!vplkit_ris_reservoir_has_sample(r_j)) continue;
-    vplkit_vpl v_j = vplkit_ris_sample_vpl(view, r_j.kept, vpl_mode, depth_tolerance);
-    float target_q = vplkit_ris_target(gp, v_j, dmin);
+    float target_q = vplkit_ris_reuse_target_at(target, pixel, gp, r_j.kept);
     if (!(target_q > 0.0)) continue;
     float w = 0.0;
     if (mis == vplkit_ris_reuse_pairwise) {
@@ -125,8 +185,9 @@ vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_vie
       float denominator = m_c_conf * target_q + m_j * r_j.target;
       for (int s = 0; s < n; ++s) {
         if (s == j) continue;
-        vplkit_gather_point g_s = vplkit_load_gather_point(neighbour_pixels[s]);
-        denominator += vplkit_load_ris_reservoir(neighbour_pixels[s]).confidence * vplkit_ris_target(g_s, v_j, dmin);
+        int ps = neighbour_pixels[s];
+        vplkit_gather_point g_s = vplkit_load_gather_point(ps);
+        denominator += vplkit_load_ris_reservoir(ps).confidence * vplkit_ris_reuse_target_at(target, ps, g_s, r_j.kept);
       }
       w = denominator > 0.0 ? vplkit_mis_div(m_j * target_q * r_j.weight_sum, denominator) : 0.0;
     }
@@ -152,12 +213,21 @@ vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_vie
   return out_r;
 }
 
+// vplkit_ris_combine_with for --method ris's target.
+vplkit_ris_reservoir vplkit_ris_combine(vplkit_gather_point gp, vplkit_dprsm_view view, vplkit_ris_reservoir canonical,
+                                        int neighbour_pixels[VPLKIT_RIS_MAX_NEIGHBOURS], int n,
+                                        float u[VPLKIT_RIS_MAX_NEIGHBOURS + 1], int mis, float dmin, int vpl_mode,
+                                        float depth_tolerance) {
+  return vplkit_ris_combine_with(gp, -1, canonical, neighbour_pixels, n, u, mis,
+                                 vplkit_make_ris_unshadowed_target(view, dmin, vpl_mode, depth_tolerance));
+}
+
 // Picks up to settings.neighbours neighbours of `pixel` and combines their reservoirs with gp's
-// canonical one.
-vplkit_ris_reservoir vplkit_ris_spatial_reuse(vplkit_gather_point gp, int pixel, int width, int height,
-                                              vplkit_dprsm_view view, vplkit_ris_reservoir canonical,
-                                              vplkit_ris_spatial_settings settings, inout vplkit_counter_rng rng,
-                                              float dmin, int vpl_mode, float depth_tolerance) {
+// canonical one, p_hat from `target`.
+vplkit_ris_reservoir vplkit_ris_spatial_reuse_with(vplkit_gather_point gp, int pixel, int width, int height,
+                                                   vplkit_ris_reservoir canonical,
+                                                   vplkit_ris_spatial_settings settings, inout vplkit_counter_rng rng,
+                                                   vplkit_ris_reuse_target target) {
   if (!vplkit_gather_point_valid(gp)) return vplkit_make_ris_reservoir();
   int attempts = clamp(settings.neighbours, 0, VPLKIT_RIS_MAX_NEIGHBOURS);
   int pixels[VPLKIT_RIS_MAX_NEIGHBOURS];
@@ -176,7 +246,16 @@ vplkit_ris_reservoir vplkit_ris_spatial_reuse(vplkit_gather_point gp, int pixel,
     u[n + 1] = us;
     ++n;
   }
-  return vplkit_ris_combine(gp, view, canonical, pixels, n, u, settings.mis, dmin, vpl_mode, depth_tolerance);
+  return vplkit_ris_combine_with(gp, pixel, canonical, pixels, n, u, settings.mis, target);
+}
+
+// vplkit_ris_spatial_reuse_with for --method ris's target.
+vplkit_ris_reservoir vplkit_ris_spatial_reuse(vplkit_gather_point gp, int pixel, int width, int height,
+                                              vplkit_dprsm_view view, vplkit_ris_reservoir canonical,
+                                              vplkit_ris_spatial_settings settings, inout vplkit_counter_rng rng,
+                                              float dmin, int vpl_mode, float depth_tolerance) {
+  return vplkit_ris_spatial_reuse_with(gp, pixel, width, height, canonical, settings, rng,
+                                       vplkit_make_ris_unshadowed_target(view, dmin, vpl_mode, depth_tolerance));
 }
 
 #endif  // VPLKIT_ESTIMATORS_RIS_SPATIAL_REUSE_GLSL

@@ -179,8 +179,8 @@ void build_app(CLI::App& app, raw_values& v) {
                    "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them)."))
       ->type_name("global|local|gbg|flux");
   app.add_option("--spatial", v.spatial,
-                 d("--method ris: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = off; "
-                   "0..16; docs/math.md section 13). Not with ris-mis."))
+                 d("--method ris and ris-mis: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = "
+                   "off; 0..16; docs/math.md section 13; ris-mis: over its MIS-weighted target)."))
       ->type_name("K");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
@@ -462,11 +462,6 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                           {"gbg", ris_source_choice::gbg},
                                                           {"flux", ris_source_choice::flux}});
   if (given("--spatial")) o.spatial = static_cast<int>(parse_integer("--spatial", v.spatial, 0, limits::max_spatial));
-  // ris-mis's target is MIS-weighted (docs/math.md, "RIS with gathering"): reusing a neighbour's
-  // sample would need that weight at the receiving pixel, which the reuse does not compute.
-  if (o.meth == method::ris_mis && o.spatial > 0)
-    bad("--spatial", std::to_string(o.spatial) + " is not supported with --method ris-mis (spatial reuse is built "
-                     "for --method ris only); use --spatial 0");
   if (!traits(o.meth).gpu && o.back == backend::gpu)
     bad(std::string("--method ") + to_string(o.meth),
         "runs on --backend cpu only for now (its GPU kernels are not written yet); add --backend cpu");

@@ -8,7 +8,8 @@
 // neighbours' (vplkit::ris_spatial_reuse, pairwise MIS: unbiased) and shades the result. One
 // record per pixel whatever the sample count: the rounds reuse it. ris-mis: per pixel
 // vplkit::estimate_ris_mis, --vpls RIS samples balanced against --dirs gathering directions
-// (docs/math.md, "RIS with gathering"); unclamped, so without compensation, and without reuse.
+// (docs/math.md, "RIS with gathering"); unclamped, so without compensation; with --spatial K > 0
+// in rounds of the same two passes (vplkit::ris_mis_spatial_reuse, render_ris_mis_cpu's comment).
 #include "render/cpu/cpu_frame.hpp"
 #include "render/cpu/parallel.hpp"
 #include "render/ris_spatial.hpp"
@@ -18,6 +19,7 @@
 #include <vplkit/builders/local_weights.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
+#include <vplkit/estimators/ris_mis_spatial_reuse.hpp>
 #include <vplkit/estimators/ris_params.h>
 #include <vplkit/estimators/ris_spatial_reuse.hpp>
 #include <vplkit/estimators/vpl_sum.hpp>
@@ -55,36 +57,110 @@ struct ris_candidate_source {
   }
 };
 
-// Renders --method ris-mis into `image` (as render_ris_cpu, without compensation or reuse: its
-// estimand is the unclamped integral, and spatial reuse of its MIS-weighted target is not built).
-// `tracer` traces its gathering directions (render_cpu's, with the run's --lit-test).
+// Renders --method ris-mis into `image` (as render_ris_cpu, without compensation: its estimand is
+// the unclamped integral). `tracer` traces its gathering directions (render_cpu's, with the run's
+// --lit-test). Without reuse, per pixel vplkit::estimate_ris_mis. With --spatial K > 0 the steps
+// j < max(--dirs, --vpls) of estimate_ris_mis become rounds over the image: a candidate pass (if
+// j < n2: each pixel's reservoir of its own M candidates from its own distribution,
+// ris_mis_resample, into a ris_params.h record), then a reuse pass (if j < n2: the pixel's
+// reservoir combined with K neighbours', vplkit::ris_mis_spatial_reuse, pairwise MIS, the target
+// with each pixel's own pmf, and shaded with the receiver's distribution, h V W / n2; then, if
+// j < n1, one gathering direction weighed against n2 as in estimate_ris_mis).
+// Random numbers, per pixel one stream (seed, pixel), per round in this order: the M candidates
+// (ris_mis_resample's layout), the reuse's 1 + 3K (ris_spatial_reuse.hpp), the direction's u0, u1;
+// each part only in the rounds where it runs. The GPU backend follows the same layout.
 template <class Dist, class Tracer, class Visibility>
 void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist* dists, int n_dists,
                         const Tracer& tracer, const Visibility& visibility, float depth_tol, vplkit::vpl_mode vmode,
                         float* image, stage_timer& timer, const progress_fn& progress, nlohmann::json& det) {
-  if (s.ris_spatial > 0)
-    throw vplkit::invalid_input("--method ris-mis: --spatial " + std::to_string(s.ris_spatial) +
-                                " is not supported (spatial reuse is built for --method ris only; use --spatial 0)");
   const vplkit::gbuffer_view<float>& g = f.g;
   const vplkit::dprsm_view<float>& view = f.view;
   const int W = f.W, H = f.H;
   const ris_candidate_source<Dist> dist_of(dists, n_dists, s, W, H);
+  const vplkit::ris_spatial_settings<float> spatial = ris_spatial_settings_for(W, H, s.ris_spatial);
   det["ris"] = {{"candidates", s.ris_candidates}, {"candidate_source", to_string(s.ris_source)},
-                {"spatial", 0}, {"dirs", s.dirs}, {"mis", "balance"}};
-  auto t = timer.scoped("estimate (cpu)");
-  parallel_items(H, f.threads, "render", progress, [&](int y, int) {
-    for (int p = y * W; p < (y + 1) * W; ++p) {
-      const vplkit::gather_point<float> gp = g.at(p);
-      vplkit::vec3<float> c(0.0f);
-      if (vplkit::gather_point_valid(gp)) {
-        vplkit::counter_rng rng = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
-        c = vplkit::estimate_ris_mis(gp, view, dist_of(p), rng, s.dirs, s.vpls, s.ris_candidates, tracer, visibility,
-                                     depth_tol, vmode);
-        if (s.direct) c += vplkit::direct_light(gp, view);
-        c = vplkit::estimator_finite_or_zero(glm::max(c, vplkit::vec3<float>(0.0f)));
-      }
-      for (int k = 0; k < 3; ++k) image[3 * std::size_t(p) + std::size_t(k)] = c[k];
+                {"spatial", s.ris_spatial}, {"dirs", s.dirs}, {"mis", "balance"}};
+  if (s.ris_spatial > 0)
+    det["ris"].update({{"radius", spatial.radius}, {"min_normal_cos", spatial.min_normal_cos},
+                       {"max_plane_slope", spatial.max_plane_slope}, {"reuse_mis", "pairwise"}});
+  const auto finish = [&](int p, vplkit::vec3<float> c) {
+    const vplkit::gather_point<float> gp = g.at(p);
+    if (vplkit::gather_point_valid(gp)) {
+      if (s.direct) c += vplkit::direct_light(gp, view);
+      c = vplkit::estimator_finite_or_zero(glm::max(c, vplkit::vec3<float>(0.0f)));
+    } else {
+      c = vplkit::vec3<float>(0.0f);
     }
+    for (int k = 0; k < 3; ++k) image[3 * std::size_t(p) + std::size_t(k)] = c[k];
+  };
+  auto t = timer.scoped("estimate (cpu)");
+  if (s.ris_spatial <= 0) {
+    parallel_items(H, f.threads, "render", progress, [&](int y, int) {
+      for (int p = y * W; p < (y + 1) * W; ++p) {
+        const vplkit::gather_point<float> gp = g.at(p);
+        vplkit::vec3<float> c(0.0f);
+        if (vplkit::gather_point_valid(gp)) {
+          vplkit::counter_rng rng = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
+          c = vplkit::estimate_ris_mis(gp, view, dist_of(p), rng, s.dirs, s.vpls, s.ris_candidates, tracer,
+                                       visibility, depth_tol, vmode);
+        }
+        finish(p, c);
+      }
+    });
+    return;
+  }
+  const int M = s.ris_candidates;
+  const int n_dirs = std::max(0, s.dirs), n_ris = M > 0 ? std::max(0, s.vpls) : 0;
+  const float n1 = float(n_dirs), n2 = float(n_ris);
+  const int rounds = std::max(n_dirs, n_ris);
+  const int n_pixels = W * H;
+  std::vector<vplkit::counter_rng> rng(static_cast<std::size_t>(n_pixels));
+  for (int p = 0; p < n_pixels; ++p) rng[std::size_t(p)] = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
+  std::vector<vplkit::gpu::ris_reservoir_record> records(
+      static_cast<std::size_t>(n_pixels), vplkit::gpu::make_ris_reservoir_record(vplkit::ris_reservoir<float>{}));
+  std::vector<vplkit::vec3<float>> sum(static_cast<std::size_t>(n_pixels), vplkit::vec3<float>(0.0f));
+  const auto load = [&](int q) {
+    return vplkit::ris_neighbour<float>{g.at(q), vplkit::gpu::ris_reservoir_from_record(records[std::size_t(q)])};
+  };
+  for (int round = 0; round < rounds; ++round) {
+    if (progress) progress("render", static_cast<std::uint64_t>(round), static_cast<std::uint64_t>(rounds));
+    const bool ris_round = round < n_ris, dir_round = round < n_dirs;
+    if (ris_round)
+      parallel_items(H, f.threads, "", {}, [&](int y, int) {
+        for (int p = y * W; p < (y + 1) * W; ++p) {
+          const vplkit::gather_point<float> gp = g.at(p);
+          if (!vplkit::gather_point_valid(gp)) continue;
+          records[std::size_t(p)] = vplkit::gpu::make_ris_reservoir_record(vplkit::ris_mis_resample(
+              gp, view, dist_of(p), rng[std::size_t(p)], M, n1, n2, vmode, depth_tol));
+        }
+      });
+    parallel_items(H, f.threads, "", {}, [&](int y, int) {
+      for (int p = y * W; p < (y + 1) * W; ++p) {
+        const vplkit::gather_point<float> gp = g.at(p);
+        if (!vplkit::gather_point_valid(gp)) continue;
+        vplkit::counter_rng& r = rng[std::size_t(p)];
+        if (ris_round) {
+          const vplkit::ris_reservoir<float> reused = vplkit::ris_mis_spatial_reuse(
+              gp, p, W, H, view, vplkit::gpu::ris_reservoir_from_record(records[std::size_t(p)]), load, spatial, r,
+              dist_of, n1, n2, vmode, depth_tol);
+          sum[std::size_t(p)] += vplkit::ris_mis_shade(gp, view, dist_of(p), reused, visibility, n1, n2, vmode,
+                                                       depth_tol) / n2;
+        }
+        if (dir_round) {
+          const float u0 = vplkit::rng_next_unit<float>(r);
+          const float u1 = vplkit::rng_next_unit<float>(r);
+          const vplkit::orthonormal_basis<float> frame =
+              vplkit::make_orthonormal_basis(vplkit::gather_point_shading_normal(gp));
+          sum[std::size_t(p)] += vplkit::mis_gathering_sample(
+              gp, view, dist_of(p), frame, vplkit::sample_cosine_hemisphere(vplkit::vec2<float>(u0, u1)), tracer,
+              depth_tol, n1, n2, vplkit::mis_mode::solid_angle, vmode);
+        }
+      }
+    });
+  }
+  if (progress) progress("render", static_cast<std::uint64_t>(rounds), static_cast<std::uint64_t>(rounds));
+  parallel_items(H, f.threads, "", {}, [&](int y, int) {
+    for (int p = y * W; p < (y + 1) * W; ++p) finish(p, sum[std::size_t(p)]);
   });
 }
 

@@ -150,7 +150,9 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
   }
   if (!s.dprsm_planes) d += define("VR_DPRSM_PLANES", 0);
   if (t.estimator == estimator_kind::ris) {
-    if (t.variant == 0) d += define("VR_RIS_PASS", ris_pass);  // ris-mis has one pass
+    // ris-mis without reuse has one pass (and keeps its define list); with reuse both kernels have
+    // the candidate and reuse passes.
+    if (t.variant == 0 || ris_pass != ris_pass_estimate) d += define("VR_RIS_PASS", ris_pass);
     if (s.ris_source == ris_source_choice::local) d += "#define VR_RIS_PER_REGION\n";
   }
   return d;
@@ -187,6 +189,10 @@ std::string clamp_compensation_defines(const render_settings& s, visibility_choi
 
 long long ris_round_cost(const render_settings& s, const shape_inputs& in, int ris_pass) {
   if (ris_pass == ris_pass_candidates) return ris_candidates_cost(s, in) + 4;
+  // ris-mis: the reuse (its targets cost a pmf look-up more), the shade's query and the step's
+  // gathering direction; unclamped, no compensation.
+  if (traits(s.meth).variant == 1)
+    return 8LL * std::max(0, s.ris_spatial) + cdf_cost(in) + dda_cost(in) + gathering_ray_cost(in) + 8;
   // The reuse: per attempt a similarity test and (pairwise MIS) two targets; the shade's query;
   // in the last round the whole clamp compensation (its directions are not split there).
   const long long compensation = uses_clamp_compensation(s) && !gpu_clamp_compensation_compacted(s)

@@ -154,11 +154,19 @@ std::vector<gpu::mixture_record> mixture_records(const gpu_mixtures& gm, gpu::es
   return out;
 }
 
-// --method ris with spatial reuse: rounds of a candidate and a reuse dispatch (estimate_ris_params.h).
-// (ris-mis has no reuse: render_gpu refuses --spatial with it.)
+// --method ris and ris-mis with spatial reuse: rounds of a candidate and a reuse dispatch
+// (estimate_ris_params.h).
 bool ris_reuses(const render_settings& es) {
   const method_traits& t = traits(es.meth);
-  return t.estimator == estimator_kind::ris && t.variant == 0 && es.ris_spatial > 0;
+  return t.estimator == estimator_kind::ris && es.ris_spatial > 0;
+}
+
+// The rounds of a reuse: ris's --vpls samples; ris-mis's steps, max(--dirs, n2) with n2 = --vpls
+// (0 without candidates), as render/cpu/ris_render.hpp's render_ris_mis_cpu.
+int ris_reuse_rounds(const render_settings& es) {
+  if (traits(es.meth).variant == 0) return std::max(1, es.vpls);
+  const int n_ris = es.ris_candidates > 0 ? std::max(0, es.vpls) : 0;
+  return std::max(1, std::max(std::max(0, es.dirs), n_ris));
 }
 
 // estimate_ris_params.h's block for es on a W x H image.
@@ -202,7 +210,7 @@ int gpu_pass_count(const render_settings& es, int dprsm_resolution, const vplkit
   const int rounds = std::max(1, es.vpls / std::max(1, regions));
   const shape_inputs in{dprsm_resolution, gpu_query_cost(nullptr, visibility_of(es), voxel_resolution), regions,
                         rounds, gpu_lit_test_shadow_ray(es)};
-  if (ris_reuses(es)) return 2 * std::max(1, es.vpls);  // a candidate and a reuse dispatch per round
+  if (ris_reuses(es)) return 2 * ris_reuse_rounds(es);  // a candidate and a reuse dispatch per round
   int passes = 0;
   for (const gpu_kernel_stage& stage : gpu_kernel_for(es.meth).stages) {
     const work_shape s = stage.shape(es, in);
@@ -408,11 +416,6 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   // --method ris: its block (estimate_ris_params.h), constant over the render, and with spatial
   // reuse the reservoirs between a round's two dispatches (ris_params.h's 32-byte records).
   const bool ris = mt.estimator == estimator_kind::ris;
-  // ris-mis's target carries its MIS weight against the pixel's own gathering: a neighbour's
-  // reservoir would need it re-evaluated at the receiving pixel, which the reuse pass does not do.
-  if (ris && mt.variant == 1 && es.ris_spatial > 0)
-    throw vplkit::invalid_input("--method ris-mis --spatial " + std::to_string(es.ris_spatial) +
-                                ": spatial reuse is built for --method ris only; use --spatial 0 with ris-mis");
   const bool ris_reuse = ris_reuses(es);
   gl::buffer b_ris_params;
   if (ris) {
@@ -425,7 +428,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
     if (mt.variant == 1) det["ris"].update({{"dirs", es.dirs}, {"mis", "balance"}});
     if (ris_reuse) {
       det["ris"].update({{"radius", R.radius}, {"min_normal_cos", R.min_normal_cos},
-                         {"max_plane_slope", R.max_plane_slope}, {"mis", "pairwise"}});
+                         {"max_plane_slope", R.max_plane_slope}});
+      // ris-mis's "mis" names its balance against gathering (as on the CPU backend).
+      det["ris"][mt.variant == 1 ? "reuse_mis" : "mis"] = "pairwise";
       const std::size_t bytes = sizeof(vplkit::gpu::ris_reservoir_record) * std::max<std::size_t>(n_pixels, 1);
       pixel_buffer(pixels, pixels.reservoirs, bytes, 0, "the per-pixel reservoirs").bind(VR_RIS_BINDING_RESERVOIRS);
     }
@@ -450,11 +455,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
     // round is not split (its reservoir is one unit), so each must fit the loop budget.
     for (int pass : {ris_pass_candidates, ris_pass_reuse})
       if (budget && ris_round_cost(es, in, pass) > gpu_loop_budget)
-        throw vplkit::invalid_input("--method ris --spatial " + std::to_string(es.ris_spatial) + " --candidates " +
+        throw vplkit::invalid_input(std::string("--method ") + mt.name + " --spatial " + std::to_string(es.ris_spatial) + " --candidates " +
                                     std::to_string(es.ris_candidates) + ": a round's " +
                                     (pass == ris_pass_candidates ? "candidates" : "reuse") +
                                     " exceed the software GL driver's loop limit; use fewer --candidates");
-    const int rounds = std::max(1, es.vpls);
+    const int rounds = ris_reuse_rounds(es);
     plans.push_back({&kern.stages.front(), rounds, 1, rounds, true});
     if (compensate) {  // all of it in the last round's reuse (estimate_ris.comp)
       P.clamp_dirs = clamp_compensation_dirs(es);
@@ -535,6 +540,11 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
       P.begin = 0;
       P.end = 1;
       for (int r = 0; r < rounds; ++r) {
+        // ris-mis's kernel reads the round (its step) from begin: which of its parts run in it.
+        if (mt.variant == 1) {
+          P.begin = r;
+          P.end = r + 1;
+        }
         // Candidates: a fresh stream in round 0, then the state's; the state is kept.
         P.first_pass = r == 0 ? 1 : 0;
         P.last_pass = 0;
