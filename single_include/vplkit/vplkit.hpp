@@ -8136,6 +8136,13 @@ inline vec3<T> estimate_ris(const gather_point<T>& gp, const dprsm_view<T>& view
 // visibility, so nothing but the target is re-evaluated at q: no ray is traced by the reuse. The
 // sample is a texel and a jitter, the same at every pixel (the shift map is the identity).
 //
+// The target is a parameter (ris_combine_with, ris_spatial_reuse_with: a callable
+// target(pixel, g, s), p_hat of the sample s at the gather point g of pixel `pixel`), so that any
+// resampled estimator whose target a pixel can evaluate for any sample reuses this: --method ris
+// (ris_combine, ris_spatial_reuse: ris_target, the unshadowed clamped contribution) and --method
+// ris-mis (ris_mis_spatial_reuse.hpp: the MIS-weighted unclamped contribution h of
+// ris_mis_estimator.hpp, with the pmf of the pixel's own candidate distribution).
+//
 // The MIS weights, with confidences M_i (candidates behind each input), M = M_c + sum_j M_j:
 //  - pairwise (default; Bitterli 2022, Wyman et al. 2023, the defensive form with confidence
 //    weights): the canonical competes with each neighbour in a pair, and keeps M_c / M for itself,
@@ -8222,24 +8229,37 @@ inline T ris_pair_share(T a, T b) {
 
 }  // namespace detail
 
-// Combines the canonical reservoir of gp (its own candidates' reservoir: its target is p_hat_q)
-// with the reservoirs of the neighbours at neighbour_pixels[0 .. n) (at most ris_max_neighbours;
-// load(pixel) -> ris_neighbour<T> gives each one's gather point and reservoir), with the MIS
-// weights of `mis` and one selection number per input: u[0] the canonical's, u[1 + j] neighbour
-// j's (offered in the order neighbours, then canonical). The output's target is p_hat_q of its
-// sample and its confidence the inputs' sum.
-template <class T, class Load>
-inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<T>& view,
-                                    const ris_reservoir<T>& canonical, const int* neighbour_pixels, int n,
-                                    const Load& load, const T* u, ris_reuse_mis mis, T dmin,
-                                    vpl_mode mode = vpl_mode::point,
-                                    T depth_tolerance = std::numeric_limits<T>::infinity()) {
+// The target of --method ris at any pixel: p_hat = ris_target of the sample's VPL (the pixel index
+// is not used: the target depends on the gather point alone).
+template <class T>
+struct ris_unshadowed_target {
+  const dprsm_view<T>* view = nullptr;
+  T dmin = T(0);
+  vpl_mode mode = vpl_mode::point;
+  T depth_tolerance = std::numeric_limits<T>::infinity();
+  T operator()(int, const gather_point<T>& g, const ris_sample<T>& s) const {
+    return ris_target(g, ris_sample_vpl(*view, s, mode, depth_tolerance), dmin);
+  }
+};
+
+// Combines the canonical reservoir of gp (the gather point of pixel `pixel`; its own candidates'
+// reservoir, whose target is p_hat_q) with the reservoirs of the neighbours at
+// neighbour_pixels[0 .. n) (at most ris_max_neighbours; load(pixel) -> ris_neighbour<T> gives each
+// one's gather point and reservoir), with the MIS weights of `mis` and one selection number per
+// input: u[0] the canonical's, u[1 + j] neighbour j's (offered in the order neighbours, then
+// canonical). target(pixel, g, s) -> T is p_hat at the gather point g of pixel `pixel` of the
+// sample s: >= 0 and finite (0 where not usable), and, at every pixel, the target that pixel's
+// candidate pass stored in its reservoir (the stored targets are read, not recomputed). The
+// output's target is p_hat_q of its sample and its confidence the inputs' sum.
+template <class T, class Load, class Target>
+inline ris_reservoir<T> ris_combine_with(const gather_point<T>& gp, int pixel, const ris_reservoir<T>& canonical,
+                                         const int* neighbour_pixels, int n, const Load& load, const T* u,
+                                         ris_reuse_mis mis, const Target& target) {
   ris_reservoir<T> out;
   if (!gather_point_valid(gp)) return out;
   if (n > ris_max_neighbours) n = ris_max_neighbours;
   if (n < 0) n = 0;
   const bool has_c = ris_reservoir_has_sample(canonical);
-  const vpl<T> v_c = ris_sample_vpl(view, canonical.kept, mode, depth_tolerance);
   const T m_c_conf = canonical.confidence;
   T m_sum = m_c_conf, m_n = T(0);
   for (int j = 0; j < n; ++j) m_n += load(neighbour_pixels[j]).reservoir.confidence;
@@ -8256,16 +8276,16 @@ inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<
   T m_c = mis == ris_reuse_mis::pairwise ? m_c_conf / m_sum : T(0);
   T balance_c = m_c_conf * canonical.target;  // balance: sum_s M_s p_hat_s(y_c)
   for (int j = 0; j < n; ++j) {
-    const ris_neighbour<T> nb = load(neighbour_pixels[j]);
+    const int pj = neighbour_pixels[j];
+    const ris_neighbour<T> nb = load(pj);
     const T m_j = nb.reservoir.confidence;
-    const T p_j_at_c = has_c ? ris_target(nb.gp, v_c, dmin) : T(0);  // p_hat_j(y_c)
+    const T p_j_at_c = has_c ? target(pj, nb.gp, canonical.kept) : T(0);  // p_hat_j(y_c)
     if (mis == ris_reuse_mis::pairwise)
       m_c += (m_j / m_sum) * detail::ris_pair_share(m_c_conf * canonical.target, m_n * p_j_at_c);
     else
       balance_c += m_j * p_j_at_c;
     if (!ris_reservoir_has_sample(nb.reservoir)) continue;
-    const vpl<T> v_j = ris_sample_vpl(view, nb.reservoir.kept, mode, depth_tolerance);
-    const T target_q = ris_target(gp, v_j, dmin);  // p_hat_q(y_j)
+    const T target_q = target(pixel, gp, nb.reservoir.kept);  // p_hat_q(y_j)
     if (!(target_q > T(0))) continue;
     // w_j = m_j(y_j) p_hat_q(y_j) W_j with W_j = weight_sum_j / p_hat_j(y_j).
     T w = T(0);
@@ -8278,7 +8298,7 @@ inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<
       for (int s = 0; s < n; ++s) {
         if (s == j) continue;
         const ris_neighbour<T> other = load(neighbour_pixels[s]);
-        denominator += other.reservoir.confidence * ris_target(other.gp, v_j, dmin);
+        denominator += other.reservoir.confidence * target(neighbour_pixels[s], other.gp, nb.reservoir.kept);
       }
       // m_j p_hat_q W_j = M_j p_hat_j / denominator * p_hat_q * weight_sum_j / p_hat_j.
       w = denominator > T(0) ? m_j * target_q * nb.reservoir.weight_sum / denominator : T(0);
@@ -8305,16 +8325,27 @@ inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<
   return out;
 }
 
-// Picks up to settings.neighbours neighbours of `pixel` (ris_neighbour_pixel, kept where
-// ris_neighbour_similar) and combines their reservoirs with gp's canonical one (ris_combine).
-// load(pixel) -> ris_neighbour<T>: the neighbour's gather point and reservoir of its own candidates
-// (the same pass's, not an output of this function). Random numbers: see the header.
+// ris_combine_with for --method ris's target (ris_unshadowed_target: ris_target at each gather point).
 template <class T, class Load>
-inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, int width, int height,
-                                          const dprsm_view<T>& view, const ris_reservoir<T>& canonical,
-                                          const Load& load, const ris_spatial_settings<T>& settings,
-                                          counter_rng& rng, T dmin, vpl_mode mode = vpl_mode::point,
-                                          T depth_tolerance = std::numeric_limits<T>::infinity()) {
+inline ris_reservoir<T> ris_combine(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                    const ris_reservoir<T>& canonical, const int* neighbour_pixels, int n,
+                                    const Load& load, const T* u, ris_reuse_mis mis, T dmin,
+                                    vpl_mode mode = vpl_mode::point,
+                                    T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  return ris_combine_with(gp, -1, canonical, neighbour_pixels, n, load, u, mis,
+                          ris_unshadowed_target<T>{&view, dmin, mode, depth_tolerance});
+}
+
+// Picks up to settings.neighbours neighbours of `pixel` (ris_neighbour_pixel, kept where
+// ris_neighbour_similar) and combines their reservoirs with gp's canonical one (ris_combine_with,
+// with the target `target`). load(pixel) -> ris_neighbour<T>: the neighbour's gather point and
+// reservoir of its own candidates (the same pass's, not an output of this function). Random
+// numbers: see the header.
+template <class T, class Load, class Target>
+inline ris_reservoir<T> ris_spatial_reuse_with(const gather_point<T>& gp, int pixel, int width, int height,
+                                               const ris_reservoir<T>& canonical, const Load& load,
+                                               const ris_spatial_settings<T>& settings, counter_rng& rng,
+                                               const Target& target) {
   if (!gather_point_valid(gp)) return ris_reservoir<T>{};
   const int attempts = settings.neighbours < 0 ? 0
                        : settings.neighbours > ris_max_neighbours ? ris_max_neighbours
@@ -8333,7 +8364,18 @@ inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, 
     u[n + 1] = us;
     ++n;
   }
-  return ris_combine(gp, view, canonical, pixels, n, load, u, settings.mis, dmin, mode, depth_tolerance);
+  return ris_combine_with(gp, pixel, canonical, pixels, n, load, u, settings.mis, target);
+}
+
+// ris_spatial_reuse_with for --method ris's target (ris_unshadowed_target).
+template <class T, class Load>
+inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, int width, int height,
+                                          const dprsm_view<T>& view, const ris_reservoir<T>& canonical,
+                                          const Load& load, const ris_spatial_settings<T>& settings,
+                                          counter_rng& rng, T dmin, vpl_mode mode = vpl_mode::point,
+                                          T depth_tolerance = std::numeric_limits<T>::infinity()) {
+  return ris_spatial_reuse_with(gp, pixel, width, height, canonical, load, settings, rng,
+                                ris_unshadowed_target<T>{&view, dmin, mode, depth_tolerance});
 }
 
 }  // namespace vplkit
@@ -8519,4 +8561,65 @@ inline vec3<T> estimate_ris_mis(const gather_point<T>& gp, const dprsm_view<T>& 
 
 }  // namespace vplkit
 // ---- end vplkit/estimators/ris_mis_estimator.hpp ----
+// ---- begin vplkit/estimators/ris_mis_spatial_reuse.hpp ----
+// Unbiased spatial reuse for resampled VPL sampling with gathering (ris_mis_estimator.hpp;
+// docs/math.md, "RIS with gathering", "Spatial reuse with gathering"). The n2 RIS samples of
+// estimate_ris_mis have the target lum(h_g), h_g(t, xi) = n2 pmf_g(t) f_g(y) / (n1 p1 + n2 p2_g):
+// a pixel g can evaluate it for any sample (a texel and a jitter; the shift map is the identity),
+// given the pmf of its own candidate distribution, so the generalized RIS of
+// ris_spatial_reuse.hpp combines its reservoirs unchanged, with the target
+//     p_hat_g(s) = lum(ris_mis_unshadowed(g, view, s, pmf_g(s.texel), n1, n2, ...))    (ris_mis_target).
+// The receiving pixel q shades the combined reservoir as its own: h_q(y) V(x_q, y) W with
+// W = weight_sum / p_hat_q(y) (ris_mis_shade with q's distribution), 1/n2 and the gathering
+// directions as in estimate_ris_mis. W is an unbiased contribution weight for q's target wherever
+// the canonical input covers its support (p_hat_q(y) > 0 implies pmf_q(y) > 0, since h_q carries
+// the factor pmf_q), so the estimate of the integral of w2_q f_q stays unbiased.
+//
+// pmf_g is the candidate distribution of pixel g: distribution_of(pixel) returns it (the same one
+// everywhere for a global, gbg or flux source; the pixel's region's for local). Each pixel's
+// stored target must have been made with its own distribution (ris_mis_resample with
+// distribution_of(pixel)), which is what the receiver's MIS weights read.
+//
+// Random numbers: those of ris_spatial_reuse (1 + 3K per reuse, see ris_spatial_reuse.hpp).
+
+#include <cstddef>
+
+namespace vplkit {
+
+// p_hat_g(s) = lum(h_g(s)) at the gather point g of pixel `pixel`, with the pmf of
+// distribution_of(pixel): the target ris_mis_candidate gives the sample when g's candidate pass
+// draws it (0 where the luminance is not a usable weight, as there).
+template <class T, class DistributionOf>
+struct ris_mis_target {
+  const dprsm_view<T>* view = nullptr;
+  const DistributionOf* distribution_of = nullptr;
+  T n1 = T(0), n2 = T(0);
+  vpl_mode mode = vpl_mode::point;
+  T depth_tolerance = T(0);
+  T operator()(int pixel, const gather_point<T>& g, const ris_sample<T>& s) const {
+    if (s.texel < 0 || s.texel >= view->texel_count()) return T(0);
+    const T pmf = estimator_pmf(T((*distribution_of)(pixel).pmf(std::size_t(s.texel))));
+    vpl<T> v;
+    const T p = luminance(ris_mis_unshadowed(g, *view, s, pmf, n1, n2, mode, depth_tolerance, v));
+    return reservoir_weight_usable(p) ? p : T(0);
+  }
+};
+
+// Combines pixel `pixel`'s canonical reservoir (ris_mis_resample at gp with distribution_of(pixel))
+// with up to settings.neighbours neighbours' (load(pixel) -> ris_neighbour<T>: their gather points
+// and reservoirs of the same candidate pass), by ris_spatial_reuse_with and the target
+// ris_mis_target. Shade the result with ris_mis_shade(gp, view, distribution_of(pixel), ...).
+template <class T, class Load, class DistributionOf>
+inline ris_reservoir<T> ris_mis_spatial_reuse(const gather_point<T>& gp, int pixel, int width, int height,
+                                              const dprsm_view<T>& view, const ris_reservoir<T>& canonical,
+                                              const Load& load, const ris_spatial_settings<T>& settings,
+                                              counter_rng& rng, const DistributionOf& distribution_of, T n1, T n2,
+                                              vpl_mode mode, T depth_tolerance) {
+  return ris_spatial_reuse_with(gp, pixel, width, height, canonical, load, settings, rng,
+                                ris_mis_target<T, DistributionOf>{&view, &distribution_of, n1, n2, mode,
+                                                                  depth_tolerance});
+}
+
+}  // namespace vplkit
+// ---- end vplkit/estimators/ris_mis_spatial_reuse.hpp ----
 #endif  // VPLKIT_SINGLE_INCLUDE_VPLKIT_HPP
