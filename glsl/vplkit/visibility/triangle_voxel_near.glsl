@@ -6,6 +6,15 @@
 // vplkit_voxel_near_max_side voxels or x, reach are not finite. The clamp compensation asks it
 // before tracing (estimators/clamp_compensation.glsl). ACCESSORS: those of triangle_voxel_grid.glsl.
 // The plane distances are `precise` and in the C++ order (vplkit_voxel_dot: glm::dot's).
+//
+// With #define VPLKIT_VOXEL_NEAR_PLANES before the first include, the shader also defines the
+// ACCESSOR
+//   vec4 vplkit_load_voxel_near_plane(uint occupied_index);  // the grid's planes[r]
+// e.g. layout(std430, binding = 15) readonly buffer Planes { vec4 planes[]; };
+//      vec4 vplkit_load_voxel_near_plane(uint r) { return planes[r]; }
+// (a buffer of C++ voxel_plane<float> as it is, triangle_voxel_grid.hpp's planes), and the test
+// asks one plane per voxel whose triangles share one, as the C++ with planes does. Without it
+// every listed triangle is asked; the answers are the same either way.
 #ifndef VPLKIT_VISIBILITY_TRIANGLE_VOXEL_NEAR_GLSL
 #define VPLKIT_VISIBILITY_TRIANGLE_VOXEL_NEAR_GLSL
 
@@ -13,6 +22,21 @@
 #include "vplkit/visibility/voxel_grid.glsl"
 
 const int vplkit_voxel_near_max_side = 8;
+
+#ifdef VPLKIT_VOXEL_NEAR_PLANES
+vec4 vplkit_load_voxel_near_plane(uint occupied_index);
+
+// The "several planes" mark (normal 0, offset 1): scan the voxel's triangles.
+bool vplkit_voxel_plane_is_several(vec4 p) {
+  return p.w != 0.0 && p.x == 0.0 && p.y == 0.0 && p.z == 0.0;
+}
+#endif
+
+// Is the plane farther than plane_tolerance from x and not farther than reach? (NaN: no.)
+bool vplkit_voxel_near_plane_within(vec4 plane, vec3 x, float reach, float plane_tolerance) {
+  precise float s = abs(vplkit_voxel_dot(plane.xyz, x) - plane.w);
+  return s > plane_tolerance && s <= reach;
+}
 
 bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float reach, float plane_tolerance) {
   if (!vplkit_voxel_vec3_finite(x) || !(reach >= 0.0) || !(reach <= 3.4028234663852886e38) ||
@@ -33,12 +57,18 @@ bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float rea
       for (int xi = a.x; xi <= b.x; ++xi) {
         int o = vplkit_voxel_occupied_index(g, ivec3(xi, y, z));
         if (o < 0) continue;
-        uint end = vplkit_load_voxel_offset(uint(o) + 1u);
-        for (uint e = vplkit_load_voxel_offset(uint(o)); e < end; ++e) {
-          vec4 plane = vplkit_load_voxel_triangle(4u * vplkit_load_voxel_entry(e));
-          precise float s = abs(vplkit_voxel_dot(plane.xyz, x) - plane.w);
-          if (s > plane_tolerance && s <= reach) return true;
+#ifdef VPLKIT_VOXEL_NEAR_PLANES
+        vec4 shared_plane = vplkit_load_voxel_near_plane(uint(o));
+        if (!vplkit_voxel_plane_is_several(shared_plane)) {  // one plane for the voxel
+          if (vplkit_voxel_near_plane_within(shared_plane, x, reach, plane_tolerance)) return true;
+          continue;
         }
+#endif
+        uint end = vplkit_load_voxel_offset(uint(o) + 1u);
+        for (uint e = vplkit_load_voxel_offset(uint(o)); e < end; ++e)
+          if (vplkit_voxel_near_plane_within(vplkit_load_voxel_triangle(4u * vplkit_load_voxel_entry(e)), x, reach,
+                                             plane_tolerance))
+            return true;
       }
   return false;
 }

@@ -13,6 +13,13 @@
 // guarantees that every surface point within reach of x lies in a plane through x. True is
 // returned as well when it cannot look (a box of more than voxel_near_max_side voxels per axis, a
 // non-finite x or reach, a negative reach): the caller then traces.
+//
+// Per occupied voxel it asks one plane where the voxel's triangles all share one (the grid's
+// planes, triangle_voxel_grid.hpp: the same plane's numbers, so the same answer as asking each of
+// them), and every listed triangle's plane only where they do not (creases, corners, curved
+// geometry), or where the view has no planes. triangle_voxel_surface_within_scan asks every
+// triangle everywhere: the same answers, bit for bit (tests/unit, tests/parity); it is what the
+// test was before the per-voxel planes, kept as the reference and for bench_triangle_voxel_near.
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
@@ -26,6 +33,18 @@ namespace vplkit {
 
 // The widest box looked at, in voxels per axis: beyond it the answer is "maybe" (true).
 constexpr int voxel_near_max_side = 8;
+
+namespace detail {
+
+// Is the plane p farther than plane_tolerance from x and not farther than reach? NaN (a bad
+// triangle's plane): no.
+template <class T>
+inline bool voxel_near_plane_within(const voxel_plane<T>& p, vec3<T> x, T reach, T plane_tolerance) {
+  const T s = std::abs(glm::dot(p.normal, x) - p.offset);
+  return s > plane_tolerance && s <= reach;
+}
+
+}  // namespace detail
 
 template <class T>
 inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
@@ -46,13 +65,21 @@ inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<
       for (int xi = a.x; xi <= b.x; ++xi) {
         const std::int64_t r = voxel_occupied_index(g.grid, g.rank, ivec3(xi, y, z));
         if (r < 0) continue;
-        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e) {
-          const voxel_plane<T>& p = g.triangles[g.entries[e]].plane;
-          const T s = std::abs(glm::dot(p.normal, x) - p.offset);
-          if (s > plane_tolerance && s <= reach) return true;  // NaN s (a bad triangle): not near
+        if (g.planes != nullptr && !voxel_plane_is_several(g.planes[r])) {  // one plane for the voxel
+          if (detail::voxel_near_plane_within(g.planes[r], x, reach, plane_tolerance)) return true;
+          continue;
         }
+        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
+          if (detail::voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
       }
   return false;
+}
+
+// The same answers from every listed triangle's plane (the grid's planes not used).
+template <class T>
+inline bool triangle_voxel_surface_within_scan(triangle_voxel_view<T> g, vec3<T> x, T reach, T plane_tolerance) {
+  g.planes = nullptr;
+  return triangle_voxel_surface_within(g, x, reach, plane_tolerance);
 }
 
 }  // namespace vplkit
