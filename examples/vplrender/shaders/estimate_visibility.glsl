@@ -74,8 +74,6 @@ vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; 
 vec4 vplkit_load_voxel_near_plane(uint occupied_index) {
   return vr_voxel_triangles[uint(vr_voxel_triangles.length() - vr_voxel_offsets.length()) + occupied_index];
 }
-#else
-vec4 vplkit_load_voxel_near_plane(uint occupied_index) { return vec4(0.0, 0.0, 0.0, 1.0); }  // never asked
 #endif
 
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT

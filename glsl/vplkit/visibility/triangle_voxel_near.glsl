@@ -38,6 +38,42 @@ bool vplkit_voxel_near_plane_within(vec4 plane, vec3 x, float reach, float plane
   return s > plane_tolerance && s <= reach;
 }
 
+// Bits lo .. hi of a word (0 <= lo <= hi <= 31).
+uint vplkit_voxel_near_bit_range(uint lo, uint hi) {
+  uint upto = hi == 31u ? 0xFFFFFFFFu : (1u << (hi + 1u)) - 1u;
+  return upto & ~((1u << lo) - 1u);
+}
+
+// Does occupied voxel r hold a surface other than x's planes within reach? (C++:
+// detail::voxel_near_voxel_within.)
+bool vplkit_voxel_near_voxel_within(uint r, vec3 x, float reach, float plane_tolerance) {
+#ifdef VPLKIT_VOXEL_NEAR_PLANES
+  vec4 shared_plane = vplkit_load_voxel_near_plane(r);
+  if (!vplkit_voxel_plane_is_several(shared_plane))  // one plane for the voxel
+    return vplkit_voxel_near_plane_within(shared_plane, x, reach, plane_tolerance);
+#endif
+  uint end = vplkit_load_voxel_offset(r + 1u);
+  for (uint e = vplkit_load_voxel_offset(r); e < end; ++e)
+    if (vplkit_voxel_near_plane_within(vplkit_load_voxel_triangle(4u * vplkit_load_voxel_entry(e)), x, reach,
+                                       plane_tolerance))
+      return true;
+  return false;
+}
+
+// The occupied voxels among bits lo .. hi of occupancy word w.
+bool vplkit_voxel_near_word_within(uint w, uint lo, uint hi, vec3 x, float reach, float plane_tolerance) {
+  uint word = vplkit_load_voxel_word(w);
+  uint bits = word & vplkit_voxel_near_bit_range(lo, hi);
+  uint base = bits != 0u ? vplkit_load_voxel_rank(w) : 0u;
+  for (int k = 0; k < 32 && bits != 0u; ++k) {  // at most 8 bits are set (a row of the box)
+    int b = findLSB(bits);
+    if (vplkit_voxel_near_voxel_within(base + uint(bitCount(word & ((1u << uint(b)) - 1u))), x, reach, plane_tolerance))
+      return true;
+    bits &= bits - 1u;
+  }
+  return false;
+}
+
 bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float reach, float plane_tolerance) {
   if (!vplkit_voxel_vec3_finite(x) || !(reach >= 0.0) || !(reach <= 3.4028234663852886e38) ||
       !(plane_tolerance >= 0.0))
@@ -52,24 +88,22 @@ bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float rea
   if (b.x - a.x >= vplkit_voxel_near_max_side || b.y - a.y >= vplkit_voxel_near_max_side ||
       b.z - a.z >= vplkit_voxel_near_max_side)
     return true;
+  // The box's rows along x, each from its one or two occupancy words (C++: the same walk).
+  a = max(a, ivec3(0));
+  b = min(b, g.resolution - ivec3(1));
+  if (a.x > b.x) return false;
   for (int z = a.z; z <= b.z; ++z)
-    for (int y = a.y; y <= b.y; ++y)
-      for (int xi = a.x; xi <= b.x; ++xi) {
-        int o = vplkit_voxel_occupied_index(g, ivec3(xi, y, z));
-        if (o < 0) continue;
-#ifdef VPLKIT_VOXEL_NEAR_PLANES
-        vec4 shared_plane = vplkit_load_voxel_near_plane(uint(o));
-        if (!vplkit_voxel_plane_is_several(shared_plane)) {  // one plane for the voxel
-          if (vplkit_voxel_near_plane_within(shared_plane, x, reach, plane_tolerance)) return true;
-          continue;
-        }
-#endif
-        uint end = vplkit_load_voxel_offset(uint(o) + 1u);
-        for (uint e = vplkit_load_voxel_offset(uint(o)); e < end; ++e)
-          if (vplkit_voxel_near_plane_within(vplkit_load_voxel_triangle(4u * vplkit_load_voxel_entry(e)), x, reach,
-                                             plane_tolerance))
-            return true;
+    for (int y = a.y; y <= b.y; ++y) {
+      uint row = vplkit_voxel_flat_index(g.resolution, ivec3(0, y, z));
+      uint i0 = row + uint(a.x), i1 = row + uint(b.x);
+      uint w0 = i0 >> 5u, w1 = i1 >> 5u;
+      if (w0 == w1) {
+        if (vplkit_voxel_near_word_within(w0, i0 & 31u, i1 & 31u, x, reach, plane_tolerance)) return true;
+      } else if (vplkit_voxel_near_word_within(w0, i0 & 31u, 31u, x, reach, plane_tolerance) ||
+                 vplkit_voxel_near_word_within(w1, 0u, i1 & 31u, x, reach, plane_tolerance)) {
+        return true;
       }
+    }
   return false;
 }
 
