@@ -5,7 +5,8 @@
 // plane_tolerance) or farther than reach; true also when the box is wider than
 // vplkit_voxel_near_max_side voxels or x, reach are not finite. The clamp compensation asks it
 // before tracing (estimators/clamp_compensation.glsl). ACCESSORS: those of triangle_voxel_grid.glsl.
-// The plane distances are `precise` and in the C++ order (vplkit_voxel_dot: glm::dot's).
+// The plane distances are `precise` and in the C++ order (vplkit_voxel_dot: glm::dot's). As in the
+// C++, the box's rows along x are read from the one or two occupancy words that hold them.
 //
 // With #define VPLKIT_VOXEL_NEAR_PLANES before the first include, the shader also defines the
 // ACCESSOR
@@ -96,13 +97,10 @@ bool vplkit_triangle_voxel_surface_within(vplkit_voxel_grid g, vec3 x, float rea
     for (int y = a.y; y <= b.y; ++y) {
       uint row = vplkit_voxel_flat_index(g.resolution, ivec3(0, y, z));
       uint i0 = row + uint(a.x), i1 = row + uint(b.x);
-      uint w0 = i0 >> 5u, w1 = i1 >> 5u;
-      if (w0 == w1) {
-        if (vplkit_voxel_near_word_within(w0, i0 & 31u, i1 & 31u, x, reach, plane_tolerance)) return true;
-      } else if (vplkit_voxel_near_word_within(w0, i0 & 31u, 31u, x, reach, plane_tolerance) ||
-                 vplkit_voxel_near_word_within(w1, 0u, i1 & 31u, x, reach, plane_tolerance)) {
-        return true;
-      }
+      for (uint w = i0 >> 5u; w <= i1 >> 5u; ++w)  // one word, or two
+        if (vplkit_voxel_near_word_within(w, w == i0 >> 5u ? (i0 & 31u) : 0u, w == i1 >> 5u ? (i1 & 31u) : 31u, x,
+                                          reach, plane_tolerance))
+          return true;
     }
   return false;
 }

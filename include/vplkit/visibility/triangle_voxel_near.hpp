@@ -15,13 +15,13 @@
 // non-finite x or reach, a negative reach): the caller then traces.
 //
 // Cost (it runs once per pixel): the box's rows along x are read from the occupancy words (one or
-// two words per row: empty rows, most of them, cost two loads), and per occupied voxel it asks
-// one plane where the voxel's triangles all share one (the grid's planes, triangle_voxel_grid.hpp:
-// the same plane's numbers, so the same answer as asking each of them), and every listed
-// triangle's plane only where they do not (creases, corners, curved geometry) or where the view
-// has no planes. triangle_voxel_surface_within_scan looks every voxel up on its own and asks every
-// triangle: the same answers, bit for bit (tests/unit, tests/hardcases, tests/parity).
-// Measured: bench_triangle_voxel_near (docs/results/clamp_compensation.md).
+// two per row, so an empty row, the most common, costs a load or two), and per occupied voxel it
+// asks one plane where the voxel's triangles all share one (the grid's planes,
+// triangle_voxel_grid.hpp: the same plane's numbers, so the same answer as asking each of them),
+// and every listed triangle's plane only where they do not (creases, corners, curved geometry) or
+// where the view has no planes. triangle_voxel_surface_within_scan looks every voxel up on its own
+// and asks every triangle: the same answers, bit for bit (tests/unit, tests/hardcases,
+// tests/parity). Measured: bench_triangle_voxel_near (docs/results/clamp_compensation.md).
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
@@ -108,13 +108,10 @@ inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<
     for (int y = a.y; y <= b.y; ++y) {
       const std::int64_t row = voxel_flat_index(res, ivec3(0, y, z));
       const std::int64_t i0 = row + a.x, i1 = row + b.x;
-      const std::size_t w0 = std::size_t(i0 >> 5), w1 = std::size_t(i1 >> 5);
-      if (w0 == w1) {
-        if (detail::voxel_near_word_within(g, w0, int(i0 & 31), int(i1 & 31), x, reach, plane_tolerance)) return true;
-      } else if (detail::voxel_near_word_within(g, w0, int(i0 & 31), 31, x, reach, plane_tolerance) ||
-                 detail::voxel_near_word_within(g, w1, 0, int(i1 & 31), x, reach, plane_tolerance)) {
-        return true;
-      }
+      for (std::int64_t w = i0 >> 5; w <= i1 >> 5; ++w)  // one word, or two
+        if (detail::voxel_near_word_within(g, std::size_t(w), w == i0 >> 5 ? int(i0 & 31) : 0,
+                                           w == i1 >> 5 ? int(i1 & 31) : 31, x, reach, plane_tolerance))
+          return true;
     }
   return false;
 }
