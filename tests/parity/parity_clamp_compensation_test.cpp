@@ -259,10 +259,16 @@ TEST_CASE("clamp compensation: the triangle voxel tracer, DPRSM lit test and sha
   check_case("triangle voxels, no direction", 1, tracer, 0.3f, 0);
 }
 
-TEST_CASE("triangle_voxel_surface_within: the GPU's answer is the C++ one") {
+TEST_CASE("triangle_voxel_surface_within: the GPU's answer is the C++ one, with the voxels' planes and without") {
   const fixture_t& f = fixture();
   REQUIRE(f.triangles.occupancy().words() == f.scene.grid.words());
   const auto view = f.triangles.view();
+  REQUIRE(view.planes != nullptr);
+  // The room has voxels of one plane (walls, floor, the block's faces) and of several (its creases).
+  std::size_t one_plane = 0;
+  for (const auto& p : f.triangles.planes()) one_plane += vplkit::voxel_plane_is_several(p) ? 0u : 1u;
+  REQUIRE(one_plane > 100);
+  REQUIRE(f.triangles.planes().size() - one_plane > 100);
   struct near_query {
     float4 x_reach;  // xyz: x; w: reach
     float4 tol;      // x: plane tolerance
@@ -276,14 +282,24 @@ TEST_CASE("triangle_voxel_surface_within: the GPU's answer is the C++ one") {
                         v3f(-1.0f + 1.4f * u, 1.2f, -0.8f + 1.4f * v), v3f(-2.0f + 4.0f * u, 0.05f * v, 1.999f)};
     const v3f x = pts[k % 4];
     const float reach = k % 97 == 0 ? inf : 0.01f + 0.5f * float((k * 13) % 89) / 89.0f;
-    const float tol = vplkit::vpl_coincidence_tolerance(x, x) / 4.0f;
+    // Mostly the compensation's tolerance; every fifth query a plane at exactly the tolerance (the
+    // floor's distance from a point 0.05 v above it; the test asks s > tolerance).
+    const float tol = k % 5 == 3 ? x.y : vplkit::vpl_coincidence_tolerance(x, x) / 4.0f;
     qs.push_back({f4(x, reach), {tol, 0, 0, 0}});
-    cpu.push_back(vplkit::triangle_voxel_surface_within(view, x, reach, tol) ? 1u : 0u);
+    const bool said = vplkit::triangle_voxel_surface_within(view, x, reach, tol);
+    REQUIRE(said == vplkit::triangle_voxel_surface_within_scan(view, x, reach, tol));  // the planes change nothing
+    cpu.push_back(said ? 1u : 0u);
   }
-  kernel_call call;
-  call.name = "triangle_voxel_surface_within.comp";
-  call.defines = "#define VPLKIT_TRIANGLE_VOXELS\n";
-  call.source = std::string(scene_prelude) + R"(
+  std::size_t trues = 0;
+  for (std::uint32_t c : cpu) trues += c;
+  std::cout << "  surface_within: " << qs.size() << " queries, " << trues << " true\n";
+  CHECK(trues > 500);
+  CHECK(qs.size() - trues > 500);
+  for (const bool planes : {true, false}) {
+    kernel_call call;
+    call.name = planes ? "triangle_voxel_surface_within_planes.comp" : "triangle_voxel_surface_within.comp";
+    call.defines = std::string("#define VPLKIT_TRIANGLE_VOXELS\n") + (planes ? "#define VPLKIT_VOXEL_NEAR_PLANES\n" : "");
+    call.source = std::string(scene_prelude) + R"(
 #include "vplkit/visibility/triangle_voxel_near.glsl"
 layout(std430, binding = 11) readonly buffer Rank { uint rank_words[]; };
 layout(std430, binding = 12) readonly buffer Offsets { uint offsets[]; };
@@ -293,27 +309,30 @@ uint vplkit_load_voxel_rank(uint i) { return rank_words[i]; }
 uint vplkit_load_voxel_offset(uint i) { return offsets[i]; }
 uint vplkit_load_voxel_entry(uint i) { return entries[i]; }
 vec4 vplkit_load_voxel_triangle(uint i) { return triangles[i]; }
+#ifdef VPLKIT_VOXEL_NEAR_PLANES
+layout(std430, binding = 15) readonly buffer Planes { vec4 voxel_planes[]; };
+vec4 vplkit_load_voxel_near_plane(uint r) { return voxel_planes[r]; }
+#endif
 struct near_query { vec4 x_reach; vec4 tol; };
 )";
-  call.inputs = f.scene.inputs();
-  call.inputs.push_back(input(5, std::vector<scene_params>{f.scene.params()}));
-  call.inputs.push_back(input(7, pack_points({})));
-  for (auto& e : f.inputs()) call.inputs.push_back(std::move(e));
-  call.inputs.push_back(input(9, qs, "near_query qs"));
-  call.output_glsl = "uint result";
-  call.body = "result[i] = vplkit_triangle_voxel_surface_within(load_grid(), qs[i].x_reach.xyz, qs[i].x_reach.w, "
-              "qs[i].tol.x) ? 1u : 0u;";
-  const auto gpu = run_compute<std::uint32_t>(call, qs.size());
-  std::size_t trues = 0;
-  for (std::uint32_t c : cpu) trues += c;
-  std::cout << "  surface_within: " << qs.size() << " queries, " << trues << " true\n";
-  CHECK(trues > 500);
-  CHECK(qs.size() - trues > 500);
-  // Decided on `precise` plane distances in the C++ order: bit for bit where division is correctly
-  // rounded (llvmpipe); elsewhere a distance within an ulp of reach or of the tolerance may flip.
-  VPLKIT_CHECK_PARITY(compare_exact(gpu, cpu,
-                                    [&](std::size_t i) {
-                                      return "x " + show3(xyz(qs[i].x_reach)) + " reach " + show(qs[i].x_reach.w);
-                                    },
-                                    "triangle_voxel_surface_within"));
+    call.inputs = f.scene.inputs();
+    call.inputs.push_back(input(5, std::vector<scene_params>{f.scene.params()}));
+    call.inputs.push_back(input(7, pack_points({})));
+    for (auto& e : f.inputs()) call.inputs.push_back(std::move(e));
+    if (planes) call.inputs.push_back(input(15, f.triangles.planes()));  // a voxel_plane<float> is one vec4
+    call.inputs.push_back(input(9, qs, "near_query qs"));
+    call.output_glsl = "uint result";
+    call.body = "result[i] = vplkit_triangle_voxel_surface_within(load_grid(), qs[i].x_reach.xyz, qs[i].x_reach.w, "
+                "qs[i].tol.x) ? 1u : 0u;";
+    const auto gpu = run_compute<std::uint32_t>(call, qs.size());
+    // Decided on `precise` plane distances in the C++ order: bit for bit where division is
+    // correctly rounded (llvmpipe); elsewhere a distance within an ulp of reach or of the
+    // tolerance may flip.
+    VPLKIT_CHECK_PARITY(compare_exact(gpu, cpu,
+                                      [&](std::size_t i) {
+                                        return "x " + show3(xyz(qs[i].x_reach)) + " reach " + show(qs[i].x_reach.w) +
+                                               (planes ? " (planes)" : " (scan)");
+                                      },
+                                      "triangle_voxel_surface_within"));
+  }
 }

@@ -80,7 +80,7 @@ TEMPLATE_TEST_CASE("triangle voxels: lists equal the overlap test, rank and offs
     REQUIRE(occ.words() == g.occupancy().words());
     REQUIRE(g.occupied_count() == occ.count());
     const d3 bmin(v.grid.bounds_min), size = (d3(v.grid.bounds_max) - bmin) / d3(res);
-    std::int64_t expected_index = 0;
+    std::int64_t expected_index = 0, one_plane = 0;
     for (int z = 0; z < res.z; ++z)
       for (int y = 0; y < res.y; ++y)
         for (int x = 0; x < res.x; ++x) {
@@ -103,14 +103,32 @@ TEMPLATE_TEST_CASE("triangle voxels: lists equal the overlap test, rank and offs
           REQUIRE(std::is_sorted(got.begin(), got.end()));
           REQUIRE(std::set<std::uint32_t>(got.begin(), got.end()) == want);
           REQUIRE(got.size() == want.size());
+          // planes[r]: the listed triangles' plane when all have it bit for bit, else the mark.
+          const auto& plane = v.planes[r];
+          bool shared = !got.empty();
+          for (std::uint32_t t : got) {
+            const auto& q = v.triangles[t].plane;
+            shared = shared && q.normal == v.triangles[got[0]].plane.normal && q.offset == v.triangles[got[0]].plane.offset;
+          }
+          REQUIRE(vplkit::voxel_plane_is_several(plane) == !shared);
+          if (shared) {
+            REQUIRE(plane.normal == v.triangles[got[0]].plane.normal);
+            REQUIRE(plane.offset == v.triangles[got[0]].plane.offset);
+            ++one_plane;
+          }
         }
     REQUIRE(vplkit::voxel_occupied_index(v.grid, v.rank, ivec3(-1, 0, 0)) == -1);
     REQUIRE(vplkit::voxel_occupied_index(v.grid, v.rank, res) == -1);
     REQUIRE(g.memory_bytes() == 4 * (g.occupancy().word_count() + g.rank().size() + g.offsets().size() +
                                      g.entries().size() + g.bricks().size()) +
-                                    sizeof(vplkit::voxel_triangle<T>) * g.triangles().size());
+                                    sizeof(vplkit::voxel_triangle<T>) * g.triangles().size() +
+                                    sizeof(vplkit::voxel_plane<T>) * g.occupancy().count());
     REQUIRE(g.bricks() == vplkit::voxel_brick_words(v.grid));
     REQUIRE(v.bricks == g.bricks().data());
+    REQUIRE(v.planes == g.planes().data());
+    REQUIRE(g.planes().size() == std::size_t(g.occupied_count()));
+    REQUIRE(one_plane > 0);  // random triangles: voxels that list one of them
+    REQUIRE(one_plane < g.occupied_count());
   }
 }
 

@@ -27,6 +27,9 @@
 #define VPLKIT_TRIANGLE_VOXELS
 #define VPLKIT_VOXEL_BRICKS
 #endif
+// The near-surface test asks one plane per voxel whose triangles share one (the grid's planes, in
+// the triangles' buffer below; the same answers as asking every listed triangle).
+#define VPLKIT_VOXEL_NEAR_PLANES
 // The triangle voxel lists' near-surface test (triangle_voxel_near.glsl) serves the triangle voxel
 // tracer and, with exact rays, the clamp's compensation (estimate_clamp_compensation.glsl). The
 // resolver inlines a file where it first appears: here, under the condition of both users (its
@@ -64,6 +67,13 @@ uint vplkit_load_voxel_rank(uint word_index) { return vr_voxel_rank[word_index];
 uint vplkit_load_voxel_offset(uint index) { return vr_voxel_offsets[index]; }
 uint vplkit_load_voxel_entry(uint index) { return vr_voxel_entries[index]; }
 vec4 vplkit_load_voxel_triangle(uint index) { return vr_voxel_triangles[index]; }
+// The grid's planes follow the triangles in their buffer (raster/gpu_scene_buffers.hpp), one vec4
+// per occupied voxel plus one, so that they end where the buffer does and start offsets' length
+// (occupied + 1) before its end: a kernel that asks them needs no binding of its own (the estimate
+// kernels with the compensation are at llvmpipe's 16 storage blocks).
+vec4 vplkit_load_voxel_near_plane(uint occupied_index) {
+  return vr_voxel_triangles[uint(vr_voxel_triangles.length() - vr_voxel_offsets.length()) + occupied_index];
+}
 #endif
 
 #if VR_VISIBILITY == VR_VISIBILITY_EXACT

@@ -19,7 +19,16 @@
 //   the edge, normal pointing into the triangle). A degenerate triangle has all four zero and
 //   never blocks. 64 bytes for T = float (four std430 vec4 on the GPU);
 // - bricks: the occupancy's brick level (voxel_bricks.hpp), which the queries' marches use to jump
-//   over empty bricks (same answers, fewer steps). Derived from the occupancy, not an input.
+//   over empty bricks (same answers, fewer steps). Derived from the occupancy, not an input;
+// - planes[r], r = 0 .. occupied - 1: the plane that every triangle voxel r lists lies in, when
+//   they all have the same plane bit for bit (normal and offset equal as numbers), else the mark
+//   voxel_planes_several (normal 0, offset 1; also for a voxel that lists nothing; no triangle's
+//   plane looks like it: a degenerate one's is all zero). The near-surface test
+//   (triangle_voxel_near.hpp) then asks one plane per voxel instead of one per listed triangle,
+//   with the same answers (the same plane's numbers). Most occupied voxels hold one flat piece of
+//   surface (a wall, a floor, a quad's two triangles); creases, corners and curved geometry are
+//   several. Derived from the lists, not an input. 16 bytes per occupied voxel for T = float (one
+//   std430 vec4 on the GPU).
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/voxel_bricks.hpp>
@@ -48,6 +57,38 @@ struct voxel_triangle {
   voxel_plane<T> edge[3];  // p is inside iff edge[i].normal . p - edge[i].offset >= 0 for i = 0, 1, 2
 };
 static_assert(sizeof(voxel_triangle<float>) == 64, "voxel_triangle<float> is four std430 vec4");
+static_assert(sizeof(voxel_plane<float>) == 16, "voxel_plane<float> is one std430 vec4");
+
+// The "several planes" mark of planes[r] (see the layout above) and its test.
+template <class T>
+inline voxel_plane<T> voxel_planes_several() {
+  return voxel_plane<T>{vec3<T>(T(0)), T(1)};
+}
+template <class T>
+inline bool voxel_plane_is_several(const voxel_plane<T>& p) {
+  return p.offset != T(0) && p.normal.x == T(0) && p.normal.y == T(0) && p.normal.z == T(0);
+}
+
+// planes[r] for r = 0 .. occupied - 1 from the lists (entries already checked against triangles).
+template <class T>
+inline std::vector<voxel_plane<T>> voxel_shared_planes(const std::vector<std::uint32_t>& offsets,
+                                                       const std::vector<std::uint32_t>& entries,
+                                                       const std::vector<voxel_triangle<T>>& triangles) {
+  const std::size_t occupied = offsets.empty() ? 0 : offsets.size() - 1;
+  std::vector<voxel_plane<T>> planes(occupied, voxel_planes_several<T>());
+  for (std::size_t r = 0; r < occupied; ++r) {
+    if (offsets[r] >= offsets[r + 1]) continue;
+    const voxel_plane<T>& first = triangles[entries[offsets[r]]].plane;
+    bool shared = true;
+    for (std::uint32_t e = offsets[r] + 1; shared && e < offsets[r + 1]; ++e) {
+      const voxel_plane<T>& p = triangles[entries[e]].plane;
+      shared = p.normal.x == first.normal.x && p.normal.y == first.normal.y && p.normal.z == first.normal.z &&
+               p.offset == first.offset;
+    }
+    if (shared) planes[r] = first;
+  }
+  return planes;
+}
 
 template <class T>
 struct triangle_voxel_view {
@@ -61,6 +102,9 @@ struct triangle_voxel_view {
   // voxel_brick_words of the occupancy (voxel_brick_word_count(grid.resolution) words), or null:
   // the marches then step through empty bricks voxel by voxel (the same answers).
   const std::uint32_t* bricks = nullptr;
+  // planes (occupied entries), or null: the near-surface test then scans every voxel's triangles
+  // (the same answers).
+  const voxel_plane<T>* planes = nullptr;
 
   std::size_t entry_count() const { return offsets[occupied]; }
   // The longest list (a bound for loop budgets: a ray tests at most this many triangles per voxel).
@@ -97,6 +141,7 @@ public:
       if (entries_[i] >= tris_.size())
         throw invalid_input("triangle_voxel_grid: entry " + std::to_string(i) + " is triangle " +
                             std::to_string(entries_[i]) + " of " + std::to_string(tris_.size()));
+    planes_ = voxel_shared_planes(offsets_, entries_, tris_);
   }
 
   const voxel_grid<T>& occupancy() const { return occ_; }
@@ -105,17 +150,18 @@ public:
   const std::vector<std::uint32_t>& entries() const { return entries_; }
   const std::vector<voxel_triangle<T>>& triangles() const { return tris_; }
   const std::vector<std::uint32_t>& bricks() const { return bricks_; }
+  const std::vector<voxel_plane<T>>& planes() const { return planes_; }
   std::int64_t occupied_count() const { return std::int64_t(offsets_.size()) - 1; }
   triangle_voxel_view<T> view() const {
     return triangle_voxel_view<T>{occ_.view(),         rank_.data(), offsets_.data(), entries_.data(), tris_.data(),
-                                  offsets_.size() - 1, tris_.size(),  bricks_.data()};
+                                  offsets_.size() - 1, tris_.size(),  bricks_.data(),  planes_.data()};
   }
   std::uint32_t max_entries_per_voxel() const { return view().max_entries_per_voxel(); }
 
-  // Bytes of the six arrays (occupancy words, rank, offsets, entries, triangles, bricks).
+  // Bytes of the seven arrays (occupancy words, rank, offsets, entries, triangles, bricks, planes).
   std::size_t memory_bytes() const {
     return 4 * (occ_.word_count() + rank_.size() + offsets_.size() + entries_.size() + bricks_.size()) +
-           sizeof(voxel_triangle<T>) * tris_.size();
+           sizeof(voxel_triangle<T>) * tris_.size() + sizeof(voxel_plane<T>) * planes_.size();
   }
 
 private:
@@ -125,6 +171,7 @@ private:
   std::vector<std::uint32_t> entries_;
   std::vector<voxel_triangle<T>> tris_;
   std::vector<std::uint32_t> bricks_;
+  std::vector<voxel_plane<T>> planes_;
 };
 
 }  // namespace vplkit

@@ -4,6 +4,7 @@
 #include <glm/vec4.hpp>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -42,8 +43,9 @@ long long march_triangle_tests(const scene_voxels_view& v) {
 
 namespace {
 
-// A voxel_triangle<float> is four vec4 in the GLSL layout.
+// A voxel_triangle<float> is four vec4 in the GLSL layout, a voxel_plane<float> one.
 static_assert(sizeof(vplkit::voxel_triangle<float>) == 4 * sizeof(glm::vec4), "four vec4 per triangle");
+static_assert(sizeof(vplkit::voxel_plane<float>) == sizeof(glm::vec4), "one vec4 per voxel plane");
 
 std::size_t at_least_one(std::size_t n) { return n > 0 ? n : 1; }
 
@@ -59,7 +61,8 @@ std::size_t triangle_voxels_bytes(const scene_voxels_view& v) {
   const std::size_t words = vplkit::voxel_word_count(v.grid.resolution);
   return 4 * (at_least_one(words) + at_least_one(v.occupied + 1) + at_least_one(v.entry_count()) +
               at_least_one(vplkit::voxel_brick_word_count(v.grid.resolution))) +
-         sizeof(vplkit::voxel_triangle<float>) * at_least_one(v.triangle_count);
+         sizeof(vplkit::voxel_triangle<float>) * at_least_one(v.triangle_count) +
+         sizeof(vplkit::voxel_plane<float>) * (v.occupied + 1);
 }
 
 gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v) {
@@ -67,9 +70,17 @@ gpu_triangle_voxels upload_triangle_voxels(const scene_voxels_view& v) {
   g.rank = upload_uints(v.rank, vplkit::voxel_word_count(v.grid.resolution));
   g.offsets = upload_uints(v.offsets, v.occupied + 1);
   g.entries = upload_uints(v.entries, v.entry_count());
-  std::vector<glm::vec4> tris(4 * at_least_one(v.triangle_count), glm::vec4(0.0f));
+  // The triangles, then the planes: occupied + 1 vec4, as many as offsets has entries (see
+  // gpu_triangle_voxels). Without the view's planes every voxel is "several": the near-surface
+  // test then scans as before.
+  const std::size_t plane_base = 4 * at_least_one(v.triangle_count);
+  const vplkit::voxel_plane<float> several = vplkit::voxel_planes_several<float>();
+  std::vector<glm::vec4> tris(plane_base + v.occupied + 1, glm::vec4(several.normal, several.offset));
+  std::fill(tris.begin(), tris.begin() + static_cast<std::ptrdiff_t>(plane_base), glm::vec4(0.0f));
   if (v.triangle_count > 0)
     std::memcpy(tris.data(), v.triangles, v.triangle_count * sizeof(vplkit::voxel_triangle<float>));
+  if (v.planes != nullptr && v.occupied > 0)
+    std::memcpy(tris.data() + plane_base, v.planes, v.occupied * sizeof(vplkit::voxel_plane<float>));
   g.triangles = vplkit::gl::buffer::from_vector(tris);
   if (v.bricks != nullptr) {
     g.bricks = upload_uints(v.bricks, vplkit::voxel_brick_word_count(v.grid.resolution));

@@ -22,6 +22,10 @@ namespace vplrender {
 // each) and the brick level the marches skip empty space with (glsl/vplkit/visibility/
 // voxel_bricks.glsl), each at least one element, and the loop bound of one march over them.
 struct gpu_triangle_voxels {
+  // triangles: the four vec4 of each triangle, then the grid's planes (vplkit/visibility/
+  // triangle_voxel_grid.hpp: per occupied voxel the plane its triangles share, or the "several"
+  // mark), occupied + 1 vec4 (the last one unused), so a kernel finds them at triangles.length() -
+  // offsets.length() without a binding or a parameter of their own (shaders/estimate_visibility.glsl).
   vplkit::gl::buffer rank, offsets, entries, triangles, bricks;
   long long march_tests = 0;  // march_triangle_tests of the grid
   std::size_t size_bytes() const {
