@@ -3149,7 +3149,16 @@ inline std::int64_t voxel_occupied_index(const voxel_grid_view<T>& g, const std:
 //   the edge, normal pointing into the triangle). A degenerate triangle has all four zero and
 //   never blocks. 64 bytes for T = float (four std430 vec4 on the GPU);
 // - bricks: the occupancy's brick level (voxel_bricks.hpp), which the queries' marches use to jump
-//   over empty bricks (same answers, fewer steps). Derived from the occupancy, not an input.
+//   over empty bricks (same answers, fewer steps). Derived from the occupancy, not an input;
+// - planes[r], r = 0 .. occupied - 1: the plane that every triangle voxel r lists lies in, when
+//   they all have the same plane bit for bit (normal and offset equal as numbers), else the mark
+//   voxel_planes_several (normal 0, offset 1; also for a voxel that lists nothing; no triangle's
+//   plane looks like it: a degenerate one's is all zero). The near-surface test
+//   (triangle_voxel_near.hpp) then asks one plane per voxel instead of one per listed triangle,
+//   with the same answers (the same plane's numbers). Most occupied voxels hold one flat piece of
+//   surface (a wall, a floor, a quad's two triangles); creases, corners and curved geometry are
+//   several. Derived from the lists, not an input. 16 bytes per occupied voxel for T = float (one
+//   std430 vec4 on the GPU).
 // ---- begin vplkit/visibility/voxel_bricks.hpp ----
 // Empty-space skipping for the voxel march: a coarse occupancy level over bricks of
 // voxel_brick_edge^3 voxels (a brick is occupied when any of its voxels is), and the walk's exit
@@ -3304,6 +3313,38 @@ struct voxel_triangle {
   voxel_plane<T> edge[3];  // p is inside iff edge[i].normal . p - edge[i].offset >= 0 for i = 0, 1, 2
 };
 static_assert(sizeof(voxel_triangle<float>) == 64, "voxel_triangle<float> is four std430 vec4");
+static_assert(sizeof(voxel_plane<float>) == 16, "voxel_plane<float> is one std430 vec4");
+
+// The "several planes" mark of planes[r] (see the layout above) and its test.
+template <class T>
+inline voxel_plane<T> voxel_planes_several() {
+  return voxel_plane<T>{vec3<T>(T(0)), T(1)};
+}
+template <class T>
+inline bool voxel_plane_is_several(const voxel_plane<T>& p) {
+  return p.offset != T(0) && p.normal.x == T(0) && p.normal.y == T(0) && p.normal.z == T(0);
+}
+
+// planes[r] for r = 0 .. occupied - 1 from the lists (entries already checked against triangles).
+template <class T>
+inline std::vector<voxel_plane<T>> voxel_shared_planes(const std::vector<std::uint32_t>& offsets,
+                                                       const std::vector<std::uint32_t>& entries,
+                                                       const std::vector<voxel_triangle<T>>& triangles) {
+  const std::size_t occupied = offsets.empty() ? 0 : offsets.size() - 1;
+  std::vector<voxel_plane<T>> planes(occupied, voxel_planes_several<T>());
+  for (std::size_t r = 0; r < occupied; ++r) {
+    if (offsets[r] >= offsets[r + 1]) continue;
+    const voxel_plane<T>& first = triangles[entries[offsets[r]]].plane;
+    bool shared = true;
+    for (std::uint32_t e = offsets[r] + 1; shared && e < offsets[r + 1]; ++e) {
+      const voxel_plane<T>& p = triangles[entries[e]].plane;
+      shared = p.normal.x == first.normal.x && p.normal.y == first.normal.y && p.normal.z == first.normal.z &&
+               p.offset == first.offset;
+    }
+    if (shared) planes[r] = first;
+  }
+  return planes;
+}
 
 template <class T>
 struct triangle_voxel_view {
@@ -3317,6 +3358,9 @@ struct triangle_voxel_view {
   // voxel_brick_words of the occupancy (voxel_brick_word_count(grid.resolution) words), or null:
   // the marches then step through empty bricks voxel by voxel (the same answers).
   const std::uint32_t* bricks = nullptr;
+  // planes (occupied entries), or null: the near-surface test then scans every voxel's triangles
+  // (the same answers).
+  const voxel_plane<T>* planes = nullptr;
 
   std::size_t entry_count() const { return offsets[occupied]; }
   // The longest list (a bound for loop budgets: a ray tests at most this many triangles per voxel).
@@ -3353,6 +3397,7 @@ public:
       if (entries_[i] >= tris_.size())
         throw invalid_input("triangle_voxel_grid: entry " + std::to_string(i) + " is triangle " +
                             std::to_string(entries_[i]) + " of " + std::to_string(tris_.size()));
+    planes_ = voxel_shared_planes(offsets_, entries_, tris_);
   }
 
   const voxel_grid<T>& occupancy() const { return occ_; }
@@ -3361,17 +3406,18 @@ public:
   const std::vector<std::uint32_t>& entries() const { return entries_; }
   const std::vector<voxel_triangle<T>>& triangles() const { return tris_; }
   const std::vector<std::uint32_t>& bricks() const { return bricks_; }
+  const std::vector<voxel_plane<T>>& planes() const { return planes_; }
   std::int64_t occupied_count() const { return std::int64_t(offsets_.size()) - 1; }
   triangle_voxel_view<T> view() const {
     return triangle_voxel_view<T>{occ_.view(),         rank_.data(), offsets_.data(), entries_.data(), tris_.data(),
-                                  offsets_.size() - 1, tris_.size(),  bricks_.data()};
+                                  offsets_.size() - 1, tris_.size(),  bricks_.data(),  planes_.data()};
   }
   std::uint32_t max_entries_per_voxel() const { return view().max_entries_per_voxel(); }
 
-  // Bytes of the six arrays (occupancy words, rank, offsets, entries, triangles, bricks).
+  // Bytes of the seven arrays (occupancy words, rank, offsets, entries, triangles, bricks, planes).
   std::size_t memory_bytes() const {
     return 4 * (occ_.word_count() + rank_.size() + offsets_.size() + entries_.size() + bricks_.size()) +
-           sizeof(voxel_triangle<T>) * tris_.size();
+           sizeof(voxel_triangle<T>) * tris_.size() + sizeof(voxel_plane<T>) * planes_.size();
   }
 
 private:
@@ -3381,6 +3427,7 @@ private:
   std::vector<std::uint32_t> entries_;
   std::vector<voxel_triangle<T>> tris_;
   std::vector<std::uint32_t> bricks_;
+  std::vector<voxel_plane<T>> planes_;
 };
 
 }  // namespace vplkit
@@ -3632,6 +3679,17 @@ inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<
 // guarantees that every surface point within reach of x lies in a plane through x. True is
 // returned as well when it cannot look (a box of more than voxel_near_max_side voxels per axis, a
 // non-finite x or reach, a negative reach): the caller then traces.
+//
+// Cost (it runs once per pixel): the box's rows along x are read from the occupancy words (one or
+// two per row, so an empty row, the most common, costs a load or two), and per occupied voxel it
+// asks one plane where the voxel's triangles all share one (the grid's planes,
+// triangle_voxel_grid.hpp: the same plane's numbers, so the same answer as asking each of them),
+// and every listed triangle's plane only where they do not (creases, corners, curved geometry) or
+// where the view has no planes. triangle_voxel_surface_within_scan looks every voxel up on its own
+// and asks every triangle: the same answers, bit for bit (tests/unit, tests/hardcases,
+// tests/parity). Measured: bench_triangle_voxel_near (docs/results/clamp_compensation.md).
+
+#include <glm/common.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -3642,6 +3700,51 @@ namespace vplkit {
 // The widest box looked at, in voxels per axis: beyond it the answer is "maybe" (true).
 constexpr int voxel_near_max_side = 8;
 
+namespace detail {
+
+// Is the plane p farther than plane_tolerance from x and not farther than reach? NaN (a bad
+// triangle's plane): no.
+template <class T>
+inline bool voxel_near_plane_within(const voxel_plane<T>& p, vec3<T> x, T reach, T plane_tolerance) {
+  const T s = std::abs(glm::dot(p.normal, x) - p.offset);
+  return s > plane_tolerance && s <= reach;
+}
+
+// Bits lo .. hi of a word (0 <= lo <= hi <= 31).
+inline std::uint32_t voxel_near_bit_range(int lo, int hi) {
+  const std::uint32_t upto = hi == 31 ? ~std::uint32_t(0) : (std::uint32_t(1) << (hi + 1)) - 1u;
+  return upto & ~((std::uint32_t(1) << lo) - 1u);
+}
+
+// Does occupied voxel r hold a surface other than x's planes within reach? One plane where its
+// triangles share one (g.planes), else every listed triangle's.
+template <class T>
+inline bool voxel_near_voxel_within(const triangle_voxel_view<T>& g, std::uint32_t r, vec3<T> x, T reach,
+                                    T plane_tolerance) {
+  if (g.planes != nullptr && !voxel_plane_is_several(g.planes[r]))
+    return voxel_near_plane_within(g.planes[r], x, reach, plane_tolerance);
+  for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
+    if (voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
+  return false;
+}
+
+// The occupied voxels among flat indices i0 .. i1 of word w (bits lo .. hi of it).
+template <class T>
+inline bool voxel_near_word_within(const triangle_voxel_view<T>& g, std::size_t w, int lo, int hi, vec3<T> x, T reach,
+                                   T plane_tolerance) {
+  const std::uint32_t word = g.grid.words[w];
+  std::uint32_t bits = word & voxel_near_bit_range(lo, hi);
+  while (bits != 0u) {
+    const std::uint32_t lowest = bits & (0u - bits);
+    const std::uint32_t r = g.rank[w] + std::uint32_t(voxel_bit_count(word & (lowest - 1u)));
+    if (voxel_near_voxel_within(g, r, x, reach, plane_tolerance)) return true;
+    bits &= bits - 1u;
+  }
+  return false;
+}
+
+}  // namespace detail
+
 template <class T>
 inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
   if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
@@ -3649,6 +3752,41 @@ inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<
     return true;
   // Voxels meeting [x - reach, x + reach], widened by a thousandth of a voxel against the rounding
   // of the coordinates (a triangle on a voxel face is listed by the voxels on both sides).
+  const T slack = T(1e-3);
+  const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
+  const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
+  ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
+  ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
+  if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
+    return true;
+  // Only the voxels inside the grid can be occupied. A row of the box (b.x - a.x < 8 voxels along
+  // x) lies in one or two occupancy words: its occupied voxels are read from them at once, and the
+  // empty rows (most of them: a surface crosses a few) cost two word loads.
+  const ivec3 res = g.grid.resolution;
+  a = glm::max(a, ivec3(0));
+  b = glm::min(b, res - ivec3(1));
+  if (a.x > b.x) return false;  // (a.y > b.y or a.z > b.z: the loops below do nothing)
+  for (int z = a.z; z <= b.z; ++z)
+    for (int y = a.y; y <= b.y; ++y) {
+      const std::int64_t row = voxel_flat_index(res, ivec3(0, y, z));
+      const std::int64_t i0 = row + a.x, i1 = row + b.x;
+      for (std::int64_t w = i0 >> 5; w <= i1 >> 5; ++w)  // one word, or two
+        if (detail::voxel_near_word_within(g, std::size_t(w), w == i0 >> 5 ? int(i0 & 31) : 0,
+                                           w == i1 >> 5 ? int(i1 & 31) : 31, x, reach, plane_tolerance))
+          return true;
+    }
+  return false;
+}
+
+// The same answers the simple way: every voxel of the box looked up on its own
+// (voxel_occupied_index) and every triangle it lists asked (the grid's planes not used). What the
+// test was before the rows and the planes; the reference the tests and bench_triangle_voxel_near
+// hold it to.
+template <class T>
+inline bool triangle_voxel_surface_within_scan(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
+  if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
+      !(plane_tolerance >= T(0)))
+    return true;
   const T slack = T(1e-3);
   const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
   const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
@@ -3661,11 +3799,8 @@ inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<
       for (int xi = a.x; xi <= b.x; ++xi) {
         const std::int64_t r = voxel_occupied_index(g.grid, g.rank, ivec3(xi, y, z));
         if (r < 0) continue;
-        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e) {
-          const voxel_plane<T>& p = g.triangles[g.entries[e]].plane;
-          const T s = std::abs(glm::dot(p.normal, x) - p.offset);
-          if (s > plane_tolerance && s <= reach) return true;  // NaN s (a bad triangle): not near
-        }
+        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
+          if (detail::voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
       }
   return false;
 }
