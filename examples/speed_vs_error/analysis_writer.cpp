@@ -89,7 +89,8 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
        << "`, spatial reuse " << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
   if (swept(method::ris_mis))
     md << ", ris-mis: " << base.candidates << " candidates per RIS sample from `" << to_string(base.candidate_source)
-       << "`, as many gathering directions as RIS samples";
+       << "`, as many gathering directions as RIS samples, spatial reuse "
+       << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
   md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
      << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
      << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");
