@@ -57,6 +57,25 @@ struct ris_candidate_source {
   }
 };
 
+// What the rounds of spatial reuse keep per pixel: its random stream (it runs on from round to
+// round), its reservoir record (rewritten by every candidate pass) and its running sum.
+struct ris_reuse_rounds {
+  std::vector<vplkit::counter_rng> rng;
+  std::vector<vplkit::gpu::ris_reservoir_record> records;
+  std::vector<vplkit::vec3<float>> sum;
+  ris_reuse_rounds(int n_pixels, std::uint32_t seed)
+      : rng(static_cast<std::size_t>(n_pixels)),
+        records(static_cast<std::size_t>(n_pixels),
+                vplkit::gpu::make_ris_reservoir_record(vplkit::ris_reservoir<float>{})),
+        sum(static_cast<std::size_t>(n_pixels), vplkit::vec3<float>(0.0f)) {
+    for (int p = 0; p < n_pixels; ++p) rng[std::size_t(p)] = vplkit::make_counter_rng(seed, static_cast<std::uint32_t>(p));
+  }
+  // What pixel q offers its neighbours: its gather point and this round's reservoir.
+  vplkit::ris_neighbour<float> neighbour(const vplkit::gbuffer_view<float>& g, int q) const {
+    return vplkit::ris_neighbour<float>{g.at(q), vplkit::gpu::ris_reservoir_from_record(records[std::size_t(q)])};
+  }
+};
+
 // Renders --method ris-mis into `image` (as render_ris_cpu, without compensation: its estimand is
 // the unclamped integral). `tracer` traces its gathering directions (render_cpu's, with the run's
 // --lit-test). Without reuse, per pixel vplkit::estimate_ris_mis. With --spatial K > 0 the steps
@@ -114,14 +133,11 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
   const float n1 = float(n_dirs), n2 = float(n_ris);
   const int rounds = std::max(n_dirs, n_ris);
   const int n_pixels = W * H;
-  std::vector<vplkit::counter_rng> rng(static_cast<std::size_t>(n_pixels));
-  for (int p = 0; p < n_pixels; ++p) rng[std::size_t(p)] = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
-  std::vector<vplkit::gpu::ris_reservoir_record> records(
-      static_cast<std::size_t>(n_pixels), vplkit::gpu::make_ris_reservoir_record(vplkit::ris_reservoir<float>{}));
-  std::vector<vplkit::vec3<float>> sum(static_cast<std::size_t>(n_pixels), vplkit::vec3<float>(0.0f));
-  const auto load = [&](int q) {
-    return vplkit::ris_neighbour<float>{g.at(q), vplkit::gpu::ris_reservoir_from_record(records[std::size_t(q)])};
-  };
+  ris_reuse_rounds state(n_pixels, s.seed);
+  std::vector<vplkit::counter_rng>& rng = state.rng;
+  std::vector<vplkit::gpu::ris_reservoir_record>& records = state.records;
+  std::vector<vplkit::vec3<float>>& sum = state.sum;
+  const auto load = [&](int q) { return state.neighbour(g, q); };
   for (int round = 0; round < rounds; ++round) {
     if (progress) progress("render", static_cast<std::uint64_t>(round), static_cast<std::uint64_t>(rounds));
     const bool ris_round = round < n_ris, dir_round = round < n_dirs;
@@ -199,14 +215,11 @@ void render_ris_cpu(const cpu_frame& f, const render_settings& s, const Dist* di
     return;
   }
   const int n_pixels = W * H;
-  std::vector<vplkit::counter_rng> rng(static_cast<std::size_t>(n_pixels));
-  for (int p = 0; p < n_pixels; ++p) rng[std::size_t(p)] = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
-  std::vector<vplkit::gpu::ris_reservoir_record> records(
-      static_cast<std::size_t>(n_pixels), vplkit::gpu::make_ris_reservoir_record(vplkit::ris_reservoir<float>{}));
-  std::vector<vplkit::vec3<float>> sum(static_cast<std::size_t>(n_pixels), vplkit::vec3<float>(0.0f));
-  const auto load = [&](int q) {
-    return vplkit::ris_neighbour<float>{g.at(q), vplkit::gpu::ris_reservoir_from_record(records[std::size_t(q)])};
-  };
+  ris_reuse_rounds state(n_pixels, s.seed);
+  std::vector<vplkit::counter_rng>& rng = state.rng;
+  std::vector<vplkit::gpu::ris_reservoir_record>& records = state.records;
+  std::vector<vplkit::vec3<float>>& sum = state.sum;
+  const auto load = [&](int q) { return state.neighbour(g, q); };
   for (int round = 0; round < N; ++round) {
     if (progress) progress("render", static_cast<std::uint64_t>(round), static_cast<std::uint64_t>(N));
     // Candidates: each pixel's reservoir of its own M candidates.
