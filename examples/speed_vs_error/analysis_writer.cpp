@@ -96,7 +96,14 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
      << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");
   if (so.ref_vplsum && so.ref_gather)
     md << ". Between the references: RMSE " << sci(compare(ref_gather.img, ref_vpl.img).rmse);
-  if (so.ref_exact && so.ref_vplsum) md << "; VPL sum vs exact " << sci(compare(ref_vpl.img, ref_exact.img).rmse);
+  if (so.ref_exact && so.ref_vplsum) {
+    md << "; VPL sum vs exact " << sci(compare(ref_vpl.img, ref_exact.img).rmse);
+    // With (c)'s second render: the VPL estimand's squared relative bias against the truth, the
+    // floor of every VPL method's net relMSE, and the most that removing the clamp can gain.
+    if (refs.exact_noise)
+      md << " (relMSE net of exact's noise " << sci(compare_net(ref_vpl.img, ref_exact.img, refs.exact2.img).relmse)
+         << ")";
+  }
   if (so.ref_exact && so.ref_gather)
     md << "; gathering vs exact " << sci(compare(ref_gather.img, ref_exact.img).rmse);
   if (!f.band.empty()) {

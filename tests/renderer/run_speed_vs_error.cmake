@@ -130,6 +130,11 @@ if(NOT md MATCHES "Reference noise \\(a second render.*gathering MSE [0-9.e+-]+,
   message(FATAL_ERROR "sweep.md: no reference-noise line\n${md}")
 endif()
 
+# The VPL sum's distance to the truth, net of exact's noise (a signed number).
+if(NOT md MATCHES "VPL sum vs exact [0-9.e+-]+ \\(relMSE net of exact's noise -?[0-9.e+-]+\\)")
+  message(FATAL_ERROR "sweep.md: no net VPL-sum-vs-exact relMSE\n${md}")
+endif()
+
 file(GLOB refs ${dir}/cache/ref_*.exr)
 list(LENGTH refs n)
 if(NOT n EQUAL 5)
