@@ -9,8 +9,9 @@
 # (reference (a) = the clamped VPL sum). Both with --ref-noise on (the default) and 2 or more seeds.
 #
 # The compensation draws from a stream of its own, so a compensated run has the clamped run's VPL
-# samples bit for bit: per seed, relMSE(on) / relMSE(off) cancels the VPL noise that dominates
-# either, and its mean over the seeds is the gain g at equal samples to a fraction of a percent.
+# samples bit for bit: per seed, relMSE(off) - relMSE(on) cancels the VPL noise that dominates
+# either, and its mean over the seeds, over the clamped mean relMSE, is the gain g at equal samples
+# to a fraction of a percent.
 # The cost c is the compensation's own stage time ("estimate: clamp compensation") over the
 # clamped run's frame (build + estimate), not the difference of two noisy frame times. With the
 # clamped series' local slope k (relMSE ~ n^-k), the equal-time ratio is (1 - g) (1 + c)^k
@@ -82,9 +83,11 @@ def main():
             off, on = runs('off', n), runs('on', n)
             if len(off) != len(on) or len(off) < 2:
                 raise SystemExit(f'{meth} at {n}: needs the same 2 or more seeds with and without the compensation')
-            ratios = [float(b['relmse_exact_net']) / float(a['relmse_exact_net']) for a, b in zip(off, on)]
-            g = 1 - st.mean(ratios)
-            se = st.stdev(ratios) / math.sqrt(len(ratios))
+            # The gain on the seeds' mean relMSE (not the mean of per-seed ratios, which weighs the
+            # seeds with little error up): the paired differences carry its standard error.
+            diffs = [float(a['relmse_exact_net']) - float(b['relmse_exact_net']) for a, b in zip(off, on)]
+            g = st.mean(diffs) / rel[n]
+            se = st.stdev(diffs) / math.sqrt(len(diffs)) / rel[n]
             c = st.mean(stage_ms(r, 'estimate: clamp compensation (cpu)') + stage_ms(r, 'estimate: clamp compensation (gpu)')
                         for r in on) / st.mean(float(r['total_ms']) for r in off)
             j0, j1 = (i - 1, i) if i > 0 else (0, 1)
