@@ -54,32 +54,49 @@ namespace vplkit {
 // h(t, xi) of the header without visibility, for the sample s of a texel drawn with probability
 // pmf; v receives the point it stands for (for the visibility query). 0 (and v without flux) where
 // the sample is empty or outside the view, pmf is not positive, the point cannot light x, or (n1 > 0)
-// the patch moved the point to the texel centre.
+// the patch moved the point to the texel centre. rx = make_mis_receiver(gp), made once per gather
+// point for all its candidates; a patch point's unit normal comes from its texel's plane record
+// (dprsm_view::plane_at: unit_or_zero(n_t) wherever the point has flux). The same bits as
+// normalising both per candidate.
 template <class T>
-inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
-                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                  const ris_sample<T>& s, T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance,
+                                  vpl<T>& v) {
   v = vpl<T>{vec3<T>(T(0)), vec3<T>(T(0)), vec3<T>(T(0))};
   if (!(pmf > T(0)) || !(n2 > T(0)) || s.texel < 0 || s.texel >= view.texel_count()) return vec3<T>(T(0));
   T area;
+  vec3<T> n_v;
   if (mode == vpl_mode::patch) {
     const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, s.texel, s.xi, depth_tolerance);
     if (p.at_centre && n1 > T(0)) return vec3<T>(T(0));
     v = p.point;
+    if (!vpl_has_flux(v)) return vec3<T>(T(0));
+    // A point with flux has a plane (height != 0), whose normal is unit_or_zero(n_t).
+    n_v = view.plane_at(s.texel).normal;
     area = vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha);
   } else {
     v = view.vpl_at(s.texel);
+    n_v = unit_or_zero(v.normal);
     area = mis_texel_patch_area(view, s.texel);
   }
-  return estimator_finite_or_zero(mis_vpl_unshadowed(gp, view, s.texel, v, pmf, area, n1, n2) * (n2 * pmf));
+  return estimator_finite_or_zero(mis_vpl_unshadowed_unit(gp, rx, view, s.texel, v, n_v, pmf, area, n1, n2) *
+                                  (n2 * pmf));
+}
+
+template <class T>
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
+                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+  return ris_mis_unshadowed(gp, make_mis_receiver(gp), view, s, pmf, n1, n2, mode, depth_tolerance, v);
 }
 
 // One candidate: draws u (and with vpl_mode::patch u0, u1), sets its sample s and its target
 // lum(h), and returns its resampling weight target / pmf (0 where the target is 0 or the draw is
-// empty; a weight that overflows is not usable and the reservoir skips it).
+// empty; a weight that overflows is not usable and the reservoir skips it). rx as in
+// ris_mis_unshadowed.
 template <class T, class Distribution>
-inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
-                           counter_rng& rng, T n1, T n2, vpl_mode mode, T depth_tolerance, ris_sample<T>& s,
-                           T& target) {
+inline T ris_mis_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                           const Distribution& distribution, counter_rng& rng, T n1, T n2, vpl_mode mode,
+                           T depth_tolerance, ris_sample<T>& s, T& target) {
   s = ris_sample<T>{};
   target = T(0);
   const T u = rng_next_unit<T>(rng);
@@ -92,10 +109,18 @@ inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view,
   if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
   s.texel = int(d.index);
   vpl<T> v;
-  const T p = luminance(ris_mis_unshadowed(gp, view, s, pmf, n1, n2, mode, depth_tolerance, v));
+  const T p = luminance(ris_mis_unshadowed(gp, rx, view, s, pmf, n1, n2, mode, depth_tolerance, v));
   if (!reservoir_weight_usable(p)) return T(0);
   target = p;
   return p / pmf;
+}
+
+template <class T, class Distribution>
+inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
+                           counter_rng& rng, T n1, T n2, vpl_mode mode, T depth_tolerance, ris_sample<T>& s,
+                           T& target) {
+  return ris_mis_candidate(gp, make_mis_receiver(gp), view, distribution, rng, n1, n2, mode, depth_tolerance, s,
+                           target);
 }
 
 // One reservoir of n_candidates candidates with the target lum(h) (ris_resample's layout and
@@ -108,10 +133,11 @@ inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_
   ris_reservoir<T> r;
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0))) return r;
   weighted_reservoir<T> res;
+  const mis_receiver<T> rx = make_mis_receiver(gp);
   for (int i = 0; i < n_candidates; ++i) {
     ris_sample<T> s;
     T target;
-    const T w = ris_mis_candidate(gp, view, distribution, rng, n1, n2, mode, depth_tolerance, s, target);
+    const T w = ris_mis_candidate(gp, rx, view, distribution, rng, n1, n2, mode, depth_tolerance, s, target);
     if (reservoir_update(res, std::uint32_t(i), w, rng_next_unit<T>(rng))) {
       r.kept = s;
       r.target = target;

@@ -145,7 +145,7 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T d1 = h / cos_a;
   if (!(d1 <= std::numeric_limits<T>::max())) return s;
   const vec3<T> y = c + d1 * w;
-  if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
+  if (!dprsm_plane_lit_unit(c, y_t, n, h, y, d1, depth_tolerance, R)) return s;  // dprsm_plane_lit, n and h as above
   s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
   s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   if (dprsm_patch_point_hidden(view, t, s.uv, w, d1)) {  // the centre carries this point's flux
