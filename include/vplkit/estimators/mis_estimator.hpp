@@ -43,11 +43,11 @@ namespace vplkit {
 
 enum class mis_mode { solid_angle, as_published };
 
-// f / (n1 p1 + n2 p2) per channel (balance_combined).
+// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once).
 template <class T>
 inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
-  return vec3<T>(balance_combined(f.x, n1, p1, n2, p2), balance_combined(f.y, n1, p1, n2, p2),
-                 balance_combined(f.z, n1, p1, n2, p2));
+  const mis_balance_denominator<T> den = balance_denominator(n1, p1, n2, p2);
+  return vec3<T>(balance_divide(f.x, den), balance_divide(f.y, den), balance_divide(f.z, den));
 }
 
 // Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.

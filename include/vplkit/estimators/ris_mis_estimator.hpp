@@ -89,30 +89,59 @@ inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>
   return ris_mis_unshadowed(gp, make_mis_receiver(gp), view, s, pmf, n1, n2, mode, depth_tolerance, v);
 }
 
-// One candidate: draws u (and with vpl_mode::patch u0, u1), sets its sample s and its target
-// lum(h), and returns its resampling weight target / pmf (0 where the target is 0 or the draw is
-// empty; a weight that overflows is not usable and the reservoir skips it). rx as in
-// ris_mis_unshadowed.
+// A candidate's draw: its sample (texel -1 where the draw is empty or its index lies outside the
+// view) and the pmf it was drawn with (0 then).
+template <class T>
+struct ris_mis_draw {
+  ris_sample<T> s{};
+  T pmf = T(0);
+};
+
+// The first half of a candidate: samples the distribution with u; xi is the jitter (u0, u1 with
+// vpl_mode::patch, else 0).
+template <class T, class Distribution>
+inline ris_mis_draw<T> ris_mis_draw_candidate(const dprsm_view<T>& view, const Distribution& distribution, T u,
+                                              vec2<T> xi) {
+  ris_mis_draw<T> c;
+  c.s.xi = xi;
+  const auto d = distribution.sample(u);
+  const T pmf = estimator_pmf(T(d.pmf));
+  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return c;
+  c.s.texel = int(d.index);
+  c.pmf = pmf;
+  return c;
+}
+
+// The second half: sets target = lum(h) and returns the resampling weight target / pmf (0 where
+// the target is 0 or the draw is empty; a weight that overflows is not usable and the reservoir
+// skips it). rx as in ris_mis_unshadowed.
+template <class T>
+inline T ris_mis_weigh_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                 const ris_mis_draw<T>& c, T n1, T n2, vpl_mode mode, T depth_tolerance, T& target) {
+  target = T(0);
+  if (c.s.texel < 0) return T(0);
+  vpl<T> v;
+  const T p = luminance(ris_mis_unshadowed(gp, rx, view, c.s, c.pmf, n1, n2, mode, depth_tolerance, v));
+  if (!reservoir_weight_usable(p)) return T(0);
+  target = p;
+  return p / c.pmf;
+}
+
+// One candidate (the draw, then its weight): sets its sample s and its target lum(h), and returns
+// its resampling weight target / pmf.
 template <class T, class Distribution>
 inline T ris_mis_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
                            const Distribution& distribution, counter_rng& rng, T n1, T n2, vpl_mode mode,
                            T depth_tolerance, ris_sample<T>& s, T& target) {
-  s = ris_sample<T>{};
-  target = T(0);
   const T u = rng_next_unit<T>(rng);
+  vec2<T> xi(T(0));
   if (mode == vpl_mode::patch) {
-    s.xi.x = rng_next_unit<T>(rng);
-    s.xi.y = rng_next_unit<T>(rng);
+    xi.x = rng_next_unit<T>(rng);
+    xi.y = rng_next_unit<T>(rng);
   }
-  const auto d = distribution.sample(u);
-  const T pmf = estimator_pmf(T(d.pmf));
-  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
-  s.texel = int(d.index);
-  vpl<T> v;
-  const T p = luminance(ris_mis_unshadowed(gp, rx, view, s, pmf, n1, n2, mode, depth_tolerance, v));
-  if (!reservoir_weight_usable(p)) return T(0);
-  target = p;
-  return p / pmf;
+  const ris_mis_draw<T> c = ris_mis_draw_candidate(view, distribution, u, xi);
+  s = c.s;
+  return ris_mis_weigh_candidate(gp, rx, view, c, n1, n2, mode, depth_tolerance, target);
 }
 
 template <class T, class Distribution>
@@ -123,9 +152,17 @@ inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view,
                            target);
 }
 
+// Candidates drawn ahead of their evaluation in ris_mis_resample.
+inline constexpr int ris_mis_draw_batch = 8;
+
 // One reservoir of n_candidates candidates with the target lum(h) (ris_resample's layout and
 // normalisation: weight_sum = (1/M) sum w_i, confidence M). Empty for an invalid gather point,
-// n_candidates <= 0 or n2 <= 0 (no numbers drawn then).
+// n_candidates <= 0 or n2 <= 0 (no numbers drawn then). The candidates go in batches of
+// ris_mis_draw_batch: first each one's numbers (u, the jitter, then its selection u: the layout of
+// the one-at-a-time loop, which the GLSL mirror runs), with the distribution's first memory
+// prefetched (distribution_prefetch), then each one's draw, with its texel's data prefetched, then
+// their weights and reservoir updates in order. The same numbers, samples and updates as one
+// candidate at a time, so the same reservoir; the texels' memory latencies overlap.
 template <class T, class Distribution>
 inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                          const Distribution& distribution, counter_rng& rng, int n_candidates, T n1,
@@ -134,13 +171,32 @@ inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0))) return r;
   weighted_reservoir<T> res;
   const mis_receiver<T> rx = make_mis_receiver(gp);
-  for (int i = 0; i < n_candidates; ++i) {
-    ris_sample<T> s;
-    T target;
-    const T w = ris_mis_candidate(gp, rx, view, distribution, rng, n1, n2, mode, depth_tolerance, s, target);
-    if (reservoir_update(res, std::uint32_t(i), w, rng_next_unit<T>(rng))) {
-      r.kept = s;
-      r.target = target;
+  for (int i0 = 0; i0 < n_candidates; i0 += ris_mis_draw_batch) {
+    const int n = n_candidates - i0 < ris_mis_draw_batch ? n_candidates - i0 : ris_mis_draw_batch;
+    ris_mis_draw<T> c[ris_mis_draw_batch];
+    T u[ris_mis_draw_batch], u_keep[ris_mis_draw_batch];
+    vec2<T> xi[ris_mis_draw_batch];
+    for (int k = 0; k < n; ++k) {
+      u[k] = rng_next_unit<T>(rng);
+      xi[k] = vec2<T>(T(0));
+      if (mode == vpl_mode::patch) {
+        xi[k].x = rng_next_unit<T>(rng);
+        xi[k].y = rng_next_unit<T>(rng);
+      }
+      u_keep[k] = rng_next_unit<T>(rng);
+      distribution_prefetch(distribution, u[k]);
+    }
+    for (int k = 0; k < n; ++k) {
+      c[k] = ris_mis_draw_candidate(view, distribution, u[k], xi[k]);
+      if (c[k].s.texel >= 0) dprsm_patch_prefetch(view, c[k].s.texel);
+    }
+    for (int k = 0; k < n; ++k) {
+      T target;
+      const T w = ris_mis_weigh_candidate(gp, rx, view, c[k], n1, n2, mode, depth_tolerance, target);
+      if (reservoir_update(res, std::uint32_t(i0 + k), w, u_keep[k])) {
+        r.kept = c[k].s;
+        r.target = target;
+      }
     }
   }
   const T m = T(n_candidates);

@@ -31,6 +31,7 @@
 // to the texel centre y_t with its flux unchanged (at_centre): the midpoint rule for that part of
 // the texel, energy kept. The split is a function of uv alone, so MIS can tell a gathering hit in
 // that part (mis_estimator.hpp gives it to gathering alone).
+#include <vplkit/core/prefetch.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>
@@ -110,6 +111,22 @@ inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, ve
   if (!(h > T(0)) || !(cos_a > T(0))) return false;
   const paraboloid_point<T> q = paraboloid_from_direction(view.light.frame.to_light(w));
   return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
+}
+
+// Asks for what dprsm_patch_vpl(view, t, ..) reads of texel t (its position, normal, albedo and
+// plane record) and the plane records of the rows above and below (the hidden test's neighbours)
+// to be brought into the cache (prefetch_read): for a caller that knows several texels before
+// it evaluates them. 0 <= t < texel_count(), not checked. Changes nothing else.
+template <class T>
+VPLKIT_PREFETCH_INLINE void dprsm_patch_prefetch(const dprsm_view<T>& view, int t) {
+  prefetch_read(view.position + t);
+  prefetch_read(view.normal + t);
+  prefetch_read(view.albedo + t);
+  if (view.planes == nullptr) return;
+  const int R = view.resolution;
+  prefetch_read(view.planes + t);
+  if (t >= R) prefetch_read(view.planes + (t - R));
+  if (t + R < view.texel_count()) prefetch_read(view.planes + (t + R));
 }
 
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
