@@ -8,6 +8,7 @@
 #include <vplkit/core/vector.hpp>
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
+#include <vplkit/core/prefetch.hpp>
 #include <vplkit/core/gather_point.hpp>
 
 // distribution: discrete CDF (inverse transform), alias table, share tree, defensive mixing, face roulette,

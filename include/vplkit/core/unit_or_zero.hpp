@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace vplkit {
 
@@ -29,10 +30,28 @@ inline T max_abs_component(vec3<T> v) {
 // and FLT_MAX, square to Inf), and nothing divides by a huge |v| (a GPU may divide as
 // a * (1 / b), and 1 / b is a denormal for b > 2^126). So any finite v with a normal component
 // gives a unit vector, on every device.
+//
+// Host shortcut (float and double, whose sqrt and division are correctly rounded; not a test's GPU
+// model of float): where the largest component lies in [2^-50, 2^60], the power-of-two scaling
+// changes no bit of the result, so it is skipped. There the largest square is at least 2^-100, so
+// every square that can move the sum (one not below half an ulp of the largest, 2^-124 or more) is
+// a normal T with or without the scaling, and the others move it in neither; the scaling by 2^k
+// commutes with the correctly rounded squares, sum, square root, reciprocal and product, so
+// s * (1 / sqrt(dot(s, s))) = v * (1 / sqrt(dot(v, v))) bit for bit. A NaN component makes
+// dot(v, v) NaN, which the range test rejects. (A float component 2^-10 below one of 2^-59 has a
+// denormal square that does move the sum: hence 2^-50. Compared over exponents of the whole range
+// in tests/hardcases/estimators_ris_mis_batch_hardcases_test.cpp.)
 template <class T>
 inline vec3<T> unit_or_zero(vec3<T> v) {
   v = flush_denormal(v);
   const T m = max_abs_component(v);
+  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
+    if (m >= T(0x1p-50) && m <= T(0x1p60)) {
+      const T len2 = glm::dot(v, v);  // in [2^-100, 3 * 2^120] unless a component is NaN
+      if (!(len2 >= T(0x1p-101)) || !(len2 <= T(0x1p122))) return vec3<T>(T(0));
+      return flush_denormal(v * (T(1) / std::sqrt(len2)));
+    }
+  }
   if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
   const int e = binary_exponent(m);
   const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);

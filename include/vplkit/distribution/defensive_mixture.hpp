@@ -13,6 +13,7 @@
 // mixture_split's (mixture_split.hpp): every mixture over the same totals and eps picks its
 // component with the same remapped u, whatever the components are.
 #include <vplkit/core/normal_range.hpp>
+#include <vplkit/core/prefetch.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/mixture_split.hpp>
@@ -70,6 +71,14 @@ public:
     const mixture_choice<T> c = split_.choose(u);
     const std::size_t i = component(c.component).sample(c.u).index;
     return {i, pmf(i)};
+  }
+
+  // The component's prefetch_sample for the u it gets (distribution_prefetch: nothing for a
+  // component without one).
+  VPLKIT_PREFETCH_INLINE void prefetch_sample(T u) const noexcept {
+    if (empty()) return;
+    const mixture_choice<T> c = split_.choose(u);
+    distribution_prefetch(component(c.component), c.u);
   }
 
   // discrete_cdf components only: the same index and pmf as sample(u), with each component

@@ -15,6 +15,7 @@
 //           guide[j] = the largest i in [0, n - 1] with cdf[i] <= j / m.
 // Sampling returns the largest i with cdf[i] <= u. That bin has cdf[i + 1] > u >= cdf[i], so
 // its width is positive: a zero weight is never returned, whatever u is.
+#include <vplkit/core/prefetch.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
 #include <vplkit/distribution/weights.hpp>
 
@@ -142,6 +143,14 @@ public:
     u = discrete_clamp_u(u);
     const std::size_t i = discrete_cdf_sample_guided(cdf_.data(), guide_.data(), m_, u);
     return {i, cdf_[i + 1] - cdf_[i]};
+  }
+
+  // Asks for the guide entries that sample(u) reads first (prefetch_read): for a caller that
+  // knows several u before it samples them. No effect on any value.
+  VPLKIT_PREFETCH_INLINE void prefetch_sample(T u) const noexcept {
+    if (empty()) return;
+    u = discrete_clamp_u(u);
+    prefetch_read(guide_.data() + std::size_t(std::int64_t(u * T(std::int64_t(m_)))));
   }
 
   // The same index by a plain binary search over the whole CDF (no guide table).

@@ -43,11 +43,11 @@ namespace vplkit {
 
 enum class mis_mode { solid_angle, as_published };
 
-// f / (n1 p1 + n2 p2) per channel (balance_combined).
+// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once).
 template <class T>
 inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
-  return vec3<T>(balance_combined(f.x, n1, p1, n2, p2), balance_combined(f.y, n1, p1, n2, p2),
-                 balance_combined(f.z, n1, p1, n2, p2));
+  const mis_balance_denominator<T> den = balance_denominator(n1, p1, n2, p2);
+  return vec3<T>(balance_divide(f.x, den), balance_divide(f.y, den), balance_divide(f.z, den));
 }
 
 // Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.
@@ -138,27 +138,54 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   return estimator_finite_or_zero(f * (w.gathering / p1));
 }
 
-// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
-// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t
-// for a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either
-// cosine not positive, below x's geometric plane). ris_mis_estimator.hpp weighs candidates by it.
+// What a VPL sample's value needs of the gather point beyond the point itself: its unit shading
+// and geometric normals (unit_or_zero of gather_point_shading_normal and of the normal), computed
+// once per point for the many samples evaluated there (RIS candidates) instead of once per sample.
+// The same values as the per-sample expressions, so the same bits.
 template <class T>
-inline vec3<T> mis_vpl_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v,
-                                  T pmf, T area, T n1, T n2) {
+struct mis_receiver {
+  vec3<T> shading_unit{T(0)};
+  vec3<T> geometric_unit{T(0)};
+};
+
+template <class T>
+inline mis_receiver<T> make_mis_receiver(const gather_point<T>& gp) {
+  return mis_receiver<T>{unit_or_zero(gather_point_shading_normal(gp)), unit_or_zero(gp.normal)};
+}
+
+// mis_vpl_unshadowed with gp's unit normals from rx = make_mis_receiver(gp) and the VPL's unit
+// normal n_v = unit_or_zero(v.normal) given (for a patch point, its texel's plane record holds
+// it): the same expressions, without their normalisations.
+template <class T>
+inline vec3<T> mis_vpl_unshadowed_unit(const gather_point<T>& gp, const mis_receiver<T>& rx,
+                                       const dprsm_view<T>& view, int t, const vpl<T>& v, vec3<T> n_v, T pmf,
+                                       T area, T n1, T n2) {
   if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
   const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
-  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
-  const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
-  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
+  const T cos2 = glm::dot(rx.shading_unit, wd);
+  const T cos1 = -glm::dot(n_v, wd);
+  // gather_point_above(gp, wd), with gp's unit normal from rx.
+  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !(glm::dot(rx.geometric_unit, wd) > T(0))) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo *
-                    reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
-                                       view.albedo[t]) *
+                    reflected_radiance_unit_normal(view.light.position, view.light.intensity, v.position, n_v,
+                                                   view.albedo[t]) *
                     (cos2 / vpl_pi<T>);
   const T p1 = cosine_pdf_solid_angle(cos2);
   const vec3<T> w = gp.position - v.position;
   const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
   return mis_balance_value(f, n1, p1, n2, p2);
+}
+
+// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
+// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t
+// for a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either
+// cosine not positive, below x's geometric plane). ris_mis_estimator.hpp weighs candidates by it
+// (through mis_vpl_unshadowed_unit).
+template <class T>
+inline vec3<T> mis_vpl_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v,
+                                  T pmf, T area, T n1, T n2) {
+  return mis_vpl_unshadowed_unit(gp, make_mis_receiver(gp), view, t, v, unit_or_zero(v.normal), pmf, area, n1, n2);
 }
 
 // The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the

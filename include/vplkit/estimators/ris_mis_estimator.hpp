@@ -54,53 +54,115 @@ namespace vplkit {
 // h(t, xi) of the header without visibility, for the sample s of a texel drawn with probability
 // pmf; v receives the point it stands for (for the visibility query). 0 (and v without flux) where
 // the sample is empty or outside the view, pmf is not positive, the point cannot light x, or (n1 > 0)
-// the patch moved the point to the texel centre.
+// the patch moved the point to the texel centre. rx = make_mis_receiver(gp), made once per gather
+// point for all its candidates; a patch point's unit normal comes from its texel's plane record
+// (dprsm_view::plane_at: unit_or_zero(n_t) wherever the point has flux). The same bits as
+// normalising both per candidate.
 template <class T>
-inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
-                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                  const ris_sample<T>& s, T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance,
+                                  vpl<T>& v) {
   v = vpl<T>{vec3<T>(T(0)), vec3<T>(T(0)), vec3<T>(T(0))};
   if (!(pmf > T(0)) || !(n2 > T(0)) || s.texel < 0 || s.texel >= view.texel_count()) return vec3<T>(T(0));
   T area;
+  vec3<T> n_v;
   if (mode == vpl_mode::patch) {
     const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, s.texel, s.xi, depth_tolerance);
     if (p.at_centre && n1 > T(0)) return vec3<T>(T(0));
     v = p.point;
+    if (!vpl_has_flux(v)) return vec3<T>(T(0));
+    // A point with flux has a plane (height != 0), whose normal is unit_or_zero(n_t).
+    n_v = view.plane_at(s.texel).normal;
     area = vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha);
   } else {
     v = view.vpl_at(s.texel);
+    n_v = unit_or_zero(v.normal);
     area = mis_texel_patch_area(view, s.texel);
   }
-  return estimator_finite_or_zero(mis_vpl_unshadowed(gp, view, s.texel, v, pmf, area, n1, n2) * (n2 * pmf));
+  return estimator_finite_or_zero(mis_vpl_unshadowed_unit(gp, rx, view, s.texel, v, n_v, pmf, area, n1, n2) *
+                                  (n2 * pmf));
 }
 
-// One candidate: draws u (and with vpl_mode::patch u0, u1), sets its sample s and its target
-// lum(h), and returns its resampling weight target / pmf (0 where the target is 0 or the draw is
-// empty; a weight that overflows is not usable and the reservoir skips it).
+template <class T>
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
+                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+  return ris_mis_unshadowed(gp, make_mis_receiver(gp), view, s, pmf, n1, n2, mode, depth_tolerance, v);
+}
+
+// A candidate's draw: its sample (texel -1 where the draw is empty or its index lies outside the
+// view) and the pmf it was drawn with (0 then).
+template <class T>
+struct ris_mis_draw {
+  ris_sample<T> s{};
+  T pmf = T(0);
+};
+
+// The first half of a candidate: samples the distribution with u; xi is the jitter (u0, u1 with
+// vpl_mode::patch, else 0).
+template <class T, class Distribution>
+inline ris_mis_draw<T> ris_mis_draw_candidate(const dprsm_view<T>& view, const Distribution& distribution, T u,
+                                              vec2<T> xi) {
+  ris_mis_draw<T> c;
+  c.s.xi = xi;
+  const auto d = distribution.sample(u);
+  const T pmf = estimator_pmf(T(d.pmf));
+  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return c;
+  c.s.texel = int(d.index);
+  c.pmf = pmf;
+  return c;
+}
+
+// The second half: sets target = lum(h) and returns the resampling weight target / pmf (0 where
+// the target is 0 or the draw is empty; a weight that overflows is not usable and the reservoir
+// skips it). rx as in ris_mis_unshadowed.
+template <class T>
+inline T ris_mis_weigh_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                 const ris_mis_draw<T>& c, T n1, T n2, vpl_mode mode, T depth_tolerance, T& target) {
+  target = T(0);
+  if (c.s.texel < 0) return T(0);
+  vpl<T> v;
+  const T p = luminance(ris_mis_unshadowed(gp, rx, view, c.s, c.pmf, n1, n2, mode, depth_tolerance, v));
+  if (!reservoir_weight_usable(p)) return T(0);
+  target = p;
+  return p / c.pmf;
+}
+
+// One candidate (the draw, then its weight): sets its sample s and its target lum(h), and returns
+// its resampling weight target / pmf.
+template <class T, class Distribution>
+inline T ris_mis_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                           const Distribution& distribution, counter_rng& rng, T n1, T n2, vpl_mode mode,
+                           T depth_tolerance, ris_sample<T>& s, T& target) {
+  const T u = rng_next_unit<T>(rng);
+  vec2<T> xi(T(0));
+  if (mode == vpl_mode::patch) {
+    xi.x = rng_next_unit<T>(rng);
+    xi.y = rng_next_unit<T>(rng);
+  }
+  const ris_mis_draw<T> c = ris_mis_draw_candidate(view, distribution, u, xi);
+  s = c.s;
+  return ris_mis_weigh_candidate(gp, rx, view, c, n1, n2, mode, depth_tolerance, target);
+}
+
 template <class T, class Distribution>
 inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
                            counter_rng& rng, T n1, T n2, vpl_mode mode, T depth_tolerance, ris_sample<T>& s,
                            T& target) {
-  s = ris_sample<T>{};
-  target = T(0);
-  const T u = rng_next_unit<T>(rng);
-  if (mode == vpl_mode::patch) {
-    s.xi.x = rng_next_unit<T>(rng);
-    s.xi.y = rng_next_unit<T>(rng);
-  }
-  const auto d = distribution.sample(u);
-  const T pmf = estimator_pmf(T(d.pmf));
-  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
-  s.texel = int(d.index);
-  vpl<T> v;
-  const T p = luminance(ris_mis_unshadowed(gp, view, s, pmf, n1, n2, mode, depth_tolerance, v));
-  if (!reservoir_weight_usable(p)) return T(0);
-  target = p;
-  return p / pmf;
+  return ris_mis_candidate(gp, make_mis_receiver(gp), view, distribution, rng, n1, n2, mode, depth_tolerance, s,
+                           target);
 }
+
+// Candidates drawn ahead of their evaluation in ris_mis_resample.
+inline constexpr int ris_mis_draw_batch = 8;
 
 // One reservoir of n_candidates candidates with the target lum(h) (ris_resample's layout and
 // normalisation: weight_sum = (1/M) sum w_i, confidence M). Empty for an invalid gather point,
-// n_candidates <= 0 or n2 <= 0 (no numbers drawn then).
+// n_candidates <= 0 or n2 <= 0 (no numbers drawn then). The candidates go in batches of
+// ris_mis_draw_batch: first each one's numbers (u, the jitter, then its selection u: the layout of
+// the one-at-a-time loop, which the GLSL mirror runs), with the distribution's first memory
+// prefetched (distribution_prefetch), then each one's draw, with its texel's data prefetched, then
+// their weights and reservoir updates in order. The same numbers, samples and updates as one
+// candidate at a time, so the same reservoir; the texels' memory latencies overlap.
 template <class T, class Distribution>
 inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                          const Distribution& distribution, counter_rng& rng, int n_candidates, T n1,
@@ -108,13 +170,33 @@ inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_
   ris_reservoir<T> r;
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0))) return r;
   weighted_reservoir<T> res;
-  for (int i = 0; i < n_candidates; ++i) {
-    ris_sample<T> s;
-    T target;
-    const T w = ris_mis_candidate(gp, view, distribution, rng, n1, n2, mode, depth_tolerance, s, target);
-    if (reservoir_update(res, std::uint32_t(i), w, rng_next_unit<T>(rng))) {
-      r.kept = s;
-      r.target = target;
+  const mis_receiver<T> rx = make_mis_receiver(gp);
+  for (int i0 = 0; i0 < n_candidates; i0 += ris_mis_draw_batch) {
+    const int n = n_candidates - i0 < ris_mis_draw_batch ? n_candidates - i0 : ris_mis_draw_batch;
+    ris_mis_draw<T> c[ris_mis_draw_batch];
+    T u[ris_mis_draw_batch], u_keep[ris_mis_draw_batch];
+    vec2<T> xi[ris_mis_draw_batch];
+    for (int k = 0; k < n; ++k) {
+      u[k] = rng_next_unit<T>(rng);
+      xi[k] = vec2<T>(T(0));
+      if (mode == vpl_mode::patch) {
+        xi[k].x = rng_next_unit<T>(rng);
+        xi[k].y = rng_next_unit<T>(rng);
+      }
+      u_keep[k] = rng_next_unit<T>(rng);
+      distribution_prefetch(distribution, u[k]);
+    }
+    for (int k = 0; k < n; ++k) {
+      c[k] = ris_mis_draw_candidate(view, distribution, u[k], xi[k]);
+      if (c[k].s.texel >= 0) dprsm_patch_prefetch(view, c[k].s.texel);
+    }
+    for (int k = 0; k < n; ++k) {
+      T target;
+      const T w = ris_mis_weigh_candidate(gp, rx, view, c[k], n1, n2, mode, depth_tolerance, target);
+      if (reservoir_update(res, std::uint32_t(i0 + k), w, u_keep[k])) {
+        r.kept = c[k].s;
+        r.target = target;
+      }
     }
   }
   const T m = T(n_candidates);

@@ -116,6 +116,49 @@ inline T power_heuristic(T n1, T p1, T n2, T p2) {
   return d > T(0) ? mis_unit_quotient(a2, d) : T(0);
 }
 
+// The denominator n1 p1 + n2 p2 of balance_combined as d * 2^e with d in [1, 8) (mis_scaled_terms's
+// scaling); none (0) where both terms are 0 or a pdf is infinite.
+template <class T>
+struct mis_balance_denominator {
+  T d = T(0);  // 0: none
+  int e = 0;
+};
+
+template <class T>
+inline mis_balance_denominator<T> balance_denominator(T n1, T p1, T n2, T p2) {
+  const T inf = std::numeric_limits<T>::infinity();
+  n1 = mis_clean_count(n1);
+  n2 = mis_clean_count(n2);
+  p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
+  p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
+  if (p1 == inf || p2 == inf) return {};
+  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
+  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return {};
+  const int e = !(tb.mantissa > T(0))   ? ta.exponent
+                : !(ta.mantissa > T(0)) ? tb.exponent
+                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
+  return {scale_by_exp2(ta.mantissa, ta.exponent - e) + scale_by_exp2(tb.mantissa, tb.exponent - e), e};
+}
+
+// f / (n1 p1 + n2 p2) with the denominator from balance_denominator: balance_combined's value, for
+// several f over one denominator (the three channels of a sample) without recomputing it.
+template <class T>
+inline T balance_divide(T f, const mis_balance_denominator<T>& den) {
+  const T big = std::numeric_limits<T>::max();
+  if (!(den.d > T(0))) return T(0);
+  // f as a mantissa in [1, 2) and a power of two too (an f below the smallest normal T is 0): the
+  // quotient of the mantissas lies in (1/8, 2], so no denormal quotient loses bits before the
+  // exact scaling. NaN and infinite f pass through to the guard below.
+  f = flush_denormal(f);
+  if (f == T(0)) return T(0);
+  const T af = f < T(0) ? -f : f;
+  const binary_split<T> sf = split_binary(af);
+  const T q = scale_by_exp2(sf.mantissa / den.d, sf.exponent - den.e);
+  const T r = f < T(0) ? -q : q;
+  const T ar = r < T(0) ? -r : r;
+  return ar <= big ? r : T(0);
+}
+
 // f / (n1 p1 + n2 p2), the balance-heuristic estimator's value for one sample of either strategy.
 // 0 when the denominator is 0 (no strategy produces the point) or infinite (a delta pdf: the
 // finite f of a continuous sample has measure zero next to it), and 0 when f is not finite or the
@@ -126,30 +169,7 @@ inline T power_heuristic(T n1, T p1, T n2, T p2) {
 // a result below the smallest normal T is 0.
 template <class T>
 inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
-  const T inf = std::numeric_limits<T>::infinity();
-  const T big = std::numeric_limits<T>::max();
-  n1 = mis_clean_count(n1);
-  n2 = mis_clean_count(n2);
-  p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
-  p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
-  if (p1 == inf || p2 == inf) return T(0);
-  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
-  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return T(0);
-  const int e = !(tb.mantissa > T(0))   ? ta.exponent
-                : !(ta.mantissa > T(0)) ? tb.exponent
-                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
-  const T d = scale_by_exp2(ta.mantissa, ta.exponent - e) + scale_by_exp2(tb.mantissa, tb.exponent - e);
-  // f as a mantissa in [1, 2) and a power of two too (an f below the smallest normal T is 0): the
-  // quotient of the mantissas lies in (1/8, 2], so no denormal quotient loses bits before the
-  // exact scaling. NaN and infinite f pass through to the guard below.
-  f = flush_denormal(f);
-  if (f == T(0)) return T(0);
-  const T af = f < T(0) ? -f : f;
-  const binary_split<T> sf = split_binary(af);
-  const T q = scale_by_exp2(sf.mantissa / d, sf.exponent - e);
-  const T r = f < T(0) ? -q : q;
-  const T ar = r < T(0) ? -r : r;
-  return ar <= big ? r : T(0);
+  return balance_divide(f, balance_denominator(n1, p1, n2, p2));
 }
 
 }  // namespace vplkit

@@ -64,14 +64,15 @@ inline T dprsm_lookup_slack(T d, int resolution) {
 // |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not positive
 // or beyond 2^126 (float; 2^1022 in double): behind (an infinite d_y would make the slack infinite,
 // and a GPU may divide by a d_y above 2^126 through its reciprocal, which it flushes to 0).
+// dprsm_plane_side_of_unit takes the plane as n = unit_or_zero(n_t) and h = n . (c - y_t), the values
+// of the texel's plane record (dprsm_plane.hpp: normal and |height| where height != 0): the same
+// answer, without the normalisation, for callers that hold the record.
 template <class T>
-inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
-                                            int resolution) {
+inline dprsm_plane_side dprsm_plane_side_of_unit(vec3<T> c, vec3<T> y_t, vec3<T> n, T h, vec3<T> y, T d_y,
+                                                 T tolerance, int resolution) {
   if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= exp2i<T>(std::numeric_limits<T>::max_exponent - 2)))
     return dprsm_plane_side::behind;
   const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
-  const vec3<T> n = unit_or_zero(n_t);
-  const T h = glm::dot(n, c - y_t);
   const T cos_a = -glm::dot(n, (y - c) / d_y);
   if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) {
     const T s = glm::dot(n, y - y_t), band = tol * cos_a;
@@ -83,10 +84,24 @@ inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t,
   return d_y < d_t - tol ? dprsm_plane_side::in_front : dprsm_plane_side::on;
 }
 
+template <class T>
+inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
+                                            int resolution) {
+  const vec3<T> n = unit_or_zero(n_t);
+  return dprsm_plane_side_of_unit(c, y_t, n, glm::dot(n, c - y_t), y, d_y, tolerance, resolution);
+}
+
 // The lit test: y not behind the texel's plane (dprsm_plane_side_of).
 template <class T>
 inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
   return dprsm_plane_side_of(c, y_t, n_t, y, d_y, tolerance, resolution) != dprsm_plane_side::behind;
+}
+
+// dprsm_plane_lit from the plane's n and h (dprsm_plane_side_of_unit).
+template <class T>
+inline bool dprsm_plane_lit_unit(vec3<T> c, vec3<T> y_t, vec3<T> n, T h, vec3<T> y, T d_y, T tolerance,
+                                 int resolution) {
+  return dprsm_plane_side_of_unit(c, y_t, n, h, y, d_y, tolerance, resolution) != dprsm_plane_side::behind;
 }
 
 // Where the light ray towards y meets texel t's plane (y_t, n_t): the surface point the light saw

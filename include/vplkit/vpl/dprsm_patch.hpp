@@ -31,6 +31,7 @@
 // to the texel centre y_t with its flux unchanged (at_centre): the midpoint rule for that part of
 // the texel, energy kept. The split is a function of uv alone, so MIS can tell a gathering hit in
 // that part (mis_estimator.hpp gives it to gathering alone).
+#include <vplkit/core/prefetch.hpp>
 #include <vplkit/core/unit_or_zero.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/paraboloid/paraboloid.hpp>
@@ -112,6 +113,22 @@ inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, ve
   return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
 }
 
+// Asks for what dprsm_patch_vpl(view, t, ..) reads of texel t (its position, normal, albedo and
+// plane record) and the plane records of the rows above and below (the hidden test's neighbours)
+// to be brought into the cache (prefetch_read): for a caller that knows several texels before
+// it evaluates them. 0 <= t < texel_count(), not checked. Changes nothing else.
+template <class T>
+VPLKIT_PREFETCH_INLINE void dprsm_patch_prefetch(const dprsm_view<T>& view, int t) {
+  prefetch_read(view.position + t);
+  prefetch_read(view.normal + t);
+  prefetch_read(view.albedo + t);
+  if (view.planes == nullptr) return;
+  const int R = view.resolution;
+  prefetch_read(view.planes + t);
+  if (t >= R) prefetch_read(view.planes + (t - R));
+  if (t + R < view.texel_count()) prefetch_read(view.planes + (t + R));
+}
+
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
 // depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
 // patch, NaN or a negative value rejects every point.
@@ -145,7 +162,7 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T d1 = h / cos_a;
   if (!(d1 <= std::numeric_limits<T>::max())) return s;
   const vec3<T> y = c + d1 * w;
-  if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
+  if (!dprsm_plane_lit_unit(c, y_t, n, h, y, d1, depth_tolerance, R)) return s;  // dprsm_plane_lit, n and h as above
   s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
   s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   if (dprsm_patch_point_hidden(view, t, s.uv, w, d1)) {  // the centre carries this point's flux

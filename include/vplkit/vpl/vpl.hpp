@@ -169,15 +169,24 @@ inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
 // cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5
 // is f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
 // (coincident y and c -> 0, d1^2 raised to vpl_distance_sq_floor).
+// reflected_radiance_unit_normal takes y's normal already normalised, n_u = unit_or_zero(n_y) (a
+// caller that evaluates many points of one texel takes it from the texel's plane record,
+// dprsm_plane.hpp, instead of repeating the normalisation): the same bits as reflected_radiance.
 template <class T>
-inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_y,
-                                  vec3<T> rho_y) {
+inline vec3<T> reflected_radiance_unit_normal(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_u,
+                                              vec3<T> rho_y) {
   if (vpl_points_coincide(light_pos, y)) return vec3<T>(T(0));
   const vec3<T> w = light_pos - y;
-  const T cos_a = glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_y), unit_or_zero(w))));
+  const T cos_a = glm::max(T(0), flush_denormal(glm::dot(n_u, unit_or_zero(w))));
   if (!(cos_a > T(0))) return vec3<T>(T(0));  // back-facing, zero normal or NaN coordinates
   const T d1sq = glm::max(glm::dot(w, w), vpl_distance_sq_floor<T>());
   return flush_denormal(rho_y * intensity * flush_denormal(cos_a / (vpl_pi<T> * d1sq)));
+}
+
+template <class T>
+inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_y,
+                                  vec3<T> rho_y) {
+  return reflected_radiance_unit_normal(light_pos, intensity, y, unit_or_zero(n_y), rho_y);
 }
 
 }  // namespace vplkit

@@ -21,6 +21,7 @@
 #include <vplkit/sampling/rng.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/direct_light.hpp>
+#include <vplkit/vpl/dprsm_plane.hpp>
 
 #include <glm/common.hpp>
 #include <algorithm>
@@ -66,13 +67,36 @@ void with_distributions(const cpu_distributions& built, const frame_buffers& b, 
   }
 }
 
+// vplkit::build_dprsm_planes over the worker threads (rows of R texels, both faces).
+std::vector<vplkit::dprsm_plane<float>> build_dprsm_planes_cpu(const vplkit::dprsm_view<float>& view, int threads) {
+  view.validate();
+  std::vector<vplkit::dprsm_plane<float>> out(static_cast<std::size_t>(view.texel_count()));
+  const int R = view.resolution, rows = view.texel_count() / R;
+  parallel_items(rows, threads, "", {}, [&](int row, int) {
+    for (int t = row * R; t < (row + 1) * R; ++t)
+      out[static_cast<std::size_t>(t)] = vplkit::dprsm_plane_of(view.light.position, view.texel_valid(t),
+                                                                view.position[t], view.normal[t], view.albedo[t]);
+  });
+  return out;
+}
+
 }  // namespace
 
 render_result render_cpu(const frame_buffers& b, const render_settings& given, stage_timer& timer,
                          const progress_fn& progress) {
   render_settings s = given;
   s.sampler = resolved_sampler(given);
-  const cpu_frame f = open_cpu_frame(b, s);
+  cpu_frame f = open_cpu_frame(b, s);
+  const method_traits& mt = traits(s.meth);
+  // Patch VPLs read four plane records per point (their texel's and the hidden test's three
+  // neighbours'): built once per frame, as the GPU backend builds them (vplkit::dprsm_view::planes;
+  // the same values as computing them per point, so the same image).
+  std::vector<vplkit::dprsm_plane<float>> planes;
+  if (mt.uses_vpls && s.vpl_mode == vpl_mode_choice::patch) {
+    auto tp = timer.scoped("dprsm planes (cpu)");
+    planes = build_dprsm_planes_cpu(f.view, f.threads);
+    f.view.planes = planes.data();
+  }
   const vplkit::gbuffer_view<float>& g = f.g;
   const vplkit::dprsm_view<float>& view = f.view;
   const int threads = f.threads, W = f.W, H = f.H;
@@ -84,7 +108,6 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
 
   const cpu_visibility visibility = make_cpu_visibility(b, s.visibility);
   const cpu_tracer tracer = make_cpu_tracer(b, s.visibility, s.lit_test);
-  const method_traits& mt = traits(s.meth);
   det["visibility"] = to_string(mt.exact_rays ? visibility_choice::exact : s.visibility);
   const float depth_tol = gathering_depth_tolerance(s, b.grid.occupancy().view());
   det["depth_tolerance"] = depth_tol;
