@@ -203,6 +203,7 @@ inline binary_split<T> split_binary(T x) noexcept {
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace vplkit {
 
@@ -225,10 +226,28 @@ inline T max_abs_component(vec3<T> v) {
 // and FLT_MAX, square to Inf), and nothing divides by a huge |v| (a GPU may divide as
 // a * (1 / b), and 1 / b is a denormal for b > 2^126). So any finite v with a normal component
 // gives a unit vector, on every device.
+//
+// Host shortcut (float and double, whose sqrt and division are correctly rounded; not a test's GPU
+// model of float): where the largest component lies in [2^-50, 2^60], the power-of-two scaling
+// changes no bit of the result, so it is skipped. There the largest square is at least 2^-100, so
+// every square that can move the sum (one not below half an ulp of the largest, 2^-124 or more) is
+// a normal T with or without the scaling, and the others move it in neither; the scaling by 2^k
+// commutes with the correctly rounded squares, sum, square root, reciprocal and product, so
+// s * (1 / sqrt(dot(s, s))) = v * (1 / sqrt(dot(v, v))) bit for bit. A NaN component makes
+// dot(v, v) NaN, which the range test rejects. (A float component 2^-10 below one of 2^-59 has a
+// denormal square that does move the sum: hence 2^-50. Compared over exponents of the whole range
+// in tests/hardcases/estimators_ris_mis_batch_hardcases_test.cpp.)
 template <class T>
 inline vec3<T> unit_or_zero(vec3<T> v) {
   v = flush_denormal(v);
   const T m = max_abs_component(v);
+  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
+    if (m >= T(0x1p-50) && m <= T(0x1p60)) {
+      const T len2 = glm::dot(v, v);  // in [2^-100, 3 * 2^120] unless a component is NaN
+      if (!(len2 >= T(0x1p-101)) || !(len2 <= T(0x1p122))) return vec3<T>(T(0));
+      return flush_denormal(v * (T(1) / std::sqrt(len2)));
+    }
+  }
   if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
   const int e = binary_exponent(m);
   const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
@@ -271,6 +290,50 @@ inline T scaled_length(vec3<T> v) {
 
 }  // namespace vplkit
 // ---- end vplkit/core/unit_or_zero.hpp ----
+// ---- begin vplkit/core/prefetch.hpp ----
+// A hint to bring the cache line at p towards the core before it is read: for loops that know
+// several independent addresses ahead of their arithmetic (RIS candidates: a batch of texels drawn
+// first, evaluated after), so that the memory latencies overlap instead of queueing one after the
+// other. No effect on any value; nothing on compilers without the builtin. (No GLSL counterpart:
+// a GPU hides latency with other threads.)
+
+// Functions made only of prefetches have no effect that GCC's analysis counts: left out of line,
+// their calls are removed as dead code. So they are always inlined (the prefetch then stays).
+#if defined(__GNUC__) || defined(__clang__)
+#define VPLKIT_PREFETCH_INLINE inline __attribute__((always_inline))
+#else
+#define VPLKIT_PREFETCH_INLINE inline
+#endif
+
+namespace vplkit {
+
+template <class P>
+VPLKIT_PREFETCH_INLINE void prefetch_read(const P* p) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(static_cast<const void*>(p), 0, 3);
+#else
+  (void)p;
+#endif
+}
+
+namespace detail {
+template <class D, class T>
+VPLKIT_PREFETCH_INLINE auto distribution_prefetch_impl(const D& d, T u, int) -> decltype(d.prefetch_sample(u), void()) {
+  d.prefetch_sample(u);
+}
+template <class D, class T>
+VPLKIT_PREFETCH_INLINE void distribution_prefetch_impl(const D&, T, long) {}
+}  // namespace detail
+
+// d.prefetch_sample(u) where the distribution has one (it asks for the first memory that
+// d.sample(u) reads), else nothing.
+template <class D, class T>
+VPLKIT_PREFETCH_INLINE void distribution_prefetch(const D& d, T u) {
+  detail::distribution_prefetch_impl(d, u, 0);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/core/prefetch.hpp ----
 // ---- begin vplkit/core/gather_point.hpp ----
 // What builders and estimators know of the camera's visible points: a non-owning G-buffer view
 // (the host renderer owns the image) and the result type of the host's ray-casting callable.
@@ -832,6 +895,14 @@ public:
     u = discrete_clamp_u(u);
     const std::size_t i = discrete_cdf_sample_guided(cdf_.data(), guide_.data(), m_, u);
     return {i, cdf_[i + 1] - cdf_[i]};
+  }
+
+  // Asks for the guide entries that sample(u) reads first (prefetch_read): for a caller that
+  // knows several u before it samples them. No effect on any value.
+  VPLKIT_PREFETCH_INLINE void prefetch_sample(T u) const noexcept {
+    if (empty()) return;
+    u = discrete_clamp_u(u);
+    prefetch_read(guide_.data() + std::size_t(std::int64_t(u * T(std::int64_t(m_)))));
   }
 
   // The same index by a plain binary search over the whole CDF (no guide table).
@@ -1545,6 +1616,14 @@ public:
     const mixture_choice<T> c = split_.choose(u);
     const std::size_t i = component(c.component).sample(c.u).index;
     return {i, pmf(i)};
+  }
+
+  // The component's prefetch_sample for the u it gets (distribution_prefetch: nothing for a
+  // component without one).
+  VPLKIT_PREFETCH_INLINE void prefetch_sample(T u) const noexcept {
+    if (empty()) return;
+    const mixture_choice<T> c = split_.choose(u);
+    distribution_prefetch(component(c.component), c.u);
   }
 
   // discrete_cdf components only: the same index and pmf as sample(u), with each component
@@ -5014,6 +5093,49 @@ inline T power_heuristic(T n1, T p1, T n2, T p2) {
   return d > T(0) ? mis_unit_quotient(a2, d) : T(0);
 }
 
+// The denominator n1 p1 + n2 p2 of balance_combined as d * 2^e with d in [1, 8) (mis_scaled_terms's
+// scaling); none (0) where both terms are 0 or a pdf is infinite.
+template <class T>
+struct mis_balance_denominator {
+  T d = T(0);  // 0: none
+  int e = 0;
+};
+
+template <class T>
+inline mis_balance_denominator<T> balance_denominator(T n1, T p1, T n2, T p2) {
+  const T inf = std::numeric_limits<T>::infinity();
+  n1 = mis_clean_count(n1);
+  n2 = mis_clean_count(n2);
+  p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
+  p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
+  if (p1 == inf || p2 == inf) return {};
+  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
+  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return {};
+  const int e = !(tb.mantissa > T(0))   ? ta.exponent
+                : !(ta.mantissa > T(0)) ? tb.exponent
+                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
+  return {scale_by_exp2(ta.mantissa, ta.exponent - e) + scale_by_exp2(tb.mantissa, tb.exponent - e), e};
+}
+
+// f / (n1 p1 + n2 p2) with the denominator from balance_denominator: balance_combined's value, for
+// several f over one denominator (the three channels of a sample) without recomputing it.
+template <class T>
+inline T balance_divide(T f, const mis_balance_denominator<T>& den) {
+  const T big = std::numeric_limits<T>::max();
+  if (!(den.d > T(0))) return T(0);
+  // f as a mantissa in [1, 2) and a power of two too (an f below the smallest normal T is 0): the
+  // quotient of the mantissas lies in (1/8, 2], so no denormal quotient loses bits before the
+  // exact scaling. NaN and infinite f pass through to the guard below.
+  f = flush_denormal(f);
+  if (f == T(0)) return T(0);
+  const T af = f < T(0) ? -f : f;
+  const binary_split<T> sf = split_binary(af);
+  const T q = scale_by_exp2(sf.mantissa / den.d, sf.exponent - den.e);
+  const T r = f < T(0) ? -q : q;
+  const T ar = r < T(0) ? -r : r;
+  return ar <= big ? r : T(0);
+}
+
 // f / (n1 p1 + n2 p2), the balance-heuristic estimator's value for one sample of either strategy.
 // 0 when the denominator is 0 (no strategy produces the point) or infinite (a delta pdf: the
 // finite f of a continuous sample has measure zero next to it), and 0 when f is not finite or the
@@ -5024,30 +5146,7 @@ inline T power_heuristic(T n1, T p1, T n2, T p2) {
 // a result below the smallest normal T is 0.
 template <class T>
 inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
-  const T inf = std::numeric_limits<T>::infinity();
-  const T big = std::numeric_limits<T>::max();
-  n1 = mis_clean_count(n1);
-  n2 = mis_clean_count(n2);
-  p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
-  p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
-  if (p1 == inf || p2 == inf) return T(0);
-  const binary_split<T> ta = mis_term(n1, p1), tb = mis_term(n2, p2);
-  if (!(ta.mantissa > T(0)) && !(tb.mantissa > T(0))) return T(0);
-  const int e = !(tb.mantissa > T(0))   ? ta.exponent
-                : !(ta.mantissa > T(0)) ? tb.exponent
-                : ta.exponent > tb.exponent ? ta.exponent : tb.exponent;
-  const T d = scale_by_exp2(ta.mantissa, ta.exponent - e) + scale_by_exp2(tb.mantissa, tb.exponent - e);
-  // f as a mantissa in [1, 2) and a power of two too (an f below the smallest normal T is 0): the
-  // quotient of the mantissas lies in (1/8, 2], so no denormal quotient loses bits before the
-  // exact scaling. NaN and infinite f pass through to the guard below.
-  f = flush_denormal(f);
-  if (f == T(0)) return T(0);
-  const T af = f < T(0) ? -f : f;
-  const binary_split<T> sf = split_binary(af);
-  const T q = scale_by_exp2(sf.mantissa / d, sf.exponent - e);
-  const T r = f < T(0) ? -q : q;
-  const T ar = r < T(0) ? -r : r;
-  return ar <= big ? r : T(0);
+  return balance_divide(f, balance_denominator(n1, p1, n2, p2));
 }
 
 }  // namespace vplkit
@@ -5496,15 +5595,24 @@ inline T vpl_patch_area(T solid_angle, T d1, T cos_alpha) {
 // cos(alpha) between n_y and c - y clamped at 0. The gathering integrand of docs/math.md section 5
 // is f(omega) = (rho_x / pi) L_o(y) cos(theta2). Same robustness rules as vpl_contribution
 // (coincident y and c -> 0, d1^2 raised to vpl_distance_sq_floor).
+// reflected_radiance_unit_normal takes y's normal already normalised, n_u = unit_or_zero(n_y) (a
+// caller that evaluates many points of one texel takes it from the texel's plane record,
+// dprsm_plane.hpp, instead of repeating the normalisation): the same bits as reflected_radiance.
 template <class T>
-inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_y,
-                                  vec3<T> rho_y) {
+inline vec3<T> reflected_radiance_unit_normal(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_u,
+                                              vec3<T> rho_y) {
   if (vpl_points_coincide(light_pos, y)) return vec3<T>(T(0));
   const vec3<T> w = light_pos - y;
-  const T cos_a = glm::max(T(0), flush_denormal(glm::dot(unit_or_zero(n_y), unit_or_zero(w))));
+  const T cos_a = glm::max(T(0), flush_denormal(glm::dot(n_u, unit_or_zero(w))));
   if (!(cos_a > T(0))) return vec3<T>(T(0));  // back-facing, zero normal or NaN coordinates
   const T d1sq = glm::max(glm::dot(w, w), vpl_distance_sq_floor<T>());
   return flush_denormal(rho_y * intensity * flush_denormal(cos_a / (vpl_pi<T> * d1sq)));
+}
+
+template <class T>
+inline vec3<T> reflected_radiance(vec3<T> light_pos, vec3<T> intensity, vec3<T> y, vec3<T> n_y,
+                                  vec3<T> rho_y) {
+  return reflected_radiance_unit_normal(light_pos, intensity, y, unit_or_zero(n_y), rho_y);
 }
 
 }  // namespace vplkit
@@ -5796,14 +5904,15 @@ inline T dprsm_lookup_slack(T d, int resolution) {
 // |d_y - |y_t - c|| <= tol is on it. NaN or negative tolerance, or a distance that is not positive
 // or beyond 2^126 (float; 2^1022 in double): behind (an infinite d_y would make the slack infinite,
 // and a GPU may divide by a d_y above 2^126 through its reciprocal, which it flushes to 0).
+// dprsm_plane_side_of_unit takes the plane as n = unit_or_zero(n_t) and h = n . (c - y_t), the values
+// of the texel's plane record (dprsm_plane.hpp: normal and |height| where height != 0): the same
+// answer, without the normalisation, for callers that hold the record.
 template <class T>
-inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
-                                            int resolution) {
+inline dprsm_plane_side dprsm_plane_side_of_unit(vec3<T> c, vec3<T> y_t, vec3<T> n, T h, vec3<T> y, T d_y,
+                                                 T tolerance, int resolution) {
   if (!(tolerance >= T(0)) || !(d_y > T(0)) || !(d_y <= exp2i<T>(std::numeric_limits<T>::max_exponent - 2)))
     return dprsm_plane_side::behind;
   const T tol = tolerance + dprsm_lookup_slack(d_y, resolution);
-  const vec3<T> n = unit_or_zero(n_t);
-  const T h = glm::dot(n, c - y_t);
   const T cos_a = -glm::dot(n, (y - c) / d_y);
   if (h > T(0) && cos_a > dprsm_plane_min_cos<T>()) {
     const T s = glm::dot(n, y - y_t), band = tol * cos_a;
@@ -5815,10 +5924,24 @@ inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t,
   return d_y < d_t - tol ? dprsm_plane_side::in_front : dprsm_plane_side::on;
 }
 
+template <class T>
+inline dprsm_plane_side dprsm_plane_side_of(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance,
+                                            int resolution) {
+  const vec3<T> n = unit_or_zero(n_t);
+  return dprsm_plane_side_of_unit(c, y_t, n, glm::dot(n, c - y_t), y, d_y, tolerance, resolution);
+}
+
 // The lit test: y not behind the texel's plane (dprsm_plane_side_of).
 template <class T>
 inline bool dprsm_plane_lit(vec3<T> c, vec3<T> y_t, vec3<T> n_t, vec3<T> y, T d_y, T tolerance, int resolution) {
   return dprsm_plane_side_of(c, y_t, n_t, y, d_y, tolerance, resolution) != dprsm_plane_side::behind;
+}
+
+// dprsm_plane_lit from the plane's n and h (dprsm_plane_side_of_unit).
+template <class T>
+inline bool dprsm_plane_lit_unit(vec3<T> c, vec3<T> y_t, vec3<T> n, T h, vec3<T> y, T d_y, T tolerance,
+                                 int resolution) {
+  return dprsm_plane_side_of_unit(c, y_t, n, h, y, d_y, tolerance, resolution) != dprsm_plane_side::behind;
 }
 
 // Where the light ray towards y meets texel t's plane (y_t, n_t): the surface point the light saw
@@ -5973,6 +6096,22 @@ inline bool dprsm_patch_direction_at_centre(const dprsm_view<T>& view, int t, ve
   return dprsm_patch_point_hidden(view, t, q.uv, w, h / cos_a);
 }
 
+// Asks for what dprsm_patch_vpl(view, t, ..) reads of texel t (its position, normal, albedo and
+// plane record) and the plane records of the rows above and below (the hidden test's neighbours)
+// to be brought into the cache (prefetch_read): for a caller that knows several texels before
+// it evaluates them. 0 <= t < texel_count(), not checked. Changes nothing else.
+template <class T>
+VPLKIT_PREFETCH_INLINE void dprsm_patch_prefetch(const dprsm_view<T>& view, int t) {
+  prefetch_read(view.position + t);
+  prefetch_read(view.normal + t);
+  prefetch_read(view.albedo + t);
+  if (view.planes == nullptr) return;
+  const int R = view.resolution;
+  prefetch_read(view.planes + t);
+  if (t >= R) prefetch_read(view.planes + (t - R));
+  if (t + R < view.texel_count()) prefetch_read(view.planes + (t + R));
+}
+
 // The point of texel t (0 <= t < texel_count(), not checked) that xi in [0, 1]^2 selects.
 // depth_tolerance: that of dprsm_lookup (dprsm_plane_lit decides); +inf accepts the whole plane
 // patch, NaN or a negative value rejects every point.
@@ -6006,7 +6145,7 @@ inline dprsm_patch_sample<T> dprsm_patch_vpl(const dprsm_view<T>& view, int t, v
   const T d1 = h / cos_a;
   if (!(d1 <= std::numeric_limits<T>::max())) return s;
   const vec3<T> y = c + d1 * w;
-  if (!dprsm_plane_lit(c, y_t, n_t, y, d1, depth_tolerance, R)) return s;
+  if (!dprsm_plane_lit_unit(c, y_t, n, h, y, d1, depth_tolerance, R)) return s;  // dprsm_plane_lit, n and h as above
   s.solid_angle = texel_block_point_solid_angle(s.uv, block, R);
   s.point.flux = vpl_flux(view.albedo[t], view.light.intensity, s.solid_angle);
   if (dprsm_patch_point_hidden(view, t, s.uv, w, d1)) {  // the centre carries this point's flux
@@ -7776,11 +7915,11 @@ namespace vplkit {
 
 enum class mis_mode { solid_angle, as_published };
 
-// f / (n1 p1 + n2 p2) per channel (balance_combined).
+// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once).
 template <class T>
 inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
-  return vec3<T>(balance_combined(f.x, n1, p1, n2, p2), balance_combined(f.y, n1, p1, n2, p2),
-                 balance_combined(f.z, n1, p1, n2, p2));
+  const mis_balance_denominator<T> den = balance_denominator(n1, p1, n2, p2);
+  return vec3<T>(balance_divide(f.x, den), balance_divide(f.y, den), balance_divide(f.z, den));
 }
 
 // Area of texel t's patch, A_t = Omega_t d1^2 / cos(alpha), from the texel centre y_t.
@@ -7871,27 +8010,54 @@ inline vec3<T> mis_gathering_sample(const gather_point<T>& gp, const dprsm_view<
   return estimator_finite_or_zero(f * (w.gathering / p1));
 }
 
-// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
-// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t
-// for a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either
-// cosine not positive, below x's geometric plane). ris_mis_estimator.hpp weighs candidates by it.
+// What a VPL sample's value needs of the gather point beyond the point itself: its unit shading
+// and geometric normals (unit_or_zero of gather_point_shading_normal and of the normal), computed
+// once per point for the many samples evaluated there (RIS candidates) instead of once per sample.
+// The same values as the per-sample expressions, so the same bits.
 template <class T>
-inline vec3<T> mis_vpl_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v,
-                                  T pmf, T area, T n1, T n2) {
+struct mis_receiver {
+  vec3<T> shading_unit{T(0)};
+  vec3<T> geometric_unit{T(0)};
+};
+
+template <class T>
+inline mis_receiver<T> make_mis_receiver(const gather_point<T>& gp) {
+  return mis_receiver<T>{unit_or_zero(gather_point_shading_normal(gp)), unit_or_zero(gp.normal)};
+}
+
+// mis_vpl_unshadowed with gp's unit normals from rx = make_mis_receiver(gp) and the VPL's unit
+// normal n_v = unit_or_zero(v.normal) given (for a patch point, its texel's plane record holds
+// it): the same expressions, without their normalisations.
+template <class T>
+inline vec3<T> mis_vpl_unshadowed_unit(const gather_point<T>& gp, const mis_receiver<T>& rx,
+                                       const dprsm_view<T>& view, int t, const vpl<T>& v, vec3<T> n_v, T pmf,
+                                       T area, T n1, T n2) {
   if (!vpl_has_flux(v)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, v.position)) return vec3<T>(T(0));
   const vec3<T> wd = unit_or_zero(v.position - gp.position);  // x -> y
-  const T cos2 = glm::dot(unit_or_zero(gather_point_shading_normal(gp)), wd);
-  const T cos1 = -glm::dot(unit_or_zero(v.normal), wd);
-  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !gather_point_above(gp, wd)) return vec3<T>(T(0));
+  const T cos2 = glm::dot(rx.shading_unit, wd);
+  const T cos1 = -glm::dot(n_v, wd);
+  // gather_point_above(gp, wd), with gp's unit normal from rx.
+  if (!(cos2 > T(0)) || !(cos1 > T(0)) || !(glm::dot(rx.geometric_unit, wd) > T(0))) return vec3<T>(T(0));
   const vec3<T> f = gp.albedo *
-                    reflected_radiance(view.light.position, view.light.intensity, v.position, v.normal,
-                                       view.albedo[t]) *
+                    reflected_radiance_unit_normal(view.light.position, view.light.intensity, v.position, n_v,
+                                                   view.albedo[t]) *
                     (cos2 / vpl_pi<T>);
   const T p1 = cosine_pdf_solid_angle(cos2);
   const vec3<T> w = gp.position - v.position;
   const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), area, cos1);
   return mis_balance_value(f, n1, p1, n2, p2);
+}
+
+// The solid_angle value of a VPL sample at the VPL v of texel t drawn with probability pmf > 0,
+// without its visibility: f at v over n1 p1 + n2 p2, where area is the A of p2 (the texel's A_t
+// for a point VPL, A(uv) for a patch point); 0 where v cannot light x (no flux, v at x, either
+// cosine not positive, below x's geometric plane). ris_mis_estimator.hpp weighs candidates by it
+// (through mis_vpl_unshadowed_unit).
+template <class T>
+inline vec3<T> mis_vpl_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, int t, const vpl<T>& v,
+                                  T pmf, T area, T n1, T n2) {
+  return mis_vpl_unshadowed_unit(gp, make_mis_receiver(gp), view, t, v, unit_or_zero(v.normal), pmf, area, n1, n2);
 }
 
 // The value of a VPL sample at the VPL v of texel t, drawn with probability pmf > 0; area is the
@@ -8556,53 +8722,115 @@ namespace vplkit {
 // h(t, xi) of the header without visibility, for the sample s of a texel drawn with probability
 // pmf; v receives the point it stands for (for the visibility query). 0 (and v without flux) where
 // the sample is empty or outside the view, pmf is not positive, the point cannot light x, or (n1 > 0)
-// the patch moved the point to the texel centre.
+// the patch moved the point to the texel centre. rx = make_mis_receiver(gp), made once per gather
+// point for all its candidates; a patch point's unit normal comes from its texel's plane record
+// (dprsm_view::plane_at: unit_or_zero(n_t) wherever the point has flux). The same bits as
+// normalising both per candidate.
 template <class T>
-inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
-                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                  const ris_sample<T>& s, T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance,
+                                  vpl<T>& v) {
   v = vpl<T>{vec3<T>(T(0)), vec3<T>(T(0)), vec3<T>(T(0))};
   if (!(pmf > T(0)) || !(n2 > T(0)) || s.texel < 0 || s.texel >= view.texel_count()) return vec3<T>(T(0));
   T area;
+  vec3<T> n_v;
   if (mode == vpl_mode::patch) {
     const dprsm_patch_sample<T> p = dprsm_patch_vpl(view, s.texel, s.xi, depth_tolerance);
     if (p.at_centre && n1 > T(0)) return vec3<T>(T(0));
     v = p.point;
+    if (!vpl_has_flux(v)) return vec3<T>(T(0));
+    // A point with flux has a plane (height != 0), whose normal is unit_or_zero(n_t).
+    n_v = view.plane_at(s.texel).normal;
     area = vpl_patch_area(p.solid_angle, p.distance, p.cos_alpha);
   } else {
     v = view.vpl_at(s.texel);
+    n_v = unit_or_zero(v.normal);
     area = mis_texel_patch_area(view, s.texel);
   }
-  return estimator_finite_or_zero(mis_vpl_unshadowed(gp, view, s.texel, v, pmf, area, n1, n2) * (n2 * pmf));
+  return estimator_finite_or_zero(mis_vpl_unshadowed_unit(gp, rx, view, s.texel, v, n_v, pmf, area, n1, n2) *
+                                  (n2 * pmf));
 }
 
-// One candidate: draws u (and with vpl_mode::patch u0, u1), sets its sample s and its target
-// lum(h), and returns its resampling weight target / pmf (0 where the target is 0 or the draw is
-// empty; a weight that overflows is not usable and the reservoir skips it).
+template <class T>
+inline vec3<T> ris_mis_unshadowed(const gather_point<T>& gp, const dprsm_view<T>& view, const ris_sample<T>& s,
+                                  T pmf, T n1, T n2, vpl_mode mode, T depth_tolerance, vpl<T>& v) {
+  return ris_mis_unshadowed(gp, make_mis_receiver(gp), view, s, pmf, n1, n2, mode, depth_tolerance, v);
+}
+
+// A candidate's draw: its sample (texel -1 where the draw is empty or its index lies outside the
+// view) and the pmf it was drawn with (0 then).
+template <class T>
+struct ris_mis_draw {
+  ris_sample<T> s{};
+  T pmf = T(0);
+};
+
+// The first half of a candidate: samples the distribution with u; xi is the jitter (u0, u1 with
+// vpl_mode::patch, else 0).
+template <class T, class Distribution>
+inline ris_mis_draw<T> ris_mis_draw_candidate(const dprsm_view<T>& view, const Distribution& distribution, T u,
+                                              vec2<T> xi) {
+  ris_mis_draw<T> c;
+  c.s.xi = xi;
+  const auto d = distribution.sample(u);
+  const T pmf = estimator_pmf(T(d.pmf));
+  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return c;
+  c.s.texel = int(d.index);
+  c.pmf = pmf;
+  return c;
+}
+
+// The second half: sets target = lum(h) and returns the resampling weight target / pmf (0 where
+// the target is 0 or the draw is empty; a weight that overflows is not usable and the reservoir
+// skips it). rx as in ris_mis_unshadowed.
+template <class T>
+inline T ris_mis_weigh_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                 const ris_mis_draw<T>& c, T n1, T n2, vpl_mode mode, T depth_tolerance, T& target) {
+  target = T(0);
+  if (c.s.texel < 0) return T(0);
+  vpl<T> v;
+  const T p = luminance(ris_mis_unshadowed(gp, rx, view, c.s, c.pmf, n1, n2, mode, depth_tolerance, v));
+  if (!reservoir_weight_usable(p)) return T(0);
+  target = p;
+  return p / c.pmf;
+}
+
+// One candidate (the draw, then its weight): sets its sample s and its target lum(h), and returns
+// its resampling weight target / pmf.
+template <class T, class Distribution>
+inline T ris_mis_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                           const Distribution& distribution, counter_rng& rng, T n1, T n2, vpl_mode mode,
+                           T depth_tolerance, ris_sample<T>& s, T& target) {
+  const T u = rng_next_unit<T>(rng);
+  vec2<T> xi(T(0));
+  if (mode == vpl_mode::patch) {
+    xi.x = rng_next_unit<T>(rng);
+    xi.y = rng_next_unit<T>(rng);
+  }
+  const ris_mis_draw<T> c = ris_mis_draw_candidate(view, distribution, u, xi);
+  s = c.s;
+  return ris_mis_weigh_candidate(gp, rx, view, c, n1, n2, mode, depth_tolerance, target);
+}
+
 template <class T, class Distribution>
 inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view, const Distribution& distribution,
                            counter_rng& rng, T n1, T n2, vpl_mode mode, T depth_tolerance, ris_sample<T>& s,
                            T& target) {
-  s = ris_sample<T>{};
-  target = T(0);
-  const T u = rng_next_unit<T>(rng);
-  if (mode == vpl_mode::patch) {
-    s.xi.x = rng_next_unit<T>(rng);
-    s.xi.y = rng_next_unit<T>(rng);
-  }
-  const auto d = distribution.sample(u);
-  const T pmf = estimator_pmf(T(d.pmf));
-  if (!(pmf > T(0)) || d.index >= std::size_t(view.texel_count())) return T(0);
-  s.texel = int(d.index);
-  vpl<T> v;
-  const T p = luminance(ris_mis_unshadowed(gp, view, s, pmf, n1, n2, mode, depth_tolerance, v));
-  if (!reservoir_weight_usable(p)) return T(0);
-  target = p;
-  return p / pmf;
+  return ris_mis_candidate(gp, make_mis_receiver(gp), view, distribution, rng, n1, n2, mode, depth_tolerance, s,
+                           target);
 }
+
+// Candidates drawn ahead of their evaluation in ris_mis_resample.
+inline constexpr int ris_mis_draw_batch = 8;
 
 // One reservoir of n_candidates candidates with the target lum(h) (ris_resample's layout and
 // normalisation: weight_sum = (1/M) sum w_i, confidence M). Empty for an invalid gather point,
-// n_candidates <= 0 or n2 <= 0 (no numbers drawn then).
+// n_candidates <= 0 or n2 <= 0 (no numbers drawn then). The candidates go in batches of
+// ris_mis_draw_batch: first each one's numbers (u, the jitter, then its selection u: the layout of
+// the one-at-a-time loop, which the GLSL mirror runs), with the distribution's first memory
+// prefetched (distribution_prefetch), then each one's draw, with its texel's data prefetched, then
+// their weights and reservoir updates in order. The same numbers, samples and updates as one
+// candidate at a time, so the same reservoir; the texels' memory latencies overlap.
 template <class T, class Distribution>
 inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                          const Distribution& distribution, counter_rng& rng, int n_candidates, T n1,
@@ -8610,13 +8838,33 @@ inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_
   ris_reservoir<T> r;
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0))) return r;
   weighted_reservoir<T> res;
-  for (int i = 0; i < n_candidates; ++i) {
-    ris_sample<T> s;
-    T target;
-    const T w = ris_mis_candidate(gp, view, distribution, rng, n1, n2, mode, depth_tolerance, s, target);
-    if (reservoir_update(res, std::uint32_t(i), w, rng_next_unit<T>(rng))) {
-      r.kept = s;
-      r.target = target;
+  const mis_receiver<T> rx = make_mis_receiver(gp);
+  for (int i0 = 0; i0 < n_candidates; i0 += ris_mis_draw_batch) {
+    const int n = n_candidates - i0 < ris_mis_draw_batch ? n_candidates - i0 : ris_mis_draw_batch;
+    ris_mis_draw<T> c[ris_mis_draw_batch];
+    T u[ris_mis_draw_batch], u_keep[ris_mis_draw_batch];
+    vec2<T> xi[ris_mis_draw_batch];
+    for (int k = 0; k < n; ++k) {
+      u[k] = rng_next_unit<T>(rng);
+      xi[k] = vec2<T>(T(0));
+      if (mode == vpl_mode::patch) {
+        xi[k].x = rng_next_unit<T>(rng);
+        xi[k].y = rng_next_unit<T>(rng);
+      }
+      u_keep[k] = rng_next_unit<T>(rng);
+      distribution_prefetch(distribution, u[k]);
+    }
+    for (int k = 0; k < n; ++k) {
+      c[k] = ris_mis_draw_candidate(view, distribution, u[k], xi[k]);
+      if (c[k].s.texel >= 0) dprsm_patch_prefetch(view, c[k].s.texel);
+    }
+    for (int k = 0; k < n; ++k) {
+      T target;
+      const T w = ris_mis_weigh_candidate(gp, rx, view, c[k], n1, n2, mode, depth_tolerance, target);
+      if (reservoir_update(res, std::uint32_t(i0 + k), w, u_keep[k])) {
+        r.kept = c[k].s;
+        r.target = target;
+      }
     }
   }
   const T m = T(n_candidates);
