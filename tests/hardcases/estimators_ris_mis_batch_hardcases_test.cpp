@@ -8,6 +8,7 @@
 // - the *_unit forms that take a normal already normalised (mis_vpl_unshadowed_unit,
 //   reflected_radiance_unit_normal, dprsm_plane_side_of_unit) give their normalising forms' values
 //   on degenerate input too: zero, NaN, infinite, tiny and huge normals, coincident points.
+#include <float_bits.hpp>
 #include <synthetic_scene.hpp>
 
 #include <vplkit/builders/flux_weights.hpp>
@@ -23,7 +24,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -31,16 +31,6 @@ using namespace vplkit;
 using namespace vplkit_test;
 
 namespace {
-
-template <class T>
-bool same_bits(T a, T b) {
-  return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
-template <class T>
-bool same_bits(vec3<T> a, vec3<T> b) {
-  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
-}
 
 template <class T>
 bool finite3(vec3<T> v) {
