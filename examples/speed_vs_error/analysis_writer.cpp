@@ -89,8 +89,12 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
        << "`, spatial reuse " << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
   if (swept(method::ris_mis))
     md << ", ris-mis: " << base.candidates << " candidates per RIS sample from `" << to_string(base.candidate_source)
-       << "`, as many gathering directions as RIS samples, spatial reuse "
+       << "`, " << (so.dirs_per_sample == 1 ? std::string("as many gathering directions as RIS samples")
+                                             : std::to_string(so.dirs_per_sample) + " gathering directions per RIS sample")
+       << ", spatial reuse "
        << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
+  if (so.dirs_per_sample != 1 && (swept(method::mis) || swept(method::mis_as_published)))
+    md << ", mis: " << so.dirs_per_sample << " gathering directions per VPL sample";
   md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "
      << (so.ref_gather ? sci(image_mean(ref_gather.img)) : "-") << ", exact "
      << (so.ref_exact ? sci(image_mean(ref_exact.img)) : "-");

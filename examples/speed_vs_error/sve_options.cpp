@@ -23,7 +23,14 @@ Sweep options:
                      any of global local gbg gather mis mis-as-published exact ris ris-mis
   --samples LIST     comma-separated sample counts (default 1,4,16,64). A count n means:
                      global/local/gbg/ris: --vpls n; gather, exact: --dirs n; mis,
-                     mis-as-published and ris-mis: --vpls n and --dirs n
+                     mis-as-published and ris-mis: --vpls n and --dirs R n (R from
+                     --dirs-per-sample)
+  --dirs-per-sample R
+                     gathering directions per VPL sample of mis, mis-as-published and
+                     ris-mis (default 1; 1..65536, R times the largest count at most 65536):
+                     how the samples are shared between the two strategies. Gathering is the
+                     better strategy where the indirect light comes from large, smoothly lit
+                     surfaces, VPL sampling where it comes from small bright ones
   --seeds LIST       comma-separated seeds, each run once per (method, samples) (default 1)
   --clamp-compensation LIST
                      off, on or off,on: the VPL clamp's compensation for global, local,
@@ -143,11 +150,12 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
   app.allow_extras();
   bool help = false;
   std::optional<std::string> methods, samples, seeds, compensations, ref_dirs, ref_exact_dirs, ref_noise, references,
-      repeats;
+      repeats, dirs_per_sample;
   app.add_flag("-h,--help", help);
   app.add_option("--methods", methods);
   app.add_option("--samples", samples);
   app.add_option("--seeds", seeds);
+  app.add_option("--dirs-per-sample", dirs_per_sample);
   app.add_option("--clamp-compensation", compensations);
   app.add_option("--ref-dirs", ref_dirs);
   app.add_option("--ref-exact-dirs", ref_exact_dirs);
@@ -180,6 +188,13 @@ bool parse_sweep_options(const std::vector<std::string>& args, sweep_options& so
     so.seeds.clear();
     for (const std::string& t : split_list(*seeds))
       so.seeds.push_back(static_cast<std::uint32_t>(to_int("--seeds", t, 0, 4294967295LL)));
+  }
+  if (dirs_per_sample) {
+    so.dirs_per_sample = static_cast<int>(to_int("--dirs-per-sample", *dirs_per_sample, 1, limits::max_dirs));
+    const int largest = *std::max_element(so.samples.begin(), so.samples.end());
+    if (static_cast<long long>(so.dirs_per_sample) * largest > limits::max_dirs)
+      bad("--dirs-per-sample: " + std::to_string(so.dirs_per_sample) + " directions per sample at --samples " +
+          std::to_string(largest) + " exceed " + std::to_string(limits::max_dirs) + " directions");
   }
   if (compensations) {
     so.compensations.clear();

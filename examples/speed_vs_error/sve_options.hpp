@@ -22,6 +22,9 @@ struct sweep_options {
   std::vector<vplrender::method> methods = default_methods();
   std::vector<int> samples{1, 4, 16, 64};
   std::vector<std::uint32_t> seeds{1};
+  // --dirs-per-sample R: mis, mis-as-published and ris-mis at n samples trace R n gathering
+  // directions beside their n VPL samples (the two strategies' sample allocation).
+  int dirs_per_sample = 1;
   std::vector<vplrender::clamp_compensation_choice> compensations;  // empty: vplrender's default
   int ref_dirs = 4096;
   int ref_exact_dirs = 4096;

@@ -109,7 +109,7 @@ sweep_result run_sweep(const sweep_options& so, const prepared_scene& p, const s
         if (compensation) o.clamp_compensation = compensation;
         const sweep_count what = traits(m).sweep;
         if (what != sweep_count::dirs) o.vpls = n;
-        if (what != sweep_count::vpls) o.dirs = n;
+        if (what != sweep_count::vpls) o.dirs = what == sweep_count::vpls_and_dirs ? so.dirs_per_sample * n : n;
         // --repeats: the same run K times (same seed, same image); the median run's times are
         // reported, and the fastest total beside them (the machines are noisy).
         image_rgb img;
@@ -148,7 +148,11 @@ sweep_result run_sweep(const sweep_options& so, const prepared_scene& p, const s
         if (refs.exact_noise) r.vs_exact_net = compare_net(img, ref_exact.img, refs.exact2.img);
         r.mean = image_mean(img);
         if (!f.band.empty()) r.band_mean = band_mean(img, f.band);
-        std::cout << r.label << " samples " << n << " seed " << seed << ": " << fixed(r.total_ms, 1)
+        std::cout << r.label << " samples " << n
+                  << (what == sweep_count::vpls_and_dirs && so.dirs_per_sample != 1
+                          ? " (" + std::to_string(o.dirs) + " directions)"
+                          : std::string())
+                  << " seed " << seed << ": " << fixed(r.total_ms, 1)
                   << " ms, RMSE vs VPL sum " << sci(r.vs_vpl.rmse) << ", vs gathering " << sci(r.vs_gather.rmse)
                   << ", vs exact " << sci(r.vs_exact.rmse) << std::endl;
         rows.push_back(r);
