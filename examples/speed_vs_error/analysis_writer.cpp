@@ -29,7 +29,7 @@ void write_runs_csv(const sweep_options& so, const prepared_scene& p, const swee
   csv << "scene,backend,method,samples,seed,width,height,dprsm,voxels,eps,local_combination,gbg_accumulator,"
          "cdf_search,visibility,prepare_ms,build_ms,estimate_ms,total_ms,wall_ms,rmse_vplsum,relmse_vplsum,rmse_gather,"
          "relmse_gather,rmse_exact,relmse_exact,total_ms_min,repeats,gpu_peak_bytes,clamp_compensation,mean,band_mean,"
-         "rmse_gather_net,relmse_gather_net,rmse_exact_net,relmse_exact_net,stages\n";
+         "rmse_gather_net,relmse_gather_net,rmse_exact_net,relmse_exact_net,vpls,dirs,stages\n";
   for (const run_row& r : rows)
     csv << base_name(p.s.name) << "," << to_string(base.back) << "," << to_string(r.meth) << "," << r.samples << ","
         << r.seed << "," << base.width << "," << base.height << "," << base.dprsm << "," << base.voxels << ","
@@ -40,7 +40,7 @@ void write_runs_csv(const sweep_options& so, const prepared_scene& p, const swee
         << num(r.total_ms_min) << "," << r.repeats << "," << r.gpu_peak_bytes << ","
         << to_string(r.compensation) << "," << num(r.mean) << ","
         << num(r.band_mean) << "," << num(r.vs_gather_net.rmse) << "," << num(r.vs_gather_net.relmse) << ","
-        << num(r.vs_exact_net.rmse) << "," << num(r.vs_exact_net.relmse) << "," << r.stages << "\n";
+        << num(r.vs_exact_net.rmse) << "," << num(r.vs_exact_net.relmse) << "," << r.vpls << "," << r.dirs << "," << r.stages << "\n";
   write_text(so.out + ".csv", csv.str());
 }
 

@@ -19,6 +19,7 @@ struct run_row {
   std::string label;  // the method's name, or METHOD-clamped (its clamped runs when both are swept)
   vplrender::clamp_compensation_choice compensation = vplrender::clamp_compensation_choice::off;  // as the run used it
   int samples = 0;
+  int vpls = 0, dirs = 0;  // the run's --vpls and --dirs (dirs: R samples with --dirs-per-sample R)
   std::uint32_t seed = 0;
   double build_ms = 0, estimate_ms = 0, total_ms = 0, wall_ms = 0;
   double total_ms_min = 0;

@@ -136,6 +136,8 @@ sweep_result run_sweep(const sweep_options& so, const prepared_scene& p, const s
         r.repeats = static_cast<int>(timed.size());
         r.meth = m;
         r.samples = n;
+        r.vpls = o.vpls;
+        r.dirs = o.dirs;
         r.seed = seed;
         r.compensation = uses_clamp_compensation(make_render_settings(o, p.s)) ? clamp_compensation_choice::on
                                                                                 : clamp_compensation_choice::off;
