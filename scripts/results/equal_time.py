@@ -67,7 +67,7 @@ def main(argv):
     for p, s in runs.items():
         if 'global' not in s:
             raise SystemExit(f'{p}: no global series (its times are the budgets)')
-    name = lambda p: p.rstrip('/').split('/')[-1]
+    name = lambda p: p.rstrip('/').split('/')[-1].removesuffix('.csv')
     print(f'| budget (global at) | time ms | best other | run | {target} | {target} / best other |')
     print('|---|---:|---|---|---:|---:|')
     for b in budgets:
