@@ -21,6 +21,7 @@
 #include <vplkit/vpl/vpl.hpp>
 
 #include <catch2/catch.hpp>
+#include <special_values.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -31,11 +32,6 @@ using namespace vplkit;
 using namespace vplkit_test;
 
 namespace {
-
-template <class T>
-bool finite3(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 // L_o of a lit point y with its normal normalised here (reflected_radiance's expressions).
 template <class T>

@@ -6,6 +6,7 @@
 #include <vplkit/paraboloid/texel_grid.hpp>
 
 #include <catch2/catch.hpp>
+#include <special_values.hpp>
 #include <fp_mode.hpp>
 
 #include <algorithm>
@@ -14,15 +15,12 @@
 #include <random>
 
 using namespace vplkit;
+using vplkit_test::finite3;
 
 namespace {
 template <class T>
 bool finite2(vec2<T> v) {
   return std::isfinite(v.x) && std::isfinite(v.y);
-}
-template <class T>
-bool finite3(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 template <class T>
 void require_valid_point(const vplkit::paraboloid_point<T>& p) {

@@ -5,17 +5,15 @@
 #include <vplkit/sampling/orthonormal_basis.hpp>
 
 #include <catch2/catch.hpp>
+#include <special_values.hpp>
 
 #include <cmath>
 #include <limits>
 
 using namespace vplkit;
+using vplkit_test::finite3;
 
 namespace {
-
-template <class T> bool finite3(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 template <class T> void check_frame(vec3<T> input, vec3<T> expected_n) {
   const orthonormal_basis<T> f = make_orthonormal_basis(input);

@@ -19,6 +19,7 @@
 #include <vplkit/vpl/luminance.hpp>
 
 #include <catch2/catch.hpp>
+#include <special_values.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -29,11 +30,6 @@ using namespace vplkit;
 using namespace vplkit_test;
 
 namespace {
-
-template <class T>
-bool finite3(vec3<T> v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 template <class T>
 bool sample_finite(const dprsm_patch_sample<T>& s) {

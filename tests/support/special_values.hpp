@@ -19,6 +19,14 @@ std::vector<T> special_values() {
           T(-1), inf, -inf, std::numeric_limits<T>::quiet_NaN()};
 }
 
+// Whether the three components of a vector (anything with x, y and z: a glm::vec3, a GPU model's
+// vector) are all finite: what a hard case asks of every vector a function returns.
+template <class V>
+bool finite3(const V& v) {
+  using std::isfinite;
+  return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+
 // special_values and `more`, in that order.
 template <class T>
 std::vector<T> special_values_and(std::initializer_list<T> more) {
