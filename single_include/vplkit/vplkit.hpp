@@ -173,8 +173,19 @@ inline constexpr int scale_by_exp2_max = 3 * (std::numeric_limits<T>::max_expone
 // partial product lies between x and the result); a result beyond the largest T overflows to
 // +-Inf (correctly rounded products), one below the smallest normal T is 0 (flush_denormal: what
 // a flushing GPU gives, on every device).
+//
+// Host shortcut (float and double, whose products are correctly rounded; not a test's GPU model of
+// float): for k with 2^k a normal T, the single product x * 2^k. Its bits are the three products':
+// where the result is normal or overflows, the partial products are exact and the last one rounds
+// as the single product does; where it falls below the smallest normal T by more than its last
+// factor, both flush to 0; and near the smallest normal the partial product before the last factor
+// (2^k3, k3 <= -1 there) is at least twice the smallest normal, so exact again.
 template <class T>
 inline T scale_by_exp2(T x, int k) noexcept {
+  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
+    if (k >= std::numeric_limits<T>::min_exponent - 1 && k <= std::numeric_limits<T>::max_exponent - 1)
+      return flush_denormal(x * exp2i<T>(k));
+  }
   constexpr int kmax = scale_by_exp2_max<T>;
   k = k < -kmax ? -kmax : k > kmax ? kmax : k;
   const int k1 = k / 3;
@@ -237,17 +248,21 @@ inline T max_abs_component(vec3<T> v) {
 // dot(v, v) NaN, which the range test rejects. (A float component 2^-10 below one of 2^-59 has a
 // denormal square that does move the sum: hence 2^-50. Compared over exponents of the whole range
 // in tests/hardcases/estimators_ris_mis_batch_hardcases_test.cpp.)
+namespace detail {
+// unit_or_zero's general path (every T, every magnitude): the power-of-two scaling first. Kept out
+// of line for float and double, where it is the rare branch, so that the shortcut stays small
+// enough to be inlined.
+#if defined(__GNUC__) || defined(__clang__)
+#define VPLKIT_UNIT_OR_ZERO_COLD __attribute__((noinline, cold))
+#define VPLKIT_UNIT_OR_ZERO_INLINE inline __attribute__((always_inline))
+#else
+#define VPLKIT_UNIT_OR_ZERO_COLD
+#define VPLKIT_UNIT_OR_ZERO_INLINE inline
+#endif
 template <class T>
-inline vec3<T> unit_or_zero(vec3<T> v) {
+VPLKIT_UNIT_OR_ZERO_COLD inline vec3<T> unit_or_zero_scaled(vec3<T> v) {
   v = flush_denormal(v);
   const T m = max_abs_component(v);
-  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
-    if (m >= T(0x1p-50) && m <= T(0x1p60)) {
-      const T len2 = glm::dot(v, v);  // in [2^-100, 3 * 2^120] unless a component is NaN
-      if (!(len2 >= T(0x1p-101)) || !(len2 <= T(0x1p122))) return vec3<T>(T(0));
-      return flush_denormal(v * (T(1) / std::sqrt(len2)));
-    }
-  }
   if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
   const int e = binary_exponent(m);
   const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
@@ -259,6 +274,24 @@ inline vec3<T> unit_or_zero(vec3<T> v) {
   // s * (1 / sqrt(len2)), the form of the GLSL (s * inversesqrt(len2)): two correctly rounded
   // operations here, inversesqrt and a product on a GPU.
   return flush_denormal(s * detail::inversesqrt_of(len2));
+}
+}  // namespace detail
+
+// (The host shortcut is the whole body for float and double, the scaled path a call outside it:
+// small enough that the compiler inlines it into the estimators' loops, where it is called per
+// candidate.)
+template <class T>
+VPLKIT_UNIT_OR_ZERO_INLINE vec3<T> unit_or_zero(vec3<T> v) {
+  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
+    v = flush_denormal(v);
+    const T m = max_abs_component(v);
+    if (m >= T(0x1p-50) && m <= T(0x1p60)) {
+      const T len2 = glm::dot(v, v);  // in [2^-100, 3 * 2^120] unless a component is NaN
+      if (!(len2 >= T(0x1p-101)) || !(len2 <= T(0x1p122))) return vec3<T>(T(0));
+      return flush_denormal(v * (T(1) / std::sqrt(len2)));
+    }
+  }
+  return detail::unit_or_zero_scaled(v);
 }
 
 // |v| with the scale-first rule of unit_or_zero, for vectors of any magnitude. Where the largest
@@ -8780,19 +8813,41 @@ inline ris_mis_draw<T> ris_mis_draw_candidate(const dprsm_view<T>& view, const D
   return c;
 }
 
+// What the shade of a reservoir needs of its kept sample, made while the candidate was weighed: h
+// (RGB) and the point's position and normal for the visibility query. ris_mis_shade would compute
+// the same h again (the draw's pmf is the distribution's pmf(texel), bit for bit), which at M = 2
+// is a third of a step's evaluations.
+template <class T>
+struct ris_mis_kept {
+  vec3<T> h{T(0)};
+  vec3<T> position{T(0)};
+  vec3<T> normal{T(0)};
+};
+
 // The second half: sets target = lum(h) and returns the resampling weight target / pmf (0 where
 // the target is 0 or the draw is empty; a weight that overflows is not usable and the reservoir
-// skips it). rx as in ris_mis_unshadowed.
+// skips it). rx as in ris_mis_unshadowed. kept receives h and the point (h 0 where the weight is).
+template <class T>
+inline T ris_mis_weigh_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
+                                 const ris_mis_draw<T>& c, T n1, T n2, vpl_mode mode, T depth_tolerance, T& target,
+                                 ris_mis_kept<T>& kept) {
+  target = T(0);
+  kept = ris_mis_kept<T>{};
+  if (c.s.texel < 0) return T(0);
+  vpl<T> v;
+  const vec3<T> h = ris_mis_unshadowed(gp, rx, view, c.s, c.pmf, n1, n2, mode, depth_tolerance, v);
+  const T p = luminance(h);
+  if (!reservoir_weight_usable(p)) return T(0);
+  target = p;
+  kept = ris_mis_kept<T>{h, v.position, v.normal};
+  return p / c.pmf;
+}
+
 template <class T>
 inline T ris_mis_weigh_candidate(const gather_point<T>& gp, const mis_receiver<T>& rx, const dprsm_view<T>& view,
                                  const ris_mis_draw<T>& c, T n1, T n2, vpl_mode mode, T depth_tolerance, T& target) {
-  target = T(0);
-  if (c.s.texel < 0) return T(0);
-  vpl<T> v;
-  const T p = luminance(ris_mis_unshadowed(gp, rx, view, c.s, c.pmf, n1, n2, mode, depth_tolerance, v));
-  if (!reservoir_weight_usable(p)) return T(0);
-  target = p;
-  return p / c.pmf;
+  ris_mis_kept<T> kept;
+  return ris_mis_weigh_candidate(gp, rx, view, c, n1, n2, mode, depth_tolerance, target, kept);
 }
 
 // One candidate (the draw, then its weight): sets its sample s and its target lum(h), and returns
@@ -8824,7 +8879,8 @@ inline T ris_mis_candidate(const gather_point<T>& gp, const dprsm_view<T>& view,
 inline constexpr int ris_mis_draw_batch = 8;
 
 // One reservoir of n_candidates candidates with the target lum(h) (ris_resample's layout and
-// normalisation: weight_sum = (1/M) sum w_i, confidence M). Empty for an invalid gather point,
+// normalisation: weight_sum = (1/M) sum w_i, confidence M), and in `kept` the kept sample's h and
+// point (ris_mis_shade_kept). Empty for an invalid gather point,
 // n_candidates <= 0 or n2 <= 0 (no numbers drawn then). The candidates go in batches of
 // ris_mis_draw_batch: first each one's numbers (u, the jitter, then its selection u: the layout of
 // the one-at-a-time loop, which the GLSL mirror runs), with the distribution's first memory
@@ -8834,8 +8890,9 @@ inline constexpr int ris_mis_draw_batch = 8;
 template <class T, class Distribution>
 inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
                                          const Distribution& distribution, counter_rng& rng, int n_candidates, T n1,
-                                         T n2, vpl_mode mode, T depth_tolerance) {
+                                         T n2, vpl_mode mode, T depth_tolerance, ris_mis_kept<T>& kept) {
   ris_reservoir<T> r;
+  kept = ris_mis_kept<T>{};
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0))) return r;
   weighted_reservoir<T> res;
   const mis_receiver<T> rx = make_mis_receiver(gp);
@@ -8860,10 +8917,12 @@ inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_
     }
     for (int k = 0; k < n; ++k) {
       T target;
-      const T w = ris_mis_weigh_candidate(gp, rx, view, c[k], n1, n2, mode, depth_tolerance, target);
+      ris_mis_kept<T> made;
+      const T w = ris_mis_weigh_candidate(gp, rx, view, c[k], n1, n2, mode, depth_tolerance, target, made);
       if (reservoir_update(res, std::uint32_t(i0 + k), w, u_keep[k])) {
         r.kept = c[k].s;
         r.target = target;
+        kept = made;
       }
     }
   }
@@ -8871,6 +8930,14 @@ inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_
   r.confidence = m;
   if (!reservoir_empty_of(res)) r.weight_sum = res.weight_sum / m;
   return r;
+}
+
+template <class T, class Distribution>
+inline ris_reservoir<T> ris_mis_resample(const gather_point<T>& gp, const dprsm_view<T>& view,
+                                         const Distribution& distribution, counter_rng& rng, int n_candidates, T n1,
+                                         T n2, vpl_mode mode, T depth_tolerance) {
+  ris_mis_kept<T> kept;
+  return ris_mis_resample(gp, view, distribution, rng, n_candidates, n1, n2, mode, depth_tolerance, kept);
 }
 
 // h(y) V(x, y) W for the reservoir's sample y, W = weight_sum / target: one RIS estimate of the
@@ -8890,6 +8957,19 @@ inline vec3<T> ris_mis_shade(const gather_point<T>& gp, const dprsm_view<T>& vie
   return estimator_finite_or_zero(h * (r.weight_sum / r.target));
 }
 
+// ris_mis_shade for the reservoir that ris_mis_resample made at gp, from the h and point it kept:
+// the same value bit for bit, without evaluating h again. Not for a reservoir after spatial reuse
+// (its sample may be a neighbour's, whose h at gp nobody made): ris_mis_shade.
+template <class T, class Visibility>
+inline vec3<T> ris_mis_shade_kept(const gather_point<T>& gp, const ris_reservoir<T>& r, const ris_mis_kept<T>& kept,
+                                  const Visibility& visibility) {
+  if (!gather_point_valid(gp) || !ris_reservoir_has_sample(r)) return vec3<T>(T(0));
+  const vec3<T> h = kept.h;
+  if (!(h.x > T(0) || h.y > T(0) || h.z > T(0))) return vec3<T>(T(0));
+  if (!visibility(gp.position, gp.normal, kept.position, kept.normal)) return vec3<T>(T(0));
+  return estimator_finite_or_zero(h * (r.weight_sum / r.target));
+}
+
 // Steps [begin, end) of estimate_ris_mis (estimator_state.hpp); the steps run to
 // max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0.
 template <class T, class Distribution, class Tracer, class Visibility>
@@ -8905,9 +8985,10 @@ inline void estimate_ris_mis_range(const gather_point<T>& gp, const dprsm_view<T
   const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
+      ris_mis_kept<T> kept;
       const ris_reservoir<T> r =
-          ris_mis_resample(gp, view, distribution, state.rng, n_candidates, n1, n2, vmode, depth_tolerance);
-      state.sum += ris_mis_shade(gp, view, distribution, r, visibility, n1, n2, vmode, depth_tolerance) / n2;
+          ris_mis_resample(gp, view, distribution, state.rng, n_candidates, n1, n2, vmode, depth_tolerance, kept);
+      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / n2;
     }
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(state.rng);

@@ -178,3 +178,54 @@ TEST_CASE("ris-mis: the target is n2 pmf times the MIS value, and ranges compose
   CHECK(estimate_ris_mis_finish(st) == whole);
   CHECK(st.rng.counter == a.counter);
 }
+
+TEST_CASE("ris-mis: the shade from the kept h and point is ris_mis_shade's, bit for bit") {
+  // estimate_ris_mis shades from what ris_mis_resample kept instead of evaluating h again; the
+  // draw's pmf is the distribution's pmf(texel), so the value must not change in any bit.
+  const room& f = fx();
+  const auto& r = f.r;
+  const double tol = 0.2;
+  int shaded = 0;
+  for (const auto& g : r.gps)
+    for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch})
+      for (const int m : {1, 2, 8})
+        for (const double n1 : {0.0, 4.0})
+          for (std::uint32_t s = 0; s < 12; ++s) {
+            counter_rng a = make_counter_rng(21u, s), b = a;
+            ris_mis_kept<double> kept;
+            const ris_reservoir<double> ra = ris_mis_resample(g.gp, r.view, f.flux, a, m, n1, 3.0, mode, tol, kept);
+            const ris_reservoir<double> rb = ris_mis_resample(g.gp, r.view, f.flux, b, m, n1, 3.0, mode, tol);
+            REQUIRE(ris_same_sample(ra.kept, rb.kept));
+            REQUIRE(ra.weight_sum == rb.weight_sum);
+            const vec3<double> from_kept = ris_mis_shade_kept(g.gp, ra, kept, r.vis);
+            const vec3<double> again = ris_mis_shade(g.gp, r.view, f.flux, rb, r.vis, n1, 3.0, mode, tol);
+            INFO(g.name << " mode " << int(mode) << " M " << m << " n1 " << n1 << " stream " << s);
+            CHECK(from_kept == again);
+            if (ris_reservoir_has_sample(ra)) {
+              CHECK(luminance(kept.h) == ra.target);
+              ++shaded;
+            } else {
+              CHECK(kept.h == vec3<double>(0.0));
+            }
+          }
+  CHECK(shaded > 500);
+  // The float instance, as the renderer runs it: the whole estimate against resample + shade.
+  const lit_room<float> rf{16};
+  const defensive_mixture<float> flux_f = make_vpl_distribution(build_flux_weights(rf.view), rf.view, 0.0f);
+  int nonzero = 0;
+  for (const auto& g : rf.gps)
+    for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch})
+      for (std::uint32_t s = 0; s < 12; ++s) {
+        counter_rng a = make_counter_rng(22u, s), b = a;
+        const vec3<float> whole = estimate_ris_mis(g.gp, rf.view, flux_f, a, 0, 3, 2, rf.tracer, rf.vis, 0.2f, mode);
+        vec3<float> sum(0.0f);
+        for (int k = 0; k < 3; ++k) {
+          const ris_reservoir<float> res = ris_mis_resample(g.gp, rf.view, flux_f, b, 2, 0.0f, 3.0f, mode, 0.2f);
+          sum += ris_mis_shade(g.gp, rf.view, flux_f, res, rf.vis, 0.0f, 3.0f, mode, 0.2f) / 3.0f;
+        }
+        INFO(g.name << " mode " << int(mode) << " stream " << s);
+        CHECK(whole == sum);
+        if (luminance(whole) > 0.0f) ++nonzero;
+      }
+  CHECK(nonzero > 20);
+}

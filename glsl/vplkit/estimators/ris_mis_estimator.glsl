@@ -13,8 +13,9 @@
 // gives 0 and draws nothing. Never NaN or Inf: every quotient goes through vplkit_mis_div or
 // vplkit_balance_combined behind a guard, every value through vplkit_estimator_finite_or_zero.
 // HOOKS: the distribution hooks of mis_estimator.glsl (declared identically there; define them
-// once): vplkit_estimator_distribution_sample (the candidates) and _pmf (the kept sample's h and
-// the gathering hits' p2). Visibility and tracing: the structs of visibility_callables.glsl.
+// once): vplkit_estimator_distribution_sample (the candidates) and _pmf (a reused sample's h and
+// the gathering hits' p2). The pmf the sample hook returns must be the pmf hook's for its index.
+// Visibility and tracing: the structs of visibility_callables.glsl.
 // ACCESSORS: the DPRSM's, and those of the visibility and tracer the shader uses.
 #ifndef VPLKIT_ESTIMATORS_RIS_MIS_ESTIMATOR_GLSL
 #define VPLKIT_ESTIMATORS_RIS_MIS_ESTIMATOR_GLSL
@@ -61,14 +62,28 @@ vec3 vplkit_ris_mis_unshadowed(vplkit_gather_point gp, vplkit_dprsm_view view, v
                                          (n2 * pmf));
 }
 
+// What the shade of a reservoir needs of its kept sample, made while the candidate was weighed: h
+// and the point's position and normal for the visibility query (vplkit_ris_mis_shade_kept).
+struct vplkit_ris_mis_kept {
+  vec3 h;
+  vec3 position;
+  vec3 normal;
+};
+
+vplkit_ris_mis_kept vplkit_make_ris_mis_kept() {
+  return vplkit_ris_mis_kept(vec3(0.0), vec3(0.0), vec3(0.0));
+}
+
 // One candidate: draws u (and with vplkit_vpl_patch u0, u1), sets its sample s and its target
 // lum(h), and returns its resampling weight target / pmf (0 where the target is 0 or the draw is
-// empty; a weight that overflows is not usable and the reservoir skips it).
+// empty; a weight that overflows is not usable and the reservoir skips it). kept receives h and
+// the point (h 0 where the weight is).
 float vplkit_ris_mis_candidate(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                inout vplkit_counter_rng rng, float n1, float n2, int vpl_mode, float depth_tolerance,
-                               out vplkit_ris_sample s, out float target) {
+                               out vplkit_ris_sample s, out float target, out vplkit_ris_mis_kept kept) {
   s = vplkit_make_ris_sample();
   target = 0.0;
+  kept = vplkit_make_ris_mis_kept();
   float u = vplkit_rng_next_unit(rng);
   if (vpl_mode == vplkit_vpl_patch) {
     s.xi.x = vplkit_rng_next_unit(rng);
@@ -79,34 +94,55 @@ float vplkit_ris_mis_candidate(vplkit_gather_point gp, vplkit_dprsm_view view, u
   if (!(pmf > 0.0) || d.index >= uint(vplkit_dprsm_view_texel_count(view))) return 0.0;
   s.texel = int(d.index);
   vplkit_vpl v;
-  float p = vplkit_luminance(vplkit_ris_mis_unshadowed(gp, view, s, pmf, n1, n2, vpl_mode, depth_tolerance, v));
+  vec3 h = vplkit_ris_mis_unshadowed(gp, view, s, pmf, n1, n2, vpl_mode, depth_tolerance, v);
+  float p = vplkit_luminance(h);
   if (!vplkit_reservoir_weight_usable(p)) return 0.0;
   target = p;
+  kept = vplkit_ris_mis_kept(h, v.position, v.normal);
   return vplkit_mis_div(p, pmf);  // an overflow is not a usable weight: the reservoir skips it
 }
 
+float vplkit_ris_mis_candidate(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                               inout vplkit_counter_rng rng, float n1, float n2, int vpl_mode, float depth_tolerance,
+                               out vplkit_ris_sample s, out float target) {
+  vplkit_ris_mis_kept kept;
+  return vplkit_ris_mis_candidate(gp, view, distribution, rng, n1, n2, vpl_mode, depth_tolerance, s, target, kept);
+}
+
 // One reservoir of n_candidates candidates with the target lum(h) (vplkit_ris_resample's layout and
-// normalisation: weight_sum = (1/M) sum w_i, confidence M). Empty for an invalid gather point,
-// n_candidates <= 0 or n2 <= 0 (no numbers drawn then).
+// normalisation: weight_sum = (1/M) sum w_i, confidence M), and in `kept` the kept sample's h and
+// point (vplkit_ris_mis_shade_kept). Empty for an invalid gather point, n_candidates <= 0 or
+// n2 <= 0 (no numbers drawn then).
 vplkit_ris_reservoir vplkit_ris_mis_resample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                              inout vplkit_counter_rng rng, int n_candidates, float n1, float n2,
-                                             int vpl_mode, float depth_tolerance) {
+                                             int vpl_mode, float depth_tolerance, out vplkit_ris_mis_kept kept) {
   vplkit_ris_reservoir r = vplkit_make_ris_reservoir();
+  kept = vplkit_make_ris_mis_kept();
   if (!vplkit_gather_point_valid(gp) || n_candidates <= 0 || !(n2 > 0.0)) return r;
   vplkit_weighted_reservoir res = vplkit_make_weighted_reservoir();
   for (int i = 0; i < n_candidates; ++i) {
     vplkit_ris_sample s;
     float target;
-    float w = vplkit_ris_mis_candidate(gp, view, distribution, rng, n1, n2, vpl_mode, depth_tolerance, s, target);
+    vplkit_ris_mis_kept made;
+    float w =
+        vplkit_ris_mis_candidate(gp, view, distribution, rng, n1, n2, vpl_mode, depth_tolerance, s, target, made);
     if (vplkit_reservoir_update(res, uint(i), w, vplkit_rng_next_unit(rng))) {
       r.kept = s;
       r.target = target;
+      kept = made;
     }
   }
   float m = float(n_candidates);
   r.confidence = m;
   if (!vplkit_reservoir_empty_of(res)) r.weight_sum = res.weight_sum / m;
   return r;
+}
+
+vplkit_ris_reservoir vplkit_ris_mis_resample(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
+                                             inout vplkit_counter_rng rng, int n_candidates, float n1, float n2,
+                                             int vpl_mode, float depth_tolerance) {
+  vplkit_ris_mis_kept kept;
+  return vplkit_ris_mis_resample(gp, view, distribution, rng, n_candidates, n1, n2, vpl_mode, depth_tolerance, kept);
 }
 
 // h(y) V(x, y) W for the reservoir's sample y, W = weight_sum / target: one RIS estimate of the
@@ -124,6 +160,18 @@ vec3 vplkit_ris_mis_shade(vplkit_gather_point gp, vplkit_dprsm_view view, uint d
   return vplkit_estimator_finite_or_zero(h * vplkit_mis_div(r.weight_sum, r.target));
 }
 
+// vplkit_ris_mis_shade for the reservoir that vplkit_ris_mis_resample made at gp, from the h and
+// point it kept: the same value, without evaluating h again (the sample hook's pmf is the pmf
+// hook's for its index). Not for a reservoir after spatial reuse: vplkit_ris_mis_shade.
+vec3 vplkit_ris_mis_shade_kept(vplkit_gather_point gp, vplkit_ris_reservoir r, vplkit_ris_mis_kept kept,
+                               vplkit_visibility visibility) {
+  if (!vplkit_gather_point_valid(gp) || !vplkit_ris_reservoir_has_sample(r)) return vec3(0.0);
+  vec3 h = kept.h;
+  if (!(h.x > 0.0 || h.y > 0.0 || h.z > 0.0)) return vec3(0.0);
+  if (!vplkit_visibility_test(visibility, gp.position, gp.normal, kept.position, kept.normal)) return vec3(0.0);
+  return vplkit_estimator_finite_or_zero(h * vplkit_mis_div(r.weight_sum, r.target));
+}
+
 // Steps [begin, end) of vplkit_estimate_ris_mis (estimator_state.glsl); the steps run to
 // max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0.
 void vplkit_estimate_ris_mis_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
@@ -137,9 +185,10 @@ void vplkit_estimate_ris_mis_range(vplkit_gather_point gp, vplkit_dprsm_view vie
   vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
+      vplkit_ris_mis_kept kept;
       vplkit_ris_reservoir r = vplkit_ris_mis_resample(gp, view, distribution, state.rng, n_candidates, n1, n2,
-                                                       vpl_mode, depth_tolerance);
-      state.sum += vplkit_ris_mis_shade(gp, view, distribution, r, visibility, n1, n2, vpl_mode, depth_tolerance) / n2;
+                                                       vpl_mode, depth_tolerance, kept);
+      state.sum += vplkit_ris_mis_shade_kept(gp, r, kept, visibility) / n2;
     }
     if (j < n_dirs) {
       float u0 = vplkit_rng_next_unit(state.rng);

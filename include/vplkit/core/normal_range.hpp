@@ -116,8 +116,19 @@ inline constexpr int scale_by_exp2_max = 3 * (std::numeric_limits<T>::max_expone
 // partial product lies between x and the result); a result beyond the largest T overflows to
 // +-Inf (correctly rounded products), one below the smallest normal T is 0 (flush_denormal: what
 // a flushing GPU gives, on every device).
+//
+// Host shortcut (float and double, whose products are correctly rounded; not a test's GPU model of
+// float): for k with 2^k a normal T, the single product x * 2^k. Its bits are the three products':
+// where the result is normal or overflows, the partial products are exact and the last one rounds
+// as the single product does; where it falls below the smallest normal T by more than its last
+// factor, both flush to 0; and near the smallest normal the partial product before the last factor
+// (2^k3, k3 <= -1 there) is at least twice the smallest normal, so exact again.
 template <class T>
 inline T scale_by_exp2(T x, int k) noexcept {
+  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
+    if (k >= std::numeric_limits<T>::min_exponent - 1 && k <= std::numeric_limits<T>::max_exponent - 1)
+      return flush_denormal(x * exp2i<T>(k));
+  }
   constexpr int kmax = scale_by_exp2_max<T>;
   k = k < -kmax ? -kmax : k > kmax ? kmax : k;
   const int k1 = k / 3;

@@ -41,17 +41,21 @@ inline T max_abs_component(vec3<T> v) {
 // dot(v, v) NaN, which the range test rejects. (A float component 2^-10 below one of 2^-59 has a
 // denormal square that does move the sum: hence 2^-50. Compared over exponents of the whole range
 // in tests/hardcases/estimators_ris_mis_batch_hardcases_test.cpp.)
+namespace detail {
+// unit_or_zero's general path (every T, every magnitude): the power-of-two scaling first. Kept out
+// of line for float and double, where it is the rare branch, so that the shortcut stays small
+// enough to be inlined.
+#if defined(__GNUC__) || defined(__clang__)
+#define VPLKIT_UNIT_OR_ZERO_COLD __attribute__((noinline, cold))
+#define VPLKIT_UNIT_OR_ZERO_INLINE inline __attribute__((always_inline))
+#else
+#define VPLKIT_UNIT_OR_ZERO_COLD
+#define VPLKIT_UNIT_OR_ZERO_INLINE inline
+#endif
 template <class T>
-inline vec3<T> unit_or_zero(vec3<T> v) {
+VPLKIT_UNIT_OR_ZERO_COLD inline vec3<T> unit_or_zero_scaled(vec3<T> v) {
   v = flush_denormal(v);
   const T m = max_abs_component(v);
-  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
-    if (m >= T(0x1p-50) && m <= T(0x1p60)) {
-      const T len2 = glm::dot(v, v);  // in [2^-100, 3 * 2^120] unless a component is NaN
-      if (!(len2 >= T(0x1p-101)) || !(len2 <= T(0x1p122))) return vec3<T>(T(0));
-      return flush_denormal(v * (T(1) / std::sqrt(len2)));
-    }
-  }
   if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
   const int e = binary_exponent(m);
   const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
@@ -63,6 +67,24 @@ inline vec3<T> unit_or_zero(vec3<T> v) {
   // s * (1 / sqrt(len2)), the form of the GLSL (s * inversesqrt(len2)): two correctly rounded
   // operations here, inversesqrt and a product on a GPU.
   return flush_denormal(s * detail::inversesqrt_of(len2));
+}
+}  // namespace detail
+
+// (The host shortcut is the whole body for float and double, the scaled path a call outside it:
+// small enough that the compiler inlines it into the estimators' loops, where it is called per
+// candidate.)
+template <class T>
+VPLKIT_UNIT_OR_ZERO_INLINE vec3<T> unit_or_zero(vec3<T> v) {
+  if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
+    v = flush_denormal(v);
+    const T m = max_abs_component(v);
+    if (m >= T(0x1p-50) && m <= T(0x1p60)) {
+      const T len2 = glm::dot(v, v);  // in [2^-100, 3 * 2^120] unless a component is NaN
+      if (!(len2 >= T(0x1p-101)) || !(len2 <= T(0x1p122))) return vec3<T>(T(0));
+      return flush_denormal(v * (T(1) / std::sqrt(len2)));
+    }
+  }
+  return detail::unit_or_zero_scaled(v);
 }
 
 // |v| with the scale-first rule of unit_or_zero, for vectors of any magnitude. Where the largest
