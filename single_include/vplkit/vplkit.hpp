@@ -216,6 +216,16 @@ inline binary_split<T> split_binary(T x) noexcept {
 #include <limits>
 #include <type_traits>
 
+// The shortcut of unit_or_zero is forced inline and its general path kept out of line (for float
+// and double the rare branch), so that the estimators' per-candidate calls stay cheap.
+#if defined(__GNUC__) || defined(__clang__)
+#define VPLKIT_UNIT_OR_ZERO_COLD __attribute__((noinline, cold))
+#define VPLKIT_UNIT_OR_ZERO_INLINE inline __attribute__((always_inline))
+#else
+#define VPLKIT_UNIT_OR_ZERO_COLD
+#define VPLKIT_UNIT_OR_ZERO_INLINE inline
+#endif
+
 namespace vplkit {
 
 // Largest absolute component (the L-infinity norm). NaN components are skipped by the
@@ -228,6 +238,26 @@ inline T max_abs_component(vec3<T> v) {
   if (detail::abs_of(v.z) > m) m = detail::abs_of(v.z);
   return m;
 }
+
+namespace detail {
+// unit_or_zero's general path (every T, every magnitude): the power-of-two scaling first.
+template <class T>
+VPLKIT_UNIT_OR_ZERO_COLD inline vec3<T> unit_or_zero_scaled(vec3<T> v) {
+  v = flush_denormal(v);
+  const T m = max_abs_component(v);
+  if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
+  const int e = binary_exponent(m);
+  const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
+  const vec3<T> s = flush_denormal(v * scale);
+  // len2 is in [1, 48] unless a component of v was NaN. The test uses the looser [0.5, 64] so that
+  // it stays a pure NaN check under GPU arithmetic (FMA contraction of the dot product).
+  const T len2 = glm::dot(s, s);
+  if (!(len2 >= T(0.5)) || !(len2 <= T(64))) return vec3<T>(T(0));
+  // s * (1 / sqrt(len2)), the form of the GLSL (s * inversesqrt(len2)): two correctly rounded
+  // operations here, inversesqrt and a product on a GPU.
+  return flush_denormal(s * detail::inversesqrt_of(len2));
+}
+}  // namespace detail
 
 // v / |v|, or (0,0,0) when v is zero or has a NaN or infinite component. A component below the
 // smallest normal T counts as 0 (a GPU may flush it on input: docs/math.md, "GPU arithmetic
@@ -248,38 +278,6 @@ inline T max_abs_component(vec3<T> v) {
 // dot(v, v) NaN, which the range test rejects. (A float component 2^-10 below one of 2^-59 has a
 // denormal square that does move the sum: hence 2^-50. Compared over exponents of the whole range
 // in tests/hardcases/estimators_ris_mis_batch_hardcases_test.cpp.)
-namespace detail {
-// unit_or_zero's general path (every T, every magnitude): the power-of-two scaling first. Kept out
-// of line for float and double, where it is the rare branch, so that the shortcut stays small
-// enough to be inlined.
-#if defined(__GNUC__) || defined(__clang__)
-#define VPLKIT_UNIT_OR_ZERO_COLD __attribute__((noinline, cold))
-#define VPLKIT_UNIT_OR_ZERO_INLINE inline __attribute__((always_inline))
-#else
-#define VPLKIT_UNIT_OR_ZERO_COLD
-#define VPLKIT_UNIT_OR_ZERO_INLINE inline
-#endif
-template <class T>
-VPLKIT_UNIT_OR_ZERO_COLD inline vec3<T> unit_or_zero_scaled(vec3<T> v) {
-  v = flush_denormal(v);
-  const T m = max_abs_component(v);
-  if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
-  const int e = binary_exponent(m);
-  const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
-  const vec3<T> s = flush_denormal(v * scale);
-  // len2 is in [1, 48] unless a component of v was NaN. The test uses the looser [0.5, 64] so that
-  // it stays a pure NaN check under GPU arithmetic (FMA contraction of the dot product).
-  const T len2 = glm::dot(s, s);
-  if (!(len2 >= T(0.5)) || !(len2 <= T(64))) return vec3<T>(T(0));
-  // s * (1 / sqrt(len2)), the form of the GLSL (s * inversesqrt(len2)): two correctly rounded
-  // operations here, inversesqrt and a product on a GPU.
-  return flush_denormal(s * detail::inversesqrt_of(len2));
-}
-}  // namespace detail
-
-// (The host shortcut is the whole body for float and double, the scaled path a call outside it:
-// small enough that the compiler inlines it into the estimators' loops, where it is called per
-// candidate.)
 template <class T>
 VPLKIT_UNIT_OR_ZERO_INLINE vec3<T> unit_or_zero(vec3<T> v) {
   if constexpr (std::is_same<T, float>::value || std::is_same<T, double>::value) {
