@@ -5,7 +5,7 @@
 #   equal_time.py [--budgets 16,64,256] [--target ris-mis] [--column relmse_exact_net] PREFIX...
 #
 # The budgets are the times `global` takes for the budget sample counts (the median over the runs
-# given; all runs must be of one scene and size). At each, every method of every run is read off its
+# given that hold global, at least one; all runs must be of one scene and size). At each, every method of every run is read off its
 # (time, relMSE) points: interpolated log-log between measured points, extrapolated as 1/t beyond its
 # last (or before its first) point (marked *). Times are total_ms (build + estimate) and relMSEs the
 # column given, both means over seeds. Then the target method of each run against the best of every
@@ -64,15 +64,16 @@ def main(argv):
     scenes = {(r['scene'], r['width'], r['height']) for s in runs.values() for rs in s.values() for rr in rs.values() for r in rr}
     if len(scenes) != 1:
         raise SystemExit(f'runs of different scenes or sizes: {sorted(scenes)}')
-    for p, s in runs.items():
-        if 'global' not in s:
-            raise SystemExit(f'{p}: no global series (its times are the budgets)')
+    if not any('global' in s for s in runs.values()):
+        raise SystemExit('no run has a global series (its times are the budgets)')
     name = lambda p: p.rstrip('/').split('/')[-1].removesuffix('.csv')
     print(f'| budget (global at) | time ms | best other | run | {target} | {target} / best other |')
     print('|---|---:|---|---|---:|---:|')
     for b in budgets:
         times = []
         for p, s in runs.items():
+            if 'global' not in s:
+                continue
             g = [x for x in points(s['global'], column) if x[2] == b]
             if not g:
                 raise SystemExit(f'{p}: global has no {b}-sample run')
