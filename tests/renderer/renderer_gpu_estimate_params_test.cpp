@@ -35,6 +35,13 @@ GLuint program(method m, const std::string& defines) {
   return gpu_kernel_program(gpu_kernel_for(m).stages.front(), defines).id();
 }
 
+std::vector<member> ris_members() {
+  using R = gpu::ris_params;
+  return {VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
+          VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pad0),            VR_MEMBER(R, pad1),
+          VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
+}
+
 std::vector<member> params_members() {
   using P = gpu::estimate_params;
   std::vector<member> v = {
@@ -55,6 +62,8 @@ std::vector<member> params_members() {
       VR_MEMBER(P, scene_size),
       VR_MEMBER(P, clamp_dirs),     VR_MEMBER(P, clamp_first_unit), VR_MEMBER(P, clamp_max_groups_x),
       VR_MEMBER(P, clamp_pad1)};
+  // The RIS kernels' parameters, nested as ris (estimate_ris_params.h): active in every kernel (std140).
+  for (const member& m : ris_members()) v.push_back({"ris." + m.name, offsetof(P, ris) + m.offset});
   return v;
 }
 
@@ -62,6 +71,8 @@ void check_params_block(GLuint prog) {
   CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_DATA_SIZE)) ==
         sizeof(gpu::estimate_params));
   CHECK(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_BINDING) == VR_ESTIMATE_BINDING_PARAMS);
+  // The kernel's only uniform block (a second one read as zeros on the H200: estimate_ris_params.h).
+  CHECK(vplkit_test::active_resources(prog, GL_UNIFORM_BLOCK) == 1);
   const std::vector<member> members = params_members();
   CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_NUM_ACTIVE_VARIABLES)) ==
         members.size());  // std140: every member is active, none missed here
@@ -87,7 +98,7 @@ void check_records(GLuint prog, const std::string& block, int binding, const std
 
 TEST_CASE("estimate_params.h: the C++ parameter block has every kernel's std140 layout") {
   // One variant of every kernel (the block is the same text in all; each compiles it).
-  CHECK(sizeof(gpu::estimate_params) == 256);
+  CHECK(sizeof(gpu::estimate_params) == 304);
   for (method m : {method::reference, method::global, method::local, method::gather, method::mis, method::exact}) {
     INFO(to_string(m));
     check_params_block(program(m, "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n"));

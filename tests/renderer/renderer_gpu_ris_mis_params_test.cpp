@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // --method ris-mis's kernel interface (examples/vplrender/shaders/estimate_ris_mis.comp, which
-// shares estimate_ris_params.h's block with estimate_ris.comp through estimate_ris_source.glsl)
-// against the GL driver: the RIS block lies where the C++ struct puts it, at the binding the header
-// names, with and without the per-region candidate source, and the shared estimate block keeps its
+// shares estimate_ris_params.h's parameters with estimate_ris.comp, nested in the estimate block)
+// against the GL driver: the RIS parameters lie where the C++ struct puts them, in the estimate
+// block, the kernel's only uniform block, with and without the per-region candidate source, and the shared estimate block keeps its
 // layout (renderer_gpu_estimate_params_test, renderer_gpu_ris_params_test for --method ris), in
 // every pass (VR_RIS_PASS: the estimate, and spatial reuse's candidate and reuse passes); the
 // reservoir records of the reuse passes have the C++ layout.
@@ -34,7 +34,7 @@ using vplkit_test::resource_value;
 
 }  // namespace
 
-TEST_CASE("estimate_ris_params.h: the C++ RIS block has estimate_ris_mis.comp's std140 layout") {
+TEST_CASE("estimate_ris_params.h: the RIS parameters lie in estimate_ris_mis.comp's estimate block as in C++, the only block") {
   using R = gpu::ris_params;
   const std::vector<member> members = {
       VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
@@ -50,13 +50,14 @@ TEST_CASE("estimate_ris_params.h: the C++ RIS block has estimate_ris_mis.comp's 
     if (pass != ris_pass_estimate) d += "#define VR_RIS_PASS " + std::to_string(pass) + "\n";
     if (per_region) d += "#define VR_RIS_PER_REGION\n";
     const GLuint prog = gpu_kernel_program(stage, d).id();
-    CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_DATA_SIZE)) == sizeof(R));
-    CHECK(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_BUFFER_BINDING) == VR_RIS_BINDING_PARAMS);
-    CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrRisParams", GL_NUM_ACTIVE_VARIABLES)) ==
-          members.size());
+    // The RIS parameters are the estimate block's member ris, and that block the kernel's only one.
+    CHECK(vplkit_test::active_resources(prog, GL_UNIFORM_BLOCK) == 1);
+    CHECK(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_BINDING) ==
+          VR_ESTIMATE_BINDING_PARAMS);
     for (const member& m : members) {
-      INFO("vr_ris." << m.name);
-      CHECK(std::size_t(resource_value(prog, GL_UNIFORM, "vr_ris." + m.name, GL_OFFSET)) == m.offset);
+      INFO("vr_params.ris." << m.name);
+      CHECK(std::size_t(resource_value(prog, GL_UNIFORM, "vr_params.ris." + m.name, GL_OFFSET)) ==
+            offsetof(gpu::estimate_params, ris) + m.offset);
     }
     CHECK(std::size_t(resource_value(prog, GL_UNIFORM_BLOCK, "VrEstimateParams", GL_BUFFER_DATA_SIZE)) ==
           sizeof(gpu::estimate_params));

@@ -30,6 +30,14 @@ inline GLint resource_value(GLuint prog, GLenum interface, const std::string& na
   return value;
 }
 
+// How many resources of `interface` (GL_UNIFORM_BLOCK, GL_SHADER_STORAGE_BLOCK, ...) prog has.
+inline GLint active_resources(GLuint prog, GLenum interface) {
+  GLint n = -1;
+  glGetProgramInterfaceiv(prog, interface, GL_ACTIVE_RESOURCES, &n);
+  vplkit::gl::check_gl("glGetProgramInterfaceiv");
+  return n;
+}
+
 }  // namespace vplkit_test
 
 // block_member{"field", offsetof(type, field)}

@@ -28,6 +28,10 @@
 #endif
 
 #include "vplkit/core/params.h"
+#include "estimate_ris_params.h"  // ris_params, the block's last member
+#ifdef __cplusplus
+#include <cstddef>  // offsetof
+#endif
 #include "vplkit/vpl/light_params.h"
 
 // ---- bindings: each resource its own number -------------------------------------------------------
@@ -167,6 +171,13 @@ struct vr_estimate_params {
   int clamp_first_unit;
   int clamp_max_groups_x;
   int clamp_pad1;
+
+  // ---- the RIS kernels' parameters (estimate_ris_params.h; 0 for every other kernel) ------------
+#ifdef __cplusplus
+  ris_params ris;
+#else
+  vr_ris_params ris;
+#endif
 };
 
 // One defensive mixture of the per-frame distributions (std430, 48 bytes: three vector loads, made
@@ -213,7 +224,8 @@ struct vr_surfel {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(estimate_params) == 256);  // the light, 4 vec4, 24 scalars, the compensation's 4
+static_assert(sizeof(estimate_params) == 304);  // the light, 4 vec4, 24 scalars, the compensation's 4, ris
+static_assert(offsetof(estimate_params, ris) == 256);  // std140: a struct member on a 16-byte boundary
 static_assert(sizeof(mixture_record) == 48 && sizeof(pixel_state) == 48 && sizeof(surfel) == 48);
 }  // namespace vplrender::gpu
 #endif

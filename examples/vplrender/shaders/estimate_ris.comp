@@ -59,8 +59,9 @@ void main() {
   vplkit_estimator_state clamp_comp = vr_begin_clamp_compensation(p);
 #endif
   if (valid) {
-    vplkit_estimate_ris_range(gp, vr_view(), vr_ris_distribution(p), est, vr_begin(), vr_end(), vr_ris.candidates,
-                              vr_make_visibility(vr_grid()), vr_params.dmin, VR_VPL_MODE, vr_params.depth_tolerance);
+    vplkit_estimate_ris_range(gp, vr_view(), vr_ris_distribution(p), est, vr_begin(), vr_end(),
+                              vr_params.ris.candidates, vr_make_visibility(vr_grid()), vr_params.dmin, VR_VPL_MODE,
+                              vr_params.depth_tolerance);
 #ifdef VR_CLAMP_COMPENSATION
     vr_clamp_compensation_range(gp, clamp_comp);
 #endif
@@ -79,15 +80,15 @@ void main() {
   // the buffer is not cleared between frames, and a neighbour's test rejects the pixel anyway.
   vplkit_ris_reservoir r = vplkit_make_ris_reservoir();
   if (valid)
-    r = vplkit_ris_resample(gp, vr_view(), vr_ris_distribution(p), est.rng, vr_ris.candidates, vr_params.dmin,
+    r = vplkit_ris_resample(gp, vr_view(), vr_ris_distribution(p), est.rng, vr_params.ris.candidates, vr_params.dmin,
                             VR_VPL_MODE, vr_params.depth_tolerance);
   vr_reservoirs[p] = vplkit_make_ris_reservoir_record(r);
   vr_keep_estimate(p, est);
 #else
   if (valid) {
-    vplkit_ris_spatial_settings settings = vplkit_ris_spatial_settings(vr_ris.neighbours, vr_ris.radius,
-                                                                       vr_ris.min_normal_cos, vr_ris.max_plane_slope,
-                                                                       vr_ris.mis);
+    vplkit_ris_spatial_settings settings =
+        vplkit_ris_spatial_settings(vr_params.ris.neighbours, vr_params.ris.radius, vr_params.ris.min_normal_cos,
+                                    vr_params.ris.max_plane_slope, vr_params.ris.mis);
     vplkit_ris_reservoir r = vplkit_ris_spatial_reuse(gp, int(p), vr_params.width, vr_params.height, vr_view(),
                                                       vplkit_load_ris_reservoir(int(p)), settings, est.rng,
                                                       vr_params.dmin, VR_VPL_MODE, vr_params.depth_tolerance);

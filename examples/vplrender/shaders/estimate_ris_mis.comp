@@ -66,8 +66,8 @@ void main() {
   if (valid) {
     vplkit_voxel_grid grid = vr_grid();
     vplkit_estimate_ris_mis_range(gp, vr_view(), vr_ris_distribution(p), est, vr_begin(), vr_end(), vr_params.n_dirs,
-                                  vr_params.n_vpls, vr_ris.candidates, vr_make_tracer(grid), vr_make_visibility(grid),
-                                  vr_params.depth_tolerance, VR_VPL_MODE);
+                                  vr_params.n_vpls, vr_params.ris.candidates, vr_make_tracer(grid),
+                                  vr_make_visibility(grid), vr_params.depth_tolerance, VR_VPL_MODE);
   }
   vr_keep_estimate(p, est);
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_mis_finish(est));
@@ -75,13 +75,13 @@ void main() {
   // The round's counts, as vplkit_estimate_ris_mis_range normalises them.
   int round = vr_begin();
   int n_dirs = max(vr_params.n_dirs, 0);
-  int n_ris = vr_ris.candidates > 0 ? max(vr_params.n_vpls, 0) : 0;
+  int n_ris = vr_params.ris.candidates > 0 ? max(vr_params.n_vpls, 0) : 0;
   float n1 = float(n_dirs), n2 = float(n_ris);
 #if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
   // An invalid pixel's record is the empty reservoir (as on the CPU; see estimate_ris.comp).
   vplkit_ris_reservoir r = vplkit_make_ris_reservoir();
   if (valid && round < n_ris)
-    r = vplkit_ris_mis_resample(gp, vr_view(), vr_ris_distribution(p), est.rng, vr_ris.candidates, n1, n2,
+    r = vplkit_ris_mis_resample(gp, vr_view(), vr_ris_distribution(p), est.rng, vr_params.ris.candidates, n1, n2,
                                 VR_VPL_MODE, vr_params.depth_tolerance);
   vr_reservoirs[p] = vplkit_make_ris_reservoir_record(r);
   vr_keep_estimate(p, est);
@@ -90,9 +90,9 @@ void main() {
     vplkit_voxel_grid grid = vr_grid();
     uint d = vr_ris_distribution(p);
     if (round < n_ris) {
-      vplkit_ris_spatial_settings settings = vplkit_ris_spatial_settings(vr_ris.neighbours, vr_ris.radius,
-                                                                         vr_ris.min_normal_cos,
-                                                                         vr_ris.max_plane_slope, vr_ris.mis);
+      vplkit_ris_spatial_settings settings =
+          vplkit_ris_spatial_settings(vr_params.ris.neighbours, vr_params.ris.radius, vr_params.ris.min_normal_cos,
+                                      vr_params.ris.max_plane_slope, vr_params.ris.mis);
       vplkit_ris_reservoir r = vplkit_ris_mis_spatial_reuse(gp, int(p), vr_params.width, vr_params.height, vr_view(),
                                                             vplkit_load_ris_reservoir(int(p)), settings, est.rng, n1,
                                                             n2, VR_VPL_MODE, vr_params.depth_tolerance);

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Interface of vplrender's --method ris kernel (estimate_ris.comp beside this file) on top of
-// estimate_params.h: its own bindings, pass define and std140 block, in the two-language form of
-// the pack's <kernel>_params.h (vplkit/core/params.h), so that estimate_params.h stays the same for
-// every other kernel. tests/renderer/renderer_gpu_estimate_params_test.cpp asks the GL driver where
-// every member lies and checks the C++ offsets against it.
+// Interface of vplrender's RIS kernels (estimate_ris.comp, estimate_ris_mis.comp beside this file):
+// the reservoir buffer's binding, the pass define and the RIS parameters, in the two-language form
+// of the pack's <kernel>_params.h (vplkit/core/params.h). The parameters are not a block of their
+// own: estimate_params.h nests them as the estimate block's member `ris` (vr_params.ris), so every
+// estimate kernel reads exactly one uniform block. On the NVIDIA H200 (driver 580.159.04) a second
+// block, VrRisParams at binding 25, read as zeros in estimate_ris_mis.comp (--candidates read 0:
+// ris-mis rendered gathering's image) while llvmpipe read it right; the estimate block at binding
+// 17 is read right by every kernel on both. tests/renderer/renderer_gpu_ris_params_test.cpp and
+// renderer_gpu_ris_mis_params_test.cpp ask the GL driver where every member lies.
 //
 // Passes (VR_RIS_PASS, a specialisation define; docs/renderer.md, "The estimate kernels"):
 //   VR_RIS_PASS_ESTIMATE 0: no spatial reuse; per pixel --vpls samples [begin, end), each a
@@ -25,9 +29,8 @@
 
 #include "vplkit/core/params.h"
 
-// Numbers above estimate_params.h's (0..17), each resource its own (core/params.h).
+// A number above estimate_params.h's (0..19), each resource its own (core/params.h).
 #define VR_RIS_BINDING_RESERVOIRS 24  // SSBO: vplkit_ris_reservoir_record reservoirs[W H] (ris_params.h)
-#define VR_RIS_BINDING_PARAMS 25      // uniform block: vr_ris_params
 
 #define VR_RIS_PASS_ESTIMATE 0
 #define VR_RIS_PASS_CANDIDATES 1
@@ -62,7 +65,8 @@ struct vr_ris_params {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(ris_params) == 48);  // 12 scalars: three std140 rows
+static_assert(sizeof(ris_params) == 48);  // 12 scalars: three std140 rows (a struct member of a std140
+                                          // block starts on a 16-byte boundary: 48 keeps it whole)
 }  // namespace vplrender::gpu
 #endif
 

@@ -169,7 +169,7 @@ int ris_reuse_rounds(const render_settings& es) {
   return std::max(1, std::max(std::max(0, es.dirs), n_ris));
 }
 
-// estimate_ris_params.h's block for es on a W x H image.
+// The RIS parameters for es on a W x H image (estimate_ris_params.h; the estimate block's P.ris).
 gpu::ris_params ris_params_for(const render_settings& es, int W, int H) {
   const vplkit::ris_spatial_settings<float> sp = ris_spatial_settings_for(W, H, es.ris_spatial);
   gpu::ris_params R{};
@@ -413,16 +413,14 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   if (exact_kernel) scene.shading.pool.bind(VR_ESTIMATE_BINDING_SHADING_POOL);
   gl::buffer b_params = gl::buffer::filled(sizeof P, 0);
   glBindBufferBase(GL_UNIFORM_BUFFER, VR_ESTIMATE_BINDING_PARAMS, b_params.id());
-  // --method ris: its block (estimate_ris_params.h), constant over the render, and with spatial
-  // reuse the reservoirs between a round's two dispatches (ris_params.h's 32-byte records).
+  // --method ris and ris-mis: their parameters in the estimate block (P.ris, estimate_ris_params.h),
+  // written with every dispatch's P below, and with spatial reuse the reservoirs between a round's
+  // two dispatches (ris_params.h's 32-byte records).
   const bool ris = mt.estimator == estimator_kind::ris;
   const bool ris_reuse = ris_reuses(es);
-  gl::buffer b_ris_params;
   if (ris) {
     const gpu::ris_params R = ris_params_for(es, W, H);
-    b_ris_params = gl::buffer::filled(sizeof R, 0);
-    b_ris_params.write_bytes(&R, 0, sizeof R);
-    glBindBufferBase(GL_UNIFORM_BUFFER, VR_RIS_BINDING_PARAMS, b_ris_params.id());
+    P.ris = R;
     det["ris"] = {{"candidates", es.ris_candidates}, {"candidate_source", to_string(es.ris_source)},
                   {"spatial", es.ris_spatial}};
     if (mt.variant == 1) det["ris"].update({{"dirs", es.dirs}, {"mis", "balance"}});
