@@ -9,6 +9,8 @@
 //  - global_weights.comp: global and local weights against build_global_weights /
 //    build_local_weights within a relative bound (float sums in the same order; per-term float
 //    error of the VPL model), exact zeros on texels without a VPL.
+//  - flux_weights.comp: every texel's flux weight against build_flux_weights within 16 ulps (the
+//    solid angle's division and a few products), exact zeros on texels without a VPL.
 //  - gbg_accumulate.comp + gbg_finish.comp against build_gbg_weights, both accumulators, fill on
 //    and off. Three layers:
 //      1. every ray replayed on the GPU (the include functions, one invocation per ray) against the
@@ -27,6 +29,8 @@
 #include <gbg_kernels.hpp>
 #include <gpu_precision.hpp>
 
+#include <vplkit/builders/flux_weights.hpp>
+#include <vplkit/builders/flux_weights_params.h>
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/gather_subset_params.h>
 #include <vplkit/builders/gbg_accumulate_params.h>
@@ -229,6 +233,36 @@ TEST_CASE("global_weights.comp: global and local weights against the C++ builder
                                        },
                                        "local weights 2 x 2, 16 per region"));
   }
+}
+
+// ---- flux weights ---------------------------------------------------------------------------------
+TEST_CASE("flux_weights.comp: build_flux_weights on every texel") {
+  const auto& s = fx().s;
+  const auto view = s.view();
+  const int n = view.texel_count();
+  vplkit::gpu::flux_weights_params params{};
+  params.light = vplkit::gpu::make_light_params(view.light);
+  params.resolution = s.R;
+  const auto& prog = pack_kernel("vplkit/builders/flux_weights.comp");
+  const auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
+  const auto wb = vplkit::gl::buffer::filled(std::size_t(n) * 4, 0xFF);  // NaN: a texel not written fails
+  const auto ub = vplkit_test::uniform_buffer(params);
+  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_FLUX_WEIGHTS_BINDING_DPRSM, dp),
+                     vplkit_test::storage_at(VPLKIT_FLUX_WEIGHTS_BINDING_WEIGHTS, wb),
+                     vplkit_test::uniform_at(VPLKIT_FLUX_WEIGHTS_BINDING_PARAMS, ub)});
+  vplkit::gl::dispatch_linear(prog, vplkit::gl::groups_for(std::size_t(n), VPLKIT_FLUX_WEIGHTS_LOCAL_SIZE));
+  const std::vector<float> gpu = wb.read<float>();
+  const std::vector<float> cpu = vplkit::build_flux_weights(view);
+  std::vector<std::int32_t> gz, cz;
+  for (int t = 0; t < n; ++t) {
+    gz.push_back(gpu[std::size_t(t)] == 0.0f);
+    cz.push_back(cpu[std::size_t(t)] == 0.0f);
+  }
+  CHECK(std::count(cz.begin(), cz.end(), 0) > n / 4);  // the scene lights a good share of the texels
+  const auto where = [](std::size_t t) { return "texel " + std::to_string(t); };
+  VPLKIT_CHECK_PARITY(compare_exact(gz, cz, where, "flux weights: zero / non-zero"));
+  // rho I Omega (a division in the solid angle, a few products) and the luminance's three terms.
+  VPLKIT_CHECK_PARITY(compare_floats(gpu, cpu, within_ulps(16) | within_abs(0.0), where, "flux weights"));
 }
 
 // ---- GBG ----------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 #include <vplkit/builders/gather_subset_params.h>
 #include <vplkit/builders/gbg_accumulate_params.h>
 #include <vplkit/builders/gbg_finish_params.h>
+#include <vplkit/builders/flux_weights_params.h>
 #include <vplkit/builders/global_weights_params.h>
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/share_tree_build_params.h>
@@ -99,6 +100,14 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
     gw.push_back(m);
   check_block("vplkit/builders/global_weights.comp", "vplkit_global_weights_uniforms", "vplkit_global_weights",
               sizeof(gpu::global_weights_params), gw);
+
+  std::vector<member> fw = light_members("light.", offsetof(gpu::flux_weights_params, light));
+  for (const member& m :
+       {VPLKIT_MEMBER(gpu::flux_weights_params, resolution), VPLKIT_MEMBER(gpu::flux_weights_params, pad0),
+        VPLKIT_MEMBER(gpu::flux_weights_params, pad1), VPLKIT_MEMBER(gpu::flux_weights_params, pad2)})
+    fw.push_back(m);
+  check_block("vplkit/builders/flux_weights.comp", "vplkit_flux_weights_uniforms", "vplkit_flux_weights",
+              sizeof(gpu::flux_weights_params), fw);
 
   using acc = gpu::gbg_accumulate_params;
   std::vector<member> ga = light_members("light.", offsetof(acc, light));
