@@ -116,20 +116,6 @@ ris_reservoir<T> resample_reference(const gather_point<T>& gp, const dprsm_view<
   return r;
 }
 
-// unit_or_zero as written before its host shortcut: always scaled by a power of two first.
-template <class T>
-vec3<T> unit_or_zero_scaled(vec3<T> v) {
-  v = flush_denormal(v);
-  const T m = max_abs_component(v);
-  if (!(m > T(0)) || !(m <= std::numeric_limits<T>::max())) return vec3<T>(T(0));
-  const int e = binary_exponent(m);
-  const T scale = exp2i<T>(e < std::numeric_limits<T>::max_exponent - 2 ? -e : 2 - std::numeric_limits<T>::max_exponent);
-  const vec3<T> s = flush_denormal(v * scale);
-  const T len2 = glm::dot(s, s);
-  if (!(len2 >= T(0.5)) || !(len2 <= T(64))) return vec3<T>(T(0));
-  return flush_denormal(s * (T(1) / std::sqrt(len2)));
-}
-
 // A T with a random sign, exponent in [lo, hi] and mantissa (splitmix64 bits).
 template <class T>
 T random_float(std::uint64_t& state, int lo, int hi) {
@@ -172,7 +158,7 @@ TEMPLATE_TEST_CASE("unit_or_zero hard case: the host shortcut gives the scaled f
     }
     const T m = max_abs_component(flush_denormal(v));
     if (m >= T(0x1p-50) && m <= T(0x1p60)) ++shortcut;
-    const vec3<T> a = unit_or_zero(v), b = unit_or_zero_scaled(v);
+    const vec3<T> a = unit_or_zero(v), b = vplkit::detail::unit_or_zero_scaled(v);  // the general path
     if (!same_bits(a, b)) {
       if (mismatches < 5) {
         INFO("v " << v.x << " " << v.y << " " << v.z);
