@@ -91,7 +91,7 @@ ivec2 vplkit_gbg_accumulate_gather_point(vplkit_gather_point g, int pixel, vplki
 // Units of one value as (lo, hi): roundEven(min(v * scale, max_units)); 0 for v <= 0 or NaN.
 // max_units <= 2^63.
 uvec2 vplkit_gbg_fixed_units(float value, float scale, float max_units) {
-  if (!(value > 0.0) || (floatBitsToUint(value) & 0x7FFFFFFFu) > 0x7F800000u) return uvec2(0u);
+  if (!(value > 0.0) || vplkit_is_nan(value)) return uvec2(0u);
   float q = roundEven(min(value * scale, max_units));
   float hi = floor(q * 2.3283064365386962890625e-10);  // q / 2^32, exact
   float lo = q - hi * 4294967296.0;                     // exact: the multiples of q's ulp below 2^32

@@ -55,9 +55,7 @@ struct vplkit_gbuffer_view {
 vplkit_gather_point vplkit_load_gather_point(int pixel);
 
 // Finite (not NaN, not +-inf), decided on the bits.
-bool vplkit_gather_point_isfinite(float x) {
-  return (floatBitsToUint(x) & 0x7F800000u) != 0x7F800000u;
-}
+bool vplkit_gather_point_isfinite(float x) { return vplkit_is_finite(x); }
 
 // Background pixels (zero or non-finite normal, non-finite position) are skipped by every builder
 // and estimator.

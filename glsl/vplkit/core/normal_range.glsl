@@ -10,6 +10,14 @@
 
 #include "vplkit/core/constants.glsl"
 
+// NaN and finiteness decided on the bits (C++ std::isnan, std::isfinite). A GPU compiler may
+// assume that no value is NaN or infinite and fold a comparison such as !(x > 0.0) into x <= 0.0,
+// which NaN then passes (NVIDIA 580 did, docs/results/h200-6044fb0); isnan() may be folded alike.
+// Integer tests of the bits are not: every NaN or Inf guard of the pack goes through these.
+bool vplkit_is_nan(float x) { return (floatBitsToUint(x) & 0x7FFFFFFFu) > 0x7F800000u; }
+bool vplkit_is_finite(float x) { return (floatBitsToUint(x) & 0x7F800000u) != 0x7F800000u; }
+bool vplkit_is_finite(vec3 v) { return all(notEqual(floatBitsToUint(v) & 0x7F800000u, uvec3(0x7F800000u))); }
+
 // +0 when |x| is below the smallest normal float, else x (C++ flush_denormal): a device that keeps
 // denormals and one that flushes them give the same value.
 float vplkit_flush_denormal(float x) {

@@ -8,7 +8,8 @@
 #include "vplkit/core/normal_range.glsl"
 
 // Largest absolute component (the L-infinity norm). NaN components are skipped by the
-// comparisons on the CPU; GPU compilers may assume NaN never occurs, so that is a CPU guarantee.
+// comparisons on the CPU; GPU compilers may assume NaN never occurs, so a NaN component may or may
+// not be skipped there (vplkit_unit_or_zero does not depend on it).
 float vplkit_max_abs_component(vec3 v) {
   float m = 0.0;
   if (abs(v.x) > m) m = abs(v.x);
@@ -17,7 +18,7 @@ float vplkit_max_abs_component(vec3 v) {
   return m;
 }
 
-// v / |v|, or (0,0,0) when v is zero or has an infinite (CPU: or NaN) component. Components below
+// v / |v|, or (0,0,0) when v is zero or has an infinite or NaN component. Components below
 // the smallest normal float count as 0, in v and in the result (C++: the same flushes), so a
 // device that flushes denormals and one that keeps them agree. v is scaled by the power of two
 // that brings its largest component into [1, 2) ([2, 4) in the top binade) first: exact, so
@@ -32,10 +33,11 @@ vec3 vplkit_unit_or_zero(vec3 v) {
   int e = vplkit_binary_exponent(m);
   float scale = vplkit_exp2i(e < 126 ? -e : -126);
   vec3 s = vplkit_flush_denormal(v * scale);
-  // len2 is in [1, 48] unless a component was NaN; [0.5, 64] keeps the test a pure NaN check
-  // under GPU arithmetic.
+  // len2 is in [1, 48] unless a component was NaN; [0.5, 64] keeps the range test exact under GPU
+  // arithmetic. A NaN component makes len2 NaN (arithmetic propagates it), and the bit test
+  // catches it where a compiler that assumes no NaN folds the comparisons (normal_range.glsl).
   float len2 = dot(s, s);
-  if (!(len2 >= 0.5) || !(len2 <= 64.0)) return vec3(0.0);
+  if (!(len2 >= 0.5) || !(len2 <= 64.0) || vplkit_is_nan(len2)) return vec3(0.0);
   return vplkit_flush_denormal(s * inversesqrt(len2));
 }
 

@@ -85,7 +85,7 @@ vec2 vplkit_cdf_build_acc_from(float w) { return vec2(w, 0.0); }
 bool vplkit_cdf_build_acc_is_zero(vec2 a) { return a.x == 0.0; }
 
 float vplkit_cdf_build_acc_total(vec2 a) {
-  return (floatBitsToUint(a.x) & 0x7F800000u) == 0x7F800000u ? uintBitsToFloat(0x7F800000u) : a.x;
+  return !vplkit_is_finite(a.x) ? uintBitsToFloat(0x7F800000u) : a.x;
 }
 
 // x * 2^k for |k| <= 254, exact unless the result leaves the normal range: two factors 2^(k/2),

@@ -33,8 +33,7 @@
 
 // v when every component is finite, else 0: the last guard of every estimator's per-sample value.
 vec3 vplkit_estimator_finite_or_zero(vec3 v) {
-  bvec3 bad = equal(floatBitsToUint(v) & 0x7F800000u, uvec3(0x7F800000u));  // NaN or +-inf
-  return any(bad) ? vec3(0.0) : v;
+  return vplkit_is_finite(v) ? v : vec3(0.0);
 }
 
 // A drawn sample's pmf as the estimators use it: 0 unless it is a finite normal number (decided

@@ -53,9 +53,7 @@ float vplkit_mis_div(float x, float y) {
 }
 
 // GLSL-only: NaN, decided on the bits (any exponent-all-ones pattern with a non-zero mantissa).
-bool vplkit_mis_is_nan(float x) {
-  return (floatBitsToUint(x) & 0x7FFFFFFFu) > 0x7F800000u;
-}
+bool vplkit_mis_is_nan(float x) { return vplkit_is_nan(x); }
 
 // Finite and at least the smallest normal float -> n, anything else (0, denormal, negative, NaN,
 // inf) -> 0.

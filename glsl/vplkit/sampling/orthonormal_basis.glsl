@@ -29,7 +29,7 @@ struct vplkit_orthonormal_basis {
 vec3 vplkit_onb_normalize(vec3 n) {
   // Not finite (NaN or inf) -> canonical, decided on the bits: compilers may fold a chain of
   // comparisons into max(), which drops a NaN (docs/glsl.md, "NaN, FMA and compiler rewrites").
-  if (any(equal(floatBitsToUint(n) & 0x7F800000u, uvec3(0x7F800000u)))) return vec3(0.0, 0.0, 1.0);
+  if (!vplkit_is_finite(n)) return vec3(0.0, 0.0, 1.0);
   vec3 u = vplkit_unit_or_zero(n);
   return (u.x == 0.0 && u.y == 0.0 && u.z == 0.0) ? vec3(0.0, 0.0, 1.0) : u;
 }

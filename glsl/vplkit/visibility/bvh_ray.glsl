@@ -25,6 +25,7 @@
 #define VPLKIT_VISIBILITY_BVH_RAY_GLSL
 
 #include "vplkit/core/constants.glsl"
+#include "vplkit/core/normal_range.glsl"
 
 // 1 + 2^-20 (the C++ bvh_box_expansion).
 const float vplkit_bvh_box_expansion = 1.00000095367431640625;
@@ -48,9 +49,7 @@ struct vplkit_bvh_triangle_hit {
 };
 
 // Finite test on the bits: immune to drivers that assume no NaN / Inf under fast math.
-bool vplkit_bvh_isfinite(float x) {
-  return (floatBitsToUint(x) & 0x7F800000u) != 0x7F800000u;
-}
+bool vplkit_bvh_isfinite(float x) { return vplkit_is_finite(x); }
 
 bool vplkit_bvh_vec3_finite(vec3 v) {
   return vplkit_bvh_isfinite(v.x) && vplkit_bvh_isfinite(v.y) && vplkit_bvh_isfinite(v.z);

@@ -102,7 +102,7 @@ vplkit_dda_walk vplkit_dda_walk_begin(vplkit_voxel_grid g, vec3 origin, vec3 dir
   if (!vplkit_dda_unit_direction(dir, d)) return w;
   // t_max NaN tested on the bits: a driver that assumes no NaN may fold !(t_max >= 0) into
   // t_max < 0 (NVIDIA 580 marched a ray with t_max = NaN).
-  bool t_max_nan = (floatBitsToUint(t_max) & 0x7FFFFFFFu) > 0x7F800000u;
+  bool t_max_nan = vplkit_is_nan(t_max);
   if (!vplkit_voxel_vec3_finite(origin) || t_max_nan || !(t_max >= 0.0)) return w;
   vec3 size = vplkit_voxel_size(g);
 

@@ -21,6 +21,8 @@
 #ifndef VPLKIT_VISIBILITY_VOXEL_GRID_GLSL
 #define VPLKIT_VISIBILITY_VOXEL_GRID_GLSL
 
+#include "vplkit/core/normal_range.glsl"
+
 // Mirrors voxel_grid_view<float> without the word pointer (the accessor stands for it).
 struct vplkit_voxel_grid {
   vec3 bounds_min;
@@ -35,9 +37,7 @@ uint vplkit_load_voxel_word(uint word_index);
 const int vplkit_voxel_grid_max_axis = 4096;
 
 // Finite test on the bits: immune to drivers that assume no NaN/Inf under fast math.
-bool vplkit_voxel_isfinite(float x) {
-  return (floatBitsToUint(x) & 0x7F800000u) != 0x7F800000u;
-}
+bool vplkit_voxel_isfinite(float x) { return vplkit_is_finite(x); }
 
 bool vplkit_voxel_vec3_finite(vec3 p) {
   return vplkit_voxel_isfinite(p.x) && vplkit_voxel_isfinite(p.y) && vplkit_voxel_isfinite(p.z);
@@ -92,7 +92,7 @@ vec3 vplkit_world_to_voxel_coord(vplkit_voxel_grid g, vec3 p) {
 int vplkit_voxel_floor_to_int(float c) {
   const float lim = 1073741824.0;
   // NaN by its bits (some drivers fold NaN comparisons); +-Inf compare normally below.
-  if ((floatBitsToUint(c) & 0x7FFFFFFFu) > 0x7F800000u) return -1073741824;
+  if (vplkit_is_nan(c)) return -1073741824;
   if (!(c > -lim)) return -1073741824;
   if (c >= lim) return 1073741824;
   return int(floor(c));

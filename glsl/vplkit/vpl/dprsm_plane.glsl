@@ -20,7 +20,7 @@ vec4 vplkit_dprsm_plane_of(vec3 c, bool valid, vec3 y, vec3 n, vec3 rho) {
   vec3 n_u = vplkit_unit_or_zero(n);
   precise vec3 d = c - y;
   precise float h = (n_u.x * d.x + n_u.y * d.y) + n_u.z * d.z;
-  if (!(h > 0.0)) return vec4(0.0);
+  if (!(h > 0.0) || vplkit_is_nan(h)) return vec4(0.0);  // NaN on the bits (normal_range.glsl)
   bool saw_surface = rho.x > 0.0 || rho.y > 0.0 || rho.z > 0.0;
   return vec4(n_u, saw_surface ? h : -h);
 }
