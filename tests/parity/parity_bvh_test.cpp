@@ -649,9 +649,12 @@ TEST_CASE("bvh huge divisors: directions and normals from 2^126 to FLT_MAX, deno
   parity_counts pc;
   series<std::uint32_t> model_answers;
   series<float> model_t;
+  std::vector<double> model_t_bound;  // per ray: the forward error bound of t on both sides
   std::vector<std::string> model_rays;
   const auto against_model = [&](const vplkit::bvh<float>& b, const std::vector<ray_case>& rays,
                                  const std::vector<hit_result>& gpu) {
+    std::vector<std::size_t> slot_of_id(b.triangles().size());
+    for (std::size_t k = 0; k < b.triangles().size(); ++k) slot_of_id[b.triangles()[k].id] = k;
     const vplkit_test::gpu_model_bvh mb(b);
     const vplkit_test::reciprocal_division_scope nvidia;
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -664,6 +667,14 @@ TEST_CASE("bvh huge divisors: directions and normals from 2^126 to FLT_MAX, deno
       model_answers.add(gpu[i].triangle, h.triangle);
       model_answers.add(gpu[i].occluded, occ ? 1u : 0u);
       model_t.add(gpu[i].t, float(h.t));
+      double t_bound = 0.0;  // a miss: t is 0 on both sides
+      if (h.hit && h.triangle < slot_of_id.size()) {
+        const vplkit::bvh_triangle<float>& tri = b.triangles()[slot_of_id[h.triangle]];
+        t_bound = 2 * woop_forward_error(vplkit_test::fe3_of(xyz(rays[i].o_tmin)),
+                                         ray_direction_fe(xyz(rays[i].d_tmax)), tri.v0, tri.v1, tri.v2)
+                          .t.e;
+      }
+      model_t_bound.push_back(t_bound);
       model_rays.push_back("o " + show3(xyz(rays[i].o_tmin)) + " d " + show3(xyz(rays[i].d_tmax)));
     }
   };
@@ -702,12 +713,16 @@ TEST_CASE("bvh huge divisors: directions and normals from 2^126 to FLT_MAX, deno
   }
   std::cout << "  huge divisors: " << pc.rays << " rays, " << pc.hits << " hits\n";
   CHECK(pc.hits > pc.rays * 3 / 4);
-  // Hits, triangles and occlusion exact (the rays keep clear of edges); t within the model's few
-  // roundings of 2.5 ulp.
+  // Hits, triangles and occlusion exact (the rays keep clear of edges); t within the forward error
+  // bound of Woop's chain on both sides, as in check_hits: a ray nearly parallel to the triangle's
+  // plane makes t = (sum of e_i z_i) / det cancel, and the rounding of every step is amplified
+  // there (the H200 read 139 ulps, 1.06e-5 relative, for a ray 1e-17 rad off a plane of this case,
+  // against a bound of 1e-5 that was not derived from anything).
   VPLKIT_CHECK_PARITY(compare_exact(model_answers, [&](std::size_t k) { return model_rays[k / 3]; },
                                     "GPU vs C++ under NVIDIA's division: hit, triangle, occluded"));
-  VPLKIT_CHECK_PARITY(compare_floats(model_t, within_rel(1e-5), [&](std::size_t k) { return model_rays[k]; },
-                                     "GPU vs C++ under NVIDIA's division: t"));
+  VPLKIT_CHECK_PARITY(vplkit_test::compare_within_bounds(model_t, model_t_bound,
+                                                         [&](std::size_t k) { return model_rays[k]; },
+                                                         "GPU vs C++ under NVIDIA's division: t"));
 
   // Unit vectors (the normal of bvh_offset_point and of a hit): the GPU against the C++, and the
   // C++ under NVIDIA's division against the double reference.
