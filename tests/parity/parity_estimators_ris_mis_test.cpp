@@ -293,6 +293,34 @@ std::uint32_t kept_visible(const vplkit::gather_point<float>& gp, const vplkit::
   return vis(gp.position, gp.normal, v.position, v.normal) ? 1u : 0u;
 }
 
+// Is the kept sample's C++ visibility at a tie: does moving either end by 2^-18 of the grid's size
+// (the GPU's patch point and march lie within a few ulps of the C++'s; this is 64 of them) along
+// an axis change the answer? A flip there is two right answers, not a fault of either side.
+template <class Dist>
+bool kept_visibility_at_tie(const vplkit::gather_point<float>& gp, const vplkit::dprsm_view<float>& view, const Dist& d,
+                            const vplkit::ris_reservoir<float>& r, float n1, float n2, vplkit::vpl_mode mode,
+                            float tol) {
+  if (!vplkit::gather_point_valid(gp) || !vplkit::ris_reservoir_has_sample(r) || r.kept.texel >= view.texel_count())
+    return false;
+  const float pmf = vplkit::estimator_pmf(d.pmf(std::size_t(r.kept.texel)));
+  vplkit::vpl<float> v;
+  (void)vplkit::ris_mis_unshadowed(gp, view, r.kept, pmf, n1, n2, mode, tol, v);
+  const auto& grid = fixture().grid;
+  const vplkit::voxel_visibility<float> vis{grid.view()};
+  const v3f extent = grid.view().bounds_max - grid.view().bounds_min;
+  const float delta = std::ldexp(std::max(extent.x, std::max(extent.y, extent.z)), -18);
+  const bool base = vis(gp.position, gp.normal, v.position, v.normal);
+  for (int k = 0; k < 3; ++k)
+    for (const float s : {-delta, delta}) {
+      v3f e(0.0f);
+      e[k] = s;
+      if (vis(gp.position + e, gp.normal, v.position, v.normal) != base ||
+          vis(gp.position, gp.normal, v.position + e, v.normal) != base)
+        return true;
+    }
+  return false;
+}
+
 // Patch samples (texel, jitter) whose point dprsm_patch_vpl moves to the texel centre.
 std::vector<vplkit::ris_sample<float>> at_centre_samples(float tol, std::size_t want) {
   const auto view = fixture().view();
@@ -841,7 +869,7 @@ uint vplkit_ris_reuse_distribution(int pixel) { return (ip2.x != 0 && pixel % 7 
   const config configs[] = {{vplkit::ris_reuse_mis::pairwise, true, false, "pairwise, rejecting, one distribution"},
                             {vplkit::ris_reuse_mis::pairwise, false, true, "pairwise, no rejection, per-pixel"},
                             {vplkit::ris_reuse_mis::balance, false, true, "balance, no rejection, per-pixel"}};
-  std::size_t flipped = 0, compared = 0, vis_flips = 0, with_sample = 0;
+  std::size_t flipped = 0, compared = 0, vis_flips = 0, vis_ties = 0, with_sample = 0;
   for (const vplkit::vpl_mode mode : {vplkit::vpl_mode::point, vplkit::vpl_mode::patch})
     for (const config& cfg : configs) {
       // The pixel's distribution, as vplkit_ris_reuse_distribution picks it.
@@ -900,7 +928,13 @@ uint vplkit_ris_reuse_distribution(int pixel) { return (ip2.x != 0 && pixel % 7 
         texel.add(o.c.x, r.kept.texel);
         const std::uint32_t vis_cpu = kept_visible(g.at(q), view, dist_of(q), r, n1, n2, mode, tol);
         if (o.d[0] != vis_cpu) {
-          ++vis_flips;
+          // Reuse without rejection brings neighbours' samples that graze q's surface, where the
+          // voxel march decides at a tie (the H200 read 44 flips in 3422 pixels here, 0 in 4940
+          // reservoirs without reuse). Ties are two right answers; the others are counted.
+          if (kept_visibility_at_tie(g.at(q), view, dist_of(q), r, n1, n2, mode, tol))
+            ++vis_ties;
+          else
+            ++vis_flips;
           continue;
         }
         visible.add(std::int32_t(o.d[0]), std::int32_t(vis_cpu));
@@ -929,9 +963,10 @@ uint vplkit_ris_reuse_distribution(int pixel) { return (ip2.x != 0 && pixel % 7 
       if (bit_exact_device()) CHECK(zf == 0);
     }
   std::cout << "  ris_mis reuse: " << compared << " pixels compared (" << with_sample << " with a sample), " << flipped
-            << " with a kept sample that differs, " << vis_flips << " with a kept sample's visibility that differs\n";
+            << " with a kept sample that differs, " << vis_ties + vis_flips
+            << " with a kept sample's visibility that differs (" << vis_ties << " at a tie)\n";
   CHECK(with_sample > compared / 2);
   CHECK(flipped <= compared / 100);
-  if (bit_exact_device()) CHECK(vis_flips == 0);
+  if (bit_exact_device()) CHECK(vis_flips + vis_ties == 0);
   else CHECK(vis_flips <= compared / 100);
 }
