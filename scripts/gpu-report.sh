@@ -56,10 +56,14 @@ done
 mkdir -p "$OUT" || exit 2
 OUT=$(cd "$OUT" && pwd)
 RAW=$(mktemp -d "${TMPDIR:-/tmp}/gpu-report.XXXXXX") || exit 2
-trap 'rm -rf "$RAW"' EXIT
+trap 'rm -rf "$RAW" "${GLCACHE:-}"' EXIT
 mkdir -p "$RAW/device" "$RAW/frames" "$RAW/profile" "$RAW/table1" "$RAW/tests" "$RAW/logs"
 SCENES=$ROOT/../shared/scenes
 START=$SECONDS
+# NVIDIA's shader cache, in a folder this run can write (the default one under $HOME may not be):
+# the parity programs' [ftz-daz] and [fma] entries compile the same kernels again.
+GLCACHE=$(mktemp -d "${TMPDIR:-/tmp}/gpu_report_glcache.XXXXXX") || exit 2
+export __GL_SHADER_DISK_CACHE=1 __GL_SHADER_DISK_CACHE_SKIP_CLEANUP=1 __GL_SHADER_DISK_CACHE_PATH=$GLCACHE
 
 # run NAME LIMIT_S CMD...: runs CMD with its output in logs/NAME.log, bounded by LIMIT_S and by
 # what is left of the budget; one line per run in runs.tsv (name, status, wall s, command).

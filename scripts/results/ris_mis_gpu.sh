@@ -51,7 +51,10 @@ SCENES=$ROOT/../shared/scenes
 RAW=$OUT/raw
 mkdir -p "$RAW/logs" "$RAW/sweeps"
 CACHE=$(mktemp -d "${TMPDIR:-/tmp}/ris_mis_gpu_cache.XXXXXX") || exit 2
-export __GL_SHADER_DISK_CACHE=1 __GL_SHADER_DISK_CACHE_SKIP_CLEANUP=1
+# NVIDIA's shader cache, in a folder this run can write (the default one under $HOME may not be):
+# a kernel compiled once (the warm-up, a test's first variant) loads from it afterwards.
+mkdir -p "$CACHE/glcache"
+export __GL_SHADER_DISK_CACHE=1 __GL_SHADER_DISK_CACHE_SKIP_CLEANUP=1 __GL_SHADER_DISK_CACHE_PATH=$CACHE/glcache
 START=$SECONDS
 if [ $QUICK -eq 1 ]; then
   SIZE=32x32; GRID=(--dprsm 32 --voxels 16); SEEDS=1; REFDIRS=16
