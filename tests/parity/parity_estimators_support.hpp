@@ -16,9 +16,11 @@
 #include <synthetic_scene.hpp>
 
 #include <vplkit/core/gather_point.hpp>
+#include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -91,6 +93,17 @@ struct scene_fixture {
             input(8, vplkit_test::surfels(gbuffer.position, gbuffer.normal, gbuffer.albedo))};
   }
 };
+
+// mis as_published near the normal (docs/glsl/estimators.md): the paper's p1 = cos sin / pi takes
+// sin = sqrt(1 - cos^2), so a cosine that differs by dc between the two sides moves sin by
+// cos dc / sin^2 relative, and a sample's value by p1 / (p1 + alpha) times that. sin is floored at
+// 2^-11, the smallest sin a float cosine below 1 gives. The relative amplification of one sample.
+inline double as_published_amplification(float cos2, float alpha, double dc) {
+  const float sin2 = vplkit::mis_sin_from_cos(cos2);
+  const double sn = std::max(double(sin2), std::ldexp(1.0, -11));
+  const double p1 = double(vplkit::cosine_pdf_as_published(cos2, float(sn)));
+  return p1 / (p1 + double(alpha)) * std::abs(double(cos2)) / (sn * sn) * dc;
+}
 
 inline std::vector<float4> pack_points(const std::vector<named_point>& pts) {
   std::vector<v3f> position, normal, albedo, shading;

@@ -981,12 +981,8 @@ TEST_CASE("estimate_mis: solid_angle and as_published, voxel tracer and visibili
         // 4 ulps, a quarter of that: the NVIDIA H200 exceeded it at a tilted shading normal.
         std::vector<double> cond(pts.size(), 0.0);
         if (mode == 1) {
-          const double dc = vplkit_test::spec::cosine_abs;
-          auto amp = [&](float cos2, float alpha) {
-            const float sin2 = vplkit::mis_sin_from_cos(cos2);
-            const double p1 = double(vplkit::cosine_pdf_as_published(cos2, std::max(sin2, float(std::ldexp(1.0, -11)))));
-            const double sn = std::max(double(sin2), std::ldexp(1.0, -11));
-            return p1 / (p1 + double(alpha)) * std::abs(double(cos2)) / (sn * sn) * dc;
+          const auto amp = [](float cos2, float alpha) {
+            return as_published_amplification(cos2, alpha, vplkit_test::spec::cosine_abs);
           };
           for (const auto& pc : r.pairs) {
             const auto& gp = pts[pc.point].gp;
