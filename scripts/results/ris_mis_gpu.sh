@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # ris-mis at equal time on the GPU backend, and the GL parity and Vulkan kernel tests, as one run
 # for a GPU machine (docs/results.md, "On an NVIDIA H200"). In the device pack
-# (../shared/device/pack.sh build/release):
+# (../shared/device/pack.sh build/release, of a build configured with -DVPLKIT_TEST_PCH=OFF: the
+# tests' precompiled headers, 435 MB, would push the pack past the device's 64 MiB):
 #   bash .device/run.sh scripts/results/ris_mis_gpu.sh build/release "$OUT"
 # Usage: scripts/results/ris_mis_gpu.sh [--quick] [--no-tests] [--budget SECONDS] BUILD_DIR OUTDIR
 #   1. the device (GL renderer and version, nvidia-smi);
