@@ -4,25 +4,8 @@
 # folders); the report has its sections and tables, with the device named; the archive holds the
 # raw JSON, CSV and logs; the summary table is printed last.
 cmake_minimum_required(VERSION 3.19)
-file(REMOVE_RECURSE ${WORKDIR})
-file(MAKE_DIRECTORY ${WORKDIR})
-execute_process(COMMAND bash ${SCRIPT} --quick ${BUILD} ${WORKDIR}/out WORKING_DIRECTORY ${WORKDIR}
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "gpu-report.sh --quick: exit ${rc}\n${out}\n${err}")
-endif()
-file(GLOB_RECURSE produced LIST_DIRECTORIES true RELATIVE ${WORKDIR}/out ${WORKDIR}/out/*)
-list(SORT produced)
-if(NOT produced STREQUAL "gpu-report-raw.tar.gz;gpu-report.md")
-  message(FATAL_ERROR "OUTDIR holds '${produced}', expected the report and the archive only")
-endif()
-foreach(f ${produced})
-  file(SIZE ${WORKDIR}/out/${f} size)
-  if(size GREATER 16777216 OR size EQUAL 0)
-    message(FATAL_ERROR "${f}: ${size} bytes (must be 1 .. 16 MiB)")
-  endif()
-endforeach()
-file(READ ${WORKDIR}/out/gpu-report.md md)
+include(${CMAKE_CURRENT_LIST_DIR}/run_quick_report.cmake)
+run_quick_report("gpu-report-raw.tar.gz;gpu-report.md")
 foreach(want "# vplkit on OpenGL " "## Device" "| OpenGL | OpenGL " "| Vulkan | " "| build | "
              "## Frames \\(`vplrender --frames N`\\)" "\\| cornell, global, gpu, 48x32, 16 VPLs[^|]*\\| 3 \\| [0-9.]+ \\| [0-9.]+ \\|"
              "\\| cornell, mis, gpu, 48x32, 16 VPLs, 16 dirs[^|]*\\| 3 \\|" "\\| cornell, global, cpu, 48x32[^|]*\\| 2 \\|"

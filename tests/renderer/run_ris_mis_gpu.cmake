@@ -4,19 +4,8 @@
 # the device, counts the tests and has an equal-time row per budget; no step failed or was
 # skipped; the archive holds the sweeps' CSVs, the test log and the runs' table.
 cmake_minimum_required(VERSION 3.19)
-file(REMOVE_RECURSE ${WORKDIR})
-file(MAKE_DIRECTORY ${WORKDIR})
-execute_process(COMMAND bash ${SCRIPT} --quick ${BUILD} ${WORKDIR}/out WORKING_DIRECTORY ${WORKDIR}
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "ris_mis_gpu.sh --quick: exit ${rc}\n${out}\n${err}")
-endif()
-file(GLOB_RECURSE produced LIST_DIRECTORIES true RELATIVE ${WORKDIR}/out ${WORKDIR}/out/*)
-list(SORT produced)
-if(NOT produced STREQUAL "ris_mis_gpu.md;ris_mis_gpu_raw.tar.gz")
-  message(FATAL_ERROR "OUTDIR holds '${produced}', expected the report and the archive only")
-endif()
-file(READ ${WORKDIR}/out/ris_mis_gpu.md md)
+include(${CMAKE_CURRENT_LIST_DIR}/run_quick_report.cmake)
+run_quick_report("ris_mis_gpu.md;ris_mis_gpu_raw.tar.gz")
 foreach(want "# ris-mis on the GPU backend: OpenGL " "\ncommit: " "## Tests: ctest"
              "100% tests passed, 0 tests failed out of [1-9]" "### cornell \\(M = 2, R = 1\\)"
              "\\| budget \\(global at\\) \\| time ms \\| best other \\|"
