@@ -303,8 +303,7 @@ std::vector<hit_result> check_hits(const tri_mesh& m, const vplkit::bvh<float>& 
   series<float> floats;
   std::vector<std::size_t> float_ray;
   std::vector<double> float_bounds;  // per float: the forward error bound of both sides
-  std::vector<std::size_t> slot_of_id(b.triangles().size());
-  for (std::size_t k = 0; k < b.triangles().size(); ++k) slot_of_id[b.triangles()[k].id] = k;
+  const std::vector<std::size_t> slot_of_id = slots_of_ids(b);
   const double scale = m.triangle_count() ? vplkit_test::mesh_scale(m) : 1.0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const hit_result &a = gpu[i], &c = cpu[i];
@@ -653,8 +652,7 @@ TEST_CASE("bvh huge divisors: directions and normals from 2^126 to FLT_MAX, deno
   std::vector<std::string> model_rays;
   const auto against_model = [&](const vplkit::bvh<float>& b, const std::vector<ray_case>& rays,
                                  const std::vector<hit_result>& gpu) {
-    std::vector<std::size_t> slot_of_id(b.triangles().size());
-    for (std::size_t k = 0; k < b.triangles().size(); ++k) slot_of_id[b.triangles()[k].id] = k;
+    const std::vector<std::size_t> slot_of_id = slots_of_ids(b);
     const vplkit_test::gpu_model_bvh mb(b);
     const vplkit_test::reciprocal_division_scope nvidia;
     for (std::size_t i = 0; i < rays.size(); ++i) {
