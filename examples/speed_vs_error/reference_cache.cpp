@@ -45,10 +45,12 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   // older ones (the texel's normal, the shadow map always) do not match them.
   if (kind == "gather") k += std::string("|hits=own-surface|lit=") + to_string(o.lit_test);
   if (kind == "gather" || kind == "exact") k += "|dirs=" + std::to_string(dirs) + "|seed=" + std::to_string(seed);
-  // The exact reference runs on --backend's estimator; the GPU's differs from the CPU's at creases
-  // (ties the two ray tracers break differently), and "backend=gpu" entries written before it had a
+  // The exact reference runs on --backend's estimator; "backend=gpu" entries written before it had a
   // GPU kernel hold CPU images: a key of their own.
   if (kind == "exact" && o.back == backend::gpu) k += "|exact_estimator=gpu";
+  // Exact references place the hemisphere on the G-buffer's geometric normal; older ones took the
+  // normal of the triangle the camera ray met, which at pixels on edges was another triangle's.
+  if (kind == "exact") k += "|gather_normal=gbuffer";
   // Only with the clamp compensation (the reference adds it as the VPL methods do), so the keys of
   // clamped sums stay what they were.
   if (kind == "vplsum") {

@@ -51,7 +51,7 @@ std::vector<member> params_members() {
       {"light.axis_y", offsetof(P, light) + offsetof(gpu::light_params, axis_y)},
       {"light.axis_z", offsetof(P, light) + offsetof(gpu::light_params, axis_z)},
       VR_MEMBER(P, grid_min),       VR_MEMBER(P, grid_max),     VR_MEMBER(P, grid_resolution),
-      VR_MEMBER(P, eye),            VR_MEMBER(P, width),        VR_MEMBER(P, height),
+      VR_MEMBER(P, width),        VR_MEMBER(P, height),
       VR_MEMBER(P, resolution),     VR_MEMBER(P, n_dirs),       VR_MEMBER(P, n_vpls),
       VR_MEMBER(P, n_samples),      VR_MEMBER(P, n_distributions), VR_MEMBER(P, strata),
       VR_MEMBER(P, begin),          VR_MEMBER(P, end),          VR_MEMBER(P, first_pass),
@@ -59,7 +59,7 @@ std::vector<member> params_members() {
       VR_MEMBER(P, cdf_stride),     VR_MEMBER(P, guide_base),   VR_MEMBER(P, guide_stride),
       VR_MEMBER(P, pad0),           VR_MEMBER(P, pad1),         VR_MEMBER(P, pad2),
       VR_MEMBER(P, dmin),           VR_MEMBER(P, depth_tolerance), VR_MEMBER(P, surface_offset),
-      VR_MEMBER(P, scene_size),
+      VR_MEMBER(P, pad3),
       VR_MEMBER(P, clamp_dirs),     VR_MEMBER(P, clamp_first_unit), VR_MEMBER(P, clamp_max_groups_x),
       VR_MEMBER(P, clamp_pad1)};
   // The RIS kernels' parameters, nested as ris (estimate_ris_params.h): active in every kernel (std140).
@@ -98,7 +98,7 @@ void check_records(GLuint prog, const std::string& block, int binding, const std
 
 TEST_CASE("estimate_params.h: the C++ parameter block has every kernel's std140 layout") {
   // One variant of every kernel (the block is the same text in all; each compiles it).
-  CHECK(sizeof(gpu::estimate_params) == 304);
+  CHECK(sizeof(gpu::estimate_params) == 288);
   for (method m : {method::reference, method::global, method::local, method::gather, method::mis, method::exact}) {
     INFO(to_string(m));
     check_params_block(program(m, "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n"));

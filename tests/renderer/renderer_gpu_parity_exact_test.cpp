@@ -42,11 +42,13 @@ using namespace vplrender;
 
 namespace {
 
-// Ties: a gather point on a crease (the edge where two walls meet) is met by the camera ray on
-// both triangles at the same t, and Embree and the BVH may pick different ones for its geometric
-// normal (exact_estimator.hpp's gather_point_geometric_normal): a different hemisphere, a
-// different value. Such pixels lie beside (4-neighbours) a pixel of another normal in the
-// G-buffer; they are held to the image mean only, every other pixel to rounding.
+// Ties: the rays of a gather point on a crease (the edge where two walls meet) start, lifted along
+// its own normal, on the plane of the crease's other wall. Whether a ray meets that wall at t ~ 0
+// (a hit the crease rule drops: the direction gives 0) or passes it to a far hit is decided by
+// rounding that Embree and the BVH do differently: the same gather point and normals (both
+// backends read the G-buffer's), a different value. Such pixels lie beside (4-neighbours) a pixel
+// of another normal in the G-buffer; they are held to the image mean only, every other pixel to
+// rounding. Gathering with exact rays has the same ties.
 std::vector<bool> crease_pixels(const gbuffer_data& g) {
   std::vector<bool> crease(g.normal.size(), false);
   for (int y = 0; y < g.height; ++y)

@@ -133,7 +133,6 @@ struct vr_estimate_params {
   vec4 grid_min;          // xyz: the voxel grid's bounds
   vec4 grid_max;
   ivec4 grid_resolution;  // xyz
-  vec4 eye;               // exact.comp: xyz the camera's eye (ray_scene::scene_camera().eye)
   int width;              // the G-buffer's W, H
   int height;
   int resolution;         // the DPRSM's R
@@ -157,7 +156,7 @@ struct vr_estimate_params {
   float dmin;             // the VPL distance clamp
   float depth_tolerance;  // gathering look-ups and patch VPLs
   float surface_offset;   // exact.comp: ray_scene::surface_offset()
-  float scene_size;       // exact.comp: ray_scene::size()
+  float pad3;             // the four floats fill one std140 row
 
   // ---- the clamp's compensation (VR_CLAMP_COMPENSATION; --clamp-compensation on) ----------------
   // docs/math.md, "The clamp's compensation": clamp_dirs cosine directions per gather point from
@@ -224,8 +223,8 @@ struct vr_surfel {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(estimate_params) == 304);  // the light, 4 vec4, 24 scalars, the compensation's 4, ris
-static_assert(offsetof(estimate_params, ris) == 256);  // std140: a struct member on a 16-byte boundary
+static_assert(sizeof(estimate_params) == 288);  // the light, 3 vec4, 24 scalars, the compensation's 4, ris
+static_assert(offsetof(estimate_params, ris) == 240);  // std140: a struct member on a 16-byte boundary
 static_assert(sizeof(mixture_record) == 48 && sizeof(pixel_state) == 48 && sizeof(surfel) == 48);
 }  // namespace vplrender::gpu
 #endif

@@ -5,10 +5,9 @@
 // "#version 430" first and the variant's defines (estimate_params.h: VR_SPLIT, VR_DIRECT) in the
 // preamble; parameters, bindings and the pass glue are the estimate kernels' (estimate_io.glsl).
 //
-// Split passes (VR_SPLIT 1): the gather point's geometric normal (one BVH query) is found again in
-// every pass: the same query gives the same normal. The offset that moves ray origins off their
-// surfaces, the scene's size and the eye are the host ray scene's, so both backends move the same
-// points by the same amounts. Random numbers: per direction u0 then u1 (the CPU's).
+// The hemisphere is the G-buffer's geometric normal's (as on the CPU). The offset that moves ray
+// origins off their surfaces is the host ray scene's, so both backends move the same points by the
+// same amounts. Random numbers: per direction u0 then u1 (the CPU's).
 #include "estimate_io.glsl"
 #include "exact_estimator.glsl"
 #include "vplkit/visibility/bvh_layout.glsl"
@@ -35,10 +34,8 @@ void main() {
   bool valid = vplkit_gather_point_valid(gp);
   vplkit_estimator_state est = vr_begin_estimate(p);
   if (valid) {
-    vr_exact_scene rs = vr_exact_scene(vplkit_bvh(vr_params.bvh_node_count), vr_params.surface_offset,
-                                       vr_params.scene_size, vr_params.eye.xyz);
-    vr_estimate_exact_range(rs, vr_view().light, gp, vr_gather_point_geometric_normal(rs, gp), est, vr_begin(),
-                            vr_end());
+    vr_exact_scene rs = vr_exact_scene(vplkit_bvh(vr_params.bvh_node_count), vr_params.surface_offset);
+    vr_estimate_exact_range(rs, vr_view().light, gp, est, vr_begin(), vr_end());
   }
   vr_keep_estimate(p, est);
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vr_estimate_exact_finish(est, vr_params.n_dirs));

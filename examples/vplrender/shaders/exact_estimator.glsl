@@ -3,8 +3,8 @@
 // is the contract: one-bounce diffuse indirect light by cosine gathering around the gather point's
 // geometric normal, each first hit y lit by the point light's direct light through an exact shadow
 // ray, no VPLs), with the pack's BVH for Embree and ray_scene.glsl for ray_scene's shading. The
-// offset that moves ray origins off their surfaces and the scene's size are the host's ray_scene
-// values (uniforms), so both backends move the same points by the same amounts.
+// offset that moves ray origins off their surfaces is the host's ray_scene value (a uniform), so
+// both backends move the same points by the same amounts.
 //
 // ACCESSORS: those of vplkit/visibility/bvh_layout.glsl and of ray_scene.glsl.
 #ifndef VPLRENDER_EXACT_ESTIMATOR_GLSL
@@ -23,33 +23,11 @@
 #include "vplkit/vpl/dprsm_view.glsl"
 #include "vplkit/vpl/vpl.glsl"
 
-// The ray_scene values the estimator needs: surface_offset(), size() and the camera's eye.
+// The ray_scene values the estimator needs: the BVH and surface_offset().
 struct vr_exact_scene {
   vplkit_bvh bvh;
   float offset;
-  float size;
-  vec3 eye;
 };
-
-// gather_point_geometric_normal: the normal of the triangle met by the ray from the eye to x,
-// oriented to x's G-buffer normal; that normal itself when the ray meets nothing within 1e-3 of
-// the scene's size of x.
-vec3 vr_gather_point_geometric_normal(vr_exact_scene rs, vplkit_gather_point gp) {
-  vec3 n_s = vplkit_unit_or_zero(gp.normal);
-  vec3 eye = rs.eye;
-  precise vec3 d = gp.position - eye;
-  float len = length(d);
-  if (!(len > 0.0)) return n_s;
-  // Far enough past x that a point rasterised a little behind its triangle is still reached.
-  precise float slack = 1e-3 * rs.size;
-  precise float t_max = 1.0 + slack / len;
-  vplkit_bvh_hit h = vplkit_bvh_closest_hit(rs.bvh, eye, d, 0.0, t_max);
-  precise float miss = abs(h.t - 1.0) * len;
-  if (!h.hit || miss > slack) return n_s;
-  vec3 n_g = h.normal;
-  if (dot(n_g, n_s) < 0.0) n_g = -n_g;
-  return dot(n_g, n_g) > 0.0 ? n_g : n_s;
-}
 
 // exact_sample: one direction's value rho_x L_o(y) cos_s / cos_g, 0 at or below either horizon.
 vec3 vr_exact_sample(vr_exact_scene rs, vplkit_point_light light, vplkit_gather_point gp, vec3 n_g, vec3 dir) {
@@ -78,9 +56,10 @@ vec3 vr_exact_sample(vr_exact_scene rs, vplkit_point_light light, vplkit_gather_
 
 // estimate_exact's loop over directions [begin, end) (the kernel splits n_dirs over passes; the
 // draws and sums are those of the one loop whatever the split).
-void vr_estimate_exact_range(vr_exact_scene rs, vplkit_point_light light, vplkit_gather_point gp, vec3 n_g,
+void vr_estimate_exact_range(vr_exact_scene rs, vplkit_point_light light, vplkit_gather_point gp,
                              inout vplkit_estimator_state state, int begin, int end) {
   if (!vplkit_gather_point_valid(gp)) return;
+  vec3 n_g = vplkit_unit_or_zero(gp.normal);
   vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(n_g);
   for (int k = begin; k < end; ++k) {
     float u0 = vplkit_rng_next_unit(state.rng);

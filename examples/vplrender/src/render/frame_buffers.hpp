@@ -35,14 +35,11 @@ struct frame_facts {
   float nearest_lit_distance = std::numeric_limits<float>::infinity();
 };
 
-// The numbers both backends' exact rays share (render/cpu/ray_scene.hpp computes them): how far a
-// ray's ends move off their surfaces, the scene's size and the camera's eye, so the GPU's exact
-// kernels move the same points by the same amounts as Embree's rays without including the CPU
-// backend.
+// The number both backends' exact rays share (render/cpu/ray_scene.hpp computes it): how far a
+// ray's ends move off their surfaces, so the GPU's exact kernels move the same points by the same
+// amounts as Embree's rays without including the CPU backend.
 struct exact_ray_frame {
   float surface_offset = 0.0f;
-  float scene_size = 0.0f;
-  vec3 eye{0.0f};
 };
 
 struct frame_buffers {

@@ -159,7 +159,7 @@ frame_pipeline::frame_pipeline(const scene& s, const frame_settings& f, stage_ti
     {
       auto t = timer.scoped("embree scene (cpu)");
       d.frame->rays = std::make_shared<const ray_scene>(s);
-      d.frame->ray_frame = {d.frame->rays->surface_offset(), d.frame->rays->size(), d.frame->rays->scene_camera().eye};
+      d.frame->ray_frame = {d.frame->rays->surface_offset()};
     }
     if (gpu) {
       auto t = timer.scoped("bvh build and upload (cpu)");

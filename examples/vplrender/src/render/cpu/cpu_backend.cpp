@@ -285,7 +285,7 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
       case estimator_kind::exact: {
         const ray_scene& rs = frame_ray_scene(b, "--method exact");
         render_pixels([&](const gather_point<float>& gp, vplkit::counter_rng& rng) {
-          return estimate_exact(rs, view.light, gp, gather_point_geometric_normal(rs, gp), rng, s.dirs);
+          return estimate_exact(rs, view.light, gp, rng, s.dirs);
         });
         break;
       }

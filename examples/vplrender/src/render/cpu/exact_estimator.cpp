@@ -10,24 +10,8 @@
 
 #include <glm/geometric.hpp>
 
-#include <cmath>
 
 namespace vplrender {
-
-vec3 gather_point_geometric_normal(const ray_scene& rs, const vplkit::gather_point<float>& gp) {
-  const vec3 n_s = vplkit::unit_or_zero(gp.normal);
-  const vec3 eye = rs.scene_camera().eye;
-  const vec3 d = gp.position - eye;
-  const float len = glm::length(d);
-  if (!(len > 0.0f)) return n_s;
-  // Far enough past x that a point rasterised a little behind its triangle is still reached.
-  const float slack = 1e-3f * rs.size();
-  const ray_scene::hit h = rs.intersect(eye, d, 1.0f + slack / len);
-  if (!h.hit || std::abs(h.t - 1.0f) * len > slack) return n_s;
-  vec3 n_g = h.geometric_normal;
-  if (glm::dot(n_g, n_s) < 0.0f) n_g = -n_g;
-  return glm::dot(n_g, n_g) > 0.0f ? n_g : n_s;
-}
 
 vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
                   vec3 n_g, vec3 dir) {
@@ -56,8 +40,9 @@ vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, 
 }
 
 vec3 estimate_exact(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
-                    vec3 n_g, vplkit::counter_rng& rng, int n_dirs) {
+                    vplkit::counter_rng& rng, int n_dirs) {
   if (!vplkit::gather_point_valid(gp) || n_dirs <= 0) return vec3(0.0f);
+  const vec3 n_g = vplkit::unit_or_zero(gp.normal);
   const vplkit::orthonormal_basis<float> frame = vplkit::make_orthonormal_basis(n_g);
   vec3 sum(0.0f);
   for (int k = 0; k < n_dirs; ++k) {

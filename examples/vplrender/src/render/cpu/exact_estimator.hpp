@@ -18,8 +18,12 @@
 // point's: vplkit::gather_point_shading_normal). A hit whose plane passes through x (within the
 // coordinates' rounding: x on a crease, coincident surfaces) sends nothing, the rule of the
 // library's gathering estimators (vplkit::vpl_point_on_plane): x sees that surface edge-on, and
-// only the lifted origin meets it, at distance ~0. The gather point's geometric normal comes from
-// the triangle its camera ray meets (gather_point_geometric_normal), oriented by the G-buffer's.
+// only the lifted origin meets it, at distance ~0. The gather point's geometric normal is the
+// G-buffer's (gp.normal: the plane of the triangle that was rasterised at the pixel), the one the
+// gathering estimators use. Where a pixel centre lies on an edge, the camera ray may meet the other
+// triangle: taking that one's normal with the rasterised triangle's shading normal put the two
+// cosines in different hemispheres (a sponza pixel on an arch's edge read 0 where every gathering
+// method read 0.45-0.56; hard case in tests/renderer/renderer_exact_test.cpp).
 // Random numbers: make_counter_rng(seed, pixel), per direction u0 then u1 (the gathering
 // estimator's stream).
 #include "render/cpu/ray_scene.hpp"
@@ -30,19 +34,14 @@
 
 namespace vplrender {
 
-// The gather point's geometric normal: that of the triangle met by the ray from the camera's eye
-// to x, oriented to the side of x's (camera-facing, geometric) G-buffer normal; that normal itself
-// when the ray meets nothing within 1e-3 of the scene's size of x (x off every triangle: never
-// for a rasterised point, kept for safety).
-vec3 gather_point_geometric_normal(const ray_scene& rs, const vplkit::gather_point<float>& gp);
-
 // One direction's value, local = its coordinates in the frame of n_g (z up): rho_x L_o(y) cos_s /
 // cos_g, 0 at or below either horizon. Exposed for the tests.
 vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
                   vec3 n_g, vec3 dir);
 
-// The estimate with n_dirs directions; 0 for an invalid gather point (nothing drawn).
+// The estimate with n_dirs directions around unit_or_zero(gp.normal); 0 for an invalid gather
+// point (nothing drawn).
 vec3 estimate_exact(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
-                    vec3 n_g, vplkit::counter_rng& rng, int n_dirs);
+                    vplkit::counter_rng& rng, int n_dirs);
 
 }  // namespace vplrender

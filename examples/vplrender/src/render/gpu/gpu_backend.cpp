@@ -336,9 +336,7 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   P.dmin = es.dmin;
   P.depth_tolerance = depth_tol;
   if (exact_rays != nullptr) {
-    P.eye = glm::vec4(exact_rays->eye, 0.0f);
     P.surface_offset = exact_rays->surface_offset;
-    P.scene_size = exact_rays->scene_size;
   }
   // The mixtures' records (one per mixture, three vector loads each) and the CDF data as built.
   // Without distributions the kernels still bind both buffers: one zero record and word.
