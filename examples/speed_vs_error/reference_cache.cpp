@@ -48,9 +48,10 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   // The exact reference runs on --backend's estimator; "backend=gpu" entries written before it had a
   // GPU kernel hold CPU images: a key of their own.
   if (kind == "exact" && o.back == backend::gpu) k += "|exact_estimator=gpu";
-  // Exact references place the hemisphere on the G-buffer's geometric normal; older ones took the
-  // normal of the triangle the camera ray met, which at pixels on edges was another triangle's.
-  if (kind == "exact") k += "|gather_normal=gbuffer";
+  // Exact references place the hemisphere on the G-buffer's geometric normal and take a hit's side
+  // from x; older ones took the normal of the triangle the camera ray met (at pixels on edges
+  // another triangle's) and the side from the lifted ray origin (wrong at some junctions).
+  if (kind == "exact") k += "|exact=gbuffer-normal,x-side";
   // Only with the clamp compensation (the reference adds it as the VPL methods do), so the keys of
   // clamped sums stay what they were.
   if (kind == "vplsum") {

@@ -43,7 +43,10 @@ vec3 vr_exact_sample(vr_exact_scene rs, vplkit_point_light light, vplkit_gather_
   vec3 y = h.position;
   vec3 n_gy = h.normal;
   if (dot(n_gy, light.position - y) < 0.0) n_gy = -n_gy;
-  if (!(dot(n_gy, -dir) > 0.0)) return vec3(0.0);
+  // x's side, not the lifted origin's; precise: a junction puts x within rounding of y's plane.
+  precise vec3 to_x = gp.position - y;
+  precise float side = dot(n_gy, to_x);
+  if (!(side > 0.0)) return vec3(0.0);
   vec3 n_sy = vr_shading_normal(h);
   if (dot(n_sy, n_gy) < 0.0) n_sy = -n_sy;
   vec3 l_o = vplkit_reflected_radiance(light.position, light.intensity, y, n_sy, vr_albedo_at(h));

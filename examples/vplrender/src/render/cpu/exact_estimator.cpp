@@ -25,11 +25,14 @@ vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, 
   // a surface that x sees edge-on: it sends x nothing (vplkit::vpl_point_on_plane, the gathering
   // estimators' rule), whichever of a crease's two normals the camera ray gave x.
   if (vplkit::vpl_point_on_plane(gp.position, h.position, h.geometric_normal)) return vec3(0.0f);
-  // y's lit side is the one facing the light; seen from the other side it reflects nothing.
+  // y's lit side is the one facing the light; seen from the other side it reflects nothing. The
+  // side is x's, not the lifted origin's: where x lies a hair behind the plane of a surface it
+  // meets at a junction, the lift can cross that plane and see the front that x does not
+  // (dprsm_hit_radiance's test, the gathering estimators' convention).
   const vec3 y = h.position;
   vec3 n_gy = h.geometric_normal;
   if (glm::dot(n_gy, light.position - y) < 0.0f) n_gy = -n_gy;
-  if (!(glm::dot(n_gy, -dir) > 0.0f)) return vec3(0.0f);
+  if (!(glm::dot(n_gy, gp.position - y) > 0.0f)) return vec3(0.0f);
   vec3 n_sy = rs.shading_normal(h);
   if (glm::dot(n_sy, n_gy) < 0.0f) n_sy = -n_sy;
   const vec3 l_o = vplkit::reflected_radiance(light.position, light.intensity, y, n_sy, rs.albedo_at(h));
