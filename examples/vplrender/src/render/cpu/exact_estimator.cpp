@@ -10,7 +10,6 @@
 
 #include <glm/geometric.hpp>
 
-
 namespace vplrender {
 
 vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, const vplkit::gather_point<float>& gp,
@@ -23,7 +22,7 @@ vec3 exact_sample(const ray_scene& rs, const vplkit::point_light<float>& light, 
   if (!h.hit) return vec3(0.0f);
   // A hit on x's own plane (x on a crease, coincident surfaces) is where the lifted origin crossed
   // a surface that x sees edge-on: it sends x nothing (vplkit::vpl_point_on_plane, the gathering
-  // estimators' rule), whichever of a crease's two normals the camera ray gave x.
+  // estimators' rule), whichever of a crease's two triangles was rasterised at x's pixel.
   if (vplkit::vpl_point_on_plane(gp.position, h.position, h.geometric_normal)) return vec3(0.0f);
   // y's lit side is the one facing the light; seen from the other side it reflects nothing. The
   // side is x's, not the lifted origin's: where x lies a hair behind the plane of a surface it

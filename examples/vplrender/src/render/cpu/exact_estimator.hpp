@@ -13,8 +13,8 @@
 // (include/vplkit/vpl/direct_light.hpp) and of the gathering estimator: the light and its
 // intensity are the DPRSM's, y reflects from the side facing the light only (a hit seen from its
 // unlit side gives 0, as the DPRSM's texel normal does for gathering; the side is the one x lies
-// on, not the lifted ray origin's), the albedo is the
-// material's at y (texture included). Geometric normals place the hemisphere and move ray origins
+// on, not the lifted ray origin's), the albedo is the material's at y (texture included).
+// Geometric normals place the hemisphere and move ray origins
 // off their surfaces (ray_scene::surface_offset); shading normals give the cosines (the gather
 // point's: vplkit::gather_point_shading_normal). A hit whose plane passes through x (within the
 // coordinates' rounding: x on a crease, coincident surfaces) sends nothing, the rule of the
