@@ -59,7 +59,6 @@ class ray_scene {
   vec3 shading_normal(const hit& h) const;
   vec3 albedo_at(const hit& h) const;
 
-  const camera& scene_camera() const { return source_.cam; }
   std::size_t triangle_count() const { return source_.triangles.size(); }
 
  private:
