@@ -89,5 +89,6 @@
 #include <vplkit/estimators/ris_reservoir.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/ris_spatial_reuse.hpp>
+#include <vplkit/estimators/ris_candidate_pool.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
 #include <vplkit/estimators/ris_mis_spatial_reuse.hpp>

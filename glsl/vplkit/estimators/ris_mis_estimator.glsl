@@ -62,6 +62,25 @@ vec3 vplkit_ris_mis_unshadowed(vplkit_gather_point gp, vplkit_dprsm_view view, v
                                          (n2 * pmf));
 }
 
+// A candidate's draw: its sample (texel -1 where the draw is empty or its index lies outside the
+// view) and the pmf it was drawn with (0 then).
+struct vplkit_ris_mis_draw {
+  vplkit_ris_sample s;
+  float pmf;
+};
+
+// The first half of a candidate: samples the distribution with u; xi is the jitter (u0, u1 with
+// vplkit_vpl_patch, else 0).
+vplkit_ris_mis_draw vplkit_ris_mis_draw_candidate(vplkit_dprsm_view view, uint distribution, float u, vec2 xi) {
+  vplkit_ris_mis_draw c = vplkit_ris_mis_draw(vplkit_ris_sample(-1, xi), 0.0);
+  vplkit_discrete_sample d = vplkit_estimator_distribution_sample(distribution, u);
+  float pmf = vplkit_estimator_pmf(d.pmf);  // a denormal pmf counts as 0 (vpl_sum.glsl)
+  if (!(pmf > 0.0) || d.index >= uint(vplkit_dprsm_view_texel_count(view))) return c;
+  c.s.texel = int(d.index);
+  c.pmf = pmf;
+  return c;
+}
+
 // What the shade of a reservoir needs of its kept sample, made while the candidate was weighed: h
 // and the point's position and normal for the visibility query (vplkit_ris_mis_shade_kept).
 struct vplkit_ris_mis_kept {
@@ -81,18 +100,18 @@ vplkit_ris_mis_kept vplkit_make_ris_mis_kept() {
 float vplkit_ris_mis_candidate(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                inout vplkit_counter_rng rng, float n1, float n2, int vpl_mode, float depth_tolerance,
                                out vplkit_ris_sample s, out float target, out vplkit_ris_mis_kept kept) {
-  s = vplkit_make_ris_sample();
   target = 0.0;
   kept = vplkit_make_ris_mis_kept();
   float u = vplkit_rng_next_unit(rng);
+  vec2 xi = vec2(0.0);
   if (vpl_mode == vplkit_vpl_patch) {
-    s.xi.x = vplkit_rng_next_unit(rng);
-    s.xi.y = vplkit_rng_next_unit(rng);
+    xi.x = vplkit_rng_next_unit(rng);
+    xi.y = vplkit_rng_next_unit(rng);
   }
-  vplkit_discrete_sample d = vplkit_estimator_distribution_sample(distribution, u);
-  float pmf = vplkit_estimator_pmf(d.pmf);  // a denormal pmf counts as 0 (vpl_sum.glsl)
-  if (!(pmf > 0.0) || d.index >= uint(vplkit_dprsm_view_texel_count(view))) return 0.0;
-  s.texel = int(d.index);
+  vplkit_ris_mis_draw c = vplkit_ris_mis_draw_candidate(view, distribution, u, xi);
+  s = c.s;
+  if (s.texel < 0) return 0.0;
+  float pmf = c.pmf;
   vplkit_vpl v;
   vec3 h = vplkit_ris_mis_unshadowed(gp, view, s, pmf, n1, n2, vpl_mode, depth_tolerance, v);
   float p = vplkit_luminance(h);

@@ -129,13 +129,20 @@ float vplkit_vpl_patch_area(float solid_angle, float d1, float cos_alpha) {
 
 // Radiance leaving a diffuse point y lit by the point light (no visibility):
 //   L_o(y) = rho_y I_s cos(alpha) / (pi d1^2), cos(alpha) clamped at 0.
-vec3 vplkit_reflected_radiance(vec3 light_pos, vec3 intensity, vec3 y, vec3 n_y, vec3 rho_y) {
+// vplkit_reflected_radiance_unit_normal takes y's normal already normalised, n_u =
+// vplkit_unit_or_zero(n_y) (the presampled candidates store it, estimators/ris_candidate_pool.glsl):
+// the same expressions as vplkit_reflected_radiance, which normalises first.
+vec3 vplkit_reflected_radiance_unit_normal(vec3 light_pos, vec3 intensity, vec3 y, vec3 n_u, vec3 rho_y) {
   if (vplkit_vpl_points_coincide(light_pos, y)) return vec3(0.0);
   vec3 w = light_pos - y;
-  float cos_a = max(0.0, vplkit_flush_denormal(dot(vplkit_unit_or_zero(n_y), vplkit_unit_or_zero(w))));
+  float cos_a = max(0.0, vplkit_flush_denormal(dot(n_u, vplkit_unit_or_zero(w))));
   if (!(cos_a > 0.0)) return vec3(0.0);  // back-facing or zero normal
   float d1sq = max(dot(w, w), vplkit_vpl_distance_sq_floor());
   return vplkit_flush_denormal(rho_y * intensity * vplkit_flush_denormal(cos_a / (vplkit_vpl_pi * d1sq)));
+}
+
+vec3 vplkit_reflected_radiance(vec3 light_pos, vec3 intensity, vec3 y, vec3 n_y, vec3 rho_y) {
+  return vplkit_reflected_radiance_unit_normal(light_pos, intensity, y, vplkit_unit_or_zero(n_y), rho_y);
 }
 
 #endif  // VPLKIT_VPL_VPL_GLSL
