@@ -92,7 +92,9 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
        << "`, " << (so.dirs_per_sample == 1 ? std::string("as many gathering directions as RIS samples")
                                              : std::to_string(so.dirs_per_sample) + " gathering directions per RIS sample")
        << ", spatial reuse "
-       << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"));
+       << (base.spatial > 0 ? std::to_string(base.spatial) + " neighbours" : std::string("off"))
+       << (base.candidate_pool > 0 ? ", candidates from a pool of " + std::to_string(base.candidate_pool) + " per frame"
+                                   : std::string());
   if (so.dirs_per_sample != 1 && (swept(method::mis) || swept(method::mis_as_published)))
     md << ", mis: " << so.dirs_per_sample << " gathering directions per VPL sample";
   md << ". Image means: VPL sum " << (so.ref_vplsum ? sci(image_mean(ref_vpl.img)) : "-") << ", gathering "

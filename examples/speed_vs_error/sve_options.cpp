@@ -64,7 +64,8 @@ Sweep options:
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
-  --candidates --candidate-source (ris, ris-mis) --spatial (ris, ris-mis) --clamp-compensation-dirs
+  --candidates --candidate-source (ris, ris-mis) --spatial (ris, ris-mis) --candidate-pool (ris-mis)
+  --clamp-compensation-dirs
   --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,
   --local-combination, --gbg-accumulator or --cdf-search (one cache entry serves every choice).

@@ -83,6 +83,7 @@ options ris_mis_options(const fixture& f, int n, int m) {
   o.vpls = n;
   o.dirs = n;
   o.candidates = m;
+  o.candidate_pool = 0;  // each candidate its own draw; the pool's cases set theirs
   return o;
 }
 
@@ -169,4 +170,51 @@ TEST_CASE("ris-mis on the CPU backend: thread count and details, with and withou
   CHECK(r2.details["ris"]["spatial"] == 2);
   CHECK(r2.details["ris"]["reuse_mis"] == "pairwise");
   CHECK(r2.details["ris"].contains("radius"));
+}
+
+TEST_CASE("ris-mis with a candidate pool: its image mean is mis's, per source, with and without reuse") {
+  const fixture& f = shared_fixture();
+  options mis_o = f.o;
+  mis_o.meth = method::mis;
+  mis_o.vpls = mis_o.dirs = 128;
+  const std::vector<int> edges = edge_pixels(f);
+  double ref = 0.0, ref_edges = 0.0;
+  for (const std::uint32_t seed : {1u, 2u}) {
+    mis_o.seed = seed;
+    const image_rgb img = render(f, mis_o).image;
+    ref += 0.5 * mean_of(img);
+    ref_edges += 0.5 * mean_of(img, edges);
+  }
+  // A pool of 4096 (one per region with local) against the 32 x 8 candidates of a pixel: its own
+  // noise is small, so the means must hold the bounds of the direct draws above.
+  for (const ris_source_choice source : {ris_source_choice::local, ris_source_choice::flux})
+    for (const int spatial : {0, 4}) {
+      options o = ris_mis_options(f, 32, 8);
+      o.candidate_source = source;
+      o.spatial = spatial;
+      o.candidate_pool = 4096;
+      const render_result r = render(f, o);
+      const double m = mean_of(r.image), e = mean_of(r.image, edges);
+      std::printf("  pool 4096, %-6s 32 + 32, M = 8, spatial %d: mean %+.2f %%, edge pixels %+.2f %%\n",
+                  to_string(source), spatial, 100.0 * (m / ref - 1.0), 100.0 * (e / ref_edges - 1.0));
+      INFO(to_string(source) << " spatial " << spatial);
+      CHECK(finite_non_negative(r.image));
+      CHECK(std::abs(m / ref - 1.0) < 0.01);
+      CHECK(std::abs(e / ref_edges - 1.0) < 0.03);
+      CHECK(r.details["ris"]["pool"] == 4096);
+    }
+}
+
+TEST_CASE("ris-mis with a candidate pool: the thread count changes nothing; the pool changes the draws") {
+  const fixture& f = shared_fixture();
+  options o = ris_mis_options(f, 3, 5);
+  o.candidate_source = ris_source_choice::local;
+  o.candidate_pool = 1000;  // not a multiple of the fill's chunk
+  const render_result one = render(f, o, 1), two = render(f, o, 2);
+  CHECK(mean_of(one.image) > 0.0);
+  CHECK(std::memcmp(one.image.rgb.data(), two.image.rgb.data(), one.image.rgb.size() * sizeof(float)) == 0);
+  o.candidate_pool = 0;
+  const render_result direct = render(f, o, 2);
+  CHECK(std::memcmp(direct.image.rgb.data(), two.image.rgb.data(), two.image.rgb.size() * sizeof(float)) != 0);
+  CHECK_FALSE(direct.details["ris"].contains("pool"));
 }

@@ -38,7 +38,7 @@ GLuint program(method m, const std::string& defines) {
 std::vector<member> ris_members() {
   using R = gpu::ris_params;
   return {VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
-          VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pad0),            VR_MEMBER(R, pad1),
+          VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pool_size),       VR_MEMBER(R, pool_seed),
           VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
 }
 

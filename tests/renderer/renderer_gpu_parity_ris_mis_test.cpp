@@ -145,6 +145,7 @@ TEST_CASE("ris-mis: the GPU image equals estimate_ris_mis's on the CPU for every
   for (const run& r : runs) {
     options o = f.o;
     o.meth = method::ris_mis;
+    o.candidate_pool = 0;  // each candidate its own draw (the pool: renderer_gpu_parity_ris_pool_test)
     o.candidate_source = r.source;
     o.candidates = r.candidates;
     o.vpl_mode = r.mode;
@@ -251,6 +252,7 @@ TEST_CASE("ris-mis with spatial reuse: the GPU image equals the CPU backend's fo
   for (const run& r : runs) {
     options o = f.o;
     o.meth = method::ris_mis;
+    o.candidate_pool = 0;  // each candidate its own draw (the pool: renderer_gpu_parity_ris_pool_test)
     o.candidate_source = r.source;
     o.spatial = r.spatial;
     o.candidates = r.candidates;

@@ -96,6 +96,17 @@ TEST_CASE("ris options: ris-mis takes --dirs, --vpls, the candidate flags and --
   CHECK(uses_clamp_compensation(s));
 }
 
+TEST_CASE("ris options: --candidate-pool takes 0..4194304 entries, 16384 by default") {
+  CHECK(parse({"--method", "ris-mis", "--backend", "cpu"}).candidate_pool == 16384);
+  CHECK(parse({"--method", "ris-mis", "--backend", "cpu", "--candidate-pool", "0"}).candidate_pool == 0);
+  CHECK(parse({"--method", "ris-mis", "--backend", "cpu", "--candidate-pool", "16384"}).candidate_pool == 16384);
+  CHECK(parse({"--method", "ris-mis", "--backend", "cpu", "--candidate-pool", "4194304"}).candidate_pool == 4194304);
+  CHECK(starts_with(error_of({"--method", "ris-mis", "--candidate-pool", "4194305"}),
+                    "--candidate-pool: value 4194305 is outside 0..4194304"));
+  CHECK(starts_with(error_of({"--method", "ris-mis", "--candidate-pool", "-1"}), "--candidate-pool: expected a whole number"));
+  CHECK(help_text().find("--candidate-pool") != std::string::npos);
+}
+
 TEST_CASE("ris options: --help documents ris-mis") {
   std::string h;  // the help text, its wrapping undone
   for (const char c : help_text()) {

@@ -38,6 +38,10 @@
 #if VR_RIS_PASS == VR_RIS_PASS_REUSE
 #include "vplkit/estimators/ris_mis_spatial_reuse.glsl"
 #endif
+#ifdef VR_RIS_POOL
+#include "vplkit/estimators/ris_candidate_pool.glsl"
+#include "vplkit/estimators/ris_pool_params.h"
+#endif
 
 #if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
 layout(std430, binding = VR_RIS_BINDING_RESERVOIRS) restrict writeonly buffer VrRisReservoirs {
@@ -55,7 +59,37 @@ vplkit_ris_reservoir vplkit_load_ris_reservoir(int pixel) {
 uint vplkit_ris_reuse_distribution(int pixel) { return vr_ris_distribution(uint(pixel)); }
 #endif
 
+#ifdef VR_RIS_POOL
+// --candidate-pool: vr_params.ris.pool_size entries per candidate distribution (one pool, or one per
+// region with VR_RIS_PER_REGION), written by the pool pass, read by every other pass.
+#if VR_RIS_PASS == VR_RIS_PASS_POOL
+layout(std430, binding = VR_RIS_BINDING_POOL) restrict buffer VrRisPool { vplkit_ris_pool_record vr_pool[]; };
+#else
+layout(std430, binding = VR_RIS_BINDING_POOL) restrict readonly buffer VrRisPool { vplkit_ris_pool_record vr_pool[]; };
+#endif
+vplkit_ris_pool_entry vplkit_load_ris_pool_entry(uint pool, uint index) {
+  vplkit_ris_pool_record r = vr_pool[pool * vr_params.ris.pool_size + index];  // a local copy: see vr_unpack_mixture
+  return vplkit_ris_pool_entry_from_record(r);
+}
+uint vr_ris_pools() {
+#ifdef VR_RIS_PER_REGION
+  return uint(vr_params.ris.regions_x * vr_params.ris.regions_y);
+#else
+  return 1u;
+#endif
+}
+#endif
+
 void main() {
+#if VR_RIS_PASS == VR_RIS_PASS_POOL
+  // One invocation per entry: entry i of the pools laid end to end, of distribution i / pool_size,
+  // from the stream (pool_seed, i) as render/cpu/ris_render.hpp's fill_ris_candidate_pool.
+  uint i = vr_pixel();
+  if (i >= vr_ris_pools() * vr_params.ris.pool_size) return;
+  vr_load_mixtures();
+  vr_pool[i] = vplkit_make_ris_pool_record(vplkit_ris_pool_draw_entry(
+      vr_view(), i / vr_params.ris.pool_size, vr_params.ris.pool_seed, i, VR_VPL_MODE, vr_params.depth_tolerance));
+#else
   uint p = vr_pixel();
   if (!vr_in_image(p)) return;
   vplkit_gather_point gp = vplkit_load_gather_point(int(p));
@@ -65,9 +99,17 @@ void main() {
 #if VR_RIS_PASS == VR_RIS_PASS_ESTIMATE
   if (valid) {
     vplkit_voxel_grid grid = vr_grid();
+#ifdef VR_RIS_POOL
+    uint d = vr_ris_distribution(p);
+    vplkit_estimate_ris_mis_pooled_range(gp, vr_view(), d, d, vr_params.ris.pool_size, est, vr_begin(), vr_end(),
+                                         vr_params.n_dirs, vr_params.n_vpls, vr_params.ris.candidates,
+                                         vr_make_tracer(grid), vr_make_visibility(grid), vr_params.depth_tolerance,
+                                         VR_VPL_MODE);
+#else
     vplkit_estimate_ris_mis_range(gp, vr_view(), vr_ris_distribution(p), est, vr_begin(), vr_end(), vr_params.n_dirs,
                                   vr_params.n_vpls, vr_params.ris.candidates, vr_make_tracer(grid),
                                   vr_make_visibility(grid), vr_params.depth_tolerance, VR_VPL_MODE);
+#endif
   }
   vr_keep_estimate(p, est);
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_mis_finish(est));
@@ -80,9 +122,16 @@ void main() {
 #if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
   // An invalid pixel's record is the empty reservoir (as on the CPU; see estimate_ris.comp).
   vplkit_ris_reservoir r = vplkit_make_ris_reservoir();
-  if (valid && round < n_ris)
+  if (valid && round < n_ris) {
+#ifdef VR_RIS_POOL
+    vplkit_ris_mis_kept kept;
+    r = vplkit_ris_mis_resample_pooled(gp, vr_ris_distribution(p), vr_params.ris.pool_size, est.rng,
+                                       vr_params.ris.candidates, n1, n2, kept);
+#else
     r = vplkit_ris_mis_resample(gp, vr_view(), vr_ris_distribution(p), est.rng, vr_params.ris.candidates, n1, n2,
                                 VR_VPL_MODE, vr_params.depth_tolerance);
+#endif
+  }
   vr_reservoirs[p] = vplkit_make_ris_reservoir_record(r);
   vr_keep_estimate(p, est);
 #else
@@ -110,6 +159,7 @@ void main() {
   }
   vr_keep_estimate(p, est);
   if (vr_last_pass()) vr_write_estimate(p, gp, valid, vplkit_estimate_ris_mis_finish(est));
+#endif
 #endif
 #endif
 }

@@ -24,6 +24,9 @@
 //   estimate_ris_mis.comp (--method ris-mis) has the same three passes: without reuse (the pass
 //   define left out) its steps; with reuse max(--dirs, n2) rounds, the round in begin, the reuse
 //   pass also tracing the step's gathering direction (vplkit_ris_mis_spatial_reuse).
+//   VR_RIS_PASS_POOL 3 (estimate_ris_mis.comp with VR_RIS_POOL): one invocation per entry of the
+//     presampled candidate pool (--candidate-pool; vplkit_ris_pool_draw_entry), once per frame
+//     before the passes above, which then (VR_RIS_POOL defined) draw their candidates from it.
 #ifndef VPLRENDER_ESTIMATE_RIS_PARAMS_H
 #define VPLRENDER_ESTIMATE_RIS_PARAMS_H
 
@@ -31,10 +34,12 @@
 
 // A number above estimate_params.h's (0..19), each resource its own (core/params.h).
 #define VR_RIS_BINDING_RESERVOIRS 24  // SSBO: vplkit_ris_reservoir_record reservoirs[W H] (ris_params.h)
+#define VR_RIS_BINDING_POOL 26        // SSBO: vplkit_ris_pool_record pool[pools * pool_size] (ris_pool_params.h)
 
 #define VR_RIS_PASS_ESTIMATE 0
 #define VR_RIS_PASS_CANDIDATES 1
 #define VR_RIS_PASS_REUSE 2
+#define VR_RIS_PASS_POOL 3
 // VR_RIS_PER_REGION (defined or not): --candidate-source local, each pixel draws from its region's
 //   mixture; else every pixel from mixture 0, which then lives in registers (VR_ONE_MIXTURE).
 #ifndef __cplusplus
@@ -56,8 +61,8 @@ struct vr_ris_params {
   int mis;                // vplkit_ris_reuse_pairwise (0) or _balance (1)
   int regions_x;          // VR_RIS_PER_REGION: the image regions of --candidate-source local
   int regions_y;          //   (vplkit_image_regions; region r samples mixture r)
-  uint pad0;
-  uint pad1;
+  uint pool_size;         // VR_RIS_POOL: entries per candidate distribution (--candidate-pool)
+  uint pool_seed;         //   the pool's stream seed (ris_pool_seed): entry i takes (pool_seed, i)
   float min_normal_cos;   // the reuse's rejection thresholds (ris_spatial_settings)
   float max_plane_slope;
   uint pad2;

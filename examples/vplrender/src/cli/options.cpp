@@ -28,7 +28,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial;
+      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial, candidate_pool;
   bool paper = false, direct = false, window = false;
 };
 
@@ -182,6 +182,12 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("--method ris and ris-mis: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = "
                    "off; 0..16; docs/math.md section 13; ris-mis: over its MIS-weighted target)."))
       ->type_name("K");
+  app.add_option("--candidate-pool", v.candidate_pool,
+                 d("--method ris-mis: draw the candidates from a pool of P VPLs presampled once per frame from "
+                   "--candidate-source (default 16384, 1 MiB; 0 = off: each candidate its own draw; 0..4194304; per region "
+                   "with local). The same estimate, unbiased (docs/math.md, \"Presampled candidates\"); a candidate costs "
+                   "a read of one 64-byte record instead of a CDF search and a patch construction."))
+      ->type_name("P");
   app.add_option("--voxels", v.voxels, d("Voxel grid resolution per axis for visibility (default 128; 4..1024)."))
       ->type_name("N");
   app.add_option("--dprsm", v.dprsm, d("Paraboloid map resolution per face (default 512, i.e. 2x512x512; 8..4096)."))
@@ -462,6 +468,9 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                           {"gbg", ris_source_choice::gbg},
                                                           {"flux", ris_source_choice::flux}});
   if (given("--spatial")) o.spatial = static_cast<int>(parse_integer("--spatial", v.spatial, 0, limits::max_spatial));
+  if (given("--candidate-pool"))
+    o.candidate_pool =
+        static_cast<int>(parse_integer("--candidate-pool", v.candidate_pool, 0, limits::max_candidate_pool));
   if (!traits(o.meth).gpu && o.back == backend::gpu)
     bad(std::string("--method ") + to_string(o.meth),
         "runs on --backend cpu only for now (its GPU kernels are not written yet); add --backend cpu");

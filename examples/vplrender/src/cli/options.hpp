@@ -28,6 +28,7 @@ struct limits {
   static constexpr int min_dprsm = 8, max_dprsm = 4096;  // --dprsm (per face, per side)
   static constexpr int max_candidates = 1 << 16;         // --candidates (RIS candidates per sample)
   static constexpr int max_spatial = 16;                 // --spatial (vplkit::ris_max_neighbours)
+  static constexpr int max_candidate_pool = 1 << 22;     // --candidate-pool (256 MiB of 64-byte entries)
   static constexpr double max_exposure = 1e6;
   static constexpr int max_frames = 10000;           // --frames without --window (headless frames)
   static constexpr int max_window_frames = 1000000;  // --frames with --window
@@ -59,6 +60,7 @@ struct options : render_choices {
   int candidates = 32;            // --method ris: candidates per sample
   ris_source_choice candidate_source = ris_source_choice::flux;  // --method ris: where they come from
   int spatial = 0;                // --method ris: spatial-reuse neighbours (0 = off)
+  int candidate_pool = 16384;     // --method ris-mis: presampled candidates per frame (0 = off)
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

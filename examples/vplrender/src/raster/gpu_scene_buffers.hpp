@@ -47,11 +47,14 @@ struct gpu_dprsm_planes {
 // of a --frames run allocate them once; a render whose image size differs reallocates them.
 struct gpu_pixel_buffers {
   vplkit::gl::buffer out, state, reservoirs;
+  // --method ris-mis --candidate-pool: the presampled candidates (not per pixel: pools x entries).
+  vplkit::gl::buffer ris_pool;
   // The clamp compensation's pixel list (render/gpu: --clamp-compensation-pass compacted).
   vplkit::gl::buffer clamp_list;
   int allocations = 0;  // buffers made so far (a render that reuses all of them makes none)
   std::size_t size_bytes() const {
-    return out.size_bytes() + state.size_bytes() + reservoirs.size_bytes() + clamp_list.size_bytes();
+    return out.size_bytes() + state.size_bytes() + reservoirs.size_bytes() + ris_pool.size_bytes() +
+           clamp_list.size_bytes();
   }
 };
 

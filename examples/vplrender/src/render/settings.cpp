@@ -96,6 +96,8 @@ std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage) {
   return vplkit::rng_key(seed, 0xB0000000u + stage);
 }
 
+std::uint32_t ris_pool_seed(std::uint32_t seed) { return vplkit::rng_key(seed, 0xB1000000u); }
+
 float gathering_depth_tolerance(const render_settings& s, const vplkit::voxel_grid_view<float>& grid) {
   // The paper's voxel tracer: its own error (one voxel diagonal, voxel_tracer_depth_tolerance)
   // doubled, as the paper's rule had it (the hit may lie a diagonal behind the surface it stands

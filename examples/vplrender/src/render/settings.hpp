@@ -154,11 +154,18 @@ struct render_settings : render_choices {
   int ris_candidates = 32;
   ris_source_choice ris_source = ris_source_choice::flux;
   int ris_spatial = 0;
+  // --method ris-mis: entries of the presampled candidate pool (per candidate distribution; 0 =
+  // each candidate drawn from the distribution itself). vplkit/estimators/ris_candidate_pool.hpp.
+  int ris_pool = 0;
 };
 
 // Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed
 // that differs from the per-pixel estimator streams (make_counter_rng(seed, pixel)).
 std::uint32_t builder_seed(std::uint32_t seed, std::uint32_t stage);
+
+// Seed of the presampled RIS candidate pool (--candidate-pool): entry i is drawn from the stream
+// (ris_pool_seed(seed), i), apart from the builders' and the pixels' streams.
+std::uint32_t ris_pool_seed(std::uint32_t seed);
 
 // The reference's strata per texel side with --vpl-mode patch: m = 1, one jittered point per texel
 // (vplkit::exhaustive_vpl_patch_sum), the point reference's cost; its noise is measured in

@@ -17,6 +17,7 @@
 #include "render/stage_timer.hpp"
 
 #include <vplkit/builders/local_weights.hpp>
+#include <vplkit/estimators/ris_candidate_pool.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
 #include <vplkit/estimators/ris_mis_spatial_reuse.hpp>
@@ -52,10 +53,38 @@ struct ris_candidate_source {
   ris_candidate_source(const Dist* d, int n_dists, const render_settings& s, int W, int H)
       : dists(d), per_region(s.ris_source == ris_source_choice::local && n_dists > 1), width(W),
         regions(W, H, s.regions_x, s.regions_y) {}
-  const Dist& operator()(int p) const {
-    return per_region ? dists[regions.region_of_pixel(p % width, p / width)] : dists[0];
-  }
+  int index(int p) const { return per_region ? regions.region_of_pixel(p % width, p / width) : 0; }
+  const Dist& operator()(int p) const { return dists[index(p)]; }
 };
+
+// --candidate-pool P > 0: P presampled candidates per candidate distribution (vplkit
+// ris_candidate_pool.hpp), distribution d's in entries [d P, (d + 1) P), entry i drawn from the
+// stream (ris_pool_seed(seed), i), filled once per frame before the estimate. The GPU backend fills
+// the same entries.
+struct ris_candidate_pool {
+  std::vector<vplkit::ris_pool_entry<float>> entries;
+  std::uint32_t size = 0;  // per distribution
+  const vplkit::ris_pool_entry<float>* of(int d) const { return entries.data() + std::size_t(d) * size; }
+};
+
+template <class Dist>
+ris_candidate_pool fill_ris_candidate_pool(const cpu_frame& f, const render_settings& s, const Dist* dists,
+                                           int n_dists, float depth_tol, vplkit::vpl_mode vmode) {
+  ris_candidate_pool pool;
+  pool.size = static_cast<std::uint32_t>(std::max(0, s.ris_pool));
+  const int n = s.ris_source == ris_source_choice::local ? n_dists : 1;
+  const std::size_t total = std::size_t(pool.size) * std::size_t(n);
+  pool.entries.resize(total);
+  const std::uint32_t seed = ris_pool_seed(s.seed);
+  constexpr std::size_t chunk = 4096;
+  parallel_items(static_cast<int>((total + chunk - 1) / chunk), f.threads, "", {}, [&](int c, int) {
+    const std::size_t end = std::min(total, (std::size_t(c) + 1) * chunk);
+    for (std::size_t i = std::size_t(c) * chunk; i < end; ++i)
+      pool.entries[i] = vplkit::ris_pool_draw_entry(f.view, dists[i / pool.size], seed, static_cast<std::uint32_t>(i),
+                                                     vmode, depth_tol);
+  });
+  return pool;
+}
 
 // What the rounds of spatial reuse keep per pixel: its random stream (it runs on from round to
 // round), its reservoir record (rewritten by every candidate pass) and its running sum.
@@ -113,6 +142,9 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
     for (int k = 0; k < 3; ++k) image[3 * std::size_t(p) + std::size_t(k)] = c[k];
   };
   auto t = timer.scoped("estimate (cpu)");
+  // Filled inside the estimate's time: it is part of every frame's cost.
+  const ris_candidate_pool pool = fill_ris_candidate_pool(f, s, dists, n_dists, depth_tol, vmode);
+  if (pool.size > 0) det["ris"]["pool"] = pool.size;
   if (s.ris_spatial <= 0) {
     parallel_items(H, f.threads, "render", progress, [&](int y, int) {
       for (int p = y * W; p < (y + 1) * W; ++p) {
@@ -120,8 +152,13 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
         vplkit::vec3<float> c(0.0f);
         if (vplkit::gather_point_valid(gp)) {
           vplkit::counter_rng rng = vplkit::make_counter_rng(s.seed, static_cast<std::uint32_t>(p));
-          c = vplkit::estimate_ris_mis(gp, view, dist_of(p), rng, s.dirs, s.vpls, s.ris_candidates, tracer,
-                                       visibility, depth_tol, vmode);
+          if (pool.size > 0)
+            c = vplkit::estimate_ris_mis_pooled(gp, view, dist_of(p), pool.of(dist_of.index(p)), pool.size, rng,
+                                                s.dirs, s.vpls, s.ris_candidates, tracer, visibility, depth_tol,
+                                                vmode);
+          else
+            c = vplkit::estimate_ris_mis(gp, view, dist_of(p), rng, s.dirs, s.vpls, s.ris_candidates, tracer,
+                                         visibility, depth_tol, vmode);
         }
         finish(p, c);
       }
@@ -146,8 +183,12 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
         for (int p = y * W; p < (y + 1) * W; ++p) {
           const vplkit::gather_point<float> gp = g.at(p);
           if (!vplkit::gather_point_valid(gp)) continue;
-          records[std::size_t(p)] = vplkit::gpu::make_ris_reservoir_record(vplkit::ris_mis_resample(
-              gp, view, dist_of(p), rng[std::size_t(p)], M, n1, n2, vmode, depth_tol));
+          vplkit::ris_mis_kept<float> kept;
+          records[std::size_t(p)] = vplkit::gpu::make_ris_reservoir_record(
+              pool.size > 0 ? vplkit::ris_mis_resample_pooled(gp, pool.of(dist_of.index(p)), pool.size,
+                                                              rng[std::size_t(p)], M, n1, n2, kept)
+                            : vplkit::ris_mis_resample(gp, view, dist_of(p), rng[std::size_t(p)], M, n1, n2, vmode,
+                                                       depth_tol));
         }
       });
     parallel_items(H, f.threads, "", {}, [&](int y, int) {

@@ -154,6 +154,7 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
     // the candidate and reuse passes.
     if (t.variant == 0 || ris_pass != ris_pass_estimate) d += define("VR_RIS_PASS", ris_pass);
     if (s.ris_source == ris_source_choice::local) d += "#define VR_RIS_PER_REGION\n";
+    if (t.variant == 1 && s.ris_pool > 0) d += "#define VR_RIS_POOL\n";
   }
   return d;
 }

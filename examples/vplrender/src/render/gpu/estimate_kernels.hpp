@@ -84,7 +84,7 @@ std::string clamp_compensation_defines(const render_settings& s, visibility_choi
 // The preamble of s's variant (one "#define NAME VALUE" line per define the kernel reads):
 // VR_VISIBILITY, VR_SAMPLER, VR_VPL_MODE, VR_LOCAL_COMBINATION, VR_VARIANT, VR_SPLIT, VR_DIRECT,
 // VR_LIT_SHADOW_RAY, VR_CLAMP_COMPENSATION, for ris VR_RIS_PASS (`ris_pass`, estimate_ris_params.h),
-// and for ris and ris-mis VR_RIS_PER_REGION. `resampled`: the mixtures' components were built (--sampler alias,
+// and for ris and ris-mis VR_RIS_PER_REGION, for ris-mis with --candidate-pool VR_RIS_POOL. `resampled`: the mixtures' components were built (--sampler alias,
 // --face-selection roulette); `shadow_ray`: gathering's lit test by a shadow ray; `split`: the
 // units are split over dispatches.
 std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bool resampled, bool shadow_ray,
@@ -96,6 +96,9 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
 constexpr int ris_pass_estimate = VR_RIS_PASS_ESTIMATE;
 constexpr int ris_pass_candidates = VR_RIS_PASS_CANDIDATES;
 constexpr int ris_pass_reuse = VR_RIS_PASS_REUSE;
+// ris-mis with --candidate-pool P > 0: a dispatch of one invocation per pool entry before the
+// estimate's passes (VR_RIS_PASS_POOL), and every pass defines VR_RIS_POOL.
+constexpr int ris_pass_pool = VR_RIS_PASS_POOL;
 long long ris_round_cost(const render_settings& s, const shape_inputs& in, int ris_pass);
 
 // Units per dispatch under the loop budget, and dispatches for `units`.

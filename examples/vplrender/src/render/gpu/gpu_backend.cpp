@@ -22,6 +22,7 @@
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/estimators/ris_params.h>
+#include <vplkit/estimators/ris_pool_params.h>
 #include <vplkit/estimators/vpl_sum.hpp>
 
 #include <glm/common.hpp>
@@ -416,8 +417,17 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   // two dispatches (ris_params.h's 32-byte records).
   const bool ris = mt.estimator == estimator_kind::ris;
   const bool ris_reuse = ris_reuses(es);
+  // ris-mis --candidate-pool: the pool's entries (one pool per candidate distribution), filled by
+  // the first dispatch of the estimate (VR_RIS_PASS_POOL) and read by every later one.
+  const bool ris_pool = ris && mt.variant == 1 && es.ris_pool > 0;
+  const int ris_pools = es.ris_source == ris_source_choice::local ? std::max(1, n_dists) : 1;
+  const std::size_t ris_pool_entries = ris_pool ? std::size_t(es.ris_pool) * std::size_t(ris_pools) : 0;
   if (ris) {
-    const gpu::ris_params R = ris_params_for(es, W, H);
+    gpu::ris_params R = ris_params_for(es, W, H);
+    if (ris_pool) {
+      R.pool_size = static_cast<gpu::uint>(es.ris_pool);
+      R.pool_seed = ris_pool_seed(es.seed);
+    }
     P.ris = R;
     det["ris"] = {{"candidates", es.ris_candidates}, {"candidate_source", to_string(es.ris_source)},
                   {"spatial", es.ris_spatial}};
@@ -429,6 +439,12 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
       det["ris"][mt.variant == 1 ? "reuse_mis" : "mis"] = "pairwise";
       const std::size_t bytes = sizeof(vplkit::gpu::ris_reservoir_record) * std::max<std::size_t>(n_pixels, 1);
       pixel_buffer(pixels, pixels.reservoirs, bytes, 0, "the per-pixel reservoirs").bind(VR_RIS_BINDING_RESERVOIRS);
+    }
+    if (ris_pool) {
+      det["ris"]["pool"] = es.ris_pool;
+      pixel_buffer(pixels, pixels.ris_pool, sizeof(vplkit::gpu::ris_pool_record) * ris_pool_entries, 0,
+                   "the candidate pool")
+          .bind(VR_RIS_BINDING_POOL);
     }
   }
   gl::check_gl("estimate kernel bindings");
@@ -526,6 +542,14 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
     gl::timer_query tq;
     tq.begin();
     int done = 0;
+    if (ris_pool) {  // inside the estimate's time: every frame fills its pool
+      const gl::program& fill = gpu_kernel_program(kern.stages.front(),
+                                                   gpu_kernel_defines(es, vis, components, shadow_ray, false, ris_pass_pool));
+      P.first_pass = 1;
+      P.last_pass = 0;
+      b_params.write_bytes(&P, 0, sizeof P);
+      gl::dispatch_linear(fill, gl::groups_for(ris_pool_entries, fill.local_size()[0]));
+    }
     if (ris_reuse) {
       const gl::program& cand = gpu_kernel_program(*plans.front().stage,
                                                    gpu_kernel_defines(es, vis, components, shadow_ray, true, ris_pass_candidates));
