@@ -9122,7 +9122,8 @@ inline ris_pool_entry<T> ris_pool_draw_entry(const dprsm_view<T>& view, const Di
 template <class T>
 inline vec3<T> ris_pool_unshadowed(const gather_point<T>& gp, const mis_receiver<T>& rx, const ris_pool_entry<T>& e,
                                    T n1, T n2) {
-  if (!(e.pmf > T(0)) || !(n2 > T(0))) return vec3<T>(T(0));
+  const T pmf = estimator_pmf(e.pmf);  // a denormal pmf counts as 0, as on a GPU that flushes (vpl_sum.hpp)
+  if (!(pmf > T(0)) || !(n2 > T(0))) return vec3<T>(T(0));
   if (e.at_centre != 0 && n1 > T(0)) return vec3<T>(T(0));
   if (vpl_points_coincide(gp.position, e.position)) return vec3<T>(T(0));
   const vec3<T> wd = unit_or_zero(e.position - gp.position);  // x -> y
@@ -9132,8 +9133,8 @@ inline vec3<T> ris_pool_unshadowed(const gather_point<T>& gp, const mis_receiver
   const vec3<T> f = gp.albedo * e.radiance * (cos2 / vpl_pi<T>);
   const T p1 = cosine_pdf_solid_angle(cos2);
   const vec3<T> w = gp.position - e.position;
-  const T p2 = vpl_pdf_solid_angle(e.pmf, glm::dot(w, w), e.area, cos1);
-  return estimator_finite_or_zero(mis_balance_value(f, n1, p1, n2, p2) * (n2 * e.pmf));
+  const T p2 = vpl_pdf_solid_angle(pmf, glm::dot(w, w), e.area, cos1);
+  return estimator_finite_or_zero(mis_balance_value(f, n1, p1, n2, p2) * (n2 * pmf));
 }
 
 // The entry that u in [0, 1) picks of a pool of pool_size > 0 entries: floor(u P), clamped below
@@ -9167,7 +9168,8 @@ inline ris_reservoir<T> ris_mis_resample_pooled(const gather_point<T>& gp, const
     const vec3<T> h = ris_pool_unshadowed(gp, rx, e, n1, n2);
     const T target = luminance(h);
     if (!reservoir_weight_usable(target)) continue;
-    if (reservoir_update(res, std::uint32_t(k), target / e.pmf, u_keep)) {
+    // A usable target means a normal-range pmf (ris_pool_unshadowed), so the quotient is finite or +Inf.
+    if (reservoir_update(res, std::uint32_t(k), target / estimator_pmf(e.pmf), u_keep)) {
       r.kept = ris_sample<T>{e.texel, e.xi};
       r.target = target;
       kept = ris_mis_kept<T>{h, e.position, e.normal};

@@ -133,6 +133,20 @@ TEMPLATE_TEST_CASE("ris pool hard case: an empty pool (pool_size 0) keeps nothin
           CHECK(finite_nonneg(e));
           CHECK(b.counter == pooled_count(3, 0, 0));
           CHECK(same_bits(e, directions_only(f, g.gp, f.flux, make_counter_rng(1u, 2u), 3, 0, 16, false, mode)));
+          // ... which is estimate_ris_mis without candidates (M = 0), number for number.
+          counter_rng c = make_counter_rng(1u, 2u);
+          CHECK(same_bits(e, estimate_ris_mis(g.gp, f.r.view, f.flux, c, 3, 4, 0, f.r.tracer, f.r.vis, f.tol, mode)));
+          CHECK(c.counter == b.counter);
+          // The range form alike, split anywhere (it is what a renderer spreading the steps calls).
+          for (int k = 0; k <= 4; ++k) {
+            estimator_state<T> st = make_estimator_state<T>(make_counter_rng(1u, 2u));
+            estimate_ris_mis_pooled_range(g.gp, f.r.view, f.flux, p, 0u, st, 0, k, 3, 4, 16, f.r.tracer, f.r.vis,
+                                          f.tol, mode);
+            estimate_ris_mis_pooled_range(g.gp, f.r.view, f.flux, p, 0u, st, k, 4, 3, 4, 16, f.r.tracer, f.r.vis,
+                                          f.tol, mode);
+            CHECK(same_bits(estimate_ris_mis_finish(st), e));
+            CHECK(st.rng.counter == b.counter);
+          }
         }
       }
 }
@@ -353,31 +367,58 @@ TEMPLATE_TEST_CASE("ris pool hard case: entries with NaN, infinite, denormal or 
   }
 }
 
+namespace {
+
+// Whether an entry of texel t (the room's radiance times `bright`) with a pmf below the smallest
+// normal T is kept by a reservoir at any of the room's points, n1 = 0 or 4, point or patch VPLs.
+template <class T>
+void check_tiny_pmf_not_kept(const room<T>& f, T bright) {
+  using lim = std::numeric_limits<T>;
+  const int t = f.lit_texel();
+  REQUIRE(t >= 0);
+  for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch}) {
+    ris_pool_entry<T> e = f.entry(t, T(0.01), mode);
+    e.radiance *= bright;
+    for (const T tiny : {lim::denorm_min(), lim::min() / T(4), lim::min() / T(2), lim::min() * T(0.999)}) {
+      e.pmf = tiny;
+      for (const auto& g : f.r.gps)
+        for (const T n1 : {T(0), T(4)}) {
+          INFO("mode " << int(mode) << " pmf " << tiny << " radiance x " << bright << " " << g.name << " n1 " << n1);
+          counter_rng rng = make_counter_rng(5u, 0u);
+          ris_mis_kept<T> kept;
+          const ris_reservoir<T> r = ris_mis_resample_pooled(g.gp, &e, 1u, rng, 4, n1, T(2), kept);
+          CHECK_FALSE(ris_reservoir_has_sample(r));
+          CHECK(rng.counter == 8u);
+        }
+    }
+  }
+}
+
+}  // namespace
+
 TEMPLATE_TEST_CASE("ris pool hard case: a pmf outside the normal range counts as 0, as estimator_pmf's",
                    "[hardcases][ris-pool]", float, double) {
   // docs/math.md's normal-range contract: a denormal pmf is 0 on a GPU that flushes, so it counts as
   // 0 everywhere (estimator_pmf, which the non-pooled draw applies). An entry that holds one (a
   // buffer written elsewhere, or a pool filled by code that skipped estimator_pmf) must not be kept:
-  // with it a flushing GPU and the C++ path would keep different samples.
+  // with it a flushing GPU and the C++ path would keep different samples. With the room's radiance
+  // h = ... n2 pmf is itself below the smallest normal, so its target is not usable; the brighter
+  // case is the next test.
   using T = TestType;
-  using lim = std::numeric_limits<T>;
   const room<T> f;
-  const int t = f.lit_texel();
-  REQUIRE(t >= 0);
-  for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch}) {
-    ris_pool_entry<T> e = f.entry(t, T(0.01), mode);
-    for (const T tiny : {lim::denorm_min(), lim::min() / T(2), lim::min() * T(0.999)}) {
-      e.pmf = tiny;
-      for (const auto& g : f.r.gps)
-        for (const T n1 : {T(0), T(4)}) {
-          INFO("mode " << int(mode) << " pmf " << tiny << " " << g.name << " n1 " << n1);
-          counter_rng rng = make_counter_rng(5u, 0u);
-          ris_mis_kept<T> kept;
-          const ris_reservoir<T> r = ris_mis_resample_pooled(g.gp, &e, 1u, rng, 4, n1, T(2), kept);
-          CHECK_FALSE(ris_reservoir_has_sample(r));
-        }
-    }
-  }
+  check_tiny_pmf_not_kept(f, T(1));
+}
+
+// With a light 100 to 1000 times the room's (800 to 8000 W/sr: ordinary HDR units), h = w2 f /
+// (p2 / pmf) of an entry whose pmf is below the smallest normal would be a normal number, its target
+// usable and its weight target / pmf finite, W ~ 1 / pmf (about 1e38 in float), while a GPU that
+// flushes reads that pmf as 0 and keeps nothing. ris_pool_unshadowed weighs with estimator_pmf(e.pmf)
+// so that both keep nothing. (This failed while the header tested the pmf with `> 0` only.)
+TEMPLATE_TEST_CASE("ris pool hard case: a pmf below the normal range is not kept under a bright light",
+                   "[hardcases][ris-pool]", float, double) {
+  using T = TestType;
+  const room<T> f;
+  check_tiny_pmf_not_kept(f, T(1000));
 }
 
 TEMPLATE_TEST_CASE("ris pool hard case: entries moved to their texel's centre are gathering's when n1 > 0",
@@ -528,26 +569,5 @@ TEMPLATE_TEST_CASE("ris pool hard case: candidate and sample counts of zero or b
       for (int ch = 0; ch < 3; ++ch) CHECK(std::abs(pooled[ch] - gathering[ch]) <= rel * gathering[ch]);
       CHECK(luminance(pooled) > T(0));
     }
-  }
-}
-
-// Not run by default ([.]): estimate_ris_mis_pooled with an empty pool (pool_size 0) and directions.
-// Its reservoirs are empty (nothing can be drawn), yet the directions are still weighed against
-// n_ris p2, so the VPL strategy's share w2 f of the integral is lost: the estimate's expectation is
-// the gathering integral of w1 f only. estimate_ris_mis's n_candidates <= 0 (no candidates either)
-// makes n_ris 0 so that the directions weigh as gathering alone; an empty pool could do the same.
-// Fails with the header as written: the pooled estimate is below gathering's by the VPL share.
-TEMPLATE_TEST_CASE("ris pool hard case (known issue): an empty pool with directions weighs them as gathering alone",
-                   "[.][hardcases][ris-pool][known-issue]", float, double) {
-  using T = TestType;
-  const room<T> f;
-  for (const auto& g : f.r.gps) {
-    INFO(g.name);
-    counter_rng a = make_counter_rng(9u, 0u), b = a;
-    const vec3<T> pooled =
-        estimate_ris_mis_pooled(g.gp, f.r.view, f.flux, static_cast<const ris_pool_entry<T>*>(nullptr), 0u, a, 8, 4,
-                                16, f.r.tracer, f.r.vis, f.tol);
-    const vec3<T> gathering = estimate_ris_mis(g.gp, f.r.view, f.flux, b, 8, 4, 0, f.r.tracer, f.r.vis, f.tol);
-    CHECK(same_bits(pooled, gathering));
   }
 }

@@ -96,7 +96,8 @@ vplkit_ris_pool_entry vplkit_ris_pool_draw_entry(vplkit_dprsm_view view, uint di
 // stored parts (the entry's normal is already unit). 0 for an empty entry, n2 <= 0, an at-centre
 // point when n1 > 0, or a point that cannot light x.
 vec3 vplkit_ris_pool_unshadowed(vplkit_gather_point gp, vplkit_ris_pool_entry e, float n1, float n2) {
-  if (!(e.pmf > 0.0) || !(n2 > 0.0)) return vec3(0.0);
+  float pmf = vplkit_estimator_pmf(e.pmf);  // a denormal pmf counts as 0 (vpl_sum.glsl)
+  if (!(pmf > 0.0) || !(n2 > 0.0)) return vec3(0.0);
   if (e.at_centre != 0 && n1 > 0.0) return vec3(0.0);
   if (vplkit_vpl_points_coincide(gp.position, e.position)) return vec3(0.0);
   vec3 wd = vplkit_unit_or_zero(e.position - gp.position);  // x -> y
@@ -106,8 +107,8 @@ vec3 vplkit_ris_pool_unshadowed(vplkit_gather_point gp, vplkit_ris_pool_entry e,
   vec3 f = gp.albedo * e.radiance * (cos2 / vplkit_vpl_pi);
   float p1 = vplkit_cosine_pdf_solid_angle(cos2);
   vec3 w = gp.position - e.position;
-  float p2 = vplkit_vpl_pdf_solid_angle(e.pmf, dot(w, w), e.area, cos1);
-  return vplkit_estimator_finite_or_zero(vplkit_mis_balance_value(f, n1, p1, n2, p2) * (n2 * e.pmf));
+  float p2 = vplkit_vpl_pdf_solid_angle(pmf, dot(w, w), e.area, cos1);
+  return vplkit_estimator_finite_or_zero(vplkit_mis_balance_value(f, n1, p1, n2, p2) * (n2 * pmf));
 }
 
 // The entry that u in [0, 1) picks of a pool of pool_size > 0 entries: floor(u P), clamped below P.
@@ -141,7 +142,7 @@ vplkit_ris_reservoir vplkit_ris_mis_resample_pooled(vplkit_gather_point gp, uint
     float target = vplkit_luminance(h);
     if (!vplkit_reservoir_weight_usable(target)) continue;
     // An overflowing quotient is not a usable weight: the reservoir skips it.
-    if (vplkit_reservoir_update(res, uint(k), vplkit_mis_div(target, e.pmf), u_keep)) {
+    if (vplkit_reservoir_update(res, uint(k), vplkit_mis_div(target, vplkit_estimator_pmf(e.pmf)), u_keep)) {
       r.kept = vplkit_ris_sample(e.texel, e.xi);
       r.target = target;
       kept = vplkit_ris_mis_kept(h, e.position, e.normal);
