@@ -143,6 +143,33 @@ TEST_CASE("ris-mis --candidate-pool on the GPU: the steps split over dispatches 
   CHECK(one.image.rgb == split.image.rgb);
 }
 
+TEST_CASE("ris-mis --candidate-pool: the loop bound of a step charges no CDF search per candidate") {
+  // A pooled candidate is an index, a load and its contribution (no loop): the step's bound must not
+  // grow with the DPRSM (the CDF's length), and M candidates must cost less than M searches, so that
+  // llvmpipe's loop budget does not split the dispatch more than the step needs. The direct draws
+  // keep their search; --method ris has no pool and is unchanged by the setting.
+  render_settings s;
+  s.meth = method::ris_mis;
+  s.ris_candidates = 16;
+  s.vpls = s.dirs = 64;
+  const auto cost = [&](method m, int pool, int dprsm) {
+    render_settings t = s;
+    t.meth = m;
+    t.ris_pool = pool;
+    shape_inputs in;
+    in.dprsm_resolution = dprsm;
+    in.query_cost = 300;
+    return gpu_kernel_for(m).stages.front().shape(t, in).cost;
+  };
+  CHECK(cost(method::ris_mis, 16384, 128) == cost(method::ris_mis, 16384, 512));
+  CHECK(cost(method::ris_mis, 0, 128) < cost(method::ris_mis, 0, 512));
+  // The 16 searches over 2 x 512^2 texels are at least 16 x 2 x 19 iterations.
+  CHECK(cost(method::ris_mis, 0, 512) - cost(method::ris_mis, 16384, 512) >= 16 * 2 * 19);
+  CHECK(cost(method::ris, 16384, 512) == cost(method::ris, 0, 512));
+  // The pooled step still bounds its two queries (a gathering ray and the kept sample's).
+  CHECK(cost(method::ris_mis, 16384, 512) > 2 * 300);
+}
+
 TEST_CASE("estimate_ris_mis.comp: the pool records have ris_pool_params.h's layout in every pass") {
   using Q = vplkit::gpu::ris_pool_record;
   const std::vector<member> members = {

@@ -78,9 +78,11 @@ work_shape with_clamp_compensation(const render_settings& s, const shape_inputs&
 }
 
 // RIS: a sample is M candidates (a CDF draw and an unshadowed contribution each) and the kept one's
-// query.
+// query. ris-mis with --candidate-pool reads each candidate from the pool (VR_RIS_POOL: an index, a
+// load and the contribution, no loop); the pool's CDF draws are its own dispatch, one per entry.
 long long ris_candidates_cost(const render_settings& s, const shape_inputs& in) {
-  return static_cast<long long>(std::max(1, s.ris_candidates)) * (cdf_cost(in) + 8);
+  const bool pooled = traits(s.meth).variant == 1 && s.ris_pool > 0;
+  return static_cast<long long>(std::max(1, s.ris_candidates)) * ((pooled ? 0 : cdf_cost(in)) + 8);
 }
 work_shape ris_shape(const render_settings& s, const shape_inputs& in) {
   return {ris_candidates_cost(s, in) + dda_cost(in) + 4, s.vpls, 0};
