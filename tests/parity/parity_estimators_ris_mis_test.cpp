@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/estimators/ris_mis_estimator.glsl (and mis_estimator.glsl's
 // vplkit_mis_vpl_unshadowed) against include/vplkit/estimators/ris_mis_estimator.hpp, T = float, on
-// the synthetic room of tests/support/synthetic_scene.hpp through parity_estimators_support.hpp
+// the synthetic room of tests/support/synthetic_scene.hpp through parity_ris_mis_support.hpp
 // (DPRSM R = 32, 32^3 voxels, a 24 x 24 G-buffer, voxel visibility and the voxel tracer on both
 // sides), point and patch VPLs: h without visibility (ris_mis_unshadowed), one candidate's weight,
 // a reservoir (kept sample, weight_sum, confidence) and its shade, and the whole estimate_ris_mis
@@ -24,8 +24,7 @@
 // h is conditioned like the VPL contribution it is made of (its MIS weight only damps the
 // conditioning: d ln h = (1 - w1)(d ln cos1 + d ln cos2) - w2 d ln d2^2), on top of a base for the
 // float chain (the reflected radiance, p2's area and division, the balance heuristic's 16 ulps).
-#include "parity_estimators_support.hpp"
-#include "parity_fma_model.hpp"
+#include "parity_ris_mis_support.hpp"
 #include "parity_vpl_error_bound.hpp"
 
 #include <gpu_precision.hpp>
@@ -33,7 +32,6 @@
 #include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/gather_subset.hpp>
 #include <vplkit/builders/global_weights.hpp>
-#include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/weighted_reservoir.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
@@ -44,167 +42,42 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <iostream>
-#include <limits>
 #include <string>
 #include <vector>
+
+// Distribution 0 of parity_ris_mis_support.hpp: global weights from 64 gather points plus a flux floor.
+std::vector<float> vplkit::parity::rismis::source_weights() {
+  const auto& f = fixture();
+  const auto gb = f.gbuffer.view();
+  const auto view = f.view();
+  const auto subset = vplkit::stratified_gather_subset(gb, vplkit::full_image_rect(gb), 64, 3u);
+  std::vector<float> w = vplkit::build_global_weights(gb, subset, view, 0.05f);
+  const std::vector<float> flux = vplkit::build_flux_weights(view);
+  for (std::size_t t = 0; t < w.size(); ++t) w[t] += 0.01f * flux[t];
+  return w;
+}
 
 namespace {
 
 using namespace vplkit::parity::est;
+using namespace vplkit::parity::rismis;
 using vplkit::parity::compare_exact;
 using vplkit::parity::compare_floats;
 using vplkit::parity::input;
 using vplkit::parity::within_ulps;
-using vplkit_test::float4;
-using vplkit_test::int4;
 
-const float inf = std::numeric_limits<float>::infinity();
-// The float chain of h on one side (see the header), both sides together.
-constexpr double base_rel = 2e-5;
-
-const scene_fixture& fixture() {
-  static const scene_fixture* f = new scene_fixture(32, 32, 24, 24);
-  return *f;
-}
-
-// Exact decisions only between llvmpipe (correctly rounded, nothing contracted) and an uncontracted
-// reference.
-bool bit_exact_device() {
-  static const bool exact = vplkit::gl::is_software_renderer() && !vplkit_test::reference_contracts;
-  return exact;
-}
-
-float window() { return 0.2f + vplkit::voxel_tracer_depth_tolerance(fixture().grid.view()); }
-
-// Distribution 0: global weights from 64 gather points plus a flux floor, one CDF (bindings 9, 10).
-// Distribution 1: `fixed` (every draw the same texel and pmf: the hard cases).
-struct fixed_distribution {
-  std::size_t index = 0;
-  float p = 0.0f;
-  vplkit::discrete_sample<float> sample(float) const { return {index, p}; }
-  float pmf(std::size_t i) const { return i == index ? p : 0.0f; }
-};
-
-struct source_cdf {
-  vplkit::discrete_cdf<float> cdf;
-  std::vector<float> cdf_data;
-  std::vector<std::uint32_t> guide_data;
-  source_cdf() {
-    const scene_fixture& f = fixture();
-    const auto gb = f.gbuffer.view();
-    const auto view = f.view();
-    const auto subset = vplkit::stratified_gather_subset(gb, vplkit::full_image_rect(gb), 64, 3u);
-    std::vector<float> w = vplkit::build_global_weights(gb, subset, view, 0.05f);
-    const std::vector<float> flux = vplkit::build_flux_weights(view);
-    for (std::size_t t = 0; t < w.size(); ++t) w[t] += 0.01f * flux[t];
-    cdf = vplkit::discrete_cdf<float>(w);
-    cdf_data.assign(cdf.cdf().begin(), cdf.cdf().end());
-    guide_data.assign(cdf.guide().begin(), cdf.guide().end());
-  }
-};
-
-const source_cdf& source() {
-  static const source_cdf* s = new source_cdf();
-  return *s;
-}
-
-// The C++ side of distribution d.
-struct distribution_ref {
-  int id = 0;
-  fixed_distribution fixed;
-  vplkit::discrete_sample<float> sample(float u) const { return id == 1 ? fixed.sample(u) : source().cdf.sample(u); }
-  float pmf(std::size_t i) const { return id == 1 ? fixed.pmf(i) : source().cdf.pmf(i); }
-};
-
-struct dist_info {
-  std::int32_t cdf_size, guide_size, fixed_index;
-  float fixed_pmf;
-};
-
-const char* const hooks = R"(
-#include "vplkit/distribution/discrete_cdf.glsl"
-layout(std430, binding = 9) readonly buffer CdfData { float cdf_data[]; };
-layout(std430, binding = 10) readonly buffer GuideData { uint guide_data[]; };
-struct dist_info { int cdf_size; int guide_size; int fixed_index; float fixed_pmf; };
-layout(std430, binding = 12) readonly buffer DistInfo { dist_info dinfo; };
-float vplkit_load_cdf(uint d, uint i) { return cdf_data[i]; }
-uint vplkit_load_guide(uint d, uint j) { return guide_data[j]; }
-vplkit_discrete_sample vplkit_estimator_distribution_sample(uint d, float u) {
-  if (d == 1u) return vplkit_discrete_sample(uint(dinfo.fixed_index), dinfo.fixed_pmf);
-  return vplkit_discrete_cdf_sample(vplkit_discrete_cdf(0u, uint(dinfo.cdf_size), uint(dinfo.guide_size), 1.0), u);
-}
-float vplkit_estimator_distribution_pmf(uint d, uint i) {
-  if (d == 1u) return i == uint(dinfo.fixed_index) ? dinfo.fixed_pmf : 0.0;
-  return vplkit_discrete_cdf_pmf(vplkit_discrete_cdf(0u, uint(dinfo.cdf_size), uint(dinfo.guide_size), 1.0), i);
-}
-#include "vplkit/estimators/ris_mis_estimator.glsl"
-struct out4 { vec4 a; vec4 b; ivec4 c; uvec4 d; };
-layout(std430, binding = 1) writeonly buffer Out { out4 result[]; };
-)";
-
-struct out4 {
-  float4 a, b;
-  int4 c;
-  std::uint32_t d[4];
-};
+const std::string hooks =
+    std::string(distribution_hooks_glsl) + "#include \"vplkit/estimators/ris_mis_estimator.glsl\"\n" + out4_glsl;
 
 // A kernel of the prelude, the hooks and `head`, running `body` for i < items (count outputs).
 std::vector<out4> run(const std::string& head, const std::string& body, std::size_t items, std::size_t count,
                       const scene_params& p, const std::vector<named_point>& pts, const distribution_ref& dist,
                       std::vector<vplkit::parity::ssbo> extra, const std::string& name) {
-  const scene_fixture& f = fixture();
-  vplkit::parity::kernel_call call;
-  call.name = name;
+  vplkit::parity::kernel_call call =
+      ris_kernel(name, hooks, head, body, "RIS_MIS_ITEMS", p, pts, dist, std::move(extra));
   call.defines = "#define RIS_MIS_ITEMS " + std::to_string(items) + "u\n";
-  call.source = std::string(scene_prelude) + hooks + head + "void main() {\n  uint i = gl_GlobalInvocationID.x;\n" +
-                "  if (i >= RIS_MIS_ITEMS) return;\n" + body + "}\n";
-  call.inputs = f.inputs();
-  call.inputs.push_back(input(5, std::vector<scene_params>{p}));
-  call.inputs.push_back(input(7, pack_points(pts)));
-  call.inputs.push_back(input(9, source().cdf_data));
-  call.inputs.push_back(input(10, source().guide_data));
-  const dist_info info{int(source().cdf.size()), int(source().cdf.guide_size()), int(dist.fixed.index), dist.fixed.p};
-  call.inputs.push_back(input(12, std::vector<dist_info>{info}));
-  for (auto& e : extra) call.inputs.push_back(std::move(e));
-  call.output_binding = 1;
   return vplkit::parity::run_compute<out4>(call, count);
-}
-
-// Every third G-buffer pixel, one in five again with its shading normal tilted 50 degrees, the named
-// points, and hard cases: on a lit texel's VPL (d2 = 0), 1e-3 from one (the near field, where h
-// stays bounded by gathering's weight), back-facing, background, NaN position.
-std::vector<named_point> gather_points() {
-  const scene_fixture& f = fixture();
-  std::vector<named_point> pts;
-  for (std::size_t i = 0; i < f.gbuffer.position.size(); i += 3) {
-    pts.push_back({"pixel " + std::to_string(i), {f.gbuffer.position[i], f.gbuffer.normal[i], f.gbuffer.albedo[i]}});
-    const v3f n = f.gbuffer.normal[i];
-    if (i % 15 != 0 || !(glm::dot(n, n) > 0.0f)) continue;
-    const v3f nn = glm::normalize(n);
-    const v3f side = glm::normalize(glm::cross(nn, std::abs(nn.x) < 0.9f ? v3f(1, 0, 0) : v3f(0, 1, 0)));
-    pts.push_back({"pixel " + std::to_string(i) + " shading normal tilted 50 deg",
-                   {f.gbuffer.position[i], n, f.gbuffer.albedo[i], 0.6428f * nn + 0.7660f * side}});
-  }
-  const auto named = f.scene.gather_points();
-  for (const auto& g : named) pts.push_back({g.name, g.gp});
-  const auto view = f.view();
-  int on = 0;
-  for (int t = 0; t < view.texel_count() && on < 3; t += 97) {
-    const auto v = view.vpl_at(t);
-    if (!vplkit::vpl_has_flux(v)) continue;
-    const v3f n = glm::normalize(v.normal);
-    const v3f side = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9f ? v3f(1, 0, 0) : v3f(0, 1, 0)));
-    pts.push_back({"on VPL " + std::to_string(t), {v.position, v.normal, v3f(0.6f)}});
-    pts.push_back({"1e-3 from VPL " + std::to_string(t), {v.position + 1e-3f * side, n, v3f(0.6f)}});
-    ++on;
-  }
-  const auto& open = named[0].gp;
-  pts.push_back({"floor_open back-facing", {open.position, -open.normal, open.albedo}});
-  pts.push_back({"background", {v3f(0.1f, 0.2f, 0.3f), v3f(0.0f), v3f(0.6f)}});
-  pts.push_back({"NaN position", {v3f(std::numeric_limits<float>::quiet_NaN(), 0, 0), v3f(0, 1, 0), v3f(0.6f)}});
-  return pts;
 }
 
 // The relative forward error bound of h for the sample s at gp (without base_rel): the VPL
@@ -227,32 +100,6 @@ double h_conditioning(const vplkit::gather_point<float>& gp, const vplkit::dprsm
   const double err = vplkit::luminance(vplkit::vec3<double>(vplkit::parity::vpl_contribution_error(gp, v, dy, 0.0f)));
   if (!(lum > 0.0)) return err > 0.0 ? 1.0 : 0.0;  // a cosine at 0 on this side: a tie
   return std::min(1.0, err / lum) + area;
-}
-
-// Per channel |gpu - cpu| <= rel[k] |cpu| + 1e-30; a channel that is 0 on one side only is a
-// decision (counted in `zero_flips`, accepted only where the C++ side's conditioning says the
-// decision is a tie, rel >= 0.5). Prints the worst ratio; returns the number outside.
-std::size_t check_rel(const std::string& what, const std::vector<float>& gpu, const std::vector<float>& cpu,
-                      const std::vector<double>& rel, std::size_t& zero_flips) {
-  std::size_t outside = 0, worst_at = 0;
-  double worst = 0.0, worst_rel = 0.0;
-  for (std::size_t k = 0; k < gpu.size(); ++k) {
-    if ((gpu[k] == 0.0f) != (cpu[k] == 0.0f)) {
-      ++zero_flips;
-      if (!(rel[k] >= 0.5)) ++outside;
-      continue;
-    }
-    const double diff = std::abs(double(gpu[k]) - double(cpu[k]));
-    const double ratio = diff / (rel[k] * std::abs(double(cpu[k])) + 1e-30);
-    if (!std::isfinite(gpu[k]) || !(ratio <= 1.0)) ++outside;
-    if (ratio > worst) worst = ratio, worst_at = k;
-    if (cpu[k] != 0.0f) worst_rel = std::max(worst_rel, diff / std::abs(double(cpu[k])));
-  }
-  std::cout << "parity " << what << ": " << gpu.size() << " floats, worst rel " << worst_rel
-            << ", worst |gpu - cpu| / bound " << worst;
-  if (!gpu.empty()) std::cout << " at [" << worst_at << "] gpu " << gpu[worst_at] << " cpu " << cpu[worst_at];
-  std::cout << ", " << outside << " outside, " << zero_flips << " zero on one side only\n";
-  return outside;
 }
 
 struct sample_item {
@@ -430,15 +277,7 @@ TEST_CASE("ris_mis_unshadowed: GPU vs C++ over gather points and samples, point 
 
 namespace {
 
-// The smallest relative margin |u S - w| / w of the reservoir decisions of one candidate pass, the
-// largest relative error bound of its weights (both from the C++ candidates), and whether a
-// candidate's target is a cosine at a tie (0 on one side, usable on the other: the pass may keep
-// another sample whatever the margins).
-struct pass_facts {
-  double margin = inf, weight_rel = 0.0;
-  bool cosine_tie = false;
-};
-
+// The pass_facts (parity_ris_mis_support.hpp) of one ris_mis candidate pass from `dist`.
 template <class Dist>
 pass_facts candidate_pass(const vplkit::gather_point<float>& gp, const Dist& dist, int m, float n1, float n2,
                           vplkit::vpl_mode mode, float tol, vplkit::counter_rng rng) {
@@ -458,23 +297,6 @@ pass_facts candidate_pass(const vplkit::gather_point<float>& gp, const Dist& dis
     out.weight_rel = std::max(out.weight_rel, base_rel + 2.0 * h_conditioning(gp, view, s, mode, tol));
   }
   return out;
-}
-
-distribution_ref fixed_case(float p, bool outside) {
-  const auto view = fixture().view();
-  distribution_ref d;
-  d.id = 1;
-  d.fixed.p = p;
-  if (outside) {
-    d.fixed.index = std::size_t(view.texel_count());
-    return d;
-  }
-  for (int t = 0; t < view.texel_count(); ++t)
-    if (vplkit::vpl_has_flux(view.vpl_at(t)) && t % 5 == 3) {
-      d.fixed.index = std::size_t(t);
-      break;
-    }
-  return d;
 }
 
 }  // namespace
@@ -514,9 +336,9 @@ TEST_CASE("ris_mis candidates, reservoirs and shade: GPU vs C++ (point and patch
   configs.push_back({8, 8.0f, 0.0f, {}, "cdf"});  // n2 = 0: no candidates
   configs.push_back({0, 8.0f, 8.0f, {}, "cdf"});  // M = 0: no candidates
   configs.push_back({-3, 8.0f, 8.0f, {}, "cdf"});
-  configs.push_back({8, 8.0f, 8.0f, fixed_case(1.0f, false), "one lit texel, pmf 1"});
-  configs.push_back({8, 8.0f, 8.0f, fixed_case(3e-39f, false), "one lit texel, denormal pmf (all targets 0)"});
-  configs.push_back({8, 8.0f, 8.0f, fixed_case(0.5f, true), "an index outside the view (all targets 0)"});
+  configs.push_back({8, 8.0f, 8.0f, fixed_case(1.0f, lit_texel()), "one lit texel, pmf 1"});
+  configs.push_back({8, 8.0f, 8.0f, fixed_case(3e-39f, lit_texel()), "one lit texel, denormal pmf (all targets 0)"});
+  configs.push_back({8, 8.0f, 8.0f, fixed_case(0.5f, view.texel_count()), "an index outside the view (all targets 0)"});
   std::size_t flipped = 0, compared = 0, vis_flips = 0;
   for (const vplkit::vpl_mode mode : {vplkit::vpl_mode::point, vplkit::vpl_mode::patch})
     for (const config& cfg : configs) {
@@ -619,105 +441,20 @@ TEST_CASE("ris_mis candidates, reservoirs and shade: GPU vs C++ (point and patch
 
 namespace {
 
-// Every decision of estimate_ris_mis's steps at a gather point, hashed (FNV-1a on 32-bit words):
-// per RIS step the kept texel, its jitter and its visibility (kept_visible), per direction the
-// ray's texel, lit, in-front and (patch) at-centre tests. Computed with the same library functions
-// and the same stream as the estimate, in GLSL and in C++.
-const char* const fingerprint_glsl = R"(
-uint fnv(uint h, uint v) { return (h ^ v) * 16777619u; }
-uint fingerprint(vplkit_gather_point gp, vplkit_dprsm_view view, uint d, vplkit_counter_rng rng, int nd, int nr, int m,
-                 vplkit_voxel_tracer tracer, vplkit_visibility vis, float tol, int mode) {
-  uint h = 2166136261u;
-  if (!vplkit_gather_point_valid(gp)) return h;
-  if (nd < 0) nd = 0;
-  if (nr < 0 || m <= 0) nr = 0;
-  float n1 = float(nd), n2 = float(nr);
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
-  for (int j = 0; j < max(nd, nr); ++j) {
-    if (j < nr) {
+// The fingerprint (parity_ris_mis_support.hpp) of estimate_ris_mis's steps: a RIS step is
+// ris_mis_resample from distribution d.
+const std::string fingerprint_ris_mis = fingerprint_glsl("uint d", R"(
       vplkit_ris_reservoir r = vplkit_ris_mis_resample(gp, view, d, rng, m, n1, n2, mode, tol);
-      h = fnv(h, uint(r.kept.texel + 1));
-      h = fnv(h, floatBitsToUint(r.kept.xi.x));
-      h = fnv(h, floatBitsToUint(r.kept.xi.y));
-      h = fnv(h, kept_visible(gp, view, d, r, vis, n1, n2, mode, tol));
-    }
-    if (j < nd) {
-      float u0 = vplkit_rng_next_unit(rng);
-      float u1 = vplkit_rng_next_unit(rng);
-      vec3 local = vplkit_sample_cosine_hemisphere(vec2(u0, u1));
-      vec3 dir = vplkit_to_world(frame, local);
-      uint code = 7u;
-      if (local.z > 0.0 && vplkit_gather_point_accepts_direction(gp, dir)) {
-        vplkit_gathering_ray_result g = vplkit_trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, tol);
-        code = uint(g.texel + 1) * 8u + (g.lit ? 1u : 0u) + (g.in_front ? 2u : 0u);
-        if (g.lit && mode == vplkit_vpl_patch && vplkit_mis_patch_hit_at_centre(view, g.texel, g.hit)) code += 4u;
-      }
-      h = fnv(h, code);
-    }
-  }
-  return h;
-}
-)";
-
-std::uint32_t fnv(std::uint32_t h, std::uint32_t v) { return (h ^ v) * 16777619u; }
-
-std::uint32_t bits(float x) {
-  std::uint32_t b;
-  std::memcpy(&b, &x, 4);
-  return b;
-}
-
-// The C++ fingerprint, and the point's conditioning: the largest bound of a candidate's weight and of
-// a lit gathering sample (spec::gathering_sample_rel of its hit distance over its distance to the
-// light, three times: in f and in the hit's p2 through d2^2 and cos1, as estimate_mis's parity test).
-struct point_facts {
-  std::uint32_t fingerprint = 2166136261u;
-  double rel = 0.0;
-};
+      uint visible = kept_visible(gp, view, d, r, vis, n1, n2, mode, tol);)");
 
 point_facts replay_point(const vplkit::gather_point<float>& gp, const distribution_ref& dist, vplkit::counter_rng rng,
                          int nd, int nr, int m, vplkit::vpl_mode mode, float tol) {
-  const scene_fixture& f = fixture();
-  const auto view = f.view();
-  const vplkit::voxel_tracer<float> tracer{f.grid.view()};
-  point_facts out;
-  if (!vplkit::gather_point_valid(gp)) return out;
-  if (nd < 0) nd = 0;
-  if (nr < 0 || m <= 0) nr = 0;
-  const float n1 = float(nd), n2 = float(nr);
-  const auto frame = vplkit::make_orthonormal_basis(vplkit::gather_point_shading_normal(gp));
-  std::uint32_t& h = out.fingerprint;
-  for (int j = 0; j < std::max(nd, nr); ++j) {
-    if (j < nr) {
-      const pass_facts pf = candidate_pass(gp, dist, m, n1, n2, mode, tol, rng);
-      // h, the target (the same sample's error) and weight_sum: 2 h + weight_sum.
-      out.rel = std::max(out.rel, 3.0 * pf.weight_rel + double(m) * vplkit_test::spec::ulp_rel);
-      const auto r = vplkit::ris_mis_resample(gp, view, dist, rng, m, n1, n2, mode, tol);
-      h = fnv(h, std::uint32_t(r.kept.texel + 1));
-      h = fnv(h, bits(r.kept.xi.x));
-      h = fnv(h, bits(r.kept.xi.y));
-      h = fnv(h, kept_visible(gp, view, dist, r, n1, n2, mode, tol));
-    }
-    if (j < nd) {
-      const float u0 = vplkit::rng_next_unit<float>(rng);
-      const float u1 = vplkit::rng_next_unit<float>(rng);
-      const v3f local = vplkit::sample_cosine_hemisphere(vplkit::vec2<float>(u0, u1));
-      const v3f dir = vplkit::to_world(frame, local);
-      std::uint32_t code = 7u;
-      if (local.z > 0.0f && vplkit::gather_point_accepts_direction(gp, dir)) {
-        const auto g = vplkit::trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, tol);
-        code = std::uint32_t(g.texel + 1) * 8u + (g.lit ? 1u : 0u) + (g.in_front ? 2u : 0u);
-        if (g.lit && mode == vplkit::vpl_mode::patch && vplkit::mis_patch_hit_at_centre(view, g.texel, g.hit)) code += 4u;
-        if (g.lit) {
-          const double t = glm::length(vplkit::vec3<double>(g.hit) - vplkit::vec3<double>(gp.position));
-          const double d1 = glm::length(vplkit::vec3<double>(view.light.position) - vplkit::vec3<double>(g.hit));
-          if (d1 > 0.0) out.rel = std::max(out.rel, 3.0 * vplkit_test::spec::gathering_sample_rel(t / d1));
-        }
-      }
-      h = fnv(h, code);
-    }
-  }
-  return out;
+  const auto view = fixture().view();
+  return replay_steps(gp, rng, nd, nr, m, mode, tol, [&](vplkit::counter_rng& step_rng, float n1, float n2) {
+    const pass_facts pf = candidate_pass(gp, dist, m, n1, n2, mode, tol, step_rng);
+    const auto r = vplkit::ris_mis_resample(gp, view, dist, step_rng, m, n1, n2, mode, tol);
+    return ris_step_facts{r, kept_visible(gp, view, dist, r, n1, n2, mode, tol), pf.weight_rel};
+  });
 }
 
 }  // namespace
@@ -727,7 +464,7 @@ TEST_CASE("estimate_ris_mis: GPU vs C++ per gather point, point and patch, hard 
   const auto view = f.view();
   const auto pts = gather_points();
   const float tol = window();
-  const std::string head = std::string(kept_visible_glsl) + fingerprint_glsl;
+  const std::string head = std::string(kept_visible_glsl) + fingerprint_ris_mis;
   // ip.y = M, ip.z = vpl mode, ip.w = distribution; ip2 = n_dirs, n_ris, and the range splits a, b.
   const std::string body = R"(  vplkit_gather_point gp = load_point(i);
   vplkit_dprsm_view view = load_view();
@@ -766,8 +503,8 @@ TEST_CASE("estimate_ris_mis: GPU vs C++ per gather point, point and patch, hard 
       {0, 0, 8, {}, "cdf"},
       {-1, 5, 4, {}, "cdf"},
       {6, -2, 4, {}, "cdf"},
-      {8, 8, 8, fixed_case(3e-39f, false), "one lit texel, denormal pmf (all targets 0)"},
-      {8, 8, 8, fixed_case(1.0f, false), "one lit texel, pmf 1"}};
+      {8, 8, 8, fixed_case(3e-39f, lit_texel()), "one lit texel, denormal pmf (all targets 0)"},
+      {8, 8, 8, fixed_case(1.0f, lit_texel()), "one lit texel, pmf 1"}};
   std::size_t flipped_total = 0, compared_total = 0;
   for (const vplkit::vpl_mode mode : {vplkit::vpl_mode::point, vplkit::vpl_mode::patch})
     for (const config& cfg : configs) {
@@ -876,7 +613,7 @@ TEST_CASE("ris_mis spatial reuse: GPU vs C++ over a G-buffer (pairwise and balan
   const auto g = f.gbuffer.view();
   const float tol = window();
   const float n1 = 8.0f, n2 = 4.0f;
-  const distribution_ref cdf{}, one_texel = fixed_case(1.0f, false);
+  const distribution_ref cdf{}, one_texel = fixed_case(1.0f, lit_texel());
   const std::string head = std::string(kept_visible_glsl) + R"(
 #include "vplkit/estimators/ris_params.h"
 #include "vplkit/estimators/ris_mis_spatial_reuse.glsl"

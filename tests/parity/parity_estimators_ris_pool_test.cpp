@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // CPU/GPU parity of glsl/vplkit/estimators/ris_candidate_pool.glsl (with ris_pool_entry.glsl and
 // the record of ris_pool_params.h) against include/vplkit/estimators/ris_candidate_pool.hpp,
-// T = float, on the synthetic room of parity_estimators_support.hpp (DPRSM R = 32, 32^3 voxels, a
+// T = float, on the synthetic room of parity_ris_mis_support.hpp (DPRSM R = 32, 32^3 voxels, a
 // 24 x 24 G-buffer, voxel visibility and the voxel tracer on both sides), point and patch VPLs:
 // the record's layout; pool entries drawn on both sides (ris_pool_draw_entry); h of an entry at the
 // gather points (ris_pool_unshadowed); reservoirs of pooled candidates and their shade
@@ -23,14 +23,12 @@
 // Values are compared within per-item forward error bounds (parity_vpl_error_bound.hpp). The
 // kernels are few and each compiles once per process: on llvmpipe the compile, not the dispatch,
 // sets the test's time.
-#include "parity_estimators_support.hpp"
-#include "parity_fma_model.hpp"
+#include "parity_ris_mis_support.hpp"
 #include "parity_vpl_error_bound.hpp"
 
 #include <gpu_precision.hpp>
 
 #include <vplkit/builders/flux_weights.hpp>
-#include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/weighted_reservoir.hpp>
 #include <vplkit/estimators/ris_candidate_pool.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
@@ -43,26 +41,24 @@
 #include <cstring>
 #include <iostream>
 #include <iterator>
-#include <limits>
 #include <string>
 #include <vector>
+
+// Distribution 0 of parity_ris_mis_support.hpp: the flux weights (a real search over 2048 texels).
+std::vector<float> vplkit::parity::rismis::source_weights() { return vplkit::build_flux_weights(fixture().view()); }
 
 namespace {
 
 using namespace vplkit::parity::est;
+using namespace vplkit::parity::rismis;
 using vplkit::parity::compare_exact;
 using vplkit::parity::compare_floats;
 using vplkit::parity::input;
 using vplkit::parity::within_ulps;
 using vplkit_test::float4;
-using vplkit_test::int4;
 using entry = vplkit::ris_pool_entry<float>;
 using record = vplkit::gpu::ris_pool_record;
 
-const float inf = std::numeric_limits<float>::infinity();
-// The float chain of h (reflected radiance, p2's area and division, the balance heuristic's 16
-// ulps) on one side, both sides together: the bound of parity_estimators_ris_mis_test.
-constexpr double base_rel = 2e-5;
 constexpr std::uint32_t pool_seed = 0xB1000007u;
 // Pools of at most pool_stride entries in one buffer, pool p at [p stride, (p + 1) stride): the
 // GLSL accessor below maps (pool, index) the same way.
@@ -71,76 +67,9 @@ enum pool_id : int { cdf_pool = 0, empty_pool = 1, centre_pool = 2, single_pool 
 // A test configuration's pool size that stands for the pool's own.
 constexpr std::uint32_t own_size = ~0u;
 
-const scene_fixture& fixture() {
-  static const scene_fixture* f = new scene_fixture(32, 32, 24, 24);
-  return *f;
-}
-
-// Exact decisions only between llvmpipe (correctly rounded, nothing contracted) and an uncontracted
-// reference.
-bool bit_exact_device() {
-  static const bool exact = vplkit::gl::is_software_renderer() && !vplkit_test::reference_contracts;
-  return exact;
-}
-
-float window() { return 0.2f + vplkit::voxel_tracer_depth_tolerance(fixture().grid.view()); }
-
-// Distribution 0: the flux weights' CDF (bindings 9, 10: a real search over 2048 texels).
-// Distribution 1: `fixed` (every draw the same index and pmf: the hard cases).
-struct fixed_distribution {
-  std::size_t index = 0;
-  float p = 0.0f;
-  vplkit::discrete_sample<float> sample(float) const { return {index, p}; }
-  float pmf(std::size_t i) const { return i == index ? p : 0.0f; }
-};
-
-struct source_cdf {
-  vplkit::discrete_cdf<float> cdf;
-  std::vector<float> cdf_data;
-  std::vector<std::uint32_t> guide_data;
-  source_cdf() : cdf(vplkit::build_flux_weights(fixture().view())) {
-    cdf_data.assign(cdf.cdf().begin(), cdf.cdf().end());
-    guide_data.assign(cdf.guide().begin(), cdf.guide().end());
-  }
-};
-
-const source_cdf& source() {
-  static const source_cdf* s = new source_cdf();
-  return *s;
-}
-
-// The C++ side of distribution `id`.
-struct distribution_ref {
-  int id = 0;
-  fixed_distribution fixed;
-  vplkit::discrete_sample<float> sample(float u) const { return id == 1 ? fixed.sample(u) : source().cdf.sample(u); }
-  float pmf(std::size_t i) const { return id == 1 ? fixed.pmf(i) : source().cdf.pmf(i); }
-};
-
-struct dist_info {
-  std::int32_t cdf_size, guide_size, fixed_index;
-  float fixed_pmf;
-};
-
 // The hooks of both distributions, the record header, the pool file and its accessor over the
 // records at binding 11.
-const char* const hooks = R"(
-#include "vplkit/distribution/discrete_cdf.glsl"
-layout(std430, binding = 9) readonly buffer CdfData { float cdf_data[]; };
-layout(std430, binding = 10) readonly buffer GuideData { uint guide_data[]; };
-struct dist_info { int cdf_size; int guide_size; int fixed_index; float fixed_pmf; };
-layout(std430, binding = 12) readonly buffer DistInfo { dist_info dinfo; };
-float vplkit_load_cdf(uint d, uint i) { return cdf_data[i]; }
-uint vplkit_load_guide(uint d, uint j) { return guide_data[j]; }
-vplkit_discrete_sample vplkit_estimator_distribution_sample(uint d, float u) {
-  if (d == 1u) return vplkit_discrete_sample(uint(dinfo.fixed_index), dinfo.fixed_pmf);
-  return vplkit_discrete_cdf_sample(vplkit_discrete_cdf(0u, uint(dinfo.cdf_size), uint(dinfo.guide_size), 1.0), u);
-}
-float vplkit_estimator_distribution_pmf(uint d, uint i) {
-  if (d == 1u) return i == uint(dinfo.fixed_index) ? dinfo.fixed_pmf : 0.0;
-  return vplkit_discrete_cdf_pmf(vplkit_discrete_cdf(0u, uint(dinfo.cdf_size), uint(dinfo.guide_size), 1.0), i);
-}
-#include "vplkit/estimators/ris_pool_params.h"
+const std::string hooks = std::string(distribution_hooks_glsl) + R"(#include "vplkit/estimators/ris_pool_params.h"
 #include "vplkit/estimators/ris_candidate_pool.glsl"
 layout(std430, binding = 11) readonly buffer Pool { vplkit_ris_pool_record pool_records[]; };
 vplkit_ris_pool_entry vplkit_load_ris_pool_entry(uint pool, uint index) {
@@ -148,80 +77,14 @@ vplkit_ris_pool_entry vplkit_load_ris_pool_entry(uint pool, uint index) {
 }
 )";
 
-struct out4 {
-  float4 a, b;
-  int4 c;
-  std::uint32_t d[4];
-};
-
-const char* const out4_glsl = R"(
-struct out4 { vec4 a; vec4 b; ivec4 c; uvec4 d; };
-layout(std430, binding = 1) writeonly buffer Out { out4 result[]; };
-)";
-
 // A kernel of the prelude, the hooks and `head`, running `body` for i < count.
 template <class Out>
 std::vector<Out> run(const std::string& head, const std::string& body, std::size_t count, const scene_params& p,
                      const std::vector<named_point>& pts, const distribution_ref& dist, const std::vector<record>& pool,
                      std::vector<vplkit::parity::ssbo> extra, const std::string& name) {
-  const scene_fixture& f = fixture();
-  vplkit::parity::kernel_call call;
-  call.name = name;
-  call.source = std::string(scene_prelude) + hooks + head +
-                "void main() {\n  uint i = gl_GlobalInvocationID.x;\n  if (i >= VPLKIT_PARITY_COUNT) return;\n" + body +
-                "}\n";
-  call.inputs = f.inputs();
-  call.inputs.push_back(input(5, std::vector<scene_params>{p}));
-  call.inputs.push_back(input(7, pack_points(pts)));
-  call.inputs.push_back(input(9, source().cdf_data));
-  call.inputs.push_back(input(10, source().guide_data));
-  call.inputs.push_back(input(11, pool.empty() ? std::vector<record>(1, record{}) : pool));
-  const dist_info info{int(source().cdf.size()), int(source().cdf.guide_size()), int(dist.fixed.index), dist.fixed.p};
-  call.inputs.push_back(input(12, std::vector<dist_info>{info}));
-  for (auto& e : extra) call.inputs.push_back(std::move(e));
-  call.output_binding = 1;
-  return vplkit::parity::run_compute<Out>(call, count);
-}
-
-std::uint32_t bits(float x) {
-  std::uint32_t b;
-  std::memcpy(&b, &x, 4);
-  return b;
-}
-
-// Every third G-buffer pixel, one in five again with its shading normal tilted 50 degrees, the named
-// points, and hard cases: on a lit texel's VPL (d2 = 0), 1e-3 from one, back-facing, background,
-// NaN position (parity_estimators_ris_mis_test's set).
-std::vector<named_point> gather_points() {
-  const scene_fixture& f = fixture();
-  std::vector<named_point> pts;
-  for (std::size_t i = 0; i < f.gbuffer.position.size(); i += 3) {
-    pts.push_back({"pixel " + std::to_string(i), {f.gbuffer.position[i], f.gbuffer.normal[i], f.gbuffer.albedo[i]}});
-    const v3f n = f.gbuffer.normal[i];
-    if (i % 15 != 0 || !(glm::dot(n, n) > 0.0f)) continue;
-    const v3f nn = glm::normalize(n);
-    const v3f side = glm::normalize(glm::cross(nn, std::abs(nn.x) < 0.9f ? v3f(1, 0, 0) : v3f(0, 1, 0)));
-    pts.push_back({"pixel " + std::to_string(i) + " shading normal tilted 50 deg",
-                   {f.gbuffer.position[i], n, f.gbuffer.albedo[i], 0.6428f * nn + 0.7660f * side}});
-  }
-  const auto named = f.scene.gather_points();
-  for (const auto& g : named) pts.push_back({g.name, g.gp});
-  const auto view = f.view();
-  int on = 0;
-  for (int t = 0; t < view.texel_count() && on < 3; t += 97) {
-    const auto v = view.vpl_at(t);
-    if (!vplkit::vpl_has_flux(v)) continue;
-    const v3f n = glm::normalize(v.normal);
-    const v3f side = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9f ? v3f(1, 0, 0) : v3f(0, 1, 0)));
-    pts.push_back({"on VPL " + std::to_string(t), {v.position, v.normal, v3f(0.6f)}});
-    pts.push_back({"1e-3 from VPL " + std::to_string(t), {v.position + 1e-3f * side, n, v3f(0.6f)}});
-    ++on;
-  }
-  const auto& open = named[0].gp;
-  pts.push_back({"floor_open back-facing", {open.position, -open.normal, open.albedo}});
-  pts.push_back({"background", {v3f(0.1f, 0.2f, 0.3f), v3f(0.0f), v3f(0.6f)}});
-  pts.push_back({"NaN position", {v3f(std::numeric_limits<float>::quiet_NaN(), 0, 0), v3f(0, 1, 0), v3f(0.6f)}});
-  return pts;
+  extra.push_back(input(11, pool.empty() ? std::vector<record>(1, record{}) : pool));
+  return vplkit::parity::run_compute<Out>(
+      ris_kernel(name, hooks, head, body, "VPLKIT_PARITY_COUNT", p, pts, dist, std::move(extra)), count);
 }
 
 // The relative forward error bound of h for entry e at gp (without base_rel): the VPL contribution's
@@ -238,48 +101,7 @@ double entry_conditioning(const vplkit::gather_point<float>& gp, const entry& e)
   return std::min(1.0, err / lum);
 }
 
-// Per channel |gpu - cpu| <= rel[k] |cpu| + 1e-30; a value that is 0 on one side only is a decision
-// (counted in `zero_flips`, accepted only where the C++ side's conditioning says it is a tie,
-// rel >= 0.5). Prints the worst ratio; returns the number outside.
-std::size_t check_rel(const std::string& what, const std::vector<float>& gpu, const std::vector<float>& cpu,
-                      const std::vector<double>& rel, std::size_t& zero_flips) {
-  std::size_t outside = 0, worst_at = 0;
-  double worst = 0.0, worst_rel = 0.0;
-  for (std::size_t k = 0; k < gpu.size(); ++k) {
-    if ((gpu[k] == 0.0f) != (cpu[k] == 0.0f)) {
-      ++zero_flips;
-      if (!(rel[k] >= 0.5)) ++outside;
-      continue;
-    }
-    const double diff = std::abs(double(gpu[k]) - double(cpu[k]));
-    const double ratio = diff / (rel[k] * std::abs(double(cpu[k])) + 1e-30);
-    if (!std::isfinite(gpu[k]) || !(ratio <= 1.0)) ++outside;
-    if (ratio > worst) worst = ratio, worst_at = k;
-    if (cpu[k] != 0.0f) worst_rel = std::max(worst_rel, diff / std::abs(double(cpu[k])));
-  }
-  std::cout << "parity " << what << ": " << gpu.size() << " floats, worst rel " << worst_rel
-            << ", worst |gpu - cpu| / bound " << worst;
-  if (!gpu.empty()) std::cout << " at [" << worst_at << "] gpu " << gpu[worst_at] << " cpu " << cpu[worst_at];
-  std::cout << ", " << outside << " outside, " << zero_flips << " zero on one side only\n";
-  return outside;
-}
-
-distribution_ref fixed_case(float p, int texel) {
-  distribution_ref d;
-  d.id = 1;
-  d.fixed.p = p;
-  d.fixed.index = std::size_t(texel);
-  return d;
-}
-
-// A texel with a VPL (t % 5 == 3, away from the first ones), and one without.
-int lit_texel() {
-  const auto view = fixture().view();
-  for (int t = 0; t < view.texel_count(); ++t)
-    if (vplkit::vpl_has_flux(view.vpl_at(t)) && t % 5 == 3) return t;
-  return -1;
-}
-
+// A texel without a VPL.
 int unlit_texel() {
   const auto view = fixture().view();
   for (int t = 0; t < view.texel_count(); ++t)
@@ -527,14 +349,7 @@ std::uint32_t kept_visible(const vplkit::gather_point<float>& gp, const vplkit::
   return vis(gp.position, gp.normal, kept.position, kept.normal) ? 1u : 0u;
 }
 
-// The smallest relative margin |u S - w| / w of a pooled candidate pass's reservoir decisions, the
-// largest relative error bound of its weights, and whether a candidate's target is a cosine at a
-// tie (the pass may keep another sample whatever the margins).
-struct pass_facts {
-  double margin = inf, weight_rel = 0.0;
-  bool cosine_tie = false;
-};
-
+// The pass_facts (parity_ris_mis_support.hpp) of one pooled candidate pass over `size` entries of `pool`.
 pass_facts pooled_pass(const vplkit::gather_point<float>& gp, const entry* pool, std::uint32_t size, int m, float n1,
                        float n2, vplkit::counter_rng rng) {
   pass_facts out;
@@ -775,101 +590,21 @@ TEST_CASE("ris_mis_resample_pooled and its shade: GPU vs C++ (point and patch, M
 
 namespace {
 
-// Every decision of estimate_ris_mis_pooled's steps at a gather point, hashed (FNV-1a on 32-bit
-// words): per RIS step the kept texel, its jitter and its visibility (kept_visible), per direction
-// the ray's texel, lit, in-front and (patch) at-centre tests. Computed with the same library
-// functions and the same stream as the estimate, in GLSL and in C++.
-const char* const fingerprint_glsl = R"(
-uint fnv(uint h, uint v) { return (h ^ v) * 16777619u; }
-uint fingerprint(vplkit_gather_point gp, vplkit_dprsm_view view, uint pool, uint size, vplkit_counter_rng rng, int nd,
-                 int nr, int m, vplkit_voxel_tracer tracer, vplkit_visibility vis, float tol, int mode) {
-  uint h = 2166136261u;
-  if (!vplkit_gather_point_valid(gp)) return h;
-  if (nd < 0) nd = 0;
-  if (nr < 0 || m <= 0) nr = 0;
-  float n1 = float(nd), n2 = float(nr);
-  vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
-  for (int j = 0; j < max(nd, nr); ++j) {
-    if (j < nr) {
+// The fingerprint (parity_ris_mis_support.hpp) of estimate_ris_mis_pooled's steps: a RIS step is
+// ris_mis_resample_pooled over `size` entries of `pool`.
+const std::string fingerprint_pooled = fingerprint_glsl("uint pool, uint size", R"(
       vplkit_ris_mis_kept kept;
       vplkit_ris_reservoir r = vplkit_ris_mis_resample_pooled(gp, pool, size, rng, m, n1, n2, kept);
-      h = fnv(h, uint(r.kept.texel + 1));
-      h = fnv(h, floatBitsToUint(r.kept.xi.x));
-      h = fnv(h, floatBitsToUint(r.kept.xi.y));
-      h = fnv(h, kept_visible(gp, r, kept, vis));
-    }
-    if (j < nd) {
-      float u0 = vplkit_rng_next_unit(rng);
-      float u1 = vplkit_rng_next_unit(rng);
-      vec3 local = vplkit_sample_cosine_hemisphere(vec2(u0, u1));
-      vec3 dir = vplkit_to_world(frame, local);
-      uint code = 7u;
-      if (local.z > 0.0 && vplkit_gather_point_accepts_direction(gp, dir)) {
-        vplkit_gathering_ray_result g = vplkit_trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, tol);
-        code = uint(g.texel + 1) * 8u + (g.lit ? 1u : 0u) + (g.in_front ? 2u : 0u);
-        if (g.lit && mode == vplkit_vpl_patch && vplkit_mis_patch_hit_at_centre(view, g.texel, g.hit)) code += 4u;
-      }
-      h = fnv(h, code);
-    }
-  }
-  return h;
-}
-)";
-
-std::uint32_t fnv(std::uint32_t h, std::uint32_t v) { return (h ^ v) * 16777619u; }
-
-// The C++ fingerprint, and the point's conditioning: the largest bound of a pass's weights (h, the
-// target and weight_sum: 3 of them, plus the M roundings) and of a lit gathering sample
-// (spec::gathering_sample_rel of its hit distance over its distance to the light, three times: in
-// f and in the hit's p2 through d2^2 and cos1, as estimate_mis's parity test).
-struct point_facts {
-  std::uint32_t fingerprint = 2166136261u;
-  double rel = 0.0;
-};
+      uint visible = kept_visible(gp, r, kept, vis);)");
 
 point_facts replay_point(const vplkit::gather_point<float>& gp, const entry* pool, std::uint32_t size,
                          vplkit::counter_rng rng, int nd, int nr, int m, vplkit::vpl_mode mode, float tol) {
-  const scene_fixture& f = fixture();
-  const auto view = f.view();
-  const vplkit::voxel_tracer<float> tracer{f.grid.view()};
-  point_facts out;
-  if (!vplkit::gather_point_valid(gp)) return out;
-  if (nd < 0) nd = 0;
-  if (nr < 0 || m <= 0) nr = 0;
-  const float n1 = float(nd), n2 = float(nr);
-  const auto frame = vplkit::make_orthonormal_basis(vplkit::gather_point_shading_normal(gp));
-  std::uint32_t& h = out.fingerprint;
-  for (int j = 0; j < std::max(nd, nr); ++j) {
-    if (j < nr) {
-      const pass_facts pf = pooled_pass(gp, pool, size, m, n1, n2, rng);
-      out.rel = std::max(out.rel, 3.0 * pf.weight_rel + double(m) * vplkit_test::spec::ulp_rel);
-      vplkit::ris_mis_kept<float> kept;
-      const auto r = vplkit::ris_mis_resample_pooled(gp, pool, size, rng, m, n1, n2, kept);
-      h = fnv(h, std::uint32_t(r.kept.texel + 1));
-      h = fnv(h, bits(r.kept.xi.x));
-      h = fnv(h, bits(r.kept.xi.y));
-      h = fnv(h, kept_visible(gp, r, kept));
-    }
-    if (j < nd) {
-      const float u0 = vplkit::rng_next_unit<float>(rng);
-      const float u1 = vplkit::rng_next_unit<float>(rng);
-      const v3f local = vplkit::sample_cosine_hemisphere(vplkit::vec2<float>(u0, u1));
-      const v3f dir = vplkit::to_world(frame, local);
-      std::uint32_t code = 7u;
-      if (local.z > 0.0f && vplkit::gather_point_accepts_direction(gp, dir)) {
-        const auto g = vplkit::trace_gathering_ray(view, gp.position, gp.normal, dir, tracer, tol);
-        code = std::uint32_t(g.texel + 1) * 8u + (g.lit ? 1u : 0u) + (g.in_front ? 2u : 0u);
-        if (g.lit && mode == vplkit::vpl_mode::patch && vplkit::mis_patch_hit_at_centre(view, g.texel, g.hit)) code += 4u;
-        if (g.lit) {
-          const double t = glm::length(vplkit::vec3<double>(g.hit) - vplkit::vec3<double>(gp.position));
-          const double d1 = glm::length(vplkit::vec3<double>(view.light.position) - vplkit::vec3<double>(g.hit));
-          if (d1 > 0.0) out.rel = std::max(out.rel, 3.0 * vplkit_test::spec::gathering_sample_rel(t / d1));
-        }
-      }
-      h = fnv(h, code);
-    }
-  }
-  return out;
+  return replay_steps(gp, rng, nd, nr, m, mode, tol, [&](vplkit::counter_rng& step_rng, float n1, float n2) {
+    const pass_facts pf = pooled_pass(gp, pool, size, m, n1, n2, step_rng);
+    vplkit::ris_mis_kept<float> kept;
+    const auto r = vplkit::ris_mis_resample_pooled(gp, pool, size, step_rng, m, n1, n2, kept);
+    return ris_step_facts{r, kept_visible(gp, r, kept), pf.weight_rel};
+  });
 }
 
 }  // namespace
@@ -879,7 +614,7 @@ TEST_CASE("estimate_ris_mis_pooled: GPU vs C++ per gather point, point and patch
   const auto view = f.view();
   const auto pts = gather_points();
   const float tol = window();
-  const std::string head = std::string(out4_glsl) + kept_visible_glsl + fingerprint_glsl;
+  const std::string head = std::string(out4_glsl) + kept_visible_glsl + fingerprint_pooled;
   // ip.y = M, ip.z = vpl mode; ip2 = n_dirs, n_ris, pool, pool size. The range form runs [0, 3),
   // [3, 5), [5, n) in one loop (one copy of the estimator in the program).
   const std::string body = R"(  vplkit_gather_point gp = load_point(i);
