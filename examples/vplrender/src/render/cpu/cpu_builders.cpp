@@ -45,6 +45,42 @@ std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>&
   return pts;
 }
 
+// The 2 R^2 texels in blocks over the workers: per-texel work that writes only its own texel, so
+// the result does not depend on the worker count.
+template <class F>
+void for_each_texel(int n, int threads, F&& per_texel) {
+  const int block = 16384;
+  parallel_items((n + block - 1) / block, threads, "", {}, [&](int b, int) {
+    const int end = std::min(n, (b + 1) * block);
+    for (int t = b * block; t < end; ++t) per_texel(t);
+  });
+}
+
+// vplkit::build_flux_weights of the frame's (already validated) view, over the workers: the same
+// weights, flux_weight_texel per texel.
+std::vector<float> flux_weights(const vplkit::dprsm_view<float>& view, int threads) {
+  std::vector<float> w(static_cast<std::size_t>(view.texel_count()), 0.0f);
+  for_each_texel(view.texel_count(), threads,
+                 [&](int t) { w[static_cast<std::size_t>(t)] = vplkit::flux_weight_texel(view, t); });
+  return w;
+}
+
+// vplkit::make_vpl_distribution(weights, view, eps) with the fallback's 0/1 weights (those of
+// make_vpl_fallback: 1 on the texels that carry a VPL) made over the workers: the same mixture, bit
+// for bit. A frame's fixed cost before its first sample: one vpl_at per texel, serial in the
+// library's overload, was a third of the flux source's build (docs/results.md, "Presampled
+// candidates").
+vplkit::defensive_mixture<float> vpl_distribution(const std::vector<float>& weights,
+                                                  const vplkit::dprsm_view<float>& view, float eps, int threads) {
+  if (eps == 0.0f) return vplkit::make_vpl_distribution(weights.data(), weights.size(), view, {}, eps);
+  std::vector<float> ones(static_cast<std::size_t>(view.texel_count()), 0.0f);
+  for_each_texel(view.texel_count(), threads, [&](int t) {
+    ones[static_cast<std::size_t>(t)] = vplkit::vpl_has_flux(view.vpl_at(t)) ? 1.0f : 0.0f;
+  });
+  return vplkit::make_vpl_distribution(weights.data(), weights.size(), view,
+                                       vplkit::discrete_cdf<float>(ones.data(), ones.size()), eps);
+}
+
 }  // namespace
 
 std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_settings& s, stage_timer& timer,
@@ -104,10 +140,10 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       std::vector<float> weights;
       {
         auto t = timer.scoped("flux weights (cpu)");
-        weights = vplkit::build_flux_weights(view);
+        weights = flux_weights(view, threads);
       }
       auto t = timer.scoped("cdf (cpu)");
-      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.dists.push_back(vpl_distribution(weights, view, s.eps, threads));
       out.weights = std::move(weights);
       break;
     }
@@ -124,7 +160,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
       }
       det["global_subset"] = used;
       auto t = timer.scoped("cdf (cpu)");
-      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.dists.push_back(vpl_distribution(weights, view, s.eps, threads));
       out.weights = std::move(weights);
       break;
     }
@@ -160,7 +196,7 @@ cpu_distributions build_distributions_cpu(const frame_buffers& b, const render_s
     case builder_kind::gbg: {
       std::vector<float> weights = build_gbg_weights_cpu(b, s, timer, progress, det);
       auto t = timer.scoped("cdf (cpu)");
-      out.dists.push_back(vplkit::make_vpl_distribution(weights, view, s.eps));
+      out.dists.push_back(vpl_distribution(weights, view, s.eps, threads));
       out.weights = std::move(weights);
       break;
     }
