@@ -254,10 +254,11 @@ TEST_CASE("the --frames and --window-script flags go with --window and are check
   CHECK(error_of({"--window", "--frames", "0"}) == "--frames: value 0 is outside 1..1000000");
   CHECK(parse({"--window", "--frames", "1000000"}).frames == 1000000);
   CHECK(parse({"--window", "--window-script", "1,0"}).window_script == std::vector<std::string>{"1", "0"});
+  CHECK(parse({"--window", "--window-script", "0,P,p"}).window_script == std::vector<std::string>{"0", "p", "p"});
   CHECK(error_of({"--window", "--window-script", "1,x"}) ==
-        "--window-script: unknown key action 'x' (expected 0-9, m, +, -, q)");
+        "--window-script: unknown key action 'x' (expected 0-9, m, +, -, p, q)");
   CHECK(error_of({"--window", "--window-script", "1,,2"}) ==
-        "--window-script: unknown key action '' (expected 0-9, m, +, -, q)");
+        "--window-script: unknown key action '' (expected 0-9, m, +, -, p, q)");
 }
 
 TEST_CASE("frames without a window (--frames alone): the headless frames benchmark, 1..10000 frames") {

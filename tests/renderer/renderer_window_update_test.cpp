@@ -95,7 +95,7 @@ TEST_CASE("0 selects ris-mis, whose dirs follow + and - with its vpls", "[render
   CHECK(plan_window_update(v, {"+"}, false, false).rerender);
   CHECK(v.vpls == 8);
   CHECK(v.dirs == 32);
-  CHECK(window_samples_text(v) == "ris-mis, vpls 8, dirs 32");
+  CHECK(window_samples_text(v) == "ris-mis, vpls 8, dirs 32, no pool");  // view(): pool 0
 }
 
 TEST_CASE("8 and m reach exact only on a frame with exact rays, and exact's dirs follow + and -", "[renderer][window]") {
@@ -114,4 +114,39 @@ TEST_CASE("8 and m reach exact only on a frame with exact rays, and exact's dirs
   CHECK(v.meth == method::reference);
   CHECK(plan_window_update(v, {"8"}, false, false).rerender);
   CHECK(v.meth == method::exact);
+}
+
+TEST_CASE("p turns ris-mis's candidate pool off and back on to its size, and does nothing elsewhere",
+          "[renderer][window]") {
+  window_view v = view(method::ris_mis, 4, 4);
+  v.pool = 4096;
+  v.pool_on = 4096;
+  CHECK(window_samples_text(v) == "ris-mis, vpls 4, dirs 4, pool 4096");
+  window_update u = plan_window_update(v, {"p"}, false, false);
+  CHECK(u.rerender);
+  CHECK(v.pool == 0);
+  CHECK(window_samples_text(v) == "ris-mis, vpls 4, dirs 4, no pool");
+  u = plan_window_update(v, {"p"}, false, false);
+  CHECK(u.rerender);
+  CHECK(v.pool == 4096);
+  // Twice in one pass: back where it was, still one render (the settings went through a change).
+  u = plan_window_update(v, {"p", "p"}, false, false);
+  CHECK(v.pool == 4096);
+  // Started without a pool (--candidate-pool 0): on at pool_on.
+  v.pool = 0;
+  v.pool_on = 16384;
+  plan_window_update(v, {"p"}, false, false);
+  CHECK(v.pool == 16384);
+  // Another method has no pool: nothing changes, no render.
+  window_view g = view(method::gather, 4, 16);
+  g.pool = 16384;
+  u = plan_window_update(g, {"p"}, false, false);
+  CHECK_FALSE(u.rerender);
+  CHECK(g.pool == 16384);
+  CHECK(window_samples_text(g) == "gather, vpls 4, dirs 16");
+  // After switching to ris-mis (key 0) the key acts.
+  u = plan_window_update(g, {"0", "p"}, false, false);
+  CHECK(u.rerender);
+  CHECK(g.meth == method::ris_mis);
+  CHECK(g.pool == 0);
 }

@@ -114,8 +114,14 @@ struct window_session::impl {
   std::deque<std::string> pending;  // key actions from the keyboard
   bool damaged = false;             // resized, exposed or asked to refresh: draw again
   double last_ms = 0.0;
+  // The pool size key P turns ris-mis's pool back on with: the command line's, or the default.
+  int pool_on = 0;
 
-  impl(const options& opts, const prepared_scene& ps) : o(opts), p(ps) {}
+  impl(const options& opts, const prepared_scene& ps) : o(opts), p(ps), pool_on(opts_pool_on(opts)) {}
+
+  static int opts_pool_on(const options& opts) {
+    return opts.candidate_pool > 0 ? opts.candidate_pool : options{}.candidate_pool;
+  }
 
   ~impl() {
     worker.reset();  // the headless context's thread ends before the window goes
@@ -147,6 +153,7 @@ struct window_session::impl {
       if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) a = std::string(1, static_cast<char>('0' + key - GLFW_KEY_0));
       else if (key >= GLFW_KEY_KP_0 && key <= GLFW_KEY_KP_9) a = std::string(1, static_cast<char>('0' + key - GLFW_KEY_KP_0));
       else if (key == GLFW_KEY_M) a = "m";
+      else if (key == GLFW_KEY_P) a = "p";
       else if (key == GLFW_KEY_EQUAL || key == GLFW_KEY_KP_ADD) a = "+";
       else if (key == GLFW_KEY_MINUS || key == GLFW_KEY_KP_SUBTRACT) a = "-";
       else if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) a = "q";
@@ -189,11 +196,17 @@ struct window_session::impl {
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, o.width, o.height, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
   }
 
-  window_view view() const { return window_view{o.meth, o.vpls, o.dirs, buffers && buffers->rays}; }
+  window_view view() const {
+    window_view v{o.meth, o.vpls, o.dirs, buffers && buffers->rays};
+    v.pool = o.candidate_pool;
+    v.pool_on = pool_on;
+    return v;
+  }
   void set_view(const window_view& v) {
     o.meth = v.meth;
     o.vpls = v.vpls;
     o.dirs = v.dirs;
+    o.candidate_pool = v.pool;
   }
 
   void set_title() {

@@ -77,6 +77,11 @@ bool apply_window_action(window_view& v, const std::string& a, bool* close) {
     v.meth = cycle[(i + 1) % n];
     return true;
   }
+  if (a == "p") {
+    if (v.meth != method::ris_mis) return false;  // the only method with a pool
+    v.pool = v.pool > 0 ? 0 : std::max(v.pool_on, 1);
+    return true;
+  }
   const bool dirs = uses_dirs(v.meth);
   if (a == "+")
     return set_samples(v, std::min(v.vpls * 2, limits::max_vpls), dirs ? std::min(v.dirs * 2, limits::max_dirs) : v.dirs);
@@ -98,6 +103,7 @@ window_update plan_window_update(window_view& v, const std::vector<std::string>&
 std::string window_samples_text(const window_view& v) {
   std::string s = std::string(to_string(v.meth)) + ", vpls " + std::to_string(v.vpls);
   if (uses_dirs(v.meth)) s += ", dirs " + std::to_string(v.dirs);
+  if (v.meth == method::ris_mis) s += v.pool > 0 ? ", pool " + std::to_string(v.pool) : std::string(", no pool");
   return s;
 }
 

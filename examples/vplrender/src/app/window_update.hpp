@@ -17,6 +17,11 @@ struct window_view {
   int vpls = 0;
   int dirs = 0;
   bool exact = false;  // the frame has exact rays (--method or --visibility exact): key 8 and M reach exact
+  // ris-mis's presampled candidate pool (--candidate-pool; 0: every candidate drawn from the
+  // distribution) and the size that key P turns it back on with (the command line's, or the
+  // option's default where the command line turned it off).
+  int pool = 0;
+  int pool_on = options{}.candidate_pool;
 };
 
 struct window_update {
@@ -25,8 +30,9 @@ struct window_update {
   bool close = false;     // 'q' (actions after it in the same pass are dropped)
 };
 
-// Applies one key action ("1"-"8", "m", "+", "-", "q"; see docs/renderer.md, "Window"; "8", exact,
-// only with window_view::exact, else it changes nothing). Returns true when the view changed; sets
+// Applies one key action ("0"-"9", "m", "+", "-", "p", "q"; see docs/renderer.md, "Window"; "8",
+// exact, only with window_view::exact, and "p", the pool on or off, only with ris-mis, else they
+// change nothing). Returns true when the view changed; sets
 // *close for "q".
 bool apply_window_action(window_view& v, const std::string& action, bool* close);
 
@@ -34,7 +40,8 @@ bool apply_window_action(window_view& v, const std::string& action, bool* close)
 // asked to refresh (GLFW's framebuffer-size and refresh callbacks); `first`: nothing drawn yet.
 window_update plan_window_update(window_view& v, const std::vector<std::string>& actions, bool damaged, bool first);
 
-// "mis, vpls 4, dirs 16" (dirs only for the methods that use them).
+// "mis, vpls 4, dirs 16" (dirs only for the methods that use them; ris-mis adds "pool P" or
+// "no pool").
 std::string window_samples_text(const window_view& v);
 
 }  // namespace vplrender

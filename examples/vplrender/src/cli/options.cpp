@@ -543,9 +543,9 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
       const std::size_t j = std::min(v.window_script.find(',', i), v.window_script.size());
       std::string k = v.window_script.substr(i, j - i);
       if (k.size() == 1 && k[0] >= 'A' && k[0] <= 'Z') k[0] = static_cast<char>(k[0] - 'A' + 'a');
-      static const char* const allowed[] = {"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "m", "+", "-", "q"};
+      static const char* const allowed[] = {"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "m", "+", "-", "p", "q"};
       if (std::find(std::begin(allowed), std::end(allowed), k) == std::end(allowed))
-        bad("--window-script", "unknown key action '" + k + "' (expected 0-9, m, +, -, q)");
+        bad("--window-script", "unknown key action '" + k + "' (expected 0-9, m, +, -, p, q)");
       o.window_script.push_back(k);
       i = j + 1;
     }
