@@ -8744,11 +8744,16 @@ inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, 
 // "Resampled importance sampling of VPLs", "RIS with gathering"). estimate_mis's solid_angle mode
 // weighs n1 gathering directions (density p1 = cos(theta2)/pi) against n2 VPL samples from a
 // distribution over the texels (density p2 = pmf d2^2 / (A cos(theta1)) at x) by the balance
-// heuristic, w2 = n2 p2 / (n1 p1 + n2 p2), w1 = 1 - w2. Here the n2 VPL samples are RIS samples
-// instead, each one kept of M candidates drawn from that same distribution; the weights stay those
-// of estimate_mis (deterministic functions of the point, so w1 + w2 = 1 for every point):
+// heuristic, w2 = n2 p2 / (n1 p1 + n2 p2), w1 = 1 - w2. Here the VPL samples are N RIS samples
+// instead, each one kept of M candidates drawn from that same distribution, and the weights count
+// each of them as c = max(1, M/2) samples of p2: n2 = c N (ris_mis_vpl_samples). A RIS sample of
+// M candidates has, where its target is large, up to M times p2's density; weights that count it
+// once give gathering the share of the integral that the candidates would take with less variance.
+// Any c > 0 keeps the weights deterministic functions of the point with w1 + w2 = 1 everywhere, so
+// c changes the variance only; M/2 was the best of the constants measured at M = 8-64 (docs/math.md,
+// "The VPL strategy's share"). With M <= 2, c = 1: estimate_mis's weights.
 //   F = sum_{j<n1} f(X_j) / (n1 p1 + n2 p2)                       (gathering: mis_gathering_sample)
-//     + (1/n2) sum_{k<n2} h(Y_k) V(x, Y_k) W_k                     (RIS with the target lum(h))
+//     + (1/N) sum_{k<N} h(Y_k) V(x, Y_k) W_k                       (RIS with the target lum(h))
 // with, over the sample space of a texel t and its jitter xi (counting measure times the unit
 // square, where the distribution's draw has density pmf(t)),
 //   h(t, xi) = n2 pmf(t) f(y) / (n1 p1(y) + n2 p2(y))   = w2(y) f(y) / (p2(y) / pmf(t)),
@@ -8767,15 +8772,24 @@ inline ris_reservoir<T> ris_spatial_reuse(const gather_point<T>& gp, int pixel, 
 // to gathering alone when n1 > 0, as in estimate_mis: h is 0 at such points (the VPL strategy never
 // draws a point in front of its texel).
 //
-// Random numbers (the GLSL mirror follows them): step j < max(n1, n2) draws, if j < n2, the M
+// Random numbers (the GLSL mirror follows them): step j < max(n1, N) draws, if j < N, the M
 // candidates of one reservoir (per candidate u, with vpl_mode::patch u0 and u1, then the selection
 // u: ris_estimator.hpp's layout), then, if j < n1, u0 and u1 for the direction. n_candidates <= 0
-// counts as n2 = 0. An invalid gather point gives 0 and draws nothing; never NaN or Inf.
+// counts as N = 0. An invalid gather point gives 0 and draws nothing; never NaN or Inf.
 
 #include <cstddef>
 #include <cstdint>
 
 namespace vplkit {
+
+// n2 of the balance weights for n_ris RIS samples of n_candidates candidates each: c n_ris with
+// c = max(1, M/2) (the header). 0 where either count is not positive. Exact in T for the counts
+// vplrender takes (products of integers and 1/2 below 2^24); the GLSL mirror makes the same bits.
+template <class T>
+inline T ris_mis_vpl_samples(int n_ris, int n_candidates) {
+  if (n_ris <= 0 || n_candidates <= 0) return T(0);
+  return T(n_ris) * (T(n_candidates > 2 ? n_candidates : 2) * T(0.5));
+}
 
 // h(t, xi) of the header without visibility, for the sample s of a texel drawn with probability
 // pmf; v receives the point it stands for (for the visibility query). 0 (and v without flux) where
@@ -8996,7 +9010,8 @@ inline vec3<T> ris_mis_shade_kept(const gather_point<T>& gp, const ris_reservoir
 }
 
 // Steps [begin, end) of estimate_ris_mis (estimator_state.hpp); the steps run to
-// max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0.
+// max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0. Both strategies'
+// weights take n2 = ris_mis_vpl_samples(n_ris, n_candidates); each RIS value is divided by n_ris.
 template <class T, class Distribution, class Tracer, class Visibility>
 inline void estimate_ris_mis_range(const gather_point<T>& gp, const dprsm_view<T>& view,
                                    const Distribution& distribution, estimator_state<T>& state, int begin, int end,
@@ -9006,14 +9021,14 @@ inline void estimate_ris_mis_range(const gather_point<T>& gp, const dprsm_view<T
   if (!gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_ris < 0 || n_candidates <= 0) n_ris = 0;
-  const T n1 = T(n_dirs), n2 = T(n_ris);
+  const T n1 = T(n_dirs), n2 = ris_mis_vpl_samples<T>(n_ris, n_candidates);
   const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
       ris_mis_kept<T> kept;
       const ris_reservoir<T> r =
           ris_mis_resample(gp, view, distribution, state.rng, n_candidates, n1, n2, vmode, depth_tolerance, kept);
-      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / n2;
+      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / T(n_ris);
     }
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(state.rng);
@@ -9197,13 +9212,13 @@ inline void estimate_ris_mis_pooled_range(const gather_point<T>& gp, const dprsm
   if (!gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_ris < 0 || n_candidates <= 0 || pool_size == 0) n_ris = 0;  // an empty pool: gathering alone
-  const T n1 = T(n_dirs), n2 = T(n_ris);
+  const T n1 = T(n_dirs), n2 = ris_mis_vpl_samples<T>(n_ris, n_candidates);
   const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
       ris_mis_kept<T> kept;
       const ris_reservoir<T> r = ris_mis_resample_pooled(gp, pool, pool_size, state.rng, n_candidates, n1, n2, kept);
-      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / n2;
+      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / T(n_ris);
     }
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(state.rng);

@@ -77,7 +77,7 @@ inline std::uint32_t pooled_count(int n_dirs, int n_ris, int m) {
 }
 
 // The directions of an estimate alone: step j's direction takes the numbers after the step's
-// reservoir (2 M, or none when `reservoirs_draw` is false), weighed against n_ris p2.
+// reservoir (2 M, or none when `reservoirs_draw` is false), weighed as ris-mis weighs them.
 template <class T, class D>
 vec3<T> directions_only(const room<T>& f, const gather_point<T>& gp, const D& dist, counter_rng rng, int n_dirs,
                         int n_ris, int m, bool reservoirs_draw, vpl_mode mode) {
@@ -87,8 +87,9 @@ vec3<T> directions_only(const room<T>& f, const gather_point<T>& gp, const D& di
     if (j < n_ris && reservoirs_draw) rng.counter += 2u * std::uint32_t(m);
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(rng), u1 = rng_next_unit<T>(rng);
+      // The weights count the RIS samples as ris-mis does (n_ris max(1, M/2)); n_ris 0: none.
       sum += mis_gathering_sample(gp, f.r.view, dist, frame, sample_cosine_hemisphere(vec2<T>(u0, u1)), f.r.tracer,
-                                  f.tol, T(n_dirs), T(n_ris), mis_mode::solid_angle, mode);
+                                  f.tol, T(n_dirs), ris_mis_vpl_samples<T>(n_ris, m), mis_mode::solid_angle, mode);
     }
   }
   return sum;

@@ -3,9 +3,12 @@
 // occluders, exact ray-traced visibility and tracer, so only estimator bias is tested):
 //   point VPLs, n_dirs = n_ris = 4, M = 16, three candidate sources (a defensive mixture whose
 //     learned CDF has holes, the flux CDF, uniform)  -> estimate_mis's exact expectation E
-//     (mis_expectation: quadrature of the gathering samples + the exact sum of the VPL samples):
-//     every RIS sample estimates sum_t h(t) V(t) = n2 sum_t pmf(t) [MIS VPL sample at t], which is
-//     the VPL part of E for any distribution, holes included (h vanishes with pmf)
+//     (mis_expectation: quadrature of the gathering samples + the exact sum of the VPL samples)
+//     with the weights' n2 = ris_mis_vpl_samples(4, 16) = 32: every RIS sample estimates
+//     sum_t h(t) V(t) = n2 sum_t pmf(t) [MIS VPL sample at t], which is the VPL part of E for any
+//     distribution, holes included (h vanishes with pmf). With point VPLs E depends on the weights
+//     (gathering's hits are surface points, the VPL samples texel points), so a wrong n2 in either
+//     the estimator or E shows here; with patch VPLs it does not (both sample the surfaces)
 //   n_dirs = 0 (RIS of the unclamped contribution)   -> the exhaustive VPL sum with dmin = 0
 //     (point), VPL sampling's patch integral with dmin = 0 (patch, two-sample)
 //   n_ris = 0 (gathering alone)                       -> the gathering integral
@@ -107,7 +110,8 @@ TEST_CASE("ris-mis has estimate_mis's expectation with every candidate source (p
   double var_ris_mis = 0.0, var_mis = 0.0;
   for (const auto& g : gps) {
     const auto check = [&](const char* source, const auto& dist, std::uint32_t seed) {
-      const vec3<double> E = mis_expectation(scene, view, dist, g.gp, n, n, depth_tol, mis_mode::solid_angle, quad_m);
+      const vec3<double> E = mis_expectation(scene, view, dist, g.gp, n, ris_mis_vpl_samples<double>(n, m), depth_tol,
+                                             mis_mode::solid_angle, quad_m);
       const run_stats r = repeat_estimates(runs, seed, [&](counter_rng& rng) {
         return estimate_ris_mis(g.gp, view, dist, rng, n, n, m, tracer, vis, depth_tol);
       });
@@ -229,7 +233,8 @@ TEST_CASE("ris-mis is unbiased at pixels on depth edges and inside surfaces") {
     for (const int pixel : edge ? edges : inside) {
       const gather_point<double> gp = g.at(pixel);
       const std::string where = (edge ? "edge pixel " : "pixel ") + std::to_string(pixel);
-      const vec3<double> E = mis_expectation(scene, view, f.flux, gp, n, n, depth_tol, mis_mode::solid_angle, quad_m);
+      const vec3<double> E = mis_expectation(scene, view, f.flux, gp, n, ris_mis_vpl_samples<double>(n, m), depth_tol,
+                                             mis_mode::solid_angle, quad_m);
       const run_stats r = repeat_estimates(runs, ++seed, [&](counter_rng& rng) {
         return estimate_ris_mis(gp, view, f.flux, rng, n, n, m, tracer, vis, depth_tol);
       });

@@ -183,7 +183,8 @@ TEST_CASE("ris-mis pooled with n_dirs = n_ris = 4 has estimate_mis's expectation
         });
     for (std::size_t g = 0; g < gps.size(); ++g) {
       const vec3<double> E =
-          mis_expectation(scene, view, dist, gps[g].gp, n, n, depth_tol, mis_mode::solid_angle, quad_m);
+          mis_expectation(scene, view, dist, gps[g].gp, n, ris_mis_vpl_samples<double>(n, m), depth_tol,
+                          mis_mode::solid_angle, quad_m);
       print_row(source, gps[g].name, r[g], E);
       INFO(gps[g].name << " " << source);
       REQUIRE(luminance(E) > 0.0);

@@ -89,11 +89,13 @@ struct single_index_distribution {
 
 // Exact expectation of estimate_mis (either mode) with the exact tracer and visibility:
 // n_dirs E_{p1}[gathering sample] + n_vpls sum_t pmf(t) [VPL sample at t], divided by n_dirs for
-// as_published. The gathering part by quadrature (m x m), the VPL part exactly.
+// as_published. The gathering part by quadrature (m x m), the VPL part exactly. n_vpls is the
+// count the balance weights take: estimate_ris_mis's is ris_mis_vpl_samples(n_ris, M), not always
+// an integer.
 template <class Distribution>
 inline vec3<double> mis_expectation(const synthetic_scene<double>& s, const vplkit::dprsm_view<double>& view,
                                     const Distribution& dist, const vplkit::gather_point<double>& gp, int n_dirs,
-                                    int n_vpls, double tol, vplkit::mis_mode mode, int m) {
+                                    double n_vpls, double tol, vplkit::mis_mode mode, int m) {
   const exact_tracer<double> tracer{&s};
   const exact_visibility<double> vis{&s};
   const double n1 = n_dirs, n2 = n_vpls;

@@ -125,6 +125,59 @@ TEST_CASE("ris-mis: the directions take the numbers after their step's candidate
   }
 }
 
+TEST_CASE("ris-mis: the weights count each RIS sample as max(1, M/2) VPL samples") {
+  // n2 = N max(1, M/2) in float and double alike (integers and halves: exact), 0 for no samples.
+  for (const auto& [n, m, expected] : std::vector<std::tuple<int, int, double>>{
+           {4, 1, 4.0}, {4, 2, 4.0}, {3, 5, 7.5}, {2, 16, 16.0}, {16, 32, 256.0}, {0, 8, 0.0}, {3, 0, 0.0},
+           {-1, 4, 0.0}, {2, -3, 0.0}}) {
+    INFO("N " << n << " M " << m);
+    CHECK(ris_mis_vpl_samples<double>(n, m) == expected);
+    CHECK(ris_mis_vpl_samples<float>(n, m) == float(expected));
+  }
+  // The estimate written out with them: the reservoirs and the directions weigh with n2 = 5 (N = 2
+  // RIS samples of M = 5), the RIS values are divided by N = 2. Weights of n2 = N (the count of
+  // estimate_mis) or a division by n2 would give other values.
+  const room& f = fx();
+  const auto& r = f.r;
+  const double tol = 0.2;
+  const int nd = 3, nr = 2, m = 5;
+  const double n1 = nd, n2 = 5.0;
+  int differs = 0;
+  for (const auto& g : r.gps)
+    for (const vpl_mode mode : {vpl_mode::point, vpl_mode::patch}) {
+      const counter_rng start = make_counter_rng(17u, 3u);
+      counter_rng a = start, q = start;
+      const vec3<double> e = estimate_ris_mis(g.gp, r.view, f.flux, a, nd, nr, m, r.tracer, r.vis, tol, mode);
+      const orthonormal_basis<double> frame = make_orthonormal_basis(gather_point_shading_normal(g.gp));
+      vec3<double> sum(0.0), as_mis(0.0);
+      for (int j = 0; j < std::max(nd, nr); ++j) {
+        if (j < nr) {
+          counter_rng q1 = q;
+          ris_mis_kept<double> kept;
+          const ris_reservoir<double> res = ris_mis_resample(g.gp, r.view, f.flux, q, m, n1, n2, mode, tol, kept);
+          sum += ris_mis_shade_kept(g.gp, res, kept, r.vis) / double(nr);
+          ris_mis_kept<double> kept1;
+          const ris_reservoir<double> res1 = ris_mis_resample(g.gp, r.view, f.flux, q1, m, n1, double(nr), mode, tol,
+                                                              kept1);
+          as_mis += ris_mis_shade_kept(g.gp, res1, kept1, r.vis) / double(nr);
+        }
+        if (j < nd) {
+          const double u0 = rng_next_unit<double>(q), u1 = rng_next_unit<double>(q);
+          const vec3<double> local = sample_cosine_hemisphere(vec2<double>(u0, u1));
+          sum += mis_gathering_sample(g.gp, r.view, f.flux, frame, local, r.tracer, tol, n1, n2, mis_mode::solid_angle,
+                                      mode);
+          as_mis += mis_gathering_sample(g.gp, r.view, f.flux, frame, local, r.tracer, tol, n1, double(nr),
+                                         mis_mode::solid_angle, mode);
+        }
+      }
+      INFO(g.name << " mode " << int(mode));
+      CHECK(e == sum);
+      CHECK(q.counter == a.counter);
+      if (!close(e, as_mis, 1e-6)) ++differs;
+    }
+  CHECK(differs > 4);  // the count matters at most of the room's points
+}
+
 TEST_CASE("ris-mis: one candidate per sample is estimate_mis's VPL sample") {
   const room& f = fx();
   const auto& r = f.r;

@@ -419,9 +419,10 @@ TEMPLATE_TEST_CASE("ris pool: ris_mis_resample_pooled keeps what a weighted rese
 TEMPLATE_TEST_CASE("ris pool: the pooled estimate's layout, candidates then direction per step", "[ris-pool]", float,
                    double) {
   // Step j < max(n_dirs, n_ris): if j < n_ris one reservoir (2 M numbers) shaded from what it kept
-  // over n_ris, then if j < n_dirs the direction (2 numbers) weighed against n_ris p2. Written out
-  // here from the pieces; a loop that drew all reservoirs first, or gave the directions n2 = M,
-  // would differ.
+  // over n_ris, then if j < n_dirs the direction (2 numbers); both strategies' weights count
+  // n2 = n_ris max(1, M/2) VPL samples (M = 5: 2.5 per RIS sample). Written out here from the
+  // pieces; a loop that drew all reservoirs first, divided the RIS values by n2, or weighed with
+  // n2 = n_ris or n2 = M, would differ.
   using T = TestType;
   const pool_room<T> f;
   const auto& r = f.r;
@@ -438,14 +439,14 @@ TEMPLATE_TEST_CASE("ris pool: the pooled estimate's layout, candidates then dire
                                                   r.vis, f.tol, mode);
         CHECK(rng.counter == 2u * std::uint32_t(nr * m) + 2u * std::uint32_t(nd));
         counter_rng q = start;
-        const T n1 = T(nd), n2 = T(nr);
+        const T n1 = T(nd), n2 = T(nr) * T(std::max(m, 2)) / T(2);
         const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(g.gp));
         vec3<T> sum(T(0));
         for (int j = 0; j < std::max(nd, nr); ++j) {
           if (j < nr) {
             ris_mis_kept<T> kept;
             const ris_reservoir<T> res = ris_mis_resample_pooled(g.gp, pool.data(), 128u, q, m, n1, n2, kept);
-            sum += ris_mis_shade_kept(g.gp, res, kept, r.vis) / n2;
+            sum += ris_mis_shade_kept(g.gp, res, kept, r.vis) / T(nr);
           }
           if (j < nd) {
             const T u0 = rng_next_unit<T>(q), u1 = rng_next_unit<T>(q);

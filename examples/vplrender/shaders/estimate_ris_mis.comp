@@ -118,7 +118,7 @@ void main() {
   int round = vr_begin();
   int n_dirs = max(vr_params.n_dirs, 0);
   int n_ris = vr_params.ris.candidates > 0 ? max(vr_params.n_vpls, 0) : 0;
-  float n1 = float(n_dirs), n2 = float(n_ris);
+  float n1 = float(n_dirs), n2 = vplkit_ris_mis_vpl_samples(n_ris, vr_params.ris.candidates);
 #if VR_RIS_PASS == VR_RIS_PASS_CANDIDATES
   // An invalid pixel's record is the empty reservoir (as on the CPU; see estimate_ris.comp).
   vplkit_ris_reservoir r = vplkit_make_ris_reservoir();
@@ -146,7 +146,7 @@ void main() {
                                                             vplkit_load_ris_reservoir(int(p)), settings, est.rng, n1,
                                                             n2, VR_VPL_MODE, vr_params.depth_tolerance);
       est.sum += vplkit_ris_mis_shade(gp, vr_view(), d, r, vr_make_visibility(grid), n1, n2, VR_VPL_MODE,
-                                      vr_params.depth_tolerance) / n2;
+                                      vr_params.depth_tolerance) / float(n_ris);
     }
     if (round < n_dirs) {
       float u0 = vplkit_rng_next_unit(est.rng);

@@ -166,14 +166,14 @@ void vplkit_estimate_ris_mis_pooled_range(vplkit_gather_point gp, vplkit_dprsm_v
   if (!vplkit_gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_ris < 0 || n_candidates <= 0 || pool_size == 0u) n_ris = 0;  // an empty pool: gathering alone
-  float n1 = float(n_dirs), n2 = float(n_ris);
+  float n1 = float(n_dirs), n2 = vplkit_ris_mis_vpl_samples(n_ris, n_candidates);
   vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
       vplkit_ris_mis_kept kept;
       vplkit_ris_reservoir r =
           vplkit_ris_mis_resample_pooled(gp, pool, pool_size, state.rng, n_candidates, n1, n2, kept);
-      state.sum += vplkit_ris_mis_shade_kept(gp, r, kept, visibility) / n2;
+      state.sum += vplkit_ris_mis_shade_kept(gp, r, kept, visibility) / float(n_ris);
     }
     if (j < n_dirs) {
       float u0 = vplkit_rng_next_unit(state.rng);

@@ -2,14 +2,15 @@
 // vplkit GLSL pack: resampled VPL sampling as the VPL strategy of MIS with cosine gathering
 // (docs/math.md, "Resampled importance sampling of VPLs", "RIS with gathering"); mirrors
 // include/vplkit/estimators/ris_mis_estimator.hpp (T = float), whose header states the estimator:
-// n1 gathering directions (vplkit_mis_gathering_sample, solid_angle mode) and n2 RIS samples, each
+// n1 gathering directions (vplkit_mis_gathering_sample, solid_angle mode) and N RIS samples, each
 // kept of M candidates from `distribution` by the target lum(h), h = n2 pmf f / (n1 p1 + n2 p2)
 // without visibility (the balance weight of estimate_mis's VPL strategy times f over the texel's
-// density), one visibility query for the kept sample. Unclamped: gathering takes the near field, h
-// stays bounded there, and nothing needs compensating.
-// Random numbers, as the C++: step j < max(n1, n2) draws, if j < n2, the M candidates of one
+// density), one visibility query for the kept sample. The weights count each RIS sample as
+// max(1, M/2) VPL samples: n2 = vplkit_ris_mis_vpl_samples(N, M). Unclamped: gathering takes the
+// near field, h stays bounded there, and nothing needs compensating.
+// Random numbers, as the C++: step j < max(n1, N) draws, if j < N, the M candidates of one
 // reservoir (per candidate u, with vplkit_vpl_patch u0 then u1, then the selection u), then, if
-// j < n1, u0 and u1 for the direction. n_candidates <= 0 counts as n2 = 0; an invalid gather point
+// j < n1, u0 and u1 for the direction. n_candidates <= 0 counts as N = 0; an invalid gather point
 // gives 0 and draws nothing. Never NaN or Inf: every quotient goes through vplkit_mis_div or
 // vplkit_balance_combined behind a guard, every value through vplkit_estimator_finite_or_zero.
 // HOOKS: the distribution hooks of mis_estimator.glsl (declared identically there; define them
@@ -39,6 +40,14 @@
 
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u);
 float vplkit_estimator_distribution_pmf(uint distribution, uint index);
+
+// n2 of the balance weights for n_ris RIS samples of n_candidates candidates each:
+// n_ris max(1, M/2); 0 where either count is not positive. The C++ value bit for bit (integers
+// and halves, exact in float below 2^24).
+float vplkit_ris_mis_vpl_samples(int n_ris, int n_candidates) {
+  if (n_ris <= 0 || n_candidates <= 0) return 0.0;
+  return float(n_ris) * (float(n_candidates > 2 ? n_candidates : 2) * 0.5);
+}
 
 // h(t, xi) without visibility for the sample s of a texel drawn with probability pmf; v receives
 // the point it stands for (for the visibility query). 0 (and v without flux) where the sample is
@@ -192,7 +201,8 @@ vec3 vplkit_ris_mis_shade_kept(vplkit_gather_point gp, vplkit_ris_reservoir r, v
 }
 
 // Steps [begin, end) of vplkit_estimate_ris_mis (estimator_state.glsl); the steps run to
-// max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0.
+// max(n_dirs, n_ris). Negative counts count as 0; n_candidates <= 0 makes n_ris 0. The weights take
+// n2 = vplkit_ris_mis_vpl_samples(n_ris, n_candidates); each RIS value is divided by n_ris.
 void vplkit_estimate_ris_mis_range(vplkit_gather_point gp, vplkit_dprsm_view view, uint distribution,
                                    inout vplkit_estimator_state state, int begin, int end, int n_dirs, int n_ris,
                                    int n_candidates, vplkit_voxel_tracer tracer, vplkit_visibility visibility,
@@ -200,14 +210,14 @@ void vplkit_estimate_ris_mis_range(vplkit_gather_point gp, vplkit_dprsm_view vie
   if (!vplkit_gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_ris < 0 || n_candidates <= 0) n_ris = 0;
-  float n1 = float(n_dirs), n2 = float(n_ris);
+  float n1 = float(n_dirs), n2 = vplkit_ris_mis_vpl_samples(n_ris, n_candidates);
   vplkit_orthonormal_basis frame = vplkit_make_orthonormal_basis(vplkit_gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
       vplkit_ris_mis_kept kept;
       vplkit_ris_reservoir r = vplkit_ris_mis_resample(gp, view, distribution, state.rng, n_candidates, n1, n2,
                                                        vpl_mode, depth_tolerance, kept);
-      state.sum += vplkit_ris_mis_shade_kept(gp, r, kept, visibility) / n2;
+      state.sum += vplkit_ris_mis_shade_kept(gp, r, kept, visibility) / float(n_ris);
     }
     if (j < n_dirs) {
       float u0 = vplkit_rng_next_unit(state.rng);

@@ -188,13 +188,13 @@ inline void estimate_ris_mis_pooled_range(const gather_point<T>& gp, const dprsm
   if (!gather_point_valid(gp)) return;
   if (n_dirs < 0) n_dirs = 0;
   if (n_ris < 0 || n_candidates <= 0 || pool_size == 0) n_ris = 0;  // an empty pool: gathering alone
-  const T n1 = T(n_dirs), n2 = T(n_ris);
+  const T n1 = T(n_dirs), n2 = ris_mis_vpl_samples<T>(n_ris, n_candidates);
   const orthonormal_basis<T> frame = make_orthonormal_basis(gather_point_shading_normal(gp));
   for (int j = begin; j < end; ++j) {
     if (j < n_ris) {
       ris_mis_kept<T> kept;
       const ris_reservoir<T> r = ris_mis_resample_pooled(gp, pool, pool_size, state.rng, n_candidates, n1, n2, kept);
-      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / n2;
+      state.sum += ris_mis_shade_kept(gp, r, kept, visibility) / T(n_ris);
     }
     if (j < n_dirs) {
       const T u0 = rng_next_unit<T>(state.rng);

@@ -109,11 +109,12 @@ struct ris_reuse_rounds {
 // the unclamped integral). `tracer` traces its gathering directions (render_cpu's, with the run's
 // --lit-test). Without reuse, per pixel vplkit::estimate_ris_mis. With --spatial K > 0 the steps
 // j < max(--dirs, --vpls) of estimate_ris_mis become rounds over the image: a candidate pass (if
-// j < n2: each pixel's reservoir of its own M candidates from its own distribution,
-// ris_mis_resample, into a ris_params.h record), then a reuse pass (if j < n2: the pixel's
+// j < N = --vpls: each pixel's reservoir of its own M candidates from its own distribution,
+// ris_mis_resample, into a ris_params.h record), then a reuse pass (if j < N: the pixel's
 // reservoir combined with K neighbours', vplkit::ris_mis_spatial_reuse, pairwise MIS, the target
-// with each pixel's own pmf, and shaded with the receiver's distribution, h V W / n2; then, if
-// j < n1, one gathering direction weighed against n2 as in estimate_ris_mis).
+// with each pixel's own pmf, and shaded with the receiver's distribution, h V W / N; then, if
+// j < n1, one gathering direction weighed against n2 as in estimate_ris_mis). The weights' n2 is
+// estimate_ris_mis's, vplkit::ris_mis_vpl_samples(N, M).
 // Random numbers, per pixel one stream (seed, pixel), per round in this order: the M candidates
 // (ris_mis_resample's layout), the reuse's 1 + 3K (ris_spatial_reuse.hpp), the direction's u0, u1;
 // each part only in the rounds where it runs. The GPU backend follows the same layout.
@@ -167,7 +168,7 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
   }
   const int M = s.ris_candidates;
   const int n_dirs = std::max(0, s.dirs), n_ris = M > 0 ? std::max(0, s.vpls) : 0;
-  const float n1 = float(n_dirs), n2 = float(n_ris);
+  const float n1 = float(n_dirs), n2 = vplkit::ris_mis_vpl_samples<float>(n_ris, M);
   const int rounds = std::max(n_dirs, n_ris);
   const int n_pixels = W * H;
   ris_reuse_rounds state(n_pixels, s.seed);
@@ -201,7 +202,7 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
               gp, p, W, H, view, vplkit::gpu::ris_reservoir_from_record(records[std::size_t(p)]), load, spatial, r,
               dist_of, n1, n2, vmode, depth_tol);
           sum[std::size_t(p)] += vplkit::ris_mis_shade(gp, view, dist_of(p), reused, visibility, n1, n2, vmode,
-                                                       depth_tol) / n2;
+                                                       depth_tol) / float(n_ris);
         }
         if (dir_round) {
           const float u0 = vplkit::rng_next_unit<float>(r);
