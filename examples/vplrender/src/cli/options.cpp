@@ -170,8 +170,9 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("auto|N|1:K");
   app.add_option("--candidates", v.candidates,
                  d("--method ris and ris-mis: candidate VPLs per sample (default 32; 1..65536), each weighed by its "
-                   "unshadowed contribution (ris-mis: its MIS-weighted contribution against --dirs gathering); --vpls "
-                   "samples per pixel, one visibility query each."))
+                   "unshadowed contribution (ris-mis: its MIS-weighted contribution against --dirs gathering, the "
+                   "weights counting each sample as max(1, M/2) VPL samples); --vpls samples per pixel, one "
+                   "visibility query each."))
       ->type_name("M");
   app.add_option("--candidate-source", v.candidate_source,
                  d("--method ris and ris-mis: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
