@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <string>
@@ -24,15 +25,21 @@ inline int thread_count(int requested) {
 
 // Runs work(item, worker) for item in [0, n) on `threads` workers, handing out items one at a
 // time (items are rows or blocks: coarse enough). The calling thread reports progress every
-// 50 ms. The first exception of any worker is rethrown after all have stopped.
+// 50 ms and wakes as soon as the last worker stops (a plain sleep would round every stage up to
+// 50 ms steps, which the stage times report). The first exception of any worker is rethrown after
+// all have stopped.
 template <class Work>
 void parallel_items(int n, int threads, const std::string& label, const progress_fn& progress, Work&& work) {
   std::atomic<int> next{0}, done{0};
   std::atomic<bool> failed{false};
   std::exception_ptr error;
   std::mutex error_mutex;
+  std::mutex wake_mutex;
+  std::condition_variable wake;
+  int running = 0;  // workers that have not stopped (under wake_mutex)
   std::vector<std::thread> pool;
   const int t = std::max(1, std::min(threads, n));
+  running = t;
   for (int k = 0; k < t; ++k)
     pool.emplace_back([&, k] {
       for (;;) {
@@ -47,11 +54,16 @@ void parallel_items(int n, int threads, const std::string& label, const progress
         }
         done.fetch_add(1);
       }
+      std::lock_guard<std::mutex> lock(wake_mutex);
+      if (--running == 0) wake.notify_one();
     });
   if (progress) {
-    while (done.load() < n && !failed.load()) {
+    std::unique_lock<std::mutex> lock(wake_mutex);
+    while (running > 0) {
+      lock.unlock();
       progress(label, static_cast<std::uint64_t>(done.load()), static_cast<std::uint64_t>(n));
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      lock.lock();
+      wake.wait_for(lock, std::chrono::milliseconds(50), [&] { return running == 0; });
     }
   }
   for (std::thread& th : pool) th.join();
