@@ -5045,6 +5045,7 @@ struct bvh_tracer {
 //   correctly rounded result.
 
 #include <limits>
+#include <type_traits>
 
 namespace vplkit {
 
@@ -5175,8 +5176,60 @@ inline T balance_divide(T f, const mis_balance_denominator<T>& den) {
 // d * 2^e with d in [1, 8) (mis_scaled_terms): one division of f's mantissa by d, then an exact
 // power-of-two scaling, so an intermediate over- or underflows only when the result itself does;
 // a result below the smallest normal T is 0.
+// Host shortcut of balance_denominator and balance_divide (float and double, whose products, sum
+// and quotient are correctly rounded; not a test's GPU model of float): the plain n1 p1 + n2 p2 and
+// f / d, taken only where they are the scaled forms' bits. Rounding commutes with the scaling by a
+// power of two wherever the value stays at least twice the smallest normal T (below that the
+// denormal grid is coarser than a normal one's) and finite, so a term n p, the sum d and a quotient
+// f / d in [2 min, max] are the scaled forms' mantissas at their exponents; a term below 2^-126 of
+// the other, which the scaled sum drops, leaves the plain sum unrounded too (it is below half an
+// ulp). Anything else (an infinite pdf, a term or quotient near the ends of the range, a NaN or
+// infinite f) returns false: the general form runs. Compared over the whole range of magnitudes in
+// tests/hardcases/mis_host_shortcut_hardcases_test.cpp, with IEEE arithmetic and under FTZ|DAZ.
+namespace detail {
+template <class T>
+inline constexpr bool mis_host_arithmetic = std::is_same<T, float>::value || std::is_same<T, double>::value;
+
+// n1 p1 + n2 p2 as a plain T in d (0 when both terms are), or false.
+template <class T>
+inline bool balance_denominator_plain(T n1, T p1, T n2, T p2, T& d) {
+  constexpr T lo2 = T(2) * std::numeric_limits<T>::min(), big = std::numeric_limits<T>::max();
+  n1 = mis_clean_count(n1);
+  n2 = mis_clean_count(n2);
+  p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
+  p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
+  if (!(p1 <= big) || !(p2 <= big)) return false;  // an infinite pdf
+  // A term is 0 where a factor is (the cleaning above); a product that underflows to 0 is not.
+  const T a = n1 * p1, b = n2 * p2;
+  if ((p1 != T(0) && !(a >= lo2 && a <= big)) || (p2 != T(0) && !(b >= lo2 && b <= big))) return false;
+  d = a + b;
+  return d <= big;
+}
+
+// f / d for d from balance_denominator_plain (> 0) in q, or false.
+template <class T>
+inline bool balance_divide_plain(T f, T d, T& q) {
+  constexpr T lo2 = T(2) * std::numeric_limits<T>::min(), big = std::numeric_limits<T>::max();
+  f = flush_denormal(f);
+  if (f == T(0)) {
+    q = T(0);
+    return true;
+  }
+  q = f / d;
+  const T aq = q < T(0) ? -q : q;
+  return aq >= lo2 && aq <= big;  // false for a NaN or infinite f too
+}
+}  // namespace detail
+
 template <class T>
 inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
+  if constexpr (detail::mis_host_arithmetic<T>) {
+    T d, q;
+    if (detail::balance_denominator_plain(n1, p1, n2, p2, d)) {
+      if (!(d > T(0))) return T(0);
+      if (detail::balance_divide_plain(f, d, q)) return q;
+    }
+  }
   return balance_divide(f, balance_denominator(n1, p1, n2, p2));
 }
 
@@ -5198,6 +5251,7 @@ inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
 // The paper's forms (eq. 10, 11, 15) are kept as `_as_published`; see mis_weights_as_published.
 
 #include <limits>
+#include <type_traits>
 
 namespace vplkit {
 
@@ -5218,7 +5272,9 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 //   +inf (balance weight 1 for the VPL strategy, balance_combined 0 for a gathering sample).
 // - patch_area infinite -> 0; d2_squared infinite -> +inf; NaN or negative geometry -> 0;
 //   cos_theta1 infinite (not a cosine) -> 0.
-template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
+namespace detail {
+// vpl_pdf_solid_angle's general form, which every T runs.
+template <class T> inline T vpl_pdf_solid_angle_scaled(T pmf, T d2_squared, T patch_area, T cos_theta1) {
   const T inf = std::numeric_limits<T>::infinity();
   constexpr T lo = std::numeric_limits<T>::min();
   if (!(pmf >= lo) || !(cos_theta1 >= lo) || !(d2_squared >= lo)) return T(0);
@@ -5237,6 +5293,27 @@ template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_are
                         sa = split_binary(patch_area), sc = split_binary(cos_theta1);
   const T q = (sp.mantissa * sd.mantissa) / (sa.mantissa * sc.mantissa);
   return scale_by_exp2(q, sp.exponent + sd.exponent - sa.exponent - sc.exponent);
+}
+}  // namespace detail
+
+// Host shortcut (float and double, correctly rounded; not a test's GPU model of float): the plain
+// (pmf d2^2) / (A cos(theta1)) where the four inputs are normal and finite and both products and
+// the quotient lie in [2 min, max]. There the roundings commute with the general form's scalings
+// by powers of two (heuristics.hpp, balance_combined's shortcut): the same bits. Compared over the
+// whole range in tests/hardcases/mis_host_shortcut_hardcases_test.cpp, IEEE and FTZ|DAZ.
+template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
+  if constexpr (detail::mis_host_arithmetic<T>) {
+    constexpr T lo = std::numeric_limits<T>::min(), lo2 = T(2) * lo, big = std::numeric_limits<T>::max();
+    if (pmf >= lo && pmf <= big && d2_squared >= lo && d2_squared <= big && patch_area >= lo && patch_area <= big &&
+        cos_theta1 >= lo && cos_theta1 <= big) {
+      const T num = pmf * d2_squared, den = patch_area * cos_theta1;
+      if (num >= lo2 && num <= big && den >= lo2 && den <= big) {
+        const T q = num / den;
+        if (q >= lo2 && q <= big) return q;
+      }
+    }
+  }
+  return detail::vpl_pdf_solid_angle_scaled(pmf, d2_squared, patch_area, cos_theta1);
 }
 
 // ---- the paper's mixed-measure forms (as published) -------------------------------------------
@@ -7946,9 +8023,20 @@ namespace vplkit {
 
 enum class mis_mode { solid_angle, as_published };
 
-// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once).
+// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once; with
+// balance_combined's host shortcut where it applies to all three channels).
 template <class T>
 inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
+  if constexpr (detail::mis_host_arithmetic<T>) {
+    T d;
+    if (detail::balance_denominator_plain(n1, p1, n2, p2, d)) {
+      if (!(d > T(0))) return vec3<T>(T(0));
+      vec3<T> q;
+      if (detail::balance_divide_plain(f.x, d, q.x) && detail::balance_divide_plain(f.y, d, q.y) &&
+          detail::balance_divide_plain(f.z, d, q.z))
+        return q;
+    }
+  }
   const mis_balance_denominator<T> den = balance_denominator(n1, p1, n2, p2);
   return vec3<T>(balance_divide(f.x, den), balance_divide(f.y, den), balance_divide(f.z, den));
 }
@@ -9166,7 +9254,11 @@ inline std::uint32_t ris_pool_index(T u, std::uint32_t pool_size) {
 // ris_mis_resample's normalisation (weight_sum = (1/M) sum target / pmf, confidence M) and kept
 // record (ris_mis_shade_kept shades it), the kept sample as (texel, xi) so that spatial reuse
 // (ris_mis_spatial_reuse) re-evaluates it at a neighbour as any other. Empty for an invalid gather
-// point, n_candidates <= 0, n2 <= 0 or an empty pool (no numbers drawn then).
+// point, n_candidates <= 0, n2 <= 0 or an empty pool (no numbers drawn then). The candidates go in
+// batches of ris_mis_draw_batch: first each one's two numbers (u, then its selection u: the
+// one-at-a-time layout, which the GLSL mirror runs) and a prefetch of its entry, then their
+// weights and reservoir updates in order: the same reservoir, with the entries' cache misses
+// overlapped (a pool of 16384 entries is 1 MiB).
 template <class T>
 inline ris_reservoir<T> ris_mis_resample_pooled(const gather_point<T>& gp, const ris_pool_entry<T>* pool,
                                                 std::uint32_t pool_size, counter_rng& rng, int n_candidates, T n1,
@@ -9176,18 +9268,26 @@ inline ris_reservoir<T> ris_mis_resample_pooled(const gather_point<T>& gp, const
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0)) || pool_size == 0) return r;
   weighted_reservoir<T> res;
   const mis_receiver<T> rx = make_mis_receiver(gp);
-  for (int k = 0; k < n_candidates; ++k) {
-    const T u = rng_next_unit<T>(rng);
-    const T u_keep = rng_next_unit<T>(rng);
-    const ris_pool_entry<T>& e = pool[ris_pool_index(u, pool_size)];
-    const vec3<T> h = ris_pool_unshadowed(gp, rx, e, n1, n2);
-    const T target = luminance(h);
-    if (!reservoir_weight_usable(target)) continue;
-    // A usable target means a normal-range pmf (ris_pool_unshadowed), so the quotient is finite or +Inf.
-    if (reservoir_update(res, std::uint32_t(k), target / estimator_pmf(e.pmf), u_keep)) {
-      r.kept = ris_sample<T>{e.texel, e.xi};
-      r.target = target;
-      kept = ris_mis_kept<T>{h, e.position, e.normal};
+  for (int k0 = 0; k0 < n_candidates; k0 += ris_mis_draw_batch) {
+    const int n = n_candidates - k0 < ris_mis_draw_batch ? n_candidates - k0 : ris_mis_draw_batch;
+    const ris_pool_entry<T>* e[ris_mis_draw_batch];
+    T u_keep[ris_mis_draw_batch];
+    for (int k = 0; k < n; ++k) {
+      const T u = rng_next_unit<T>(rng);
+      u_keep[k] = rng_next_unit<T>(rng);
+      e[k] = pool + ris_pool_index(u, pool_size);
+      prefetch_read(e[k]);
+    }
+    for (int k = 0; k < n; ++k) {
+      const vec3<T> h = ris_pool_unshadowed(gp, rx, *e[k], n1, n2);
+      const T target = luminance(h);
+      if (!reservoir_weight_usable(target)) continue;
+      // A usable target means a normal-range pmf (ris_pool_unshadowed), so the quotient is finite or +Inf.
+      if (reservoir_update(res, std::uint32_t(k0 + k), target / estimator_pmf(e[k]->pmf), u_keep[k])) {
+        r.kept = ris_sample<T>{e[k]->texel, e[k]->xi};
+        r.target = target;
+        kept = ris_mis_kept<T>{h, e[k]->position, e[k]->normal};
+      }
     }
   }
   const T m = T(n_candidates);

@@ -15,6 +15,7 @@
 #include <vplkit/builders/global_weights.hpp>
 #include <vplkit/builders/vpl_distribution.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
+#include <vplkit/estimators/ris_candidate_pool.hpp>
 #include <vplkit/estimators/ris_estimator.hpp>
 #include <vplkit/estimators/ris_mis_estimator.hpp>
 #include <vplkit/estimators/ris_spatial_reuse.hpp>
@@ -60,6 +61,27 @@ void BM_ris_candidates(benchmark::State& state) {
   run_points(state, 32, [&](const vplkit::gather_point<float>& gp, vplkit::counter_rng& rng) {
     const auto r = vplkit::ris_resample(gp, view, mixture(), rng, 32, kDmin, mode, tol);
     return vplkit::vec3<float>(r.weight_sum);
+  });
+}
+
+// ris-mis's candidate pass from a pool (ris_candidate_pool.hpp): one reservoir of 32 candidates
+// drawn from 16384 presampled patch points (the renderer's --candidate-pool default), weighed
+// with n1 = 8, n2 = 8 max(1, 32/2) (no visibility). Items: candidates.
+void BM_ris_mis_pooled_candidates(benchmark::State& state) {
+  const auto view = room_dprsm(64).view();
+  const float tol = std::numeric_limits<float>::infinity();
+  static const auto* pool = [&] {
+    auto* p = new std::vector<vplkit::ris_pool_entry<float>>(16384);
+    for (std::uint32_t i = 0; i < p->size(); ++i)
+      (*p)[i] = vplkit::ris_pool_draw_entry(view, mixture(), 3u, i, vplkit::vpl_mode::patch, tol);
+    return p;
+  }();
+  const float n1 = 8.0f, n2 = vplkit::ris_mis_vpl_samples<float>(8, 32);
+  run_points(state, 32, [&](const vplkit::gather_point<float>& gp, vplkit::counter_rng& rng) {
+    vplkit::ris_mis_kept<float> kept;
+    const auto r = vplkit::ris_mis_resample_pooled(gp, pool->data(), std::uint32_t(pool->size()), rng, 32, n1, n2,
+                                                   kept);
+    return vplkit::vec3<float>(r.weight_sum) + kept.h;
   });
 }
 
@@ -137,6 +159,7 @@ void BM_ris_mis_steps(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_ris_candidates)->ArgName("patch")->Arg(0)->Arg(1)->Apply(vplkit_bench::standard);
+BENCHMARK(BM_ris_mis_pooled_candidates)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_ris_estimate)->ArgName("M")->Arg(8)->Arg(32)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_vpl_sample_with_query)->Apply(vplkit_bench::standard);
 BENCHMARK(BM_ris_spatial_reuse)->ArgNames({"K", "balance"})->Args({4, 0})->Args({4, 1})->Args({8, 0})->Args({8, 1})

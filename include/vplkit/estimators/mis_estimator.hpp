@@ -43,9 +43,20 @@ namespace vplkit {
 
 enum class mis_mode { solid_angle, as_published };
 
-// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once).
+// f / (n1 p1 + n2 p2) per channel (balance_combined's values, the denominator formed once; with
+// balance_combined's host shortcut where it applies to all three channels).
 template <class T>
 inline vec3<T> mis_balance_value(vec3<T> f, T n1, T p1, T n2, T p2) {
+  if constexpr (detail::mis_host_arithmetic<T>) {
+    T d;
+    if (detail::balance_denominator_plain(n1, p1, n2, p2, d)) {
+      if (!(d > T(0))) return vec3<T>(T(0));
+      vec3<T> q;
+      if (detail::balance_divide_plain(f.x, d, q.x) && detail::balance_divide_plain(f.y, d, q.y) &&
+          detail::balance_divide_plain(f.z, d, q.z))
+        return q;
+    }
+  }
   const mis_balance_denominator<T> den = balance_denominator(n1, p1, n2, p2);
   return vec3<T>(balance_divide(f.x, den), balance_divide(f.y, den), balance_divide(f.z, den));
 }

@@ -27,6 +27,7 @@
 // layout). A candidate from the pool takes u (the entry ris_pool_index(u, P)) and then its selection
 // u: 2 M numbers per reservoir, whatever the vpl_mode.
 #include <vplkit/core/gather_point.hpp>
+#include <vplkit/core/prefetch.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/distribution/weighted_reservoir.hpp>
 #include <vplkit/estimators/mis_estimator.hpp>
@@ -142,7 +143,11 @@ inline std::uint32_t ris_pool_index(T u, std::uint32_t pool_size) {
 // ris_mis_resample's normalisation (weight_sum = (1/M) sum target / pmf, confidence M) and kept
 // record (ris_mis_shade_kept shades it), the kept sample as (texel, xi) so that spatial reuse
 // (ris_mis_spatial_reuse) re-evaluates it at a neighbour as any other. Empty for an invalid gather
-// point, n_candidates <= 0, n2 <= 0 or an empty pool (no numbers drawn then).
+// point, n_candidates <= 0, n2 <= 0 or an empty pool (no numbers drawn then). The candidates go in
+// batches of ris_mis_draw_batch: first each one's two numbers (u, then its selection u: the
+// one-at-a-time layout, which the GLSL mirror runs) and a prefetch of its entry, then their
+// weights and reservoir updates in order: the same reservoir, with the entries' cache misses
+// overlapped (a pool of 16384 entries is 1 MiB).
 template <class T>
 inline ris_reservoir<T> ris_mis_resample_pooled(const gather_point<T>& gp, const ris_pool_entry<T>* pool,
                                                 std::uint32_t pool_size, counter_rng& rng, int n_candidates, T n1,
@@ -152,18 +157,26 @@ inline ris_reservoir<T> ris_mis_resample_pooled(const gather_point<T>& gp, const
   if (!gather_point_valid(gp) || n_candidates <= 0 || !(n2 > T(0)) || pool_size == 0) return r;
   weighted_reservoir<T> res;
   const mis_receiver<T> rx = make_mis_receiver(gp);
-  for (int k = 0; k < n_candidates; ++k) {
-    const T u = rng_next_unit<T>(rng);
-    const T u_keep = rng_next_unit<T>(rng);
-    const ris_pool_entry<T>& e = pool[ris_pool_index(u, pool_size)];
-    const vec3<T> h = ris_pool_unshadowed(gp, rx, e, n1, n2);
-    const T target = luminance(h);
-    if (!reservoir_weight_usable(target)) continue;
-    // A usable target means a normal-range pmf (ris_pool_unshadowed), so the quotient is finite or +Inf.
-    if (reservoir_update(res, std::uint32_t(k), target / estimator_pmf(e.pmf), u_keep)) {
-      r.kept = ris_sample<T>{e.texel, e.xi};
-      r.target = target;
-      kept = ris_mis_kept<T>{h, e.position, e.normal};
+  for (int k0 = 0; k0 < n_candidates; k0 += ris_mis_draw_batch) {
+    const int n = n_candidates - k0 < ris_mis_draw_batch ? n_candidates - k0 : ris_mis_draw_batch;
+    const ris_pool_entry<T>* e[ris_mis_draw_batch];
+    T u_keep[ris_mis_draw_batch];
+    for (int k = 0; k < n; ++k) {
+      const T u = rng_next_unit<T>(rng);
+      u_keep[k] = rng_next_unit<T>(rng);
+      e[k] = pool + ris_pool_index(u, pool_size);
+      prefetch_read(e[k]);
+    }
+    for (int k = 0; k < n; ++k) {
+      const vec3<T> h = ris_pool_unshadowed(gp, rx, *e[k], n1, n2);
+      const T target = luminance(h);
+      if (!reservoir_weight_usable(target)) continue;
+      // A usable target means a normal-range pmf (ris_pool_unshadowed), so the quotient is finite or +Inf.
+      if (reservoir_update(res, std::uint32_t(k0 + k), target / estimator_pmf(e[k]->pmf), u_keep[k])) {
+        r.kept = ris_sample<T>{e[k]->texel, e[k]->xi};
+        r.target = target;
+        kept = ris_mis_kept<T>{h, e[k]->position, e[k]->normal};
+      }
     }
   }
   const T m = T(n_candidates);

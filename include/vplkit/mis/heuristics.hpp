@@ -37,6 +37,7 @@
 #include <vplkit/core/normal_range.hpp>
 
 #include <limits>
+#include <type_traits>
 
 namespace vplkit {
 
@@ -167,8 +168,60 @@ inline T balance_divide(T f, const mis_balance_denominator<T>& den) {
 // d * 2^e with d in [1, 8) (mis_scaled_terms): one division of f's mantissa by d, then an exact
 // power-of-two scaling, so an intermediate over- or underflows only when the result itself does;
 // a result below the smallest normal T is 0.
+// Host shortcut of balance_denominator and balance_divide (float and double, whose products, sum
+// and quotient are correctly rounded; not a test's GPU model of float): the plain n1 p1 + n2 p2 and
+// f / d, taken only where they are the scaled forms' bits. Rounding commutes with the scaling by a
+// power of two wherever the value stays at least twice the smallest normal T (below that the
+// denormal grid is coarser than a normal one's) and finite, so a term n p, the sum d and a quotient
+// f / d in [2 min, max] are the scaled forms' mantissas at their exponents; a term below 2^-126 of
+// the other, which the scaled sum drops, leaves the plain sum unrounded too (it is below half an
+// ulp). Anything else (an infinite pdf, a term or quotient near the ends of the range, a NaN or
+// infinite f) returns false: the general form runs. Compared over the whole range of magnitudes in
+// tests/hardcases/mis_host_shortcut_hardcases_test.cpp, with IEEE arithmetic and under FTZ|DAZ.
+namespace detail {
+template <class T>
+inline constexpr bool mis_host_arithmetic = std::is_same<T, float>::value || std::is_same<T, double>::value;
+
+// n1 p1 + n2 p2 as a plain T in d (0 when both terms are), or false.
+template <class T>
+inline bool balance_denominator_plain(T n1, T p1, T n2, T p2, T& d) {
+  constexpr T lo2 = T(2) * std::numeric_limits<T>::min(), big = std::numeric_limits<T>::max();
+  n1 = mis_clean_count(n1);
+  n2 = mis_clean_count(n2);
+  p1 = n1 > T(0) ? mis_clean_pdf(p1) : T(0);
+  p2 = n2 > T(0) ? mis_clean_pdf(p2) : T(0);
+  if (!(p1 <= big) || !(p2 <= big)) return false;  // an infinite pdf
+  // A term is 0 where a factor is (the cleaning above); a product that underflows to 0 is not.
+  const T a = n1 * p1, b = n2 * p2;
+  if ((p1 != T(0) && !(a >= lo2 && a <= big)) || (p2 != T(0) && !(b >= lo2 && b <= big))) return false;
+  d = a + b;
+  return d <= big;
+}
+
+// f / d for d from balance_denominator_plain (> 0) in q, or false.
+template <class T>
+inline bool balance_divide_plain(T f, T d, T& q) {
+  constexpr T lo2 = T(2) * std::numeric_limits<T>::min(), big = std::numeric_limits<T>::max();
+  f = flush_denormal(f);
+  if (f == T(0)) {
+    q = T(0);
+    return true;
+  }
+  q = f / d;
+  const T aq = q < T(0) ? -q : q;
+  return aq >= lo2 && aq <= big;  // false for a NaN or infinite f too
+}
+}  // namespace detail
+
 template <class T>
 inline T balance_combined(T f, T n1, T p1, T n2, T p2) {
+  if constexpr (detail::mis_host_arithmetic<T>) {
+    T d, q;
+    if (detail::balance_denominator_plain(n1, p1, n2, p2, d)) {
+      if (!(d > T(0))) return T(0);
+      if (detail::balance_divide_plain(f, d, q)) return q;
+    }
+  }
   return balance_divide(f, balance_denominator(n1, p1, n2, p2));
 }
 

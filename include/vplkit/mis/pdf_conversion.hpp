@@ -18,6 +18,7 @@
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 
 #include <limits>
+#include <type_traits>
 
 namespace vplkit {
 
@@ -38,7 +39,9 @@ template <class T> inline T cosine_pdf_solid_angle(T cos_theta2) {
 //   +inf (balance weight 1 for the VPL strategy, balance_combined 0 for a gathering sample).
 // - patch_area infinite -> 0; d2_squared infinite -> +inf; NaN or negative geometry -> 0;
 //   cos_theta1 infinite (not a cosine) -> 0.
-template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
+namespace detail {
+// vpl_pdf_solid_angle's general form, which every T runs.
+template <class T> inline T vpl_pdf_solid_angle_scaled(T pmf, T d2_squared, T patch_area, T cos_theta1) {
   const T inf = std::numeric_limits<T>::infinity();
   constexpr T lo = std::numeric_limits<T>::min();
   if (!(pmf >= lo) || !(cos_theta1 >= lo) || !(d2_squared >= lo)) return T(0);
@@ -57,6 +60,27 @@ template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_are
                         sa = split_binary(patch_area), sc = split_binary(cos_theta1);
   const T q = (sp.mantissa * sd.mantissa) / (sa.mantissa * sc.mantissa);
   return scale_by_exp2(q, sp.exponent + sd.exponent - sa.exponent - sc.exponent);
+}
+}  // namespace detail
+
+// Host shortcut (float and double, correctly rounded; not a test's GPU model of float): the plain
+// (pmf d2^2) / (A cos(theta1)) where the four inputs are normal and finite and both products and
+// the quotient lie in [2 min, max]. There the roundings commute with the general form's scalings
+// by powers of two (heuristics.hpp, balance_combined's shortcut): the same bits. Compared over the
+// whole range in tests/hardcases/mis_host_shortcut_hardcases_test.cpp, IEEE and FTZ|DAZ.
+template <class T> inline T vpl_pdf_solid_angle(T pmf, T d2_squared, T patch_area, T cos_theta1) {
+  if constexpr (detail::mis_host_arithmetic<T>) {
+    constexpr T lo = std::numeric_limits<T>::min(), lo2 = T(2) * lo, big = std::numeric_limits<T>::max();
+    if (pmf >= lo && pmf <= big && d2_squared >= lo && d2_squared <= big && patch_area >= lo && patch_area <= big &&
+        cos_theta1 >= lo && cos_theta1 <= big) {
+      const T num = pmf * d2_squared, den = patch_area * cos_theta1;
+      if (num >= lo2 && num <= big && den >= lo2 && den <= big) {
+        const T q = num / den;
+        if (q >= lo2 && q <= big) return q;
+      }
+    }
+  }
+  return detail::vpl_pdf_solid_angle_scaled(pmf, d2_squared, patch_area, cos_theta1);
 }
 
 // ---- the paper's mixed-measure forms (as published) -------------------------------------------
