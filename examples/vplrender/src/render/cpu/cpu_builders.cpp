@@ -23,19 +23,6 @@ namespace {
 
 using vplkit::gather_point;
 
-// Per-texel global weights from a list of gather points, parallel over texel blocks.
-void global_weights(const vplkit::dprsm_view<float>& view, const std::vector<gather_point<float>>& points, float dmin,
-                    float* out, int threads) {
-  const int n = view.texel_count();
-  const int block = 4096;
-  const int blocks = (n + block - 1) / block;
-  parallel_items(blocks, threads, "", {}, [&](int b, int) {
-    const int end = std::min(n, (b + 1) * block);
-    for (int t = b * block; t < end; ++t)
-      out[t] = vplkit::global_weight_texel(view, t, points.data(), static_cast<int>(points.size()), dmin);
-  });
-}
-
 std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>& g, const std::vector<int>& pixels) {
   std::vector<gather_point<float>> pts;
   for (int p : pixels) {
@@ -45,15 +32,26 @@ std::vector<gather_point<float>> valid_points(const vplkit::gbuffer_view<float>&
   return pts;
 }
 
-// The 2 R^2 texels in blocks over the workers: per-texel work that writes only its own texel, so
-// the result does not depend on the worker count.
+// The 2 R^2 texels in blocks of `block` over the workers: per-texel work that writes only its own
+// texel, so the result does not depend on the worker count. Smaller blocks for costlier texels
+// (global weights visit every subset point per texel), so that the workers finish together.
 template <class F>
-void for_each_texel(int n, int threads, F&& per_texel) {
-  const int block = 16384;
+void for_each_texel(int n, int threads, F&& per_texel, int block = 16384) {
   parallel_items((n + block - 1) / block, threads, "", {}, [&](int b, int) {
     const int end = std::min(n, (b + 1) * block);
     for (int t = b * block; t < end; ++t) per_texel(t);
   });
+}
+
+// Per-texel global weights from a list of gather points, over the workers.
+void global_weights(const vplkit::dprsm_view<float>& view, const std::vector<gather_point<float>>& points, float dmin,
+                    float* out, int threads) {
+  for_each_texel(
+      view.texel_count(), threads,
+      [&](int t) {
+        out[t] = vplkit::global_weight_texel(view, t, points.data(), static_cast<int>(points.size()), dmin);
+      },
+      4096);
 }
 
 // vplkit::build_flux_weights of the frame's (already validated) view, over the workers: the same
