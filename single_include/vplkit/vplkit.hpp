@@ -5176,6 +5176,7 @@ inline T balance_divide(T f, const mis_balance_denominator<T>& den) {
 // d * 2^e with d in [1, 8) (mis_scaled_terms): one division of f's mantissa by d, then an exact
 // power-of-two scaling, so an intermediate over- or underflows only when the result itself does;
 // a result below the smallest normal T is 0.
+//
 // Host shortcut of balance_denominator and balance_divide (float and double, whose products, sum
 // and quotient are correctly rounded; not a test's GPU model of float): the plain n1 p1 + n2 p2 and
 // f / d, taken only where they are the scaled forms' bits. Rounding commutes with the scaling by a
