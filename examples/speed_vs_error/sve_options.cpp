@@ -62,7 +62,8 @@ Sweep options:
   --help             this text
 
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
-  --scene --backend --size --dprsm --voxels --regions --dirs (mis only when not swept) --eps --dmin
+  --scene --backend --size --dprsm --voxels --regions --global-subset --local-subset
+  --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
   --candidates --candidate-source (ris, ris-mis) --spatial (ris, ris-mis) --candidate-pool (ris-mis)
   --clamp-compensation-dirs

@@ -76,85 +76,100 @@ std::string describe(std::initializer_list<T> xs) {
   return s.str();
 }
 
-template <class T>
-void check_balance(std::uint64_t seed, int n) {
-  using lim = std::numeric_limits<T>;
+// What one case reports: whether the shortcut's bits equal the general form's, whether it took the
+// shortcut's path (so that the shortcut is exercised, not only the general form), and the inputs.
+struct case_result {
+  bool same = true;
+  bool shortcut = false;
+  std::string inputs;
+};
+
+// Runs one_case(gen, i) for i < n, in IEEE mode and again under FTZ|DAZ (the same inputs: the
+// generator restarts from seed), and checks that no case differs and that more than a quarter
+// took the shortcut. `what` names the inputs in the message of the first difference.
+template <class T, class Case>
+void check_in_both_fp_modes(std::uint64_t seed, int n, const char* what, Case one_case) {
   for (const bool ftz : {false, true}) {
     const vplkit_test::fp_mode_scope mode(ftz);
     any_magnitude<T> gen(seed);
-    std::size_t differ = 0, plain = 0;
+    std::size_t differ = 0, shortcut = 0;
     std::string first;
     for (int i = 0; i < n; ++i) {
-      T n1 = gen.count(), n2 = gen.count(), p1 = gen(true), p2 = gen(true);
-      vplkit::vec3<T> f(gen(true), gen(true), gen(true));
-      if (i % 3 == 1) {
-        // Products and quotients next to the ends of the range.
-        const T ends[] = {lim::min(), T(2) * lim::min(), lim::max(), T(1)};
-        p1 = gen.near(ends[gen.rng() % 4]) / (n1 > T(0) ? n1 : T(1));
-        p2 = gen.near(ends[gen.rng() % 4]) / (n2 > T(0) ? n2 : T(1));
-        const T d = n1 * p1 + n2 * p2;
-        f.x = gen.near(d * ends[gen.rng() % 4]);
-        f.y = gen.near(d * lim::min());
-        f.z = gen.near(d);
-      } else if (i % 3 == 2) {
-        // What the estimators pass: moderate counts, densities and values.
-        n1 = T(1 + gen.rng() % 64);
-        n2 = T(1 + gen.rng() % 64);
-        p1 = gen.near(T(0.3));
-        p2 = gen.near(T(50));
-        f = vplkit::vec3<T>(gen.near(T(0.02)), gen.near(T(0.01)), gen.near(T(1e-3)));
-      }
-      const vplkit::mis_balance_denominator<T> den = vplkit::balance_denominator(n1, p1, n2, p2);
-      const vplkit::vec3<T> fast = vplkit::mis_balance_value(f, n1, p1, n2, p2);
-      const vplkit::vec3<T> ref(vplkit::balance_divide(f.x, den), vplkit::balance_divide(f.y, den),
-                                vplkit::balance_divide(f.z, den));
-      const T one = vplkit::balance_combined(f.x, n1, p1, n2, p2);
-      T d;
-      if (vplkit::detail::balance_denominator_plain(n1, p1, n2, p2, d)) ++plain;
-      if (!(same_bits(fast.x, ref.x) && same_bits(fast.y, ref.y) && same_bits(fast.z, ref.z) &&
-            same_bits(one, ref.x)) &&
-          differ++ == 0)
-        first = describe({n1, p1, n2, p2, f.x, f.y, f.z});
+      const case_result r = one_case(gen, i);
+      if (r.shortcut) ++shortcut;
+      if (!r.same && differ++ == 0) first = r.inputs;
     }
-    INFO((ftz ? "FTZ|DAZ" : "IEEE") << ", " << n << " cases (" << plain
-                                    << " with a plain denominator); first difference (n1 p1 n2 p2 f): " << first);
+    INFO((ftz ? "FTZ|DAZ" : "IEEE") << ", " << n << " cases (" << shortcut
+                                    << " through the shortcut); first difference (" << what << "): " << first);
     CHECK(differ == 0);
-    CHECK(plain > std::size_t(n / 4));  // the shortcut is exercised, not only the general form
+    CHECK(shortcut > std::size_t(n / 4));
   }
+}
+
+template <class T>
+void check_balance(std::uint64_t seed, int n) {
+  using lim = std::numeric_limits<T>;
+  check_in_both_fp_modes<T>(seed, n, "n1 p1 n2 p2 f", [](any_magnitude<T>& gen, int i) {
+    T n1 = gen.count(), n2 = gen.count(), p1 = gen(true), p2 = gen(true);
+    vplkit::vec3<T> f(gen(true), gen(true), gen(true));
+    if (i % 3 == 1) {
+      // Products and quotients next to the ends of the range.
+      const T ends[] = {lim::min(), T(2) * lim::min(), lim::max(), T(1)};
+      p1 = gen.near(ends[gen.rng() % 4]) / (n1 > T(0) ? n1 : T(1));
+      p2 = gen.near(ends[gen.rng() % 4]) / (n2 > T(0) ? n2 : T(1));
+      const T d = n1 * p1 + n2 * p2;
+      f.x = gen.near(d * ends[gen.rng() % 4]);
+      f.y = gen.near(d * lim::min());
+      f.z = gen.near(d);
+    } else if (i % 3 == 2) {
+      // What the estimators pass: moderate counts, densities and values.
+      n1 = T(1 + gen.rng() % 64);
+      n2 = T(1 + gen.rng() % 64);
+      p1 = gen.near(T(0.3));
+      p2 = gen.near(T(50));
+      f = vplkit::vec3<T>(gen.near(T(0.02)), gen.near(T(0.01)), gen.near(T(1e-3)));
+    }
+    const vplkit::mis_balance_denominator<T> den = vplkit::balance_denominator(n1, p1, n2, p2);
+    const vplkit::vec3<T> fast = vplkit::mis_balance_value(f, n1, p1, n2, p2);
+    const vplkit::vec3<T> ref(vplkit::balance_divide(f.x, den), vplkit::balance_divide(f.y, den),
+                              vplkit::balance_divide(f.z, den));
+    const T one = vplkit::balance_combined(f.x, n1, p1, n2, p2);
+    T d;
+    case_result r;
+    r.shortcut = vplkit::detail::balance_denominator_plain(n1, p1, n2, p2, d);
+    r.same = same_bits(fast.x, ref.x) && same_bits(fast.y, ref.y) && same_bits(fast.z, ref.z) && same_bits(one, ref.x);
+    if (!r.same) r.inputs = describe({n1, p1, n2, p2, f.x, f.y, f.z});
+    return r;
+  });
 }
 
 template <class T>
 void check_vpl_pdf(std::uint64_t seed, int n) {
   using lim = std::numeric_limits<T>;
-  for (const bool ftz : {false, true}) {
-    const vplkit_test::fp_mode_scope mode(ftz);
-    any_magnitude<T> gen(seed);
-    std::size_t differ = 0, moderate = 0;
-    std::string first;
-    for (int i = 0; i < n; ++i) {
-      T pmf = gen(true), d2 = gen(true), area = gen(true), c = gen(true);
-      if (i % 3 == 1) {
-        const T ends[] = {lim::min(), T(2) * lim::min(), lim::max(), T(1)};
-        pmf = gen.near(T(1e-6));
-        d2 = gen.near(ends[gen.rng() % 4]) / pmf;
-        area = gen.near(T(0.5));
-        c = gen.near(ends[gen.rng() % 4]) / area;
-        if (gen.rng() % 2) d2 = gen.near(pmf * d2 / (ends[gen.rng() % 4]) * (area * c) / pmf);
-      } else if (i % 3 == 2) {
-        pmf = gen.near(T(1e-5));
-        d2 = gen.near(T(4));
-        area = gen.near(T(1e-3));
-        c = gen.near(T(0.5));
-      }
-      const T fast = vplkit::vpl_pdf_solid_angle(pmf, d2, area, c);
-      const T ref = vplkit::detail::vpl_pdf_solid_angle_scaled(pmf, d2, area, c);
-      if (fast > T(0) && fast < lim::infinity()) ++moderate;
-      if (!same_bits(fast, ref) && differ++ == 0) first = describe({pmf, d2, area, c});
+  check_in_both_fp_modes<T>(seed, n, "pmf d2 A cos", [](any_magnitude<T>& gen, int i) {
+    T pmf = gen(true), d2 = gen(true), area = gen(true), c = gen(true);
+    if (i % 3 == 1) {
+      const T ends[] = {lim::min(), T(2) * lim::min(), lim::max(), T(1)};
+      pmf = gen.near(T(1e-6));
+      d2 = gen.near(ends[gen.rng() % 4]) / pmf;
+      area = gen.near(T(0.5));
+      c = gen.near(ends[gen.rng() % 4]) / area;
+      if (gen.rng() % 2) d2 = gen.near(pmf * d2 / (ends[gen.rng() % 4]) * (area * c) / pmf);
+    } else if (i % 3 == 2) {
+      pmf = gen.near(T(1e-5));
+      d2 = gen.near(T(4));
+      area = gen.near(T(1e-3));
+      c = gen.near(T(0.5));
     }
-    INFO((ftz ? "FTZ|DAZ" : "IEEE") << ", " << n << " cases; first difference (pmf d2 A cos): " << first);
-    CHECK(differ == 0);
-    CHECK(moderate > std::size_t(n / 4));
-  }
+    const T fast = vplkit::vpl_pdf_solid_angle(pmf, d2, area, c);
+    const T ref = vplkit::detail::vpl_pdf_solid_angle_scaled(pmf, d2, area, c);
+    case_result r;
+    // A moderate result: the shortcut's range (a positive finite p2).
+    r.shortcut = fast > T(0) && fast < lim::infinity();
+    r.same = same_bits(fast, ref);
+    if (!r.same) r.inputs = describe({pmf, d2, area, c});
+    return r;
+  });
 }
 
 }  // namespace

@@ -241,8 +241,11 @@ TEST_CASE("GPU-built CDFs equal vplkit::discrete_cdf of the same weights within 
   }
 }
 
-TEST_CASE("GPU distributions: builder facts use the CPU builder's keys") {
+TEST_CASE("GPU distributions: builder facts use the CPU builder's keys, and both builders take the subset sizes") {
   fixture f = make_fixture("cornell");
+  // Not the defaults (256): --global-subset and --local-subset reach both backends' builders.
+  f.o.global_subset = 7;
+  f.o.local_subset = 5;
   for (method m : {method::global, method::local, method::gbg}) {
     f.o.meth = m;
     render_settings es = make_render_settings(f.o, f.p.s);
@@ -257,8 +260,12 @@ TEST_CASE("GPU distributions: builder facts use the CPU builder's keys") {
       INFO(to_string(m) << " key " << it.key());
       CHECK(dg.contains(it.key()));
     }
-    if (m == method::global) CHECK(dg["global_subset"] == dc["global_subset"]);
+    if (m == method::global) {
+      CHECK(dc["global_subset"] == 7);
+      CHECK(dg["global_subset"] == dc["global_subset"]);
+    }
     if (m == method::local) {
+      CHECK(dc["local_subsets"] == nlohmann::json::array({5, 5, 5, 5}));
       CHECK(dg["local_subsets"] == dc["local_subsets"]);
       CHECK(dg["local_combination"] == dc["local_combination"]);
     }

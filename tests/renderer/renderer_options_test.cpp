@@ -239,6 +239,29 @@ TEST_CASE("regions are laid out as the most nearly square grid, and must fit the
   CHECK(parse({"--size", "7x1", "--regions", "7"}).regions_x == 7);
 }
 
+TEST_CASE("the gather subsets of the global and local CDFs: defaults, values, and limits naming the flag") {
+  const options d = parse({});
+  CHECK(d.global_subset == 256);
+  CHECK(d.local_subset == 256);
+  const options o = parse({"--global-subset", "32", "--local-subset", "16", "--regions", "64"});
+  CHECK(o.global_subset == 32);
+  CHECK(o.local_subset == 16);
+  CHECK(o.regions == 64);
+  CHECK(parse({"--global-subset", "65536"}).global_subset == 65536);
+  for (const char* f : {"--global-subset", "--local-subset"}) {
+    INFO(f);
+    CHECK(parse({f, "1"}).regions == 4);
+    CHECK(starts_with(error_of({f, "0"}), std::string(f) + ": value 0 is outside 1..65536"));
+    CHECK(starts_with(error_of({f, "65537"}), std::string(f) + ":"));
+    CHECK(starts_with(error_of({f, "-4"}), std::string(f)));
+    CHECK(starts_with(error_of({f, "8x"}), std::string(f) + ":"));
+  }
+  // Every region's points are indices of one buffer: 2^22 in all.
+  CHECK(parse({"--regions", "1024", "--local-subset", "4096", "--size", "64x64"}).local_subset == 4096);
+  CHECK(starts_with(error_of({"--regions", "1024", "--local-subset", "4097", "--size", "64x64"}),
+                    "--local-subset: 4097 gather points in each of 1024 regions exceed 4194304 in all"));
+}
+
 TEST_CASE("the --window flag needs the GPU backend") {
   CHECK(error_of({"--window", "--backend", "cpu"}) == "--window: needs --backend gpu");
 }
@@ -279,7 +302,7 @@ TEST_CASE("the --help flag returns the help text, which documents every flag") {
   CHECK(r.what == parse_result::action::help);
   CHECK(r.help == help_text("vplrender"));
   for (const char* flag : {"--scene", "--method", "--backend", "--size", "--vpls", "--seed", "--out", "--regions",
-                           "--dirs", "--eps", "--voxels", "--dprsm", "--camera", "--light", "--paper", "--direct",
+                           "--global-subset", "--local-subset", "--dirs", "--eps", "--voxels", "--dprsm", "--camera", "--light", "--paper", "--direct",
                            "--window", "--frames", "--window-script", "--exposure", "--progress", "--vpl-mode", "--help"}) {
     INFO(flag);
     CHECK(r.help.find(flag) != std::string::npos);

@@ -26,7 +26,7 @@ namespace {
 std::string replace_extension(const std::string& out, const char* ext) { return out.substr(0, out.size() - 4) + ext; }
 
 struct raw_values {
-  std::string scene, meth, back, size, vpls, seed, out, regions, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
+  std::string scene, meth, back, size, vpls, seed, out, regions, global_subset, local_subset, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
       face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial, candidate_pool;
   bool paper = false, direct = false, window = false;
@@ -82,6 +82,16 @@ void build_app(CLI::App& app, raw_values& v) {
       ->type_name("FILE.exr");
   app.add_option("--regions", v.regions, d("Image regions of the local CDF method (default 4 = 2x2; 1..1024; "
                                          "laid out as the most nearly square grid)."))
+      ->type_name("N");
+  app.add_option("--global-subset", v.global_subset,
+                 d("Gather points whose mean unshadowed contribution weighs each texel of the global CDF (|S|, "
+                   "default 256; 1..65536; stratified over the image): its build costs |S| contributions per "
+                   "texel. For --method global and --candidate-source global."))
+      ->type_name("N");
+  app.add_option("--local-subset", v.local_subset,
+                 d("The same per image region for the local CDFs (|S_i|, default 256; 1..65536, at most 2^22 "
+                   "with --regions in all): --regions x N contributions per texel. For --method local and "
+                   "--candidate-source local."))
       ->type_name("N");
   app.add_option("--dirs", v.dirs, d("Cosine-distributed gathering directions per gather point for gbg, gather, "
                                    "mis and ris-mis (default 16; 1..65536)."))
@@ -479,6 +489,10 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
   if (given("--vpls")) o.vpls = static_cast<int>(parse_integer("--vpls", v.vpls, 1, limits::max_vpls));
   if (given("--seed")) o.seed = static_cast<std::uint32_t>(parse_integer("--seed", v.seed, 0, 4294967295LL));
   if (given("--regions")) o.regions = static_cast<int>(parse_integer("--regions", v.regions, 1, limits::max_regions));
+  if (given("--global-subset"))
+    o.global_subset = static_cast<int>(parse_integer("--global-subset", v.global_subset, 1, limits::max_subset));
+  if (given("--local-subset"))
+    o.local_subset = static_cast<int>(parse_integer("--local-subset", v.local_subset, 1, limits::max_subset));
   if (given("--dirs")) o.dirs = static_cast<int>(parse_integer("--dirs", v.dirs, 1, limits::max_dirs));
   if (given("--voxels"))
     o.voxels = static_cast<int>(parse_integer("--voxels", v.voxels, limits::min_voxels, limits::max_voxels));
@@ -557,6 +571,9 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     bad("--regions", std::to_string(o.regions) + " regions (" + std::to_string(o.regions_x) + "x" +
                          std::to_string(o.regions_y) + ") do not fit a " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
+  if (static_cast<long long>(o.regions) * o.local_subset > limits::max_subset_points)
+    bad("--local-subset", std::to_string(o.local_subset) + " gather points in each of " + std::to_string(o.regions) +
+                              " regions exceed " + std::to_string(limits::max_subset_points) + " in all");
   if (o.window && o.back != backend::gpu) bad("--window", "needs --backend gpu");
   return r;
 }

@@ -24,6 +24,8 @@ struct limits {
   static constexpr int max_vpls = 1 << 20;               // --vpls
   static constexpr int max_dirs = 1 << 16;               // --dirs
   static constexpr int max_regions = 1024;               // --regions
+  static constexpr int max_subset = 1 << 16;             // --global-subset, --local-subset (gather points)
+  static constexpr long long max_subset_points = 1LL << 22;  // --regions x --local-subset (16 MiB of indices)
   static constexpr int min_voxels = 4, max_voxels = 1024;  // --voxels (per axis)
   static constexpr int min_dprsm = 8, max_dprsm = 4096;  // --dprsm (per face, per side)
   static constexpr int max_candidates = 1 << 16;         // --candidates (RIS candidates per sample)
@@ -53,6 +55,8 @@ struct options : render_choices {
   std::string out = "vplrender.exr";
   int regions = 4;                // local CDF: number of image regions (regions_x * regions_y, the most
                                   // nearly square factorisation)
+  int global_subset = 256;        // |S|: gather points of the global CDF's weights
+  int local_subset = 256;         // |S_i|: gather points per region of the local CDFs' weights
   double eps = 0.05;              // defensive mixing weight (0 = the paper)
   double dmin_fraction = 0.01;    // VPL distance clamp / scene diagonal (0 = no clamp)
   // Absent: on with --backend cpu, off with gpu (whose estimate kernel does not have it yet).
