@@ -50,7 +50,7 @@ tri_mesh axis_room() {
 
 }  // namespace
 
-TEST_CASE("bvh hard case: an empty hierarchy misses everything; the callables see no occluder") {
+TEST_CASE("bvh hard case: an empty hierarchy misses everything, the callables see no occluder") {
   const auto b = vplkit::build_bvh<float>(nullptr, 0, nullptr, 0);
   CHECK(b.empty());
   CHECK_FALSE(vplkit::bvh_closest_hit(b.view(), v3f(0.0f), v3f(1.0f, 0.0f, 0.0f)).hit);
@@ -60,7 +60,7 @@ TEST_CASE("bvh hard case: an empty hierarchy misses everything; the callables se
   CHECK_FALSE(vplkit::bvh_tracer<float>{b.view()}(v3f(0.0f), v3f(0, 1, 0), v3f(0, 1, 0)).hit);
 }
 
-TEST_CASE("bvh hard case: one triangle, exact t, barycentrics, position and normal; closed range ends") {
+TEST_CASE("bvh hard case: one triangle, exact t, barycentrics, position and normal, closed range ends") {
   tri_mesh m;
   m.tri(v3f(0, 0, 1), v3f(1, 0, 1), v3f(0, 1, 1));
   const auto b = build(m);
@@ -183,7 +183,7 @@ TEST_CASE("bvh hard case: rays in a triangle's plane pass it (det = 0) and hit t
   }
 }
 
-TEST_CASE("bvh hard case: watertight on closed meshes; a naive float Moeller-Trumbore leaks") {
+TEST_CASE("bvh hard case: watertight on closed meshes, a naive float Moeller-Trumbore leaks") {
   // A closed rotated box and the closed room; rays from inside aimed exactly at vertices and at
   // edge midpoints (the places a non-watertight test lets rays through), and random rays.
   tri_mesh box;
@@ -342,7 +342,7 @@ TEST_CASE("bvh hard case: invalid rays and ranges give no hit") {
   CHECK_FALSE(vplkit::bvh_occluded(b.view(), v3f(0, 0, 2), d, -5.0f, inf));  // never behind the origin
 }
 
-TEST_CASE("bvh hard case: T = double builds and traverses; it agrees with float up to edge and tie cases") {
+TEST_CASE("bvh hard case: T = double builds and traverses, it agrees with float up to edge and tie cases") {
   const tri_mesh m = vplkit_test::closed_room();
   std::vector<v3d> pd(m.positions.begin(), m.positions.end());
   const auto bd = vplkit::build_bvh(pd.data(), pd.size(), m.indices.data(), m.indices.size());

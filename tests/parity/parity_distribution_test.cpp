@@ -613,7 +613,7 @@ gpu_split to_gpu(const vplkit::mixture_split<float>& s) {
 
 }  // namespace
 
-TEST_CASE("mixture_split.glsl: component, remapped u and pmf bit for bit; the GPU constructor field for field") {
+TEST_CASE("mixture_split.glsl: component, remapped u and pmf bit for bit, the GPU constructor field for field") {
   // Every eps the rule treats apart, with each emptiness of the two components.
   const std::vector<float> eps_list = {0.0f, 1e-40f, std::numeric_limits<float>::min(), 1e-7f, 0.05f,
                                        1.0f / 3.0f, 0.5f, std::nextafter(1.0f, 0.0f), 1.0f};

@@ -166,7 +166,7 @@ TEST_CASE("median_fill.comp: borders, corners and all-hole neighbourhoods") {
   for (int x = 0; x < R; ++x) CHECK(cpu[std::size_t(R * R + x)] == 0.0f);  // face 1, first row stays 0
 }
 
-TEST_CASE("median_fill.comp: extreme magnitudes and -0; denormals where the implementation keeps them") {
+TEST_CASE("median_fill.comp: extreme magnitudes and -0, denormals where the implementation keeps them") {
   const int R = 32;
   random_source rnd(9);
   std::vector<float> extreme(std::size_t(2 * R * R), 0.0f);

@@ -90,7 +90,7 @@ junction_numbers compare(const image_rgb& img, const image_rgb& exact, const std
 
 }  // namespace
 
-TEST_CASE("at cornell's junctions the default visibility matches exact visibility; the paper's test goes black") {
+TEST_CASE("at cornell's junctions the default visibility matches exact visibility, the paper's test goes black") {
   pipeline_gl_context();
   options o;
   o.scene = "cornell";

@@ -86,7 +86,7 @@ TEST_CASE("G-buffer matches primary ray casts") {
   CHECK(far_off <= W * H / 50);
 }
 
-TEST_CASE("rasterised DPRSM agrees with a ray-cast DPRSM; tessellation reduces the error") {
+TEST_CASE("rasterised DPRSM agrees with a ray-cast DPRSM, tessellation reduces the error") {
   gl_context();
   for (const char* name : {"cornell", "open"}) {
     const prepared_scene p = prepare_scene(tiny(name, method::gbg));
@@ -176,7 +176,7 @@ TEST_CASE("a light outside the voxel grid (above the open scene) renders") {
   }
 }
 
-TEST_CASE("same seed, same image; another seed, another image") {
+TEST_CASE("same seed, same image, another seed, another image") {
   gl_context();
   options o = tiny("cornell", method::gbg);
   const prepared_scene p = prepare_scene(o);

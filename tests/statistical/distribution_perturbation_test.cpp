@@ -45,7 +45,7 @@ struct agreement {
 
 }  // namespace
 
-TEST_CASE("a flat CDF turns 1e-6 weight differences into different draws; a share tree does not",
+TEST_CASE("a flat CDF turns 1e-6 weight differences into different draws, a share tree does not",
           "[statistical][perturbation]") {
   const std::size_t n = 2 * 256 * 256;  // the DPRSM 2 x 256^2
   const double eps = 1e-6;

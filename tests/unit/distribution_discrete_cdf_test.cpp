@@ -146,7 +146,7 @@ TEMPLATE_TEST_CASE("discrete_cdf: sanitized zeroes and counts bad weights", "[di
 }
 
 TEST_CASE("discrete_cdf<float>: a total beyond FLT_MAX is accepted (total() is +Inf, sum() "
-          "finite); a double sum that overflows is rejected", "[distribution]") {
+          "finite), and a double sum that overflows is rejected", "[distribution]") {
   const std::vector<float> w(4, std::ldexp(1.0f, 127));  // 4 * 2^127 > FLT_MAX
   const vplkit::discrete_cdf<float> f(w);
   REQUIRE(std::isinf(f.total()));

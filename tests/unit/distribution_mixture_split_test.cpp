@@ -92,7 +92,7 @@ TEMPLATE_TEST_CASE("mixture_split: empty components decide the effective eps", "
   CHECK(s.learned_scale() == T(1.0 / double(T(1) - eps)));
 }
 
-TEMPLATE_TEST_CASE("mixture_split: the remapped u stays in [0, 1) and is monotone per component",
+TEMPLATE_TEST_CASE("mixture_split: the remapped u stays in 0 <= u < 1 and is monotone per component",
                    "[distribution][mixture]", float, double) {
   using T = TestType;
   for (T eps : {T(1e-7), T(0.1), T(1) / T(3), T(0.5), T(0.9), std::nextafter(T(1), T(0))}) {

@@ -197,7 +197,7 @@ TEMPLATE_TEST_CASE("exhaustive patch sum: fixed counters per texel and stratum, 
   }
 }
 
-TEMPLATE_TEST_CASE("patch estimators: point is the default; MIS without directions is VPL sampling", "[estimators]",
+TEMPLATE_TEST_CASE("patch estimators: point is the default, MIS without directions is VPL sampling", "[estimators]",
                    float, double) {
   using T = TestType;
   const patch_fixture<T> f;

@@ -86,7 +86,7 @@ TEST_CASE("mis_weights_as_published follows eq. 8 and 9 and sums to 1") {
   CHECK(pole.vpl == 1.0f);  // p1 = 0 at theta = 0: the VPL strategy takes the whole weight
 }
 
-TEST_CASE("solid-angle weights are invariant when texels are subdivided; as-published are not") {
+TEST_CASE("solid-angle weights are invariant when texels are subdivided, as-published are not") {
   // Splitting a texel into 4 quarters: pmf / 4 and area / 4 for each. The solid-angle density of
   // a point does not change, so neither does its balance weight. alpha changes by 4x, and so do
   // the paper's weights: they depend on the DPRSM resolution, not on the sampled point.

@@ -74,7 +74,7 @@ TEST_CASE("voxel grid validates bounds and resolution", "[visibility]") {
   REQUIRE_NOTHROW(vplkit::voxel_grid<float>(lo, hi, ivec3(4096, 1, 1)));
 }
 
-TEST_CASE("voxel grid adopts GPU words; views check their word count", "[visibility]") {
+TEST_CASE("voxel grid adopts GPU words, views check their word count", "[visibility]") {
   const ivec3 res(3, 3, 3);  // 27 voxels: bits 27..31 of the only word are unused
   std::vector<std::uint32_t> words = {0xFFFFFFFFu};
   vplkit::voxel_grid<float> g(vplkit::vec3<float>(0.0f), vplkit::vec3<float>(3.0f), res, words);

@@ -151,7 +151,7 @@ TEMPLATE_TEST_CASE("dprsm_plane_of: the record's classes", "[vpl]", float, doubl
   CHECK(far.height == inf);
 }
 
-TEMPLATE_TEST_CASE("build_dprsm_planes: dprsm_plane_of per texel; plane_at with and without records", "[vpl]", float,
+TEMPLATE_TEST_CASE("build_dprsm_planes: dprsm_plane_of per texel, plane_at with and without records", "[vpl]", float,
                    double) {
   using T = TestType;
   const corner_with_hard_cases<T> s(16);
