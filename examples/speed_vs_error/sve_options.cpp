@@ -66,6 +66,7 @@ Scene options, passed to vplrender's parser with its defaults and limits (vplren
   --dirs (mis only when not swept) --eps --dmin
   --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
   --candidates --candidate-source (ris, ris-mis) --spatial (ris, ris-mis) --candidate-pool (ris-mis)
+  --tiles --tile-points --tile-block (ris-mis with --candidate-source tiles)
   --clamp-compensation-dirs
   --paper --direct.
   Not allowed: --method --vpls --seed --out --window. The references do not depend on --eps,

@@ -270,3 +270,13 @@ TEST_CASE("ris on the GPU: the clamp compensation is the CPU's, with and without
     CHECK(within >= required_fraction);
   }
 }
+
+TEST_CASE("GPU backend: ris-mis with tile candidates is refused with a message, not rendered with flux's") {
+  const fixture& f = shared_fixture();
+  options o = f.o;
+  o.meth = method::ris_mis;
+  o.candidate_source = ris_source_choice::tiles;
+  const render_settings es = settings_of(f, o);
+  stage_timer t;
+  CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("--candidate-source tiles: no GPU kernel yet"));
+}

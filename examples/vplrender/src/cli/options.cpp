@@ -28,7 +28,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, global_subset, local_subset, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial, candidate_pool;
+      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial, candidate_pool, tiles, tile_points, tile_block;
   bool paper = false, direct = false, window = false;
 };
 
@@ -187,8 +187,23 @@ void build_app(CLI::App& app, raw_values& v) {
   app.add_option("--candidate-source", v.candidate_source,
                  d("--method ris and ris-mis: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
                    "flux: light-power sampling, no view, nothing to build), or what global, local (the CDF of the "
-                   "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them)."))
-      ->type_name("global|local|gbg|flux");
+                   "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them); tiles "
+                   "(--method ris-mis, --backend cpu): per image tile (--tiles) a CDF over blocks of texels "
+                   "(--tile-block), each block weighed by its mean unshadowed contribution to --tile-points "
+                   "of the tile's gather points, times the flux within the block, with --eps."))
+      ->type_name("global|local|gbg|flux|tiles");
+  app.add_option("--tiles", v.tiles,
+                 d("--candidate-source tiles: image tiles, each with its own candidate distribution and pool "
+                   "(default 64; 1..1024; the most nearly square grid, which must fit the image)."))
+      ->type_name("N");
+  app.add_option("--tile-points", v.tile_points,
+                 d("--candidate-source tiles: gather points per tile that weigh its texel blocks (default 8; "
+                   "1..65536, stratified over the tile)."))
+      ->type_name("N");
+  app.add_option("--tile-block", v.tile_block,
+                 d("--candidate-source tiles: side of the texel blocks, in texels of one paraboloid face "
+                   "(default 8; 1..64). Within a block the candidates follow the flux."))
+      ->type_name("B");
   app.add_option("--spatial", v.spatial,
                  d("--method ris and ris-mis: neighbours whose reservoirs each pixel reuses, unbiased (default 0 = "
                    "off; 0..16; docs/math.md section 13; ris-mis: over its MIS-weighted target)."))
@@ -477,7 +492,13 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                          {{"global", ris_source_choice::global},
                                                           {"local", ris_source_choice::local},
                                                           {"gbg", ris_source_choice::gbg},
-                                                          {"flux", ris_source_choice::flux}});
+                                                          {"flux", ris_source_choice::flux},
+                                                          {"tiles", ris_source_choice::tiles}});
+  if (given("--tiles")) o.tiles = static_cast<int>(parse_integer("--tiles", v.tiles, 1, limits::max_tiles));
+  if (given("--tile-points"))
+    o.tile_points = static_cast<int>(parse_integer("--tile-points", v.tile_points, 1, limits::max_subset));
+  if (given("--tile-block"))
+    o.tile_block = static_cast<int>(parse_integer("--tile-block", v.tile_block, 1, limits::max_tile_block));
   if (given("--spatial")) o.spatial = static_cast<int>(parse_integer("--spatial", v.spatial, 0, limits::max_spatial));
   if (given("--candidate-pool"))
     o.candidate_pool =
@@ -571,6 +592,24 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     bad("--regions", std::to_string(o.regions) + " regions (" + std::to_string(o.regions_x) + "x" +
                          std::to_string(o.regions_y) + ") do not fit a " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
+  if (o.candidate_source == ris_source_choice::tiles) {
+    // Methods without candidates ignore the source, as they ignore every other one.
+    if (o.meth == method::ris)
+      bad("--candidate-source", "tiles is for --method ris-mis (ris takes global, local, gbg or flux)");
+    if (o.meth == method::ris_mis && o.back != backend::cpu)
+      bad("--candidate-source", "tiles runs on --backend cpu only for now (its GPU kernels are not written yet); "
+                                "add --backend cpu");
+    int tx = 0, ty = 0;
+    region_grid(o.tiles, tx, ty);
+    if (tx > o.width || ty > o.height)
+      bad("--tiles", std::to_string(o.tiles) + " tiles (" + std::to_string(tx) + "x" + std::to_string(ty) +
+                         ") do not fit a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " image");
+    if (static_cast<long long>(o.tiles) * o.tile_points > limits::max_subset_points)
+      bad("--tile-points", std::to_string(o.tile_points) + " gather points in each of " + std::to_string(o.tiles) +
+                               " tiles exceed " + std::to_string(limits::max_subset_points) + " in all");
+    // A pool per tile: 2048 entries each unless --candidate-pool says otherwise.
+    if (!given("--candidate-pool")) o.candidate_pool = 2048;
+  }
   if (static_cast<long long>(o.regions) * o.local_subset > limits::max_subset_points)
     bad("--local-subset", std::to_string(o.local_subset) + " gather points in each of " + std::to_string(o.regions) +
                               " regions exceed " + std::to_string(limits::max_subset_points) + " in all");

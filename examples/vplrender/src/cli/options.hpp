@@ -31,6 +31,8 @@ struct limits {
   static constexpr int max_candidates = 1 << 16;         // --candidates (RIS candidates per sample)
   static constexpr int max_spatial = 16;                 // --spatial (vplkit::ris_max_neighbours)
   static constexpr int max_candidate_pool = 1 << 22;     // --candidate-pool (256 MiB of 64-byte entries)
+  static constexpr int max_tiles = 1024;                 // --tiles
+  static constexpr int max_tile_block = 64;              // --tile-block (texels per block side)
   static constexpr double max_exposure = 1e6;
   static constexpr int max_frames = 10000;           // --frames without --window (headless frames)
   static constexpr int max_window_frames = 1000000;  // --frames with --window
@@ -65,6 +67,9 @@ struct options : render_choices {
   ris_source_choice candidate_source = ris_source_choice::flux;  // --method ris: where they come from
   int spatial = 0;                // --method ris: spatial-reuse neighbours (0 = off)
   int candidate_pool = 16384;     // --method ris-mis: presampled candidates per frame (0 = off)
+  int tiles = 64;                 // --candidate-source tiles: image tiles (the most nearly square grid)
+  int tile_points = 8;            // gather points per tile
+  int tile_block = 8;             // texel blocks' side
   int voxels = 128;               // voxel grid resolution per axis
   int dprsm = 512;                // paraboloid map resolution per face (2 faces)
   std::optional<camera_option> cam;

@@ -27,6 +27,9 @@ render_settings make_render_settings(const options& o, const scene& s) {
   e.ris_pool = o.candidate_pool;
   e.global_subset = o.global_subset;
   e.local_subset = o.local_subset;
+  region_grid(o.tiles, e.tiles_x, e.tiles_y);
+  e.tile_points = o.tile_points;
+  e.tile_block = o.tile_block;
   // The VPL clamp of docs/math.md section 2: --dmin (default 1%) of the scene diagonal (a documented,
   // tunable bias; the reference uses the same value, so the CDF methods converge to it exactly).
   e.scene_diagonal = bounds(s).diagonal();

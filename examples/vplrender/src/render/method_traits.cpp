@@ -74,6 +74,7 @@ builder_kind distribution_builder(const render_settings& s) {
     case ris_source_choice::local: return builder_kind::local;
     case ris_source_choice::gbg: return builder_kind::gbg;
     case ris_source_choice::flux: return builder_kind::flux;
+    case ris_source_choice::tiles: return builder_kind::flux;  // the tiles are built on its weights
     case ris_source_choice::global: break;
   }
   return builder_kind::global;

@@ -55,6 +55,7 @@ const char* to_string(ris_source_choice r) {
     case ris_source_choice::local: return "local";
     case ris_source_choice::gbg: return "gbg";
     case ris_source_choice::flux: return "flux";
+    case ris_source_choice::tiles: return "tiles";
     case ris_source_choice::global: break;
   }
   return "global";

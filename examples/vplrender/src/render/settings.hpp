@@ -80,8 +80,10 @@ struct clamp_compensation_dirs_choice {
   bool operator==(const clamp_compensation_dirs_choice& o) const { return kind == o.kind && value == o.value; }
 };
 // Where --method ris draws its candidates: a builder's defensive mixture (global; local: the
-// pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent).
-enum class ris_source_choice { global, local, gbg, flux };
+// pixel's own region's; gbg) or the flux CDF (light-power sampling, view-independent); tiles: per
+// image tile a CDF over blocks of texels times the flux within each block (render/cpu/
+// tiled_candidates.hpp; --method ris-mis on the CPU backend).
+enum class ris_source_choice { global, local, gbg, flux, tiles };
 
 const char* to_string(method m);
 const char* to_string(backend b);
@@ -157,6 +159,11 @@ struct render_settings : render_choices {
   // --method ris-mis: entries of the presampled candidate pool (per candidate distribution; 0 =
   // each candidate drawn from the distribution itself). vplkit/estimators/ris_candidate_pool.hpp.
   int ris_pool = 0;
+  // --candidate-source tiles: the image tiles (tiles_x * tiles_y), gather points per tile, and the
+  // side of the texel blocks.
+  int tiles_x = 8, tiles_y = 8;
+  int tile_points = 8;
+  int tile_block = 8;
 };
 
 // Seed of builder stage k (0: global subset, 1: local subsets, 2: GBG rays): a hash of the seed

@@ -9,6 +9,7 @@
 #include "render/method_traits.hpp"
 #include "render/cpu/ris_render.hpp"
 #include "render/cpu/thread_cpu_time.hpp"
+#include "render/cpu/tiled_candidates.hpp"
 #include "render/mixture_components.hpp"
 #include "render/share_tree_mixture.hpp"
 
@@ -32,6 +33,43 @@
 namespace vplrender {
 
 namespace {
+
+// --candidate-source tiles: the frame's texel blocks (on the flux build's weights) and one
+// distribution per tile of s.tiles_x x s.tiles_y from s.tile_points stratified gather points each
+// (stream builder_seed(seed, 3)), timed as the stage "tiles (cpu)".
+struct tiled_candidates {
+  tile_blocks blocks;
+  std::vector<tiled_distribution> dists;
+};
+
+tiled_candidates build_tiled_candidates(const cpu_frame& f, const render_settings& s, const cpu_distributions& built,
+                                        stage_timer& timer, nlohmann::json& det) {
+  if (built.dists.size() != 1 || built.weights.size() != static_cast<std::size_t>(f.view.texel_count()))
+    throw vplkit::invalid_input("--candidate-source tiles: needs the flux build's weights and mixture");
+  tiled_candidates out;
+  std::vector<int> used;
+  {
+    auto t = timer.scoped("tiles (cpu)");
+    out.blocks = make_tile_blocks(f.view, built.weights, s.tile_block);
+    const vplkit::image_regions tiles(f.W, f.H, s.tiles_x, s.tiles_y);
+    const std::vector<std::vector<int>> subsets =
+        vplkit::local_gather_subsets(f.g, tiles, s.tile_points, builder_seed(s.seed, 3));
+    std::vector<std::vector<vplkit::gather_point<float>>> points(subsets.size());
+    for (std::size_t i = 0; i < subsets.size(); ++i) {
+      for (const int p : subsets[i])
+        if (vplkit::gather_point_valid(f.g.at(p))) points[i].push_back(f.g.at(p));
+      used.push_back(static_cast<int>(points[i].size()));
+    }
+    out.dists = make_tiled_distributions(out.blocks, points, s.dmin, built.dists[0].fallback(), s.eps, f.threads);
+  }
+  det["tiles"] = {{"tiles", static_cast<int>(out.dists.size())},
+                  {"grid", {s.tiles_x, s.tiles_y}},
+                  {"points", used},
+                  {"block", out.blocks.block},
+                  {"blocks", out.blocks.count()}};
+  return out;
+}
+
 
 using vplkit::gather_point;
 using vec3f = glm::vec3;
@@ -88,6 +126,8 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
   s.sampler = resolved_sampler(given);
   cpu_frame f = open_cpu_frame(b, s);
   const method_traits& mt = traits(s.meth);
+  if (mt.estimator == estimator_kind::ris && mt.variant != 1 && s.ris_source == ris_source_choice::tiles)
+    throw vplkit::invalid_input("--method ris --candidate-source tiles: tiles is for --method ris-mis");
   // Patch VPLs read four plane records per point (their texel's and the hidden test's three
   // neighbours'): built once per frame, as the GPU backend builds them (vplkit::dprsm_view::planes;
   // the same values as computing them per point, so the same image).
@@ -275,6 +315,12 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
       }
       case estimator_kind::ris:
         if (mt.variant == 1) {
+          if (s.ris_source == ris_source_choice::tiles) {
+            const tiled_candidates tiles = build_tiled_candidates(f, s, built, timer, det);
+            render_ris_mis_cpu(f, s, tiles.dists.data(), static_cast<int>(tiles.dists.size()), tracer, visibility,
+                               depth_tol, vmode, result.image.rgb.data(), timer, progress, det);
+            break;
+          }
           render_ris_mis_cpu(f, s, dists, static_cast<int>(built.dists.size()), tracer, visibility, depth_tol, vmode,
                              result.image.rgb.data(), timer, progress, det);
           break;

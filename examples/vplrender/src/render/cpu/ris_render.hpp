@@ -42,8 +42,14 @@ namespace vplrender {
 // `compensation(gp, p)` what the clamp removed at pixel p (vec3 0 when off; docs/math.md, "The
 // clamp's compensation"): RIS's target and shading use the clamped contribution, so its estimand is
 // the clamped VPL sum as for the other VPL methods.
+// Does each image region (local) or tile (tiles) draw from a distribution of its own?
+inline bool ris_source_per_region(const render_settings& s) {
+  return s.ris_source == ris_source_choice::local || s.ris_source == ris_source_choice::tiles;
+}
+
 // The candidate source's distribution of pixel p: the pixel's region's for --candidate-source
-// local (one distribution per region of s.regions_x x s.regions_y), else dists[0].
+// local (one distribution per region of s.regions_x x s.regions_y) and its tile's for tiles (of
+// s.tiles_x x s.tiles_y), else dists[0].
 template <class Dist>
 struct ris_candidate_source {
   const Dist* dists;
@@ -51,8 +57,9 @@ struct ris_candidate_source {
   int width;
   vplkit::image_regions regions;
   ris_candidate_source(const Dist* d, int n_dists, const render_settings& s, int W, int H)
-      : dists(d), per_region(s.ris_source == ris_source_choice::local && n_dists > 1), width(W),
-        regions(W, H, s.regions_x, s.regions_y) {}
+      : dists(d), per_region(ris_source_per_region(s) && n_dists > 1), width(W),
+        regions(W, H, s.ris_source == ris_source_choice::tiles ? s.tiles_x : s.regions_x,
+                s.ris_source == ris_source_choice::tiles ? s.tiles_y : s.regions_y) {}
   int index(int p) const { return per_region ? regions.region_of_pixel(p % width, p / width) : 0; }
   const Dist& operator()(int p) const { return dists[index(p)]; }
 };
@@ -72,7 +79,7 @@ ris_candidate_pool fill_ris_candidate_pool(const cpu_frame& f, const render_sett
                                            int n_dists, float depth_tol, vplkit::vpl_mode vmode) {
   ris_candidate_pool pool;
   pool.size = static_cast<std::uint32_t>(std::max(0, s.ris_pool));
-  const int n = s.ris_source == ris_source_choice::local ? n_dists : 1;
+  const int n = ris_source_per_region(s) ? n_dists : 1;
   const std::size_t total = std::size_t(pool.size) * std::size_t(n);
   pool.entries.resize(total);
   const std::uint32_t seed = ris_pool_seed(s.seed);

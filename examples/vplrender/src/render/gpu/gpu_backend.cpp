@@ -293,6 +293,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   const method_traits& mt = traits(es.meth);
   if (!mt.gpu)
     throw vplkit::invalid_input(std::string("--method ") + mt.name + ": no GPU kernel yet (run_estimator refuses it)");
+  if (mt.estimator == estimator_kind::ris && es.ris_source == ris_source_choice::tiles)
+    throw vplkit::invalid_input(std::string("--method ") + mt.name +
+                                " --candidate-source tiles: no GPU kernel yet; use --backend cpu");
   const gpu_estimate_kernel& kern = gpu_kernel_for(es.meth);
   if (es.sampler == sampler_choice::share_tree && !draws_share_tree(mt.estimator))
     throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
