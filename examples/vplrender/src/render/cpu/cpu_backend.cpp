@@ -27,6 +27,7 @@
 #include <glm/common.hpp>
 #include <algorithm>
 
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -36,9 +37,10 @@ namespace {
 
 // --candidate-source tiles: the frame's texel blocks (on the flux build's weights) and one
 // distribution per tile of s.tiles_x x s.tiles_y from s.tile_points stratified gather points each
-// (stream builder_seed(seed, 3)), timed as the stage "tiles (cpu)".
+// (stream builder_seed(seed, 3)), timed as the stage "tiles (cpu)". The distributions point at the
+// blocks, which therefore live on the heap: moving this struct keeps their address.
 struct tiled_candidates {
-  tile_blocks blocks;
+  std::unique_ptr<const tile_blocks> blocks;
   std::vector<tiled_distribution> dists;
 };
 
@@ -50,7 +52,7 @@ tiled_candidates build_tiled_candidates(const cpu_frame& f, const render_setting
   std::vector<int> used;
   {
     auto t = timer.scoped("tiles (cpu)");
-    out.blocks = make_tile_blocks(f.view, built.weights, s.tile_block);
+    out.blocks = std::make_unique<const tile_blocks>(make_tile_blocks(f.view, built.weights, s.tile_block));
     const vplkit::image_regions tiles(f.W, f.H, s.tiles_x, s.tiles_y);
     const std::vector<std::vector<int>> subsets =
         vplkit::local_gather_subsets(f.g, tiles, s.tile_points, builder_seed(s.seed, 3));
@@ -60,16 +62,15 @@ tiled_candidates build_tiled_candidates(const cpu_frame& f, const render_setting
         if (vplkit::gather_point_valid(f.g.at(p))) points[i].push_back(f.g.at(p));
       used.push_back(static_cast<int>(points[i].size()));
     }
-    out.dists = make_tiled_distributions(out.blocks, points, s.dmin, built.dists[0].fallback(), s.eps, f.threads);
+    out.dists = make_tiled_distributions(*out.blocks, points, s.dmin, built.dists[0].fallback(), s.eps, f.threads);
   }
   det["tiles"] = {{"tiles", static_cast<int>(out.dists.size())},
                   {"grid", {s.tiles_x, s.tiles_y}},
                   {"points", used},
-                  {"block", out.blocks.block},
-                  {"blocks", out.blocks.count()}};
+                  {"block", out.blocks->block},
+                  {"blocks", out.blocks->count()}};
   return out;
 }
-
 
 using vplkit::gather_point;
 using vec3f = glm::vec3;

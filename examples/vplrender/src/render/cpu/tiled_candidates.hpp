@@ -142,7 +142,8 @@ struct tiled_distribution {
   }
 };
 
-// One distribution per tile from the tiles' gather points (valid ones), over the workers.
+// One distribution per tile from the tiles' gather points (valid ones), over the workers. The
+// distributions point at tb and fallback: both must outlive them and stay where they are.
 inline std::vector<tiled_distribution> make_tiled_distributions(
     const tile_blocks& tb, const std::vector<std::vector<vplkit::gather_point<float>>>& tile_points, float dmin,
     const vplkit::discrete_cdf<float>& fallback, float eps, int threads) {
