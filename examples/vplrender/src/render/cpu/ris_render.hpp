@@ -37,11 +37,6 @@
 
 namespace vplrender {
 
-// Renders --method ris into `image` (pixels row-major, background left 0): `dists` the candidate
-// source's distributions (one, or one per region of s.regions_x x s.regions_y for local);
-// `compensation(gp, p)` what the clamp removed at pixel p (vec3 0 when off; docs/math.md, "The
-// clamp's compensation"): RIS's target and shading use the clamped contribution, so its estimand is
-// the clamped VPL sum as for the other VPL methods.
 // Does each image region (local) or tile (tiles) draw from a distribution of its own?
 inline bool ris_source_per_region(const render_settings& s) {
   return s.ris_source == ris_source_choice::local || s.ris_source == ris_source_choice::tiles;
@@ -229,6 +224,11 @@ void render_ris_mis_cpu(const cpu_frame& f, const render_settings& s, const Dist
   });
 }
 
+// Renders --method ris into `image` (pixels row-major, background left 0): `dists` the candidate
+// source's distributions (one, or one per region of s.regions_x x s.regions_y for local);
+// `compensation(gp, p)` what the clamp removed at pixel p (vec3 0 when off; docs/math.md, "The
+// clamp's compensation"): RIS's target and shading use the clamped contribution, so its estimand is
+// the clamped VPL sum as for the other VPL methods.
 template <class Dist, class Visibility, class Compensation>
 void render_ris_cpu(const cpu_frame& f, const render_settings& s, const Dist* dists, int n_dists,
                     const Visibility& visibility, float depth_tol, vplkit::vpl_mode vmode,
