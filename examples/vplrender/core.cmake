@@ -123,6 +123,7 @@ if(TARGET vplkit_headless_gl)
     ${_vr}/render/gpu/gpu_backend.cpp
     ${_vr}/render/gpu/gpu_builders.cpp
     ${_vr}/render/gpu/gpu_cdf.cpp
+    ${_vr}/render/gpu/gpu_tiles.cpp
     ${_vr}/render/gpu/gpu_dprsm_planes.cpp
     ${_vr}/render/gpu/gpu_share_tree.cpp
     ${_vr}/render/frames.cpp

@@ -39,7 +39,8 @@ std::vector<member> ris_members() {
   using R = gpu::ris_params;
   return {VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
           VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pool_size),       VR_MEMBER(R, pool_seed),
-          VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
+          VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, tile_block), VR_MEMBER(R, tile_guide_base),
+          VR_MEMBER(R, tile_share_base), VR_MEMBER(R, pad1), VR_MEMBER(R, pad2), VR_MEMBER(R, pad3)};
 }
 
 std::vector<member> params_members() {
@@ -98,7 +99,7 @@ void check_records(GLuint prog, const std::string& block, int binding, const std
 
 TEST_CASE("estimate_params.h: the C++ parameter block has every kernel's std140 layout") {
   // One variant of every kernel (the block is the same text in all; each compiles it).
-  CHECK(sizeof(gpu::estimate_params) == 288);
+  CHECK(sizeof(gpu::estimate_params) == 304);
   for (method m : {method::reference, method::global, method::local, method::gather, method::mis, method::exact}) {
     INFO(to_string(m));
     check_params_block(program(m, "#define VR_VISIBILITY 2\n#define VR_SPLIT 1\n"));

@@ -21,6 +21,7 @@
 #include "estimate_params.h"
 #include "estimate_ris_params.h"
 
+#include <vplkit/builders/local_weights.hpp>
 #include <vplkit/estimators/ris_pool_params.h>
 
 #include <headless_gl/compute.hpp>
@@ -29,11 +30,13 @@
 
 #include "gl_program_resources.hpp"
 
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -192,5 +195,110 @@ TEST_CASE("estimate_ris_mis.comp: the pool records have ris_pool_params.h's layo
       CHECK(std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_OFFSET)) == m.offset);
       CHECK(std::size_t(resource_value(prog, GL_BUFFER_VARIABLE, name, GL_TOP_LEVEL_ARRAY_STRIDE)) == sizeof(Q));
     }
+  }
+}
+
+TEST_CASE("ris-mis with tile candidates: the GPU image equals the CPU backend's, with and without pool and reuse") {
+  // The GPU builds the tiles itself (render/gpu/gpu_tiles.hpp: tile_blocks.comp, the tiles' subsets,
+  // tile_weights.comp, the block CDFs) and draws through estimate_tiles.glsl; the CPU backend
+  // through render/cpu/tiled_candidates.hpp. 2 x 2 tiles, blocks of 4 x 4 texels of a 2 x 16^2 DPRSM.
+  const fixture& f = shared_fixture();
+  struct run {
+    int pool, spatial, candidates, vpls, dirs;
+    double eps;
+    vpl_mode_choice mode;
+  };
+  const run runs[] = {{0, 0, 8, 3, 4, 0.1, vpl_mode_choice::patch},    // each candidate its own tile draw
+                      {300, 0, 8, 3, 4, 0.1, vpl_mode_choice::patch},  // a pool per tile
+                      {300, 2, 4, 2, 2, 0.1, vpl_mode_choice::patch},  // rounds with reuse
+                      {300, 0, 4, 4, 2, 0.0, vpl_mode_choice::point}};  // no fallback: the blocks alone
+  for (const run& r : runs) {
+    options o = pool_options(f, ris_source_choice::tiles, r.pool, r.spatial, r.candidates, r.vpls, r.dirs, r.mode);
+    o.tiles = 4;
+    o.tile_points = 4;
+    o.tile_block = 4;
+    o.eps = r.eps;
+    const render_settings es = settings_of(f, o);
+    stage_timer tc, tg;
+    const render_result c = render_cpu(f.b, es, tc), g = render_gpu(f.b, es, tg);
+    const double within = vplrender_test::compare(c.image, g.image, rel_bound).within;
+    std::printf("ris-mis tiles --candidate-pool %d --spatial %d --candidates %d --vpls %d --dirs %d --eps %g "
+                "--vpl-mode %s: %.1f %% of pixels within %g, means cpu %.6f gpu %.6f\n",
+                r.pool, r.spatial, r.candidates, r.vpls, r.dirs, r.eps, to_string(r.mode), 100.0 * within,
+                rel_bound, mean_of(c.image), mean_of(g.image));
+    INFO("tiles --candidate-pool " << r.pool << " --spatial " << r.spatial << " --eps " << r.eps);
+    CHECK(mean_of(g.image) > 0.0);
+    CHECK(within >= required_fraction);
+    // The same tiles, gather points and blocks on both sides.
+    CHECK(g.details["tiles"]["grid"] == c.details["tiles"]["grid"]);
+    CHECK(g.details["tiles"]["points"] == c.details["tiles"]["points"]);
+    CHECK(g.details["tiles"]["blocks"] == 2 * 4 * 4);
+    CHECK(c.details["tiles"]["blocks"] == 2 * 4 * 4);
+    CHECK(g.details["ris"]["candidate_source"] == "tiles");
+  }
+  // Tiles draw otherwise than flux: the tile distributions are built and used, not flux's.
+  options o = pool_options(f, ris_source_choice::flux, 300, 0, 8, 3, 4, vpl_mode_choice::patch);
+  options ot = o;
+  ot.candidate_source = ris_source_choice::tiles;
+  ot.tiles = 4;
+  ot.tile_points = 4;
+  ot.tile_block = 4;
+  stage_timer t0, t1;
+  CHECK(render_gpu(f.b, settings_of(f, o), t0).image.rgb != render_gpu(f.b, settings_of(f, ot), t1).image.rgb);
+}
+
+TEST_CASE("ris-mis with tile candidates on the GPU: a tile whose blocks all weigh 0 draws from the fallback alone") {
+  // Hard case: the gather points of tile 0 (of 2 x 2) moved far outside the scene, facing away
+  // from it, so every block's proxy lies behind them: the tile's block weights are all 0, its
+  // learned part empty, its mixture the fallback alone (effective eps 1). Both backends must draw
+  // it so, finite, and agree; the other tiles keep their blocks.
+  static const fixture f = [] {
+    fixture x = vplrender_test::make_gl_fixture(vplrender_test::small_options("cornell", 24, 16, 16, 32));
+    glm::vec3 centre(0.0f);
+    int lit = 0;
+    for (std::size_t t = 0; t < x.b.dprsm.position.size(); ++t)
+      if (x.b.dprsm.albedo[t] != glm::vec3(0.0f)) {
+        centre += x.b.dprsm.position[t];
+        ++lit;
+      }
+    centre /= float(std::max(lit, 1));
+    float radius = 0.0f;
+    for (std::size_t t = 0; t < x.b.dprsm.position.size(); ++t)
+      if (x.b.dprsm.albedo[t] != glm::vec3(0.0f)) radius = std::max(radius, glm::length(x.b.dprsm.position[t] - centre));
+    const glm::vec3 away = glm::normalize(glm::vec3(1.0f, 2.0f, 3.0f));
+    vplrender::gbuffer_data& g = x.b.gbuf;
+    const vplkit::pixel_rect r = vplkit::image_regions(g.width, g.height, 2, 2).region_rect(0);
+    for (int y = r.y0; y < r.y0 + r.height; ++y)
+      for (int px = r.x0; px < r.x0 + r.width; ++px) {
+        const std::size_t p = std::size_t(y) * std::size_t(g.width) + std::size_t(px);
+        g.position[p] = centre + 100.0f * std::max(radius, 1.0f) * away;
+        g.normal[p] = away;
+        if (g.shading_normal.size() == g.position.size()) g.shading_normal[p] = away;
+      }
+    x.b.gpu = std::make_shared<vplrender::gpu_scene_buffers>(
+        vplrender::upload_scene_buffers(x.b.gbuf, x.b.dprsm, x.b.grid.view()));
+    return x;
+  }();
+  options o = pool_options(f, ris_source_choice::tiles, 300, 0, 4, 3, 2, vpl_mode_choice::patch);
+  o.tiles = 4;
+  o.tile_points = 4;
+  o.tile_block = 4;
+  o.direct = true;  // the moved points still shade their direct light: a non-zero image there
+  for (const int pool : {300, 0}) {
+    o.candidate_pool = pool;
+    const render_settings es = settings_of(f, o);
+    stage_timer tc, tg;
+    const render_result c = render_cpu(f.b, es, tc), g = render_gpu(f.b, es, tg);
+    const std::vector<int> points = g.details["tiles"]["points"].get<std::vector<int>>();
+    CHECK(points == c.details["tiles"]["points"].get<std::vector<int>>());
+    CHECK(points[0] > 0);  // the points are valid: their blocks, not their count, weigh 0
+    CHECK(g.details["tiles"]["empty"] == 1);  // tile 0's learned part, and only it
+    CHECK(c.details["tiles"]["empty"] == 1);
+    const double within = vplrender_test::compare(c.image, g.image, rel_bound).within;
+    std::printf("ris-mis tiles, tile 0 facing away, --candidate-pool %d: %.1f %% of pixels within %g, means cpu %.6f "
+                "gpu %.6f\n",
+                pool, 100.0 * within, rel_bound, mean_of(c.image), mean_of(g.image));
+    CHECK(within >= required_fraction);
+    CHECK(mean_of(g.image) > 0.0);
   }
 }

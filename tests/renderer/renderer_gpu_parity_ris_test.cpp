@@ -271,12 +271,12 @@ TEST_CASE("ris on the GPU: the clamp compensation is the CPU's, with and without
   }
 }
 
-TEST_CASE("GPU backend: ris-mis with tile candidates is refused with a message, not rendered with flux's") {
+TEST_CASE("GPU backend: ris with tile candidates is refused with a message, not rendered with flux's") {
   const fixture& f = shared_fixture();
   options o = f.o;
-  o.meth = method::ris_mis;
+  o.meth = method::ris;
   o.candidate_source = ris_source_choice::tiles;
   const render_settings es = settings_of(f, o);
   stage_timer t;
-  CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("--candidate-source tiles: no GPU kernel yet"));
+  CHECK_THROWS_WITH(render_gpu(f.b, es, t), Catch::Contains("tiles is for --method ris-mis"));
 }

@@ -45,7 +45,8 @@ TEST_CASE("estimate_ris_params.h: the RIS parameters lie in the estimate block a
   const std::vector<member> members = {
       VR_MEMBER(R, candidates), VR_MEMBER(R, neighbours),     VR_MEMBER(R, radius),          VR_MEMBER(R, mis),
       VR_MEMBER(R, regions_x),  VR_MEMBER(R, regions_y),      VR_MEMBER(R, pool_size),       VR_MEMBER(R, pool_seed),
-      VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, pad2),       VR_MEMBER(R, pad3)};
+      VR_MEMBER(R, min_normal_cos), VR_MEMBER(R, max_plane_slope), VR_MEMBER(R, tile_block), VR_MEMBER(R, tile_guide_base),
+      VR_MEMBER(R, tile_share_base), VR_MEMBER(R, pad1), VR_MEMBER(R, pad2), VR_MEMBER(R, pad3)};
   for (int pass : {ris_pass_estimate, ris_pass_candidates, ris_pass_reuse})
     for (bool per_region : {false, true}) {
       INFO("VR_RIS_PASS " << pass << (per_region ? " VR_RIS_PER_REGION" : ""));

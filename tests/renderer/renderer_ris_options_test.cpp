@@ -78,11 +78,13 @@ TEST_CASE("ris options: tile candidates for ris-mis on the CPU backend, their fl
   CHECK(starts_with(error_of({"--method", "ris-mis", "--backend", "cpu", "--candidate-source", "tiles", "--tiles",
                               "1024", "--tile-points", "4097"}),
                     "--tile-points: 4097 gather points in each of 1024 tiles exceed 4194304 in all"));
-  // ris has no tiles; the GPU backend has no kernels for them yet: both refused, naming the flag.
+  // ris has no tiles: refused, naming the flag, on either backend; ris-mis takes them on both.
   CHECK(starts_with(error_of({"--method", "ris", "--backend", "cpu", "--candidate-source", "tiles"}),
                     "--candidate-source: tiles is for --method ris-mis"));
-  CHECK(starts_with(error_of({"--method", "ris-mis", "--candidate-source", "tiles"}),
-                    "--candidate-source: tiles runs on --backend cpu only for now"));
+  CHECK(starts_with(error_of({"--method", "ris", "--candidate-source", "tiles"}),
+                    "--candidate-source: tiles is for --method ris-mis"));
+  CHECK(parse({"--method", "ris-mis", "--candidate-source", "tiles"}).back == backend::gpu);
+  CHECK(parse({"--method", "ris-mis", "--candidate-source", "tiles"}).candidate_pool == 2048);
   // Methods without candidates ignore the source (speed_vs_error passes it to every method of a sweep).
   CHECK(parse({"--method", "gather", "--candidate-source", "tiles"}).meth == method::gather);
 }

@@ -15,6 +15,8 @@
 //     from the pixel's tree stream vr_share_tree_rng (render/share_tree_mixture.hpp, number for
 //     number): the kernel calls vr_begin_share_tree_stream before its first draw of a dispatch
 //     (global, gbg: one mixture; local: the regions' mixtures, their draws in one stream).
+// VR_RIS_TILES (ris-mis, --candidate-source tiles): mixture d is tile d's, its learned part a CDF
+//   over texel blocks refined by the blocks' shares (estimate_tiles.glsl); VR_SAMPLER is not used.
 // A kernel that samples one mixture only (global, gbg, mis) defines VR_ONE_MIXTURE and calls
 // vr_load_mixtures() once: the record then lives in registers instead of being loaded per draw.
 // A distribution's CDF and guide are addressed by arithmetic on its index (cdf_stride, guide_base,
@@ -40,7 +42,14 @@ layout(std430, binding = VR_ESTIMATE_BINDING_COMPONENTS) restrict readonly buffe
 layout(std430, binding = VR_ESTIMATE_BINDING_COMPONENTS) restrict readonly buffer VrShares { uint vr_shares[]; };
 #endif
 
+#ifdef VR_RIS_TILES
+#include "estimate_tiles.glsl"
+#endif
+
 float vplkit_load_cdf(uint id, uint i) {
+#ifdef VR_RIS_TILES
+  if (id >= VR_TILE_SLOT) return vr_tile_load_cdf(id - VR_TILE_SLOT, i);
+#endif
 #if VR_SAMPLER == VR_SAMPLER_ROULETTE
   if (id >= VR_COMPONENT_SLOT) {
     uint record = 12u * ((id - VR_COMPONENT_SLOT) >> 1u) + 3u * (id & 1u);
@@ -50,6 +59,9 @@ float vplkit_load_cdf(uint id, uint i) {
   return uintBitsToFloat(vr_cdf_data[id * vr_params.cdf_stride + i]);
 }
 uint vplkit_load_guide(uint id, uint j) {
+#ifdef VR_RIS_TILES
+  if (id >= VR_TILE_SLOT) return vr_tile_load_guide(id - VR_TILE_SLOT, j);
+#endif
 #if VR_SAMPLER == VR_SAMPLER_ROULETTE
   if (id >= VR_COMPONENT_SLOT) {
     uint record = 12u * ((id - VR_COMPONENT_SLOT) >> 1u) + 3u * (id & 1u);
@@ -181,7 +193,9 @@ vplkit_discrete_sample vr_share_tree_mixture_sample(vplkit_defensive_mixture m, 
 
 // The estimators' hooks.
 vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, float u) {
-#if VR_SAMPLER == VR_SAMPLER_CDF_GUIDE
+#if defined(VR_RIS_TILES)
+  return vr_tiled_sample(vr_mixture(distribution), u);
+#elif VR_SAMPLER == VR_SAMPLER_CDF_GUIDE
   return vplkit_defensive_mixture_sample(vr_mixture(distribution), u);
 #elif VR_SAMPLER == VR_SAMPLER_CDF_BINARY
   return vplkit_defensive_mixture_sample_binary_search(vr_mixture(distribution), u);
@@ -192,7 +206,9 @@ vplkit_discrete_sample vplkit_estimator_distribution_sample(uint distribution, f
 #endif
 }
 float vplkit_estimator_distribution_pmf(uint distribution, uint index) {
-#if VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
+#if defined(VR_RIS_TILES)
+  return vr_tiled_pmf(vr_mixture(distribution), index);
+#elif VR_SAMPLER == VR_SAMPLER_ALIAS || VR_SAMPLER == VR_SAMPLER_ROULETTE
   return vr_resampled_pmf(vr_mixture(distribution), distribution, index);
 #elif VR_SAMPLER == VR_SAMPLER_SHARE_TREE
   return vr_share_tree_mixture_pmf(vr_mixture(distribution), index);

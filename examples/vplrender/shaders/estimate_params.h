@@ -116,6 +116,9 @@
 // Distribution ids at and above this are the face roulettes' CDFs in the components buffer:
 // VR_COMPONENT_SLOT + 2 k + face (k = 2 d + c: mixture d's learned part c = 0, its fallback c = 1).
 #define VR_COMPONENT_SLOT 0x80000000u
+// Distribution ids from this one up to VR_COMPONENT_SLOT are the tiles' block CDFs in the tile
+// buffer (VR_RIS_TILES, estimate_tiles.glsl): VR_TILE_SLOT + d is tile d's.
+#define VR_TILE_SLOT 0x40000000u
 
 #ifdef __cplusplus
 namespace vplrender::gpu {
@@ -223,7 +226,7 @@ struct vr_surfel {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(estimate_params) == 288);  // the light, 3 vec4, 24 scalars, the compensation's 4, ris
+static_assert(sizeof(estimate_params) == 304);  // the light, 3 vec4, 24 scalars, the compensation's 4, ris
 static_assert(offsetof(estimate_params, ris) == 240);  // std140: a struct member on a 16-byte boundary
 static_assert(sizeof(mixture_record) == 48 && sizeof(pixel_state) == 48 && sizeof(surfel) == 48);
 }  // namespace vplrender::gpu

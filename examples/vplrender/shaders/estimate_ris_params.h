@@ -35,13 +35,17 @@
 // A number above estimate_params.h's (0..19), each resource its own (core/params.h).
 #define VR_RIS_BINDING_RESERVOIRS 24  // SSBO: vplkit_ris_reservoir_record reservoirs[W H] (ris_params.h)
 #define VR_RIS_BINDING_POOL 26        // SSBO: vplkit_ris_pool_record pool[pools * pool_size] (ris_pool_params.h)
+#define VR_RIS_BINDING_TILES 27       // SSBO: uint tiles[] (VR_RIS_TILES: the tiles' block CDFs, guides, shares)
 
 #define VR_RIS_PASS_ESTIMATE 0
 #define VR_RIS_PASS_CANDIDATES 1
 #define VR_RIS_PASS_REUSE 2
 #define VR_RIS_PASS_POOL 3
-// VR_RIS_PER_REGION (defined or not): --candidate-source local, each pixel draws from its region's
-//   mixture; else every pixel from mixture 0, which then lives in registers (VR_ONE_MIXTURE).
+// VR_RIS_PER_REGION (defined or not): --candidate-source local or tiles, each pixel draws from its
+//   region's (tile's) mixture; else every pixel from mixture 0, which then lives in registers
+//   (VR_ONE_MIXTURE).
+// VR_RIS_TILES (defined or not; with VR_RIS_PER_REGION): --candidate-source tiles, the mixtures'
+//   learned parts are the tiles' block CDFs (estimate_tiles.glsl).
 #ifndef __cplusplus
 #ifndef VR_RIS_PASS
 #define VR_RIS_PASS VR_RIS_PASS_ESTIMATE
@@ -65,13 +69,17 @@ struct vr_ris_params {
   uint pool_seed;         //   the pool's stream seed (ris_pool_seed): entry i takes (pool_seed, i)
   float min_normal_cos;   // the reuse's rejection thresholds (ris_spatial_settings)
   float max_plane_slope;
+  int tile_block;         // VR_RIS_TILES: B, texels per block side (--tile-block)
+  uint tile_guide_base;   //   the tile buffer's guides start here (uints; estimate_tiles.glsl)
+  uint tile_share_base;   //   ... and its per-texel shares here
+  uint pad1;
   uint pad2;
   uint pad3;
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(ris_params) == 48);  // 12 scalars: three std140 rows (a struct member of a std140
-                                          // block starts on a 16-byte boundary: 48 keeps it whole)
+static_assert(sizeof(ris_params) == 64);  // 16 scalars: four std140 rows (a struct member of a std140
+                                          // block starts on a 16-byte boundary: 64 keeps it whole)
 }  // namespace vplrender::gpu
 #endif
 

@@ -188,7 +188,7 @@ void build_app(CLI::App& app, raw_values& v) {
                  d("--method ris and ris-mis: the distribution the candidates are drawn from (default flux): flux (each VPL by its "
                    "flux: light-power sampling, no view, nothing to build), or what global, local (the CDF of the "
                    "pixel's region) and gbg build, with --eps (docs/results.md, RIS, compares them); tiles "
-                   "(--method ris-mis, --backend cpu): per image tile (--tiles) a CDF over blocks of texels "
+                   "(--method ris-mis): per image tile (--tiles) a CDF over blocks of texels "
                    "(--tile-block), each block weighed by its mean unshadowed contribution to --tile-points "
                    "of the tile's gather points, times the flux within the block, with --eps."))
       ->type_name("global|local|gbg|flux|tiles");
@@ -596,9 +596,6 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     // Methods without candidates ignore the source, as they ignore every other one.
     if (o.meth == method::ris)
       bad("--candidate-source", "tiles is for --method ris-mis (ris takes global, local, gbg or flux)");
-    if (o.meth == method::ris_mis && o.back != backend::cpu)
-      bad("--candidate-source", "tiles runs on --backend cpu only for now (its GPU kernels are not written yet); "
-                                "add --backend cpu");
     int tx = 0, ty = 0;
     region_grid(o.tiles, tx, ty);
     if (tx > o.width || ty > o.height)

@@ -68,7 +68,9 @@ tiled_candidates build_tiled_candidates(const cpu_frame& f, const render_setting
                   {"grid", {s.tiles_x, s.tiles_y}},
                   {"points", used},
                   {"block", out.blocks->block},
-                  {"blocks", out.blocks->count()}};
+                  {"blocks", out.blocks->count()},
+                  {"empty", std::count_if(out.dists.begin(), out.dists.end(),
+                                          [](const tiled_distribution& d) { return d.block_cdf.empty(); })}};
   return out;
 }
 

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// --candidate-source tiles (ris-mis, CPU backend): per image tile a candidate distribution near the
-// tile's integrand at the cost of a few texel blocks per tile, not of every texel per tile.
+// --candidate-source tiles (ris-mis): per image tile a candidate distribution near the tile's
+// integrand at the cost of a few texel blocks per tile, not of every texel per tile. The GPU
+// backend builds the same on the GPU (render/gpu/gpu_tiles.hpp, tile_blocks.comp, tile_weights.comp,
+// estimate_tiles.glsl).
 //
 // The DPRSM's faces are cut into blocks of B x B texels. Per block, once per frame: the texels that
 // carry a VPL, each one's share l_t / L_b of the block's flux luminance, and a proxy VPL (the
@@ -20,6 +22,7 @@
 #include <vplkit/distribution/defensive_mixture.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
 #include <vplkit/distribution/discrete_sample.hpp>
+#include <vplkit/distribution/mixture_split.hpp>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/vpl/dprsm_view.hpp>
 #include <vplkit/vpl/luminance.hpp>
@@ -31,14 +34,16 @@
 
 namespace vplrender {
 
-// The frame's texel blocks (shared by every tile).
+// The frame's texel blocks (shared by every tile). The GPU backend's tile_blocks.comp writes the
+// same shares and proxies (render/gpu/gpu_tiles.hpp), and estimate_tiles.glsl draws a texel of a
+// block as texel_in_block does: the same comparisons in the same order.
 struct tile_blocks {
   int block = 8;       // B: texels per block side
   int resolution = 0;  // R of the DPRSM's faces
   int per_side = 0;    // blocks per face side, ceil(R / B)
   std::vector<float> share;          // per texel: l_t / L_b (0 without a VPL)
   std::vector<int> begin;            // per block: its first entry in texels (size blocks + 1)
-  std::vector<int> texels;           // the texels with a VPL, block by block
+  std::vector<int> texels;           // the texels of positive share, block by block, row-major in a block
   std::vector<float> cumulative;     // per entry of texels: the running sum of the shares in its block
   std::vector<vplkit::vpl<float>> proxy;  // per block; flux 0 for a block without a VPL
 
@@ -46,6 +51,21 @@ struct tile_blocks {
   int block_of(int t) const {
     const vplkit::ivec2 xy = vplkit::texel_coords(t, resolution);
     return (vplkit::texel_face(t, resolution) * per_side + xy.y / block) * per_side + xy.x / block;
+  }
+  // The texel of block b at the fraction d / w of its flux: the first texel whose running share
+  // times w exceeds d (the last one if none does). The remapped u of the block's CDF is (u - lo) /
+  // (hi - lo); comparing d = u - lo with w = hi - lo times the running share instead needs no
+  // division, which GLSL does not round correctly. w = 0 (never for a block the CDF picks) takes
+  // the first texel.
+  int texel_in_block(std::size_t b, float d, float w) const {
+    if (!(w > 0.0f)) {
+      d = 0.0f;
+      w = 1.0f;
+    }
+    int k = begin[b];
+    const int last = begin[b + 1] - 1;
+    while (k < last && !(d < w * cumulative[static_cast<std::size_t>(k)])) ++k;
+    return texels[static_cast<std::size_t>(k)];
   }
 };
 
@@ -63,17 +83,16 @@ inline tile_blocks make_tile_blocks(const vplkit::dprsm_view<float>& view, const
   for (int b = 0; b < n_blocks; ++b) {
     const int face = b / (tb.per_side * tb.per_side), in_face = b % (tb.per_side * tb.per_side);
     const int x0 = (in_face % tb.per_side) * tb.block, y0 = (in_face / tb.per_side) * tb.block;
-    const std::size_t first = tb.texels.size();
-    tb.begin[static_cast<std::size_t>(b)] = static_cast<int>(first);
+    const int x1 = std::min(x0 + tb.block, tb.resolution), y1 = std::min(y0 + tb.block, tb.resolution);
+    tb.begin[static_cast<std::size_t>(b)] = static_cast<int>(tb.texels.size());
     float L = 0.0f;
     glm::vec3 P(0.0f), N(0.0f), F(0.0f);
-    for (int y = y0; y < std::min(y0 + tb.block, tb.resolution); ++y)
-      for (int x = x0; x < std::min(x0 + tb.block, tb.resolution); ++x) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
         const int t = vplkit::texel_index(face, x, y, tb.resolution);
         const float l = flux[static_cast<std::size_t>(t)];
         if (!(l > 0.0f)) continue;
         const vplkit::vpl<float> v = view.vpl_at(t);
-        tb.texels.push_back(t);
         L += l;
         P += l * v.position;
         N += l * vplkit::unit_or_zero(v.normal);
@@ -81,69 +100,73 @@ inline tile_blocks make_tile_blocks(const vplkit::dprsm_view<float>& view, const
       }
     if (!(L > 0.0f)) continue;
     float c = 0.0f;
-    for (std::size_t k = first; k < tb.texels.size(); ++k) {
-      const std::size_t t = static_cast<std::size_t>(tb.texels[k]);
-      tb.share[t] = flux[t] / L;
-      c += tb.share[t];
-      tb.cumulative.push_back(c);
-    }
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const int t = vplkit::texel_index(face, x, y, tb.resolution);
+        const float l = flux[static_cast<std::size_t>(t)];
+        const float s = l > 0.0f ? l / L : 0.0f;
+        if (!(s > 0.0f)) continue;
+        tb.share[static_cast<std::size_t>(t)] = s;
+        c += s;
+        tb.texels.push_back(t);
+        tb.cumulative.push_back(c);
+      }
     tb.proxy[static_cast<std::size_t>(b)] = vplkit::vpl<float>{P / L, vplkit::unit_or_zero(N), F};
   }
   tb.begin[static_cast<std::size_t>(n_blocks)] = static_cast<int>(tb.texels.size());
   return tb;
 }
 
-// One tile's distribution over the texels: with probability 1 - eps a block from its CDF, then a
-// texel of the block by its share; with probability eps the flux build's fallback. sample() and
-// pmf() as the library's distributions (vplkit::defensive_mixture): the index and the pmf of the
-// whole mixture.
+// One tile's distribution over the texels: a defensive mixture (vplkit::mixture_split, --eps) of
+// the learned part, a block from the tile's CDF and then a texel of the block by its share (pmf
+// P(block) share), and the flux build's fallback. sample() and pmf() as the library's
+// distributions (vplkit::defensive_mixture): the index and the pmf of the whole mixture.
 struct tiled_distribution {
   const tile_blocks* blocks = nullptr;
   const vplkit::discrete_cdf<float>* fallback = nullptr;  // uniform over the texels with a VPL
   vplkit::discrete_cdf<float> block_cdf;
-  float eps = 0.0f;
+  vplkit::mixture_split<float> split;  // eps, 1 where the tile's blocks weigh nothing, 0 without a fallback
 
-  // The fallback's share of the mixture: eps, 1 where the tile's blocks weigh nothing (every
-  // draw then comes from the fallback), 0 without a fallback.
-  float fallback_share() const {
-    if (fallback == nullptr || fallback->empty()) return 0.0f;
-    return block_cdf.empty() ? 1.0f : eps;
-  }
-  bool empty() const { return block_cdf.empty() && (fallback == nullptr || fallback->empty()); }
+  bool fallback_empty() const { return fallback == nullptr || fallback->empty(); }
+  bool empty() const { return block_cdf.empty() && fallback_empty(); }
 
   float pmf(std::size_t i) const {
-    const float e = fallback_share();
     const float learned = block_cdf.empty() || i >= blocks->share.size()
                               ? 0.0f
                               : block_cdf.pmf(static_cast<std::size_t>(blocks->block_of(static_cast<int>(i)))) *
                                     blocks->share[i];
-    const float fb = e > 0.0f ? fallback->pmf(i) : 0.0f;
-    return (1.0f - e) * learned + e * fb;
+    return split.pmf(learned, fallback_empty() ? 0.0f : fallback->pmf(i));
   }
 
   vplkit::discrete_sample<float> sample(float u) const {
     if (empty()) return {0, 0.0f};
-    constexpr float below_one = 0x1.fffffep-1f;
-    const float e = fallback_share();
+    const vplkit::mixture_choice<float> c = split.choose(u);
     std::size_t i = 0;
-    if (u < e) {
-      i = fallback->sample(std::min(u / e, below_one)).index;
+    if (c.component == vplkit::mixture_fallback) {
+      i = fallback->sample(c.u).index;
     } else {
-      const float ul = std::min((u - e) / (1.0f - e), below_one);
-      const std::size_t b = block_cdf.sample(ul).index;
+      const std::size_t b = block_cdf.sample(c.u).index;
       const float lo = block_cdf.cdf()[b], hi = block_cdf.cdf()[b + 1];
-      const float u2 = hi > lo ? std::min((ul - lo) / (hi - lo), below_one) : 0.0f;
-      int k = blocks->begin[b];
-      const int last = blocks->begin[b + 1] - 1;
-      while (k < last && !(u2 < blocks->cumulative[static_cast<std::size_t>(k)])) ++k;
-      i = static_cast<std::size_t>(blocks->texels[static_cast<std::size_t>(k)]);
+      i = static_cast<std::size_t>(blocks->texel_in_block(b, c.u - lo, hi - lo));
     }
     return {i, pmf(i)};
   }
 };
 
+// Tile i's block weights W_i(b): the mean over its valid gather points of the proxy's unshadowed
+// contribution's luminance, summed in the points' order and multiplied by 1 / |points| (as
+// tile_weights.comp and the library's global weights); 0 for a block without flux.
+inline float tile_block_weight(const std::vector<vplkit::gather_point<float>>& pts, const vplkit::vpl<float>& v,
+                               float dmin) {
+  if (pts.empty() || !vplkit::vpl_has_flux(v)) return 0.0f;
+  float sum = 0.0f;
+  for (const vplkit::gather_point<float>& g : pts) sum += vplkit::luminance(vplkit::vpl_contribution(g, v, dmin));
+  return sum * (1.0f / static_cast<float>(pts.size()));
+}
+
 // One distribution per tile from the tiles' gather points (valid ones), over the workers. The
-// distributions point at tb and fallback: both must outlive them and stay where they are.
+// distributions point at tb and fallback: both must outlive them and stay where they are. eps in
+// [0, 1] (else vplkit::invalid_input, from mixture_split).
 inline std::vector<tiled_distribution> make_tiled_distributions(
     const tile_blocks& tb, const std::vector<std::vector<vplkit::gather_point<float>>>& tile_points, float dmin,
     const vplkit::discrete_cdf<float>& fallback, float eps, int threads) {
@@ -153,20 +176,14 @@ inline std::vector<tiled_distribution> make_tiled_distributions(
   parallel_items(n_tiles, threads, "", {}, [&](int i, int) {
     const std::vector<vplkit::gather_point<float>>& pts = tile_points[static_cast<std::size_t>(i)];
     std::vector<float> w(n_blocks, 0.0f);
-    if (!pts.empty())
-      for (std::size_t b = 0; b < n_blocks; ++b) {
-        const vplkit::vpl<float>& v = tb.proxy[b];
-        if (!vplkit::vpl_has_flux(v)) continue;
-        float sum = 0.0f;
-        for (const vplkit::gather_point<float>& g : pts) sum += vplkit::luminance(vplkit::vpl_contribution(g, v, dmin));
-        w[b] = sum / static_cast<float>(pts.size());
-      }
+    for (std::size_t b = 0; b < n_blocks; ++b) w[b] = tile_block_weight(pts, tb.proxy[b], dmin);
     tiled_distribution& d = out[static_cast<std::size_t>(i)];
     d.blocks = &tb;
     d.fallback = &fallback;
-    d.eps = eps;
     d.block_cdf = vplkit::discrete_cdf<float>(w.data(), w.size());
   });
+  // After the workers: mixture_split throws on a bad eps, which must not leave a worker.
+  for (tiled_distribution& d : out) d.split = vplkit::mixture_split<float>(eps, d.block_cdf.empty(), fallback.empty());
   return out;
 }
 

@@ -80,9 +80,11 @@ work_shape with_clamp_compensation(const render_settings& s, const shape_inputs&
 // RIS: a sample is M candidates (a CDF draw and an unshadowed contribution each) and the kept one's
 // query. ris-mis with --candidate-pool reads each candidate from the pool (VR_RIS_POOL: an index, a
 // load and the contribution, no loop); the pool's CDF draws are its own dispatch, one per entry.
+// A tile draw (--candidate-source tiles, estimate_tiles.glsl) also walks its block's B^2 texels.
 long long ris_candidates_cost(const render_settings& s, const shape_inputs& in) {
   const bool pooled = traits(s.meth).variant == 1 && s.ris_pool > 0;
-  return static_cast<long long>(std::max(1, s.ris_candidates)) * ((pooled ? 0 : cdf_cost(in)) + 8);
+  const long long block = s.ris_source == ris_source_choice::tiles ? std::max(1, s.tile_block) : 0;
+  return static_cast<long long>(std::max(1, s.ris_candidates)) * ((pooled ? 0 : cdf_cost(in) + block * block) + 8);
 }
 work_shape ris_shape(const render_settings& s, const shape_inputs& in) {
   return {ris_candidates_cost(s, in) + dda_cost(in) + 4, s.vpls, 0};
@@ -155,7 +157,9 @@ std::string gpu_kernel_defines(const render_settings& s, visibility_choice v, bo
     // ris-mis without reuse has one pass (and keeps its define list); with reuse both kernels have
     // the candidate and reuse passes.
     if (t.variant == 0 || ris_pass != ris_pass_estimate) d += define("VR_RIS_PASS", ris_pass);
-    if (s.ris_source == ris_source_choice::local) d += "#define VR_RIS_PER_REGION\n";
+    if (s.ris_source == ris_source_choice::local || s.ris_source == ris_source_choice::tiles)
+      d += "#define VR_RIS_PER_REGION\n";
+    if (s.ris_source == ris_source_choice::tiles) d += "#define VR_RIS_TILES\n";
     if (t.variant == 1 && s.ris_pool > 0) d += "#define VR_RIS_POOL\n";
   }
   return d;

@@ -6,6 +6,7 @@
 #include "render/gpu/gpu_allocating.hpp"
 #include "render/gpu/gpu_builders.hpp"
 #include "render/gpu/gpu_dprsm_planes.hpp"
+#include "render/gpu/gpu_tiles.hpp"
 #include "render/gpu/gpu_visibility.hpp"
 #include "render/gpu/loop_budget.hpp"
 #include "render/method_traits.hpp"
@@ -293,9 +294,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   const method_traits& mt = traits(es.meth);
   if (!mt.gpu)
     throw vplkit::invalid_input(std::string("--method ") + mt.name + ": no GPU kernel yet (run_estimator refuses it)");
-  if (mt.estimator == estimator_kind::ris && es.ris_source == ris_source_choice::tiles)
-    throw vplkit::invalid_input(std::string("--method ") + mt.name +
-                                " --candidate-source tiles: no GPU kernel yet; use --backend cpu");
+  if (mt.estimator == estimator_kind::ris && mt.variant != 1 && es.ris_source == ris_source_choice::tiles)
+    throw vplkit::invalid_input("--method ris --candidate-source tiles: tiles is for --method ris-mis");
   const gpu_estimate_kernel& kern = gpu_kernel_for(es.meth);
   if (es.sampler == sampler_choice::share_tree && !draws_share_tree(mt.estimator))
     throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
@@ -314,13 +314,17 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   const bool with_dists = mt.builder != builder_kind::none;
   gpu_mixtures gm;
   if (with_dists) gm = build_distributions_gpu(b, es, timer, det);
+  // --candidate-source tiles: the tiles' distributions over the flux build's (gpu_tiles.hpp).
+  const bool tiles = with_dists && mt.estimator == estimator_kind::ris && es.ris_source == ris_source_choice::tiles;
+  gpu_tiles tl;
+  if (tiles) tl = build_tiles_gpu(b, es, timer, det);
   const int local_rounds = with_dists ? gm.local_rounds : 0;
   // --method exact: the host's ray scene gives the offsets (checked first: its error names the method).
   const bool exact_kernel = mt.estimator == estimator_kind::exact;
   const exact_ray_frame* exact_rays = exact_kernel ? &frame_exact_rays(b, "--method exact") : nullptr;
   if (exact_kernel && !scene.shading.unavailable.empty())
     throw vplkit::invalid_input("--method exact on the GPU: " + scene.shading.unavailable);
-  const int n_dists = with_dists ? gm.count : 0;
+  const int n_dists = with_dists ? (tiles ? tl.count : gm.count) : 0;
 
   // The parameter block (estimate_params.h); begin, end, first_pass and last_pass change per dispatch.
   gpu::estimate_params P{};
@@ -344,8 +348,10 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   }
   // The mixtures' records (one per mixture, three vector loads each) and the CDF data as built.
   // Without distributions the kernels still bind both buffers: one zero record and word.
-  const std::vector<gpu::mixture_record> records =
+  std::vector<gpu::mixture_record> records =
       with_dists ? mixture_records(gm, P) : std::vector<gpu::mixture_record>(1);
+  // Tiles: mixture d is tile d's, its fallback the flux build's (addressed by the layout just set).
+  if (tiles) records = tile_mixture_records(tl, records.front(), es.eps);
   gl::buffer b_data = with_dists ? std::move(gm.data) : gl::buffer::filled(4, 0);
   gl::buffer b_mixtures = gl::buffer::from_vector(records);
   auto estimate_running = stage_timer::running("estimate (gpu)");
@@ -355,7 +361,8 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   const gl::buffer& b_out = pixel_buffer(pixels, pixels.out, out_bytes, 0xFF, "the per-pixel estimates");
   // --sampler alias / --face-selection roulette: the components built on the host from the
   // weights read back (mixture_components.hpp), uploaded; else one zero word.
-  const bool components = with_dists && mixture_components::wanted(es);
+  // Tile draws use neither (estimate_tiles.glsl), as on the CPU backend.
+  const bool components = with_dists && !tiles && mixture_components::wanted(es);
   gl::buffer b_components = gl::buffer::filled(4, 0);
   // --sampler share-tree: the trees' shares take the components' binding (estimate_params.h).
   if (with_dists && es.sampler == sampler_choice::share_tree) b_components = std::move(gm.share_trees.shares);
@@ -423,10 +430,19 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
   // ris-mis --candidate-pool: the pool's entries (one pool per candidate distribution), filled by
   // the first dispatch of the estimate (VR_RIS_PASS_POOL) and read by every later one.
   const bool ris_pool = ris && mt.variant == 1 && es.ris_pool > 0;
-  const int ris_pools = es.ris_source == ris_source_choice::local ? std::max(1, n_dists) : 1;
+  const int ris_pools =
+      es.ris_source == ris_source_choice::local || tiles ? std::max(1, n_dists) : 1;
   const std::size_t ris_pool_entries = ris_pool ? std::size_t(es.ris_pool) * std::size_t(ris_pools) : 0;
   if (ris) {
     gpu::ris_params R = ris_params_for(es, W, H);
+    if (tiles) {
+      R.regions_x = es.tiles_x;
+      R.regions_y = es.tiles_y;
+      R.tile_block = std::max(1, es.tile_block);
+      R.tile_guide_base = tl.guide_base;
+      R.tile_share_base = tl.share_base;
+      tl.data.bind(VR_RIS_BINDING_TILES);
+    }
     if (ris_pool) {
       R.pool_size = static_cast<gpu::uint>(es.ris_pool);
       R.pool_seed = ris_pool_seed(es.seed);

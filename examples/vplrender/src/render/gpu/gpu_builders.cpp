@@ -46,6 +46,44 @@ dprsm_data host_dprsm(const frame_buffers& b) {
   return read_back_dprsm(scene_on_gpu(b, "host_dprsm"), b.dprsm.resolution, b.dprsm.light);
 }
 
+gpu_gather_subsets build_gather_subsets_gpu(const gpu_scene_buffers& scene, const vplkit::gbuffer_view<float>& g,
+                                            const std::vector<vplkit::pixel_rect>& rects, int count,
+                                            std::uint32_t seed) {
+  const int N = static_cast<int>(rects.size());
+  gpu_gather_subsets out;
+  // Rectangle i's strata at [i count, i count + shape.count); the rest stays -1 (skipped).
+  const std::size_t cap = static_cast<std::size_t>(N) * static_cast<std::size_t>(count);
+  out.pixels = gl::buffer::filled(std::max<std::size_t>(cap, 1) * 4, 0xFF);
+  std::vector<std::uint32_t> offsets;
+  for (int i = 0; i <= N; ++i) offsets.push_back(static_cast<std::uint32_t>(i) * static_cast<std::uint32_t>(count));
+  out.offsets = gl::buffer::from_vector(offsets);
+  const gl::program& sp = gl::cached_kernel("vplkit/builders/gather_subset.comp");
+  for (int i = 0; i < N; ++i) {
+    const vplkit::pixel_rect& r = rects[static_cast<std::size_t>(i)];
+    const vplkit::gather_subset_grid_shape shape = vplkit::gather_subset_grid(r, count);
+    if (shape.count <= 0) continue;
+    const std::uint32_t first = static_cast<std::uint32_t>(i) * static_cast<std::uint32_t>(count);
+    const vplkit::gpu::gather_subset_params p =
+        vplkit::gpu::make_gather_subset_params(g, r, count, seed, first, vplkit::gather_subset_default_attempts, first);
+    out.params.push_back(gl::buffer::from_bytes(&p, sizeof p));
+    scene.gbuffer.bind(VPLKIT_GATHER_SUBSET_BINDING_GBUFFER);
+    out.pixels.bind(VPLKIT_GATHER_SUBSET_BINDING_PIXELS);
+    glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GATHER_SUBSET_BINDING_PARAMS, out.params.back().id());
+    gl::dispatch(sp, gl::groups_for(static_cast<std::size_t>(shape.count), VPLKIT_GATHER_SUBSET_LOCAL_SIZE));
+  }
+  return out;
+}
+
+std::vector<int> gather_subset_sizes(const gpu_gather_subsets& s, int rects, int count) {
+  // |S_i| for the report: the subsets are a few hundred ints.
+  const std::size_t cap = static_cast<std::size_t>(rects) * static_cast<std::size_t>(count);
+  const std::vector<std::int32_t> picks = s.pixels.read<std::int32_t>(cap);
+  std::vector<int> used(static_cast<std::size_t>(rects), 0);
+  for (std::size_t k = 0; k < cap; ++k)
+    if (picks[k] >= 0) ++used[k / static_cast<std::size_t>(count)];
+  return used;
+}
+
 gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings& s, bool local, stage_timer& timer) {
   auto running = stage_timer::running(local ? "local weights (gpu)" : "global weights (gpu)");
   const gpu_scene_buffers& scene = scene_on_gpu(b, "build_brsm_weights_gpu");
@@ -70,27 +108,7 @@ gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings
   out.regions = N;
   gl::timer_query tq;
   tq.begin();
-  // Region i's strata at [i count, i count + shape.count); the rest stays -1 (skipped).
-  const std::size_t cap = static_cast<std::size_t>(N) * static_cast<std::size_t>(count);
-  gl::buffer b_subset = gl::buffer::filled(std::max<std::size_t>(cap, 1) * 4, 0xFF);
-  std::vector<std::uint32_t> offsets;
-  for (int i = 0; i <= N; ++i) offsets.push_back(static_cast<std::uint32_t>(i) * static_cast<std::uint32_t>(count));
-  gl::buffer b_offsets = gl::buffer::from_vector(offsets);
-  std::vector<gl::buffer> blocks;
-  const gl::program& sp = gl::cached_kernel("vplkit/builders/gather_subset.comp");
-  for (int i = 0; i < N; ++i) {
-    const vplkit::pixel_rect& r = rects[static_cast<std::size_t>(i)];
-    const vplkit::gather_subset_grid_shape shape = vplkit::gather_subset_grid(r, count);
-    if (shape.count <= 0) continue;
-    const std::uint32_t first = static_cast<std::uint32_t>(i) * static_cast<std::uint32_t>(count);
-    const vplkit::gpu::gather_subset_params p =
-        vplkit::gpu::make_gather_subset_params(g, r, count, seed, first, vplkit::gather_subset_default_attempts, first);
-    blocks.push_back(gl::buffer::from_bytes(&p, sizeof p));
-    scene.gbuffer.bind(VPLKIT_GATHER_SUBSET_BINDING_GBUFFER);
-    b_subset.bind(VPLKIT_GATHER_SUBSET_BINDING_PIXELS);
-    glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GATHER_SUBSET_BINDING_PARAMS, blocks.back().id());
-    gl::dispatch(sp, gl::groups_for(static_cast<std::size_t>(shape.count), VPLKIT_GATHER_SUBSET_LOCAL_SIZE));
-  }
+  gpu_gather_subsets sub = build_gather_subsets_gpu(scene, g, rects, count, seed);
   out.weights = gl::buffer::filled((static_cast<std::size_t>(N) + 1) * n * 4, 0);
   vplkit::gpu::global_weights_params wp{};
   wp.light = vplkit::gpu::make_light_params(view.light);
@@ -98,20 +116,16 @@ gpu_weights build_brsm_weights_gpu(const frame_buffers& b, const render_settings
   wp.regions = N;
   wp.pixel_count = g.width * g.height;
   wp.dmin = s.dmin;
-  blocks.push_back(gl::buffer::from_bytes(&wp, sizeof wp));
+  const gl::buffer wp_block = gl::buffer::from_bytes(&wp, sizeof wp);
   scene.gbuffer.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_GBUFFER);
   scene.dprsm.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_DPRSM);
-  b_subset.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET);
-  b_offsets.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
+  sub.pixels.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_SUBSET);
+  sub.offsets.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_OFFSETS);
   out.weights.bind(VPLKIT_GLOBAL_WEIGHTS_BINDING_WEIGHTS);
-  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, blocks.back().id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_GLOBAL_WEIGHTS_BINDING_PARAMS, wp_block.id());
   gl::dispatch_linear(gl::cached_kernel("vplkit/builders/global_weights.comp"),
                       gl::groups_for(n, VPLKIT_GLOBAL_WEIGHTS_LOCAL_SIZE), static_cast<GLuint>(N));
-  // |S_i| for the report: the subsets are a few hundred ints.
-  const std::vector<std::int32_t> picks = b_subset.read<std::int32_t>(cap);
-  out.used.assign(static_cast<std::size_t>(N), 0);
-  for (std::size_t k = 0; k < cap; ++k)
-    if (picks[k] >= 0) ++out.used[k / static_cast<std::size_t>(count)];
+  out.used = gather_subset_sizes(sub, N, count);
   tq.end();
   timer.add(local ? "local weights (gpu)" : "global weights (gpu)", tq.milliseconds(), "gpu");
   return out;

@@ -18,9 +18,11 @@
 #include "render/stage_timer.hpp"
 
 #include <headless_gl/compute.hpp>
+#include <vplkit/builders/gather_subset.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace vplrender {
@@ -32,6 +34,21 @@ const gpu_scene_buffers& scene_on_gpu(const frame_buffers& b, const char* who);
 // The frame's DPRSM with its arrays, for a host-side consumer (--sampler alias, --face-selection
 // roulette): b.dprsm when the frame has host copies, else read back from the GPU.
 dprsm_data host_dprsm(const frame_buffers& b);
+
+// The stratified gather subsets of `rects` on the GPU (the pack's builders/gather_subset.comp):
+// rectangle i's count strata at pixels[i count ..) (-1 for a stratum that dropped), seed `seed`,
+// stream offset i count, pixel for pixel the C++ local_gather_subsets (stratified_gather_subset for
+// one rectangle); offsets[i] = i count (rects + 1 of them). `params` keeps the dispatches' blocks
+// alive until the work is done.
+struct gpu_gather_subsets {
+  vplkit::gl::buffer pixels, offsets;
+  std::vector<vplkit::gl::buffer> params;
+};
+gpu_gather_subsets build_gather_subsets_gpu(const gpu_scene_buffers& scene, const vplkit::gbuffer_view<float>& g,
+                                            const std::vector<vplkit::pixel_rect>& rects, int count,
+                                            std::uint32_t seed);
+// |S_i|: the strata of each rectangle that kept a pixel (read back; a few hundred ints).
+std::vector<int> gather_subset_sizes(const gpu_gather_subsets& s, int rects, int count);
 
 // BRSM weights on the GPU: N = 1 (global: whole image, s.global_subset strata, seed
 // builder_seed(s.seed, 0)) or N = regions (local: s.regions_x x s.regions_y regions,

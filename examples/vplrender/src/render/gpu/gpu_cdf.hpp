@@ -44,6 +44,21 @@ struct gpu_mixtures {
   gpu_share_trees share_trees;
 };
 
+// `dists` discrete CDFs of n entries each (vplkit::discrete_cdf<float>'s values or float
+// neighbours), from `weights` (dists arrays of n floats, array-major) by the pack's
+// distribution/cdf_build.comp, into one buffer: CDF k at word k (n + 1), its guide table at
+// guide_base + k (m + 1), m = vplkit::discrete_guide_size(n), then extra_words words for the caller
+// at extra_base (zero; each part starts where an SSBO range binding may). Only the totals come back.
+// Throws vplkit::invalid_input when there is nothing to build or the buffer is too small.
+struct gpu_cdf_set {
+  vplkit::gl::buffer data;
+  std::size_t n = 0, m = 0, guide_base = 0, extra_base = 0;
+  std::vector<float> totals;      // per CDF (0: empty)
+  std::vector<long long> zeroed;  // per CDF: weights taken as 0 (negative, NaN or Inf)
+};
+gpu_cdf_set build_cdf_set_gpu(const vplkit::gl::buffer& weights, std::size_t dists, std::size_t n,
+                              std::size_t extra_words);
+
 // `weights` holds at least (D + 1) n floats, n = view.texel_count(): arrays 0 .. D-1 the builder's
 // weights (region-major), array D scratch (the fallback's weights go there). `dprsm` is the DPRSM
 // as 3 vec4 per texel (position, normal, albedo). eps in [0, 1] (else vplkit::invalid_input); eps
