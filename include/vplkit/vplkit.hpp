@@ -76,6 +76,8 @@
 #include <vplkit/builders/gbg_weights.hpp>
 #include <vplkit/builders/flux_weights.hpp>
 #include <vplkit/builders/vpl_distribution.hpp>
+#include <vplkit/builders/tile_blocks.hpp>
+#include <vplkit/builders/tiled_distribution.hpp>
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum; resampled (RIS) selection and
 // its spatial reuse

@@ -7244,6 +7244,255 @@ inline std::vector<defensive_mixture<T>> make_local_vpl_distributions(
 
 }  // namespace vplkit
 // ---- end vplkit/builders/vpl_distribution.hpp ----
+// ---- begin vplkit/builders/tile_blocks.hpp ----
+// Texel blocks: the level of indirection of tiled candidate distributions
+// (builders/tiled_distribution.hpp, docs/math.md 13.5). The DPRSM's faces are cut into blocks of
+// B x B texels, block b = (face P + by) P + bx with P = ceil(R / B) blocks per face side. Per
+// block, once per frame:
+//  - each texel's share l_t / L_b of the block's flux luminance (l_t = flux_weight_texel, L_b their
+//    sum; 0 for a texel without a VPL), with the running sums in the block's row-major order: a
+//    draw within the block follows the flux;
+//  - a proxy VPL: the l-weighted mean position and unit normal and the block's total flux. It
+//    stands for the block where a tile weighs it (tile_block_weight), so a tile evaluates 2 R^2 /
+//    B^2 proxies instead of 2 R^2 VPLs.
+// The per-block and per-(block, tile) functions never throw; their GLSL mirrors are
+// builders/tile_blocks.glsl, under the same names with the vplkit_ prefix.
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace vplkit {
+
+// The block layout of a DPRSM of resolution R.
+struct tile_block_grid {
+  int resolution = 0;  // R
+  int block = 1;       // B: texels per block side
+  int per_side = 0;    // P = ceil(R / B)
+
+  int count() const noexcept { return 2 * per_side * per_side; }
+  // The block of texel t (face * R^2 + y * R + x).
+  int block_of(int t) const noexcept {
+    const ivec2 xy = texel_coords(t, resolution);
+    return (texel_face(t, resolution) * per_side + xy.y / block) * per_side + xy.x / block;
+  }
+  int face_of_block(int b) const noexcept { return b / (per_side * per_side); }
+  // Block b's texels: x in [x0, x1), y in [y0, y1) of its face (the last row and column of blocks
+  // may be cut by the face's edge).
+  int x0(int b) const noexcept { return (b % (per_side * per_side)) % per_side * block; }
+  int y0(int b) const noexcept { return (b % (per_side * per_side)) / per_side * block; }
+  int x1(int b) const noexcept { return std::min(x0(b) + block, resolution); }
+  int y1(int b) const noexcept { return std::min(y0(b) + block, resolution); }
+};
+
+// R >= 1, B >= 1 (else invalid_input).
+inline tile_block_grid make_tile_block_grid(int resolution, int block) {
+  if (resolution < 1 || block < 1)
+    throw invalid_input("make_tile_block_grid: resolution " + std::to_string(resolution) + " and block " +
+                        std::to_string(block) + " must both be >= 1");
+  return tile_block_grid{resolution, block, (resolution + block - 1) / block};
+}
+
+// One block's flux luminance L_b and proxy VPL (all zero for a block without a VPL).
+template <class T>
+struct tile_block_proxy {
+  vpl<T> proxy{};
+  T flux_luminance = T(0);
+};
+
+// Block b's proxy: the sums in row-major order over the texels with l_t > 0. Per-block function.
+template <class T>
+inline tile_block_proxy<T> tile_block_proxy_of(const dprsm_view<T>& view, const tile_block_grid& g, int b) {
+  const int face = g.face_of_block(b);
+  T L = T(0);
+  vec3<T> P(T(0)), N(T(0)), F(T(0));
+  for (int y = g.y0(b); y < g.y1(b); ++y)
+    for (int x = g.x0(b); x < g.x1(b); ++x) {
+      const int t = texel_index(face, x, y, g.resolution);
+      const T l = flux_weight_texel(view, t);
+      if (!(l > T(0))) continue;
+      const vpl<T> v = view.vpl_at(t);
+      L += l;
+      P += l * v.position;
+      N += l * unit_or_zero(v.normal);
+      F += v.flux;
+    }
+  if (!(L > T(0))) return {};
+  return {vpl<T>{P / L, unit_or_zero(N), F}, L};
+}
+
+// A texel's share l / L of its block (0 when either is not > 0). Per-texel function.
+template <class T>
+inline T tile_texel_share(T l, T L) noexcept {
+  const T s = l > T(0) && L > T(0) ? l / L : T(0);
+  return s > T(0) ? s : T(0);  // written so that NaN gives 0
+}
+
+// The frame's blocks: shares per texel, the texels of positive share block by block with their
+// running sums, and the proxies.
+template <class T>
+struct tile_blocks {
+  tile_block_grid grid;
+  std::vector<T> share;                // per texel (2 R^2): l_t / L_b, 0 without a VPL
+  std::vector<int> begin;              // per block: its first entry in texels (count() + 1)
+  std::vector<int> texels;             // the texels of positive share, block by block, row-major
+  std::vector<T> cumulative;           // per entry of texels: the running share within its block
+  std::vector<vpl<T>> proxy;           // per block (flux 0 without a VPL)
+
+  int count() const noexcept { return grid.count(); }
+  int block_of(int t) const noexcept { return grid.block_of(t); }
+  // The texel of block b at the fraction d / w of its flux: the first texel whose running share c
+  // has d < w c (w c rounded first), else the block's last one; w <= 0 or NaN takes the first.
+  // A block CDF's draw u' in [F(b), F(b + 1)) gives d = u' - F(b), w = F(b + 1) - F(b): the
+  // position of u' in b's bin, compared without a division (GLSL does not round one correctly).
+  // The block must hold a texel (begin[b] < begin[b + 1]).
+  int texel_in_block(std::size_t b, T d, T w) const noexcept {
+    if (!(w > T(0))) {
+      d = T(0);
+      w = T(1);
+    }
+    int k = begin[b];
+    const int last = begin[b + 1] - 1;
+    while (k < last && !(d < w * cumulative[std::size_t(k)])) ++k;
+    return texels[std::size_t(k)];
+  }
+};
+
+// The blocks of side B of a DPRSM (throws invalid_input for a bad view or B < 1).
+template <class T>
+inline tile_blocks<T> make_tile_blocks(const dprsm_view<T>& view, int block) {
+  view.validate();
+  tile_blocks<T> tb;
+  tb.grid = make_tile_block_grid(view.resolution, block);
+  const tile_block_grid& g = tb.grid;
+  tb.share.assign(std::size_t(view.texel_count()), T(0));
+  tb.begin.assign(std::size_t(g.count()) + 1, 0);
+  tb.proxy.assign(std::size_t(g.count()), vpl<T>{});
+  for (int b = 0; b < g.count(); ++b) {
+    tb.begin[std::size_t(b)] = int(tb.texels.size());
+    const tile_block_proxy<T> p = tile_block_proxy_of(view, g, b);
+    if (!(p.flux_luminance > T(0))) continue;
+    tb.proxy[std::size_t(b)] = p.proxy;
+    const int face = g.face_of_block(b);
+    T c = T(0);
+    for (int y = g.y0(b); y < g.y1(b); ++y)
+      for (int x = g.x0(b); x < g.x1(b); ++x) {
+        const int t = texel_index(face, x, y, g.resolution);
+        const T s = tile_texel_share(flux_weight_texel(view, t), p.flux_luminance);
+        if (!(s > T(0))) continue;
+        tb.share[std::size_t(t)] = s;
+        c += s;
+        tb.texels.push_back(t);
+        tb.cumulative.push_back(c);
+      }
+  }
+  tb.begin[std::size_t(g.count())] = int(tb.texels.size());
+  return tb;
+}
+
+// A tile's weight of one block: the mean over its gather points of the proxy's unshadowed
+// contribution's luminance (section 2's contribution, clamped at dmin), summed in the points'
+// order and multiplied by 1 / count, as the global weights (global_weights.hpp); invalid points
+// are skipped and not counted; 0 without a valid point or for a proxy without flux. Per-(block,
+// tile) function.
+template <class T>
+inline T tile_block_weight(const gather_point<T>* points, std::size_t count, const vpl<T>& proxy, T dmin) noexcept {
+  if (!vpl_has_flux(proxy)) return T(0);
+  T sum = T(0);
+  int used = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!gather_point_valid(points[i])) continue;
+    sum += luminance(vpl_contribution(points[i], proxy, dmin));
+    ++used;
+  }
+  return used > 0 ? sum * (T(1) / T(used)) : T(0);
+}
+
+}  // namespace vplkit
+// ---- end vplkit/builders/tile_blocks.hpp ----
+// ---- begin vplkit/builders/tiled_distribution.hpp ----
+// A tile's candidate distribution over the DPRSM's texels (docs/math.md 13.5): a CDF over texel
+// blocks (builders/tile_blocks.hpp) whose weights W(b) are the tile's (tile_block_weight), refined
+// within each block by the flux shares, in a defensive mixture with a fallback over the texels:
+//     p(t) = (1 - eps) P(b(t)) l_t / L_b(t)  +  eps p_fallback(t),   P(b) = W(b) / sum W.
+// The pmf is exact, so an estimator that divides by it stays unbiased however far a proxy is from
+// its texels, and with eps > 0 and make_vpl_fallback's fallback every texel with a VPL keeps
+// p > 0. What it buys: per image tile a distribution near the tile's integrand at the cost of
+// 2 R^2 / B^2 weights per tile, where a local CDF (local_weights.hpp) costs 2 R^2.
+//
+// sample(u): the u split of every defensive mixture (mixture_split: the fallback with u (1/eps),
+// else the learned part with u' = (u - eps) (1/(1 - eps))), a block b from the CDF with u', then
+// tile_blocks::texel_in_block(b, u' - F(b), F(b + 1) - F(b)). Returns the index and the mixture's
+// pmf; {0, 0} when both parts are empty. The GLSL mirror is builders/tiled_distribution.glsl.
+
+#include <cstddef>
+#include <string>
+
+namespace vplkit {
+
+template <class T>
+class tiled_distribution {
+public:
+  using value_type = T;
+
+  // Empty: sample() returns {0, 0}.
+  tiled_distribution() = default;
+
+  // block_weights: one per block of `blocks` (n == blocks.count(), finite and >= 0, else
+  // invalid_input, as discrete_cdf); fallback: over the 2 R^2 texels (make_vpl_fallback), or an
+  // empty one for none; eps in [0, 1] (else invalid_input). Keeps pointers to blocks and fallback:
+  // both must outlive the distribution and stay where they are.
+  tiled_distribution(const tile_blocks<T>& blocks, const T* block_weights, std::size_t n,
+                     const discrete_cdf<T>& fallback, T eps)
+      : blocks_(&blocks), fallback_(&fallback), block_cdf_(block_weights, n) {
+    if (n != std::size_t(blocks.count()))
+      throw invalid_input("tiled_distribution: " + std::to_string(n) + " block weights for " +
+                          std::to_string(blocks.count()) + " blocks");
+    if (!fallback.empty() && fallback.size() != blocks.share.size())
+      throw invalid_input("tiled_distribution: a fallback over " + std::to_string(fallback.size()) +
+                          " texels for a DPRSM of " + std::to_string(blocks.share.size()));
+    split_ = mixture_split<T>(eps, block_cdf_.empty(), fallback.empty());
+  }
+
+  bool empty() const noexcept { return block_cdf_.empty() && fallback_empty(); }
+  // The CDF over the blocks (empty when every block weighs 0: the fallback alone serves) and the
+  // split of eps (effective eps 1 then, 0 without a fallback).
+  const discrete_cdf<T>& block_cdf() const noexcept { return block_cdf_; }
+  const mixture_split<T>& split() const noexcept { return split_; }
+
+  T pmf(std::size_t i) const noexcept {
+    const T learned = block_cdf_.empty() || i >= blocks_->share.size()
+                          ? T(0)
+                          : block_cdf_.pmf(std::size_t(blocks_->block_of(int(i)))) * blocks_->share[i];
+    return split_.pmf(learned, fallback_empty() ? T(0) : fallback_->pmf(i));
+  }
+
+  discrete_sample<T> sample(T u) const noexcept {
+    if (empty()) return {0, T(0)};
+    const mixture_choice<T> c = split_.choose(u);
+    std::size_t i = 0;
+    if (c.component == mixture_fallback) {
+      i = fallback_->sample(c.u).index;
+    } else {
+      const std::size_t b = block_cdf_.sample(c.u).index;
+      const T lo = block_cdf_.cdf()[b], hi = block_cdf_.cdf()[b + 1];
+      i = std::size_t(blocks_->texel_in_block(b, c.u - lo, hi - lo));
+    }
+    return {i, pmf(i)};
+  }
+
+private:
+  bool fallback_empty() const noexcept { return fallback_ == nullptr || fallback_->empty(); }
+
+  const tile_blocks<T>* blocks_ = nullptr;
+  const discrete_cdf<T>* fallback_ = nullptr;
+  discrete_cdf<T> block_cdf_;
+  mixture_split<T> split_;
+};
+
+}  // namespace vplkit
+// ---- end vplkit/builders/tiled_distribution.hpp ----
 
 // estimators: per-gather-point estimators and the exhaustive VPL sum; resampled (RIS) selection and
 // its spatial reuse

@@ -37,7 +37,7 @@ const tiled_fixture& shared() {
     const vplkit::dprsm_view<float> view = x.f.b.dprsm.view();
     x.flux = vplkit::build_flux_weights(view);
     x.mixture = vplkit::make_vpl_distribution(x.flux, view, 0.1f);
-    x.blocks = make_tile_blocks(view, x.flux, 8);
+    x.blocks = vplkit::make_tile_blocks(view, 8);
     const vplkit::gbuffer_view<float> g = x.f.b.gbuf.view();
     x.points.resize(2);
     for (int p = 8 * g.width; p < 9 * g.width; p += 3)
@@ -115,8 +115,8 @@ TEST_CASE("tile candidates: the pmf sums to 1, keeps every VPL, and sample(u) dr
   const std::size_t n = x.flux.size();
   for (const tiled_distribution& td : d) CHECK(pmf_sum(td, n) == Approx(1.0).epsilon(1e-4));
   // Tile 0 weighs its blocks: a learned part that is not the flux distribution.
-  CHECK_FALSE(d[0].block_cdf.empty());
-  CHECK(d[0].split.effective_eps() == 0.1f);
+  CHECK_FALSE(d[0].block_cdf().empty());
+  CHECK(d[0].split().effective_eps() == 0.1f);
   int zero_on_vpl = 0, positive_off_vpl = 0, differs_from_flux = 0;
   for (std::size_t t = 0; t < n; ++t) {
     const float p = d[0].pmf(t);
@@ -129,8 +129,8 @@ TEST_CASE("tile candidates: the pmf sums to 1, keeps every VPL, and sample(u) dr
   CHECK(differs_from_flux > 100);
   check_draws(d[0], x.flux);
   // Tile 1 has no gather points: the fallback alone.
-  CHECK(d[1].block_cdf.empty());
-  CHECK(d[1].split.effective_eps() == 1.0f);
+  CHECK(d[1].block_cdf().empty());
+  CHECK(d[1].split().effective_eps() == 1.0f);
   for (std::size_t t = 0; t < n; t += 97) CHECK(d[1].pmf(t) == x.mixture.fallback().pmf(t));
   check_draws(d[1], x.flux);
 }
@@ -142,7 +142,7 @@ TEST_CASE("tile candidates without a fallback (eps 0): the blocks alone") {
   const std::vector<tiled_distribution> d =
       make_tiled_distributions(x.blocks, {x.points[0]}, 0.01f, no_eps.fallback(), 0.0f, 1);
   REQUIRE(d.size() == 1);
-  CHECK(d[0].split.effective_eps() == 0.0f);
+  CHECK(d[0].split().effective_eps() == 0.0f);
   CHECK(pmf_sum(d[0], x.flux.size()) == Approx(1.0).epsilon(1e-4));
   check_draws(d[0], x.flux);
   // With no points and no fallback there is nothing to draw.

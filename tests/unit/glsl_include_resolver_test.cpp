@@ -108,6 +108,35 @@ TEST_CASE("include_resolver: nested includes expand once, with #line back to eac
   CHECK(location_of(r.text, "void main() {}") == "0:4");
 }
 
+TEST_CASE("include_resolver: a file first included in an #if group is inlined again at its next include") {
+  // The group may be disabled: had the first copy been remembered, the file would vanish with it
+  // (glslang's own #include evaluates the group; the resolver does not). Where both copies are
+  // enabled, the guard keeps the second one out. An include inside a file's include guard is not
+  // in a group, and a file included by a conditionally included one is conditional too.
+  temp_tree t;
+  t.write("pack/vplkit/a.glsl", "#ifndef VPLKIT_A_GLSL\n#define VPLKIT_A_GLSL\nfloat vplkit_a() { return 1.0; }\n#endif\n");
+  t.write("pack/vplkit/b.glsl",
+          "#ifndef VPLKIT_B_GLSL\n#define VPLKIT_B_GLSL\n#include \"a.glsl\"\nfloat vplkit_b() { return vplkit_a(); }\n#endif\n");
+  const std::string shader = "#version 430\n"
+                             "#ifdef USE_B\n"
+                             "#include <vplkit/b.glsl>\n"
+                             "#endif\n"
+                             "#include <vplkit/a.glsl>\n"
+                             "#include <vplkit/b.glsl>\n"
+                             "#include <vplkit/a.glsl>\n"
+                             "#include <vplkit/b.glsl>\n"
+                             "void main() {}\n";
+  const auto r = resolve_includes(shader, "main.comp", {t.dir("pack")});
+  // a: in the group (through b), then once outside; b: in the group, then once outside.
+  CHECK(count_of(r.text, "float vplkit_a()") == 2);
+  CHECK(count_of(r.text, "float vplkit_b()") == 2);
+  // Outside any group (the include guard is none), each file once, as before.
+  const std::string plain = "#version 430\n#include <vplkit/b.glsl>\n#include <vplkit/a.glsl>\nvoid main() {}\n";
+  const auto p = resolve_includes(plain, "plain.comp", {t.dir("pack")});
+  CHECK(count_of(p.text, "float vplkit_a()") == 1);
+  CHECK(count_of(p.text, "float vplkit_b()") == 1);
+}
+
 TEST_CASE("include_resolver: #version and #extension stay in front, the preamble after them") {
   temp_tree t;
   t.write("inc/x.glsl", "#extension GL_EXT_shader_explicit_arithmetic_types : enable\nint x;\n");

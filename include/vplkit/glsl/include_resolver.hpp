@@ -4,8 +4,9 @@
 // you feed vplkit's GLSL pack to plain OpenGL, whose drivers do not implement #include.
 // vplkit::glsl::resolve_includes() inlines `#include "..."` / `#include <...>` recursively with the
 // lookup rules of glslang's GL_GOOGLE_include_directive (so one source serves Vulkan and OpenGL),
-// each file once, with `#line` directives and a table that map driver logs back to file names
-// (resolved_source::map_log); it keeps #version first and hoists #extension lines after it. It
+// each file once (one included inside an #if group again at its next include), with `#line`
+// directives and a table that map driver logs back to file names (resolved_source::map_log); it
+// keeps #version first and hoists #extension lines after it. It
 // does not evaluate #if, except that includes in the C++ branches of a two-language header (the
 // kernels' *_params.h) are left out. Every rule, and the errors (include_error): docs/glsl.md,
 // "Using the pack with OpenGL". Header-only, C++17, standard library only.
@@ -253,19 +254,25 @@ struct resolver {
   }
 
   // Appends lines [first, end) of source string `index` to body, expanding includes.
+  // `conditional`: this text lies in an #if group of an includer (not its include guard), so the
+  // preprocessor may drop it; its includes are then conditional too.
   void expand(const std::vector<std::string>& lines, std::size_t index,
-              const std::filesystem::path& dir, std::size_t first, bool root) {
+              const std::filesystem::path& dir, std::size_t first, bool root,
+              bool conditional = false) {
     const std::string label = stack_labels.back();
     body += "#line " + std::to_string(first + 1) + " " + std::to_string(index) + "\n";
     bool in_comment = false, code = false;
     // Open conditional groups: cplusplus_condition of the #if line, and the branch we are in
     // (0 before the first #elif / #else). A branch is C++ when it is the first of a +1 group or a
     // later one of a -1 group.
+    // guard: the file's include guard, the #ifndef that is its first directive (an included file's).
     struct group {
       int condition;
       int branch;
+      bool guard;
     };
     std::vector<group> groups;
+    bool directive_seen = false;
     auto in_cplusplus = [&groups] {
       for (const group& g : groups)
         if ((g.condition == 1 && g.branch == 0) || (g.condition == -1 && g.branch > 0)) return true;
@@ -276,12 +283,13 @@ struct resolver {
       const std::string& line = lines[i];
       const std::string d = scan_line(line, in_comment, code);
       if (d == "if" || d == "ifdef" || d == "ifndef") {
-        groups.push_back({cplusplus_condition(line), 0});
+        groups.push_back({cplusplus_condition(line), 0, d == "ifndef" && !directive_seen && !root});
       } else if ((d == "else" || d == "elif") && !groups.empty()) {
         ++groups.back().branch;
       } else if (d == "endif" && !groups.empty()) {
         groups.pop_back();
       }
+      if (!d.empty()) directive_seen = true;
       if (d == "include" && in_cplusplus()) {
         body += "\n";  // C++ only: not GLSL, not looked up
         continue;
@@ -321,12 +329,18 @@ struct resolver {
         body += "\n";  // inlined once only; the blank line keeps the numbering
         continue;
       }
-      seen.push_back(key);
+      // An include in an #if group (other than the include guard) is inlined there, but not
+      // remembered: if the group is disabled the file's text is dropped, and the next include of
+      // it must inline it again. Where both are enabled, the file's include guard keeps the second
+      // copy out.
+      bool in_group = conditional;
+      for (const group& g : groups) in_group = in_group || !g.guard;
+      if (!in_group) seen.push_back(key);
       const std::size_t child = files.size();
       files.push_back({name, path.string()});
       stack.push_back(key);
       stack_labels.push_back(path.string());
-      expand(split_lines(read_text_file(path)), child, path.parent_path(), 0, false);
+      expand(split_lines(read_text_file(path)), child, path.parent_path(), 0, false, in_group);
       stack.pop_back();
       stack_labels.pop_back();
       body += "#line " + std::to_string(i + 2) + " " + std::to_string(index) + "\n";

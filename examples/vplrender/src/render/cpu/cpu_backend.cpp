@@ -46,13 +46,12 @@ struct tiled_candidates {
 
 tiled_candidates build_tiled_candidates(const cpu_frame& f, const render_settings& s, const cpu_distributions& built,
                                         stage_timer& timer, nlohmann::json& det) {
-  if (built.dists.size() != 1 || built.weights.size() != static_cast<std::size_t>(f.view.texel_count()))
-    throw vplkit::invalid_input("--candidate-source tiles: needs the flux build's weights and mixture");
+  if (built.dists.size() != 1) throw vplkit::invalid_input("--candidate-source tiles: needs the flux build's mixture");
   tiled_candidates out;
   std::vector<int> used;
   {
     auto t = timer.scoped("tiles (cpu)");
-    out.blocks = std::make_unique<const tile_blocks>(make_tile_blocks(f.view, built.weights, s.tile_block));
+    out.blocks = std::make_unique<const tile_blocks>(vplkit::make_tile_blocks(f.view, s.tile_block));
     const vplkit::image_regions tiles(f.W, f.H, s.tiles_x, s.tiles_y);
     const std::vector<std::vector<int>> subsets =
         vplkit::local_gather_subsets(f.g, tiles, s.tile_points, builder_seed(s.seed, 3));
@@ -67,10 +66,10 @@ tiled_candidates build_tiled_candidates(const cpu_frame& f, const render_setting
   det["tiles"] = {{"tiles", static_cast<int>(out.dists.size())},
                   {"grid", {s.tiles_x, s.tiles_y}},
                   {"points", used},
-                  {"block", out.blocks->block},
+                  {"block", out.blocks->grid.block},
                   {"blocks", out.blocks->count()},
                   {"empty", std::count_if(out.dists.begin(), out.dists.end(),
-                                          [](const tiled_distribution& d) { return d.block_cdf.empty(); })}};
+                                          [](const tiled_distribution& d) { return d.block_cdf().empty(); })}};
   return out;
 }
 

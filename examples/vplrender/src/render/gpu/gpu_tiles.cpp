@@ -48,7 +48,6 @@ gpu_tiles build_tiles_gpu(const frame_buffers& b, const render_settings& s, stag
     const gl::program& p = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/tile_blocks.comp");
     set_dprsm_view_uniforms(p, R, view.light);
     glUniform1i(p.uniform_location("u_block"), B);
-    glUniform1i(p.uniform_location("u_per_side"), per_side);
     gl::check_gl("tile_blocks.comp uniforms");
     scene.dprsm.bind(0);
     shares.bind(1);
