@@ -39,6 +39,9 @@
 #include <vplkit/builders/global_weights.hpp>
 #include <vplkit/builders/global_weights_params.h>
 #include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/tile_blocks.hpp>
+#include <vplkit/builders/tile_blocks_params.h>
+#include <vplkit/builders/tile_weights_params.h>
 #include <vplkit/paraboloid/texel_grid.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 #include <vplkit/vpl/luminance.hpp>
@@ -597,3 +600,125 @@ TEST_CASE("GBG kernels: all-background G-buffer gives zero weights and stats, no
   CHECK(r.stats[VPLKIT_GBG_STAT_HOLES] == bg.cpu_holes);
 }
 
+
+// ---- tiled distributions: tile_blocks.comp, tile_weights.comp -------------------------------------
+TEST_CASE("tile_blocks.comp and tile_weights.comp: make_tile_blocks and tile_block_weight") {
+  // Blocks of 5 texels at R = 32 (the last row and column of blocks cut to 2). Per block the sums
+  // run over at most 25 texels in the C++ order; l (flux weights: 16 ulps), l * p + P (an FMA or
+  // two roundings) and l / L (2.5 ulp) put every share, proxy and L within 1e-5 relative (the
+  // normal: 1e-5 absolute, a unit vector). The weights kernel is fed the C++ proxies, so its
+  // bound is the global weights' (2e-6: the same sum of contributions).
+  const auto& s = fx().s;
+  const auto view = s.view();
+  const int n = view.texel_count();
+  const vplkit::tile_blocks<float> tb = vplkit::make_tile_blocks(view, 5);
+  const int Nb = tb.count();
+  REQUIRE(Nb == 2 * 7 * 7);
+  // The kernels first: pack_kernel makes the GL context the buffers below need.
+  const auto& blocks_prog = pack_kernel("vplkit/builders/tile_blocks.comp");
+  const auto& weights_prog = pack_kernel("vplkit/builders/tile_weights.comp");
+  vplkit::gpu::tile_blocks_params bp{};
+  bp.light = vplkit::gpu::make_light_params(view.light);
+  bp.resolution = s.R;
+  bp.block = 5;
+  const auto dp = vplkit::gl::buffer::from_vector(dprsm_surfels(s.dprsm));
+  const auto shares_b = vplkit::gl::buffer::filled(std::size_t(n) * 4, 0xFF);  // NaN: a texel not written fails
+  const auto proxies_b = vplkit::gl::buffer::filled(std::size_t(Nb) * 48, 0xFF);
+  const auto bub = vplkit_test::uniform_buffer(bp);
+  vplkit_test::bind({vplkit_test::storage_at(VPLKIT_TILE_BLOCKS_BINDING_DPRSM, dp),
+                     vplkit_test::storage_at(VPLKIT_TILE_BLOCKS_BINDING_SHARES, shares_b),
+                     vplkit_test::storage_at(VPLKIT_TILE_BLOCKS_BINDING_PROXIES, proxies_b),
+                     vplkit_test::uniform_at(VPLKIT_TILE_BLOCKS_BINDING_PARAMS, bub)});
+  vplkit::gl::dispatch_linear(blocks_prog,
+                              vplkit::gl::groups_for(std::size_t(Nb), VPLKIT_TILE_BLOCKS_LOCAL_SIZE));
+  const std::vector<float> shares = shares_b.read<float>();
+  const std::vector<float4> proxies = proxies_b.read<float4>();
+  std::vector<std::int32_t> gz, cz;
+  for (int t = 0; t < n; ++t) {
+    gz.push_back(shares[std::size_t(t)] == 0.0f);
+    cz.push_back(tb.share[std::size_t(t)] == 0.0f);
+  }
+  CHECK(std::count(cz.begin(), cz.end(), 0) > n / 4);
+  const auto texel = [](std::size_t t) { return "texel " + std::to_string(t); };
+  VPLKIT_CHECK_PARITY(compare_exact(gz, cz, texel, "tile shares: zero / non-zero"));
+  VPLKIT_CHECK_PARITY(compare_floats(shares, tb.share, within_rel(1e-5) | within_abs(0.0), texel, "tile shares"));
+  std::vector<float> gpos, cpos, gnrm, cnrm, gflux, cflux, gl_, cl;
+  for (int b = 0; b < Nb; ++b) {
+    const vplkit::tile_block_proxy<float> p = vplkit::tile_block_proxy_of(view, tb.grid, b);
+    for (int k = 0; k < 3; ++k) {
+      gpos.push_back(proxies[std::size_t(3 * b)][k]);
+      cpos.push_back(p.proxy.position[k]);
+      gnrm.push_back(proxies[std::size_t(3 * b + 1)][k]);
+      cnrm.push_back(p.proxy.normal[k]);
+      gflux.push_back(proxies[std::size_t(3 * b + 2)][k]);
+      cflux.push_back(p.proxy.flux[k]);
+    }
+    gl_.push_back(proxies[std::size_t(3 * b)].w);
+    cl.push_back(p.flux_luminance);
+  }
+  const auto block3 = [](std::size_t k) { return "block " + std::to_string(k / 3) + " component " + std::to_string(k % 3); };
+  const auto block = [](std::size_t b) { return "block " + std::to_string(b); };
+  // Positions: relative to the room's size (coordinates near 0 have no relative bound).
+  VPLKIT_CHECK_PARITY(compare_floats(gpos, cpos, within_rel(1e-5) | within_abs(1e-5 * 4.0), block3, "tile proxy positions"));
+  VPLKIT_CHECK_PARITY(compare_floats(gnrm, cnrm, within_abs(1e-5), block3, "tile proxy normals"));
+  VPLKIT_CHECK_PARITY(compare_floats(gflux, cflux, within_rel(1e-5) | within_abs(0.0), block3, "tile proxy flux"));
+  VPLKIT_CHECK_PARITY(compare_floats(gl_, cl, within_rel(1e-5) | within_abs(0.0), block, "tile block flux luminance"));
+
+  // Weights: 2 x 2 tiles of 8 points each (the C++ subsets; dropped strata -1 on the GPU side).
+  const auto gb = s.gbuffer.view();
+  const auto regions = vplkit::make_image_regions(gb, 2, 2);
+  const int count = 8;
+  const auto subsets = vplkit::local_gather_subsets(gb, regions, count, 13u);
+  std::vector<std::int32_t> pixels(std::size_t(4 * count), -1);
+  std::vector<std::uint32_t> offsets;
+  for (int i = 0; i <= 4; ++i) offsets.push_back(std::uint32_t(i * count));
+  for (int i = 0; i < 4; ++i)
+    for (std::size_t k = 0; k < subsets[std::size_t(i)].size(); ++k)
+      pixels[std::size_t(i * count) + k] = subsets[std::size_t(i)][k];
+  std::vector<float4> cproxies;
+  for (int b = 0; b < Nb; ++b) {
+    const vplkit::vpl<float>& v = tb.proxy[std::size_t(b)];
+    cproxies.push_back(vplkit_test::f4(v.position));
+    cproxies.push_back(vplkit_test::f4(v.normal));
+    cproxies.push_back(vplkit_test::f4(v.flux));
+  }
+  for (float dmin : {0.05f, 0.0f}) {
+    vplkit::gpu::tile_weights_params wp{};
+    wp.blocks = Nb;
+    wp.tiles = 4;
+    wp.pixel_count = gb.width * gb.height;
+    wp.dmin = dmin;
+    const auto gbuf = vplkit::gl::buffer::from_vector(gbuffer_surfels(s.gbuffer));
+    const auto pix = vplkit::gl::buffer::from_vector(pixels);
+    const auto off = vplkit::gl::buffer::from_vector(offsets);
+    const auto prox = vplkit::gl::buffer::from_vector(cproxies);
+    const auto wb = vplkit::gl::buffer::filled(std::size_t(4 * Nb) * 4, 0xFF);
+    const auto wub = vplkit_test::uniform_buffer(wp);
+    vplkit_test::bind({vplkit_test::storage_at(VPLKIT_TILE_WEIGHTS_BINDING_GBUFFER, gbuf),
+                       vplkit_test::storage_at(VPLKIT_TILE_WEIGHTS_BINDING_SUBSET, pix),
+                       vplkit_test::storage_at(VPLKIT_TILE_WEIGHTS_BINDING_OFFSETS, off),
+                       vplkit_test::storage_at(VPLKIT_TILE_WEIGHTS_BINDING_PROXIES, prox),
+                       vplkit_test::storage_at(VPLKIT_TILE_WEIGHTS_BINDING_WEIGHTS, wb),
+                       vplkit_test::uniform_at(VPLKIT_TILE_WEIGHTS_BINDING_PARAMS, wub)});
+    vplkit::gl::dispatch_linear(weights_prog,
+                                vplkit::gl::groups_for(std::size_t(Nb), VPLKIT_TILE_WEIGHTS_LOCAL_SIZE), 4);
+    const std::vector<float> gpu = wb.read<float>();
+    std::vector<float> cpu;
+    int positive = 0;
+    for (int i = 0; i < 4; ++i) {
+      std::vector<vplkit::gather_point<float>> pts;
+      for (int p : subsets[std::size_t(i)]) pts.push_back(gb.at(p));
+      for (int b = 0; b < Nb; ++b) {
+        cpu.push_back(vplkit::tile_block_weight(pts.data(), pts.size(), tb.proxy[std::size_t(b)], dmin));
+        positive += cpu.back() > 0.0f ? 1 : 0;
+      }
+    }
+    CHECK(positive > Nb);
+    VPLKIT_CHECK_PARITY(compare_floats(gpu, cpu, within_rel(2e-6) | within_abs(0.0),
+                                       [Nb](std::size_t k) {
+                                         return "tile " + std::to_string(k / std::size_t(Nb)) + " block " +
+                                                std::to_string(k % std::size_t(Nb));
+                                       },
+                                       "tile block weights, dmin " + show(dmin)));
+  }
+}

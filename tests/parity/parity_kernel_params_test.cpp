@@ -10,6 +10,8 @@
 #include <vplkit/builders/gbg_accumulate_params.h>
 #include <vplkit/builders/gbg_finish_params.h>
 #include <vplkit/builders/flux_weights_params.h>
+#include <vplkit/builders/tile_blocks_params.h>
+#include <vplkit/builders/tile_weights_params.h>
 #include <vplkit/builders/global_weights_params.h>
 #include <vplkit/distribution/cdf_build_params.h>
 #include <vplkit/distribution/share_tree_build_params.h>
@@ -108,6 +110,18 @@ TEST_CASE("kernel parameters: every C++ params struct has its kernel's std140 la
     fw.push_back(m);
   check_block("vplkit/builders/flux_weights.comp", "vplkit_flux_weights_uniforms", "vplkit_flux_weights",
               sizeof(gpu::flux_weights_params), fw);
+
+  std::vector<member> tbp = light_members("light.", offsetof(gpu::tile_blocks_params, light));
+  for (const member& m :
+       {VPLKIT_MEMBER(gpu::tile_blocks_params, resolution), VPLKIT_MEMBER(gpu::tile_blocks_params, block),
+        VPLKIT_MEMBER(gpu::tile_blocks_params, pad0), VPLKIT_MEMBER(gpu::tile_blocks_params, pad1)})
+    tbp.push_back(m);
+  check_block("vplkit/builders/tile_blocks.comp", "vplkit_tile_blocks_uniforms", "vplkit_tile_blocks",
+              sizeof(gpu::tile_blocks_params), tbp);
+  check_block("vplkit/builders/tile_weights.comp", "vplkit_tile_weights_uniforms", "vplkit_tile_weights",
+              sizeof(gpu::tile_weights_params),
+              {VPLKIT_MEMBER(gpu::tile_weights_params, blocks), VPLKIT_MEMBER(gpu::tile_weights_params, tiles),
+               VPLKIT_MEMBER(gpu::tile_weights_params, pixel_count), VPLKIT_MEMBER(gpu::tile_weights_params, dmin)});
 
   using acc = gpu::gbg_accumulate_params;
   std::vector<member> ga = light_members("light.", offsetof(acc, light));

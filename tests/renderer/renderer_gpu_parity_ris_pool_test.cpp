@@ -199,8 +199,8 @@ TEST_CASE("estimate_ris_mis.comp: the pool records have ris_pool_params.h's layo
 }
 
 TEST_CASE("ris-mis with tile candidates: the GPU image equals the CPU backend's, with and without pool and reuse") {
-  // The GPU builds the tiles itself (render/gpu/gpu_tiles.hpp: tile_blocks.comp, the tiles' subsets,
-  // tile_weights.comp, the block CDFs) and draws through estimate_tiles.glsl; the CPU backend
+  // The GPU builds the tiles itself (render/gpu/gpu_tiles.hpp: the pack's tile_blocks.comp, the
+  // tiles' subsets, tile_weights.comp, the block CDFs) and draws through estimate_tiles.glsl; the CPU backend
   // through render/cpu/tiled_candidates.hpp. 2 x 2 tiles, blocks of 4 x 4 texels of a 2 x 16^2 DPRSM.
   const fixture& f = shared_fixture();
   struct run {

@@ -5,7 +5,7 @@
 // defensive mixture: its learned part the CDF over the DPRSM's texel blocks (id VR_TILE_SLOT + d,
 // in the tile buffer at VR_RIS_BINDING_TILES), its fallback the flux build's (in the CDF data, as
 // every mixture's), drawn by the pack's builders/tiled_distribution.glsl over the shares
-// tile_blocks.comp wrote (vplkit_load_tile_share). Included by
+// the pack's builders/tile_blocks.comp wrote (vplkit_load_tile_share). Included by
 // estimate_distributions.glsl, which routes vplkit_load_cdf / _guide for ids >= VR_TILE_SLOT here
 // and makes these the estimators' hooks.
 //

@@ -3,7 +3,7 @@
 // --candidate-source tiles (ris-mis) on the CPU backend: one library tiled_distribution per image
 // tile (vplkit/builders/tiled_distribution.hpp, docs/math.md 13.5) over the frame's texel blocks
 // (vplkit/builders/tile_blocks.hpp), each tile's blocks weighed by its gather points. The GPU
-// backend builds the same on the GPU (render/gpu/gpu_tiles.hpp, tile_blocks.comp,
+// backend builds the same on the GPU (render/gpu/gpu_tiles.hpp, the pack's tile_blocks.comp and
 // tile_weights.comp, estimate_tiles.glsl). The cost is O(tiles x blocks x points + texels) where
 // the local CDFs cost O(regions x texels x points).
 #include "render/cpu/parallel.hpp"

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "render/gpu/gpu_tiles.hpp"
 
-#include "render/gpu/dprsm_view_uniforms.hpp"
 #include "render/gpu/gpu_builders.hpp"
 
 #include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/tile_blocks_params.h>
+#include <vplkit/builders/tile_weights_params.h>
 #include <vplkit/core/error.hpp>
 #include <vplkit/core/float_bits.hpp>
 #include <vplkit/distribution/discrete_cdf.hpp>
@@ -12,10 +13,6 @@
 
 #include <algorithm>
 #include <string>
-
-#ifndef VPLRENDER_SHADER_DIR
-#error "VPLRENDER_SHADER_DIR must name examples/vplrender/shaders (set by core.cmake)"
-#endif
 
 namespace vplrender {
 
@@ -44,36 +41,36 @@ gpu_tiles build_tiles_gpu(const frame_buffers& b, const render_settings& s, stag
   // Blocks: shares (into scratch, copied after the CDFs' parts) and proxies.
   gl::buffer shares = gl::buffer::filled(n * 4, 0);
   gl::buffer proxies = gl::buffer::filled(std::max<std::size_t>(Nb, 1) * 3 * 16, 0);
-  {
-    const gl::program& p = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/tile_blocks.comp");
-    set_dprsm_view_uniforms(p, R, view.light);
-    glUniform1i(p.uniform_location("u_block"), B);
-    gl::check_gl("tile_blocks.comp uniforms");
-    scene.dprsm.bind(0);
-    shares.bind(1);
-    proxies.bind(2);
-    gl::dispatch_linear(p, gl::groups_for(Nb, 64));
-  }
+  vplkit::gpu::tile_blocks_params bp{};
+  bp.light = vplkit::gpu::make_light_params(view.light);
+  bp.resolution = R;
+  bp.block = B;
+  const gl::buffer bp_block = gl::buffer::from_bytes(&bp, sizeof bp);
+  scene.dprsm.bind(VPLKIT_TILE_BLOCKS_BINDING_DPRSM);
+  shares.bind(VPLKIT_TILE_BLOCKS_BINDING_SHARES);
+  proxies.bind(VPLKIT_TILE_BLOCKS_BINDING_PROXIES);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_TILE_BLOCKS_BINDING_PARAMS, bp_block.id());
+  gl::dispatch_linear(gl::cached_kernel("vplkit/builders/tile_blocks.comp"),
+                      gl::groups_for(Nb, VPLKIT_TILE_BLOCKS_LOCAL_SIZE));
   // The tiles' gather points and their block weights.
   std::vector<vplkit::pixel_rect> rects;
   for (int i = 0; i < tiles.count(); ++i) rects.push_back(tiles.region_rect(i));
   const gpu_gather_subsets sub = build_gather_subsets_gpu(scene, g, rects, s.tile_points, builder_seed(s.seed, 3));
   gl::buffer weights = gl::buffer::filled(std::max<std::size_t>(T * Nb, 1) * 4, 0);
-  {
-    const gl::program& p = gl::cached_kernel(std::string(VPLRENDER_SHADER_DIR) + "/tile_weights.comp");
-    p.use();
-    glUniform1i(p.uniform_location("u_blocks"), out.blocks);
-    glUniform1i(p.uniform_location("u_tiles"), out.count);
-    glUniform1i(p.uniform_location("u_pixel_count"), g.width * g.height);
-    glUniform1f(p.uniform_location("u_dmin"), s.dmin);
-    gl::check_gl("tile_weights.comp uniforms");
-    scene.gbuffer.bind(0);
-    sub.pixels.bind(1);
-    sub.offsets.bind(2);
-    proxies.bind(3);
-    weights.bind(4);
-    gl::dispatch_linear(p, gl::groups_for(Nb, 64), static_cast<GLuint>(T));
-  }
+  vplkit::gpu::tile_weights_params wp{};
+  wp.blocks = out.blocks;
+  wp.tiles = out.count;
+  wp.pixel_count = g.width * g.height;
+  wp.dmin = s.dmin;
+  const gl::buffer wp_block = gl::buffer::from_bytes(&wp, sizeof wp);
+  scene.gbuffer.bind(VPLKIT_TILE_WEIGHTS_BINDING_GBUFFER);
+  sub.pixels.bind(VPLKIT_TILE_WEIGHTS_BINDING_SUBSET);
+  sub.offsets.bind(VPLKIT_TILE_WEIGHTS_BINDING_OFFSETS);
+  proxies.bind(VPLKIT_TILE_WEIGHTS_BINDING_PROXIES);
+  weights.bind(VPLKIT_TILE_WEIGHTS_BINDING_WEIGHTS);
+  glBindBufferBase(GL_UNIFORM_BUFFER, VPLKIT_TILE_WEIGHTS_BINDING_PARAMS, wp_block.id());
+  gl::dispatch_linear(gl::cached_kernel("vplkit/builders/tile_weights.comp"),
+                      gl::groups_for(Nb, VPLKIT_TILE_WEIGHTS_LOCAL_SIZE), static_cast<GLuint>(T));
   gpu_cdf_set set = build_cdf_set_gpu(weights, T, Nb, n);
   glBindBuffer(GL_COPY_READ_BUFFER, shares.id());
   glBindBuffer(GL_COPY_WRITE_BUFFER, set.data.id());

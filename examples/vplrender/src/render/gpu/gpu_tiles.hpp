@@ -2,10 +2,12 @@
 #pragma once
 // --candidate-source tiles on the GPU backend (ris-mis): render/cpu/tiled_candidates.hpp's
 // distributions, built on the GPU from the frame's DPRSM and G-buffer where they lie.
-//  - tile_blocks.comp: per block of B x B texels its texels' flux shares and its proxy VPL;
+//  - the pack's builders/tile_blocks.comp: per block of B x B texels its texels' flux shares and
+//    its proxy VPL;
 //  - the tiles' gather points: builders/gather_subset.comp over the s.tiles_x x s.tiles_y tiles,
 //    s.tile_points strata each, seed builder_seed(s.seed, 3) (the CPU's local_gather_subsets);
-//  - tile_weights.comp: per (block, tile) the proxy's mean unshadowed contribution's luminance;
+//  - the pack's builders/tile_weights.comp: per (block, tile) the proxy's mean unshadowed
+//    contribution's luminance;
 //  - one CDF over the blocks per tile (build_cdf_set_gpu).
 // Mixture d of the estimate kernels (VR_RIS_TILES, estimate_tiles.glsl) is then tile d's: its
 // learned part the block CDF (id VR_TILE_SLOT + d), its fallback the flux build's, mixed by the
