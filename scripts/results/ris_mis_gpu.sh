@@ -22,7 +22,10 @@
 # OUTDIR/ris_mis_gpu_raw.tar.gz (every CSV, table and log), and prints the summary last.
 # --quick: tiny sizes and a few tests, to check the script itself (on llvmpipe).
 # --no-tests: leaves out the ctest of part 2 (153 s on the H200; the compiles stay).
-# CONFIGS="scene:M:R ...": the scenes and their ris-mis settings (default: all three above).
+# CONFIGS="scene:M:R[:SOURCE] ...": the scenes and their ris-mis settings (default: all three
+#   above); SOURCE is the candidate source (flux by default; tiles: --candidate-source tiles, which
+#   the CPU measured best on cornell and open with exact visibility, M = 4, R = 1). A scene listed
+#   twice has its global sweep once. A source other than flux adds _SOURCE to the run's names.
 # Measured on the H200 (docs/results/h200-6044fb0): the compiles and tests 174 s, then per scene
 # about 40 s for global and 130 s for gather, mis and ris-mis: all three scenes need ~700 s.
 # --budget: the whole run's wall time (default 420 s); a step is cut to what is left of it and one
@@ -59,7 +62,7 @@ export __GL_SHADER_DISK_CACHE=1 __GL_SHADER_DISK_CACHE_SKIP_CLEANUP=1 __GL_SHADE
 START=$SECONDS
 if [ $QUICK -eq 1 ]; then
   SIZE=32x32; GRID=(--dprsm 32 --voxels 16); SEEDS=1; REFDIRS=16
-  S_GLOBAL=1,4,16; S_OTHER=1,4,16; BUDGETS=4,16; CONFIGS="cornell:2:1"
+  S_GLOBAL=1,4,16; S_OTHER=1,4,16; BUDGETS=4,16; CONFIGS="cornell:2:1 cornell:2:1:tiles"
   TESTS=(-R '^parity_kernel_params_test|^vulkan_kernels_test:pick_vpls'); JOBS=2
 else
   SIZE=512x512; GRID=(); SEEDS=1,2; REFDIRS=4096
@@ -112,40 +115,53 @@ else
   echo "ctest	left out (--no-tests)" >> "$RAW/runs.tsv"
   echo "(left out: --no-tests)" > "$RAW/logs/ctest.log"
 fi
-warm_one() {  # SCENE:M:R:METHOD
-  local s m r meth
-  IFS=: read -r s m r meth <<< "$1"
+warm_one() {  # SCENE:M:R:SOURCE:METHOD
+  local s m r src meth
+  IFS=: read -r s m r src meth <<< "$1"
   mapfile -t sa < <(scene "$s")
   timeout 150 "$SVE" "${sa[@]}" --backend gpu --size 16x16 $GRID_WARM --seeds 1 --repeats 1 --references exact \
     --ref-exact-dirs 4 --ref-noise off --cache-dir "$CACHE/warm" --methods "$meth" --samples 1 --candidates "$m" \
-    --candidate-source flux --spatial 0 --dirs-per-sample "$r" --out "$CACHE/warm_${s}_$meth" \
-    > "$RAW/logs/warm_${s}_$meth.log" 2>&1
-  echo "warm $s $meth: exit $?"
+    --candidate-source "$src" --spatial 0 --dirs-per-sample "$r" --out "$CACHE/warm_${s}_${src}_$meth" \
+    > "$RAW/logs/warm_${s}_${src}_$meth.log" 2>&1
+  echo "warm $s $src $meth: exit $?"
 }
 export -f warm_one scene
 export SVE RAW CACHE SCENES GRID_WARM="${GRID[*]:-}"
 # Four at a time, in scene order: the first scene's processes compile, the later ones mostly read
 # the driver's cache.
 for c in $CONFIGS; do
-  IFS=: read -r s m r <<< "$c"
-  for meth in global gather mis ris-mis; do echo "$s:$m:$r:$meth"; done
+  IFS=: read -r s m r src <<< "$c"
+  for meth in global gather mis ris-mis; do echo "$s:$m:$r:${src:-flux}:$meth"; done
 done | xargs -P 4 -I{} bash -c 'warm_one "$1"' _ {}
 [ -n "$tests_pid" ] && wait $tests_pid
 echo "compiles and tests done at $((SECONDS - START)) s"
 
 # ---- 3. equal time ---------------------------------------------------------------------------
+# A scene's global sweep, and its gather and mis series, run with its first configuration only;
+# each configuration's table compares its ris-mis with them.
+declare -A base_runs=()
 for c in $CONFIGS; do
-  IFS=: read -r s m r <<< "$c"
+  IFS=: read -r s m r src <<< "$c"
+  src=${src:-flux}
+  name="M${m}_R${r}"; title="M = $m, R = $r"
+  [ "$src" != flux ] && name+="_$src" && title+=", $src"
   mapfile -t sa < <(scene "$s")
   common=("${sa[@]}" --backend gpu --size $SIZE "${GRID[@]}" --seeds $SEEDS --repeats 2 --references exact
           --ref-exact-dirs $REFDIRS --cache-dir "$CACHE")
-  bounded "sve_${s}_global" 200 "$SVE" "${common[@]}" --methods global --samples $S_GLOBAL \
-    --out "$RAW/sweeps/gpu_${s}_global"
-  bounded "sve_${s}_M${m}_R${r}" 240 "$SVE" "${common[@]}" --methods gather,mis,ris-mis --samples $S_OTHER \
-    --candidates $m --candidate-source flux --spatial 0 --dirs-per-sample $r --out "$RAW/sweeps/gpu_${s}_M${m}_R${r}"
+  methods=ris-mis
+  if [ -z "${base_runs[$s]:-}" ]; then
+    bounded "sve_${s}_global" 200 "$SVE" "${common[@]}" --methods global --samples $S_GLOBAL \
+      --out "$RAW/sweeps/gpu_${s}_global"
+    base_runs[$s]="$RAW/sweeps/gpu_${s}_global $RAW/sweeps/gpu_${s}_$name"
+    methods=gather,mis,ris-mis
+  fi
+  bounded "sve_${s}_$name" 240 "$SVE" "${common[@]}" --methods $methods --samples $S_OTHER \
+    --candidates $m --candidate-source $src --spatial 0 --dirs-per-sample $r --out "$RAW/sweeps/gpu_${s}_$name"
   runs=()
-  for p in "$RAW/sweeps/gpu_${s}_global" "$RAW/sweeps/gpu_${s}_M${m}_R${r}"; do [ -s "$p.csv" ] && runs+=("$p"); done
-  { echo "### $s (M = $m, R = $r)"; echo
+  for p in ${base_runs[$s]} "$RAW/sweeps/gpu_${s}_$name"; do
+    [ -s "$p.csv" ] && [[ " ${runs[*]:-} " != *" $p "* ]] && runs+=("$p")
+  done
+  { echo "### $s ($title)"; echo
     python3 "$ROOT/scripts/results/equal_time.py" --budgets $BUDGETS "${runs[@]}" 2>&1; echo; } >> "$RAW/equal_time.md"
 done
 
