@@ -4,6 +4,7 @@
 #include "render/gpu/gpu_builders.hpp"
 
 #include <vplkit/builders/local_weights.hpp>
+#include <vplkit/builders/tile_blocks.hpp>
 #include <vplkit/builders/tile_blocks_params.h>
 #include <vplkit/builders/tile_weights_params.h>
 #include <vplkit/core/error.hpp>
@@ -23,12 +24,13 @@ gpu_tiles build_tiles_gpu(const frame_buffers& b, const render_settings& s, stag
   const gpu_scene_buffers& scene = scene_on_gpu(b, "build_tiles_gpu");
   const vplkit::gbuffer_view<float> g = b.gbuf.view();  // sizes (the pixels are on the GPU)
   const vplkit::dprsm_view<float> view = b.dprsm.view();  // resolution and light
-  const int R = view.resolution, B = std::max(1, s.tile_block), per_side = (R + B - 1) / B;
+  const int R = view.resolution, B = std::max(1, s.tile_block);
+  const vplkit::tile_block_grid grid = vplkit::make_tile_block_grid(R, B);  // the C++ builder's layout
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   const vplkit::image_regions tiles(g.width, g.height, s.tiles_x, s.tiles_y);
   gpu_tiles out;
   out.count = tiles.count();
-  out.blocks = 2 * per_side * per_side;
+  out.blocks = grid.count();
   const std::size_t T = static_cast<std::size_t>(out.count), Nb = static_cast<std::size_t>(out.blocks);
   const std::size_t m = vplkit::discrete_guide_size(Nb);
   // The kernels address the tile buffer with 32-bit uints (estimate_tiles.glsl).
