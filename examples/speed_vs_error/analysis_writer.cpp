@@ -81,7 +81,11 @@ void write_summary_md(const sweep_options& so, const prepared_scene& p, const sw
      << (!so.ref_gather ? "skipped" : ref_gather.hit ? "from cache" : fixed(ref_gather.ms, 0) + " ms")
      << ", exact at " << so.ref_exact_dirs << " dirs "
      << (!so.ref_exact ? "skipped" : ref_exact.hit ? "from cache" : fixed(ref_exact.ms, 0) + " ms")
-     << ". Visibility `" << to_string(base.visibility) << "`, lit test `" << to_string(base.lit_test)
+     << ". Visibility `" << to_string(base.visibility)
+     << (base.visibility == visibility_choice::voxels && base.voxel_contract == voxel_contract_choice::exact
+             ? "` (exact contract)"
+             : "`")
+     << ", lit test `" << to_string(base.lit_test)
      << "`, VPL mode `" << to_string(base.vpl_mode) << "`";
   const auto swept = [&](method m) { return std::find(so.methods.begin(), so.methods.end(), m) != so.methods.end(); };
   if (swept(method::ris))

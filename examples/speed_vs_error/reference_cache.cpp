@@ -41,6 +41,9 @@ std::string reference_key(const options& o, const prepared_scene& p, const std::
   if (kind == "vplsum" && o.dmin_fraction != 0.01) k += "|dmin=" + num(o.dmin_fraction);
   // Only when exact, so the keys (and cached files) of voxel references stay what they were.
   if (o.visibility == visibility_choice::exact && kind != "exact") k += "|visibility=exact";
+  // Likewise the voxel march's contract, only when not the plane rule.
+  if (o.visibility == visibility_choice::voxels && o.voxel_contract == voxel_contract_choice::exact && kind != "exact")
+    k += "|voxel_contract=exact";
   // Gathering references shade known hits as their own surface and take the lit test: keys of the
   // older ones (the texel's normal, the shadow map always) do not match them.
   if (kind == "gather") k += std::string("|hits=own-surface|lit=") + to_string(o.lit_test);

@@ -64,7 +64,8 @@ Sweep options:
 Scene options, passed to vplrender's parser with its defaults and limits (vplrender --help):
   --scene --backend --size --dprsm --voxels --regions --global-subset --local-subset
   --dirs (mis only when not swept) --eps --dmin
-  --local-combination --gbg-accumulator --cdf-search --visibility --lit-test --vpl-mode --camera --light
+  --local-combination --gbg-accumulator --cdf-search --visibility --voxel-contract --lit-test --vpl-mode
+  --camera --light
   --candidates --candidate-source (ris, ris-mis) --spatial (ris, ris-mis) --candidate-pool (ris-mis)
   --tiles --tile-points --tile-block (ris-mis with --candidate-source tiles)
   --clamp-compensation-dirs

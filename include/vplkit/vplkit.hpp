@@ -35,7 +35,8 @@
 #include <vplkit/sampling/cosine_hemisphere.hpp>
 
 // visibility: voxel grid, conservative voxelisation, DDA ray marching; the triangle voxel grid
-// (occupied voxels list their triangles) and its junction-free queries
+// (occupied voxels list their triangles), its junction-free queries and, under exact visibility's
+// contract, its offset queries and the hits' shading normals
 #include <vplkit/visibility/voxel_grid.hpp>
 #include <vplkit/visibility/triangle_box_overlap.hpp>
 #include <vplkit/visibility/voxelize.hpp>
@@ -45,6 +46,7 @@
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
 #include <vplkit/visibility/voxelize_triangles.hpp>
 #include <vplkit/visibility/triangle_voxel_query.hpp>
+#include <vplkit/visibility/triangle_corners.hpp>
 #include <vplkit/visibility/visibility_callables.hpp>
 // exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
 #include <vplkit/visibility/bvh_layout.hpp>

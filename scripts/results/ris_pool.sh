@@ -9,11 +9,14 @@
 # gathering directions per RIS sample, default 1); SEEDS, SAMPLES as the sweep's. cornell and open at 96x96, sponza at 64x64. Gathering's series
 # goes on to GATHER_SAMPLES (default 512,1024,2048) in the same baseline CSV, so that it reaches
 # global's times measured instead of carried there at 1/t (which ignores its floor). About 8 min per
-# ris-mis run and 10 per baseline on 2 cores.
+# ris-mis run and 10 per baseline on 2 cores. EXTRA_ARGS go to every speed_vs_error run (e.g.
+# EXTRA_ARGS="--voxel-contract exact").
 source "$(dirname "$0")/common.sh"
 CONFIGS=${CONFIGS:-open:1:0 open:2:0 open:2:16384 open:8:16384 open:16:16384}
 common=(--backend cpu --seeds "${SEEDS:-1,2}" --references exact --ref-exact-dirs 4096 --cache-dir "$CACHE"
         --repeats 1 --candidate-source flux --spatial 0)
+read -r -a extra <<< "${EXTRA_ARGS-}"
+common+=("${extra[@]}")
 samples=(--samples "${SAMPLES:-1,4,16,64,256}")
 size_of() { [[ $1 == sponza ]] && echo 64x64 || echo 96x96; }
 scenes=$(for c in $CONFIGS; do echo "${c%%:*}"; done | awk '!seen[$0]++')

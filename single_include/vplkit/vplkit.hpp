@@ -2428,7 +2428,8 @@ template <class T> inline T cosine_hemisphere_pdf(T cos_theta) {
 // ---- end vplkit/sampling/cosine_hemisphere.hpp ----
 
 // visibility: voxel grid, conservative voxelisation, DDA ray marching; the triangle voxel grid
-// (occupied voxels list their triangles) and its junction-free queries
+// (occupied voxels list their triangles), its junction-free queries and, under exact visibility's
+// contract, its offset queries and the hits' shading normals
 // ---- begin vplkit/visibility/voxel_grid.hpp ----
 // Binary occupancy grid over an axis-aligned box (docs/math.md section 7).
 //
@@ -3654,379 +3655,36 @@ inline triangle_voxel_grid<T> voxelize_triangles(vec3<T> bounds_min, vec3<T> bou
 // no occluder but those in a 0.01-voxel band. Why, and why 0.01: docs/math.md section 7.2 and
 // docs/api/visibility.md. A wall of any thickness blocks: every point of a triangle lies in a
 // voxel that lists it, and the march visits a voxel containing every point of the segment.
-
-#include <cmath>
-#include <cstdint>
-#include <limits>
-
-namespace vplkit {
-
-constexpr double triangle_voxel_default_end_tolerance = 0.01;  // voxels
-constexpr double triangle_voxel_edge_slack = 1e-3;              // voxels
-
-// Is p (on the triangle's plane) inside the triangle grown by `slack` (world units)?
-template <class T>
-inline bool voxel_triangle_contains(const voxel_triangle<T>& tri, vec3<T> p, T slack) {
-  const T s0 = glm::dot(tri.edge[0].normal, p) - tri.edge[0].offset;
-  const T s1 = glm::dot(tri.edge[1].normal, p) - tri.edge[1].offset;
-  const T s2 = glm::dot(tri.edge[2].normal, p) - tri.edge[2].offset;
-  return s0 >= -slack && s1 >= -slack && s2 >= -slack;
-}
-
-// Is the segment x -> y free of the grid's triangles (the rules of the header)? x == y is
-// visible; a non-finite x or y is not.
-template <class T>
-inline bool triangle_voxel_visible(const triangle_voxel_view<T>& g, vec3<T> x, vec3<T> y,
-                                   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance)) {
-  if (!detail::voxel_vec3_finite(x) || !detail::voxel_vec3_finite(y)) return false;
-  const vec3<T> dir = y - x;
-  const T len = std::sqrt(glm::dot(dir, dir));
-  if (!(len > T(0))) return true;
-  const T L = voxel_length(g.grid);
-  const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
-  dda_walk<T> w = dda_walk_begin(g.grid, x, dir, len);
-  const int max_iterations = dda_max_iterations(g.grid.resolution);
-  for (int it = 0; w.running && it < max_iterations; ++it) {
-    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
-      dda_walk_leave_brick(g.grid, w);
-      continue;
-    }
-    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
-    if (r >= 0) {
-      // The voxel's stretch of the segment, in the fraction s of x -> y (the local crossing rule).
-      const T s_in = (w.t - slack) / len, s_out = (dda_walk_exit(w) + slack) / len;
-      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
-        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
-        const T d0 = glm::dot(tri.plane.normal, x) - tri.plane.offset;
-        const T d1 = glm::dot(tri.plane.normal, y) - tri.plane.offset;
-        if (!(std::abs(d0) > eps) || !(std::abs(d1) > eps) || (d0 > T(0)) == (d1 > T(0))) continue;
-        const T s = d0 / (d0 - d1);
-        if (s < s_in || s > s_out) continue;
-        if (voxel_triangle_contains(tri, x + s * dir, slack)) return false;
-      }
-    }
-    dda_walk_next(g.grid, w);
-  }
-  return true;
-}
-
-template <class T>
-struct triangle_voxel_hit {
-  bool hit;
-  T t;                    // distance along the unit direction (0 on a miss)
-  vec3<T> point;          // origin + t * unit direction, on the triangle (origin on a miss)
-  std::uint32_t triangle; // its index (0xFFFFFFFF on a miss)
-};
-
-// The first triangle met by origin + t * normalize(dir), 0 < t <= t_max (triangles whose plane
-// passes within end_tolerance of the origin ignored: the origin's own surface). In each occupied
-// voxel the nearest crossing no farther than the voxel's exit (+ the slack) wins; a crossing
-// beyond it lies in a later voxel, which lists the same triangle.
-template <class T>
-inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<T>& g, vec3<T> origin, vec3<T> dir,
-                                                      T t_max = std::numeric_limits<T>::infinity(),
-                                                      T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance)) {
-  const triangle_voxel_hit<T> miss{false, T(0), origin, 0xFFFFFFFFu};
-  dda_walk<T> w = dda_walk_begin(g.grid, origin, dir, t_max);
-  if (!w.running) return miss;
-  const T L = voxel_length(g.grid);
-  const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
-  const int max_iterations = dda_max_iterations(g.grid.resolution);
-  for (int it = 0; w.running && it < max_iterations; ++it) {
-    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
-      dda_walk_leave_brick(g.grid, w);
-      continue;
-    }
-    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
-    if (r >= 0) {
-      const T t_out = dda_walk_exit(w) + slack;
-      T best = std::numeric_limits<T>::infinity();
-      std::uint32_t best_tri = 0xFFFFFFFFu;
-      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
-        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
-        const T d0 = glm::dot(tri.plane.normal, origin) - tri.plane.offset;
-        const T den = glm::dot(tri.plane.normal, w.d);
-        if (!(std::abs(d0) > eps) || den == T(0)) continue;
-        const T tc = -d0 / den;
-        if (!(tc > T(0)) || tc > t_max || tc > t_out || !(tc < best)) continue;
-        if (voxel_triangle_contains(tri, origin + tc * w.d, slack)) {
-          best = tc;
-          best_tri = g.entries[e];
-        }
-      }
-      if (best_tri != 0xFFFFFFFFu) return triangle_voxel_hit<T>{true, best, origin + best * w.d, best_tri};
-    }
-    dda_walk_next(g.grid, w);
-  }
-  return miss;
-}
-
-}  // namespace vplkit
-// ---- end vplkit/visibility/triangle_voxel_query.hpp ----
-// ---- begin vplkit/visibility/visibility_callables.hpp ----
-// Adaptors that turn a voxel grid (or nothing) into the callables the estimators take, so a host
-// with only a voxel grid needs one line. The estimators accept any callable of these shapes:
-//   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
-//   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
-// Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
-// A tracer may also offer trace_within(x, n_x, dir, reach) -> ray_hit<T>: the same first hit
-// whenever it lies within `reach` of x, and no hit or some hit beyond reach otherwise, at the cost
-// of a ray of about that length; and surface_within(x, n_x, reach, plane_tolerance) -> bool, false
-// only when every surface point within reach of x lies in a plane through x (within
-// plane_tolerance): then no ray from x meets anything else within reach. Both serve the clamp
-// compensation's short rays (clamp_compensation.hpp).
-// ---- begin vplkit/visibility/triangle_voxel_near.hpp ----
-// Is another surface near a point? The question the clamp compensation asks before it traces any
-// ray (estimators/clamp_compensation.hpp): its directions add something only where a surface other
-// than the gather point's own plane lies within dmin, and on most pixels none does. One look at
-// the triangle voxel grid (triangle_voxel_grid.hpp) answers it for every direction at once.
+// ---- begin vplkit/visibility/bvh_visibility.hpp ----
+// Exact visibility through a BVH, as the two callables the estimators take (the exact
+// counterparts of voxel_visibility and voxel_tracer in visibility/visibility_callables.hpp):
+//   bvh_visibility<T>{view}(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
+//   bvh_tracer<T>{view}(x, n_x, dir)        -> ray_hit<T>  first surface hit leaving surface x
+// glsl/vplkit/visibility/bvh_visibility.glsl mirrors them.
 //
-// triangle_voxel_surface_within(g, x, reach, plane_tolerance) is conservative: it returns false
-// only when every triangle listed by a voxel that meets the box of half-size reach (plus a small
-// slack) around x either has its plane within plane_tolerance of x (a plane through x: x's own
-// surface, a coplanar neighbour, a crease through x) or farther than reach from x (then none of its
-// points is within reach). Every point of a triangle lies in a voxel that lists it, so false
-// guarantees that every surface point within reach of x lies in a plane through x. True is
-// returned as well when it cannot look (a box of more than voxel_near_max_side voxels per axis, a
-// non-finite x or reach, a negative reach): the caller then traces.
-//
-// Cost (it runs once per pixel): the box's rows along x are read from the occupancy words (one or
-// two per row, so an empty row, the most common, costs a load or two), and per occupied voxel it
-// asks one plane where the voxel's triangles all share one (the grid's planes,
-// triangle_voxel_grid.hpp: the same plane's numbers, so the same answer as asking each of them),
-// and every listed triangle's plane only where they do not (creases, corners, curved geometry) or
-// where the view has no planes. triangle_voxel_surface_within_scan looks every voxel up on its own
-// and asks every triangle: the same answers, bit for bit (tests/unit, tests/hardcases,
-// tests/parity). Measured: bench_triangle_voxel_near (docs/results/clamp_compensation.md).
-
-#include <glm/common.hpp>
-
-#include <cmath>
-#include <cstdint>
-#include <limits>
-
-namespace vplkit {
-
-// The widest box looked at, in voxels per axis: beyond it the answer is "maybe" (true).
-constexpr int voxel_near_max_side = 8;
-
-namespace detail {
-
-// Is the plane p farther than plane_tolerance from x and not farther than reach? NaN (a bad
-// triangle's plane): no.
-template <class T>
-inline bool voxel_near_plane_within(const voxel_plane<T>& p, vec3<T> x, T reach, T plane_tolerance) {
-  const T s = std::abs(glm::dot(p.normal, x) - p.offset);
-  return s > plane_tolerance && s <= reach;
-}
-
-// Bits lo .. hi of a word (0 <= lo <= hi <= 31).
-inline std::uint32_t voxel_near_bit_range(int lo, int hi) {
-  const std::uint32_t upto = hi == 31 ? ~std::uint32_t(0) : (std::uint32_t(1) << (hi + 1)) - 1u;
-  return upto & ~((std::uint32_t(1) << lo) - 1u);
-}
-
-// Does occupied voxel r hold a surface other than x's planes within reach? One plane where its
-// triangles share one (g.planes), else every listed triangle's.
-template <class T>
-inline bool voxel_near_voxel_within(const triangle_voxel_view<T>& g, std::uint32_t r, vec3<T> x, T reach,
-                                    T plane_tolerance) {
-  if (g.planes != nullptr && !voxel_plane_is_several(g.planes[r]))
-    return voxel_near_plane_within(g.planes[r], x, reach, plane_tolerance);
-  for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
-    if (voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
-  return false;
-}
-
-// The occupied voxels among flat indices i0 .. i1 of word w (bits lo .. hi of it).
-template <class T>
-inline bool voxel_near_word_within(const triangle_voxel_view<T>& g, std::size_t w, int lo, int hi, vec3<T> x, T reach,
-                                   T plane_tolerance) {
-  const std::uint32_t word = g.grid.words[w];
-  std::uint32_t bits = word & voxel_near_bit_range(lo, hi);
-  while (bits != 0u) {
-    const std::uint32_t lowest = bits & (0u - bits);
-    const std::uint32_t r = g.rank[w] + std::uint32_t(voxel_bit_count(word & (lowest - 1u)));
-    if (voxel_near_voxel_within(g, r, x, reach, plane_tolerance)) return true;
-    bits &= bits - 1u;
-  }
-  return false;
-}
-
-}  // namespace detail
-
-template <class T>
-inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
-  if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
-      !(plane_tolerance >= T(0)))
-    return true;
-  // Voxels meeting [x - reach, x + reach], widened by a thousandth of a voxel against the rounding
-  // of the coordinates (a triangle on a voxel face is listed by the voxels on both sides).
-  const T slack = T(1e-3);
-  const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
-  const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
-  ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
-  ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
-  if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
-    return true;
-  // Only the voxels inside the grid can be occupied. A row of the box (b.x - a.x < 8 voxels along
-  // x) lies in one or two occupancy words: its occupied voxels are read from them at once, and the
-  // empty rows (most of them: a surface crosses a few) cost two word loads.
-  const ivec3 res = g.grid.resolution;
-  a = glm::max(a, ivec3(0));
-  b = glm::min(b, res - ivec3(1));
-  if (a.x > b.x) return false;  // (a.y > b.y or a.z > b.z: the loops below do nothing)
-  for (int z = a.z; z <= b.z; ++z)
-    for (int y = a.y; y <= b.y; ++y) {
-      const std::int64_t row = voxel_flat_index(res, ivec3(0, y, z));
-      const std::int64_t i0 = row + a.x, i1 = row + b.x;
-      for (std::int64_t w = i0 >> 5; w <= i1 >> 5; ++w)  // one word, or two
-        if (detail::voxel_near_word_within(g, std::size_t(w), w == i0 >> 5 ? int(i0 & 31) : 0,
-                                           w == i1 >> 5 ? int(i1 & 31) : 31, x, reach, plane_tolerance))
-          return true;
-    }
-  return false;
-}
-
-// The same answers the simple way: every voxel of the box looked up on its own
-// (voxel_occupied_index) and every triangle it lists asked (the grid's planes not used). What the
-// test was before the rows and the planes; the reference the tests and bench_triangle_voxel_near
-// hold it to.
-template <class T>
-inline bool triangle_voxel_surface_within_scan(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
-  if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
-      !(plane_tolerance >= T(0)))
-    return true;
-  const T slack = T(1e-3);
-  const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
-  const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
-  const ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
-  const ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
-  if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
-    return true;
-  for (int z = a.z; z <= b.z; ++z)
-    for (int y = a.y; y <= b.y; ++y)
-      for (int xi = a.x; xi <= b.x; ++xi) {
-        const std::int64_t r = voxel_occupied_index(g.grid, g.rank, ivec3(xi, y, z));
-        if (r < 0) continue;
-        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
-          if (detail::voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
-      }
-  return false;
-}
-
-}  // namespace vplkit
-// ---- end vplkit/visibility/triangle_voxel_near.hpp ----
-
-#include <limits>
-
-namespace vplkit {
-
-// V = 1 everywhere: the unoccluded VPL sum (what the global weights assume).
-struct always_visible {
-  template <class T>
-  bool operator()(vec3<T>, vec3<T>, vec3<T>, vec3<T>) const {
-    return true;
-  }
-};
-
-// Two-sided voxel test (voxel_visible_two_sided: both ends lifted by offset_voxels along their
-// normals, tolerance 0): the recommended one, it neither self-occludes at y nor leaks through
-// walls near y (see visibility/voxel_visible.hpp for the measurements).
-template <class T>
-struct voxel_visibility {
-  voxel_grid_view<T> grid;
-  T offset_voxels = T(voxel_surface_offset_default);
-  T tolerance_voxels = T(voxel_visible_two_sided_default_tolerance);
-  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
-    return voxel_visible_two_sided(grid, x, n_x, y, n_y, offset_voxels, tolerance_voxels);
-  }
-};
-
-// The paper's one-sided test (Alg. 6 lines 8-10: x lifted, y reached within psi voxels).
-template <class T>
-struct voxel_visibility_one_sided {
-  voxel_grid_view<T> grid;
-  T offset_voxels = T(voxel_surface_offset_default);
-  T tolerance_voxels = T(voxel_visible_default_tolerance);
-  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T>) const {
-    return voxel_visible(grid, x, n_x, y, offset_voxels, tolerance_voxels);
-  }
-};
-
-// First occupied voxel along the ray from x lifted offset_voxels along n_x (surface_ray_origin),
-// reported at the point where the ray enters that voxel (dda_trace_hit_point). That point is up
-// to a voxel diagonal from the true surface: a DPRSM depth test on it needs a tolerance of at
-// least sqrt(3) * voxel_length (plus the texel's own depth spread, see gathering_estimator.hpp).
-template <class T>
-struct voxel_tracer {
-  voxel_grid_view<T> grid;
-  T offset_voxels = T(voxel_surface_offset_default);
-  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
-    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
-  }
-  // The march stops reach + the lift beyond the lifted origin: a hit within reach of x lies
-  // within that distance of the origin.
-  ray_hit<T> trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const {
-    const T lift = offset_voxels * voxel_length(grid);
-    const dda_trace_result<T> r =
-        dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir, reach + lift);
-    ray_hit<T> h;
-    h.hit = r.hit;
-    if (r.hit) h.position = r.point;
-    return h;
-  }
-};
-
-// Depth tolerance matching a voxel_tracer: one voxel diagonal, sqrt(3) * voxel_length.
-template <class T>
-inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
-  return T(1.7320508075688772) * voxel_length(g);
-}
-
-// ---- Triangle voxels (triangle_voxel_query.hpp): no self-occlusion at the ends or at junctions ----
-
-// Mutual visibility decided by the triangles a triangle_voxel_grid lists: the ends are not
-// lifted; triangles whose planes pass within end_tolerance_voxels of an end are ignored. Normals
-// are not needed.
-template <class T>
-struct triangle_voxel_visibility {
-  triangle_voxel_view<T> grid;
-  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
-  bool operator()(vec3<T> x, vec3<T>, vec3<T> y, vec3<T>) const {
-    return triangle_voxel_visible(grid, x, y, end_tolerance_voxels);
-  }
-};
-
-// First triangle met by the ray leaving x along dir (triangle_voxel_first_hit from x itself). The
-// hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the texel's own
-// depth spread. Its normal is the triangle's plane normal.
-template <class T>
-struct triangle_voxel_tracer {
-  triangle_voxel_view<T> grid;
-  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
-  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
-    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
-  }
-  // triangle_voxel_surface_within (triangle_voxel_near.hpp) over the listed triangles.
-  bool surface_within(vec3<T> x, vec3<T>, T reach, T plane_tolerance) const {
-    return triangle_voxel_surface_within(grid, x, reach, plane_tolerance);
-  }
-  ray_hit<T> trace_within(vec3<T> x, vec3<T>, vec3<T> dir, T reach) const {
-    const triangle_voxel_hit<T> r = triangle_voxel_first_hit(grid, x, dir, reach, end_tolerance_voxels);
-    ray_hit<T> h;
-    h.hit = r.hit;
-    if (r.hit) {
-      h.position = r.point;
-      h.normal = grid.triangles[r.triangle].plane.normal;
-    }
-    return h;
-  }
-};
-
-}  // namespace vplkit
-// ---- end vplkit/visibility/visibility_callables.hpp ----
-// exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
+// Self-intersection: both ends of a segment, and the origin of a traced ray, are moved off their
+// surface along their normal (as given: the side the point is seen from) by
+//   offset = offset_relative * D + 2^-15 * M,
+// D = the largest extent of the hierarchy's root box (the scene's size), M = its largest
+// |coordinate| (how far the scene lies from the world origin). The segment between the moved
+// ends is then tested whole, (0, 1].
+// Why an offset along the normal and not a shrunk parameter range [eps, 1 - eps]: the points
+// come from rasterised G-buffers and DPRSMs, so they lie off the true surface by interpolation
+// error, possibly below it; a segment leaving such a point at a grazing angle crosses its own
+// surface at a parameter distance of error / sin(angle), which no fixed eps bounds, while an
+// offset larger than the error clears the surface at every angle. The first term covers that
+// error relative to the scene (default 1e-4 of its size: a contact gap of 0.1 mm in a 1 m room);
+// the second is 256 float ulps of the largest coordinate, the rounding of points far from the
+// origin (Waechter and Binder, "A fast and robust method for avoiding self-intersection", Ray
+// Tracing Gems, 2019, use 256 ulps for the same reason). The price: an occluder closer than the
+// offset to an end point is missed (light leaks through gaps thinner than the offset).
+// Which side: the normal's. A G-buffer's and a DPRSM's normals face the camera and the light, and
+// the estimators give no weight to a y behind x's surface (cos clamped at 0), so a pair that
+// matters always leaves x on its normal's side. Flipping the normal towards the other end instead
+// would make nearly coplanar pairs (cos ~ 0) land on opposite sides by the sign of rounding noise.
+// As with voxel_visible_two_sided, y behind x's surface is hidden by x's own surface. Normals need
+// not be unit length; a zero or non-finite normal leaves the point where it is.
+// Non-finite x or y: not visible (no contribution rather than a NaN one); x == y: visible.
 // ---- begin vplkit/visibility/bvh_layout.hpp ----
 // The flat arrays of a bounding volume hierarchy over triangles, laid out exactly as the GLSL pack
 // reads them (glsl/vplkit/visibility/bvh_layout.glsl). For T = float, one bvh_node is the std430
@@ -4106,6 +3764,34 @@ struct bvh_view {
 
 }  // namespace vplkit
 // ---- end vplkit/visibility/bvh_layout.hpp ----
+// ---- begin vplkit/visibility/bvh_traverse.hpp ----
+// Ray queries against a BVH (bvh_layout.hpp): the closest hit, and any hit (occlusion of a
+// segment). glsl/vplkit/visibility/bvh_traverse.glsl is the same code statement for statement.
+//
+// Ray: origin + t * dir, dir of any length (t in units of |dir|, as Embree's rtcIntersect1),
+// hits accepted for t in (t_min, t_max]. t_min below 0 or NaN is read as 0; t_max < t_min or NaN
+// gives no hit. An invalid ray (non-finite origin or direction, zero direction) or an empty
+// hierarchy gives no hit.
+//
+// Traversal: iterative, with a fixed stack of bvh_max_depth entries (node index + entry
+// distance). At an inner node both children's boxes are tested; the nearer is visited next and
+// the farther pushed (the left child on equal entry distances); a popped node whose entry
+// distance lies beyond the closest hit so far is skipped. Leaves test their triangles in slot
+// order, and a hit replaces the current one only when strictly closer, so among triangles hit at
+// exactly the same t the first one visited wins. The order is fixed by the data, so C++ and GLSL
+// visit the same nodes and, with IEEE arithmetic, report the same triangle.
+// Loop bound (llvmpipe ends any shader loop after 65535 iterations per invocation, silently):
+// every iteration of the node loop consumes one node, each node is reached at most once, so the
+// loop runs at most node_count times; the leaf loop runs count <= bvh_max_leaf_size times per
+// leaf. One query therefore costs (nodes visited + triangles tested) iterations of the budget;
+// the parity test prints the largest count it met.
+// Scaled rays: where make_bvh_ray stored the direction scaled by 1/4 (a component above 2^126,
+// bvh_ray.hpp), the traversal runs in the ray's own parameter, t_scale * t: t_min and t_max are
+// multiplied by t_scale on the way in and the hit's t by 1/4 on the way out (powers of two,
+// exact unless the result leaves the normal range; t_scale = 1 changes nothing).
+// Stack: the builder (and validate_bvh) guarantee depth <= bvh_max_depth, so the stack cannot
+// overflow; the push is guarded anyway, so a corrupt hierarchy loses nodes instead of writing
+// out of bounds.
 // ---- begin vplkit/visibility/bvh_ray.hpp ----
 // The two geometric tests of BVH traversal, mirrored statement for statement by
 // glsl/vplkit/visibility/bvh_ray.glsl:
@@ -4344,6 +4030,782 @@ inline bvh_triangle_hit<T> bvh_ray_triangle(const bvh_ray<T>& r, vec3<T> v0, vec
 
 }  // namespace vplkit
 // ---- end vplkit/visibility/bvh_ray.hpp ----
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+template <class T>
+struct bvh_hit {
+  bool hit;
+  T t;                     // ray parameter (0 on a miss)
+  std::uint32_t triangle;  // the input index of the triangle hit (bvh_triangle::id); ~0u on a miss
+  T u, v;                  // barycentric weights of its v1 and v2 (Embree's u, v)
+  vec3<T> position;        // w v0 + u v1 + v v2: on the triangle's plane to rounding
+  vec3<T> normal;          // unit geometric normal, cross(v1 - v0, v2 - v0) normalised (0 if it underflows)
+};
+
+// Work counts of one query (C++ only; the GLSL has no counters).
+struct bvh_traversal_counts {
+  std::uint32_t nodes = 0;      // iterations of the node loop
+  std::uint32_t triangles = 0;  // ray/triangle tests
+};
+
+namespace detail {
+
+// What the node loop found: the slot of the closest (or any) triangle hit and its t.
+template <class T>
+struct bvh_traversal_result {
+  bool hit;
+  std::uint32_t slot;
+  T t;
+};
+
+// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true). t_min,
+// t_max and the result's t are in the ray's own parameter (bvh_ray::t_scale times the caller's).
+template <class T>
+inline bvh_traversal_result<T> bvh_traverse(const bvh_view<T>& b, const bvh_ray<T>& r, T t_min, T t_max, bool any_hit,
+                                            bvh_traversal_counts* counts) {
+  bvh_traversal_result<T> res{false, 0u, t_max};
+  if (!r.valid || b.node_count == 0) return res;
+  const T t_lo = t_min > T(0) ? t_min : T(0);
+  if (!(t_max >= t_lo)) return res;
+  T t_root = T(0);
+  if (!bvh_ray_box(r, b.nodes[0].bounds_min, b.nodes[0].bounds_max, t_lo, t_max, t_root)) return res;
+
+  std::uint32_t stack_node[bvh_max_depth];
+  T stack_t[bvh_max_depth];
+  int sp = 0;
+  std::uint32_t node = 0;
+  T node_t = t_root;
+  const auto node_count = std::uint32_t(b.node_count);
+  for (std::uint32_t it = 0; it < node_count; ++it) {
+    if (counts) ++counts->nodes;
+    if (node_t <= res.t) {
+      const bvh_node<T> n = b.nodes[node];
+      if (n.count > 0u) {
+        for (std::uint32_t k = 0; k < n.count && k < std::uint32_t(bvh_max_leaf_size); ++k) {
+          const bvh_triangle<T> tri = b.triangles[n.first + k];
+          if (counts) ++counts->triangles;
+          const bvh_triangle_hit<T> h = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, t_lo, res.t);
+          if (h.hit && (!res.hit || h.t < res.t)) {
+            res.hit = true;
+            res.slot = n.first + k;
+            res.t = h.t;
+            if (any_hit) return res;
+          }
+        }
+      } else {
+        const bvh_node<T> left = b.nodes[n.first];
+        const bvh_node<T> right = b.nodes[n.first + 1u];
+        T t_left = T(0), t_right = T(0);
+        const bool hit_left = bvh_ray_box(r, left.bounds_min, left.bounds_max, t_lo, res.t, t_left);
+        const bool hit_right = bvh_ray_box(r, right.bounds_min, right.bounds_max, t_lo, res.t, t_right);
+        if (hit_left && hit_right) {
+          const bool left_first = t_left <= t_right;
+          if (sp < bvh_max_depth) {
+            stack_node[sp] = left_first ? n.first + 1u : n.first;
+            stack_t[sp] = left_first ? t_right : t_left;
+            ++sp;
+          }
+          node = left_first ? n.first : n.first + 1u;
+          node_t = left_first ? t_left : t_right;
+          continue;
+        }
+        if (hit_left || hit_right) {
+          node = hit_left ? n.first : n.first + 1u;
+          node_t = hit_left ? t_left : t_right;
+          continue;
+        }
+      }
+    }
+    if (sp == 0) break;
+    --sp;
+    node = stack_node[sp];
+    node_t = stack_t[sp];
+  }
+  return res;
+}
+
+}  // namespace detail
+
+// The closest triangle hit by origin + t * dir for t in (t_min, t_max].
+template <class T>
+inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
+                                  T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
+  bvh_hit<T> h{false, T(0), ~0u, T(0), T(0), vec3<T>(T(0)), vec3<T>(T(0))};
+  const bvh_ray<T> r = make_bvh_ray(origin, dir);
+  const detail::bvh_traversal_result<T> res =
+      detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, false, counts);
+  if (!res.hit) return h;
+  // The winning triangle again, for its barycentrics: the same call gives the same t.
+  const bvh_triangle<T> tri = b.triangles[res.slot];
+  const bvh_triangle_hit<T> th = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, T(-1), res.t);
+  h.hit = true;
+  h.t = r.t_scale == T(1) ? res.t : res.t * T(0.25);
+  h.triangle = tri.id;
+  h.u = th.u;
+  h.v = th.v;
+  h.position = th.w * tri.v0 + th.u * tri.v1 + th.v * tri.v2;
+  const vec3<T> e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
+  h.normal = detail::bvh_unit_vector(
+      vec3<T>(e1.y * e2.z - e2.y * e1.z, e1.z * e2.x - e2.z * e1.x, e1.x * e2.y - e2.x * e1.y));  // glm::cross
+  return h;
+}
+
+// Does any triangle meet origin + t * dir for t in (t_min, t_max]? For the segment from p to q,
+// bvh_occluded(b, p, q - p, 0, 1).
+template <class T>
+inline bool bvh_occluded(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
+                         T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
+  const bvh_ray<T> r = make_bvh_ray(origin, dir);
+  return detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, true, counts).hit;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_traverse.hpp ----
+
+#include <cmath>
+
+namespace vplkit {
+
+constexpr double bvh_offset_relative_default = 1e-4;
+constexpr double bvh_offset_coordinate_scale = 1.0 / 32768.0;  // 2^-15 = 256 float ulps of a coordinate
+
+// The distance end points are moved off their surfaces: offset_relative * D + 2^-15 * M (see the
+// header); 0 for an empty hierarchy.
+template <class T>
+inline T bvh_surface_offset(const bvh_view<T>& b, T offset_relative = T(bvh_offset_relative_default)) {
+  if (b.node_count == 0) return T(0);
+  const vec3<T> lo = b.nodes[0].bounds_min, hi = b.nodes[0].bounds_max;
+  const vec3<T> ext = hi - lo;
+  const T d = std::fmax(ext.x, std::fmax(ext.y, ext.z));
+  const vec3<T> m3(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y)),
+                   std::fmax(std::abs(lo.z), std::abs(hi.z)));
+  const T m = std::fmax(m3.x, std::fmax(m3.y, m3.z));
+  return offset_relative * d + T(bvh_offset_coordinate_scale) * m;
+}
+
+// x moved by `offset` along the unit normal.
+template <class T>
+inline vec3<T> bvh_offset_point(vec3<T> x, vec3<T> n, T offset) {
+  return x + offset * detail::bvh_unit_vector(n);
+}
+
+// Are the surface points x (normal n_x) and y (normal n_y) mutually visible?
+template <class T>
+inline bool bvh_visible(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y,
+                        T offset_relative = T(bvh_offset_relative_default)) {
+  if (!detail::bvh_vec3_finite(x) || !detail::bvh_vec3_finite(y)) return false;
+  const T offset = bvh_surface_offset(b, offset_relative);
+  const vec3<T> o = bvh_offset_point(x, n_x, offset);
+  const vec3<T> p = bvh_offset_point(y, n_y, offset);
+  return !bvh_occluded(b, o, p - o, T(0), T(1));
+}
+
+// The first surface hit by the ray leaving surface x (normal n_x) along dir, from x moved off its
+// surface (bvh_offset_point). The hit position is the barycentric point on the triangle hit
+// (bvh_hit::position), exact to float rounding, unlike the voxel tracer's voxel-entry point: a
+// DPRSM depth test on it needs only the texel's own depth spread as tolerance.
+template <class T>
+inline ray_hit<T> bvh_trace(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T> dir,
+                            T offset_relative = T(bvh_offset_relative_default)) {
+  const vec3<T> o = bvh_offset_point(x, n_x, bvh_surface_offset(b, offset_relative));
+  const bvh_hit<T> h = bvh_closest_hit(b, o, dir);
+  ray_hit<T> r;
+  r.hit = h.hit;
+  if (h.hit) {
+    r.position = h.position;
+    r.normal = h.normal;
+  }
+  return r;
+}
+
+template <class T>
+struct bvh_visibility {
+  bvh_view<T> bvh;
+  T offset_relative = T(bvh_offset_relative_default);
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    return bvh_visible(bvh, x, n_x, y, n_y, offset_relative);
+  }
+};
+
+template <class T>
+struct bvh_tracer {
+  bvh_view<T> bvh;
+  T offset_relative = T(bvh_offset_relative_default);
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const { return bvh_trace(bvh, x, n_x, dir, offset_relative); }
+};
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/bvh_visibility.hpp ----
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+constexpr double triangle_voxel_default_end_tolerance = 0.01;  // voxels
+constexpr double triangle_voxel_edge_slack = 1e-3;              // voxels
+
+// Is p (on the triangle's plane) inside the triangle grown by `slack` (world units)?
+template <class T>
+inline bool voxel_triangle_contains(const voxel_triangle<T>& tri, vec3<T> p, T slack) {
+  const T s0 = glm::dot(tri.edge[0].normal, p) - tri.edge[0].offset;
+  const T s1 = glm::dot(tri.edge[1].normal, p) - tri.edge[1].offset;
+  const T s2 = glm::dot(tri.edge[2].normal, p) - tri.edge[2].offset;
+  return s0 >= -slack && s1 >= -slack && s2 >= -slack;
+}
+
+// Is the segment x -> y free of the grid's triangles (the rules of the header)? x == y is
+// visible; a non-finite x or y is not.
+template <class T>
+inline bool triangle_voxel_visible(const triangle_voxel_view<T>& g, vec3<T> x, vec3<T> y,
+                                   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance)) {
+  if (!detail::voxel_vec3_finite(x) || !detail::voxel_vec3_finite(y)) return false;
+  const vec3<T> dir = y - x;
+  const T len = std::sqrt(glm::dot(dir, dir));
+  if (!(len > T(0))) return true;
+  const T L = voxel_length(g.grid);
+  const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
+  dda_walk<T> w = dda_walk_begin(g.grid, x, dir, len);
+  const int max_iterations = dda_max_iterations(g.grid.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
+      dda_walk_leave_brick(g.grid, w);
+      continue;
+    }
+    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
+    if (r >= 0) {
+      // The voxel's stretch of the segment, in the fraction s of x -> y (the local crossing rule).
+      const T s_in = (w.t - slack) / len, s_out = (dda_walk_exit(w) + slack) / len;
+      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
+        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
+        const T d0 = glm::dot(tri.plane.normal, x) - tri.plane.offset;
+        const T d1 = glm::dot(tri.plane.normal, y) - tri.plane.offset;
+        if (!(std::abs(d0) > eps) || !(std::abs(d1) > eps) || (d0 > T(0)) == (d1 > T(0))) continue;
+        const T s = d0 / (d0 - d1);
+        if (s < s_in || s > s_out) continue;
+        if (voxel_triangle_contains(tri, x + s * dir, slack)) return false;
+      }
+    }
+    dda_walk_next(g.grid, w);
+  }
+  return true;
+}
+
+template <class T>
+struct triangle_voxel_hit {
+  bool hit;
+  T t;                    // distance along the unit direction (0 on a miss)
+  vec3<T> point;          // origin + t * unit direction, on the triangle (origin on a miss)
+  std::uint32_t triangle; // its index (0xFFFFFFFF on a miss)
+};
+
+// The first triangle met by origin + t * normalize(dir), 0 < t <= t_max (triangles whose plane
+// passes within end_tolerance of the origin ignored: the origin's own surface). In each occupied
+// voxel the nearest crossing no farther than the voxel's exit (+ the slack) wins; a crossing
+// beyond it lies in a later voxel, which lists the same triangle.
+template <class T>
+inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<T>& g, vec3<T> origin, vec3<T> dir,
+                                                      T t_max = std::numeric_limits<T>::infinity(),
+                                                      T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance)) {
+  const triangle_voxel_hit<T> miss{false, T(0), origin, 0xFFFFFFFFu};
+  dda_walk<T> w = dda_walk_begin(g.grid, origin, dir, t_max);
+  if (!w.running) return miss;
+  const T L = voxel_length(g.grid);
+  const T eps = end_tolerance_voxels * L, slack = T(triangle_voxel_edge_slack) * L;
+  const int max_iterations = dda_max_iterations(g.grid.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
+      dda_walk_leave_brick(g.grid, w);
+      continue;
+    }
+    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
+    if (r >= 0) {
+      const T t_out = dda_walk_exit(w) + slack;
+      T best = std::numeric_limits<T>::infinity();
+      std::uint32_t best_tri = 0xFFFFFFFFu;
+      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
+        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
+        const T d0 = glm::dot(tri.plane.normal, origin) - tri.plane.offset;
+        const T den = glm::dot(tri.plane.normal, w.d);
+        if (!(std::abs(d0) > eps) || den == T(0)) continue;
+        const T tc = -d0 / den;
+        if (!(tc > T(0)) || tc > t_max || tc > t_out || !(tc < best)) continue;
+        if (voxel_triangle_contains(tri, origin + tc * w.d, slack)) {
+          best = tc;
+          best_tri = g.entries[e];
+        }
+      }
+      if (best_tri != 0xFFFFFFFFu) return triangle_voxel_hit<T>{true, best, origin + best * w.d, best_tri};
+    }
+    dda_walk_next(g.grid, w);
+  }
+  return miss;
+}
+
+// ---- The offset contract (exact visibility's, on the listed triangles) ----
+
+// The grid's ends offset: bvh_surface_offset's formula, offset_relative * D + 2^-15 * M, over the
+// grid's box (D its largest extent, M its largest |coordinate|). The box is the triangles' padded
+// one (fit_voxel_bounds), so this is about 2 % above the offset of a BVH over the same triangles;
+// a host that has that offset passes it instead.
+template <class T>
+inline T triangle_voxel_surface_offset(const voxel_grid_view<T>& g, T offset_relative = T(bvh_offset_relative_default)) {
+  const vec3<T> lo = g.bounds_min, hi = g.bounds_max, ext = hi - lo;
+  const T d = std::fmax(ext.x, std::fmax(ext.y, ext.z));
+  const T m = std::fmax(std::fmax(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y))),
+                        std::fmax(std::abs(lo.z), std::abs(hi.z)));
+  return offset_relative * d + T(bvh_offset_coordinate_scale) * m;
+}
+
+// How far the offset contract grows each triangle within its plane: 2^-18 M (32 float ulps of the
+// grid's largest |coordinate|), above the inside test's rounding (a few ulps of M) so that no
+// segment passes between two triangles sharing an edge, and far below the end rule's 1e-3 voxel,
+// which blocks segments that graze an edge.
+template <class T>
+inline T triangle_voxel_offset_slack(const voxel_grid_view<T>& g) {
+  const vec3<T> lo = g.bounds_min, hi = g.bounds_max;
+  const T m = std::fmax(std::fmax(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y))),
+                        std::fmax(std::abs(lo.z), std::abs(hi.z)));
+  return m * T(1.0 / 262144.0);
+}
+
+// Is the segment a -> b free of the grid's triangles, counting a crossing at s in (0, 1] (b itself
+// included, a excluded, as bvh_occluded's t range)? Each triangle grown by `slack` (world units).
+// a == b is free; non-finite a or b is not.
+template <class T>
+inline bool triangle_voxel_segment_free(const triangle_voxel_view<T>& g, vec3<T> a, vec3<T> b, T slack) {
+  if (!detail::voxel_vec3_finite(a) || !detail::voxel_vec3_finite(b)) return false;
+  const vec3<T> dir = b - a;
+  const T len = std::sqrt(glm::dot(dir, dir));
+  if (!(len > T(0))) return true;
+  const T L = voxel_length(g.grid), stretch = T(triangle_voxel_edge_slack) * L;
+  dda_walk<T> w = dda_walk_begin(g.grid, a, dir, len);
+  const int max_iterations = dda_max_iterations(g.grid.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
+      dda_walk_leave_brick(g.grid, w);
+      continue;
+    }
+    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
+    if (r >= 0) {
+      // The voxel's stretch of the segment (widened as the end rule's, so that a crossing on a
+      // voxel face is found from both sides).
+      const T s_in = (w.t - stretch) / len, s_out = (dda_walk_exit(w) + stretch) / len;
+      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
+        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
+        const T d0 = glm::dot(tri.plane.normal, a) - tri.plane.offset;
+        const T d1 = glm::dot(tri.plane.normal, b) - tri.plane.offset;
+        // A plane through a (d0 == 0) or a degenerate triangle (normal 0) is never crossed in
+        // (0, 1]; b on the plane (d1 == 0) is a crossing at s = 1.
+        if (d0 == T(0) || (d1 != T(0) && (d0 > T(0)) == (d1 > T(0)))) continue;
+        const T s = d0 / (d0 - d1);
+        if (s < s_in || s > s_out) continue;
+        if (voxel_triangle_contains(tri, a + s * dir, slack)) return false;
+      }
+    }
+    dda_walk_next(g.grid, w);
+  }
+  return true;
+}
+
+// Mutual visibility under the offset contract: x and y moved `offset` along their normals
+// (bvh_offset_point: a zero or non-finite normal leaves its point), the segment between them
+// tested whole with triangle_voxel_offset_slack. What bvh_visible answers over the same triangles
+// with the same offset, up to that slack. Non-finite x or y: not visible.
+template <class T>
+inline bool triangle_voxel_visible_offset(const triangle_voxel_view<T>& g, vec3<T> x, vec3<T> n_x, vec3<T> y,
+                                          vec3<T> n_y, T offset) {
+  if (!detail::voxel_vec3_finite(x) || !detail::voxel_vec3_finite(y)) return false;
+  return triangle_voxel_segment_free(g, bvh_offset_point(x, n_x, offset), bvh_offset_point(y, n_y, offset),
+                                     triangle_voxel_offset_slack(g.grid));
+}
+
+// The first triangle met by the ray leaving surface x along dir under the offset contract: from x
+// moved `offset` along n_x, every listed triangle (grown by triangle_voxel_offset_slack) counts at
+// t > 0. t is measured from the moved origin along the unit direction, and t_max from it as well:
+// a hit within reach of x lies within reach + offset of the moved origin (bvh_trace's reach rule).
+template <class T>
+inline triangle_voxel_hit<T> triangle_voxel_first_hit_offset(const triangle_voxel_view<T>& g, vec3<T> x, vec3<T> n_x,
+                                                             vec3<T> dir, T offset,
+                                                             T t_max = std::numeric_limits<T>::infinity()) {
+  const vec3<T> origin = bvh_offset_point(x, n_x, offset);
+  const triangle_voxel_hit<T> miss{false, T(0), origin, 0xFFFFFFFFu};
+  if (!detail::voxel_vec3_finite(origin)) return miss;
+  dda_walk<T> w = dda_walk_begin(g.grid, origin, dir, t_max);
+  if (!w.running) return miss;
+  const T slack = triangle_voxel_offset_slack(g.grid), stretch = T(triangle_voxel_edge_slack) * voxel_length(g.grid);
+  const int max_iterations = dda_max_iterations(g.grid.resolution);
+  for (int it = 0; w.running && it < max_iterations; ++it) {
+    if (g.bricks != nullptr && !voxel_brick_occupied(g.grid.resolution, g.bricks, w.voxel)) {
+      dda_walk_leave_brick(g.grid, w);
+      continue;
+    }
+    const std::int64_t r = voxel_occupied_index(g.grid, g.rank, w.voxel);
+    if (r >= 0) {
+      const T t_out = dda_walk_exit(w) + stretch;
+      T best = std::numeric_limits<T>::infinity();
+      std::uint32_t best_tri = 0xFFFFFFFFu;
+      for (std::uint32_t e = g.offsets[r], end = g.offsets[r + 1]; e < end; ++e) {
+        const voxel_triangle<T>& tri = g.triangles[g.entries[e]];
+        const T d0 = glm::dot(tri.plane.normal, origin) - tri.plane.offset;
+        const T den = glm::dot(tri.plane.normal, w.d);
+        if (d0 == T(0) || den == T(0)) continue;
+        const T tc = -d0 / den;
+        if (!(tc > T(0)) || tc > t_max || tc > t_out || !(tc < best)) continue;
+        if (voxel_triangle_contains(tri, origin + tc * w.d, slack)) {
+          best = tc;
+          best_tri = g.entries[e];
+        }
+      }
+      if (best_tri != 0xFFFFFFFFu) return triangle_voxel_hit<T>{true, best, origin + best * w.d, best_tri};
+    }
+    dda_walk_next(g.grid, w);
+  }
+  return miss;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/triangle_voxel_query.hpp ----
+// ---- begin vplkit/visibility/triangle_corners.hpp ----
+// Shading normals for the hits of a triangle voxel grid (triangle_voxel_grid.hpp). The grid keeps
+// each triangle as four planes, enough to decide visibility and place a hit, not to shade it: on a
+// smoothed mesh the radiance a gathering ray brings back depends on the hit's shading normal
+// (dprsm_hit_radiance), and with the plane normal alone the far side of a smoothed edge is lit as
+// its flat face (+2 % of Sponza's one-bounce light). A host that has the corners passes them here,
+// in the grid's triangle order, and triangle_voxel_tracer hands back the interpolated normal, as an
+// exact ray tracer over the same mesh does.
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace vplkit {
+
+template <class T>
+struct triangle_corner_view {
+  const vec3<T>* positions = nullptr;  // 3 per triangle: the corners, in the grid's triangle order
+  const vec3<T>* normals = nullptr;    // 3 per triangle: the corners' shading normals (any length)
+  std::size_t triangle_count = 0;
+  bool has_normals() const { return positions != nullptr && normals != nullptr && triangle_count > 0; }
+};
+
+// The shading normal at p (a point on triangle t, or within rounding of it): the corners' normals
+// weighted by p's barycentric coordinates (clamped to the triangle), unit. Zero, which ray_hit reads
+// as "none", when the view has no normals, t is out of range, the triangle is degenerate or the
+// weighted normals cancel or overflow.
+template <class T>
+inline vec3<T> triangle_corner_shading_normal(const triangle_corner_view<T>& c, std::uint32_t t, vec3<T> p) {
+  if (!c.has_normals() || std::size_t(t) >= c.triangle_count) return vec3<T>(T(0));
+  const vec3<T>* q = c.positions + 3 * std::size_t(t);
+  const vec3<T>* n = c.normals + 3 * std::size_t(t);
+  const vec3<T> e1 = q[1] - q[0], e2 = q[2] - q[0], d = p - q[0];
+  const T d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+  const T det = d11 * d22 - d12 * d12;
+  if (!(det > T(0)) || !std::isfinite(det)) return vec3<T>(T(0));
+  const T r1 = glm::dot(d, e1), r2 = glm::dot(d, e2);
+  T u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+  // A hit found within the grid's slack of an edge may lie a hair outside: clamp to the triangle.
+  u = std::fmin(std::fmax(u, T(0)), T(1));
+  v = std::fmin(std::fmax(v, T(0)), T(1) - u);
+  const vec3<T> s = (T(1) - u - v) * n[0] + u * n[1] + v * n[2];
+  const T len = std::sqrt(glm::dot(s, s));
+  if (!(len > T(0)) || !std::isfinite(len)) return vec3<T>(T(0));
+  return s / len;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/triangle_corners.hpp ----
+// ---- begin vplkit/visibility/visibility_callables.hpp ----
+// Adaptors that turn a voxel grid (or nothing) into the callables the estimators take, so a host
+// with only a voxel grid needs one line. The estimators accept any callable of these shapes:
+//   visibility(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
+//   tracer(x, n_x, dir)        -> ray_hit<T>  first surface hit by the ray leaving surface x
+// Normals may have any length. A host with an exact ray tracer writes its own (the tests do).
+// A tracer may also offer trace_within(x, n_x, dir, reach) -> ray_hit<T>: the same first hit
+// whenever it lies within `reach` of x, and no hit or some hit beyond reach otherwise, at the cost
+// of a ray of about that length; and surface_within(x, n_x, reach, plane_tolerance) -> bool, false
+// only when every surface point within reach of x lies in a plane through x (within
+// plane_tolerance): then no ray from x meets anything else within reach. Both serve the clamp
+// compensation's short rays (clamp_compensation.hpp).
+// ---- begin vplkit/visibility/triangle_voxel_near.hpp ----
+// Is another surface near a point? The question the clamp compensation asks before it traces any
+// ray (estimators/clamp_compensation.hpp): its directions add something only where a surface other
+// than the gather point's own plane lies within dmin, and on most pixels none does. One look at
+// the triangle voxel grid (triangle_voxel_grid.hpp) answers it for every direction at once.
+//
+// triangle_voxel_surface_within(g, x, reach, plane_tolerance) is conservative: it returns false
+// only when every triangle listed by a voxel that meets the box of half-size reach (plus a small
+// slack) around x either has its plane within plane_tolerance of x (a plane through x: x's own
+// surface, a coplanar neighbour, a crease through x) or farther than reach from x (then none of its
+// points is within reach). Every point of a triangle lies in a voxel that lists it, so false
+// guarantees that every surface point within reach of x lies in a plane through x. True is
+// returned as well when it cannot look (a box of more than voxel_near_max_side voxels per axis, a
+// non-finite x or reach, a negative reach): the caller then traces.
+//
+// Cost (it runs once per pixel): the box's rows along x are read from the occupancy words (one or
+// two per row, so an empty row, the most common, costs a load or two), and per occupied voxel it
+// asks one plane where the voxel's triangles all share one (the grid's planes,
+// triangle_voxel_grid.hpp: the same plane's numbers, so the same answer as asking each of them),
+// and every listed triangle's plane only where they do not (creases, corners, curved geometry) or
+// where the view has no planes. triangle_voxel_surface_within_scan looks every voxel up on its own
+// and asks every triangle: the same answers, bit for bit (tests/unit, tests/hardcases,
+// tests/parity). Measured: bench_triangle_voxel_near (docs/results/clamp_compensation.md).
+
+#include <glm/common.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace vplkit {
+
+// The widest box looked at, in voxels per axis: beyond it the answer is "maybe" (true).
+constexpr int voxel_near_max_side = 8;
+
+namespace detail {
+
+// Is the plane p farther than plane_tolerance from x and not farther than reach? NaN (a bad
+// triangle's plane): no.
+template <class T>
+inline bool voxel_near_plane_within(const voxel_plane<T>& p, vec3<T> x, T reach, T plane_tolerance) {
+  const T s = std::abs(glm::dot(p.normal, x) - p.offset);
+  return s > plane_tolerance && s <= reach;
+}
+
+// Bits lo .. hi of a word (0 <= lo <= hi <= 31).
+inline std::uint32_t voxel_near_bit_range(int lo, int hi) {
+  const std::uint32_t upto = hi == 31 ? ~std::uint32_t(0) : (std::uint32_t(1) << (hi + 1)) - 1u;
+  return upto & ~((std::uint32_t(1) << lo) - 1u);
+}
+
+// Does occupied voxel r hold a surface other than x's planes within reach? One plane where its
+// triangles share one (g.planes), else every listed triangle's.
+template <class T>
+inline bool voxel_near_voxel_within(const triangle_voxel_view<T>& g, std::uint32_t r, vec3<T> x, T reach,
+                                    T plane_tolerance) {
+  if (g.planes != nullptr && !voxel_plane_is_several(g.planes[r]))
+    return voxel_near_plane_within(g.planes[r], x, reach, plane_tolerance);
+  for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
+    if (voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
+  return false;
+}
+
+// The occupied voxels among flat indices i0 .. i1 of word w (bits lo .. hi of it).
+template <class T>
+inline bool voxel_near_word_within(const triangle_voxel_view<T>& g, std::size_t w, int lo, int hi, vec3<T> x, T reach,
+                                   T plane_tolerance) {
+  const std::uint32_t word = g.grid.words[w];
+  std::uint32_t bits = word & voxel_near_bit_range(lo, hi);
+  while (bits != 0u) {
+    const std::uint32_t lowest = bits & (0u - bits);
+    const std::uint32_t r = g.rank[w] + std::uint32_t(voxel_bit_count(word & (lowest - 1u)));
+    if (voxel_near_voxel_within(g, r, x, reach, plane_tolerance)) return true;
+    bits &= bits - 1u;
+  }
+  return false;
+}
+
+}  // namespace detail
+
+template <class T>
+inline bool triangle_voxel_surface_within(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
+  if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
+      !(plane_tolerance >= T(0)))
+    return true;
+  // Voxels meeting [x - reach, x + reach], widened by a thousandth of a voxel against the rounding
+  // of the coordinates (a triangle on a voxel face is listed by the voxels on both sides).
+  const T slack = T(1e-3);
+  const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
+  const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
+  ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
+  ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
+  if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
+    return true;
+  // Only the voxels inside the grid can be occupied. A row of the box (b.x - a.x < 8 voxels along
+  // x) lies in one or two occupancy words: its occupied voxels are read from them at once, and the
+  // empty rows (most of them: a surface crosses a few) cost two word loads.
+  const ivec3 res = g.grid.resolution;
+  a = glm::max(a, ivec3(0));
+  b = glm::min(b, res - ivec3(1));
+  if (a.x > b.x) return false;  // (a.y > b.y or a.z > b.z: the loops below do nothing)
+  for (int z = a.z; z <= b.z; ++z)
+    for (int y = a.y; y <= b.y; ++y) {
+      const std::int64_t row = voxel_flat_index(res, ivec3(0, y, z));
+      const std::int64_t i0 = row + a.x, i1 = row + b.x;
+      for (std::int64_t w = i0 >> 5; w <= i1 >> 5; ++w)  // one word, or two
+        if (detail::voxel_near_word_within(g, std::size_t(w), w == i0 >> 5 ? int(i0 & 31) : 0,
+                                           w == i1 >> 5 ? int(i1 & 31) : 31, x, reach, plane_tolerance))
+          return true;
+    }
+  return false;
+}
+
+// The same answers the simple way: every voxel of the box looked up on its own
+// (voxel_occupied_index) and every triangle it lists asked (the grid's planes not used). What the
+// test was before the rows and the planes; the reference the tests and bench_triangle_voxel_near
+// hold it to.
+template <class T>
+inline bool triangle_voxel_surface_within_scan(const triangle_voxel_view<T>& g, vec3<T> x, T reach, T plane_tolerance) {
+  if (!detail::voxel_vec3_finite(x) || !(reach >= T(0)) || !(reach <= std::numeric_limits<T>::max()) ||
+      !(plane_tolerance >= T(0)))
+    return true;
+  const T slack = T(1e-3);
+  const vec3<T> lo = world_to_voxel_coord(g.grid, x) - reach / voxel_size(g.grid) - vec3<T>(slack);
+  const vec3<T> hi = world_to_voxel_coord(g.grid, x) + reach / voxel_size(g.grid) + vec3<T>(slack);
+  const ivec3 a(voxel_floor_to_int(lo.x), voxel_floor_to_int(lo.y), voxel_floor_to_int(lo.z));
+  const ivec3 b(voxel_floor_to_int(hi.x), voxel_floor_to_int(hi.y), voxel_floor_to_int(hi.z));
+  if (b.x - a.x >= voxel_near_max_side || b.y - a.y >= voxel_near_max_side || b.z - a.z >= voxel_near_max_side)
+    return true;
+  for (int z = a.z; z <= b.z; ++z)
+    for (int y = a.y; y <= b.y; ++y)
+      for (int xi = a.x; xi <= b.x; ++xi) {
+        const std::int64_t r = voxel_occupied_index(g.grid, g.rank, ivec3(xi, y, z));
+        if (r < 0) continue;
+        for (std::uint32_t e = g.offsets[r]; e < g.offsets[r + 1]; ++e)
+          if (detail::voxel_near_plane_within(g.triangles[g.entries[e]].plane, x, reach, plane_tolerance)) return true;
+      }
+  return false;
+}
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/triangle_voxel_near.hpp ----
+
+#include <limits>
+
+namespace vplkit {
+
+// V = 1 everywhere: the unoccluded VPL sum (what the global weights assume).
+struct always_visible {
+  template <class T>
+  bool operator()(vec3<T>, vec3<T>, vec3<T>, vec3<T>) const {
+    return true;
+  }
+};
+
+// Two-sided voxel test (voxel_visible_two_sided: both ends lifted by offset_voxels along their
+// normals, tolerance 0): the recommended one, it neither self-occludes at y nor leaks through
+// walls near y (see visibility/voxel_visible.hpp for the measurements).
+template <class T>
+struct voxel_visibility {
+  voxel_grid_view<T> grid;
+  T offset_voxels = T(voxel_surface_offset_default);
+  T tolerance_voxels = T(voxel_visible_two_sided_default_tolerance);
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    return voxel_visible_two_sided(grid, x, n_x, y, n_y, offset_voxels, tolerance_voxels);
+  }
+};
+
+// The paper's one-sided test (Alg. 6 lines 8-10: x lifted, y reached within psi voxels).
+template <class T>
+struct voxel_visibility_one_sided {
+  voxel_grid_view<T> grid;
+  T offset_voxels = T(voxel_surface_offset_default);
+  T tolerance_voxels = T(voxel_visible_default_tolerance);
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T>) const {
+    return voxel_visible(grid, x, n_x, y, offset_voxels, tolerance_voxels);
+  }
+};
+
+// First occupied voxel along the ray from x lifted offset_voxels along n_x (surface_ray_origin),
+// reported at the point where the ray enters that voxel (dda_trace_hit_point). That point is up
+// to a voxel diagonal from the true surface: a DPRSM depth test on it needs a tolerance of at
+// least sqrt(3) * voxel_length (plus the texel's own depth spread, see gathering_estimator.hpp).
+template <class T>
+struct voxel_tracer {
+  voxel_grid_view<T> grid;
+  T offset_voxels = T(voxel_surface_offset_default);
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
+    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
+  }
+  // The march stops reach + the lift beyond the lifted origin: a hit within reach of x lies
+  // within that distance of the origin.
+  ray_hit<T> trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const {
+    const T lift = offset_voxels * voxel_length(grid);
+    const dda_trace_result<T> r =
+        dda_trace_hit_point(grid, surface_ray_origin(grid, x, n_x, offset_voxels), dir, reach + lift);
+    ray_hit<T> h;
+    h.hit = r.hit;
+    if (r.hit) h.position = r.point;
+    return h;
+  }
+};
+
+// Depth tolerance matching a voxel_tracer: one voxel diagonal, sqrt(3) * voxel_length.
+template <class T>
+inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
+  return T(1.7320508075688772) * voxel_length(g);
+}
+
+// ---- Triangle voxels (triangle_voxel_query.hpp): no self-occlusion at the ends or at junctions ----
+
+// How the triangle voxel adaptors treat a segment's ends (triangle_voxel_query.hpp):
+// - plane_rule: the ends stay where they are; triangles whose planes pass within
+//   end_tolerance_voxels of an end are ignored (the default; docs/math.md section 7.2);
+// - offset: exact visibility's contract (bvh_visibility.hpp): the ends moved `offset` along their
+//   normals, every listed triangle counts. It answers what a ray tracer over the same triangles
+//   answers, where the plane rule lets segments through at junctions that graze a surface an end
+//   lies on.
+enum class triangle_voxel_ends { plane_rule, offset };
+
+// Mutual visibility decided by the triangles a triangle_voxel_grid lists, with the ends as `ends`
+// says (the plane rule needs no normals).
+template <class T>
+struct triangle_voxel_visibility {
+  triangle_voxel_view<T> grid;
+  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  triangle_voxel_ends ends = triangle_voxel_ends::plane_rule;
+  T offset = T(0);  // world units, for triangle_voxel_ends::offset (triangle_voxel_surface_offset)
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    if (ends == triangle_voxel_ends::offset) return triangle_voxel_visible_offset(grid, x, n_x, y, n_y, offset);
+    return triangle_voxel_visible(grid, x, y, end_tolerance_voxels);
+  }
+};
+
+// First triangle met by the ray leaving x along dir: triangle_voxel_first_hit from x itself under
+// the plane rule, triangle_voxel_first_hit_offset from x moved `offset` along n_x under the offset
+// contract. The hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the
+// texel's own depth spread. Its normal is the triangle's plane normal; its shading normal the
+// corners' interpolated one where `corners` has them (triangle_corners.hpp), else none.
+template <class T>
+struct triangle_voxel_tracer {
+  triangle_voxel_view<T> grid;
+  T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  triangle_voxel_ends ends = triangle_voxel_ends::plane_rule;
+  T offset = T(0);  // world units, for triangle_voxel_ends::offset
+  triangle_corner_view<T> corners{};  // optional: the shading normals of the hits
+  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
+    return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
+  }
+  // triangle_voxel_surface_within (triangle_voxel_near.hpp) over the listed triangles.
+  bool surface_within(vec3<T> x, vec3<T>, T reach, T plane_tolerance) const {
+    return triangle_voxel_surface_within(grid, x, reach, plane_tolerance);
+  }
+  // Under the offset contract the ray runs to reach + offset from its moved origin: a hit within
+  // reach of x lies within that distance of it (bvh_trace's rule).
+  ray_hit<T> trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const {
+    const triangle_voxel_hit<T> r = ends == triangle_voxel_ends::offset
+                                        ? triangle_voxel_first_hit_offset(grid, x, n_x, dir, offset, reach + offset)
+                                        : triangle_voxel_first_hit(grid, x, dir, reach, end_tolerance_voxels);
+    ray_hit<T> h;
+    h.hit = r.hit;
+    if (r.hit) {
+      h.position = r.point;
+      h.normal = grid.triangles[r.triangle].plane.normal;
+      h.shading_normal = triangle_corner_shading_normal(corners, r.triangle, r.point);
+    }
+    return h;
+  }
+};
+
+}  // namespace vplkit
+// ---- end vplkit/visibility/visibility_callables.hpp ----
+// exact: a BVH over triangles (binned SAH, watertight ray/triangle test) and its callables
 // ---- begin vplkit/visibility/bvh_build.hpp ----
 // Building a BVH over triangles on the host: binned SAH (Wald, "On fast construction of SAH-based
 // bounding volume hierarchies", 2007), single-threaded and deterministic.
@@ -4737,275 +5199,6 @@ inline bvh<T> build_bvh_soup(const vec3<T>* vertices, std::size_t triangle_count
 
 }  // namespace vplkit
 // ---- end vplkit/visibility/bvh_build.hpp ----
-// ---- begin vplkit/visibility/bvh_traverse.hpp ----
-// Ray queries against a BVH (bvh_layout.hpp): the closest hit, and any hit (occlusion of a
-// segment). glsl/vplkit/visibility/bvh_traverse.glsl is the same code statement for statement.
-//
-// Ray: origin + t * dir, dir of any length (t in units of |dir|, as Embree's rtcIntersect1),
-// hits accepted for t in (t_min, t_max]. t_min below 0 or NaN is read as 0; t_max < t_min or NaN
-// gives no hit. An invalid ray (non-finite origin or direction, zero direction) or an empty
-// hierarchy gives no hit.
-//
-// Traversal: iterative, with a fixed stack of bvh_max_depth entries (node index + entry
-// distance). At an inner node both children's boxes are tested; the nearer is visited next and
-// the farther pushed (the left child on equal entry distances); a popped node whose entry
-// distance lies beyond the closest hit so far is skipped. Leaves test their triangles in slot
-// order, and a hit replaces the current one only when strictly closer, so among triangles hit at
-// exactly the same t the first one visited wins. The order is fixed by the data, so C++ and GLSL
-// visit the same nodes and, with IEEE arithmetic, report the same triangle.
-// Loop bound (llvmpipe ends any shader loop after 65535 iterations per invocation, silently):
-// every iteration of the node loop consumes one node, each node is reached at most once, so the
-// loop runs at most node_count times; the leaf loop runs count <= bvh_max_leaf_size times per
-// leaf. One query therefore costs (nodes visited + triangles tested) iterations of the budget;
-// the parity test prints the largest count it met.
-// Scaled rays: where make_bvh_ray stored the direction scaled by 1/4 (a component above 2^126,
-// bvh_ray.hpp), the traversal runs in the ray's own parameter, t_scale * t: t_min and t_max are
-// multiplied by t_scale on the way in and the hit's t by 1/4 on the way out (powers of two,
-// exact unless the result leaves the normal range; t_scale = 1 changes nothing).
-// Stack: the builder (and validate_bvh) guarantee depth <= bvh_max_depth, so the stack cannot
-// overflow; the push is guarded anyway, so a corrupt hierarchy loses nodes instead of writing
-// out of bounds.
-
-#include <cmath>
-#include <cstdint>
-#include <limits>
-
-namespace vplkit {
-
-template <class T>
-struct bvh_hit {
-  bool hit;
-  T t;                     // ray parameter (0 on a miss)
-  std::uint32_t triangle;  // the input index of the triangle hit (bvh_triangle::id); ~0u on a miss
-  T u, v;                  // barycentric weights of its v1 and v2 (Embree's u, v)
-  vec3<T> position;        // w v0 + u v1 + v v2: on the triangle's plane to rounding
-  vec3<T> normal;          // unit geometric normal, cross(v1 - v0, v2 - v0) normalised (0 if it underflows)
-};
-
-// Work counts of one query (C++ only; the GLSL has no counters).
-struct bvh_traversal_counts {
-  std::uint32_t nodes = 0;      // iterations of the node loop
-  std::uint32_t triangles = 0;  // ray/triangle tests
-};
-
-namespace detail {
-
-// What the node loop found: the slot of the closest (or any) triangle hit and its t.
-template <class T>
-struct bvh_traversal_result {
-  bool hit;
-  std::uint32_t slot;
-  T t;
-};
-
-// The shared traversal of bvh_closest_hit (any_hit false) and bvh_occluded (any_hit true). t_min,
-// t_max and the result's t are in the ray's own parameter (bvh_ray::t_scale times the caller's).
-template <class T>
-inline bvh_traversal_result<T> bvh_traverse(const bvh_view<T>& b, const bvh_ray<T>& r, T t_min, T t_max, bool any_hit,
-                                            bvh_traversal_counts* counts) {
-  bvh_traversal_result<T> res{false, 0u, t_max};
-  if (!r.valid || b.node_count == 0) return res;
-  const T t_lo = t_min > T(0) ? t_min : T(0);
-  if (!(t_max >= t_lo)) return res;
-  T t_root = T(0);
-  if (!bvh_ray_box(r, b.nodes[0].bounds_min, b.nodes[0].bounds_max, t_lo, t_max, t_root)) return res;
-
-  std::uint32_t stack_node[bvh_max_depth];
-  T stack_t[bvh_max_depth];
-  int sp = 0;
-  std::uint32_t node = 0;
-  T node_t = t_root;
-  const auto node_count = std::uint32_t(b.node_count);
-  for (std::uint32_t it = 0; it < node_count; ++it) {
-    if (counts) ++counts->nodes;
-    if (node_t <= res.t) {
-      const bvh_node<T> n = b.nodes[node];
-      if (n.count > 0u) {
-        for (std::uint32_t k = 0; k < n.count && k < std::uint32_t(bvh_max_leaf_size); ++k) {
-          const bvh_triangle<T> tri = b.triangles[n.first + k];
-          if (counts) ++counts->triangles;
-          const bvh_triangle_hit<T> h = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, t_lo, res.t);
-          if (h.hit && (!res.hit || h.t < res.t)) {
-            res.hit = true;
-            res.slot = n.first + k;
-            res.t = h.t;
-            if (any_hit) return res;
-          }
-        }
-      } else {
-        const bvh_node<T> left = b.nodes[n.first];
-        const bvh_node<T> right = b.nodes[n.first + 1u];
-        T t_left = T(0), t_right = T(0);
-        const bool hit_left = bvh_ray_box(r, left.bounds_min, left.bounds_max, t_lo, res.t, t_left);
-        const bool hit_right = bvh_ray_box(r, right.bounds_min, right.bounds_max, t_lo, res.t, t_right);
-        if (hit_left && hit_right) {
-          const bool left_first = t_left <= t_right;
-          if (sp < bvh_max_depth) {
-            stack_node[sp] = left_first ? n.first + 1u : n.first;
-            stack_t[sp] = left_first ? t_right : t_left;
-            ++sp;
-          }
-          node = left_first ? n.first : n.first + 1u;
-          node_t = left_first ? t_left : t_right;
-          continue;
-        }
-        if (hit_left || hit_right) {
-          node = hit_left ? n.first : n.first + 1u;
-          node_t = hit_left ? t_left : t_right;
-          continue;
-        }
-      }
-    }
-    if (sp == 0) break;
-    --sp;
-    node = stack_node[sp];
-    node_t = stack_t[sp];
-  }
-  return res;
-}
-
-}  // namespace detail
-
-// The closest triangle hit by origin + t * dir for t in (t_min, t_max].
-template <class T>
-inline bvh_hit<T> bvh_closest_hit(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
-                                  T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
-  bvh_hit<T> h{false, T(0), ~0u, T(0), T(0), vec3<T>(T(0)), vec3<T>(T(0))};
-  const bvh_ray<T> r = make_bvh_ray(origin, dir);
-  const detail::bvh_traversal_result<T> res =
-      detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, false, counts);
-  if (!res.hit) return h;
-  // The winning triangle again, for its barycentrics: the same call gives the same t.
-  const bvh_triangle<T> tri = b.triangles[res.slot];
-  const bvh_triangle_hit<T> th = bvh_ray_triangle(r, tri.v0, tri.v1, tri.v2, T(-1), res.t);
-  h.hit = true;
-  h.t = r.t_scale == T(1) ? res.t : res.t * T(0.25);
-  h.triangle = tri.id;
-  h.u = th.u;
-  h.v = th.v;
-  h.position = th.w * tri.v0 + th.u * tri.v1 + th.v * tri.v2;
-  const vec3<T> e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
-  h.normal = detail::bvh_unit_vector(
-      vec3<T>(e1.y * e2.z - e2.y * e1.z, e1.z * e2.x - e2.z * e1.x, e1.x * e2.y - e2.x * e1.y));  // glm::cross
-  return h;
-}
-
-// Does any triangle meet origin + t * dir for t in (t_min, t_max]? For the segment from p to q,
-// bvh_occluded(b, p, q - p, 0, 1).
-template <class T>
-inline bool bvh_occluded(const bvh_view<T>& b, vec3<T> origin, vec3<T> dir, T t_min = T(0),
-                         T t_max = std::numeric_limits<T>::infinity(), bvh_traversal_counts* counts = nullptr) {
-  const bvh_ray<T> r = make_bvh_ray(origin, dir);
-  return detail::bvh_traverse(b, r, t_min * r.t_scale, t_max * r.t_scale, true, counts).hit;
-}
-
-}  // namespace vplkit
-// ---- end vplkit/visibility/bvh_traverse.hpp ----
-// ---- begin vplkit/visibility/bvh_visibility.hpp ----
-// Exact visibility through a BVH, as the two callables the estimators take (the exact
-// counterparts of voxel_visibility and voxel_tracer in visibility/visibility_callables.hpp):
-//   bvh_visibility<T>{view}(x, n_x, y, n_y) -> bool        mutual visibility of two surface points
-//   bvh_tracer<T>{view}(x, n_x, dir)        -> ray_hit<T>  first surface hit leaving surface x
-// glsl/vplkit/visibility/bvh_visibility.glsl mirrors them.
-//
-// Self-intersection: both ends of a segment, and the origin of a traced ray, are moved off their
-// surface along their normal (as given: the side the point is seen from) by
-//   offset = offset_relative * D + 2^-15 * M,
-// D = the largest extent of the hierarchy's root box (the scene's size), M = its largest
-// |coordinate| (how far the scene lies from the world origin). The segment between the moved
-// ends is then tested whole, (0, 1].
-// Why an offset along the normal and not a shrunk parameter range [eps, 1 - eps]: the points
-// come from rasterised G-buffers and DPRSMs, so they lie off the true surface by interpolation
-// error, possibly below it; a segment leaving such a point at a grazing angle crosses its own
-// surface at a parameter distance of error / sin(angle), which no fixed eps bounds, while an
-// offset larger than the error clears the surface at every angle. The first term covers that
-// error relative to the scene (default 1e-4 of its size: a contact gap of 0.1 mm in a 1 m room);
-// the second is 256 float ulps of the largest coordinate, the rounding of points far from the
-// origin (Waechter and Binder, "A fast and robust method for avoiding self-intersection", Ray
-// Tracing Gems, 2019, use 256 ulps for the same reason). The price: an occluder closer than the
-// offset to an end point is missed (light leaks through gaps thinner than the offset).
-// Which side: the normal's. A G-buffer's and a DPRSM's normals face the camera and the light, and
-// the estimators give no weight to a y behind x's surface (cos clamped at 0), so a pair that
-// matters always leaves x on its normal's side. Flipping the normal towards the other end instead
-// would make nearly coplanar pairs (cos ~ 0) land on opposite sides by the sign of rounding noise.
-// As with voxel_visible_two_sided, y behind x's surface is hidden by x's own surface. Normals need
-// not be unit length; a zero or non-finite normal leaves the point where it is.
-// Non-finite x or y: not visible (no contribution rather than a NaN one); x == y: visible.
-
-#include <cmath>
-
-namespace vplkit {
-
-constexpr double bvh_offset_relative_default = 1e-4;
-constexpr double bvh_offset_coordinate_scale = 1.0 / 32768.0;  // 2^-15 = 256 float ulps of a coordinate
-
-// The distance end points are moved off their surfaces: offset_relative * D + 2^-15 * M (see the
-// header); 0 for an empty hierarchy.
-template <class T>
-inline T bvh_surface_offset(const bvh_view<T>& b, T offset_relative = T(bvh_offset_relative_default)) {
-  if (b.node_count == 0) return T(0);
-  const vec3<T> lo = b.nodes[0].bounds_min, hi = b.nodes[0].bounds_max;
-  const vec3<T> ext = hi - lo;
-  const T d = std::fmax(ext.x, std::fmax(ext.y, ext.z));
-  const vec3<T> m3(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y)),
-                   std::fmax(std::abs(lo.z), std::abs(hi.z)));
-  const T m = std::fmax(m3.x, std::fmax(m3.y, m3.z));
-  return offset_relative * d + T(bvh_offset_coordinate_scale) * m;
-}
-
-// x moved by `offset` along the unit normal.
-template <class T>
-inline vec3<T> bvh_offset_point(vec3<T> x, vec3<T> n, T offset) {
-  return x + offset * detail::bvh_unit_vector(n);
-}
-
-// Are the surface points x (normal n_x) and y (normal n_y) mutually visible?
-template <class T>
-inline bool bvh_visible(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y,
-                        T offset_relative = T(bvh_offset_relative_default)) {
-  if (!detail::bvh_vec3_finite(x) || !detail::bvh_vec3_finite(y)) return false;
-  const T offset = bvh_surface_offset(b, offset_relative);
-  const vec3<T> o = bvh_offset_point(x, n_x, offset);
-  const vec3<T> p = bvh_offset_point(y, n_y, offset);
-  return !bvh_occluded(b, o, p - o, T(0), T(1));
-}
-
-// The first surface hit by the ray leaving surface x (normal n_x) along dir, from x moved off its
-// surface (bvh_offset_point). The hit position is the barycentric point on the triangle hit
-// (bvh_hit::position), exact to float rounding, unlike the voxel tracer's voxel-entry point: a
-// DPRSM depth test on it needs only the texel's own depth spread as tolerance.
-template <class T>
-inline ray_hit<T> bvh_trace(const bvh_view<T>& b, vec3<T> x, vec3<T> n_x, vec3<T> dir,
-                            T offset_relative = T(bvh_offset_relative_default)) {
-  const vec3<T> o = bvh_offset_point(x, n_x, bvh_surface_offset(b, offset_relative));
-  const bvh_hit<T> h = bvh_closest_hit(b, o, dir);
-  ray_hit<T> r;
-  r.hit = h.hit;
-  if (h.hit) {
-    r.position = h.position;
-    r.normal = h.normal;
-  }
-  return r;
-}
-
-template <class T>
-struct bvh_visibility {
-  bvh_view<T> bvh;
-  T offset_relative = T(bvh_offset_relative_default);
-  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
-    return bvh_visible(bvh, x, n_x, y, n_y, offset_relative);
-  }
-};
-
-template <class T>
-struct bvh_tracer {
-  bvh_view<T> bvh;
-  T offset_relative = T(bvh_offset_relative_default);
-  ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const { return bvh_trace(bvh, x, n_x, dir, offset_relative); }
-};
-
-}  // namespace vplkit
-// ---- end vplkit/visibility/bvh_visibility.hpp ----
 
 // mis: balance / power heuristics, solid-angle pdf conversion
 // ---- begin vplkit/mis/heuristics.hpp ----

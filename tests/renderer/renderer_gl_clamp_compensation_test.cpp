@@ -303,6 +303,6 @@ TEST_CASE("renderer clamp compensation on cornell: the clamped image where the c
   // Programmatic callers that ask the GPU backend for it get a clear error, not a silent image.
   render_settings gs = make_render_settings(o, p.s);
   gs.meth = method::global;
-  frame_buffers gb{backend::gpu, "", b.gbuf, b.dprsm, b.grid, nullptr, nullptr, {}, b.facts};
+  frame_buffers gb{backend::gpu, "", b.gbuf, b.dprsm, b.grid, nullptr, nullptr, {}, b.facts, nullptr};
   CHECK_THROWS_AS(run_estimator(gb, gs, timer, {}, det), input_error);
 }

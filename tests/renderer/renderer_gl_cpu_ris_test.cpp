@@ -141,7 +141,7 @@ TEST_CASE("ris: the flags reach the settings, and the GPU backend runs it") {
   CHECK(r.ris_source == ris_source_choice::flux);
   CHECK(r.ris_spatial == 3);
   CHECK(r.vpls == 2);
-  frame_buffers gpu_frame{backend::gpu, "", f.b.gbuf, f.b.dprsm, f.b.grid, f.b.gpu, nullptr, {}, f.b.facts};
+  frame_buffers gpu_frame{backend::gpu, "", f.b.gbuf, f.b.dprsm, f.b.grid, f.b.gpu, nullptr, {}, f.b.facts, nullptr};
   stage_timer t;
   nlohmann::json det;
   const render_result g = run_estimator(gpu_frame, r, t, {}, det);

@@ -52,7 +52,7 @@ inline gl_fixture make_gl_fixture(const vplrender::options& o) {
   vplrender::scene_voxels grid = vplrender::voxelize_cpu(p.s, o.voxels);
   auto gpu = std::make_shared<vplrender::gpu_scene_buffers>(vplrender::upload_scene_buffers(g, d, grid.view()));
   vplrender::frame_buffers b{vplrender::backend::gpu, "", std::move(g), std::move(d), std::move(grid), std::move(gpu), nullptr,
-                            vplrender::exact_ray_frame{}, vplrender::frame_facts{}};  // facts: counted from the arrays when needed (facts_of)
+                            vplrender::exact_ray_frame{}, vplrender::frame_facts{}, nullptr};  // facts: counted from the arrays when needed (facts_of)
   return {o, std::move(p), std::move(b)};
 }
 

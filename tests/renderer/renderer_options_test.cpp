@@ -444,3 +444,23 @@ TEST_CASE("the lit test flag follows --visibility (shadow ray with exact) and a 
   CHECK(starts_with(error_of({"--lit-test", "ray"}), "--lit-test: unknown value 'ray' (expected shadow-map|shadow-ray)"));
   CHECK(help_text().find("--lit-test") != std::string::npos);
 }
+
+TEST_CASE("voxel contract option: plane-rule by default, exact on the CPU backend's voxels, and the lit test it allows") {
+  const options plain = parse({"--backend", "cpu"});
+  CHECK(plain.voxel_contract == voxel_contract_choice::plane_rule);
+  CHECK(plain.lit_test == lit_test_choice::shadow_map);
+  const options e = parse({"--backend", "cpu", "--voxel-contract", "exact"});
+  CHECK(e.voxel_contract == voxel_contract_choice::exact);
+  CHECK(e.lit_test == lit_test_choice::shadow_ray);  // the default, as with --visibility exact
+  CHECK(parse({"--backend", "cpu", "--voxel-contract", "exact", "--lit-test", "shadow-map"}).lit_test ==
+        lit_test_choice::shadow_map);
+  CHECK(parse({"--backend", "cpu", "--voxel-contract", "plane-rule"}).voxel_contract == voxel_contract_choice::plane_rule);
+  CHECK(std::string(to_string(voxel_contract_choice::exact)) == "exact");
+  CHECK(std::string(to_string(voxel_contract_choice::plane_rule)) == "plane-rule");
+  CHECK(starts_with(error_of({"--backend", "cpu", "--lit-test", "shadow-ray"}), "--lit-test shadow-ray: needs"));
+  CHECK(error_of({"--backend", "cpu", "--lit-test", "shadow-ray"}).find("--voxel-contract exact") != std::string::npos);
+  CHECK(starts_with(error_of({"--visibility", "voxels", "--voxel-contract", "exact"}), "--voxel-contract exact: the GPU"));
+  CHECK(starts_with(error_of({"--backend", "cpu", "--visibility", "exact", "--voxel-contract", "exact"}),
+                    "--voxel-contract: needs --visibility voxels"));
+  CHECK(starts_with(error_of({"--backend", "cpu", "--voxel-contract", "offset"}), "--voxel-contract"));
+}

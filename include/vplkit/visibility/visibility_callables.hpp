@@ -14,6 +14,7 @@
 #include <vplkit/core/gather_point.hpp>
 #include <vplkit/core/vector.hpp>
 #include <vplkit/visibility/dda.hpp>
+#include <vplkit/visibility/triangle_corners.hpp>
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
 #include <vplkit/visibility/triangle_voxel_near.hpp>
 #include <vplkit/visibility/triangle_voxel_query.hpp>
@@ -88,25 +89,41 @@ inline T voxel_tracer_depth_tolerance(const voxel_grid_view<T>& g) {
 
 // ---- Triangle voxels (triangle_voxel_query.hpp): no self-occlusion at the ends or at junctions ----
 
-// Mutual visibility decided by the triangles a triangle_voxel_grid lists: the ends are not
-// lifted; triangles whose planes pass within end_tolerance_voxels of an end are ignored. Normals
-// are not needed.
+// How the triangle voxel adaptors treat a segment's ends (triangle_voxel_query.hpp):
+// - plane_rule: the ends stay where they are; triangles whose planes pass within
+//   end_tolerance_voxels of an end are ignored (the default; docs/math.md section 7.2);
+// - offset: exact visibility's contract (bvh_visibility.hpp): the ends moved `offset` along their
+//   normals, every listed triangle counts. It answers what a ray tracer over the same triangles
+//   answers, where the plane rule lets segments through at junctions that graze a surface an end
+//   lies on.
+enum class triangle_voxel_ends { plane_rule, offset };
+
+// Mutual visibility decided by the triangles a triangle_voxel_grid lists, with the ends as `ends`
+// says (the plane rule needs no normals).
 template <class T>
 struct triangle_voxel_visibility {
   triangle_voxel_view<T> grid;
   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
-  bool operator()(vec3<T> x, vec3<T>, vec3<T> y, vec3<T>) const {
+  triangle_voxel_ends ends = triangle_voxel_ends::plane_rule;
+  T offset = T(0);  // world units, for triangle_voxel_ends::offset (triangle_voxel_surface_offset)
+  bool operator()(vec3<T> x, vec3<T> n_x, vec3<T> y, vec3<T> n_y) const {
+    if (ends == triangle_voxel_ends::offset) return triangle_voxel_visible_offset(grid, x, n_x, y, n_y, offset);
     return triangle_voxel_visible(grid, x, y, end_tolerance_voxels);
   }
 };
 
-// First triangle met by the ray leaving x along dir (triangle_voxel_first_hit from x itself). The
-// hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the texel's own
-// depth spread. Its normal is the triangle's plane normal.
+// First triangle met by the ray leaving x along dir: triangle_voxel_first_hit from x itself under
+// the plane rule, triangle_voxel_first_hit_offset from x moved `offset` along n_x under the offset
+// contract. The hit lies on the triangle: a DPRSM depth test on it needs no tracer term, only the
+// texel's own depth spread. Its normal is the triangle's plane normal; its shading normal the
+// corners' interpolated one where `corners` has them (triangle_corners.hpp), else none.
 template <class T>
 struct triangle_voxel_tracer {
   triangle_voxel_view<T> grid;
   T end_tolerance_voxels = T(triangle_voxel_default_end_tolerance);
+  triangle_voxel_ends ends = triangle_voxel_ends::plane_rule;
+  T offset = T(0);  // world units, for triangle_voxel_ends::offset
+  triangle_corner_view<T> corners{};  // optional: the shading normals of the hits
   ray_hit<T> operator()(vec3<T> x, vec3<T> n_x, vec3<T> dir) const {
     return trace_within(x, n_x, dir, std::numeric_limits<T>::infinity());
   }
@@ -114,13 +131,18 @@ struct triangle_voxel_tracer {
   bool surface_within(vec3<T> x, vec3<T>, T reach, T plane_tolerance) const {
     return triangle_voxel_surface_within(grid, x, reach, plane_tolerance);
   }
-  ray_hit<T> trace_within(vec3<T> x, vec3<T>, vec3<T> dir, T reach) const {
-    const triangle_voxel_hit<T> r = triangle_voxel_first_hit(grid, x, dir, reach, end_tolerance_voxels);
+  // Under the offset contract the ray runs to reach + offset from its moved origin: a hit within
+  // reach of x lies within that distance of it (bvh_trace's rule).
+  ray_hit<T> trace_within(vec3<T> x, vec3<T> n_x, vec3<T> dir, T reach) const {
+    const triangle_voxel_hit<T> r = ends == triangle_voxel_ends::offset
+                                        ? triangle_voxel_first_hit_offset(grid, x, n_x, dir, offset, reach + offset)
+                                        : triangle_voxel_first_hit(grid, x, dir, reach, end_tolerance_voxels);
     ray_hit<T> h;
     h.hit = r.hit;
     if (r.hit) {
       h.position = r.point;
       h.normal = grid.triangles[r.triangle].plane.normal;
+      h.shading_normal = triangle_corner_shading_normal(corners, r.triangle, r.point);
     }
     return h;
   }

@@ -28,7 +28,7 @@ std::string replace_extension(const std::string& out, const char* ext) { return 
 struct raw_values {
   std::string scene, meth, back, size, vpls, seed, out, regions, global_subset, local_subset, dirs, eps, dmin, voxels, dprsm, cam, light, exposure, progress, frames,
       window_script, local_combination, gbg_accumulator, cdf_search,
-      face_selection, sampler, visibility, vpl_mode, lit_test, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial, candidate_pool, tiles, tile_points, tile_block;
+      face_selection, sampler, visibility, vpl_mode, lit_test, voxel_contract, clamp_compensation, clamp_compensation_pass, clamp_compensation_dirs, candidates, candidate_source, spatial, candidate_pool, tiles, tile_points, tile_block;
   bool paper = false, direct = false, window = false;
 };
 
@@ -153,6 +153,12 @@ void build_app(CLI::App& app, raw_values& v) {
                    "plane (the paper's); shadow-ray = a ray from the hit to the light, through the exact "
                    "visibility (needs --visibility exact). docs/math.md section 4.1."))
       ->type_name("shadow-map|shadow-ray");
+  app.add_option("--voxel-contract", v.voxel_contract,
+                 d("What --visibility voxels answers (default plane-rule): plane-rule = segment ends left "
+                   "where they are, triangles whose planes pass within 0.01 voxel of an end ignored, hits "
+                   "shaded with their triangle's plane normal; exact = --visibility exact's contract on the "
+                   "triangles the grid lists (ends moved by exact's offset, every triangle counts, hits "
+                   "shaded with the interpolated shading normal). CPU backend only. docs/math.md section 7.2."));
   app.add_option("--vpl-mode", v.vpl_mode,
                  d("What a VPL is, for every method that uses VPLs (reference, global, local, gbg, mis, "
                    "mis-as-published, ris, ris-mis; default patch): patch = a point drawn uniformly over its texel's patch "
@@ -456,13 +462,27 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
                                                    {{"voxels", visibility_choice::voxels},
                                                     {"paper-voxels", visibility_choice::paper_voxels},
                                                     {"exact", visibility_choice::exact}});
-  o.lit_test = o.visibility == visibility_choice::exact ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map;
+  if (given("--voxel-contract")) {
+    o.voxel_contract = parse_choice<voxel_contract_choice>("--voxel-contract", v.voxel_contract,
+                                                           {{"plane-rule", voxel_contract_choice::plane_rule},
+                                                            {"exact", voxel_contract_choice::exact}});
+    if (o.visibility != visibility_choice::voxels)
+      throw usage_error("--voxel-contract: needs --visibility voxels (it chooses what the voxel march answers)");
+    if (o.voxel_contract == voxel_contract_choice::exact && o.back == backend::gpu)
+      throw usage_error("--voxel-contract exact: the GPU backend's voxel march has the plane rule only; use --backend "
+                        "cpu, or --visibility exact");
+  }
+  // Rays that answer as exact ones do: the BVH's or Embree's, or the voxel march under the exact contract.
+  const bool exact_answers = o.visibility == visibility_choice::exact ||
+                             (o.visibility == visibility_choice::voxels && o.voxel_contract == voxel_contract_choice::exact);
+  o.lit_test = exact_answers ? lit_test_choice::shadow_ray : lit_test_choice::shadow_map;
   if (given("--lit-test"))
     o.lit_test = parse_choice<lit_test_choice>("--lit-test", v.lit_test,
                                                {{"shadow-map", lit_test_choice::shadow_map},
                                                 {"shadow-ray", lit_test_choice::shadow_ray}});
-  if (o.lit_test == lit_test_choice::shadow_ray && o.visibility != visibility_choice::exact)
-    throw usage_error("--lit-test shadow-ray: needs --visibility exact (the shadow ray is an exact ray)");
+  if (o.lit_test == lit_test_choice::shadow_ray && !exact_answers)
+    throw usage_error("--lit-test shadow-ray: needs --visibility exact, or --visibility voxels with --voxel-contract "
+                      "exact (the shadow ray is an exact ray)");
   if (o.paper) {
     o.width = o.height = 512;
     o.dprsm = 512;

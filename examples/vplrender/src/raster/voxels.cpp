@@ -17,6 +17,18 @@ voxel_mesh make_voxel_mesh(const scene& s) {
   return m;
 }
 
+voxel_corners make_voxel_corners(const scene& s) {
+  voxel_corners c;
+  c.positions.reserve(s.triangles.size() * 3);
+  c.normals.reserve(s.triangles.size() * 3);
+  for (const triangle& t : s.triangles)
+    for (int k = 0; k < 3; ++k) {
+      c.positions.push_back(t.p[static_cast<std::size_t>(k)]);
+      c.normals.push_back(t.n[static_cast<std::size_t>(k)]);
+    }
+  return c;
+}
+
 vplkit::voxel_bounds<float> scene_voxel_bounds(const voxel_mesh& m) {
   return vplkit::fit_voxel_bounds(m.positions.data(), m.positions.size());
 }

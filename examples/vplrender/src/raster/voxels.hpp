@@ -7,6 +7,7 @@
 // voxels decides by the triangles (no self-occlusion at junctions, section 7.2).
 #include "scene/scene.hpp"
 
+#include <vplkit/visibility/triangle_corners.hpp>
 #include <vplkit/visibility/triangle_voxel_grid.hpp>
 #include <vplkit/visibility/voxelize.hpp>
 
@@ -30,5 +31,15 @@ vplkit::voxel_bounds<float> scene_voxel_bounds(const voxel_mesh& m);
 
 // CPU voxelisation (vplkit::voxelize_triangles; its occupancy is vplkit::voxelize's).
 scene_voxels voxelize_cpu(const scene& s, int resolution);
+
+// The scene's corners in the grid's triangle order (make_voxel_mesh's, the scene's): what the CPU
+// voxel tracer shades its hits with under --voxel-contract exact (vplkit::triangle_corner_view).
+struct voxel_corners {
+  std::vector<vec3> positions, normals;
+  vplkit::triangle_corner_view<float> view() const {
+    return vplkit::triangle_corner_view<float>{positions.data(), normals.data(), positions.size() / 3};
+  }
+};
+voxel_corners make_voxel_corners(const scene& s);
 
 }  // namespace vplrender

@@ -55,6 +55,9 @@ struct frame_buffers {
   std::shared_ptr<const ray_scene> rays;
   exact_ray_frame ray_frame;  // rays' numbers; meaningful when rays is set
   frame_facts facts;  // set by the pipeline; a frame made from arrays leaves it to host_frame_facts
+  // The scene's corners in the grid's triangle order, for the CPU voxel tracer's shading normals
+  // (--voxel-contract exact); the pipeline sets it for the CPU backend, null otherwise.
+  std::shared_ptr<const voxel_corners> corners;
 
   // The G-buffer and the DPRSM are on the host as arrays.
   bool has_host_copies() const {

@@ -124,7 +124,8 @@ frame_pipeline::frame_pipeline(const scene& s, const frame_settings& f, stage_ti
     return voxelize_cpu(s, f.voxels);
   }();
   d.frame.emplace(frame_buffers{f.back, glc->describe(), gbuffer_data{}, dprsm_data{}, std::move(voxel_grid), nullptr,
-                                nullptr, exact_ray_frame{}, frame_facts{}});
+                                nullptr, exact_ray_frame{}, frame_facts{}, nullptr});
+  if (!gpu) d.frame->corners = std::make_shared<const voxel_corners>(make_voxel_corners(s));
   const scene_voxels& grid = d.frame->grid;
   const vplkit::voxel_grid<float>& occupancy = grid.occupancy();
   det["voxels"] = {{"resolution", f.voxels},

@@ -37,6 +37,7 @@ const char* to_string(visibility_choice v) {
 }
 const char* to_string(vpl_mode_choice v) { return v == vpl_mode_choice::patch ? "patch" : "point"; }
 const char* to_string(lit_test_choice l) { return l == lit_test_choice::shadow_ray ? "shadow-ray" : "shadow-map"; }
+const char* to_string(voxel_contract_choice e) { return e == voxel_contract_choice::exact ? "exact" : "plane-rule"; }
 const char* to_string(loop_budget_choice l) {
   switch (l) {
     case loop_budget_choice::always: return "always";

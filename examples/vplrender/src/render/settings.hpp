@@ -47,6 +47,14 @@ enum class visibility_choice { voxels, paper_voxels, exact };
 // shadow_ray = a ray to the light through the exact visibility (vplkit::with_light_visibility),
 // which needs visibility_choice::exact and is its default there.
 enum class lit_test_choice { shadow_map, shadow_ray };
+
+// What --visibility voxels answers (docs/math.md 7.2, "The exact contract on the voxel grid"):
+// plane_rule = the ends stay where they are and triangles whose planes pass within 0.01 voxel of an
+// end are ignored, hits carry their triangle's plane normal; exact = --visibility exact's contract
+// on the triangles the grid lists: ends moved off their surfaces by exact's offset, every listed
+// triangle counts, hits carry their triangle's interpolated shading normal
+// (vplkit::triangle_voxel_ends::offset and vplkit::triangle_corner_view). CPU backend only.
+enum class voxel_contract_choice { plane_rule, exact };
 // What a VPL is, for every method that uses VPLs (docs/math.md section 11): point = the paper's VPL
 // at the texel centre (the VPL sum is the midpoint rule of the one-bounce integral); patch = a point
 // jittered over the texel's patch (vplkit::vpl_mode::patch), so the VPL methods, gathering and MIS
@@ -95,6 +103,7 @@ const char* to_string(sampler_choice s);
 const char* to_string(visibility_choice v);
 const char* to_string(vpl_mode_choice v);
 const char* to_string(lit_test_choice l);
+const char* to_string(voxel_contract_choice e);
 const char* to_string(loop_budget_choice l);
 
 const char* to_string(clamp_compensation_choice c);
@@ -127,6 +136,7 @@ struct render_choices {
   // The command line's default: exact for the GPU backend, voxels for the CPU backend (--paper: paper_voxels).
   visibility_choice visibility = visibility_choice::voxels;
   lit_test_choice lit_test = lit_test_choice::shadow_map;  // the command line's default: shadow-ray with exact
+  voxel_contract_choice voxel_contract = voxel_contract_choice::plane_rule;  // --visibility voxels only
   vpl_mode_choice vpl_mode = vpl_mode_choice::patch;       // paper: point (the midpoint rule)
   clamp_compensation_pass_choice clamp_compensation_pass = clamp_compensation_pass_choice::compacted;
   clamp_compensation_dirs_choice clamp_compensation_dirs_rule;  // automatic

@@ -148,9 +148,10 @@ render_result render_cpu(const frame_buffers& b, const render_settings& given, s
   det["threads"] = threads;
   det["dmin"] = s.dmin;
 
-  const cpu_visibility visibility = make_cpu_visibility(b, s.visibility);
-  const cpu_tracer tracer = make_cpu_tracer(b, s.visibility, s.lit_test);
+  const cpu_visibility visibility = make_cpu_visibility(b, s.visibility, s.voxel_contract);
+  const cpu_tracer tracer = make_cpu_tracer(b, s.visibility, s.lit_test, s.voxel_contract);
   det["visibility"] = to_string(mt.exact_rays ? visibility_choice::exact : s.visibility);
+  if (!mt.exact_rays && s.visibility == visibility_choice::voxels) det["voxel_contract"] = to_string(s.voxel_contract);
   const float depth_tol = gathering_depth_tolerance(s, b.grid.occupancy().view());
   det["depth_tolerance"] = depth_tol;
   if (mt.gathers)

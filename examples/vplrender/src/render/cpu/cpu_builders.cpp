@@ -87,7 +87,7 @@ std::vector<float> build_gbg_weights_cpu(const frame_buffers& b, const render_se
   const vplkit::gbuffer_view<float>& g = f.g;
   const vplkit::dprsm_view<float>& view = f.view;
   const int threads = f.threads, W = f.W, H = f.H;
-  cpu_tracer tracer = make_cpu_tracer(b, s.visibility);
+  cpu_tracer tracer = make_cpu_tracer(b, s.visibility, lit_test_choice::shadow_map, s.voxel_contract);
   tracer.shading_normals = false;  // as the GPU's GBG kernel (cpu_visibility.hpp)
   const std::size_t n = static_cast<std::size_t>(view.texel_count());
   vplkit::gbg_params<float> params;

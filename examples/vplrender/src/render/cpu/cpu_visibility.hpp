@@ -61,16 +61,28 @@ struct cpu_tracer {
       case visibility_choice::paper_voxels: return paper_voxels.trace_within(x, n_x, dir, reach);
       case visibility_choice::voxels: break;
     }
-    return voxels.trace_within(x, n_x, dir, reach);
+    vplkit::ray_hit<float> h = voxels.trace_within(x, n_x, dir, reach);
+    if (!shading_normals) h.shading_normal = vec3(0.0f);
+    return h;
   }
   // Gathering's lit test (vplkit/visibility/light_visibility.hpp): a shadow ray through Embree
-  // (lit_test_choice::shadow_ray, exact visibility only), else the DPRSM's shadow map.
+  // (lit_test_choice::shadow_ray with exact visibility) or the voxel march under the exact
+  // contract, else the DPRSM's shadow map.
   bool shadow_ray = false;
   // Exact hits carry their shading normal; the GBG builder's tracer drops it, as the GPU's GBG
   // kernel (the pack's BVH tracer) has none, so that both backends build the same weights.
   bool shading_normals = true;
-  bool answers_light_visibility() const { return shadow_ray && exact != nullptr; }
-  bool light_visible(vec3 y, vec3 n_y, vec3 c) const { return exact->visible(y, n_y, c, vec3(0.0f)); }
+  // The voxel march answers it under the exact contract (--voxel-contract exact): the same segment
+  // from y moved off its surface to the light.
+  bool answers_light_visibility() const {
+    return shadow_ray && (kind == visibility_choice::exact ? exact != nullptr
+                                                           : kind == visibility_choice::voxels &&
+                                                                 voxels.ends == vplkit::triangle_voxel_ends::offset);
+  }
+  bool light_visible(vec3 y, vec3 n_y, vec3 c) const {
+    if (kind == visibility_choice::exact) return exact->visible(y, n_y, c, vec3(0.0f));
+    return vplkit::triangle_voxel_visible_offset(voxels.grid, y, n_y, c, vec3(0.0f), voxels.offset);
+  }
 };
 
 // The frame's ray scene, or invalid_input naming `who` when the frame was prepared without one
@@ -82,21 +94,40 @@ inline const ray_scene& frame_ray_scene(const frame_buffers& b, const char* who)
   return *b.rays;
 }
 
-inline cpu_visibility make_cpu_visibility(const frame_buffers& b, visibility_choice v) {
+// The triangle voxels' contract (--voxel-contract): exact moves the ends by the exact rays'
+// offset when the frame has them, else by the grid's own (vplkit::triangle_voxel_surface_offset),
+// and shades the tracer's hits with the scene's corner normals.
+template <class Query>
+inline void set_voxel_contract(const frame_buffers& b, voxel_contract_choice e, Query& q) {
+  if (e != voxel_contract_choice::exact) return;
+  q.ends = vplkit::triangle_voxel_ends::offset;
+  q.offset = b.rays ? b.ray_frame.surface_offset : vplkit::triangle_voxel_surface_offset(b.grid.view().grid);
+}
+
+inline cpu_visibility make_cpu_visibility(const frame_buffers& b, visibility_choice v,
+                                          voxel_contract_choice contract = voxel_contract_choice::plane_rule) {
   cpu_visibility c;
   c.kind = v;
   c.voxels = vplkit::triangle_voxel_visibility<float>{b.grid.view()};
+  set_voxel_contract(b, contract, c.voxels);
   c.paper_voxels = vplkit::voxel_visibility<float>{b.grid.occupancy().view()};
   if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu visibility");
   return c;
 }
 
 inline cpu_tracer make_cpu_tracer(const frame_buffers& b, visibility_choice v,
-                                  lit_test_choice lit = lit_test_choice::shadow_map) {
+                                  lit_test_choice lit = lit_test_choice::shadow_map,
+                                  voxel_contract_choice contract = voxel_contract_choice::plane_rule) {
   cpu_tracer c;
   c.kind = v;
   c.shadow_ray = lit == lit_test_choice::shadow_ray;  // answered only with exact rays (answers_light_visibility)
   c.voxels = vplkit::triangle_voxel_tracer<float>{b.grid.view()};
+  set_voxel_contract(b, contract, c.voxels);
+  if (contract == voxel_contract_choice::exact) {
+    if (!b.corners)
+      throw vplkit::invalid_input("cpu tracer: --voxel-contract exact needs the frame's voxel corners (a CPU-backend frame)");
+    c.voxels.corners = b.corners->view();
+  }
   c.paper_voxels = vplkit::voxel_tracer<float>{b.grid.occupancy().view()};
   if (v == visibility_choice::exact) c.exact = &frame_ray_scene(b, "cpu tracer");
   return c;

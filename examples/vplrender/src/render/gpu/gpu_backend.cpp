@@ -296,6 +296,9 @@ render_result render_gpu(const frame_buffers& b, const render_settings& given, s
     throw vplkit::invalid_input(std::string("--method ") + mt.name + ": no GPU kernel yet (run_estimator refuses it)");
   if (mt.estimator == estimator_kind::ris && mt.variant != 1 && es.ris_source == ris_source_choice::tiles)
     throw vplkit::invalid_input("--method ris --candidate-source tiles: tiles is for --method ris-mis");
+  if (!mt.exact_rays && given.visibility == visibility_choice::voxels && given.voxel_contract == voxel_contract_choice::exact)
+    throw vplkit::invalid_input("--voxel-contract exact: the GPU backend's voxel march has the plane rule only "
+                                "(use --backend cpu, or --visibility exact)");
   const gpu_estimate_kernel& kern = gpu_kernel_for(es.meth);
   if (es.sampler == sampler_choice::share_tree && !draws_share_tree(mt.estimator))
     throw vplkit::invalid_input(std::string("--sampler share-tree: not supported with --method ") + mt.name +
