@@ -121,11 +121,12 @@ vplkit_ray_hit vplkit_user_trace_within(vec3 x, vec3 n_x, vec3 dir, float reach)
   return vr_trace_bvh(x, n_x, dir, offset, (reach + offset) / length(dir) * (1.0 + 1e-5));
 }
 vplkit_visibility vr_make_visibility(vplkit_voxel_grid grid) {
-  return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0);
+  return vplkit_visibility(vplkit_visibility_user, grid, 0.0, 0.0, 0.0, 0.0);
 }
 // VR_LIT_SHADOW_RAY (--lit-test shadow-ray): gathering's lit test by a BVH shadow ray.
 vplkit_voxel_tracer vr_make_tracer(vplkit_voxel_grid grid) {
-  vplkit_voxel_tracer tr = vplkit_voxel_tracer(grid, 0.0, true, false, 0.0, false, vplkit_make_always_visible());
+  vplkit_voxel_tracer tr =
+      vplkit_voxel_tracer(grid, 0.0, true, false, 0.0, false, vplkit_make_always_visible(), false, 0.0, 0u);
 #ifdef VR_LIT_SHADOW_RAY
   tr = vplkit_tracer_with_light_visibility(tr, vr_make_visibility(grid));
 #endif
