@@ -56,11 +56,12 @@ def read_exr(path):
     return w, h, img
 
 
-for path in sys.argv[1:]:
-    w, h, img = read_exr(path)
-    v = [(img['R'][i] + img['G'][i] + img['B'][i]) / 3 for i in range(w * h)]
-    diag = [y * w + x for y in range(h) for x in range(w) if w == h and (x == y or x + y == w - 1)]
-    ds = set(diag)
-    rest = [i for i in range(w * h) if i not in ds]
-    mean = lambda idx: sum(v[i] for i in idx) / max(1, len(idx))
-    print(f'{path} image {mean(range(w * h)):.6e} diagonal {mean(diag):.6e} off-diagonal {mean(rest):.6e}')
+if __name__ == '__main__':
+    for path in sys.argv[1:]:
+        w, h, img = read_exr(path)
+        v = [(img['R'][i] + img['G'][i] + img['B'][i]) / 3 for i in range(w * h)]
+        diag = [y * w + x for y in range(h) for x in range(w) if w == h and (x == y or x + y == w - 1)]
+        ds = set(diag)
+        rest = [i for i in range(w * h) if i not in ds]
+        mean = lambda idx: sum(v[i] for i in idx) / max(1, len(idx))
+        print(f'{path} image {mean(range(w * h)):.6e} diagonal {mean(diag):.6e} off-diagonal {mean(rest):.6e}')

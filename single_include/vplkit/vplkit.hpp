@@ -3655,6 +3655,16 @@ inline triangle_voxel_grid<T> voxelize_triangles(vec3<T> bounds_min, vec3<T> bou
 // no occluder but those in a 0.01-voxel band. Why, and why 0.01: docs/math.md section 7.2 and
 // docs/api/visibility.md. A wall of any thickness blocks: every point of a triangle lies in a
 // voxel that lists it, and the march visits a voxel containing every point of the segment.
+//
+// The OFFSET CONTRACT (triangle_voxel_visible_offset, triangle_voxel_first_hit_offset) is exact
+// visibility's instead (bvh_visibility.hpp, docs/math.md section 7.3): both ends moved off their
+// surfaces along their normals by an offset, the segment between the moved ends tested whole
+// (crossings at s in (0, 1]), no end rule, triangles grown by triangle_voxel_offset_slack (32 float
+// ulps of the grid's largest coordinate, not 1e-3 voxel). With the same offset it answers what a
+// ray tracer over the same triangles answers, up to that slack: on Sponza at 64x64, 0.013 % of 151
+// million gather-point/VPL pairs differ from Embree's answer, against 1.13 % under the end rule,
+// whose misses sit where a segment grazes a surface an end lies on (docs/math.md 7.2, "Where the
+// end rule and the offset differ"; vplrender's tools/voxel_contract_pairs.cpp measures it).
 // ---- begin vplkit/visibility/bvh_visibility.hpp ----
 // Exact visibility through a BVH, as the two callables the estimators take (the exact
 // counterparts of voxel_visibility and voxel_tracer in visibility/visibility_callables.hpp):

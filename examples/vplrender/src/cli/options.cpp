@@ -466,11 +466,11 @@ parse_result parse_command_line(const std::vector<std::string>& args) {
     o.voxel_contract = parse_choice<voxel_contract_choice>("--voxel-contract", v.voxel_contract,
                                                            {{"plane-rule", voxel_contract_choice::plane_rule},
                                                             {"exact", voxel_contract_choice::exact}});
-    if (o.visibility != visibility_choice::voxels)
-      throw usage_error("--voxel-contract: needs --visibility voxels (it chooses what the voxel march answers)");
     if (o.voxel_contract == voxel_contract_choice::exact && o.back == backend::gpu)
       throw usage_error("--voxel-contract exact: the GPU backend's voxel march has the plane rule only; use --backend "
                         "cpu, or --visibility exact");
+    if (o.visibility != visibility_choice::voxels)
+      throw usage_error("--voxel-contract: needs --visibility voxels (it chooses what the voxel march answers)");
   }
   // Rays that answer as exact ones do: the BVH's or Embree's, or the voxel march under the exact contract.
   const bool exact_answers = o.visibility == visibility_choice::exact ||
