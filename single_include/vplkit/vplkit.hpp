@@ -4364,13 +4364,21 @@ inline triangle_voxel_hit<T> triangle_voxel_first_hit(const triangle_voxel_view<
 // grid's box (D its largest extent, M its largest |coordinate|). The box is the triangles' padded
 // one (fit_voxel_bounds), so this is about 2 % above the offset of a BVH over the same triangles;
 // a host that has that offset passes it instead.
+namespace detail {
+// M: the largest |coordinate| of the grid's box.
+template <class T>
+inline T triangle_voxel_largest_coordinate(const voxel_grid_view<T>& g) {
+  const vec3<T> lo = g.bounds_min, hi = g.bounds_max;
+  return std::fmax(std::fmax(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y))),
+                   std::fmax(std::abs(lo.z), std::abs(hi.z)));
+}
+}  // namespace detail
+
 template <class T>
 inline T triangle_voxel_surface_offset(const voxel_grid_view<T>& g, T offset_relative = T(bvh_offset_relative_default)) {
-  const vec3<T> lo = g.bounds_min, hi = g.bounds_max, ext = hi - lo;
+  const vec3<T> ext = g.bounds_max - g.bounds_min;
   const T d = std::fmax(ext.x, std::fmax(ext.y, ext.z));
-  const T m = std::fmax(std::fmax(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y))),
-                        std::fmax(std::abs(lo.z), std::abs(hi.z)));
-  return offset_relative * d + T(bvh_offset_coordinate_scale) * m;
+  return offset_relative * d + T(bvh_offset_coordinate_scale) * detail::triangle_voxel_largest_coordinate(g);
 }
 
 // How far the offset contract grows each triangle within its plane: 2^-18 M (32 float ulps of the
@@ -4379,10 +4387,7 @@ inline T triangle_voxel_surface_offset(const voxel_grid_view<T>& g, T offset_rel
 // which blocks segments that graze an edge.
 template <class T>
 inline T triangle_voxel_offset_slack(const voxel_grid_view<T>& g) {
-  const vec3<T> lo = g.bounds_min, hi = g.bounds_max;
-  const T m = std::fmax(std::fmax(std::fmax(std::abs(lo.x), std::abs(hi.x)), std::fmax(std::abs(lo.y), std::abs(hi.y))),
-                        std::fmax(std::abs(lo.z), std::abs(hi.z)));
-  return m * T(1.0 / 262144.0);
+  return detail::triangle_voxel_largest_coordinate(g) * T(1.0 / 262144.0);
 }
 
 // Is the segment a -> b free of the grid's triangles, counting a crossing at s in (0, 1] (b itself

@@ -180,6 +180,36 @@ mesh make_mesh(std::uint32_t seed) {
   return m;
 }
 
+// Runs `source` over the queries with the grid (bindings 2-8: words, bounds and resolution with the
+// triangle count in w, rank, offsets, entries, triangles, bricks) and the mesh's corners (binding 9:
+// position, normal per corner) uploaded; one query_out per query (binding 1).
+std::vector<query_out> run_queries(const std::string& source, const vplkit::triangle_voxel_grid<float>& grid,
+                                   const mesh& m, const std::vector<query>& qs) {
+  std::vector<float4> tri_rows(4 * grid.triangles().size());
+  std::memcpy(tri_rows.data(), grid.triangles().data(), tri_rows.size() * sizeof(float4));
+  const auto& occ = grid.occupancy();
+  struct grid_params {
+    float4 bmin, bmax;
+    std::int32_t res[4];
+  } gp{f4(occ.bounds_min()), f4(occ.bounds_max()),
+       {occ.resolution().x, occ.resolution().y, occ.resolution().z, std::int32_t(m.p.size() / 3)}};
+  std::vector<float4> corner_rows;
+  for (std::size_t i = 0; i < m.p.size(); ++i) {
+    corner_rows.push_back(f4(m.p[i]));
+    corner_rows.push_back(f4(m.n[i]));
+  }
+  std::vector<std::uint32_t> entries = grid.entries();
+  if (entries.empty()) entries.push_back(0u);
+  return vplkit::parity::run_compute<query_out>(
+      source, {64, 1, 1},
+      {vplkit::parity::input(0, qs), vplkit::parity::input(2, occ.words()),
+       vplkit::parity::input(3, std::vector<grid_params>{gp}), vplkit::parity::input(4, grid.rank()),
+       vplkit::parity::input(5, grid.offsets()), vplkit::parity::input(6, entries),
+       vplkit::parity::input(7, tri_rows), vplkit::parity::input(8, grid.bricks()),
+       vplkit::parity::input(9, corner_rows)},
+      1, qs.size());
+}
+
 }  // namespace
 
 TEST_CASE("triangle_voxel_query.glsl and triangle_corners.glsl: the offset contract and shading normals equal the C++") {
@@ -231,27 +261,7 @@ TEST_CASE("triangle_voxel_query.glsl and triangle_corners.glsl: the offset contr
       qs.push_back({f4(v3f(tris[t].v[k]), offset), f4(m.n[3 * t + std::size_t(k)]),
                     f4(v3f(tris[(t + 7) % n_tris].v[(k + 1) % 3]), inf), f4(v3f(0, 1, 0))});
 
-  std::vector<float4> tri_rows(4 * grid.triangles().size());
-  std::memcpy(tri_rows.data(), grid.triangles().data(), tri_rows.size() * sizeof(float4));
-  struct grid_params {
-    float4 bmin, bmax;
-    std::int32_t res[4];
-  } gp{f4(b.min), f4(b.max), {res.x, res.y, res.z, std::int32_t(n_tris)}};
-  std::vector<float4> corner_rows;
-  for (std::size_t i = 0; i < m.p.size(); ++i) {
-    corner_rows.push_back(f4(m.p[i]));
-    corner_rows.push_back(f4(m.n[i]));
-  }
-  std::vector<std::uint32_t> entries = grid.entries();
-  if (entries.empty()) entries.push_back(0u);
-  const auto gpu = vplkit::parity::run_compute<query_out>(
-      kernel, {64, 1, 1},
-      {vplkit::parity::input(0, qs), vplkit::parity::input(2, grid.occupancy().words()),
-       vplkit::parity::input(3, std::vector<grid_params>{gp}), vplkit::parity::input(4, grid.rank()),
-       vplkit::parity::input(5, grid.offsets()), vplkit::parity::input(6, entries),
-       vplkit::parity::input(7, tri_rows), vplkit::parity::input(8, grid.bricks()),
-       vplkit::parity::input(9, corner_rows)},
-      1, qs.size());
+  const auto gpu = run_queries(kernel, grid, m, qs);
 
   const bool exact = vplkit::gl::is_software_renderer() && !vplkit_test::reference_contracts;
   std::size_t differ = 0, ties = 0, visible = 0, hits = 0, shaded = 0, float_checks = 0;
@@ -350,27 +360,7 @@ TEST_CASE("visibility_callables.glsl: the offset kind, the offset tracer with co
     const float reach = i % 3 == 0 ? float(u(g)) * glm::length(y - x) : inf;
     qs.push_back({f4(x, offset), f4(nx), f4(y, reach), f4(ny)});
   }
-  std::vector<float4> tri_rows(4 * grid.triangles().size());
-  std::memcpy(tri_rows.data(), grid.triangles().data(), tri_rows.size() * sizeof(float4));
-  struct grid_params {
-    float4 bmin, bmax;
-    std::int32_t res[4];
-  } gp{f4(b.min), f4(b.max), {res.x, res.y, res.z, std::int32_t(n_tris)}};
-  std::vector<float4> corner_rows;
-  for (std::size_t i = 0; i < m.p.size(); ++i) {
-    corner_rows.push_back(f4(m.p[i]));
-    corner_rows.push_back(f4(m.n[i]));
-  }
-  std::vector<std::uint32_t> entries = grid.entries();
-  if (entries.empty()) entries.push_back(0u);
-  const auto gpu = vplkit::parity::run_compute<query_out>(
-      callables_kernel, {64, 1, 1},
-      {vplkit::parity::input(0, qs), vplkit::parity::input(2, grid.occupancy().words()),
-       vplkit::parity::input(3, std::vector<grid_params>{gp}), vplkit::parity::input(4, grid.rank()),
-       vplkit::parity::input(5, grid.offsets()), vplkit::parity::input(6, entries),
-       vplkit::parity::input(7, tri_rows), vplkit::parity::input(8, grid.bricks()),
-       vplkit::parity::input(9, corner_rows)},
-      1, qs.size());
+  const auto gpu = run_queries(callables_kernel, grid, m, qs);
   vplkit::triangle_voxel_visibility<float> vis{v};
   vis.ends = vplkit::triangle_voxel_ends::offset;
   vis.offset = offset;
